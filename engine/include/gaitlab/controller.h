@@ -1,0 +1,117 @@
+// The controller kernel: every controller declares named parameters (default, range, unit) that
+// can change while it runs, and per-joint values that can be read, recorded and plotted.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gaitlab {
+
+/// A named controller parameter.
+struct ParamDef {
+    std::string name;
+    double default_value = 0;
+    double min = 0;
+    double max = 0;
+    std::string unit;  ///< "deg", "Hz", "" ...
+};
+
+/// What a controller declares about itself.
+struct ControllerDef {
+    std::string name;
+    std::vector<ParamDef> params;
+    std::vector<std::string> values;  ///< per-joint value names, e.g. "time", "angle"
+};
+
+/// Checks names, ranges and defaults of a definition; throws SpecError.
+void validate(const ControllerDef& def);
+
+/// Measured state of the joints of a controller's group, read on demand.
+class JointReader {
+public:
+    virtual ~JointReader() = default;
+    virtual double angle(int joint) const = 0;     ///< rad
+    virtual double velocity(int joint) const = 0;  ///< rad/s
+    virtual double torque(int joint) const = 0;    ///< N·m on the head-side body
+};
+
+/// The inputs and outputs of one control step for one group. Joint numbers m are 0-based
+/// within the group, from the tail.
+class ControlIO {
+public:
+    ControlIO(double dt, double time, const std::vector<int>& joints, const JointReader& reader,
+              double* targets)
+        : dt_(dt), time_(time), joints_(joints), reader_(reader), targets_(targets) {}
+
+    double dt() const { return dt_; }      ///< time since the previous control step, s
+    double time() const { return time_; }  ///< simulation time, s
+    int joints() const { return static_cast<int>(joints_.size()); }
+    double angle(int m) const { return reader_.angle(joints_[m]); }
+    double velocity(int m) const { return reader_.velocity(joints_[m]); }
+    double torque(int m) const { return reader_.torque(joints_[m]); }
+    /// Sets joint m's target angle, rad; it holds until the next control step.
+    void set_target(int m, double rad) { targets_[m] = rad; }
+    double target(int m) const { return targets_[m]; }
+
+private:
+    double dt_;
+    double time_;
+    const std::vector<int>& joints_;
+    const JointReader& reader_;
+    double* targets_;
+};
+
+/// Base of every controller, built in or scripted. A controller drives one joint group.
+class Controller {
+public:
+    explicit Controller(ControllerDef def);
+    virtual ~Controller() = default;
+    Controller(const Controller&) = delete;
+    Controller& operator=(const Controller&) = delete;
+
+    const ControllerDef& def() const { return def_; }
+    const std::string& name() const { return def_.name; }
+
+    /// Index of the parameter called `name`, or -1.
+    int find_param(std::string_view name) const;
+    double param(int i) const { return params_[i]; }
+    /// Value of the parameter called `name`; throws SpecError if there is none.
+    double param(std::string_view name) const;
+    /// Sets parameter i after checking its range; throws SpecError naming the range and unit.
+    void set_param(int i, double value);
+    void set_param(std::string_view name, double value);
+    /// Increases whenever a parameter changes.
+    std::uint64_t param_version() const { return param_version_; }
+
+    /// Number of joints of the group this controller drives (0 until bound).
+    int joints() const { return joints_; }
+    bool bound() const { return joints_ > 0; }
+    /// Attaches the controller to a group of `joints` joints; values start at zero.
+    void bind(int joints);
+    /// Per-joint value k (as declared in def().values), one entry per joint.
+    const std::vector<double>& values(int k) const;
+    int find_value(std::string_view name) const;
+
+    /// Back to the state just after bind(): values zero, parameters kept.
+    virtual void reset();
+    /// Computes the group's targets for this control step.
+    virtual void step(ControlIO& io) = 0;
+
+protected:
+    std::vector<double>& value(int k) { return values_[k]; }
+    /// Brings values_ up to date when a subclass keeps its state elsewhere (e.g. in Lua).
+    virtual void sync_values() const {}
+    /// Called by bind() and reset() once values are sized and zeroed.
+    virtual void on_bind() {}
+    mutable std::vector<std::vector<double>> values_;
+
+private:
+    ControllerDef def_;
+    std::vector<double> params_;
+    std::uint64_t param_version_ = 0;
+    int joints_ = 0;
+};
+
+}  // namespace gaitlab

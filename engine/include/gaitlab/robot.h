@@ -1,0 +1,79 @@
+// Robot specs: plain values describing bodies and joints, and the chain builder.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gaitlab/module.h"
+#include "gaitlab/types.h"
+
+namespace gaitlab {
+
+/// How consecutive modules of a chain are joined.
+enum class Connection { pitch_pitch, pitch_yaw, yaw_yaw };
+
+/// What a joint does when the robot lies straight on the floor.
+enum class JointRole { pitch, yaw };
+
+/// "pitch-pitch", "pitch-yaw" or "yaw-yaw".
+const char* to_string(Connection c);
+/// "pitch" or "yaw".
+const char* to_string(JointRole r);
+/// Parses a connection name; throws SpecError naming the valid ones.
+Connection parse_connection(std::string_view name);
+
+/// One rigid body of a robot: a box.
+struct BodySpec {
+    std::string name;
+    Vec3 size;      ///< full extents along the body's x, y, z, m
+    double mass;    ///< kg, > 0
+    Pose pose;      ///< at rest, in the robot frame
+    double friction = 1.0;  ///< in [0, 1]
+};
+
+/// A revolute joint between two bodies, driven by a servo.
+struct JointSpec {
+    std::string name;
+    JointRole role = JointRole::pitch;
+    int parent = 0;        ///< body on the tail side (index into RobotSpec::bodies)
+    int child = 1;         ///< body on the head side
+    Vec3 pivot;            ///< at rest, in the robot frame, m
+    Vec3 axis;             ///< unit vector in the robot frame; positive angles turn the child about it
+    double min_angle = 0;  ///< rad
+    double max_angle = 0;  ///< rad
+    ServoDef servo;
+};
+
+/// A robot: bodies, the joints between them, and options. The robot frame has its tail at the
+/// origin, the chain along +x and the floor at z = 0.
+struct RobotSpec {
+    std::string name = "robot";
+    std::vector<BodySpec> bodies;
+    std::vector<JointSpec> joints;
+    bool self_collision = false;  ///< collide non-adjacent bodies of the robot with each other
+};
+
+/// A straight chain of identical modules.
+struct ChainSpec {
+    std::string name = "robot";
+    int modules = 1;  ///< >= 1
+    Connection connection = Connection::pitch_pitch;
+    ModuleDef module = default_module_def();
+};
+
+/// Builds a chain of N modules: N joints and N + 1 bodies (tail half, N - 1 segments, head half),
+/// lying along +x with its tail at the origin. Throws SpecError on invalid input.
+RobotSpec make_chain(const ChainSpec& spec);
+
+/// Checks a robot spec (indices, masses, sizes, ranges, friction); throws SpecError.
+void validate(const RobotSpec& robot);
+
+/// Joint indices (0-based, from the tail) selected by role: "pitch", "yaw" or "all". Throws
+/// SpecError for an unknown role or an empty selection.
+std::vector<int> select_joints(const RobotSpec& robot, std::string_view role);
+
+/// Total mass, kg.
+double total_mass(const RobotSpec& robot);
+
+}  // namespace gaitlab

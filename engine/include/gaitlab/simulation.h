@@ -1,0 +1,122 @@
+// A simulation: a compiled world, its physics state, its controllers and the scheduler that
+// steps them. Compiling validates the spec; reset() rebuilds the physics from it.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "gaitlab/scheduler.h"
+#include "gaitlab/world.h"
+
+namespace gaitlab {
+
+/// Global options of a simulation.
+struct SimulationOptions {
+    double dt = 0.001;          ///< physics step, s, in (0, 0.1]
+    int control_every = 30;     ///< ticks between controller steps, >= 1
+    int solver_iterations = 10; ///< constraint solver iterations per step, >= 1
+    std::uint64_t seed = 0;     ///< seeds everything random in the run
+};
+
+inline SimulationOptions default_simulation_options() { return SimulationOptions{}; }
+/// Checks ranges; throws SpecError.
+void validate(const SimulationOptions& options);
+
+/// Measured and commanded state of one joint.
+struct JointState {
+    double angle = 0;     ///< rad, measured
+    double target = 0;    ///< rad, commanded (sum of the groups driving it, clamped to range)
+    double velocity = 0;  ///< rad/s
+    double torque = 0;    ///< N·m applied by the servo (and the range stops) to the head side
+};
+
+/// State of one rigid body.
+struct BodyState {
+    Pose pose;
+    Vec3 linear_velocity;   ///< m/s, of the centre of mass
+    Vec3 angular_velocity;  ///< rad/s
+};
+
+/// How well a joint holds together: the solver lets joints drift slightly.
+struct JointError {
+    double separation = 0;  ///< distance between the pivot seen from each body, m
+    double axis_angle = 0;  ///< angle between the axis seen from each body, rad
+};
+
+class PhysicsWorld;
+
+class Simulation {
+public:
+    /// Validates and compiles `world`; throws SpecError.
+    Simulation(WorldSpec world, SimulationOptions options = default_simulation_options());
+    ~Simulation();
+    Simulation(const Simulation&) = delete;
+    Simulation& operator=(const Simulation&) = delete;
+
+    const WorldSpec& world() const { return world_; }
+    const SimulationOptions& options() const { return options_; }
+    long ticks() const { return scheduler_.ticks(); }
+    double time() const { return scheduler_.time(); }
+
+    /// Advances `ticks` ticks (see scheduler.h for the order inside one tick).
+    void step(long ticks = 1);
+    /// Advances round(seconds / dt) ticks.
+    void run(double seconds);
+    /// Rebuilds the physics from the spec, time 0, controllers reset (parameters kept).
+    void reset();
+
+    /// Adds a drive to robot r while the simulation exists; throws SpecError.
+    void add_drive(int robot, Drive drive);
+
+    int robot_count() const { return static_cast<int>(world_.robots.size()); }
+    /// Centre of mass of robot r, m.
+    Vec3 robot_position(int robot) const;
+    /// Velocity of robot r's centre of mass, m/s.
+    Vec3 robot_velocity(int robot) const;
+    /// Centre of mass minus its value at time 0, m.
+    Vec3 robot_displacement(int robot) const;
+    BodyState body(int robot, int body) const;
+    JointState joint(int robot, int joint) const;
+    JointError joint_error(int robot, int joint) const;
+    /// Contact points in the last physics step.
+    int contact_count() const;
+
+    /// Calls `fn` in the record phase of every tick; returns an id for remove_observer.
+    int add_observer(std::function<void(const Simulation&)> fn);
+    void remove_observer(int id);
+
+private:
+    class Phases;
+    struct RobotSlot {
+        int first_body = 0;
+        int first_joint = 0;
+        Vec3 start_position;
+    };
+    struct DriveSlot {
+        int robot;
+        Drive drive;
+        std::vector<int> global_joints;
+        std::vector<double> targets;
+    };
+
+    void build();
+    void check_robot(int robot) const;
+    void bind(int robot, Drive drive);
+
+    WorldSpec world_;
+    SimulationOptions options_;
+    Scheduler scheduler_;
+    std::unique_ptr<PhysicsWorld> physics_;
+    std::unique_ptr<Phases> phases_;
+    std::vector<RobotSlot> robots_;
+    std::vector<DriveSlot> drives_;
+    std::vector<double> angles_;   // per global joint, rad, read in sense
+    std::vector<double> targets_;  // per global joint, rad, summed in think
+    std::vector<double> commands_; // per global joint, rad/s, computed in act
+    std::vector<std::pair<int, std::function<void(const Simulation&)>>> observers_;
+    int next_observer_ = 1;
+};
+
+}  // namespace gaitlab

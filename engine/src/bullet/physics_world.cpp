@@ -1,0 +1,227 @@
+#include "physics_world.h"
+
+#include <btBulletDynamicsCommon.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace gaitlab {
+
+namespace {
+
+btVector3 to_bt(const Vec3& v) {
+    return {static_cast<btScalar>(v.x), static_cast<btScalar>(v.y), static_cast<btScalar>(v.z)};
+}
+btQuaternion to_bt(const Quat& q) {
+    return {static_cast<btScalar>(q.x), static_cast<btScalar>(q.y), static_cast<btScalar>(q.z),
+            static_cast<btScalar>(q.w)};
+}
+btTransform to_bt(const Pose& p) { return btTransform(to_bt(p.orientation), to_bt(p.position)); }
+Vec3 from_bt(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
+Quat from_bt(const btQuaternion& q) { return {q.w(), q.x(), q.y(), q.z()}; }
+
+// collision margin of every box: Bullet's default 4 cm is larger than a module's half-width
+constexpr btScalar kMargin = btScalar(0.001);
+// robots get collision group bits 8..31 so that robots collide with each other but a robot's
+// bodies do not collide among themselves (unless self_collision asks for it)
+constexpr int kFirstRobotBit = 8;
+constexpr int kRobotBits = 24;
+
+}  // namespace
+
+struct PhysicsWorld::Impl {
+    struct Joint {
+        btHingeConstraint* hinge;
+        btJointFeedback feedback;
+        btRigidBody* child;   // Bullet's body A
+        btRigidBody* parent;  // Bullet's body B
+        btVector3 pivot_in_child, pivot_in_parent, axis_in_child, axis_in_parent;
+    };
+
+    btDefaultCollisionConfiguration config;
+    btCollisionDispatcher dispatcher{&config};
+    btDbvtBroadphase broadphase;
+    btSequentialImpulseConstraintSolver solver;
+    btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
+    std::vector<std::unique_ptr<btCollisionShape>> shapes;
+    std::vector<std::unique_ptr<btRigidBody>> bodies;      // robots' bodies, then dynamic boxes
+    std::vector<std::unique_ptr<btRigidBody>> fixed;       // floor and static boxes
+    std::vector<std::unique_ptr<btHingeConstraint>> hinges;
+    std::vector<Joint> joints;
+
+    ~Impl() {
+        for (auto& h : hinges) world.removeConstraint(h.get());
+        for (auto& b : bodies) world.removeRigidBody(b.get());
+        for (auto& b : fixed) world.removeRigidBody(b.get());
+    }
+
+    btRigidBody* add_body(const Vec3& size, double mass, const btTransform& pose, double friction,
+                          int group, int mask) {
+        auto shape = std::make_unique<btBoxShape>(to_bt(size * 0.5));
+        shape->setMargin(kMargin);
+        btVector3 inertia(0, 0, 0);
+        if (mass > 0) shape->calculateLocalInertia(btScalar(mass), inertia);
+        btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), nullptr, shape.get(),
+                                                      inertia);
+        info.m_startWorldTransform = pose;
+        info.m_friction = btScalar(friction);
+        info.m_restitution = 0;
+        auto body = std::make_unique<btRigidBody>(info);
+        btRigidBody* raw = body.get();
+        if (mass > 0) {
+            raw->setActivationState(DISABLE_DEACTIVATION);
+            bodies.push_back(std::move(body));
+        } else {
+            fixed.push_back(std::move(body));
+        }
+        shapes.push_back(std::move(shape));
+        world.addRigidBody(raw, group, mask);
+        return raw;
+    }
+};
+
+PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iterations)
+    : impl_(std::make_unique<Impl>()) {
+    Impl& s = *impl_;
+    s.world.setGravity(to_bt(spec.gravity));
+    s.world.getSolverInfo().m_numIterations = solver_iterations;
+
+    if (spec.floor.enabled) {
+        auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), btScalar(0));
+        btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, plane.get());
+        info.m_friction = btScalar(spec.floor.friction);
+        auto floor = std::make_unique<btRigidBody>(info);
+        s.world.addRigidBody(floor.get(), btBroadphaseProxy::StaticFilter,
+                             btBroadphaseProxy::AllFilter);
+        s.fixed.push_back(std::move(floor));
+        s.shapes.push_back(std::move(plane));
+    }
+
+    for (size_t r = 0; r < spec.robots.size(); ++r) {
+        const PlacedRobot& placed = spec.robots[r];
+        const RobotSpec& robot = placed.robot;
+        const int bit = 1 << (kFirstRobotBit + static_cast<int>(r % kRobotBits));
+        const int mask = robot.self_collision ? btBroadphaseProxy::AllFilter
+                                              : (btBroadphaseProxy::AllFilter & ~bit);
+        const size_t first = s.bodies.size();
+        for (const BodySpec& b : robot.bodies) {
+            const Pose world_pose{placed.pose.apply(b.pose.position),
+                                  placed.pose.orientation * b.pose.orientation};
+            s.add_body(b.size, b.mass, to_bt(world_pose), b.friction, bit, mask);
+        }
+        for (const JointSpec& j : robot.joints) {
+            btRigidBody* child = s.bodies[first + static_cast<size_t>(j.child)].get();
+            btRigidBody* parent = s.bodies[first + static_cast<size_t>(j.parent)].get();
+            const btVector3 pivot = to_bt(placed.pose.apply(j.pivot));
+            const btVector3 axis = to_bt(placed.pose.orientation.rotate(j.axis));
+            Impl::Joint joint{};
+            joint.child = child;
+            joint.parent = parent;
+            joint.pivot_in_child = child->getWorldTransform().inverse() * pivot;
+            joint.pivot_in_parent = parent->getWorldTransform().inverse() * pivot;
+            joint.axis_in_child = child->getWorldTransform().getBasis().transpose() * axis;
+            joint.axis_in_parent = parent->getWorldTransform().getBasis().transpose() * axis;
+            // body A is the child, so the hinge angle is the child's rotation about the axis
+            // relative to the parent, which is the sign convention of the public API
+            auto hinge = std::make_unique<btHingeConstraint>(
+                *child, *parent, joint.pivot_in_child, joint.pivot_in_parent, joint.axis_in_child,
+                joint.axis_in_parent);
+            hinge->setLimit(btScalar(j.min_angle), btScalar(j.max_angle));
+            hinge->enableAngularMotor(true, 0, btScalar(j.servo.max_torque * dt));
+            joint.hinge = hinge.get();
+            s.world.addConstraint(hinge.get(), /*disableCollisionsBetweenLinkedBodies=*/true);
+            s.hinges.push_back(std::move(hinge));
+            s.joints.push_back(joint);
+        }
+    }
+    // feedback pointers must stay put: set them once the joints vector is complete
+    for (Impl::Joint& j : s.joints) {
+        j.hinge->setJointFeedback(&j.feedback);
+        j.hinge->enableFeedback(true);
+    }
+
+    for (const BoxSpec& b : spec.boxes) {
+        s.add_body(b.size, b.mass, to_bt(b.pose), b.friction,
+                   b.mass > 0 ? btBroadphaseProxy::DefaultFilter : btBroadphaseProxy::StaticFilter,
+                   b.mass > 0 ? btBroadphaseProxy::AllFilter
+                              : (btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter));
+    }
+}
+
+PhysicsWorld::~PhysicsWorld() = default;
+
+int PhysicsWorld::body_count() const { return static_cast<int>(impl_->bodies.size()); }
+int PhysicsWorld::joint_count() const { return static_cast<int>(impl_->joints.size()); }
+
+void PhysicsWorld::read_angles(double* out) const {
+    for (const Impl::Joint& j : impl_->joints) *out++ = j.hinge->getHingeAngle();
+}
+
+double PhysicsWorld::angle(int joint) const {
+    return impl_->joints[static_cast<size_t>(joint)].hinge->getHingeAngle();
+}
+
+double PhysicsWorld::velocity(int joint) const {
+    const Impl::Joint& j = impl_->joints[static_cast<size_t>(joint)];
+    const btVector3 axis = j.child->getWorldTransform().getBasis() * j.axis_in_child;
+    return (j.child->getAngularVelocity() - j.parent->getAngularVelocity()).dot(axis);
+}
+
+double PhysicsWorld::torque(int joint) const {
+    // the feedback holds the whole constraint wrench on the child; removing the moment of the
+    // pivot force leaves the angular rows, whose component along the axis is the motor's
+    const Impl::Joint& j = impl_->joints[static_cast<size_t>(joint)];
+    const btTransform& t = j.child->getWorldTransform();
+    const btVector3 arm = t.getBasis() * j.pivot_in_child;
+    const btVector3 axis = t.getBasis() * j.axis_in_child;
+    const btVector3 angular = j.feedback.m_appliedTorqueBodyA - arm.cross(j.feedback.m_appliedForceBodyA);
+    return angular.dot(axis);
+}
+
+void PhysicsWorld::set_motor_velocities(const double* commands) {
+    for (Impl::Joint& j : impl_->joints) j.hinge->setMotorTargetVelocity(btScalar(*commands++));
+}
+
+void PhysicsWorld::step(double dt) { impl_->world.stepSimulation(btScalar(dt), 0); }
+
+BodyState PhysicsWorld::body(int index) const {
+    const btRigidBody& b = *impl_->bodies[static_cast<size_t>(index)];
+    const btTransform& t = b.getWorldTransform();
+    BodyState s;
+    s.pose.position = from_bt(t.getOrigin());
+    s.pose.orientation = from_bt(t.getRotation());
+    s.linear_velocity = from_bt(b.getLinearVelocity());
+    s.angular_velocity = from_bt(b.getAngularVelocity());
+    return s;
+}
+
+Vec3 PhysicsWorld::position(int index) const {
+    return from_bt(impl_->bodies[static_cast<size_t>(index)]->getWorldTransform().getOrigin());
+}
+
+double PhysicsWorld::speed(int index) const {
+    return impl_->bodies[static_cast<size_t>(index)]->getLinearVelocity().length();
+}
+
+JointError PhysicsWorld::joint_error(int joint) const {
+    const Impl::Joint& j = impl_->joints[static_cast<size_t>(joint)];
+    const btTransform& c = j.child->getWorldTransform();
+    const btTransform& p = j.parent->getWorldTransform();
+    JointError e;
+    e.separation = (c * j.pivot_in_child - p * j.pivot_in_parent).length();
+    const btVector3 a = c.getBasis() * j.axis_in_child, b = p.getBasis() * j.axis_in_parent;
+    e.axis_angle = std::atan2(a.cross(b).length(), a.dot(b));
+    return e;
+}
+
+int PhysicsWorld::contact_count() const {
+    int n = 0;
+    btDispatcher& d = impl_->dispatcher;
+    for (int i = 0; i < d.getNumManifolds(); ++i) {
+        n += d.getManifoldByIndexInternal(i)->getNumContacts();
+    }
+    return n;
+}
+
+}  // namespace gaitlab

@@ -1,0 +1,152 @@
+#include "gaitlab/robot.h"
+
+#include <fmt/format.h>
+
+#include "check.h"
+#include "gaitlab/error.h"
+
+namespace gaitlab {
+
+const char* to_string(Connection c) {
+    switch (c) {
+        case Connection::pitch_pitch: return "pitch-pitch";
+        case Connection::pitch_yaw: return "pitch-yaw";
+        case Connection::yaw_yaw: return "yaw-yaw";
+    }
+    return "?";
+}
+
+const char* to_string(JointRole r) { return r == JointRole::pitch ? "pitch" : "yaw"; }
+
+Connection parse_connection(std::string_view name) {
+    for (Connection c : {Connection::pitch_pitch, Connection::pitch_yaw, Connection::yaw_yaw}) {
+        if (name == to_string(c)) return c;
+    }
+    throw SpecError(fmt::format(
+        "unknown connection type '{}' (expected 'pitch-pitch', 'pitch-yaw' or 'yaw-yaw')", name));
+}
+
+namespace {
+
+void validate_module(const ModuleDef& m) {
+    const std::string p = "module '" + m.name + "' ";
+    detail::check_positive(p + "length", m.length, "m");
+    detail::check_positive(p + "width", m.width, "m");
+    detail::check_positive(p + "height", m.height, "m");
+    detail::check_positive(p + "mass", m.mass, "kg");
+    detail::check_range(p + "friction", m.friction, 0, 1);
+    detail::check_positive(p + "servo kp", m.servo.kp, "1/s");
+    detail::check_positive(p + "servo max_speed", m.servo.max_speed, "rad/s");
+    detail::check_positive(p + "servo max_torque", m.servo.max_torque, "N·m");
+    if (!(m.min_angle < m.max_angle && m.min_angle >= -kPi && m.max_angle <= kPi)) {
+        throw SpecError(p + "joint range must satisfy -180 <= min < max <= 180 deg");
+    }
+}
+
+JointRole role_of(Connection c, int joint) {
+    switch (c) {
+        case Connection::pitch_pitch: return JointRole::pitch;
+        case Connection::yaw_yaw: return JointRole::yaw;
+        case Connection::pitch_yaw: return joint % 2 == 0 ? JointRole::pitch : JointRole::yaw;
+    }
+    return JointRole::pitch;
+}
+
+}  // namespace
+
+RobotSpec make_chain(const ChainSpec& spec) {
+    if (spec.modules < 1) {
+        throw SpecError(fmt::format("modules must be at least 1 (got {})", spec.modules));
+    }
+    if (spec.modules > 1000) {
+        throw SpecError(fmt::format("modules must be at most 1000 (got {})", spec.modules));
+    }
+    validate_module(spec.module);
+    const ModuleDef& m = spec.module;
+    const double len = m.length, z = m.height / 2;
+    const int n = spec.modules;
+
+    RobotSpec robot;
+    robot.name = spec.name;
+    // the joint sits at each module's mid-plane, so the bodies are a tail half, n - 1 segments
+    // made of two halves of neighbouring modules, and a head half
+    auto add_body = [&](std::string name, double x0, double x1, double mass) {
+        BodySpec b;
+        b.name = std::move(name);
+        b.size = {x1 - x0, m.width, m.height};
+        b.mass = mass;
+        b.pose.position = {(x0 + x1) / 2, 0, z};
+        b.friction = m.friction;
+        robot.bodies.push_back(std::move(b));
+    };
+    add_body("tail", 0, len / 2, m.mass / 2);
+    for (int k = 1; k < n; ++k) {
+        add_body(fmt::format("segment{}", k), len * (k - 0.5), len * (k + 0.5), m.mass);
+    }
+    add_body("head", len * (n - 0.5), len * n, m.mass / 2);
+
+    for (int j = 0; j < n; ++j) {
+        JointSpec js;
+        js.name = fmt::format("joint{}", j + 1);
+        js.role = role_of(spec.connection, j);
+        js.parent = j;
+        js.child = j + 1;
+        js.pivot = {len * (j + 0.5), 0, z};
+        // a positive pitch lifts the head side; a positive yaw turns it counter-clockwise
+        js.axis = js.role == JointRole::pitch ? Vec3{0, -1, 0} : Vec3{0, 0, 1};
+        js.min_angle = m.min_angle;
+        js.max_angle = m.max_angle;
+        js.servo = m.servo;
+        robot.joints.push_back(std::move(js));
+    }
+    return robot;
+}
+
+void validate(const RobotSpec& robot) {
+    const std::string p = "robot '" + robot.name + "' ";
+    if (robot.bodies.empty()) throw SpecError(p + "has no bodies");
+    for (const BodySpec& b : robot.bodies) {
+        const std::string q = p + "body '" + b.name + "' ";
+        detail::check_positive(q + "mass", b.mass, "kg");
+        detail::check_positive(q + "size x", b.size.x, "m");
+        detail::check_positive(q + "size y", b.size.y, "m");
+        detail::check_positive(q + "size z", b.size.z, "m");
+        detail::check_range(q + "friction", b.friction, 0, 1);
+    }
+    const int nb = static_cast<int>(robot.bodies.size());
+    for (const JointSpec& j : robot.joints) {
+        const std::string q = p + "joint '" + j.name + "' ";
+        if (j.parent < 0 || j.parent >= nb || j.child < 0 || j.child >= nb || j.parent == j.child) {
+            throw SpecError(q + "must join two different bodies of the robot");
+        }
+        if (std::abs(j.axis.norm() - 1) > 1e-6) throw SpecError(q + "axis must be a unit vector");
+        if (!(j.min_angle < j.max_angle)) throw SpecError(q + "range must have min < max");
+        detail::check_positive(q + "servo kp", j.servo.kp, "1/s");
+        detail::check_positive(q + "servo max_speed", j.servo.max_speed, "rad/s");
+        detail::check_positive(q + "servo max_torque", j.servo.max_torque, "N·m");
+    }
+}
+
+std::vector<int> select_joints(const RobotSpec& robot, std::string_view role) {
+    const bool all = role == "all";
+    if (!all && role != "pitch" && role != "yaw") {
+        throw SpecError(
+            fmt::format("unknown joint role '{}' (expected 'pitch', 'yaw' or 'all')", role));
+    }
+    std::vector<int> out;
+    for (int j = 0; j < static_cast<int>(robot.joints.size()); ++j) {
+        if (all || role == to_string(robot.joints[j].role)) out.push_back(j);
+    }
+    if (out.empty()) {
+        throw SpecError(fmt::format("robot '{}' has no {} joints", robot.name, role));
+    }
+    return out;
+}
+
+double total_mass(const RobotSpec& robot) {
+    double m = 0;
+    for (const BodySpec& b : robot.bodies) m += b.mass;
+    return m;
+}
+
+}  // namespace gaitlab

@@ -1,0 +1,270 @@
+#include "gaitlab/simulation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "bullet/physics_world.h"
+#include "check.h"
+#include "gaitlab/controller.h"
+#include "gaitlab/error.h"
+#include "gaitlab/servo.h"
+
+namespace gaitlab {
+
+void validate(const SimulationOptions& o) {
+    detail::check_range("dt", o.dt, 1e-6, 0.1, "s");
+    if (o.control_every < 1) {
+        throw SpecError(fmt::format("control_every must be at least 1 (got {})", o.control_every));
+    }
+    if (o.solver_iterations < 1 || o.solver_iterations > 10000) {
+        throw SpecError(fmt::format("solver_iterations must be in [1, 10000] (got {})",
+                                    o.solver_iterations));
+    }
+}
+
+Scheduler::Scheduler(double dt, int control_every)
+    : dt_(dt), control_every_(control_every), control_dt_(dt * control_every) {}
+
+// the tick phases of a simulation (see scheduler.h for their order)
+class Simulation::Phases final : public TickPhases, public JointReader {
+public:
+    explicit Phases(Simulation& sim) : sim_(sim) {}
+
+    void sense() override { sim_.physics_->read_angles(sim_.angles_.data()); }
+
+    void think(double time, double control_dt) override {
+        check_divergence(time);
+        std::fill(sim_.targets_.begin(), sim_.targets_.end(), 0.0);
+        for (DriveSlot& d : sim_.drives_) {
+            ControlIO io(control_dt, time, d.global_joints, *this, d.targets.data());
+            d.drive.controller->step(io);
+            for (size_t m = 0; m < d.global_joints.size(); ++m) {
+                sim_.targets_[static_cast<size_t>(d.global_joints[m])] += d.targets[m];
+            }
+        }
+        // overlapping groups add up; the sum stays inside the joint's range
+        for (size_t j = 0; j < sim_.targets_.size(); ++j) {
+            sim_.targets_[j] = std::clamp(sim_.targets_[j], min_[j], max_[j]);
+        }
+    }
+
+    void act() override {
+        for (size_t j = 0; j < servos_.size(); ++j) {
+            sim_.commands_[j] = servo_command(servos_[j], sim_.targets_[j], sim_.angles_[j]);
+        }
+        sim_.physics_->set_motor_velocities(sim_.commands_.data());
+    }
+
+    void physics(double dt) override { sim_.physics_->step(dt); }
+
+    void record(long /*tick*/, double /*time*/) override {
+        for (auto& o : sim_.observers_) o.second(sim_);
+    }
+
+    double angle(int joint) const override { return sim_.angles_[static_cast<size_t>(joint)]; }
+    double velocity(int joint) const override { return sim_.physics_->velocity(joint); }
+    double torque(int joint) const override { return sim_.physics_->torque(joint); }
+
+    // per global joint, copied from the spec so the hot loop reads flat arrays
+    std::vector<ServoDef> servos_;
+    std::vector<double> min_, max_;
+
+private:
+    void check_divergence(double time) const {
+        const PhysicsWorld& p = *sim_.physics_;
+        for (size_t r = 0; r < sim_.robots_.size(); ++r) {
+            const RobotSpec& robot = sim_.world_.robots[r].robot;
+            for (size_t b = 0; b < robot.bodies.size(); ++b) {
+                const int index = sim_.robots_[r].first_body + static_cast<int>(b);
+                const Vec3 x = p.position(index);
+                const double speed = p.speed(index);
+                if (!(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z) &&
+                      x.norm() < 1e5 && speed < 1e4)) {
+                    throw DivergenceError(fmt::format(
+                        "simulation diverged at t = {:.3f} s: body '{}' of robot '{}' is at "
+                        "({}, {}, {}) m moving at {} m/s (try a smaller dt or more solver "
+                        "iterations)",
+                        time, robot.bodies[b].name, robot.name, x.x, x.y, x.z, speed));
+                }
+            }
+        }
+    }
+
+    Simulation& sim_;
+};
+
+namespace {
+
+const SimulationOptions& checked(const SimulationOptions& o) {
+    validate(o);
+    return o;
+}
+
+}  // namespace
+
+Simulation::Simulation(WorldSpec world, SimulationOptions options)
+    : world_(std::move(world)),
+      options_(checked(options)),
+      scheduler_(options_.dt, options_.control_every) {
+    validate(world_);
+    phases_ = std::make_unique<Phases>(*this);
+    int first_joint = 0;
+    for (const PlacedRobot& r : world_.robots) {
+        for (const JointSpec& j : r.robot.joints) {
+            phases_->servos_.push_back(j.servo);
+            phases_->min_.push_back(j.min_angle);
+            phases_->max_.push_back(j.max_angle);
+        }
+        RobotSlot slot;
+        slot.first_joint = first_joint;
+        first_joint += static_cast<int>(r.robot.joints.size());
+        robots_.push_back(slot);
+    }
+    int first_body = 0;
+    for (size_t r = 0; r < robots_.size(); ++r) {
+        robots_[r].first_body = first_body;
+        first_body += static_cast<int>(world_.robots[r].robot.bodies.size());
+    }
+    angles_.assign(static_cast<size_t>(first_joint), 0.0);
+    targets_.assign(angles_.size(), 0.0);
+    commands_.assign(angles_.size(), 0.0);
+
+    // bind every drive of the spec; the spec keeps them so reset() and copies see them too
+    for (size_t r = 0; r < world_.robots.size(); ++r) {
+        Actuation drives = std::move(world_.robots[r].actuation);
+        world_.robots[r].actuation.clear();
+        for (Drive& d : drives) add_drive(static_cast<int>(r), std::move(d));
+    }
+    build();
+}
+
+Simulation::~Simulation() = default;
+
+void Simulation::build() {
+    physics_ = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations);
+    for (size_t r = 0; r < robots_.size(); ++r) {
+        robots_[r].start_position = robot_position(static_cast<int>(r));
+    }
+    physics_->read_angles(angles_.data());
+}
+
+void Simulation::check_robot(int robot) const {
+    if (robot < 0 || robot >= robot_count()) {
+        throw SpecError(fmt::format("robot index {} out of range [0, {})", robot, robot_count()));
+    }
+}
+
+void Simulation::add_drive(int robot, Drive drive) {
+    check_robot(robot);
+    const PlacedRobot& placed = world_.robots[static_cast<size_t>(robot)];
+    const int nj = static_cast<int>(placed.robot.joints.size());
+    if (!drive.controller) throw SpecError("a drive needs a controller");
+    if (drive.joints.empty()) throw SpecError("a joint group needs at least one joint");
+    std::vector<int> sorted = drive.joints;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
+        throw SpecError("a joint group names the same joint twice");
+    }
+    for (int j : drive.joints) {
+        if (j < 0 || j >= nj) {
+            throw SpecError(fmt::format("robot '{}' has no joint {} (it has joints 1 to {})",
+                                        placed.robot.name, j + 1, nj));
+        }
+    }
+    drive.controller->bind(static_cast<int>(drive.joints.size()));
+    DriveSlot slot{robot, drive, {}, std::vector<double>(drive.joints.size(), 0.0)};
+    for (int j : drive.joints) slot.global_joints.push_back(robots_[robot].first_joint + j);
+    drives_.push_back(std::move(slot));
+    world_.robots[static_cast<size_t>(robot)].actuation.push_back(std::move(drive));
+}
+
+void Simulation::step(long ticks) {
+    for (long i = 0; i < ticks; ++i) scheduler_.tick(*phases_);
+}
+
+void Simulation::run(double seconds) {
+    if (!(std::isfinite(seconds) && seconds >= 0)) {
+        throw SpecError(fmt::format("run time must be a non-negative number of seconds (got {})",
+                                    seconds));
+    }
+    step(std::lround(seconds / options_.dt));
+}
+
+void Simulation::reset() {
+    scheduler_.reset();
+    for (DriveSlot& d : drives_) {
+        d.drive.controller->reset();
+        std::fill(d.targets.begin(), d.targets.end(), 0.0);
+    }
+    std::fill(targets_.begin(), targets_.end(), 0.0);
+    std::fill(commands_.begin(), commands_.end(), 0.0);
+    build();
+}
+
+Vec3 Simulation::robot_position(int robot) const {
+    check_robot(robot);
+    const RobotSpec& spec = world_.robots[static_cast<size_t>(robot)].robot;
+    Vec3 sum;
+    for (size_t b = 0; b < spec.bodies.size(); ++b) {
+        sum += physics_->position(robots_[robot].first_body + static_cast<int>(b)) *
+               spec.bodies[b].mass;
+    }
+    return sum * (1.0 / total_mass(spec));
+}
+
+Vec3 Simulation::robot_velocity(int robot) const {
+    check_robot(robot);
+    const RobotSpec& spec = world_.robots[static_cast<size_t>(robot)].robot;
+    Vec3 sum;
+    for (size_t b = 0; b < spec.bodies.size(); ++b) {
+        sum += physics_->body(robots_[robot].first_body + static_cast<int>(b)).linear_velocity *
+               spec.bodies[b].mass;
+    }
+    return sum * (1.0 / total_mass(spec));
+}
+
+Vec3 Simulation::robot_displacement(int robot) const {
+    return robot_position(robot) - robots_[static_cast<size_t>(robot)].start_position;
+}
+
+BodyState Simulation::body(int robot, int b) const {
+    check_robot(robot);
+    const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.bodies.size());
+    if (b < 0 || b >= n) throw SpecError(fmt::format("body index {} out of range [0, {})", b, n));
+    return physics_->body(robots_[robot].first_body + b);
+}
+
+JointState Simulation::joint(int robot, int j) const {
+    check_robot(robot);
+    const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.joints.size());
+    if (j < 0 || j >= n) throw SpecError(fmt::format("joint index {} out of range [0, {})", j, n));
+    const int g = robots_[robot].first_joint + j;
+    JointState s;
+    s.angle = physics_->angle(g);
+    s.target = targets_[static_cast<size_t>(g)];
+    s.velocity = physics_->velocity(g);
+    s.torque = physics_->torque(g);
+    return s;
+}
+
+JointError Simulation::joint_error(int robot, int j) const {
+    check_robot(robot);
+    return physics_->joint_error(robots_[robot].first_joint + j);
+}
+
+int Simulation::contact_count() const { return physics_->contact_count(); }
+
+int Simulation::add_observer(std::function<void(const Simulation&)> fn) {
+    observers_.emplace_back(next_observer_, std::move(fn));
+    return next_observer_++;
+}
+
+void Simulation::remove_observer(int id) {
+    observers_.erase(std::remove_if(observers_.begin(), observers_.end(),
+                                    [id](const auto& o) { return o.first == id; }),
+                     observers_.end());
+}
+
+}  // namespace gaitlab

@@ -1,0 +1,64 @@
+// The Lua host: a Lua 5.4 state with the gaitlab API, and the one protected-call helper every
+// call into Lua goes through.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "gaitlab/error.h"
+
+struct lua_State;
+
+namespace gaitlab::scripting {
+
+/// A Lua error, split into its parts (never parsed from strings after the fact).
+class ScriptError : public Error {
+public:
+    ScriptError(std::string message, std::string file, int line, std::string traceback)
+        : Error(message),
+          file_(std::move(file)),
+          line_(line),
+          traceback_(std::move(traceback)) {}
+    /// The file the error happened in ("" when unknown, e.g. in C code).
+    const std::string& file() const { return file_; }
+    /// Its line (0 when unknown).
+    int line() const { return line_; }
+    /// Lua's stack traceback at the point of the error.
+    const std::string& traceback() const { return traceback_; }
+
+private:
+    std::string file_;
+    int line_;
+    std::string traceback_;
+};
+
+/// Calls the function below `nargs` arguments on top of L's stack in protected mode, with a
+/// message handler that records file, line and traceback. On failure the stack is as if the
+/// call returned nothing and ScriptError is thrown.
+void protected_call(lua_State* L, int nargs, int nresults);
+
+class LuaHost {
+public:
+    /// A new Lua state with the standard libraries and the `gaitlab` module as a global.
+    LuaHost();
+    ~LuaHost();
+    LuaHost(const LuaHost&) = delete;
+    LuaHost& operator=(const LuaHost&) = delete;
+
+    lua_State* state() const { return L_; }
+
+    /// Seeds math.random, so scripts that use it are reproducible.
+    void seed(std::uint64_t seed);
+    /// Sets the global `arg` table as lua.c does: arg[0] = script, arg[1..] = args.
+    void set_args(const std::string& script, const std::vector<std::string>& args);
+    /// Loads and runs a Lua file; throws ScriptError (syntax or runtime).
+    void run_file(const std::string& path);
+    /// Loads and runs a string; `name` is the chunk name shown in messages.
+    void run_string(const std::string& code, const std::string& name);
+
+private:
+    lua_State* L_;
+};
+
+}  // namespace gaitlab::scripting

@@ -1,0 +1,124 @@
+#include "gaitlab/scripting/lua_host.h"
+
+#include <lua.hpp>
+
+#include "stdlib.h"
+
+extern "C" int luaopen_gaitlab(lua_State* L);
+
+namespace gaitlab::scripting {
+
+namespace {
+
+// message handler: turns the error into a table {message, file, line, traceback} while the
+// stack of the failed call is still there
+int message_handler(lua_State* L) {
+    const char* msg = lua_tostring(L, 1);
+    if (msg == nullptr) {
+        if (luaL_callmeta(L, 1, "__tostring") && lua_type(L, -1) == LUA_TSTRING) {
+            msg = lua_tostring(L, -1);
+        } else {
+            msg = lua_pushfstring(L, "(error object is a %s value)", luaL_typename(L, 1));
+        }
+    }
+    lua_createtable(L, 0, 4);
+    lua_pushstring(L, msg);
+    lua_setfield(L, -2, "message");
+    luaL_traceback(L, L, nullptr, 1);
+    lua_setfield(L, -2, "traceback");
+    // the innermost Lua function on the stack is where the error happened
+    lua_Debug ar;
+    for (int level = 1; lua_getstack(L, level, &ar); ++level) {
+        lua_getinfo(L, "Sl", &ar);
+        if (ar.currentline > 0) {
+            lua_pushstring(L, ar.source[0] == '@' ? ar.source + 1 : ar.short_src);
+            lua_setfield(L, -2, "file");
+            lua_pushinteger(L, ar.currentline);
+            lua_setfield(L, -2, "line");
+            break;
+        }
+    }
+    return 1;
+}
+
+std::string field_string(lua_State* L, const char* key) {
+    lua_getfield(L, -1, key);
+    std::string s = lua_isstring(L, -1) ? lua_tostring(L, -1) : "";
+    lua_pop(L, 1);
+    return s;
+}
+
+}  // namespace
+
+void protected_call(lua_State* L, int nargs, int nresults) {
+    const int base = lua_gettop(L) - nargs;
+    lua_pushcfunction(L, message_handler);
+    lua_insert(L, base);
+    const int status = lua_pcall(L, nargs, nresults, base);
+    if (status == LUA_OK) {
+        lua_remove(L, base);
+        return;
+    }
+    std::string message, file, traceback;
+    int line = 0;
+    if (lua_istable(L, -1)) {
+        message = field_string(L, "message");
+        file = field_string(L, "file");
+        traceback = field_string(L, "traceback");
+        lua_getfield(L, -1, "line");
+        line = static_cast<int>(lua_tointeger(L, -1));
+        lua_pop(L, 1);
+    } else {
+        message = lua_isstring(L, -1) ? lua_tostring(L, -1) : "error in error handling";
+    }
+    lua_settop(L, base - 1);
+    throw ScriptError(message, file, line, traceback);
+}
+
+LuaHost::LuaHost() : L_(luaL_newstate()) {
+    if (!L_) throw Error("cannot create a Lua state: out of memory");
+    luaL_openlibs(L_);
+    luaL_requiref(L_, "gaitlab", luaopen_gaitlab, 1);
+    lua_pop(L_, 1);
+}
+
+LuaHost::~LuaHost() { lua_close(L_); }
+
+void LuaHost::seed(std::uint64_t seed) {
+    lua_getglobal(L_, "math");
+    lua_getfield(L_, -1, "randomseed");
+    lua_remove(L_, -2);
+    lua_pushinteger(L_, static_cast<lua_Integer>(seed));
+    protected_call(L_, 1, 0);
+}
+
+void LuaHost::set_args(const std::string& script, const std::vector<std::string>& args) {
+    lua_createtable(L_, static_cast<int>(args.size()), 1);
+    lua_pushstring(L_, script.c_str());
+    lua_rawseti(L_, -2, 0);
+    for (size_t i = 0; i < args.size(); ++i) {
+        lua_pushstring(L_, args[i].c_str());
+        lua_rawseti(L_, -2, static_cast<lua_Integer>(i + 1));
+    }
+    lua_setglobal(L_, "arg");
+}
+
+void LuaHost::run_file(const std::string& path) {
+    if (luaL_loadfilex(L_, path.c_str(), "t") != LUA_OK) {
+        std::string msg = lua_tostring(L_, -1);
+        lua_pop(L_, 1);
+        throw ScriptError(msg, path, 0, "");
+    }
+    protected_call(L_, 0, 0);
+}
+
+void LuaHost::run_string(const std::string& code, const std::string& name) {
+    if (luaL_loadbufferx(L_, code.data(), code.size(), name.c_str(), "t") != LUA_OK) {
+        std::string msg = lua_tostring(L_, -1);
+        lua_pop(L_, 1);
+        throw ScriptError(msg, name, 0, "");
+    }
+    protected_call(L_, 0, 0);
+}
+
+}  // namespace gaitlab::scripting

@@ -1,0 +1,218 @@
+#include "lua_util.h"
+
+#include <algorithm>
+
+namespace gaitlab::scripting {
+
+std::string type_name(lua_State* L, int index) {
+    if (luaL_getmetafield(L, index, "__name") == LUA_TSTRING) {
+        std::string name = lua_tostring(L, -1);
+        lua_pop(L, 1);
+        return name;
+    }
+    if (lua_type(L, index) == LUA_TLIGHTUSERDATA) return "light userdata";
+    return luaL_typename(L, index);
+}
+
+namespace {
+
+size_t edit_distance(std::string_view a, std::string_view b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diag = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            const size_t up = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1])});
+            diag = up;
+        }
+    }
+    return row[b.size()];
+}
+
+}  // namespace
+
+std::string closest(std::string_view word, const std::vector<std::string>& candidates) {
+    std::string best;
+    size_t best_d = std::max<size_t>(2, word.size() / 3) + 1;
+    for (const std::string& c : candidates) {
+        const size_t d = edit_distance(word, c);
+        if (d < best_d) {
+            best_d = d;
+            best = c;
+        }
+    }
+    return best;
+}
+
+std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates) {
+    const std::string c = closest(word, candidates);
+    return c.empty() ? "" : "; did you mean '" + c + "'?";
+}
+
+void check_table(lua_State* L, int index) {
+    if (!lua_istable(L, index)) {
+        throw ArgError(index, "table expected, got " + type_name(L, index));
+    }
+}
+
+double check_number(lua_State* L, int index) {
+    int ok = 0;
+    const double v = lua_tonumberx(L, index, &ok);
+    if (!ok) throw ArgError(index, "number expected, got " + type_name(L, index));
+    return v;
+}
+
+long long check_integer(lua_State* L, int index) {
+    int ok = 0;
+    const lua_Integer v = lua_tointegerx(L, index, &ok);
+    if (!ok) {
+        if (lua_isnumber(L, index)) throw ArgError(index, "number has no integer representation");
+        throw ArgError(index, "number expected, got " + type_name(L, index));
+    }
+    return v;
+}
+
+std::string check_string(lua_State* L, int index) {
+    if (lua_type(L, index) != LUA_TSTRING) {
+        throw ArgError(index, "string expected, got " + type_name(L, index));
+    }
+    size_t len = 0;
+    const char* s = lua_tolstring(L, index, &len);
+    return std::string(s, len);
+}
+
+void push_vec3(lua_State* L, const Vec3& v) {
+    lua_createtable(L, 0, 3);
+    lua_pushnumber(L, v.x);
+    lua_setfield(L, -2, "x");
+    lua_pushnumber(L, v.y);
+    lua_setfield(L, -2, "y");
+    lua_pushnumber(L, v.z);
+    lua_setfield(L, -2, "z");
+    luaL_setmetatable(L, "gaitlab.Vec3");
+}
+
+Fields::Fields(lua_State* L, int index, int arg, std::initializer_list<const char*> allowed)
+    : L_(L), index_(lua_absindex(L, index)), arg_(arg) {
+    if (!lua_istable(L, index_)) throw ArgError(arg, "table expected, got " + type_name(L, index_));
+    std::vector<std::string> names(allowed.begin(), allowed.end());
+    lua_pushnil(L);
+    while (lua_next(L, index_) != 0) {
+        lua_pop(L, 1);
+        if (lua_type(L, -1) != LUA_TSTRING) {
+            const std::string t = type_name(L, -1);
+            lua_pop(L, 1);
+            throw ArgError(arg, "unexpected " + t + " key (fields are named)");
+        }
+        const std::string key = lua_tostring(L, -1);
+        if (std::find(names.begin(), names.end(), key) == names.end()) {
+            lua_pop(L, 1);
+            throw ArgError(arg, "unknown key '" + key + "'" + did_you_mean(key, names));
+        }
+    }
+}
+
+bool Fields::has(const char* key) const {
+    const bool present = lua_getfield(L_, index_, key) != LUA_TNIL;
+    lua_pop(L_, 1);
+    return present;
+}
+
+int Fields::push(const char* key) const { return lua_getfield(L_, index_, key); }
+
+void Fields::fail(const char* key, const std::string& message) const {
+    throw ArgError(arg_, std::string("field '") + key + "': " + message);
+}
+
+double Fields::number(const char* key, double fallback) const {
+    if (push(key) == LUA_TNIL) {
+        lua_pop(L_, 1);
+        return fallback;
+    }
+    int ok = 0;
+    const double v = lua_tonumberx(L_, -1, &ok);
+    const std::string t = ok ? "" : type_name(L_, -1);
+    lua_pop(L_, 1);
+    if (!ok) fail(key, "number expected, got " + t);
+    return v;
+}
+
+long long Fields::integer(const char* key, long long fallback) const {
+    if (push(key) == LUA_TNIL) {
+        lua_pop(L_, 1);
+        return fallback;
+    }
+    int ok = 0;
+    const lua_Integer v = lua_tointegerx(L_, -1, &ok);
+    const bool is_number = lua_type(L_, -1) == LUA_TNUMBER;
+    const std::string t = type_name(L_, -1);
+    lua_pop(L_, 1);
+    if (!ok) fail(key, is_number ? "integer expected, got a fractional number" :
+                                   "integer expected, got " + t);
+    return v;
+}
+
+std::string Fields::string(const char* key, const std::string& fallback) const {
+    if (push(key) == LUA_TNIL) {
+        lua_pop(L_, 1);
+        return fallback;
+    }
+    if (lua_type(L_, -1) != LUA_TSTRING) {
+        const std::string t = type_name(L_, -1);
+        lua_pop(L_, 1);
+        fail(key, "string expected, got " + t);
+    }
+    std::string s = lua_tostring(L_, -1);
+    lua_pop(L_, 1);
+    return s;
+}
+
+bool Fields::boolean(const char* key, bool fallback) const {
+    const int t = push(key);
+    if (t == LUA_TNIL) {
+        lua_pop(L_, 1);
+        return fallback;
+    }
+    if (t != LUA_TBOOLEAN) {
+        const std::string n = type_name(L_, -1);
+        lua_pop(L_, 1);
+        fail(key, "boolean expected, got " + n);
+    }
+    const bool b = lua_toboolean(L_, -1);
+    lua_pop(L_, 1);
+    return b;
+}
+
+Vec3 Fields::vec3(const char* key, const Vec3& fallback) const {
+    const int t = push(key);
+    if (t == LUA_TNIL) {
+        lua_pop(L_, 1);
+        return fallback;
+    }
+    if (t != LUA_TTABLE) {
+        const std::string n = type_name(L_, -1);
+        lua_pop(L_, 1);
+        fail(key, "vector expected ({x, y, z}), got " + n);
+    }
+    double c[3];
+    const char* names[3] = {"x", "y", "z"};
+    for (int i = 0; i < 3; ++i) {
+        if (lua_getfield(L_, -1, names[i]) == LUA_TNIL) {
+            lua_pop(L_, 1);
+            lua_rawgeti(L_, -1, i + 1);
+        }
+        int ok = 0;
+        c[i] = lua_tonumberx(L_, -1, &ok);
+        lua_pop(L_, 1);
+        if (!ok) {
+            lua_pop(L_, 1);
+            fail(key, "vector expected ({x, y, z} with three numbers)");
+        }
+    }
+    lua_pop(L_, 1);
+    return {c[0], c[1], c[2]};
+}
+
+}  // namespace gaitlab::scripting

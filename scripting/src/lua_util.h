@@ -1,0 +1,136 @@
+// Helpers every binding file uses: argument checks in lauxlib's vocabulary, C++ objects in
+// userdata, table fields with unknown-key detection, and the exception barrier.
+#pragma once
+
+#include <lua.hpp>
+
+#include <initializer_list>
+#include <new>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "gaitlab/error.h"
+#include "gaitlab/scripting/lua_host.h"
+#include "gaitlab/types.h"
+
+namespace gaitlab::scripting {
+
+/// A bad argument: becomes "bad argument #arg to 'fn' (message)".
+class ArgError : public Error {
+public:
+    ArgError(int arg, const std::string& message) : Error(message), arg_(arg) {}
+    int arg() const { return arg_; }
+
+private:
+    int arg_;
+};
+
+/// The type name Lua uses in its own messages (honours __name).
+std::string type_name(lua_State* L, int index);
+/// The candidate closest to `word` by edit distance, or "" if none is close.
+std::string closest(std::string_view word, const std::vector<std::string>& candidates);
+/// " (did you mean 'x'?)" or "".
+std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates);
+
+/// Runs `body` (returning the number of results) and turns any C++ exception into a Lua error
+/// once the exception is gone, so nothing with a destructor is skipped by longjmp.
+template <class F>
+int protect(lua_State* L, F&& body) {
+    int arg = 0;
+    try {
+        return body();
+    } catch (const ArgError& e) {
+        arg = e.arg();
+        lua_pushstring(L, e.what());
+    } catch (const ScriptError& e) {
+        lua_pushstring(L, e.what());  // already says where it happened
+    } catch (const std::exception& e) {
+        luaL_where(L, 1);
+        lua_pushstring(L, e.what());
+        lua_concat(L, 2);
+    }
+    if (arg > 0) return luaL_argerror(L, arg, lua_tostring(L, -1));
+    return lua_error(L);
+}
+
+/// Creates a userdata holding a T, with the metatable registered as `tname`.
+template <class T>
+T* new_object(lua_State* L, const char* tname, T value) {
+    void* p = lua_newuserdatauv(L, sizeof(T), 0);
+    T* obj = new (p) T(std::move(value));
+    luaL_setmetatable(L, tname);
+    return obj;
+}
+
+/// The T held by the userdata at `index`, which must have metatable `tname`.
+template <class T>
+T& check_object(lua_State* L, int index, const char* tname) {
+    void* p = luaL_testudata(L, index, tname);
+    if (!p) throw ArgError(index, std::string(tname) + " expected, got " + type_name(L, index));
+    return *static_cast<T*>(p);
+}
+
+/// Registers metatable `tname` with __gc destroying a T, __name, and the given methods as
+/// __index (unless the methods table holds its own __index).
+template <class T>
+void register_type(lua_State* L, const char* tname, const luaL_Reg* methods,
+                   const luaL_Reg* metamethods = nullptr) {
+    luaL_newmetatable(L, tname);
+    lua_pushcfunction(L, [](lua_State* S) -> int {
+        static_cast<T*>(lua_touserdata(S, 1))->~T();
+        return 0;
+    });
+    lua_setfield(L, -2, "__gc");
+    if (metamethods) luaL_setfuncs(L, metamethods, 0);
+    if (methods) {
+        lua_getfield(L, -1, "__index");
+        const bool has_index = !lua_isnil(L, -1);
+        lua_pop(L, 1);
+        if (!has_index) {
+            lua_newtable(L);
+            luaL_setfuncs(L, methods, 0);
+            lua_setfield(L, -2, "__index");
+        }
+    }
+    lua_pop(L, 1);
+}
+
+/// Checks that the value at `index` is a table; throws ArgError otherwise.
+void check_table(lua_State* L, int index);
+double check_number(lua_State* L, int index);
+long long check_integer(lua_State* L, int index);
+std::string check_string(lua_State* L, int index);
+
+/// Pushes {x = , y = , z = } with the gaitlab.Vec3 metatable.
+void push_vec3(lua_State* L, const Vec3& v);
+
+/// Reads the fields of a table argument; unknown keys are an error naming the closest valid one.
+class Fields {
+public:
+    Fields(lua_State* L, int index, int arg, std::initializer_list<const char*> allowed);
+
+    bool has(const char* key) const;
+    double number(const char* key, double fallback) const;
+    long long integer(const char* key, long long fallback) const;
+    std::string string(const char* key, const std::string& fallback) const;
+    bool boolean(const char* key, bool fallback) const;
+    /// {x, y, z} or {x = , y = , z = }.
+    Vec3 vec3(const char* key, const Vec3& fallback) const;
+    /// Pushes the field (any type) and returns its Lua type.
+    int push(const char* key) const;
+    int index() const { return index_; }
+    int arg() const { return arg_; }
+
+    /// "field 'key': <message>" as an ArgError for this argument.
+    [[noreturn]] void fail(const char* key, const std::string& message) const;
+
+private:
+    lua_State* L_;
+    int index_;
+    int arg_;
+};
+
+}  // namespace gaitlab::scripting

@@ -1,0 +1,34 @@
+#include "scene.h"
+
+#include "gaitlab/error.h"
+
+namespace gaitlab::scripting {
+
+std::shared_ptr<Simulation> RobotBinding::live() const {
+    auto s = sim.lock();
+    if (!s) {
+        throw Error("robot '" + spec.name +
+                    "' is not in a simulation (add it to a world, then create "
+                    "gaitlab.simulation{world = ...})");
+    }
+    return s;
+}
+
+void RobotBinding::drive(std::vector<int> joints, std::shared_ptr<Controller> controller) {
+    Drive d{std::move(joints), std::move(controller)};
+    if (auto s = sim.lock()) s->add_drive(index, d);
+    drives.push_back(std::move(d));
+}
+
+std::shared_ptr<Simulation> WorldBinding::compile(const SimulationOptions& options) const {
+    WorldSpec world = spec;
+    for (const Entry& e : robots) world.robots.push_back({e.robot->spec, e.pose, e.robot->drives});
+    auto sim = std::make_shared<Simulation>(std::move(world), options);
+    for (size_t r = 0; r < robots.size(); ++r) {
+        robots[r].robot->sim = sim;
+        robots[r].robot->index = static_cast<int>(r);
+    }
+    return sim;
+}
+
+}  // namespace gaitlab::scripting

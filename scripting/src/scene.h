@@ -1,0 +1,54 @@
+// What Lua handles hold: a robot or world under construction, and the link from a robot to the
+// simulation it was compiled into.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gaitlab/controller.h"
+#include "gaitlab/simulation.h"
+#include "gaitlab/world.h"
+
+namespace gaitlab::scripting {
+
+/// A robot as Lua sees it: its spec, its drives, and where it runs.
+struct RobotBinding {
+    RobotSpec spec;
+    Actuation drives;
+    bool in_world = false;
+    std::weak_ptr<Simulation> sim;  ///< the simulation it was last compiled into
+    int index = -1;                 ///< its robot index in that simulation
+
+    /// The running simulation; throws Error if the robot is not in one.
+    std::shared_ptr<Simulation> live() const;
+    /// Drives `joints` with `controller`, now and in the running simulation if any.
+    void drive(std::vector<int> joints, std::shared_ptr<Controller> controller);
+};
+
+/// A world as Lua sees it: its spec without robots, and the robots added to it.
+struct WorldBinding {
+    WorldSpec spec;
+    struct Entry {
+        std::shared_ptr<RobotBinding> robot;
+        Pose pose;
+    };
+    std::vector<Entry> robots;
+
+    /// Compiles the world into a simulation and links every robot to it.
+    std::shared_ptr<Simulation> compile(const SimulationOptions& options) const;
+};
+
+/// A controller handle: the instance, and whether a group already uses it.
+struct ControllerHandle {
+    std::shared_ptr<Controller> controller;
+    bool attached = false;
+};
+
+/// A joint group of a robot (0-based joint indices).
+struct GroupHandle {
+    std::shared_ptr<RobotBinding> robot;
+    std::vector<int> joints;
+};
+
+}  // namespace gaitlab::scripting

@@ -1,0 +1,31 @@
+// The binding files and the type names of the userdata they create. gaitlab_module.cpp calls
+// every open_* function: that list is the map of the Lua API.
+#pragma once
+
+#include <lua.hpp>
+
+#include <memory>
+
+namespace gaitlab::scripting {
+
+struct RobotBinding;
+struct WorldBinding;
+
+inline constexpr const char* kRobotType = "gaitlab.Robot";
+inline constexpr const char* kGroupType = "gaitlab.Group";
+inline constexpr const char* kWorldType = "gaitlab.World";
+inline constexpr const char* kSimulationType = "gaitlab.Simulation";
+inline constexpr const char* kControllerType = "gaitlab.Controller";
+inline constexpr const char* kControllerClassType = "gaitlab.ControllerClass";
+
+// each open_* adds its functions to the gaitlab table on top of the stack
+void open_robot(lua_State* L);
+void open_world(lua_State* L);
+void open_simulation(lua_State* L);
+void open_controller(lua_State* L);
+
+bool is_robot(lua_State* L, int index);
+std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index);
+std::shared_ptr<WorldBinding> to_world(lua_State* L, int index);
+
+}  // namespace gaitlab::scripting

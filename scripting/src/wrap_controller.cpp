@@ -1,0 +1,404 @@
+// gaitlab.controllers (built in), gaitlab.controller{...} (Lua classes), controller handles.
+#include <filesystem>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "gaitlab/controllers/registry.h"
+#include "lua_controller.h"
+#include "lua_util.h"
+#include "scene.h"
+#include "wrap.h"
+
+namespace gaitlab::scripting {
+
+namespace {
+
+using ClassPtr = std::shared_ptr<LuaControllerClass>;
+
+Controller& check_controller(lua_State* L, int index) {
+    return *check_object<ControllerHandle>(L, index, kControllerType).controller;
+}
+
+std::vector<std::string> param_names(const Controller& c) {
+    std::vector<std::string> names;
+    for (const ParamDef& p : c.def().params) names.push_back(p.name);
+    return names;
+}
+
+// sets the parameters given in the table at `index` (argument `arg`); unknown names and values
+// out of range are errors
+void apply_params(lua_State* L, int index, int arg, Controller& c) {
+    if (lua_isnoneornil(L, index)) return;
+    if (!lua_istable(L, index)) throw ArgError(arg, "table expected, got " + type_name(L, index));
+    const std::vector<std::string> names = param_names(c);
+    lua_pushnil(L);
+    while (lua_next(L, index) != 0) {
+        if (lua_type(L, -2) != LUA_TSTRING) {
+            throw ArgError(arg, "unexpected " + type_name(L, -2) + " key (fields are named)");
+        }
+        const std::string key = lua_tostring(L, -2);
+        const int i = c.find_param(key);
+        if (i < 0) {
+            throw ArgError(arg, fmt::format("unknown key '{}'{} (parameters of '{}': {})", key,
+                                            did_you_mean(key, names), c.name(),
+                                            fmt::join(names, ", ")));
+        }
+        int ok = 0;
+        const double v = lua_tonumberx(L, -1, &ok);
+        if (!ok) {
+            throw ArgError(arg, fmt::format("field '{}': number expected, got {}", key,
+                                            type_name(L, -1)));
+        }
+        try {
+            c.set_param(i, v);
+        } catch (const SpecError& e) {
+            throw ArgError(arg, e.what());
+        }
+        lua_pop(L, 1);
+    }
+}
+
+void push_handle(lua_State* L, std::shared_ptr<Controller> c) {
+    new_object<ControllerHandle>(L, kControllerType, ControllerHandle{std::move(c), false});
+}
+
+// gaitlab.controllers.<name>{params}: upvalue 1 is the built-in's name
+int builtin_new(lua_State* L) {
+    return protect(L, [&] {
+        const char* name = lua_tostring(L, lua_upvalueindex(1));
+        std::shared_ptr<Controller> c = controllers::make_builtin(name);
+        apply_params(L, 1, 1, *c);
+        push_handle(L, std::move(c));
+        return 1;
+    });
+}
+
+int controller_index(lua_State* L) {
+    return protect(L, [&] {
+        Controller& c = check_controller(L, 1);
+        const std::string key = check_string(L, 2);
+        const int i = c.find_param(key);
+        if (i >= 0) {
+            lua_pushnumber(L, c.param(i));
+            return 1;
+        }
+        if (key == "name") {
+            lua_pushstring(L, c.name().c_str());
+            return 1;
+        }
+        if (lua_getfield(L, lua_upvalueindex(1), key.c_str()) != LUA_TNIL) return 1;
+        std::vector<std::string> names = param_names(c);
+        for (const char* m : {"name", "params", "values"}) names.emplace_back(m);
+        throw Error(fmt::format("controller '{}' has no parameter or method '{}'{}", c.name(),
+                                key, did_you_mean(key, names)));
+    });
+}
+
+int controller_newindex(lua_State* L) {
+    return protect(L, [&] {
+        Controller& c = check_controller(L, 1);
+        const std::string key = check_string(L, 2);
+        const int i = c.find_param(key);
+        if (i < 0) {
+            throw Error(fmt::format("controller '{}' has no parameter '{}'{}", c.name(), key,
+                                    did_you_mean(key, param_names(c))));
+        }
+        int ok = 0;
+        const double v = lua_tonumberx(L, 3, &ok);
+        if (!ok) {
+            throw Error(fmt::format("{}.{}: number expected, got {}", c.name(), key,
+                                    type_name(L, 3)));
+        }
+        c.set_param(i, v);
+        return 0;
+    });
+}
+
+int controller_params(lua_State* L) {
+    return protect(L, [&] {
+        Controller& c = check_controller(L, 1);
+        const auto& params = c.def().params;
+        lua_createtable(L, 0, static_cast<int>(params.size()));
+        for (size_t i = 0; i < params.size(); ++i) {
+            const ParamDef& p = params[i];
+            lua_createtable(L, 0, 5);
+            lua_pushnumber(L, c.param(static_cast<int>(i)));
+            lua_setfield(L, -2, "value");
+            lua_pushnumber(L, p.default_value);
+            lua_setfield(L, -2, "default");
+            lua_pushnumber(L, p.min);
+            lua_setfield(L, -2, "min");
+            lua_pushnumber(L, p.max);
+            lua_setfield(L, -2, "max");
+            lua_pushstring(L, p.unit.c_str());
+            lua_setfield(L, -2, "unit");
+            lua_setfield(L, -2, p.name.c_str());
+        }
+        return 1;
+    });
+}
+
+int controller_values(lua_State* L) {
+    return protect(L, [&] {
+        Controller& c = check_controller(L, 1);
+        const auto& names = c.def().values;
+        lua_createtable(L, 0, static_cast<int>(names.size()));
+        for (size_t k = 0; k < names.size(); ++k) {
+            const std::vector<double>& v = c.values(static_cast<int>(k));
+            lua_createtable(L, static_cast<int>(v.size()), 0);
+            for (size_t m = 0; m < v.size(); ++m) {
+                lua_pushnumber(L, v[m]);
+                lua_rawseti(L, -2, static_cast<lua_Integer>(m + 1));
+            }
+            lua_setfield(L, -2, names[k].c_str());
+        }
+        return 1;
+    });
+}
+
+int controller_tostring(lua_State* L) {
+    return protect(L, [&] {
+        Controller& c = check_controller(L, 1);
+        lua_pushfstring(L, "gaitlab.Controller '%s'", c.name().c_str());
+        return 1;
+    });
+}
+
+// one parameter declaration: { default, min = , max = , unit = }
+ParamDef read_param(lua_State* L, int index, const std::string& name) {
+    const std::string where = "params." + name;
+    if (!lua_istable(L, index)) {
+        throw ArgError(1, where + ": table expected ({default, min = , max = , unit = }), got " +
+                              type_name(L, index));
+    }
+    ParamDef p;
+    p.name = name;
+    bool has_default = false, has_min = false, has_max = false;
+    lua_pushnil(L);
+    while (lua_next(L, index) != 0) {
+        const bool positional = lua_type(L, -2) == LUA_TNUMBER && lua_tointeger(L, -2) == 1;
+        const std::string key = positional ? "1" : (lua_type(L, -2) == LUA_TSTRING ?
+                                                         lua_tostring(L, -2) : "?");
+        if (key == "unit") {
+            if (lua_type(L, -1) != LUA_TSTRING) {
+                throw ArgError(1, where + ".unit: string expected, got " + type_name(L, -1));
+            }
+            p.unit = lua_tostring(L, -1);
+        } else if (key == "1" || key == "default" || key == "min" || key == "max") {
+            int ok = 0;
+            const double v = lua_tonumberx(L, -1, &ok);
+            if (!ok) {
+                throw ArgError(1, fmt::format("{}.{}: number expected, got {}", where,
+                                              key == "1" ? "default" : key, type_name(L, -1)));
+            }
+            if (key == "min") {
+                p.min = v;
+                has_min = true;
+            } else if (key == "max") {
+                p.max = v;
+                has_max = true;
+            } else {
+                p.default_value = v;
+                has_default = true;
+            }
+        } else {
+            throw ArgError(1, fmt::format("{}: unknown key '{}' (expected the default value "
+                                          "first, then min, max, unit)",
+                                          where, key));
+        }
+        lua_pop(L, 1);
+    }
+    if (!has_default) throw ArgError(1, where + ": default value expected as the first entry");
+    if (!has_min || !has_max) throw ArgError(1, where + ": min and max expected");
+    return p;
+}
+
+// gaitlab.controller{ name = , params = , values = , step = }
+int class_new(lua_State* L) {
+    return protect(L, [&] {
+        Fields f(L, 2, 1, {"name", "params", "values", "step"});
+        auto cls = std::make_shared<LuaControllerClass>();
+        if (!f.has("name")) f.fail("name", "string expected, got nil");
+        cls->def.name = f.string("name", "");
+        if (f.push("params") == LUA_TTABLE) {
+            // declaration order is not kept by Lua tables: sort by name for a stable order
+            std::vector<std::string> names;
+            lua_pushnil(L);
+            while (lua_next(L, -2) != 0) {
+                lua_pop(L, 1);
+                if (lua_type(L, -1) != LUA_TSTRING) f.fail("params", "parameter names expected");
+                names.emplace_back(lua_tostring(L, -1));
+            }
+            std::sort(names.begin(), names.end());
+            for (const std::string& n : names) {
+                lua_getfield(L, -1, n.c_str());
+                cls->def.params.push_back(read_param(L, lua_gettop(L), n));
+                lua_pop(L, 1);
+            }
+        } else if (!lua_isnil(L, -1)) {
+            f.fail("params", "table expected, got " + type_name(L, -1));
+        }
+        lua_pop(L, 1);
+        if (f.push("values") == LUA_TTABLE) {
+            const lua_Integer n = luaL_len(L, -1);
+            for (lua_Integer i = 1; i <= n; ++i) {
+                lua_rawgeti(L, -1, i);
+                if (lua_type(L, -1) != LUA_TSTRING) f.fail("values", "list of names expected");
+                cls->def.values.emplace_back(lua_tostring(L, -1));
+                lua_pop(L, 1);
+            }
+        } else if (!lua_isnil(L, -1)) {
+            f.fail("values", "list of names expected, got " + type_name(L, -1));
+        }
+        lua_pop(L, 1);
+        for (const std::string& v : cls->def.values) {
+            if (v == "joints") f.fail("values", "'joints' is reserved (it holds the joint count)");
+        }
+        for (const ParamDef& p : cls->def.params) {
+            if (p.name == "joints") f.fail("params", "'joints' is reserved (it holds the joint count)");
+        }
+        try {
+            validate(cls->def);
+        } catch (const SpecError& e) {
+            throw ArgError(1, e.what());
+        }
+        if (f.push("step") != LUA_TFUNCTION) {
+            f.fail("step", "function expected, got " + type_name(L, -1));
+        }
+        cls->step_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+        lua_Debug ar;
+        if (lua_getstack(L, 1, &ar) && lua_getinfo(L, "Sl", &ar)) {
+            cls->file = ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
+            cls->line = ar.currentline;
+        }
+        new_object<ClassPtr>(L, kControllerClassType, std::move(cls));
+        return 1;
+    });
+}
+
+// cls{params}: a new instance
+int class_call(lua_State* L) {
+    return protect(L, [&] {
+        ClassPtr cls = check_object<ClassPtr>(L, 1, kControllerClassType);
+        auto c = std::make_shared<LuaController>(L, cls);
+        apply_params(L, 2, 1, *c);
+        push_handle(L, std::move(c));
+        return 1;
+    });
+}
+
+int class_index(lua_State* L) {
+    return protect(L, [&] {
+        ClassPtr& cls = check_object<ClassPtr>(L, 1, kControllerClassType);
+        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+        if (key == "name") {
+            lua_pushstring(L, cls->def.name.c_str());
+        } else if (key == "file") {
+            lua_pushstring(L, cls->file.c_str());
+        } else {
+            lua_pushnil(L);
+        }
+        return 1;
+    });
+}
+
+int class_tostring(lua_State* L) {
+    return protect(L, [&] {
+        ClassPtr& cls = check_object<ClassPtr>(L, 1, kControllerClassType);
+        lua_pushfstring(L, "gaitlab.ControllerClass '%s'", cls->def.name.c_str());
+        return 1;
+    });
+}
+
+// the directory of the Lua file that called the current C function ("" if none)
+std::filesystem::path caller_dir(lua_State* L) {
+    lua_Debug ar;
+    for (int level = 1; lua_getstack(L, level, &ar); ++level) {
+        lua_getinfo(L, "S", &ar);
+        if (ar.source[0] == '@') return std::filesystem::path(ar.source + 1).parent_path();
+    }
+    return {};
+}
+
+// gaitlab.controller.load(path): runs a controller file once and caches the class it returns
+int class_load(lua_State* L) {
+    return protect(L, [&] {
+        const std::string arg = check_string(L, 1);
+        std::filesystem::path path(arg);
+        if (path.is_relative()) path = caller_dir(L) / path;
+        std::error_code ec;
+        const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
+        const std::string key = (ec ? path : canonical).string();
+        lua_getfield(L, lua_upvalueindex(1), key.c_str());
+        if (!lua_isnil(L, -1)) return 1;
+        lua_pop(L, 1);
+        if (!std::filesystem::exists(path)) {
+            throw Error(fmt::format("cannot load controller '{}': no file at {}", arg,
+                                    path.string()));
+        }
+        const std::string chunk = path.lexically_normal().string();
+        if (luaL_loadfilex(L, chunk.c_str(), "t") != LUA_OK) {
+            std::string msg = lua_tostring(L, -1);
+            lua_pop(L, 1);
+            throw ScriptError(msg, chunk, 0, "");
+        }
+        protected_call(L, 0, 1);
+        if (!luaL_testudata(L, -1, kControllerClassType)) {
+            const std::string t = type_name(L, -1);
+            throw Error(fmt::format("{}: a controller file must return gaitlab.controller{{...}}, "
+                                    "got {}",
+                                    chunk, t));
+        }
+        lua_pushvalue(L, -1);
+        lua_setfield(L, lua_upvalueindex(1), key.c_str());
+        return 1;
+    });
+}
+
+}  // namespace
+
+void open_controller(lua_State* L) {
+    const luaL_Reg methods[] = {{"params", controller_params},
+                                {"values", controller_values},
+                                {nullptr, nullptr}};
+    luaL_newmetatable(L, kControllerType);
+    lua_newtable(L);
+    luaL_setfuncs(L, methods, 0);
+    lua_pushcclosure(L, controller_index, 1);
+    lua_setfield(L, -2, "__index");
+    lua_pushcfunction(L, controller_newindex);
+    lua_setfield(L, -2, "__newindex");
+    lua_pushcfunction(L, controller_tostring);
+    lua_setfield(L, -2, "__tostring");
+    lua_pop(L, 1);
+    register_type<ControllerHandle>(L, kControllerType, nullptr);
+
+    const luaL_Reg class_meta[] = {{"__call", class_call},
+                                   {"__index", class_index},
+                                   {"__tostring", class_tostring},
+                                   {nullptr, nullptr}};
+    register_type<ClassPtr>(L, kControllerClassType, nullptr, class_meta);
+
+    // gaitlab.controllers.<name>{...}
+    lua_newtable(L);
+    for (const std::string& name : controllers::builtin_names()) {
+        lua_pushstring(L, name.c_str());
+        lua_pushcclosure(L, builtin_new, 1);
+        lua_setfield(L, -2, name.c_str());
+    }
+    lua_setfield(L, -2, "controllers");
+
+    // gaitlab.controller{...} and gaitlab.controller.load(path)
+    lua_newtable(L);
+    lua_newtable(L);  // cache: canonical path -> class
+    lua_pushcclosure(L, class_load, 1);
+    lua_setfield(L, -2, "load");
+    lua_createtable(L, 0, 1);
+    lua_pushcfunction(L, class_new);
+    lua_setfield(L, -2, "__call");
+    lua_setmetatable(L, -2);
+    lua_setfield(L, -2, "controller");
+}
+
+}  // namespace gaitlab::scripting

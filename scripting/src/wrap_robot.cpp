@@ -1,0 +1,279 @@
+// gaitlab.robot: chain builder, robot handles and joint groups.
+#include <fmt/format.h>
+
+#include "lua_util.h"
+#include "scene.h"
+#include "wrap.h"
+
+namespace gaitlab::scripting {
+
+namespace {
+
+using RobotPtr = std::shared_ptr<RobotBinding>;
+
+RobotBinding& check_robot(lua_State* L, int index) {
+    return *check_object<RobotPtr>(L, index, kRobotType);
+}
+
+int robot_chain(lua_State* L) {
+    return protect(L, [&] {
+        Fields f(L, 1, 1, {"name", "modules", "connection"});
+        ChainSpec spec;
+        spec.name = f.string("name", "robot");
+        if (!f.has("modules")) f.fail("modules", "number of modules expected, got nil");
+        spec.modules = static_cast<int>(f.integer("modules", 0));
+        try {
+            spec.connection = parse_connection(f.string("connection", "pitch-pitch"));
+            auto robot = std::make_shared<RobotBinding>();
+            robot->spec = make_chain(spec);
+            new_object<RobotPtr>(L, kRobotType, std::move(robot));
+        } catch (const SpecError& e) {
+            throw ArgError(1, e.what());
+        }
+        return 1;
+    });
+}
+
+int robot_group(lua_State* L) {
+    return protect(L, [&] {
+        RobotPtr& robot = check_object<RobotPtr>(L, 1, kRobotType);
+        const RobotSpec& spec = robot->spec;
+        std::vector<int> joints;
+        if (lua_type(L, 2) == LUA_TSTRING) {
+            try {
+                joints = select_joints(spec, check_string(L, 2));
+            } catch (const SpecError& e) {
+                throw ArgError(2, e.what());
+            }
+        } else if (lua_istable(L, 2)) {
+            const lua_Integer n = luaL_len(L, 2);
+            if (n == 0) throw ArgError(2, "a joint group needs at least one joint");
+            const int nj = static_cast<int>(spec.joints.size());
+            for (lua_Integer i = 1; i <= n; ++i) {
+                lua_rawgeti(L, 2, i);
+                int ok = 0;
+                const lua_Integer j = lua_tointegerx(L, -1, &ok);
+                lua_pop(L, 1);
+                if (!ok) throw ArgError(2, fmt::format("entry {} is not a joint number", i));
+                if (j < 1 || j > nj) {
+                    throw ArgError(2, fmt::format("robot '{}' has no joint {} (it has joints 1 "
+                                                  "to {})",
+                                                  spec.name, j, nj));
+                }
+                for (int k : joints) {
+                    if (k == j - 1) throw ArgError(2, fmt::format("joint {} is listed twice", j));
+                }
+                joints.push_back(static_cast<int>(j - 1));
+            }
+        } else {
+            throw ArgError(2, "role ('pitch', 'yaw', 'all') or list of joint numbers expected, "
+                              "got " + type_name(L, 2));
+        }
+        new_object<GroupHandle>(L, kGroupType, GroupHandle{robot, std::move(joints)});
+        return 1;
+    });
+}
+
+int robot_position(lua_State* L) {
+    return protect(L, [&] {
+        RobotBinding& r = check_robot(L, 1);
+        push_vec3(L, r.live()->robot_position(r.index));
+        return 1;
+    });
+}
+
+int robot_velocity(lua_State* L) {
+    return protect(L, [&] {
+        RobotBinding& r = check_robot(L, 1);
+        push_vec3(L, r.live()->robot_velocity(r.index));
+        return 1;
+    });
+}
+
+int robot_displacement(lua_State* L) {
+    return protect(L, [&] {
+        RobotBinding& r = check_robot(L, 1);
+        push_vec3(L, r.live()->robot_displacement(r.index));
+        return 1;
+    });
+}
+
+void push_quat(lua_State* L, const Quat& q) {
+    lua_createtable(L, 0, 4);
+    lua_pushnumber(L, q.w);
+    lua_setfield(L, -2, "w");
+    lua_pushnumber(L, q.x);
+    lua_setfield(L, -2, "x");
+    lua_pushnumber(L, q.y);
+    lua_setfield(L, -2, "y");
+    lua_pushnumber(L, q.z);
+    lua_setfield(L, -2, "z");
+}
+
+int robot_bodies(lua_State* L) {
+    return protect(L, [&] {
+        RobotBinding& r = check_robot(L, 1);
+        auto sim = r.sim.lock();
+        const auto& bodies = r.spec.bodies;
+        lua_createtable(L, static_cast<int>(bodies.size()), 0);
+        for (size_t b = 0; b < bodies.size(); ++b) {
+            lua_createtable(L, 0, 6);
+            lua_pushstring(L, bodies[b].name.c_str());
+            lua_setfield(L, -2, "name");
+            lua_pushnumber(L, bodies[b].mass);
+            lua_setfield(L, -2, "mass");
+            push_vec3(L, bodies[b].size);
+            lua_setfield(L, -2, "size");
+            if (sim) {
+                const BodyState s = sim->body(r.index, static_cast<int>(b));
+                push_vec3(L, s.pose.position);
+                lua_setfield(L, -2, "position");
+                push_quat(L, s.pose.orientation);
+                lua_setfield(L, -2, "orientation");
+                push_vec3(L, s.linear_velocity);
+                lua_setfield(L, -2, "velocity");
+            }
+            lua_rawseti(L, -2, static_cast<lua_Integer>(b + 1));
+        }
+        return 1;
+    });
+}
+
+int robot_joints(lua_State* L) {
+    return protect(L, [&] {
+        RobotBinding& r = check_robot(L, 1);
+        auto sim = r.sim.lock();
+        const auto& joints = r.spec.joints;
+        lua_createtable(L, static_cast<int>(joints.size()), 0);
+        for (size_t j = 0; j < joints.size(); ++j) {
+            lua_createtable(L, 0, 8);
+            lua_pushinteger(L, static_cast<lua_Integer>(j + 1));
+            lua_setfield(L, -2, "index");
+            lua_pushstring(L, joints[j].name.c_str());
+            lua_setfield(L, -2, "name");
+            lua_pushstring(L, to_string(joints[j].role));
+            lua_setfield(L, -2, "role");
+            lua_pushnumber(L, rad_to_deg(joints[j].min_angle));
+            lua_setfield(L, -2, "min");
+            lua_pushnumber(L, rad_to_deg(joints[j].max_angle));
+            lua_setfield(L, -2, "max");
+            if (sim) {
+                const JointState s = sim->joint(r.index, static_cast<int>(j));
+                lua_pushnumber(L, rad_to_deg(s.angle));
+                lua_setfield(L, -2, "angle");
+                lua_pushnumber(L, rad_to_deg(s.target));
+                lua_setfield(L, -2, "target");
+                lua_pushnumber(L, rad_to_deg(s.velocity));
+                lua_setfield(L, -2, "velocity");
+                lua_pushnumber(L, s.torque);
+                lua_setfield(L, -2, "torque");
+            }
+            lua_rawseti(L, -2, static_cast<lua_Integer>(j + 1));
+        }
+        return 1;
+    });
+}
+
+int robot_index(lua_State* L) {
+    return protect(L, [&] {
+        RobotBinding& r = check_robot(L, 1);
+        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+        if (key == "name") {
+            lua_pushstring(L, r.spec.name.c_str());
+            return 1;
+        }
+        lua_getfield(L, lua_upvalueindex(1), key.c_str());
+        return 1;
+    });
+}
+
+int robot_tostring(lua_State* L) {
+    return protect(L, [&] {
+        RobotBinding& r = check_robot(L, 1);
+        lua_pushfstring(L, "gaitlab.Robot '%s' (%d joints)", r.spec.name.c_str(),
+                        static_cast<int>(r.spec.joints.size()));
+        return 1;
+    });
+}
+
+int robot_len(lua_State* L) {
+    return protect(L, [&] {
+        lua_pushinteger(L, static_cast<lua_Integer>(check_robot(L, 1).spec.joints.size()));
+        return 1;
+    });
+}
+
+int group_drive(lua_State* L) {
+    return protect(L, [&] {
+        GroupHandle& g = check_object<GroupHandle>(L, 1, kGroupType);
+        ControllerHandle& c = check_object<ControllerHandle>(L, 2, kControllerType);
+        if (c.attached) {
+            throw ArgError(2, "controller '" + c.controller->name() +
+                                  "' already drives a group (create one controller per group)");
+        }
+        g.robot->drive(g.joints, c.controller);
+        c.attached = true;
+        lua_settop(L, 2);
+        return 1;
+    });
+}
+
+int group_joints(lua_State* L) {
+    return protect(L, [&] {
+        GroupHandle& g = check_object<GroupHandle>(L, 1, kGroupType);
+        lua_createtable(L, static_cast<int>(g.joints.size()), 0);
+        for (size_t i = 0; i < g.joints.size(); ++i) {
+            lua_pushinteger(L, g.joints[i] + 1);
+            lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+        }
+        return 1;
+    });
+}
+
+int group_len(lua_State* L) {
+    return protect(L, [&] {
+        lua_pushinteger(
+            L, static_cast<lua_Integer>(check_object<GroupHandle>(L, 1, kGroupType).joints.size()));
+        return 1;
+    });
+}
+
+}  // namespace
+
+bool is_robot(lua_State* L, int index) { return luaL_testudata(L, index, kRobotType) != nullptr; }
+
+std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index) {
+    return check_object<RobotPtr>(L, index, kRobotType);
+}
+
+void open_robot(lua_State* L) {
+    const luaL_Reg methods[] = {{"group", robot_group},
+                                {"position", robot_position},
+                                {"velocity", robot_velocity},
+                                {"displacement", robot_displacement},
+                                {"bodies", robot_bodies},
+                                {"joints", robot_joints},
+                                {nullptr, nullptr}};
+    luaL_newmetatable(L, kRobotType);
+    lua_newtable(L);
+    luaL_setfuncs(L, methods, 0);
+    lua_pushcclosure(L, robot_index, 1);
+    lua_setfield(L, -2, "__index");
+    const luaL_Reg meta[] = {{"__tostring", robot_tostring}, {"__len", robot_len}, {nullptr, nullptr}};
+    luaL_setfuncs(L, meta, 0);
+    lua_pop(L, 1);
+    register_type<RobotPtr>(L, kRobotType, nullptr);
+
+    const luaL_Reg group_methods[] = {{"drive", group_drive}, {"joints", group_joints},
+                                      {nullptr, nullptr}};
+    const luaL_Reg group_meta[] = {{"__len", group_len}, {nullptr, nullptr}};
+    register_type<GroupHandle>(L, kGroupType, group_methods, group_meta);
+
+    // gaitlab.robot = { chain = ... }
+    lua_newtable(L);
+    lua_pushcfunction(L, robot_chain);
+    lua_setfield(L, -2, "chain");
+    lua_setfield(L, -2, "robot");
+}
+
+}  // namespace gaitlab::scripting

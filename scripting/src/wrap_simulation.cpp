@@ -1,0 +1,140 @@
+// gaitlab.simulation: compile a world, step it, read its time.
+#include <cmath>
+
+#include "lua_util.h"
+#include "scene.h"
+#include "wrap.h"
+
+namespace gaitlab::scripting {
+
+namespace {
+
+using SimulationPtr = std::shared_ptr<Simulation>;
+
+Simulation& check_sim(lua_State* L, int index) {
+    return *check_object<SimulationPtr>(L, index, kSimulationType);
+}
+
+int simulation_new(lua_State* L) {
+    // called as gaitlab.simulation{...}: argument 1 is the gaitlab.simulation table itself
+    return protect(L, [&] {
+        Fields f(L, 2, 1,
+                 {"world", "dt", "control_every", "record", "seed", "solver_iterations"});
+        if (f.push("world") == LUA_TNIL) f.fail("world", "gaitlab.World expected, got nil");
+        if (!luaL_testudata(L, -1, kWorldType)) {
+            f.fail("world", "gaitlab.World expected, got " + type_name(L, -1));
+        }
+        auto world = to_world(L, -1);
+        lua_pop(L, 1);
+        SimulationOptions o;
+        o.dt = f.number("dt", o.dt);
+        o.control_every = static_cast<int>(f.integer("control_every", o.control_every));
+        o.solver_iterations = static_cast<int>(f.integer("solver_iterations", o.solver_iterations));
+        const long long seed = f.integer("seed", 0);
+        if (seed < 0) f.fail("seed", "non-negative integer expected");
+        o.seed = static_cast<std::uint64_t>(seed);
+        const int rt = f.push("record");
+        const bool records = !(rt == LUA_TNIL || (rt == LUA_TBOOLEAN && !lua_toboolean(L, -1)));
+        lua_pop(L, 1);
+        if (records) {
+            f.fail("record", "recording to a run folder is not available in this version "
+                             "(use record = false)");
+        }
+        try {
+            validate(o);
+            new_object<SimulationPtr>(L, kSimulationType, world->compile(o));
+        } catch (const SpecError& e) {
+            throw ArgError(1, e.what());
+        }
+        return 1;
+    });
+}
+
+int simulation_run(lua_State* L) {
+    return protect(L, [&] {
+        Simulation& sim = check_sim(L, 1);
+        const double seconds = check_number(L, 2);
+        if (!(std::isfinite(seconds) && seconds >= 0)) {
+            throw ArgError(2, "non-negative number of seconds expected");
+        }
+        sim.run(seconds);
+        return 0;
+    });
+}
+
+int simulation_step(lua_State* L) {
+    return protect(L, [&] {
+        Simulation& sim = check_sim(L, 1);
+        const long long n = lua_isnoneornil(L, 2) ? 1 : check_integer(L, 2);
+        if (n < 0) throw ArgError(2, "non-negative number of ticks expected");
+        sim.step(static_cast<long>(n));
+        return 0;
+    });
+}
+
+int simulation_reset(lua_State* L) {
+    return protect(L, [&] {
+        check_sim(L, 1).reset();
+        return 0;
+    });
+}
+
+int simulation_index(lua_State* L) {
+    return protect(L, [&] {
+        Simulation& sim = check_sim(L, 1);
+        const char* key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+        const std::string k = key;
+        if (k == "time") {
+            lua_pushnumber(L, sim.time());
+        } else if (k == "ticks") {
+            lua_pushinteger(L, sim.ticks());
+        } else if (k == "dt") {
+            lua_pushnumber(L, sim.options().dt);
+        } else if (k == "control_every") {
+            lua_pushinteger(L, sim.options().control_every);
+        } else if (k == "solver_iterations") {
+            lua_pushinteger(L, sim.options().solver_iterations);
+        } else if (k == "seed") {
+            lua_pushinteger(L, static_cast<lua_Integer>(sim.options().seed));
+        } else {
+            lua_getfield(L, lua_upvalueindex(1), key);
+        }
+        return 1;
+    });
+}
+
+int simulation_tostring(lua_State* L) {
+    return protect(L, [&] {
+        Simulation& sim = check_sim(L, 1);
+        lua_pushfstring(L, "gaitlab.Simulation (t = %f s, %d robots)", sim.time(),
+                        sim.robot_count());
+        return 1;
+    });
+}
+
+}  // namespace
+
+void open_simulation(lua_State* L) {
+    const luaL_Reg methods[] = {{"run", simulation_run},
+                                {"step", simulation_step},
+                                {"reset", simulation_reset},
+                                {nullptr, nullptr}};
+    luaL_newmetatable(L, kSimulationType);
+    lua_newtable(L);
+    luaL_setfuncs(L, methods, 0);
+    lua_pushcclosure(L, simulation_index, 1);
+    lua_setfield(L, -2, "__index");
+    lua_pushcfunction(L, simulation_tostring);
+    lua_setfield(L, -2, "__tostring");
+    lua_pop(L, 1);
+    register_type<SimulationPtr>(L, kSimulationType, nullptr);
+
+    lua_newtable(L);
+    lua_createtable(L, 0, 1);
+    lua_pushcfunction(L, simulation_new);
+    lua_setfield(L, -2, "__call");
+    lua_setmetatable(L, -2);
+    lua_setfield(L, -2, "simulation");
+}
+
+}  // namespace gaitlab::scripting

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs the Debian packages gaitlab builds, tests and benchmarks with.
+# Idempotent: prints nothing and installs nothing when everything is already there.
+set -euo pipefail
+
+packages=(
+    cmake g++ ninja-build pkg-config
+    liblua5.4-dev lua5.4
+    libbullet-dev libeigen3-dev libfmt-dev libtinyxml2-dev
+    catch2 libcli11-dev libbenchmark-dev libedit-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+        missing+=("$p")
+    fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "gaitlab setup: installing ${missing[*]}" >&2
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "gaitlab setup: run as root or install sudo" >&2; exit 1; }
+    sudo="sudo"
+fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
