@@ -45,21 +45,26 @@ int main(int argc, char** argv) {
 
     std::string file;
     std::uint64_t seed = 0;
-    std::vector<std::string> script_args;
     CLI::App* run = app.add_subcommand("run", "Run a Lua script headless");
     run->add_option("file", file, "The script (FILE.lua)")->required();
     run->add_option("--seed", seed, "Seed for everything random (math.random too)")
         ->capture_default_str();
-    run->add_option("args", script_args, "Arguments for the script: arg[1], arg[2], ...");
-    run->prefix_command();  // everything after FILE goes to the script
+    // from the first argument after FILE that gaitlab does not know, everything goes to the
+    // script, in order (CLI11 leaves it in remaining())
+    run->prefix_command();
+    run->footer("Arguments after FILE go to the script as arg[1], arg[2], ...");
 
-    std::vector<std::string> reversed(argl.rbegin(), argl.rend());
+    std::vector<const char*> args{argv[0]};
+    for (const std::string& a : argl) args.push_back(a.c_str());
     try {
-        app.parse(reversed);
+        app.parse(static_cast<int>(args.size()), args.data());
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+        // a failure is one line on stderr, like every other failure of gaitlab
+        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab --help')\n", e.what());
+        return e.get_exit_code();
     }
-    if (*run) return run_script(file, seed, script_args);
+    if (*run) return run_script(file, seed, run->remaining());
 
     std::fputs(app.help().c_str(), stdout);
     std::fputs("\nThe interactive console is not part of this version yet: run a script with\n"

@@ -10,28 +10,31 @@
 
 namespace gaitlab::detail {
 
+/// A number as messages show it: "nan" whatever its sign bit.
+inline std::string shown(double v) { return std::isnan(v) ? "nan" : fmt::format("{}", v); }
+
 /// `what` must be a finite number in [lo, hi].
 inline void check_range(const std::string& what, double v, double lo, double hi,
                         const char* unit = "") {
     if (!(std::isfinite(v) && v >= lo && v <= hi)) {
         throw SpecError(fmt::format("{} must be in [{}, {}]{}{} (got {})", what, lo, hi,
-                                    *unit ? " " : "", unit, v));
+                                    *unit ? " " : "", unit, shown(v)));
     }
 }
 
 /// `what` must be a finite number > 0.
 inline void check_positive(const std::string& what, double v, const char* unit = "") {
     if (!(std::isfinite(v) && v > 0)) {
-        throw SpecError(fmt::format("{} must be positive{}{} (got {})", what, *unit ? " " : "",
-                                    unit, v));
+        throw SpecError(fmt::format("{} must be positive (got {}{}{})", what, shown(v),
+                                    *unit ? " " : "", unit));
     }
 }
 
 /// `what` must be a finite number >= 0.
 inline void check_non_negative(const std::string& what, double v, const char* unit = "") {
     if (!(std::isfinite(v) && v >= 0)) {
-        throw SpecError(fmt::format("{} must not be negative{}{} (got {})", what,
-                                    *unit ? " " : "", unit, v));
+        throw SpecError(fmt::format("{} must not be negative (got {}{}{})", what, shown(v),
+                                    *unit ? " " : "", unit));
     }
 }
 

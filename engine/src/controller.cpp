@@ -60,7 +60,8 @@ void Controller::set_param(int i, double value) {
     const ParamDef& p = def_.params[i];
     if (!(value >= p.min && value <= p.max)) {
         throw SpecError(fmt::format("{}.{} must be in [{}, {}]{}{} (got {})", def_.name, p.name,
-                                    p.min, p.max, p.unit.empty() ? "" : " ", p.unit, value));
+                                    p.min, p.max, p.unit.empty() ? "" : " ", p.unit,
+                                    std::isnan(value) ? "nan" : fmt::format("{}", value)));
     }
     if (params_[i] != value) {
         params_[i] = value;

@@ -2,6 +2,7 @@
 
 #include <lua.hpp>
 
+#include "lua_util.h"
 #include "stdlib.h"
 
 extern "C" int luaopen_gaitlab(lua_State* L);
@@ -26,6 +27,32 @@ int message_handler(lua_State* L) {
     lua_setfield(L, -2, "message");
     luaL_traceback(L, L, nullptr, 1);
     lua_setfield(L, -2, "traceback");
+    // an error that crossed C++ on its way here (a Lua controller failing inside sim:run) keeps
+    // the place it happened, which push_script_error left in the registry
+    if (lua_getfield(L, LUA_REGISTRYINDEX, kErrorOriginKey) == LUA_TTABLE) {
+        lua_pushnil(L);
+        lua_setfield(L, LUA_REGISTRYINDEX, kErrorOriginKey);
+        lua_getfield(L, -1, "message");
+        lua_getfield(L, -2, "file");
+        const bool known =
+            lua_type(L, 1) == LUA_TSTRING && lua_rawequal(L, -2, 1) && lua_rawlen(L, -1) > 0;
+        lua_pop(L, 2);
+        if (known) {
+            lua_getfield(L, -1, "file");
+            lua_setfield(L, -3, "file");
+            lua_getfield(L, -1, "line");
+            lua_setfield(L, -3, "line");
+            // the traceback taken where it happened already goes down to this call
+            if (lua_getfield(L, -1, "traceback") == LUA_TSTRING && lua_rawlen(L, -1) > 0) {
+                lua_setfield(L, -3, "traceback");
+            } else {
+                lua_pop(L, 1);
+            }
+            lua_pop(L, 1);
+            return 1;
+        }
+    }
+    lua_pop(L, 1);
     // the innermost Lua function on the stack is where the error happened
     lua_Debug ar;
     for (int level = 1; lua_getstack(L, level, &ar); ++level) {
@@ -35,6 +62,11 @@ int message_handler(lua_State* L) {
             lua_setfield(L, -2, "file");
             lua_pushinteger(L, ar.currentline);
             lua_setfield(L, -2, "line");
+            // an error value that is not a string carries no position: give it one
+            if (lua_type(L, 1) != LUA_TSTRING) {
+                lua_pushfstring(L, "%s:%d: %s", ar.short_src, ar.currentline, msg);
+                lua_setfield(L, -2, "message");
+            }
             break;
         }
     }

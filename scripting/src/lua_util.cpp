@@ -51,6 +51,20 @@ std::string did_you_mean(std::string_view word, const std::vector<std::string>& 
     return c.empty() ? "" : "; did you mean '" + c + "'?";
 }
 
+void push_script_error(lua_State* L, const ScriptError& e) {
+    lua_createtable(L, 0, 4);
+    lua_pushstring(L, e.what());
+    lua_setfield(L, -2, "message");
+    lua_pushstring(L, e.file().c_str());
+    lua_setfield(L, -2, "file");
+    lua_pushinteger(L, e.line());
+    lua_setfield(L, -2, "line");
+    lua_pushstring(L, e.traceback().c_str());
+    lua_setfield(L, -2, "traceback");
+    lua_setfield(L, LUA_REGISTRYINDEX, kErrorOriginKey);
+    lua_pushstring(L, e.what());
+}
+
 void check_table(lua_State* L, int index) {
     if (!lua_istable(L, index)) {
         throw ArgError(index, "table expected, got " + type_name(L, index));

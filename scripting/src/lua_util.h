@@ -35,6 +35,14 @@ std::string closest(std::string_view word, const std::vector<std::string>& candi
 /// " (did you mean 'x'?)" or "".
 std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates);
 
+/// Registry key of the last ScriptError that crossed C++ into Lua (see push_script_error).
+inline constexpr const char* kErrorOriginKey = "gaitlab.error_origin";
+
+/// Pushes a ScriptError's message as the Lua error value and keeps its file, line and
+/// traceback in the registry, so the message handler of an enclosing protected_call reports
+/// where it happened (e.g. inside a Lua controller stepped by sim:run), not where it resurfaced.
+void push_script_error(lua_State* L, const ScriptError& e);
+
 /// Runs `body` (returning the number of results) and turns any C++ exception into a Lua error
 /// once the exception is gone, so nothing with a destructor is skipped by longjmp.
 template <class F>
@@ -46,7 +54,7 @@ int protect(lua_State* L, F&& body) {
         arg = e.arg();
         lua_pushstring(L, e.what());
     } catch (const ScriptError& e) {
-        lua_pushstring(L, e.what());  // already says where it happened
+        push_script_error(L, e);  // already says where it happened
     } catch (const std::exception& e) {
         luaL_where(L, 1);
         lua_pushstring(L, e.what());

@@ -106,7 +106,7 @@ int simulation_index(lua_State* L) {
 int simulation_tostring(lua_State* L) {
     return protect(L, [&] {
         Simulation& sim = check_sim(L, 1);
-        lua_pushfstring(L, "gaitlab.Simulation (t = %f s, %d robots)", sim.time(),
+        lua_pushfstring(L, "gaitlab.Simulation (t = %f s, robots: %d)", sim.time(),
                         sim.robot_count());
         return 1;
     });

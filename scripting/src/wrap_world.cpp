@@ -72,7 +72,9 @@ int world_box(lua_State* L) {
         box.pose.orientation = yaw_rotation(f.number("yaw", 0));
         box.mass = f.number("mass", 0);
         box.friction = f.number("friction", 1.0);
+        // validated among the world's boxes, so the message numbers it as the world does
         WorldSpec probe;
+        probe.boxes = w.spec.boxes;
         probe.boxes.push_back(box);
         try {
             validate(probe);

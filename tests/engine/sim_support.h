@@ -1,0 +1,65 @@
+// Helpers shared by the engine tests that run a simulation: chain worlds and sine drives.
+#pragma once
+
+#include <memory>
+#include <string_view>
+
+#include "gaitlab/controllers/sine.h"
+#include "gaitlab/robot.h"
+#include "gaitlab/simulation.h"
+#include "gaitlab/world.h"
+
+namespace gaitlab::test {
+
+/// A world holding one chain of `modules` modules lying on the floor (or floating, with
+/// `gravity` false: no gravity and no floor).
+inline WorldSpec chain_world(int modules, Connection connection, bool gravity = true) {
+    ChainSpec chain;
+    chain.name = "snake";
+    chain.modules = modules;
+    chain.connection = connection;
+    WorldSpec world;
+    if (!gravity) {
+        world.gravity = {0, 0, 0};
+        world.floor.enabled = false;
+    }
+    world.floor.friction = 0.8;
+    PlacedRobot placed;
+    placed.robot = make_chain(chain);
+    world.robots.push_back(std::move(placed));
+    return world;
+}
+
+/// A sine generator with the given parameters (degrees, Hz).
+inline std::shared_ptr<controllers::Sine> sine(double amplitude, double frequency, double phase,
+                                               double phase0 = 0, double offset = 0) {
+    auto s = std::make_shared<controllers::Sine>();
+    s->set_param("amplitude", amplitude);
+    s->set_param("frequency", frequency);
+    s->set_param("phase", phase);
+    s->set_param("phase0", phase0);
+    s->set_param("offset", offset);
+    return s;
+}
+
+/// Drives the joints of robot 0 with role `role` ("pitch", "yaw", "all") by `controller`.
+inline void drive(Simulation& sim, std::string_view role, std::shared_ptr<Controller> controller) {
+    Drive d;
+    d.joints = select_joints(sim.world().robots[0].robot, role);
+    d.controller = std::move(controller);
+    sim.add_drive(0, std::move(d));
+}
+
+/// The classic pitch-pitch caterpillar gait of first_snake.lua (A 40 deg, f 0.5 Hz).
+inline void drive_pitch_pitch_gait(Simulation& sim, double phase) {
+    drive(sim, "pitch", sine(40, 0.5, phase));
+}
+
+/// A pitch-yaw gait: the pitch joints make a travelling wave, the yaw joints the same wave a
+/// quarter period later (a side-winding/rolling pattern).
+inline void drive_pitch_yaw_gait(Simulation& sim) {
+    drive(sim, "pitch", sine(40, 0.5, 120));
+    drive(sim, "yaw", sine(30, 0.5, 120, 90));
+}
+
+}  // namespace gaitlab::test

@@ -1,0 +1,302 @@
+// Tests for engine/src/simulation.cpp: option and drive validation, placement, summed targets of
+// overlapping groups, observers, time and reset.
+#include "gaitlab/simulation.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "gaitlab/error.h"
+#include "sim_support.h"
+
+using namespace gaitlab;
+using Catch::Matchers::Equals;
+
+namespace {
+
+SimulationOptions options_with(double dt, int control_every, int solver_iterations) {
+    SimulationOptions o;
+    o.dt = dt;
+    o.control_every = control_every;
+    o.solver_iterations = solver_iterations;
+    return o;
+}
+
+Drive drive_of(std::vector<int> joints, std::shared_ptr<Controller> c) {
+    Drive d;
+    d.joints = std::move(joints);
+    d.controller = std::move(c);
+    return d;
+}
+
+// positions of every body of robot 0, appended after every control tick
+std::vector<double> trace_positions(Simulation& sim, double seconds) {
+    std::vector<double> out;
+    const int bodies = static_cast<int>(sim.world().robots[0].robot.bodies.size());
+    const int every = sim.options().control_every;
+    const int id = sim.add_observer([&out, bodies, every](const Simulation& s) {
+        if ((s.ticks() - 1) % every != 0) return;
+        for (int b = 0; b < bodies; ++b) {
+            const Vec3 p = s.body(0, b).pose.position;
+            out.insert(out.end(), {p.x, p.y, p.z});
+        }
+    });
+    sim.run(seconds);
+    sim.remove_observer(id);
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("default simulation options") {
+    const SimulationOptions o = default_simulation_options();
+    CHECK(o.dt == 0.001);
+    CHECK(o.control_every == 30);
+    CHECK(o.solver_iterations == 10);
+    CHECK(o.seed == 0);
+    REQUIRE_NOTHROW(validate(o));
+}
+
+TEST_CASE("bad simulation options are rejected with the expected range") {
+    const WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+    SECTION("dt zero, negative, too large or not a number") {
+        REQUIRE_THROWS_AS(validate(options_with(0, 30, 10)), SpecError);
+        REQUIRE_THROWS_WITH(validate(options_with(0, 30, 10)),
+                            Equals("dt must be in [1e-06, 0.1] s (got 0)"));
+        REQUIRE_THROWS_WITH(validate(options_with(-0.001, 30, 10)),
+                            Equals("dt must be in [1e-06, 0.1] s (got -0.001)"));
+        REQUIRE_THROWS_WITH(Simulation(w, options_with(0.5, 30, 10)),
+                            Equals("dt must be in [1e-06, 0.1] s (got 0.5)"));
+        REQUIRE_THROWS_WITH(
+            validate(options_with(std::numeric_limits<double>::quiet_NaN(), 30, 10)),
+            Equals("dt must be in [1e-06, 0.1] s (got nan)"));
+    }
+    SECTION("control_every below 1") {
+        REQUIRE_THROWS_WITH(Simulation(w, options_with(0.001, 0, 10)),
+                            Equals("control_every must be at least 1 (got 0)"));
+        REQUIRE_THROWS_WITH(validate(options_with(0.001, -5, 10)),
+                            Equals("control_every must be at least 1 (got -5)"));
+    }
+    SECTION("solver_iterations outside [1, 10000]") {
+        REQUIRE_THROWS_WITH(Simulation(w, options_with(0.001, 30, 0)),
+                            Equals("solver_iterations must be in [1, 10000] (got 0)"));
+        REQUIRE_THROWS_WITH(validate(options_with(0.001, 30, 10001)),
+                            Equals("solver_iterations must be in [1, 10000] (got 10001)"));
+    }
+    SECTION("the ends of the ranges are allowed") {
+        CHECK_NOTHROW(validate(options_with(0.1, 1, 1)));
+        CHECK_NOTHROW(validate(options_with(1e-6, 1000, 10000)));
+    }
+}
+
+TEST_CASE("bad drives are rejected") {
+    Simulation sim(test::chain_world(8, Connection::pitch_pitch));
+    SECTION("a joint the robot does not have") {
+        REQUIRE_THROWS_AS(sim.add_drive(0, drive_of({0, 8}, test::sine(40, 0.5, 120))),
+                          SpecError);
+        REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({0, 8}, test::sine(40, 0.5, 120))),
+                            Equals("robot 'snake' has no joint 9 (it has joints 1 to 8)"));
+        REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({-1}, test::sine(40, 0.5, 120))),
+                            Equals("robot 'snake' has no joint 0 (it has joints 1 to 8)"));
+    }
+    SECTION("an empty group") {
+        REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({}, test::sine(40, 0.5, 120))),
+                            Equals("a joint group needs at least one joint"));
+    }
+    SECTION("a group naming a joint twice") {
+        REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({1, 2, 1}, test::sine(40, 0.5, 120))),
+                            Equals("a joint group names the same joint twice"));
+    }
+    SECTION("a drive without a controller") {
+        REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({1}, nullptr)),
+                            Equals("a drive needs a controller"));
+    }
+    SECTION("the same controller driving two groups") {
+        auto s = test::sine(40, 0.5, 120);
+        sim.add_drive(0, drive_of({0, 1}, s));
+        REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({2, 3}, s)),
+                            Equals("controller 'sine' already drives a group (create one "
+                                   "controller per group)"));
+    }
+    SECTION("a robot that does not exist") {
+        REQUIRE_THROWS_WITH(sim.add_drive(1, drive_of({0}, test::sine(40, 0.5, 120))),
+                            Equals("robot index 1 out of range [0, 1)"));
+    }
+    SECTION("a rejected drive leaves the simulation usable and undriven") {
+        CHECK_THROWS(sim.add_drive(0, drive_of({0, 8}, test::sine(40, 0.5, 120))));
+        sim.run(0.1);
+        for (int j = 0; j < 8; ++j) CHECK(sim.joint(0, j).target == 0);
+    }
+}
+
+TEST_CASE("drives in the world spec are checked when the simulation compiles it") {
+    WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+    SECTION("bad joint") {
+        w.robots[0].actuation.push_back(drive_of({4}, test::sine(40, 0.5, 120)));
+        REQUIRE_THROWS_WITH(Simulation(w),
+                            Equals("robot 'snake' has no joint 5 (it has joints 1 to 4)"));
+    }
+    SECTION("one controller, two groups") {
+        auto s = test::sine(40, 0.5, 120);
+        w.robots[0].actuation.push_back(drive_of({0, 1}, s));
+        w.robots[0].actuation.push_back(drive_of({2, 3}, s));
+        REQUIRE_THROWS_WITH(Simulation(w), Equals("controller 'sine' already drives a group "
+                                                  "(create one controller per group)"));
+    }
+    SECTION("valid drives are kept in the compiled spec") {
+        w.robots[0].actuation.push_back(drive_of({0, 1, 2, 3}, test::sine(40, 0.5, 120)));
+        const Simulation sim(w);
+        CHECK(sim.world().robots[0].actuation.size() == 1);
+        CHECK(sim.world().robots[0].actuation[0].controller->joints() == 4);
+    }
+}
+
+TEST_CASE("accessors reject indices out of range") {
+    const Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    CHECK(sim.robot_count() == 1);
+    REQUIRE_THROWS_WITH(sim.body(0, 3), Equals("body index 3 out of range [0, 3)"));
+    REQUIRE_THROWS_WITH(sim.joint(0, -1), Equals("joint index -1 out of range [0, 2)"));
+    REQUIRE_THROWS_WITH(sim.robot_position(2), Equals("robot index 2 out of range [0, 1)"));
+}
+
+TEST_CASE("run and step advance time in whole ticks") {
+    SimulationOptions o;
+    o.dt = 0.002;
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch), o);
+    CHECK(sim.ticks() == 0);
+    CHECK(sim.time() == 0);
+    sim.step();
+    CHECK(sim.ticks() == 1);
+    sim.step(9);
+    CHECK(sim.ticks() == 10);
+    sim.run(0.1);
+    CHECK(sim.ticks() == 60);
+    CHECK(sim.time() == Approx(0.12));
+    sim.run(0.0031);  // rounds to 2 ticks
+    CHECK(sim.ticks() == 62);
+    REQUIRE_THROWS_WITH(sim.run(-1),
+                        Equals("run time must be a non-negative number of seconds (got -1)"));
+}
+
+TEST_CASE("world placement: the tail at the origin, bodies along +x at z = 0.026") {
+    const int n = 8;
+    SECTION("identity pose") {
+        const Simulation sim(test::chain_world(n, Connection::pitch_yaw));
+        for (int b = 0; b <= n; ++b) {
+            CAPTURE(b);
+            const BodyState s = sim.body(0, b);
+            const double x = b == 0 ? 0.018 : (b == n ? 0.072 * n - 0.018 : 0.072 * b);
+            CHECK(s.pose.position.x == Approx(x).margin(1e-6));
+            CHECK(s.pose.position.y == Approx(0).margin(1e-6));
+            CHECK(s.pose.position.z == Approx(0.026).margin(1e-6));
+            CHECK(s.pose.orientation.w == Approx(1));
+        }
+        for (int j = 0; j < n; ++j) {
+            CHECK(sim.joint(0, j).angle == Approx(0).margin(1e-6));
+            CHECK(sim.joint_error(0, j).separation < 1e-6);
+        }
+        // the centre of mass of a straight chain is its middle
+        const Vec3 com = sim.robot_position(0);
+        CHECK(com.x == Approx(0.036 * n));
+        CHECK(com.y == Approx(0).margin(1e-6));
+        CHECK(com.z == Approx(0.026));
+        CHECK(sim.robot_displacement(0).norm() == Approx(0).margin(1e-12));
+    }
+    SECTION("a placed robot is moved and turned by its pose") {
+        WorldSpec w = test::chain_world(n, Connection::pitch_pitch);
+        w.robots[0].pose.position = {1, 2, 0};
+        w.robots[0].pose.orientation = Quat::from_axis_angle({0, 0, 1}, kPi / 2);
+        const Simulation sim(w);
+        // along +y now, starting at (1, 2)
+        const BodyState head = sim.body(0, n);
+        CHECK(head.pose.position.x == Approx(1).margin(1e-6));
+        CHECK(head.pose.position.y == Approx(2 + 0.072 * n - 0.018).margin(1e-6));
+        CHECK(head.pose.position.z == Approx(0.026).margin(1e-6));
+        CHECK(sim.joint(0, 3).angle == Approx(0).margin(1e-6));
+    }
+}
+
+TEST_CASE("overlapping groups add their targets, clamped to the joint range") {
+    const double dt = 0.001;
+    const int every = 30;
+    SimulationOptions o;
+    o.dt = dt;
+    o.control_every = every;
+    Simulation sim(test::chain_world(4, Connection::pitch_yaw), o);
+    test::drive(sim, "all", test::sine(20, 0.5, 30));
+    auto turn = test::sine(0, 0.5, 0, 0, 15);
+    test::drive(sim, "yaw", turn);
+
+    // after the first control tick each joint's clock reads control_dt; the formula is written
+    // out here independently of the engine's deg_to_rad
+    sim.step();
+    const double pi = 3.14159265358979323846, rad = pi / 180;
+    const double t = every * dt;
+    auto all_deg = [&](int m) { return 20 * std::sin(2 * pi * 0.5 * t + m * 30 * rad); };
+    CHECK(sim.joint(0, 0).target == Approx(all_deg(0) * rad));         // pitch: "all" only
+    CHECK(sim.joint(0, 1).target == Approx((all_deg(1) + 15) * rad));  // yaw: "all" + offset
+    CHECK(sim.joint(0, 2).target == Approx(all_deg(2) * rad));
+    CHECK(sim.joint(0, 3).target == Approx((all_deg(3) + 15) * rad));
+
+    // targets hold between control ticks
+    const double held = sim.joint(0, 3).target;
+    sim.step(every - 1);
+    CHECK(sim.joint(0, 3).target == held);
+    sim.step();
+    CHECK(sim.joint(0, 3).target != held);
+
+    // the sum is clamped to the range: 15 + 85 deg > 90 deg
+    turn->set_param("offset", 85);
+    sim.step(every);
+    const double t2 = 3 * every * dt;
+    const double sum = 20 * std::sin(2 * pi * 0.5 * t2 + 30 * rad) + 85;
+    REQUIRE(sum > 90);
+    CHECK(sim.joint(0, 1).target == Approx(kPi / 2));
+}
+
+TEST_CASE("observers run every tick after the step, until removed") {
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    std::vector<long> ticks;
+    std::vector<double> times;
+    const int id = sim.add_observer([&](const Simulation& s) {
+        ticks.push_back(s.ticks());
+        times.push_back(s.time());
+    });
+    int other = 0;
+    const int id2 = sim.add_observer([&other](const Simulation&) { ++other; });
+    CHECK(id != id2);
+    sim.step(5);
+    CHECK(ticks == std::vector<long>{1, 2, 3, 4, 5});
+    CHECK(times.back() == Approx(0.005));
+    sim.remove_observer(id);
+    sim.step(5);
+    CHECK(ticks.size() == 5);
+    CHECK(other == 10);
+    sim.remove_observer(12345);  // unknown ids are ignored
+    sim.step();
+    CHECK(other == 11);
+}
+
+TEST_CASE("reset gives back time 0 and the same trajectory") {
+    Simulation sim(test::chain_world(8, Connection::pitch_pitch));
+    auto s = test::sine(40, 0.5, 120);
+    test::drive(sim, "pitch", s);
+    const std::vector<double> first = trace_positions(sim, 2.0);
+    REQUIRE(sim.robot_displacement(0).norm() > 0.005);
+    const double time_value = s->values(controllers::Sine::time)[0];
+    CHECK(time_value == Approx(2.01));  // 67 control ticks of 30 ms
+
+    sim.reset();
+    CHECK(sim.ticks() == 0);
+    CHECK(sim.time() == 0);
+    CHECK(sim.robot_displacement(0).norm() == Approx(0).margin(1e-12));
+    CHECK(sim.body(0, 0).pose.position.x == Approx(0.018).margin(1e-6));
+    CHECK(s->values(controllers::Sine::time)[0] == 0);
+    CHECK(s->param("amplitude") == 40);  // parameters are kept
+
+    const std::vector<double> second = trace_positions(sim, 2.0);
+    REQUIRE(second.size() == first.size());
+    CHECK(second == first);  // bit for bit
+}

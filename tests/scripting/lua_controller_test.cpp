@@ -1,0 +1,169 @@
+// Controllers written in Lua (scripting/src/lua_controller.cpp): same trajectory as the C++
+// sine, errors that name their file and line, a balanced Lua stack while the engine steps them.
+#include <catch2/catch.hpp>
+
+#include <memory>
+
+#include "gaitlab/simulation.h"
+#include "lua_controller.h"
+#include "lua_fixture.h"
+
+using gaitlab::scripting::LuaController;
+using gaitlab::scripting::LuaControllerClass;
+using gaitlab::scripting::ScriptError;
+using gaitlab::test::lua_dir;
+using gaitlab::test::LuaFixture;
+
+namespace {
+
+// loads a controller class with gaitlab.controller.load, from C++
+std::shared_ptr<LuaControllerClass> load_class(lua_State* L, const std::string& path) {
+    const int top = lua_gettop(L);
+    lua_getglobal(L, "gaitlab");
+    lua_getfield(L, -1, "controller");
+    lua_getfield(L, -1, "load");
+    lua_pushstring(L, path.c_str());
+    gaitlab::scripting::protected_call(L, 1, 1);
+    void* p = luaL_testudata(L, -1, "gaitlab.ControllerClass");
+    REQUIRE(p != nullptr);
+    auto cls = *static_cast<std::shared_ptr<LuaControllerClass>*>(p);
+    lua_settop(L, top);
+    return cls;
+}
+
+// a 3-module chain on a floor whose joints are all driven by `controller`
+gaitlab::WorldSpec driven_chain(std::shared_ptr<gaitlab::Controller> controller) {
+    gaitlab::ChainSpec chain;
+    chain.modules = 3;
+    gaitlab::WorldSpec world;
+    world.robots.push_back({gaitlab::make_chain(chain),
+                            gaitlab::Pose{},
+                            {gaitlab::Drive{{0, 1, 2}, std::move(controller)}}});
+    return world;
+}
+
+}  // namespace
+
+TEST_CASE("the Lua my_sine and the C++ sine give the same trajectory", "[lua_controller]") {
+    LuaFixture lua;
+    lua.run("EXAMPLES = '" GAITLAB_SOURCE_DIR "/examples'");
+    lua.run(R"(
+        local MySine = gaitlab.controller.load(EXAMPLES .. "/controllers/my_sine.lua")
+        local params = { amplitude = 35, frequency = 0.7, phase = 100 }
+
+        -- the centre of mass, then every body's position, at every control tick of 5 s
+        local function trajectory(controller)
+          local robot = gaitlab.robot.chain{ modules = 8, connection = "pitch-pitch" }
+          local world = gaitlab.world{ floor = { friction = 0.8 } }
+          world:add(robot)
+          robot:group("pitch"):drive(controller)
+          local sim = gaitlab.simulation{ world = world, dt = 0.001, control_every = 30 }
+          local samples = {}
+          while sim.ticks < 5000 do
+            sim:step(30)
+            local sample = { robot:position() }
+            for _, body in ipairs(robot:bodies()) do sample[#sample + 1] = body.position end
+            samples[#samples + 1] = sample
+          end
+          return samples, robot:displacement()
+        end
+
+        local lua_run, lua_d = trajectory(MySine(params))
+        local cpp_run, cpp_d = trajectory(gaitlab.controllers.sine(params))
+        samples, points, max_diff, identical = #lua_run, 0, 0, true
+        for k = 1, #lua_run do
+          for i = 1, #lua_run[k] do
+            local a, b = lua_run[k][i], cpp_run[k][i]
+            max_diff = math.max(max_diff, (a - b):norm())
+            identical = identical and a == b
+            points = points + 1
+          end
+        end
+        moved = lua_d:norm()
+        moved_cpp = cpp_d:norm()
+    )");
+    // 167 control periods of 30 ms; centre of mass + 9 bodies each
+    CHECK(lua.integer("samples") == 167);
+    CHECK(lua.integer("points") == 167 * 10);
+    CHECK(lua.number("max_diff") <= 1e-9);
+    // same operations in the same order: they agree bit for bit
+    CHECK(lua.boolean("identical"));
+    // and the snake did go somewhere, so the comparison means something
+    CHECK(lua.number("moved") > 0.02);
+    CHECK(lua.number("moved") == lua.number("moved_cpp"));
+}
+
+TEST_CASE("a runtime error in step names the controller file and line", "[lua_controller]") {
+    LuaFixture lua;
+    const std::string file = lua_dir() + "/step_error.lua";
+    lua.run("FILE = '" + file + "'");
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ modules = 2 }
+        world = gaitlab.world()
+        world:add(robot)
+        robot:group("all"):drive(gaitlab.controller.load(FILE){})
+        sim = gaitlab.simulation{ world = world }
+    )");
+    const ScriptError e = lua.script_error_of("sim:run(1)");
+    CHECK(std::string(e.what()) ==
+          file + ":6: attempt to perform arithmetic on a nil value (field 'missing_value')");
+    CHECK(e.file() == file);
+    CHECK(e.line() == 6);
+    CHECK_THAT(e.traceback(), Catch::Contains("step_error.lua:6: in function"));
+    CHECK_THAT(e.traceback(), Catch::Contains("test:1: in main chunk"));
+    // the failure happened at the first control tick
+    CHECK(lua.integer("sim.ticks") <= 1);
+}
+
+TEST_CASE("a runtime error in step, called from C++, is a ScriptError", "[lua_controller]") {
+    gaitlab::scripting::LuaHost host;
+    lua_State* L = host.state();
+    const std::string file = lua_dir() + "/step_error.lua";
+    auto controller = std::make_shared<LuaController>(L, load_class(L, file));
+    gaitlab::Simulation sim(driven_chain(controller));
+    REQUIRE(lua_gettop(L) == 0);
+    try {
+        sim.step(100);
+        FAIL("step did not fail");
+    } catch (const ScriptError& e) {
+        CHECK(std::string(e.what()) ==
+              file + ":6: attempt to perform arithmetic on a nil value (field 'missing_value')");
+        CHECK(e.file() == file);
+        CHECK(e.line() == 6);
+        CHECK_THAT(e.traceback(), Catch::Contains("step_error.lua:6: in function"));
+    }
+    CHECK(lua_gettop(L) == 0);
+}
+
+TEST_CASE("stepping Lua controllers from C++ keeps the Lua stack balanced", "[lua_controller]") {
+    gaitlab::scripting::LuaHost host;
+    lua_State* L = host.state();
+    lua_pushinteger(L, 7);  // something the controller must not disturb
+    auto controller = std::make_shared<LuaController>(L, load_class(L, lua_dir() + "/counter.lua"));
+    gaitlab::Simulation sim(driven_chain(controller));
+    CHECK(lua_gettop(L) == 1);
+    sim.step(3000);  // 100 control steps
+    CHECK(lua_gettop(L) == 1);
+    CHECK(lua_tointeger(L, 1) == 7);
+
+    const int steps = controller->find_value("steps");
+    const int seen = controller->find_value("seen");
+    REQUIRE(steps >= 0);
+    REQUIRE(seen >= 0);
+    const std::vector<double>& count = controller->values(steps);
+    CHECK(lua_gettop(L) == 1);
+    REQUIRE(count.size() == 3);
+    CHECK(count[0] == Approx(100).margin(1));
+    CHECK(count[2] == count[0]);
+    // the servos reached the level the controller set (10 deg) and the controller read it back
+    CHECK(controller->values(seen)[1] == Approx(10).margin(0.5));
+    CHECK(gaitlab::rad_to_deg(sim.joint(0, 1).target) == Approx(10));
+
+    controller->set_param("level", -20);
+    sim.step(1500);
+    CHECK(lua_gettop(L) == 1);
+    CHECK(gaitlab::rad_to_deg(sim.joint(0, 1).target) == Approx(-20));
+    sim.reset();
+    CHECK(controller->values(steps)[0] == 0);
+    CHECK(lua_gettop(L) == 1);
+}

@@ -1,0 +1,174 @@
+// gaitlab.robot: the chain builder, joint groups and robot measures (scripting/src/wrap_robot.cpp).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "lua_fixture.h"
+
+using gaitlab::test::LuaFixture;
+
+namespace {
+
+// a 4-module pitch-yaw snake in a world with a floor, not yet simulated
+const char* kSnake = R"(
+robot = gaitlab.robot.chain{ name = "snake", modules = 4, connection = "pitch-yaw" }
+world = gaitlab.world{ floor = { friction = 0.8 } }
+world:add(robot)
+)";
+
+}  // namespace
+
+TEST_CASE("chain rejects bad arguments with Lua-worded messages", "[wrap_robot]") {
+    LuaFixture lua;
+    const std::string bad = "test:1: bad argument #1 to 'chain' (";
+    CHECK(lua.error_of("gaitlab.robot.chain{modules = 0}") ==
+          bad + "modules must be at least 1 (got 0))");
+    CHECK(lua.error_of("gaitlab.robot.chain{modules = -3}") ==
+          bad + "modules must be at least 1 (got -3))");
+    CHECK(lua.error_of("gaitlab.robot.chain{modules = 1001}") ==
+          bad + "modules must be at most 1000 (got 1001))");
+    CHECK(lua.error_of("gaitlab.robot.chain{modules = 2.5}") ==
+          bad + "field 'modules': integer expected, got a fractional number)");
+    CHECK(lua.error_of("gaitlab.robot.chain{modules = 'eight'}") ==
+          bad + "field 'modules': integer expected, got string)");
+    CHECK(lua.error_of("gaitlab.robot.chain{name = 'x'}") ==
+          bad + "field 'modules': number of modules expected, got nil)");
+    CHECK(lua.error_of("gaitlab.robot.chain{modules = 2, name = 3}") ==
+          bad + "field 'name': string expected, got number)");
+    CHECK(lua.error_of("gaitlab.robot.chain{modules = 2, connection = 'pitch-roll'}") ==
+          bad +
+              "unknown connection type 'pitch-roll' (expected 'pitch-pitch', 'pitch-yaw' or "
+              "'yaw-yaw'))");
+    CHECK(lua.error_of("gaitlab.robot.chain{modules = 2, conection = 'pitch-yaw'}") ==
+          bad + "unknown key 'conection'; did you mean 'connection'?)");
+    CHECK(lua.error_of("gaitlab.robot.chain{modules = 2, colour = 'red'}") ==
+          bad + "unknown key 'colour')");
+    CHECK(lua.error_of("gaitlab.robot.chain{8, 'pitch-pitch'}") ==
+          bad + "unexpected number key (fields are named))");
+    CHECK(lua.error_of("gaitlab.robot.chain(8)") == bad + "table expected, got number)");
+    CHECK(lua.error_of("gaitlab.robot.chain()") == bad + "table expected, got no value)");
+}
+
+TEST_CASE("groups must name joints the robot has", "[wrap_robot]") {
+    LuaFixture lua;
+    lua.run("r = gaitlab.robot.chain{ name = 'pp', modules = 3 }");
+    const std::string bad = "test:1: bad argument #1 to 'group' (";
+    CHECK(lua.error_of("r:group{1, 5}") ==
+          bad + "robot 'pp' has no joint 5 (it has joints 1 to 3))");
+    CHECK(lua.error_of("r:group{0}") == bad + "robot 'pp' has no joint 0 (it has joints 1 to 3))");
+    CHECK(lua.error_of("r:group{}") == bad + "a joint group needs at least one joint)");
+    CHECK(lua.error_of("r:group{1, 'two'}") == bad + "entry 2 is not a joint number)");
+    CHECK(lua.error_of("r:group{2, 2}") == bad + "joint 2 is listed twice)");
+    CHECK(lua.error_of("r:group('yaw')") == bad + "robot 'pp' has no yaw joints)");
+    CHECK(lua.error_of("r:group('roll')") ==
+          bad + "unknown joint role 'roll' (expected 'pitch', 'yaw' or 'all'))");
+    CHECK(lua.error_of("r:group(true)") ==
+          bad + "role ('pitch', 'yaw', 'all') or list of joint numbers expected, got boolean)");
+    CHECK(lua.error_of("r.group(3, 'all')") ==
+          "test:1: bad argument #1 to 'group' (gaitlab.Robot expected, got number)");
+}
+
+TEST_CASE("a controller drives one group only", "[wrap_robot]") {
+    LuaFixture lua;
+    lua.run("r = gaitlab.robot.chain{ modules = 3 } c = gaitlab.controllers.sine{}");
+    lua.run("g = r:group{1, 2} same = g:drive(c) == c");
+    CHECK(lua.boolean("same"));
+    CHECK(lua.error_of("r:group{3}:drive(c)") ==
+          "test:1: bad argument #1 to 'drive' (controller 'sine' already drives a group (create "
+          "one controller per group))");
+    CHECK(lua.error_of("r:group{3}:drive(42)") ==
+          "test:1: bad argument #1 to 'drive' (gaitlab.Controller expected, got number)");
+    CHECK(lua.integer("#g") == 2);
+    CHECK(lua.string("table.concat(g:joints(), ',')") == "1,2");
+}
+
+TEST_CASE("groups select joints by role in order from the tail", "[wrap_robot]") {
+    LuaFixture lua;
+    lua.run("r = gaitlab.robot.chain{ modules = 5, connection = 'pitch-yaw' }");
+    CHECK(lua.string("table.concat(r:group('pitch'):joints(), ',')") == "1,3,5");
+    CHECK(lua.string("table.concat(r:group('yaw'):joints(), ',')") == "2,4");
+    CHECK(lua.string("table.concat(r:group('all'):joints(), ',')") == "1,2,3,4,5");
+    CHECK(lua.string("table.concat(r:group{5, 1, 3}:joints(), ',')") == "5,1,3");
+}
+
+TEST_CASE("robot measures need a simulation", "[wrap_robot]") {
+    LuaFixture lua;
+    lua.run(kSnake);
+    const std::string not_in_sim =
+        "test:1: robot 'snake' is not in a simulation (add it to a world, then create "
+        "gaitlab.simulation{world = ...})";
+    CHECK(lua.error_of("robot:position()") == not_in_sim);
+    CHECK(lua.error_of("robot:velocity()") == not_in_sim);
+    CHECK(lua.error_of("robot:displacement()") == not_in_sim);
+    // the spec part of bodies and joints is there before any simulation
+    CHECK(lua.integer("#robot:bodies()") == 5);
+    CHECK(lua.boolean("robot:bodies()[1].position == nil"));
+    CHECK(lua.string("robot:joints()[2].role") == "yaw");
+    CHECK(lua.boolean("robot:joints()[2].angle == nil"));
+}
+
+TEST_CASE("robot handle: name, length, tostring", "[wrap_robot]") {
+    LuaFixture lua;
+    lua.run(kSnake);
+    CHECK(lua.string("robot.name") == "snake");
+    CHECK(lua.integer("#robot") == 4);
+    CHECK(lua.string("tostring(robot)") == "gaitlab.Robot 'snake' (4 joints)");
+    CHECK(lua.string("gaitlab.robot.chain{modules = 1}.name") == "robot");
+    CHECK(lua.boolean("robot.no_such_member == nil"));
+}
+
+TEST_CASE("bodies lists tail, segments and head with poses", "[wrap_robot]") {
+    LuaFixture lua;
+    lua.run(kSnake);
+    lua.run("sim = gaitlab.simulation{ world = world } bodies = robot:bodies()");
+    CHECK(lua.integer("#bodies") == 5);
+    CHECK(lua.string("bodies[1].name") == "tail");
+    CHECK(lua.string("bodies[2].name") == "segment1");
+    CHECK(lua.string("bodies[4].name") == "segment3");
+    CHECK(lua.string("bodies[5].name") == "head");
+    CHECK(lua.number("bodies[1].mass") == Approx(0.025));
+    CHECK(lua.number("bodies[2].mass") == Approx(0.050));
+    CHECK(lua.number("bodies[2].size.x") == Approx(0.072));
+    CHECK(lua.number("bodies[2].size.y") == Approx(0.052));
+    // laid along +x with the tail at the origin, resting on the floor
+    CHECK(lua.number("bodies[1].position.x") == Approx(0.018).margin(1e-6));
+    CHECK(lua.number("bodies[3].position.x") == Approx(0.144).margin(1e-6));
+    CHECK(lua.number("bodies[5].position.x") == Approx(0.270).margin(1e-6));
+    CHECK(lua.number("bodies[5].position.z") == Approx(0.026).margin(1e-6));
+    CHECK(lua.number("bodies[1].orientation.w") == Approx(1).margin(1e-9));
+    CHECK(lua.string("getmetatable(bodies[1].position).__name") == "gaitlab.Vec3");
+    CHECK(lua.boolean("bodies[1].velocity ~= nil"));
+    // the centre of mass is at the middle of the straight chain
+    CHECK(lua.number("robot:position().x") == Approx(0.144).margin(1e-6));
+    CHECK(lua.number("robot:displacement():norm()") == Approx(0).margin(1e-12));
+    lua.run("sim:run(0.5)");
+    CHECK(lua.number("robot:bodies()[1].position.z") == Approx(0.026).margin(2e-3));
+}
+
+TEST_CASE("joints lists angle, target, velocity in degrees and torque", "[wrap_robot]") {
+    LuaFixture lua;
+    lua.run(kSnake);
+    lua.run(R"(
+        robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 20, frequency = 1 })
+        sim = gaitlab.simulation{ world = world }
+        sim:run(0.3)
+        joints = robot:joints()
+    )");
+    CHECK(lua.integer("#joints") == 4);
+    CHECK(lua.integer("joints[3].index") == 3);
+    CHECK(lua.string("joints[1].name") == "joint1");
+    CHECK(lua.string("joints[1].role") == "pitch");
+    CHECK(lua.string("joints[2].role") == "yaw");
+    CHECK(lua.number("joints[1].min") == Approx(-90));
+    CHECK(lua.number("joints[1].max") == Approx(90));
+    for (const char* field : {"angle", "target", "velocity", "torque"}) {
+        CHECK(lua.string(std::string("type(joints[1].") + field + ")") == "number");
+    }
+    // the sine's target for joint 1 at its last control tick (t = 0.3 s): 20 sin(2π·0.3) deg
+    CHECK(lua.number("joints[1].target") == Approx(20 * std::sin(2 * 3.14159265358979 * 0.3)));
+    // the yaw joints are not driven: their target is 0
+    CHECK(lua.number("joints[2].target") == 0);
+    // the servo follows its target: the measured angle is on the way (degrees, not radians)
+    CHECK(lua.number("joints[1].angle") > 5);
+    CHECK(lua.number("math.abs(joints[1].torque)") <= 0.4 + 1e-9);
+}

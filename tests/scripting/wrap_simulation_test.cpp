@@ -1,0 +1,99 @@
+// gaitlab.simulation: options, stepping and time (scripting/src/wrap_simulation.cpp).
+#include <catch2/catch.hpp>
+
+#include "lua_fixture.h"
+
+using gaitlab::test::LuaFixture;
+
+TEST_CASE("simulation rejects bad options with Lua-worded messages", "[wrap_simulation]") {
+    LuaFixture lua;
+    lua.run("w = gaitlab.world()");
+    const std::string bad = "test:1: bad argument #1 to 'simulation' (";
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, dtt = 0.01 }") ==
+          bad + "unknown key 'dtt'; did you mean 'dt'?)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, control_evry = 10 }") ==
+          bad + "unknown key 'control_evry'; did you mean 'control_every'?)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = 'dir' }") ==
+          bad +
+              "field 'record': recording to a run folder is not available in this version "
+              "(use record = false))");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = true }") ==
+          bad +
+              "field 'record': recording to a run folder is not available in this version "
+              "(use record = false))");
+    CHECK(lua.error_of("gaitlab.simulation{}") ==
+          bad + "field 'world': gaitlab.World expected, got nil)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = 3 }") ==
+          bad + "field 'world': gaitlab.World expected, got number)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, dt = 0 }") ==
+          bad + "dt must be in [1e-06, 0.1] s (got 0))");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, control_every = 0 }") ==
+          bad + "control_every must be at least 1 (got 0))");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, control_every = 2.5 }") ==
+          bad + "field 'control_every': integer expected, got a fractional number)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, seed = -1 }") ==
+          bad + "field 'seed': non-negative integer expected)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, solver_iterations = 0 }") ==
+          bad + "solver_iterations must be in [1, 10000] (got 0))");
+    CHECK(lua.error_of("gaitlab.simulation(w)") == bad + "table expected, got gaitlab.World)");
+    // record = false is the one accepted value
+    lua.run("gaitlab.simulation{ world = w, record = false }");
+}
+
+TEST_CASE("run and step advance time by whole ticks", "[wrap_simulation]") {
+    LuaFixture lua;
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ modules = 3 }
+        world = gaitlab.world()
+        world:add(robot)
+        sim = gaitlab.simulation{ world = world, seed = 7, solver_iterations = 20 }
+    )");
+    CHECK(lua.number("sim.time") == 0);
+    CHECK(lua.integer("sim.ticks") == 0);
+    CHECK(lua.number("sim.dt") == 0.001);
+    CHECK(lua.integer("sim.control_every") == 30);
+    CHECK(lua.integer("sim.seed") == 7);
+    CHECK(lua.integer("sim.solver_iterations") == 20);
+    lua.run("sim:run(1.5)");
+    CHECK(lua.integer("sim.ticks") == 1500);
+    CHECK(lua.number("sim.time") == Approx(1.5).margin(1e-12));
+    lua.run("sim:step(10)");
+    CHECK(lua.integer("sim.ticks") == 1510);
+    CHECK(lua.number("sim.time") == Approx(1.51).margin(1e-12));
+    lua.run("sim:step()");
+    CHECK(lua.integer("sim.ticks") == 1511);
+    lua.run("sim:run(0)");
+    CHECK(lua.integer("sim.ticks") == 1511);
+    lua.run("sim:reset()");
+    CHECK(lua.integer("sim.ticks") == 0);
+    CHECK(lua.number("sim.time") == 0);
+    CHECK(lua.string("tostring(sim)") == "gaitlab.Simulation (t = 0.0 s, robots: 1)");
+
+    const std::string run = "test:1: bad argument #1 to 'run' (";
+    CHECK(lua.error_of("sim:run(-1)") == run + "non-negative number of seconds expected)");
+    CHECK(lua.error_of("sim:run(0/0)") == run + "non-negative number of seconds expected)");
+    CHECK(lua.error_of("sim:run('long')") == run + "number expected, got string)");
+    CHECK(lua.error_of("sim:step(-1)") ==
+          "test:1: bad argument #1 to 'step' (non-negative number of ticks expected)");
+    CHECK(lua.error_of("sim:step(1.5)") ==
+          "test:1: bad argument #1 to 'step' (number has no integer representation)");
+}
+
+TEST_CASE("reset replays the same trajectory", "[wrap_simulation]") {
+    LuaFixture lua;
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ modules = 4 }
+        world = gaitlab.world()
+        world:add(robot)
+        robot:group("all"):drive(gaitlab.controllers.sine{})
+        sim = gaitlab.simulation{ world = world }
+        sim:run(1)
+        first = robot:position()
+        sim:reset()
+        start = robot:position()
+        sim:run(1)
+        second = robot:position()
+    )");
+    CHECK(lua.boolean("first == second"));
+    CHECK(lua.number("(first - start):norm()") > 1e-3);
+}
