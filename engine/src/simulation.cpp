@@ -251,6 +251,8 @@ JointState Simulation::joint(int robot, int j) const {
 
 JointError Simulation::joint_error(int robot, int j) const {
     check_robot(robot);
+    const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.joints.size());
+    if (j < 0 || j >= n) throw SpecError(fmt::format("joint index {} out of range [0, {})", j, n));
     return physics_->joint_error(robots_[robot].first_joint + j);
 }
 

@@ -54,7 +54,7 @@ TEST_CASE("default simulation options") {
     const SimulationOptions o = default_simulation_options();
     CHECK(o.dt == 0.001);
     CHECK(o.control_every == 30);
-    CHECK(o.solver_iterations == 10);
+    CHECK(o.solver_iterations == 20);
     CHECK(o.seed == 0);
     REQUIRE_NOTHROW(validate(o));
 }

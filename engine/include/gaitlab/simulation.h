@@ -16,7 +16,9 @@ namespace gaitlab {
 struct SimulationOptions {
     double dt = 0.001;          ///< physics step, s, in (0, 0.1]
     int control_every = 30;     ///< ticks between controller steps, >= 1
-    int solver_iterations = 10; ///< constraint solver iterations per step, >= 1
+    /// constraint solver iterations per step, >= 1; 20 keeps standard gaits within about 1% of
+    /// a converged solution and resting robots still (see docs/performance.md)
+    int solver_iterations = 20;
     std::uint64_t seed = 0;     ///< seeds everything random in the run
 };
 

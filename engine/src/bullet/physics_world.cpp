@@ -86,6 +86,10 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
     Impl& s = *impl_;
     s.world.setGravity(to_bt(spec.gravity));
     s.world.getSolverInfo().m_numIterations = solver_iterations;
+    // two friction directions per contact (a friction pyramid): with Bullet's default single
+    // direction, a contact that is not sliding resists motion along one axis only, so a robot
+    // at rest creeps along the other and gaits drift
+    s.world.getSolverInfo().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
 
     if (spec.floor.enabled) {
         auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), btScalar(0));
