@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
     run->footer("Arguments after FILE go to the script as arg[1], arg[2], ...");
 
     std::vector<const char*> args{argv[0]};
-    for (const std::string& a : argl) args.push_back(a.c_str());
+    for (const std::string& a : argl)
+        args.push_back(a.c_str());
     try {
         app.parse(static_cast<int>(args.size()), args.data());
     } catch (const CLI::ParseError& e) {
@@ -67,8 +68,9 @@ int main(int argc, char** argv) {
     if (*run) return run_script(file, seed, run->remaining());
 
     std::fputs(app.help().c_str(), stdout);
-    std::fputs("\nThe interactive console is not part of this version yet: run a script with\n"
-               "'gaitlab run FILE.lua'.\n",
-               stdout);
+    std::fputs(
+        "\nThe interactive console is not part of this version yet: run a script with\n"
+        "'gaitlab run FILE.lua'.\n",
+        stdout);
     return argl.empty() ? 2 : 0;
 }

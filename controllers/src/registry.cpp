@@ -20,7 +20,8 @@ const Entry kBuiltins[] = {
 
 std::vector<std::string> builtin_names() {
     std::vector<std::string> out;
-    for (const Entry& e : kBuiltins) out.emplace_back(e.name);
+    for (const Entry& e : kBuiltins)
+        out.emplace_back(e.name);
     return out;
 }
 

@@ -11,7 +11,9 @@
 namespace gaitlab::detail {
 
 /// A number as messages show it: "nan" whatever its sign bit.
-inline std::string shown(double v) { return std::isnan(v) ? "nan" : fmt::format("{}", v); }
+inline std::string shown(double v) {
+    return std::isnan(v) ? "nan" : fmt::format("{}", v);
+}
 
 /// `what` must be a finite number in [lo, hi].
 inline void check_range(const std::string& what, double v, double lo, double hi,

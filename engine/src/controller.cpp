@@ -13,7 +13,8 @@ void validate(const ControllerDef& def) {
     if (def.name.empty()) throw SpecError("controller name must not be empty");
     std::set<std::string> seen;
     for (const ParamDef& p : def.params) {
-        const std::string where = fmt::format("parameter '{}' of controller '{}'", p.name, def.name);
+        const std::string where =
+            fmt::format("parameter '{}' of controller '{}'", p.name, def.name);
         if (p.name.empty()) throw SpecError("parameter names must not be empty");
         if (!seen.insert(p.name).second) throw SpecError(where + " is declared twice");
         if (!(std::isfinite(p.min) && std::isfinite(p.max) && p.min <= p.max)) {
@@ -27,9 +28,10 @@ void validate(const ControllerDef& def) {
     for (const std::string& v : def.values) {
         if (v.empty()) throw SpecError("value names must not be empty");
         if (!seen.insert(v).second) {
-            throw SpecError(fmt::format("value '{}' of controller '{}' repeats a parameter or value "
-                                        "name",
-                                        v, def.name));
+            throw SpecError(
+                fmt::format("value '{}' of controller '{}' repeats a parameter or value "
+                            "name",
+                            v, def.name));
         }
     }
 }
@@ -37,7 +39,8 @@ void validate(const ControllerDef& def) {
 Controller::Controller(ControllerDef def) : def_(std::move(def)) {
     validate(def_);
     params_.reserve(def_.params.size());
-    for (const ParamDef& p : def_.params) params_.push_back(p.default_value);
+    for (const ParamDef& p : def_.params)
+        params_.push_back(p.default_value);
     values_.resize(def_.values.size());
 }
 
@@ -80,16 +83,18 @@ void Controller::set_param(std::string_view name, double value) {
 void Controller::bind(int joints) {
     if (joints < 1) throw SpecError("a controller must drive at least one joint");
     if (bound()) {
-        throw SpecError(fmt::format("controller '{}' already drives a group (create one "
-                                    "controller per group)",
-                                    def_.name));
+        throw SpecError(
+            fmt::format("controller '{}' already drives a group (create one "
+                        "controller per group)",
+                        def_.name));
     }
     joints_ = joints;
     reset();
 }
 
 void Controller::reset() {
-    for (auto& v : values_) v.assign(static_cast<size_t>(joints_), 0.0);
+    for (auto& v : values_)
+        v.assign(static_cast<size_t>(joints_), 0.0);
     on_bind();
 }
 

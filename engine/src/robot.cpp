@@ -9,14 +9,19 @@ namespace gaitlab {
 
 const char* to_string(Connection c) {
     switch (c) {
-        case Connection::pitch_pitch: return "pitch-pitch";
-        case Connection::pitch_yaw: return "pitch-yaw";
-        case Connection::yaw_yaw: return "yaw-yaw";
+        case Connection::pitch_pitch:
+            return "pitch-pitch";
+        case Connection::pitch_yaw:
+            return "pitch-yaw";
+        case Connection::yaw_yaw:
+            return "yaw-yaw";
     }
     return "?";
 }
 
-const char* to_string(JointRole r) { return r == JointRole::pitch ? "pitch" : "yaw"; }
+const char* to_string(JointRole r) {
+    return r == JointRole::pitch ? "pitch" : "yaw";
+}
 
 Connection parse_connection(std::string_view name) {
     for (Connection c : {Connection::pitch_pitch, Connection::pitch_yaw, Connection::yaw_yaw}) {
@@ -45,9 +50,12 @@ void validate_module(const ModuleDef& m) {
 
 JointRole role_of(Connection c, int joint) {
     switch (c) {
-        case Connection::pitch_pitch: return JointRole::pitch;
-        case Connection::yaw_yaw: return JointRole::yaw;
-        case Connection::pitch_yaw: return joint % 2 == 0 ? JointRole::pitch : JointRole::yaw;
+        case Connection::pitch_pitch:
+            return JointRole::pitch;
+        case Connection::yaw_yaw:
+            return JointRole::yaw;
+        case Connection::pitch_yaw:
+            return joint % 2 == 0 ? JointRole::pitch : JointRole::yaw;
     }
     return JointRole::pitch;
 }
@@ -145,7 +153,8 @@ std::vector<int> select_joints(const RobotSpec& robot, std::string_view role) {
 
 double total_mass(const RobotSpec& robot) {
     double m = 0;
-    for (const BodySpec& b : robot.bodies) m += b.mass;
+    for (const BodySpec& b : robot.bodies)
+        m += b.mass;
     return m;
 }
 

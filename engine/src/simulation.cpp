@@ -19,8 +19,8 @@ void validate(const SimulationOptions& o) {
         throw SpecError(fmt::format("control_every must be at least 1 (got {})", o.control_every));
     }
     if (o.solver_iterations < 1 || o.solver_iterations > 10000) {
-        throw SpecError(fmt::format("solver_iterations must be in [1, 10000] (got {})",
-                                    o.solver_iterations));
+        throw SpecError(
+            fmt::format("solver_iterations must be in [1, 10000] (got {})", o.solver_iterations));
     }
 }
 
@@ -29,7 +29,7 @@ Scheduler::Scheduler(double dt, int control_every)
 
 // the tick phases of a simulation (see scheduler.h for their order)
 class Simulation::Phases final : public TickPhases, public JointReader {
-public:
+  public:
     explicit Phases(Simulation& sim) : sim_(sim) {}
 
     void sense() override { sim_.physics_->read_angles(sim_.angles_.data()); }
@@ -60,7 +60,8 @@ public:
     void physics(double dt) override { sim_.physics_->step(dt); }
 
     void record(long /*tick*/, double /*time*/) override {
-        for (auto& o : sim_.observers_) o.second(sim_);
+        for (auto& o : sim_.observers_)
+            o.second(sim_);
     }
 
     double angle(int joint) const override { return sim_.angles_[static_cast<size_t>(joint)]; }
@@ -71,7 +72,7 @@ public:
     std::vector<ServoDef> servos_;
     std::vector<double> min_, max_;
 
-private:
+  private:
     void check_divergence(double time) const {
         const PhysicsWorld& p = *sim_.physics_;
         for (size_t r = 0; r < sim_.robots_.size(); ++r) {
@@ -135,7 +136,8 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     for (size_t r = 0; r < world_.robots.size(); ++r) {
         Actuation drives = std::move(world_.robots[r].actuation);
         world_.robots[r].actuation.clear();
-        for (Drive& d : drives) add_drive(static_cast<int>(r), std::move(d));
+        for (Drive& d : drives)
+            add_drive(static_cast<int>(r), std::move(d));
     }
     build();
 }
@@ -175,19 +177,21 @@ void Simulation::add_drive(int robot, Drive drive) {
     }
     drive.controller->bind(static_cast<int>(drive.joints.size()));
     DriveSlot slot{robot, drive, {}, std::vector<double>(drive.joints.size(), 0.0)};
-    for (int j : drive.joints) slot.global_joints.push_back(robots_[robot].first_joint + j);
+    for (int j : drive.joints)
+        slot.global_joints.push_back(robots_[robot].first_joint + j);
     drives_.push_back(std::move(slot));
     world_.robots[static_cast<size_t>(robot)].actuation.push_back(std::move(drive));
 }
 
 void Simulation::step(long ticks) {
-    for (long i = 0; i < ticks; ++i) scheduler_.tick(*phases_);
+    for (long i = 0; i < ticks; ++i)
+        scheduler_.tick(*phases_);
 }
 
 void Simulation::run(double seconds) {
     if (!(std::isfinite(seconds) && seconds >= 0)) {
-        throw SpecError(fmt::format("run time must be a non-negative number of seconds (got {})",
-                                    seconds));
+        throw SpecError(
+            fmt::format("run time must be a non-negative number of seconds (got {})", seconds));
     }
     step(std::lround(seconds / options_.dt));
 }
@@ -256,7 +260,9 @@ JointError Simulation::joint_error(int robot, int j) const {
     return physics_->joint_error(robots_[robot].first_joint + j);
 }
 
-int Simulation::contact_count() const { return physics_->contact_count(); }
+int Simulation::contact_count() const {
+    return physics_->contact_count();
+}
 
 int Simulation::add_observer(std::function<void(const Simulation&)> fn) {
     observers_.emplace_back(next_observer_, std::move(fn));

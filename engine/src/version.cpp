@@ -2,6 +2,8 @@
 
 namespace gaitlab {
 
-const char* version() { return GAITLAB_VERSION; }
+const char* version() {
+    return GAITLAB_VERSION;
+}
 
 }  // namespace gaitlab

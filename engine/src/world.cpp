@@ -24,7 +24,8 @@ void validate(const WorldSpec& world) {
         detail::check_finite(p + "position y", b.pose.position.y);
         detail::check_finite(p + "position z", b.pose.position.z);
     }
-    for (const PlacedRobot& r : world.robots) validate(r.robot);
+    for (const PlacedRobot& r : world.robots)
+        validate(r.robot);
 }
 
 }  // namespace gaitlab

@@ -8,7 +8,9 @@ namespace gaitlab::scripting {
 LuaController::LuaController(lua_State* L, std::shared_ptr<LuaControllerClass> cls)
     : Controller(cls->def), L_(L), cls_(std::move(cls)) {}
 
-LuaController::~LuaController() { luaL_unref(L_, LUA_REGISTRYINDEX, self_ref_); }
+LuaController::~LuaController() {
+    luaL_unref(L_, LUA_REGISTRYINDEX, self_ref_);
+}
 
 void LuaController::on_bind() {
     // a fresh instance table: parameters, the per-joint value arrays (zeros), joints, and the

@@ -20,18 +20,18 @@ struct LuaControllerClass {
 };
 
 class LuaController final : public Controller {
-public:
+  public:
     LuaController(lua_State* L, std::shared_ptr<LuaControllerClass> cls);
     ~LuaController() override;
 
     void step(ControlIO& io) override;
     const LuaControllerClass& cls() const { return *cls_; }
 
-protected:
+  protected:
     void sync_values() const override;
     void on_bind() override;
 
-private:
+  private:
     void push_params();
     static int l_set_angle(lua_State* L);
     static int l_angle(lua_State* L);
@@ -42,7 +42,7 @@ private:
     std::shared_ptr<LuaControllerClass> cls_;
     int self_ref_ = LUA_NOREF;  // the instance table passed to step as self
     std::uint64_t pushed_version_ = ~std::uint64_t{0};
-    ControlIO* io_ = nullptr;   // set only while step runs
+    ControlIO* io_ = nullptr;  // set only while step runs
 };
 
 }  // namespace gaitlab::scripting

@@ -114,7 +114,9 @@ LuaHost::LuaHost() : L_(luaL_newstate()) {
     lua_pop(L_, 1);
 }
 
-LuaHost::~LuaHost() { lua_close(L_); }
+LuaHost::~LuaHost() {
+    lua_close(L_);
+}
 
 void LuaHost::seed(std::uint64_t seed) {
     lua_getglobal(L_, "math");

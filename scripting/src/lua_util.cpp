@@ -18,7 +18,8 @@ namespace {
 
 size_t edit_distance(std::string_view a, std::string_view b) {
     std::vector<size_t> row(b.size() + 1);
-    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t j = 0; j <= b.size(); ++j)
+        row[j] = j;
     for (size_t i = 1; i <= a.size(); ++i) {
         size_t diag = row[0];
         row[0] = i;
@@ -134,7 +135,9 @@ bool Fields::has(const char* key) const {
     return present;
 }
 
-int Fields::push(const char* key) const { return lua_getfield(L_, index_, key); }
+int Fields::push(const char* key) const {
+    return lua_getfield(L_, index_, key);
+}
 
 void Fields::fail(const char* key, const std::string& message) const {
     throw ArgError(arg_, std::string("field '") + key + "': " + message);
@@ -163,8 +166,9 @@ long long Fields::integer(const char* key, long long fallback) const {
     const bool is_number = lua_type(L_, -1) == LUA_TNUMBER;
     const std::string t = type_name(L_, -1);
     lua_pop(L_, 1);
-    if (!ok) fail(key, is_number ? "integer expected, got a fractional number" :
-                                   "integer expected, got " + t);
+    if (!ok)
+        fail(key, is_number ? "integer expected, got a fractional number"
+                            : "integer expected, got " + t);
     return v;
 }
 

@@ -20,11 +20,11 @@ namespace gaitlab::scripting {
 
 /// A bad argument: becomes "bad argument #arg to 'fn' (message)".
 class ArgError : public Error {
-public:
+  public:
     ArgError(int arg, const std::string& message) : Error(message), arg_(arg) {}
     int arg() const { return arg_; }
 
-private:
+  private:
     int arg_;
 };
 
@@ -117,7 +117,7 @@ void push_vec3(lua_State* L, const Vec3& v);
 
 /// Reads the fields of a table argument; unknown keys are an error naming the closest valid one.
 class Fields {
-public:
+  public:
     Fields(lua_State* L, int index, int arg, std::initializer_list<const char*> allowed);
 
     bool has(const char* key) const;
@@ -135,7 +135,7 @@ public:
     /// "field 'key': <message>" as an ArgError for this argument.
     [[noreturn]] void fail(const char* key, const std::string& message) const;
 
-private:
+  private:
     lua_State* L_;
     int index_;
     int arg_;

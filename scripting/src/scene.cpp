@@ -22,7 +22,8 @@ void RobotBinding::drive(std::vector<int> joints, std::shared_ptr<Controller> co
 
 std::shared_ptr<Simulation> WorldBinding::compile(const SimulationOptions& options) const {
     WorldSpec world = spec;
-    for (const Entry& e : robots) world.robots.push_back({e.robot->spec, e.pose, e.robot->drives});
+    for (const Entry& e : robots)
+        world.robots.push_back({e.robot->spec, e.pose, e.robot->drives});
     auto sim = std::make_shared<Simulation>(std::move(world), options);
     for (size_t r = 0; r < robots.size(); ++r) {
         robots[r].robot->sim = sim;

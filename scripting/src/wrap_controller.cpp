@@ -22,7 +22,8 @@ Controller& check_controller(lua_State* L, int index) {
 
 std::vector<std::string> param_names(const Controller& c) {
     std::vector<std::string> names;
-    for (const ParamDef& p : c.def().params) names.push_back(p.name);
+    for (const ParamDef& p : c.def().params)
+        names.push_back(p.name);
     return names;
 }
 
@@ -40,15 +41,15 @@ void apply_params(lua_State* L, int index, int arg, Controller& c) {
         const std::string key = lua_tostring(L, -2);
         const int i = c.find_param(key);
         if (i < 0) {
-            throw ArgError(arg, fmt::format("unknown key '{}'{} (parameters of '{}': {})", key,
-                                            did_you_mean(key, names), c.name(),
-                                            fmt::join(names, ", ")));
+            throw ArgError(arg,
+                           fmt::format("unknown key '{}'{} (parameters of '{}': {})", key,
+                                       did_you_mean(key, names), c.name(), fmt::join(names, ", ")));
         }
         int ok = 0;
         const double v = lua_tonumberx(L, -1, &ok);
         if (!ok) {
-            throw ArgError(arg, fmt::format("field '{}': number expected, got {}", key,
-                                            type_name(L, -1)));
+            throw ArgError(
+                arg, fmt::format("field '{}': number expected, got {}", key, type_name(L, -1)));
         }
         try {
             c.set_param(i, v);
@@ -89,9 +90,10 @@ int controller_index(lua_State* L) {
         }
         if (lua_getfield(L, lua_upvalueindex(1), key.c_str()) != LUA_TNIL) return 1;
         std::vector<std::string> names = param_names(c);
-        for (const char* m : {"name", "params", "values"}) names.emplace_back(m);
-        throw Error(fmt::format("controller '{}' has no parameter or method '{}'{}", c.name(),
-                                key, did_you_mean(key, names)));
+        for (const char* m : {"name", "params", "values"})
+            names.emplace_back(m);
+        throw Error(fmt::format("controller '{}' has no parameter or method '{}'{}", c.name(), key,
+                                did_you_mean(key, names)));
     });
 }
 
@@ -107,8 +109,8 @@ int controller_newindex(lua_State* L) {
         int ok = 0;
         const double v = lua_tonumberx(L, 3, &ok);
         if (!ok) {
-            throw Error(fmt::format("{}.{}: number expected, got {}", c.name(), key,
-                                    type_name(L, 3)));
+            throw Error(
+                fmt::format("{}.{}: number expected, got {}", c.name(), key, type_name(L, 3)));
         }
         c.set_param(i, v);
         return 0;
@@ -178,8 +180,8 @@ ParamDef read_param(lua_State* L, int index, const std::string& name) {
     lua_pushnil(L);
     while (lua_next(L, index) != 0) {
         const bool positional = lua_type(L, -2) == LUA_TNUMBER && lua_tointeger(L, -2) == 1;
-        const std::string key = positional ? "1" : (lua_type(L, -2) == LUA_TSTRING ?
-                                                         lua_tostring(L, -2) : "?");
+        const std::string key =
+            positional ? "1" : (lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "?");
         if (key == "unit") {
             if (lua_type(L, -1) != LUA_TSTRING) {
                 throw ArgError(1, where + ".unit: string expected, got " + type_name(L, -1));
@@ -256,7 +258,8 @@ int class_new(lua_State* L) {
             if (v == "joints") f.fail("values", "'joints' is reserved (it holds the joint count)");
         }
         for (const ParamDef& p : cls->def.params) {
-            if (p.name == "joints") f.fail("params", "'joints' is reserved (it holds the joint count)");
+            if (p.name == "joints")
+                f.fail("params", "'joints' is reserved (it holds the joint count)");
         }
         try {
             validate(cls->def);
@@ -334,8 +337,8 @@ int class_load(lua_State* L) {
         if (!lua_isnil(L, -1)) return 1;
         lua_pop(L, 1);
         if (!std::filesystem::exists(path)) {
-            throw Error(fmt::format("cannot load controller '{}': no file at {}", arg,
-                                    path.string()));
+            throw Error(
+                fmt::format("cannot load controller '{}': no file at {}", arg, path.string()));
         }
         const std::string chunk = path.lexically_normal().string();
         if (luaL_loadfilex(L, chunk.c_str(), "t") != LUA_OK) {
@@ -346,9 +349,10 @@ int class_load(lua_State* L) {
         protected_call(L, 0, 1);
         if (!luaL_testudata(L, -1, kControllerClassType)) {
             const std::string t = type_name(L, -1);
-            throw Error(fmt::format("{}: a controller file must return gaitlab.controller{{...}}, "
-                                    "got {}",
-                                    chunk, t));
+            throw Error(
+                fmt::format("{}: a controller file must return gaitlab.controller{{...}}, "
+                            "got {}",
+                            chunk, t));
         }
         lua_pushvalue(L, -1);
         lua_setfield(L, lua_upvalueindex(1), key.c_str());
@@ -359,9 +363,8 @@ int class_load(lua_State* L) {
 }  // namespace
 
 void open_controller(lua_State* L) {
-    const luaL_Reg methods[] = {{"params", controller_params},
-                                {"values", controller_values},
-                                {nullptr, nullptr}};
+    const luaL_Reg methods[] = {
+        {"params", controller_params}, {"values", controller_values}, {nullptr, nullptr}};
     luaL_newmetatable(L, kControllerType);
     lua_newtable(L);
     luaL_setfuncs(L, methods, 0);

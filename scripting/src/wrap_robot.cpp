@@ -66,8 +66,10 @@ int robot_group(lua_State* L) {
                 joints.push_back(static_cast<int>(j - 1));
             }
         } else {
-            throw ArgError(2, "role ('pitch', 'yaw', 'all') or list of joint numbers expected, "
-                              "got " + type_name(L, 2));
+            throw ArgError(2,
+                           "role ('pitch', 'yaw', 'all') or list of joint numbers expected, "
+                           "got " +
+                               type_name(L, 2));
         }
         new_object<GroupHandle>(L, kGroupType, GroupHandle{robot, std::move(joints)});
         return 1;
@@ -240,7 +242,9 @@ int group_len(lua_State* L) {
 
 }  // namespace
 
-bool is_robot(lua_State* L, int index) { return luaL_testudata(L, index, kRobotType) != nullptr; }
+bool is_robot(lua_State* L, int index) {
+    return luaL_testudata(L, index, kRobotType) != nullptr;
+}
 
 std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index) {
     return check_object<RobotPtr>(L, index, kRobotType);
@@ -259,13 +263,14 @@ void open_robot(lua_State* L) {
     luaL_setfuncs(L, methods, 0);
     lua_pushcclosure(L, robot_index, 1);
     lua_setfield(L, -2, "__index");
-    const luaL_Reg meta[] = {{"__tostring", robot_tostring}, {"__len", robot_len}, {nullptr, nullptr}};
+    const luaL_Reg meta[] = {
+        {"__tostring", robot_tostring}, {"__len", robot_len}, {nullptr, nullptr}};
     luaL_setfuncs(L, meta, 0);
     lua_pop(L, 1);
     register_type<RobotPtr>(L, kRobotType, nullptr);
 
-    const luaL_Reg group_methods[] = {{"drive", group_drive}, {"joints", group_joints},
-                                      {nullptr, nullptr}};
+    const luaL_Reg group_methods[] = {
+        {"drive", group_drive}, {"joints", group_joints}, {nullptr, nullptr}};
     const luaL_Reg group_meta[] = {{"__len", group_len}, {nullptr, nullptr}};
     register_type<GroupHandle>(L, kGroupType, group_methods, group_meta);
 

@@ -18,8 +18,7 @@ Simulation& check_sim(lua_State* L, int index) {
 int simulation_new(lua_State* L) {
     // called as gaitlab.simulation{...}: argument 1 is the gaitlab.simulation table itself
     return protect(L, [&] {
-        Fields f(L, 2, 1,
-                 {"world", "dt", "control_every", "record", "seed", "solver_iterations"});
+        Fields f(L, 2, 1, {"world", "dt", "control_every", "record", "seed", "solver_iterations"});
         if (f.push("world") == LUA_TNIL) f.fail("world", "gaitlab.World expected, got nil");
         if (!luaL_testudata(L, -1, kWorldType)) {
             f.fail("world", "gaitlab.World expected, got " + type_name(L, -1));
@@ -37,8 +36,9 @@ int simulation_new(lua_State* L) {
         const bool records = !(rt == LUA_TNIL || (rt == LUA_TBOOLEAN && !lua_toboolean(L, -1)));
         lua_pop(L, 1);
         if (records) {
-            f.fail("record", "recording to a run folder is not available in this version "
-                             "(use record = false)");
+            f.fail("record",
+                   "recording to a run folder is not available in this version "
+                   "(use record = false)");
         }
         try {
             validate(o);

@@ -11,7 +11,9 @@ namespace {
 
 using WorldPtr = std::shared_ptr<WorldBinding>;
 
-Quat yaw_rotation(double deg) { return Quat::from_axis_angle({0, 0, 1}, deg_to_rad(deg)); }
+Quat yaw_rotation(double deg) {
+    return Quat::from_axis_angle({0, 0, 1}, deg_to_rad(deg));
+}
 
 int world_new(lua_State* L) {
     // called as gaitlab.world{...}: argument 1 is the gaitlab.world table itself

@@ -10,8 +10,8 @@
 #include "gaitlab/error.h"
 
 using namespace gaitlab;
-using gaitlab::controllers::Sine;
 using Catch::Matchers::Equals;
+using gaitlab::controllers::Sine;
 
 namespace {
 
@@ -19,7 +19,7 @@ constexpr double kTestPi = 3.14159265358979323846;
 
 // the sine never reads the joints; a reader that would notice if it did
 class FakeReader final : public JointReader {
-public:
+  public:
     mutable int reads = 0;
     double angle(int) const override {
         ++reads;

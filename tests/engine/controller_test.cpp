@@ -14,16 +14,15 @@ using Catch::Matchers::Equals;
 namespace {
 
 ControllerDef probe_def() {
-    return ControllerDef{"probe",
-                         {{"amplitude", 40, 0, 90, "deg"},
-                          {"gain", 1, 0, 2, ""},
-                          {"bias", -0.5, -1, 1, "rad"}},
-                         {"count", "out"}};
+    return ControllerDef{
+        "probe",
+        {{"amplitude", 40, 0, 90, "deg"}, {"gain", 1, 0, 2, ""}, {"bias", -0.5, -1, 1, "rad"}},
+        {"count", "out"}};
 }
 
 // a controller that counts its steps and writes gain * (joint + 1) + bias to every joint
 class Probe final : public Controller {
-public:
+  public:
     Probe() : Controller(probe_def()) {}
     void step(ControlIO& io) override {
         for (int m = 0; m < io.joints(); ++m) {
@@ -35,13 +34,13 @@ public:
     int on_bind_calls = 0;
     mutable int sync_calls = 0;
 
-protected:
+  protected:
     void on_bind() override { ++on_bind_calls; }
     void sync_values() const override { ++sync_calls; }
 };
 
 class FakeReader final : public JointReader {
-public:
+  public:
     double angle(int joint) const override { return 0.1 * joint; }
     double velocity(int joint) const override { return -1.0 * joint; }
     double torque(int joint) const override { return 0.01 * joint; }
@@ -214,7 +213,7 @@ TEST_CASE("validate(ControllerDef) rejects bad definitions") {
 
 TEST_CASE("a controller cannot be built from an invalid definition") {
     class Bad final : public Controller {
-    public:
+      public:
         Bad() : Controller(ControllerDef{"bad", {{"x", 3, 0, 1, ""}}, {}}) {}
         void step(ControlIO&) override {}
     };

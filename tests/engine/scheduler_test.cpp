@@ -13,11 +13,11 @@ namespace {
 
 // records every call it receives, with the times it was given
 class RecordingPhases final : public TickPhases {
-public:
+  public:
     struct Call {
         std::string phase;
-        double a = -1;  // time (think, record) or dt (physics)
-        double b = -1;  // control_dt (think)
+        double a = -1;   // time (think, record) or dt (physics)
+        double b = -1;   // control_dt (think)
         long tick = -1;  // record
     };
     std::vector<Call> calls;
@@ -32,7 +32,8 @@ public:
 
     std::vector<std::string> names() const {
         std::vector<std::string> out;
-        for (const Call& c : calls) out.push_back(c.phase);
+        for (const Call& c : calls)
+            out.push_back(c.phase);
         return out;
     }
 };
@@ -82,7 +83,8 @@ TEST_CASE("physics gets dt and record sees the tick count and time after the ste
     const double dt = 0.01;
     Scheduler s(dt, 30);
     RecordingPhases p;
-    for (int i = 0; i < 5; ++i) s.tick(p);
+    for (int i = 0; i < 5; ++i)
+        s.tick(p);
     long expected_tick = 1;
     for (const auto& c : p.calls) {
         if (c.phase == "physics") CHECK(c.a == dt);
@@ -102,7 +104,8 @@ TEST_CASE("ticks and time count steps without accumulating rounding error") {
     CHECK(s.ticks() == 0);
     CHECK(s.time() == 0.0);
     RecordingPhases p;
-    for (int i = 0; i < 1000; ++i) s.tick(p);
+    for (int i = 0; i < 1000; ++i)
+        s.tick(p);
     CHECK(s.ticks() == 1000);
     CHECK(s.time() == 1.0);  // 1000 * 0.001 rounds to exactly 1; summing 0.001 would not
     s.reset();

@@ -119,8 +119,9 @@ TEST_CASE("servo torques stay within max_torque on the floor") {
 // from its torque limit; with the default 20 iterations this stays within kSpeedTolerance except
 // for the jolt when a gait starts from rest with every servo at full speed at once (measured
 // 4.75 rad/s, +5.6%): allow 7% there. A joint whose servo runs flat out while its body rolls
-// over the floor ends up to 3.2% fast (2-module chain, 60 deg at 2 Hz): allow 4% on the floor. (Gaits that ask far more than the servos can do, e.g. 40
-// deg at 2 Hz on 8 modules, still reach +11%: docs/conventions.md says so.)
+// over the floor ends up to 3.2% fast (2-module chain, 60 deg at 2 Hz): allow 4% on the floor.
+// (Gaits that ask far more than the servos can do, e.g. 40 deg at 2 Hz on 8 modules, still reach
+// +11%: docs/conventions.md says so.)
 constexpr double kStartTolerance = 1.07;
 constexpr double kFloorSpeedTolerance = 1.04;
 

@@ -94,8 +94,7 @@ TEST_CASE("bad simulation options are rejected with the expected range") {
 TEST_CASE("bad drives are rejected") {
     Simulation sim(test::chain_world(8, Connection::pitch_pitch));
     SECTION("a joint the robot does not have") {
-        REQUIRE_THROWS_AS(sim.add_drive(0, drive_of({0, 8}, test::sine(40, 0.5, 120))),
-                          SpecError);
+        REQUIRE_THROWS_AS(sim.add_drive(0, drive_of({0, 8}, test::sine(40, 0.5, 120))), SpecError);
         REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({0, 8}, test::sine(40, 0.5, 120))),
                             Equals("robot 'snake' has no joint 9 (it has joints 1 to 8)"));
         REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({-1}, test::sine(40, 0.5, 120))),
@@ -127,7 +126,8 @@ TEST_CASE("bad drives are rejected") {
     SECTION("a rejected drive leaves the simulation usable and undriven") {
         CHECK_THROWS(sim.add_drive(0, drive_of({0, 8}, test::sine(40, 0.5, 120))));
         sim.run(0.1);
-        for (int j = 0; j < 8; ++j) CHECK(sim.joint(0, j).target == 0);
+        for (int j = 0; j < 8; ++j)
+            CHECK(sim.joint(0, j).target == 0);
     }
 }
 

@@ -30,7 +30,7 @@ void validate(const ControllerDef& def);
 
 /// Measured state of the joints of a controller's group, read on demand.
 class JointReader {
-public:
+  public:
     virtual ~JointReader() = default;
     virtual double angle(int joint) const = 0;     ///< rad
     virtual double velocity(int joint) const = 0;  ///< rad/s
@@ -40,7 +40,7 @@ public:
 /// The inputs and outputs of one control step for one group. Joint numbers m are 0-based
 /// within the group, from the tail.
 class ControlIO {
-public:
+  public:
     ControlIO(double dt, double time, const std::vector<int>& joints, const JointReader& reader,
               double* targets)
         : dt_(dt), time_(time), joints_(joints), reader_(reader), targets_(targets) {}
@@ -55,7 +55,7 @@ public:
     void set_target(int m, double rad) { targets_[m] = rad; }
     double target(int m) const { return targets_[m]; }
 
-private:
+  private:
     double dt_;
     double time_;
     const std::vector<int>& joints_;
@@ -65,7 +65,7 @@ private:
 
 /// Base of every controller, built in or scripted. A controller drives one joint group.
 class Controller {
-public:
+  public:
     explicit Controller(ControllerDef def);
     virtual ~Controller() = default;
     Controller(const Controller&) = delete;
@@ -99,7 +99,7 @@ public:
     /// Computes the group's targets for this control step.
     virtual void step(ControlIO& io) = 0;
 
-protected:
+  protected:
     std::vector<double>& value(int k) { return values_[k]; }
     /// Brings values_ up to date when a subclass keeps its state elsewhere (e.g. in Lua).
     virtual void sync_values() const {}
@@ -107,7 +107,7 @@ protected:
     virtual void on_bind() {}
     mutable std::vector<std::vector<double>> values_;
 
-private:
+  private:
     ControllerDef def_;
     std::vector<double> params_;
     std::uint64_t param_version_ = 0;

@@ -9,19 +9,19 @@ namespace gaitlab {
 
 /// Any failure reported by gaitlab.
 class Error : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
 /// A spec (robot, world, simulation options, controller parameter) failed validation.
 class SpecError : public Error {
-public:
+  public:
     using Error::Error;
 };
 
 /// The simulation diverged (NaN or exploding state); the message names the time and body.
 class DivergenceError : public Error {
-public:
+  public:
     using Error::Error;
 };
 

@@ -14,22 +14,26 @@ struct ServoDef {
 };
 
 /// The servo of the y1 module (Futaba S3003 as modelled by OpenMR).
-inline ServoDef default_servo_def() { return ServoDef{}; }
+inline ServoDef default_servo_def() {
+    return ServoDef{};
+}
 
 /// A module type: a box cut in two rigid halves by the joint at its mid-plane.
 struct ModuleDef {
     std::string name = "y1";
-    double length = 0.072;          ///< joint-to-joint length along the chain, m
-    double width = 0.052;           ///< cross-section side across the chain, m
-    double height = 0.052;          ///< cross-section side, m
-    double mass = 0.05;             ///< kg, split equally between the two halves
+    double length = 0.072;                   ///< joint-to-joint length along the chain, m
+    double width = 0.052;                    ///< cross-section side across the chain, m
+    double height = 0.052;                   ///< cross-section side, m
+    double mass = 0.05;                      ///< kg, split equally between the two halves
     double min_angle = -1.5707963267948966;  ///< joint range lower end, rad
     double max_angle = 1.5707963267948966;   ///< joint range upper end, rad
-    double friction = 1.0;          ///< surface friction in [0, 1]; contacts multiply the two surfaces'
+    double friction = 1.0;  ///< surface friction in [0, 1]; contacts multiply the two surfaces'
     ServoDef servo = default_servo_def();
 };
 
 /// The default y1 module: 72 mm joint to joint, 52 × 52 mm, 50 g, ±90°, 0.4 N·m, 4.5 rad/s.
-inline ModuleDef default_module_def() { return ModuleDef{}; }
+inline ModuleDef default_module_def() {
+    return ModuleDef{};
+}
 
 }  // namespace gaitlab

@@ -26,9 +26,9 @@ Connection parse_connection(std::string_view name);
 /// One rigid body of a robot: a box.
 struct BodySpec {
     std::string name;
-    Vec3 size;      ///< full extents along the body's x, y, z, m
-    double mass;    ///< kg, > 0
-    Pose pose;      ///< at rest, in the robot frame
+    Vec3 size;              ///< full extents along the body's x, y, z, m
+    double mass;            ///< kg, > 0
+    Pose pose;              ///< at rest, in the robot frame
     double friction = 1.0;  ///< in [0, 1]
 };
 
@@ -36,10 +36,10 @@ struct BodySpec {
 struct JointSpec {
     std::string name;
     JointRole role = JointRole::pitch;
-    int parent = 0;        ///< body on the tail side (index into RobotSpec::bodies)
-    int child = 1;         ///< body on the head side
-    Vec3 pivot;            ///< at rest, in the robot frame, m
-    Vec3 axis;             ///< unit vector in the robot frame; positive angles turn the child about it
+    int parent = 0;  ///< body on the tail side (index into RobotSpec::bodies)
+    int child = 1;   ///< body on the head side
+    Vec3 pivot;      ///< at rest, in the robot frame, m
+    Vec3 axis;       ///< unit vector in the robot frame; positive angles turn the child about it
     double min_angle = 0;  ///< rad
     double max_angle = 0;  ///< rad
     ServoDef servo;

@@ -13,7 +13,7 @@ namespace gaitlab {
 
 /// The five phases of a tick, implemented by the simulation (or by a test).
 class TickPhases {
-public:
+  public:
     virtual ~TickPhases() = default;
     virtual void sense() = 0;
     /// `control_dt` = control_every * dt, the time since the previous think.
@@ -24,7 +24,7 @@ public:
 };
 
 class Scheduler {
-public:
+  public:
     /// `dt` in s (> 0); `control_every` in ticks (>= 1).
     Scheduler(double dt, int control_every);
 
@@ -46,7 +46,7 @@ public:
     int control_every() const { return control_every_; }
     void reset() { ticks_ = 0; }
 
-private:
+  private:
     double dt_;
     int control_every_;
     double control_dt_;

@@ -14,15 +14,17 @@ namespace gaitlab {
 
 /// Global options of a simulation.
 struct SimulationOptions {
-    double dt = 0.001;          ///< physics step, s, in (0, 0.1]
-    int control_every = 30;     ///< ticks between controller steps, >= 1
+    double dt = 0.001;       ///< physics step, s, in (0, 0.1]
+    int control_every = 30;  ///< ticks between controller steps, >= 1
     /// constraint solver iterations per step, >= 1; 20 keeps standard gaits within about 1% of
     /// a converged solution and resting robots still (see docs/performance.md)
     int solver_iterations = 20;
-    std::uint64_t seed = 0;     ///< seeds everything random in the run
+    std::uint64_t seed = 0;  ///< seeds everything random in the run
 };
 
-inline SimulationOptions default_simulation_options() { return SimulationOptions{}; }
+inline SimulationOptions default_simulation_options() {
+    return SimulationOptions{};
+}
 /// Checks ranges; throws SpecError.
 void validate(const SimulationOptions& options);
 
@@ -50,7 +52,7 @@ struct JointError {
 class PhysicsWorld;
 
 class Simulation {
-public:
+  public:
     /// Validates and compiles `world`; throws SpecError.
     Simulation(WorldSpec world, SimulationOptions options = default_simulation_options());
     ~Simulation();
@@ -89,7 +91,7 @@ public:
     int add_observer(std::function<void(const Simulation&)> fn);
     void remove_observer(int id);
 
-private:
+  private:
     class Phases;
     struct RobotSlot {
         int first_body = 0;
@@ -114,9 +116,9 @@ private:
     std::unique_ptr<Phases> phases_;
     std::vector<RobotSlot> robots_;
     std::vector<DriveSlot> drives_;
-    std::vector<double> angles_;   // per global joint, rad, read in sense
-    std::vector<double> targets_;  // per global joint, rad, summed in think
-    std::vector<double> commands_; // per global joint, rad/s, computed in act
+    std::vector<double> angles_;    // per global joint, rad, read in sense
+    std::vector<double> targets_;   // per global joint, rad, summed in think
+    std::vector<double> commands_;  // per global joint, rad/s, computed in act
     std::vector<std::pair<int, std::function<void(const Simulation&)>>> observers_;
     int next_observer_ = 1;
 };

@@ -8,9 +8,13 @@ namespace gaitlab {
 constexpr double kPi = 3.14159265358979323846;
 
 /// Degrees to radians, computed the same way as Lua's math.rad so trajectories match bit for bit.
-inline double deg_to_rad(double deg) { return deg * (kPi / 180.0); }
+inline double deg_to_rad(double deg) {
+    return deg * (kPi / 180.0);
+}
 /// Radians to degrees, computed the same way as Lua's math.deg.
-inline double rad_to_deg(double rad) { return rad * (180.0 / kPi); }
+inline double rad_to_deg(double rad) {
+    return rad * (180.0 / kPi);
+}
 
 /// A 3-vector in metres (or m/s, rad/s, N... as the field that holds it says).
 struct Vec3 {
@@ -19,7 +23,12 @@ struct Vec3 {
     Vec3 operator+(const Vec3& o) const { return {x + o.x, y + o.y, z + o.z}; }
     Vec3 operator-(const Vec3& o) const { return {x - o.x, y - o.y, z - o.z}; }
     Vec3 operator*(double s) const { return {x * s, y * s, z * s}; }
-    Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
+    Vec3& operator+=(const Vec3& o) {
+        x += o.x;
+        y += o.y;
+        z += o.z;
+        return *this;
+    }
     bool operator==(const Vec3& o) const { return x == o.x && y == o.y && z == o.z; }
     bool operator!=(const Vec3& o) const { return !(*this == o); }
     double dot(const Vec3& o) const { return x * o.x + y * o.y + z * o.z; }

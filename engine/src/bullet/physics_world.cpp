@@ -17,9 +17,15 @@ btQuaternion to_bt(const Quat& q) {
     return {static_cast<btScalar>(q.x), static_cast<btScalar>(q.y), static_cast<btScalar>(q.z),
             static_cast<btScalar>(q.w)};
 }
-btTransform to_bt(const Pose& p) { return btTransform(to_bt(p.orientation), to_bt(p.position)); }
-Vec3 from_bt(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
-Quat from_bt(const btQuaternion& q) { return {q.w(), q.x(), q.y(), q.z()}; }
+btTransform to_bt(const Pose& p) {
+    return btTransform(to_bt(p.orientation), to_bt(p.position));
+}
+Vec3 from_bt(const btVector3& v) {
+    return {v.x(), v.y(), v.z()};
+}
+Quat from_bt(const btQuaternion& q) {
+    return {q.w(), q.x(), q.y(), q.z()};
+}
 
 // collision margin of every box: Bullet's default 4 cm is larger than a module's half-width
 constexpr btScalar kMargin = btScalar(0.001);
@@ -45,15 +51,18 @@ struct PhysicsWorld::Impl {
     btSequentialImpulseConstraintSolver solver;
     btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
     std::vector<std::unique_ptr<btCollisionShape>> shapes;
-    std::vector<std::unique_ptr<btRigidBody>> bodies;      // robots' bodies, then dynamic boxes
-    std::vector<std::unique_ptr<btRigidBody>> fixed;       // floor and static boxes
+    std::vector<std::unique_ptr<btRigidBody>> bodies;  // robots' bodies, then dynamic boxes
+    std::vector<std::unique_ptr<btRigidBody>> fixed;   // floor and static boxes
     std::vector<std::unique_ptr<btHingeConstraint>> hinges;
     std::vector<Joint> joints;
 
     ~Impl() {
-        for (auto& h : hinges) world.removeConstraint(h.get());
-        for (auto& b : bodies) world.removeRigidBody(b.get());
-        for (auto& b : fixed) world.removeRigidBody(b.get());
+        for (auto& h : hinges)
+            world.removeConstraint(h.get());
+        for (auto& b : bodies)
+            world.removeRigidBody(b.get());
+        for (auto& b : fixed)
+            world.removeRigidBody(b.get());
     }
 
     btRigidBody* add_body(const Vec3& size, double mass, const btTransform& pose, double friction,
@@ -155,11 +164,16 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
 
 PhysicsWorld::~PhysicsWorld() = default;
 
-int PhysicsWorld::body_count() const { return static_cast<int>(impl_->bodies.size()); }
-int PhysicsWorld::joint_count() const { return static_cast<int>(impl_->joints.size()); }
+int PhysicsWorld::body_count() const {
+    return static_cast<int>(impl_->bodies.size());
+}
+int PhysicsWorld::joint_count() const {
+    return static_cast<int>(impl_->joints.size());
+}
 
 void PhysicsWorld::read_angles(double* out) const {
-    for (const Impl::Joint& j : impl_->joints) *out++ = j.hinge->getHingeAngle();
+    for (const Impl::Joint& j : impl_->joints)
+        *out++ = j.hinge->getHingeAngle();
 }
 
 double PhysicsWorld::angle(int joint) const {
@@ -179,15 +193,19 @@ double PhysicsWorld::torque(int joint) const {
     const btTransform& t = j.child->getWorldTransform();
     const btVector3 arm = t.getBasis() * j.pivot_in_child;
     const btVector3 axis = t.getBasis() * j.axis_in_child;
-    const btVector3 angular = j.feedback.m_appliedTorqueBodyA - arm.cross(j.feedback.m_appliedForceBodyA);
+    const btVector3 angular =
+        j.feedback.m_appliedTorqueBodyA - arm.cross(j.feedback.m_appliedForceBodyA);
     return angular.dot(axis);
 }
 
 void PhysicsWorld::set_motor_velocities(const double* commands) {
-    for (Impl::Joint& j : impl_->joints) j.hinge->setMotorTargetVelocity(btScalar(*commands++));
+    for (Impl::Joint& j : impl_->joints)
+        j.hinge->setMotorTargetVelocity(btScalar(*commands++));
 }
 
-void PhysicsWorld::step(double dt) { impl_->world.stepSimulation(btScalar(dt), 0); }
+void PhysicsWorld::step(double dt) {
+    impl_->world.stepSimulation(btScalar(dt), 0);
+}
 
 BodyState PhysicsWorld::body(int index) const {
     const btRigidBody& b = *impl_->bodies[static_cast<size_t>(index)];

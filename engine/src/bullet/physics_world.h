@@ -11,7 +11,7 @@
 namespace gaitlab {
 
 class PhysicsWorld {
-public:
+  public:
     /// Builds the Bullet scene for `world`; `dt` sets the servo torque limits as impulses.
     PhysicsWorld(const WorldSpec& world, double dt, int solver_iterations);
     ~PhysicsWorld();
@@ -38,7 +38,7 @@ public:
     JointError joint_error(int joint) const;
     int contact_count() const;
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

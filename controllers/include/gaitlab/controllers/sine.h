@@ -7,7 +7,7 @@
 namespace gaitlab::controllers {
 
 class Sine final : public Controller {
-public:
+  public:
     Sine();
     void step(ControlIO& io) override;
 

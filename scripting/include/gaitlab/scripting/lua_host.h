@@ -14,12 +14,9 @@ namespace gaitlab::scripting {
 
 /// A Lua error, split into its parts (never parsed from strings after the fact).
 class ScriptError : public Error {
-public:
+  public:
     ScriptError(std::string message, std::string file, int line, std::string traceback)
-        : Error(message),
-          file_(std::move(file)),
-          line_(line),
-          traceback_(std::move(traceback)) {}
+        : Error(message), file_(std::move(file)), line_(line), traceback_(std::move(traceback)) {}
     /// The file the error happened in ("" when unknown, e.g. in C code).
     const std::string& file() const { return file_; }
     /// Its line (0 when unknown).
@@ -27,7 +24,7 @@ public:
     /// Lua's stack traceback at the point of the error.
     const std::string& traceback() const { return traceback_; }
 
-private:
+  private:
     std::string file_;
     int line_;
     std::string traceback_;
@@ -39,7 +36,7 @@ private:
 void protected_call(lua_State* L, int nargs, int nresults);
 
 class LuaHost {
-public:
+  public:
     /// A new Lua state with the standard libraries and the `gaitlab` module as a global.
     LuaHost();
     ~LuaHost();
@@ -57,7 +54,7 @@ public:
     /// Loads and runs a string; `name` is the chunk name shown in messages.
     void run_string(const std::string& code, const std::string& name);
 
-private:
+  private:
     lua_State* L_;
 };
 

@@ -1,0 +1,94 @@
+#include "gaitlab_scene.h"
+
+#include <lua.hpp>
+
+#include <fmt/format.h>
+
+#include "gaitlab/controllers/sine.h"
+#include "gaitlab/robot.h"
+
+namespace gaitlab_bench {
+
+gaitlab::WorldSpec make_world(const Scenario& sc) {
+    gaitlab::ChainSpec chain;
+    chain.name = "snake";
+    chain.modules = sc.modules;
+    chain.connection =
+        sc.pitch_yaw ? gaitlab::Connection::pitch_yaw : gaitlab::Connection::pitch_pitch;
+    gaitlab::PlacedRobot placed;
+    placed.robot = gaitlab::make_chain(chain);
+    auto drive = [&](const char* role, double amplitude) {
+        auto sine = std::make_shared<gaitlab::controllers::Sine>();
+        sine->set_param("amplitude", amplitude);
+        sine->set_param("frequency", sc.frequency);
+        sine->set_param("phase", sc.phase);
+        placed.actuation.push_back({gaitlab::select_joints(placed.robot, role), sine});
+    };
+    drive("pitch", sc.pitch_amplitude);
+    if (sc.pitch_yaw) drive("yaw", sc.yaw_amplitude);
+
+    gaitlab::WorldSpec world;
+    world.floor.friction = sc.floor_friction;
+    world.robots.push_back(std::move(placed));
+    return world;
+}
+
+gaitlab::SimulationOptions make_options(const Scenario& sc) {
+    gaitlab::SimulationOptions o;
+    o.dt = sc.dt;
+    o.control_every = sc.control_every;
+    o.solver_iterations = sc.solver_iterations;
+    return o;
+}
+
+LuaScene::LuaScene(const Scenario& sc, const std::string& controller_file) {
+    std::string make;
+    if (controller_file.empty()) {
+        make = "local function make(p) return gaitlab.controllers.sine(p) end\n";
+    } else {
+        make = "local make = gaitlab.controller.load([==[" + controller_file + "]==])\n";
+    }
+    const std::string script =
+        make +
+        fmt::format(
+            "local robot = gaitlab.robot.chain{{ name = 'snake', modules = {}, connection = '{}' "
+            "}}\n"
+            "local world = gaitlab.world{{ floor = {{ friction = {} }} }}\n"
+            "world:add(robot)\n"
+            "robot:group('pitch'):drive(make{{ amplitude = {}, frequency = {}, phase = {} }})\n"
+            "if {} then\n"
+            "  robot:group('yaw'):drive(make{{ amplitude = {}, frequency = {}, phase = {} }})\n"
+            "end\n"
+            "sim = gaitlab.simulation{{ world = world, dt = {}, control_every = {},\n"
+            "                          solver_iterations = {}, record = false }}\n"
+            "snake = robot\n",
+            sc.modules, sc.pitch_yaw ? "pitch-yaw" : "pitch-pitch", sc.floor_friction,
+            sc.pitch_amplitude, sc.frequency, sc.phase, sc.pitch_yaw ? "true" : "false",
+            sc.yaw_amplitude, sc.frequency, sc.phase, sc.dt, sc.control_every,
+            sc.solver_iterations);
+    host_.run_string(script, "=bench_scene");
+}
+
+void LuaScene::step(long ticks) {
+    host_.run_string(fmt::format("sim:step({})", ticks), "=step");
+}
+
+Vec LuaScene::displacement() {
+    host_.run_string("local d = snake:displacement(); dx, dy, dz = d.x, d.y, d.z", "=disp");
+    lua_State* L = host_.state();
+    Vec out;
+    lua_getglobal(L, "dx");
+    out.x = lua_tonumber(L, -1);
+    lua_getglobal(L, "dy");
+    out.y = lua_tonumber(L, -1);
+    lua_getglobal(L, "dz");
+    out.z = lua_tonumber(L, -1);
+    lua_pop(L, 3);
+    return out;
+}
+
+std::string default_lua_controller() {
+    return std::string(GAITLAB_SOURCE_DIR) + "/examples/controllers/my_sine.lua";
+}
+
+}  // namespace gaitlab_bench

@@ -1,0 +1,40 @@
+// The baseline of the overhead benchmark: the benchmark snake written directly against Bullet,
+// with no gaitlab code. It builds the same bodies, hinges, floor and solver settings as the
+// engine, applies the same servo law every tick and the same sine gait every control_every
+// ticks, so it steps the same trajectory; the difference in run time is what gaitlab adds.
+#pragma once
+
+#include <memory>
+
+#include "scenario.h"
+
+namespace gaitlab_bench {
+
+struct Vec {
+    double x = 0, y = 0, z = 0;
+};
+
+class RawSnake {
+  public:
+    explicit RawSnake(const Scenario& scenario);
+    ~RawSnake();
+    RawSnake(const RawSnake&) = delete;
+    RawSnake& operator=(const RawSnake&) = delete;
+
+    /// The hot loop: read joints, gait (when due), servo law, one Bullet step; `ticks` times.
+    void step(long ticks);
+    long ticks() const;
+
+    /// Centre of mass minus its value at the start, m.
+    Vec displacement() const;
+    /// Largest pivot separation (m) and axis misalignment (rad) over the joints, right now.
+    double max_separation() const;
+    double max_axis_angle() const;
+    int contact_count() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace gaitlab_bench

@@ -1,0 +1,130 @@
+#!/usr/bin/env bash
+# Builds the benchmarks and runs them all; prints markdown tables (docs/performance.md).
+#
+#   bench/run.sh [--quick] [--no-build] [--only SECTION]...
+#
+# SECTION: overhead | lua | callgrind | process | accuracy (default: all of them).
+# --quick: shorter runs, fewer repetitions and scenarios (about 3 minutes instead of about 10).
+# BUILD_DIR (default build-bench) selects the build directory.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${BUILD_DIR:-$root/build-bench}
+quick=0
+do_build=1
+sections=()
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --quick) quick=1 ;;
+        --no-build) do_build=0 ;;
+        --only) sections+=("$2"); shift ;;
+        *) echo "usage: bench/run.sh [--quick] [--no-build] [--only SECTION]..." >&2; exit 2 ;;
+    esac
+    shift
+done
+[ ${#sections[@]} -eq 0 ] && sections=(overhead lua callgrind process accuracy)
+want() { local s; for s in "${sections[@]}"; do [ "$s" = "$1" ] && return 0; done; return 1; }
+
+if [ $do_build -eq 1 ]; then
+    generator=()
+    command -v ninja >/dev/null && generator=(-G Ninja)
+    if [ ! -f "$build/CMakeCache.txt" ]; then
+        cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release >/dev/null
+    fi
+    cmake --build "$build" --target gaitlab_bench raw_bullet_loop gaitlab >/dev/null
+fi
+bench=$build/bench/gaitlab_bench
+raw=$build/bench/raw_bullet_loop
+gaitlab=$build/gaitlab
+my_sine=$root/examples/controllers/my_sine.lua
+q=()
+[ $quick -eq 1 ] && q=(--quick)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+echo "## gaitlab benchmarks ($(date -u '+%Y-%m-%d %H:%M UTC'))"
+echo
+cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')
+ram=$(awk '/MemTotal/ {printf "%.0f GiB", $2 / 1048576}' /proc/meminfo)
+echo "- machine: $(nproc) vCPU, $cpu, $ram RAM"
+echo "- compiler: $(c++ --version | head -1); Bullet $(pkg-config --modversion bullet)"
+echo "- load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "- mode: $([ $quick -eq 1 ] && echo quick || echo full)"
+
+want overhead && "$bench" overhead "${q[@]}"
+want lua && "$bench" lua "${q[@]}"
+
+# instruction counts of the stepping loop only (callgrind, --instr-atstart=no; the program
+# switches instrumentation on around the loop). Two valgrind processes run at a time.
+cg_ir() {  # impl conn modules ce seconds -> instructions
+    local out="$work/cg.$1.$2.$3.$4"
+    valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file="$out" \
+        "$bench" one --impl "$1" --conn "$2" --modules "$3" --ce "$4" --seconds "$5" \
+        >/dev/null 2>&1
+    awk '/^totals:/ {print $2}' "$out"
+}
+cg_table() {  # title impl_a impl_b seconds ce...
+    local title=$1 a=$2 b=$3 secs=$4
+    shift 4
+    local steps
+    steps=$(awk -v s="$secs" 'BEGIN {printf "%d", s * 1000 + 0.5}')
+    echo
+    echo "### $title: instructions per step (callgrind, $secs simulated s = $steps steps)"
+    echo
+    echo "| scenario | $a Ir/step | $b Ir/step | ratio |"
+    echo "|---|---|---|---|"
+    local ce conn n ia ib
+    for ce in "$@"; do
+        for conn in pp py; do
+            for n in 8 16 32; do
+                [ $quick -eq 1 ] && [ "$n" = 16 ] && continue
+                cg_ir "$a" "$conn" "$n" "$ce" "$secs" > "$work/ia" &
+                cg_ir "$b" "$conn" "$n" "$ce" "$secs" > "$work/ib" &
+                wait
+                ia=$(cat "$work/ia"); ib=$(cat "$work/ib")
+                awk -v l="$conn$n ce$ce" -v a="$ia" -v b="$ib" -v s="$steps" 'BEGIN {
+                    printf "| %s | %.0f | %.0f | **%.4f** |\n", l, a / s, b / s, b / a }'
+            done
+        done
+    done
+}
+if want callgrind; then
+    if command -v valgrind >/dev/null; then
+        secs=1
+        [ $quick -eq 1 ] && secs=0.5
+        ces=(10 30)
+        [ $quick -eq 1 ] && ces=(10)
+        cg_table "gaitlab vs raw Bullet loop" raw gaitlab "$secs" "${ces[@]}"
+        cg_table "Lua controller vs C++ sine" gaitlab lua-controller "$secs" 10
+    else
+        echo; echo "(valgrind not found: callgrind section skipped)"
+    fi
+fi
+
+# whole processes (start-up, scene build, 20 simulated s, exit) with hyperfine
+if want process; then
+    if command -v hyperfine >/dev/null; then
+        runs=5
+        [ $quick -eq 1 ] && runs=3
+        echo
+        echo "### Whole process, pp32, control_every = 10, 20 simulated s (hyperfine, $runs runs)"
+        echo
+        hyperfine --style none --warmup 1 --runs "$runs" --export-markdown "$work/hf.md" \
+            -n "raw_bullet_loop" "$raw --modules 32 --conn pp --ce 10" \
+            -n "gaitlab run, C++ sine" "$gaitlab run $root/bench/lua/snake.lua 32 pp 10 sine" \
+            -n "gaitlab run, Lua my_sine" \
+            "$gaitlab run $root/bench/lua/snake.lua 32 pp 10 $my_sine" >/dev/null
+        cat "$work/hf.md"
+        echo
+        echo "### Start-up: \`gaitlab run\` of an empty script (hyperfine, 20 runs)"
+        echo
+        : > "$work/empty.lua"
+        hyperfine -N --style none --warmup 3 --runs 20 --export-markdown "$work/hf0.md" \
+            -n "gaitlab run empty.lua" "$gaitlab run $work/empty.lua" >/dev/null
+        cat "$work/hf0.md"
+    else
+        echo; echo "(hyperfine not found: whole-process section skipped)"
+    fi
+fi
+
+want accuracy && "$bench" accuracy "${q[@]}"
+exit 0
