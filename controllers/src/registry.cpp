@@ -1,5 +1,6 @@
 #include "gaitlab/controllers/registry.h"
 
+#include "gaitlab/controllers/offset.h"
 #include "gaitlab/controllers/sine.h"
 
 namespace gaitlab::controllers {
@@ -13,6 +14,7 @@ struct Entry {
 
 // every built-in controller, sorted by name
 const Entry kBuiltins[] = {
+    {"offset", [] { return std::unique_ptr<Controller>(new Offset()); }},
     {"sine", [] { return std::unique_ptr<Controller>(new Sine()); }},
 };
 
