@@ -4,7 +4,7 @@
 //   gaitlab_bench lua      [--quick] [--reps R] [--seconds S]   Lua controller vs C++ sine
 //   gaitlab_bench accuracy [--quick] [--ce MS] [--jobs J]      displacement vs converged runs
 //   gaitlab_bench one --impl raw|gaitlab|lua-sine|lua-controller [--conn pp|py] [--modules N]
-//                     [--ce C] [--iterations I] [--dt S] [--seconds S]
+//                     [--ce C] [--iterations I] [--dt S] [--seconds S] [--controller NAME]
 //
 // Timed runs measure the stepping loop only (the scene is built before the clock starts), as
 // thread CPU time and wall time. Variants of one scenario run back to back and alternate their
@@ -199,6 +199,8 @@ Args parse(int argc, char** argv) {
             a.one.solver_iterations = std::stoi(value());
         } else if (k == "--dt") {
             a.one.dt = std::stod(value());
+        } else if (k == "--controller") {
+            a.one.controller = value();
         } else if (k == "--lua-controller") {
             a.lua_file = value();
         } else {

@@ -4,7 +4,9 @@
 
 #include <fmt/format.h>
 
-#include "gaitlab/controllers/sine.h"
+#include <stdexcept>
+
+#include "gaitlab/controllers/registry.h"
 #include "gaitlab/robot.h"
 
 namespace gaitlab_bench {
@@ -18,11 +20,14 @@ gaitlab::WorldSpec make_world(const Scenario& sc) {
     gaitlab::PlacedRobot placed;
     placed.robot = gaitlab::make_chain(chain);
     auto drive = [&](const char* role, double amplitude) {
-        auto sine = std::make_shared<gaitlab::controllers::Sine>();
-        sine->set_param("amplitude", amplitude);
-        sine->set_param("frequency", sc.frequency);
-        sine->set_param("phase", sc.phase);
-        placed.actuation.push_back({gaitlab::select_joints(placed.robot, role), sine});
+        std::shared_ptr<gaitlab::Controller> c = gaitlab::controllers::make_builtin(sc.controller);
+        if (!c) throw std::runtime_error("no built-in controller '" + sc.controller + "'");
+        const std::pair<const char*, double> params[] = {
+            {"amplitude", amplitude}, {"frequency", sc.frequency}, {"phase", sc.phase}};
+        for (const auto& [name, value] : params) {
+            if (c->find_param(name) >= 0) c->set_param(name, value);
+        }
+        placed.actuation.push_back({gaitlab::select_joints(placed.robot, role), c});
     };
     drive("pitch", sc.pitch_amplitude);
     if (sc.pitch_yaw) drive("yaw", sc.yaw_amplitude);

@@ -3,7 +3,8 @@
 #
 #   bench/run.sh [--quick] [--no-build] [--only SECTION]...
 #
-# SECTION: overhead | lua | callgrind | process | accuracy (default: all of them).
+# SECTION: overhead | lua | callgrind (incl. the built-in controllers) | process | accuracy
+# (default: all of them).
 # --quick: shorter runs, fewer repetitions and scenarios (about 3 minutes instead of about 10).
 # BUILD_DIR (default build-bench) selects the build directory.
 set -euo pipefail
@@ -55,11 +56,11 @@ want lua && "$bench" lua "${q[@]}"
 
 # instruction counts of the stepping loop only (callgrind, --instr-atstart=no; the program
 # switches instrumentation on around the loop). Two valgrind processes run at a time.
-cg_ir() {  # impl conn modules ce seconds -> instructions
-    local out="$work/cg.$1.$2.$3.$4"
+cg_ir() {  # impl conn modules ce seconds [controller] -> instructions
+    local out="$work/cg.$1.$2.$3.$4.${6:-sine}"
     valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file="$out" \
         "$bench" one --impl "$1" --conn "$2" --modules "$3" --ce "$4" --seconds "$5" \
-        >/dev/null 2>&1
+        --controller "${6:-sine}" >/dev/null 2>&1
     awk '/^totals:/ {print $2}' "$out"
 }
 cg_table() {  # title impl_a impl_b seconds ce...
@@ -87,6 +88,34 @@ cg_table() {  # title impl_a impl_b seconds ce...
         done
     done
 }
+# what each built-in controller costs on pp8 ce10: the instructions inside its step function
+# (inclusive, callgrind) as a share of the whole stepping loop. Comparing whole runs would
+# compare different physics (a gait lifts the body off the floor, an offset holds it down).
+controllers_table() {
+    local secs=$1 names name out total own steps
+    steps=$(awk -v s="$secs" 'BEGIN {printf "%d", s * 1000 + 0.5}')
+    printf 'local t = {}\nfor k in pairs(gaitlab.controllers) do t[#t + 1] = k end\n%s\n' \
+        'table.sort(t) print(table.concat(t, " "))' > "$work/names.lua"
+    names=$("$gaitlab" run "$work/names.lua")
+    echo
+    echo "### Built-in controllers on pp8, control_every = 10: their own cost (callgrind)"
+    echo
+    echo "| controller | step() Ir per physics step | whole loop Ir/step | share of the loop |"
+    echo "|---|---|---|---|"
+    for name in $names; do
+        out="$work/cgc.$name"
+        valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file="$out" \
+            "$bench" one --impl gaitlab --conn pp --modules 8 --ce 10 --seconds "$secs" \
+            --controller "$name" >/dev/null 2>&1
+        total=$(awk '/^totals:/ {print $2}' "$out")
+        own=$(callgrind_annotate --inclusive=yes --threshold=100 "$out" 2>/dev/null |
+            grep -E 'gaitlab::controllers::[A-Za-z]+::step\(gaitlab::ControlIO&\)' |
+            awk '{gsub(",", "", $1); s += $1} END {print s + 0}')
+        awk -v n="$name" -v t="$total" -v o="$own" -v s="$steps" \
+            'BEGIN { printf "| %s | %.0f | %.0f | **%.3f %%** |\n", n, o / s, t / s, 100 * o / t }'
+    done
+}
+
 if want callgrind; then
     if command -v valgrind >/dev/null; then
         secs=1
@@ -95,6 +124,7 @@ if want callgrind; then
         [ $quick -eq 1 ] && ces=(10)
         cg_table "gaitlab vs raw Bullet loop" raw gaitlab "$secs" "${ces[@]}"
         cg_table "Lua controller vs C++ sine" gaitlab lua-controller "$secs" 10
+        controllers_table "$secs"
     else
         echo; echo "(valgrind not found: callgrind section skipped)"
     fi

@@ -22,6 +22,9 @@ struct Scenario {
     int control_every = 10;  ///< ticks between controller steps
     int solver_iterations = gaitlab::default_simulation_options().solver_iterations;
     double seconds = 20;  ///< simulated time
+    /// built-in controller driving each group (gaitlab side only; the raw loop runs the sine);
+    /// its amplitude, frequency and phase parameters are set when it has them
+    std::string controller = "sine";
 
     long ticks() const;
     /// "pp8 ce10", "py32 ce30 it50 dt0.1ms", ...

@@ -8,7 +8,8 @@ Offset::Offset() : Controller(ControllerDef{"offset", {{"angle", 0, -90, 90, "de
 
 void Offset::step(ControlIO& io) {
     const double target = deg_to_rad(param(angle));
-    for (int m = 0; m < io.joints(); ++m) io.set_target(m, target);
+    for (int m = 0; m < io.joints(); ++m)
+        io.set_target(m, target);
 }
 
 }  // namespace gaitlab::controllers

@@ -16,7 +16,7 @@ using namespace gaitlab;
 namespace {
 
 class StillJoints final : public JointReader {
-public:
+  public:
     double angle(int) const override { return 0; }
     double velocity(int) const override { return 0; }
     double torque(int) const override { return 0; }
@@ -54,7 +54,8 @@ TEST_CASE("offset sets every joint of its group to its angle") {
     std::vector<double> targets(3, 1.0);
     ControlIO io(0.03, 0, joints, reader, targets.data());
     c.step(io);
-    for (double t : targets) CHECK(t == deg_to_rad(-30));
+    for (double t : targets)
+        CHECK(t == deg_to_rad(-30));
     CHECK_THROWS_WITH(c.set_param("angle", 95), "offset.angle must be in [-90, 90] deg (got 95)");
 }
 

@@ -7,7 +7,7 @@
 namespace gaitlab::controllers {
 
 class Offset final : public Controller {
-public:
+  public:
     Offset();
     void step(ControlIO& io) override;
 
