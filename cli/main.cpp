@@ -22,6 +22,11 @@ int run_script(const std::string& file, std::uint64_t seed, const std::vector<st
     }
     try {
         gaitlab::scripting::LuaHost host;
+        // failed reloads of controller files and controllers failing under
+        // on_controller_error = "continue" are reported while the script goes on
+        host.set_reporter([](const std::string& message) {
+            std::fprintf(stderr, "gaitlab: %s\n", message.c_str());
+        });
         host.seed(seed);
         host.set_args(file, args);
         host.run_file(file);

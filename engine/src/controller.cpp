@@ -98,6 +98,30 @@ void Controller::reset() {
     on_bind();
 }
 
+void Controller::set_failed(bool failed, std::string message) {
+    failed_ = failed;
+    failure_ = failed ? std::move(message) : std::string();
+}
+
+void Controller::redefine(ControllerDef def, std::vector<double> params) {
+    validate(def);
+    if (params.size() != def.params.size()) {
+        throw SpecError(fmt::format("controller '{}': {} parameter values for {} parameters",
+                                    def.name, params.size(), def.params.size()));
+    }
+    for (size_t i = 0; i < params.size(); ++i) {
+        const ParamDef& p = def.params[i];
+        if (!(params[i] >= p.min && params[i] <= p.max)) {
+            throw SpecError(fmt::format("{}.{} must be in [{}, {}] (got {})", def.name, p.name,
+                                        p.min, p.max, params[i]));
+        }
+    }
+    def_ = std::move(def);
+    params_ = std::move(params);
+    ++param_version_;
+    values_.assign(def_.values.size(), std::vector<double>(static_cast<size_t>(joints_), 0.0));
+}
+
 const std::vector<double>& Controller::values(int k) const {
     sync_values();
     return values_[k];

@@ -38,8 +38,16 @@ class Simulation::Phases final : public TickPhases, public JointReader {
         check_divergence(time);
         std::fill(sim_.targets_.begin(), sim_.targets_.end(), 0.0);
         for (DriveSlot& d : sim_.drives_) {
-            ControlIO io(control_dt, time, d.global_joints, *this, d.targets.data());
-            d.drive.controller->step(io);
+            Controller& c = *d.drive.controller;
+            if (!c.failed()) {  // a failed controller's targets stay frozen
+                ControlIO io(control_dt, time, d.global_joints, *this, d.targets.data());
+                try {
+                    c.step(io);
+                } catch (const std::exception& e) {
+                    sim_.fail(d, e);
+                    if (sim_.options_.on_controller_error == ControllerErrorPolicy::stop) throw;
+                }
+            }
             for (size_t m = 0; m < d.global_joints.size(); ++m) {
                 sim_.targets_[static_cast<size_t>(d.global_joints[m])] += d.targets[m];
             }
@@ -183,6 +191,16 @@ void Simulation::add_drive(int robot, Drive drive) {
     world_.robots[static_cast<size_t>(robot)].actuation.push_back(std::move(drive));
 }
 
+void Simulation::fail(DriveSlot& d, const std::exception& e) {
+    for (size_t m = 0; m < d.global_joints.size(); ++m) {
+        d.targets[m] = angles_[static_cast<size_t>(d.global_joints[m])];
+    }
+    d.drive.controller->set_failed(true, e.what());
+    if (options_.on_controller_error == ControllerErrorPolicy::continue_ && on_error_) {
+        on_error_(*d.drive.controller, e);
+    }
+}
+
 void Simulation::step(long ticks) {
     for (long i = 0; i < ticks; ++i)
         scheduler_.tick(*phases_);
@@ -199,6 +217,7 @@ void Simulation::run(double seconds) {
 void Simulation::reset() {
     scheduler_.reset();
     for (DriveSlot& d : drives_) {
+        d.drive.controller->set_failed(false);
         d.drive.controller->reset();
         std::fill(d.targets.begin(), d.targets.end(), 0.0);
     }

@@ -1,15 +1,103 @@
 #include "lua_controller.h"
 
+#include <algorithm>
+
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/types.h"
+#include "hot_reload.h"
 
 namespace gaitlab::scripting {
 
+namespace {
+
+// the controller whose step runs on this thread (for the budget hook)
+thread_local const LuaController* t_stepping = nullptr;
+
+}  // namespace
+
 LuaController::LuaController(lua_State* L, std::shared_ptr<LuaControllerClass> cls)
-    : Controller(cls->def), L_(L), cls_(std::move(cls)) {}
+    : Controller(cls->def),
+      L_(L),
+      cls_(std::move(cls)),
+      reloader_(&Reloader::of(L)),
+      class_version_(cls_->version) {
+    cls_->instances.push_back(this);
+}
 
 LuaController::~LuaController() {
+    auto& v = cls_->instances;
+    v.erase(std::remove(v.begin(), v.end(), this), v.end());
     luaL_unref(L_, LUA_REGISTRYINDEX, self_ref_);
+    luaL_unref(L_, LUA_REGISTRYINDEX, snapshot_ref_);
+}
+
+void LuaController::take_snapshot() {
+    drop_snapshot();
+    if (cls_->snapshot_ref == LUA_NOREF || self_ref_ == LUA_NOREF) return;
+    lua_rawgeti(L_, LUA_REGISTRYINDEX, cls_->snapshot_ref);
+    lua_rawgeti(L_, LUA_REGISTRYINDEX, self_ref_);
+    protected_call(L_, 1, 1);
+    snapshot_ref_ = luaL_ref(L_, LUA_REGISTRYINDEX);
+}
+
+void LuaController::drop_snapshot() {
+    luaL_unref(L_, LUA_REGISTRYINDEX, snapshot_ref_);
+    snapshot_ref_ = LUA_NOREF;
+}
+
+void LuaController::migrate() {
+    class_version_ = cls_->version;
+    const ControllerDef old = def();
+    const ControllerDef& now = cls_->def;
+    // parameters by name, clamped into their new range; new ones take their default
+    std::vector<double> params;
+    for (const ParamDef& p : now.params) {
+        const int i = find_param(p.name);
+        params.push_back(i < 0 ? p.default_value : std::clamp(param(i), p.min, p.max));
+    }
+    if (self_ref_ != LUA_NOREF) {
+        lua_State* L = L_;
+        lua_rawgeti(L, LUA_REGISTRYINDEX, self_ref_);
+        for (const ParamDef& p : old.params) {
+            const bool kept = std::any_of(now.params.begin(), now.params.end(),
+                                          [&](const ParamDef& q) { return q.name == p.name; });
+            if (!kept) {
+                lua_pushnil(L);
+                lua_setfield(L, -2, p.name.c_str());
+            }
+        }
+        // values by name: kept arrays stay, removed ones go, new ones start at zero
+        for (const std::string& v : old.values) {
+            if (std::find(now.values.begin(), now.values.end(), v) == now.values.end()) {
+                lua_pushnil(L);
+                lua_setfield(L, -2, v.c_str());
+            }
+        }
+        for (const std::string& v : now.values) {
+            if (std::find(old.values.begin(), old.values.end(), v) != old.values.end()) continue;
+            lua_createtable(L, joints(), 0);
+            for (int m = 1; m <= joints(); ++m) {
+                lua_pushnumber(L, 0);
+                lua_rawseti(L, -2, m);
+            }
+            lua_setfield(L, -2, v.c_str());
+        }
+        lua_pop(L, 1);
+    }
+    redefine(now, std::move(params));
+    push_params();
+    if (cls_->on_reload_ref != LUA_NOREF && self_ref_ != LUA_NOREF) {
+        lua_rawgeti(L_, LUA_REGISTRYINDEX, cls_->on_reload_ref);
+        lua_rawgeti(L_, LUA_REGISTRYINDEX, self_ref_);
+        if (snapshot_ref_ != LUA_NOREF) {
+            lua_rawgeti(L_, LUA_REGISTRYINDEX, snapshot_ref_);
+        } else {
+            lua_pushnil(L_);
+        }
+        drop_snapshot();
+        protected_call(L_, 2, 0);
+    }
+    drop_snapshot();
 }
 
 void LuaController::on_bind() {
@@ -54,18 +142,41 @@ void LuaController::push_params() {
     pushed_version_ = param_version();
 }
 
+void LuaController::budget_hook(lua_State* L, lua_Debug* ar) {
+    const LuaController* c = t_stepping;
+    if (c == nullptr) return;
+    lua_getinfo(L, "Sl", ar);
+    lua_pushfstring(L,
+                    "controller '%s' exceeded its instruction budget of %I instructions in one "
+                    "step (%s:%d)",
+                    c->name().c_str(), static_cast<lua_Integer>(c->cls_->budget),
+                    ar->source[0] == '@' ? ar->source + 1 : ar->short_src, ar->currentline);
+    lua_error(L);
+}
+
 void LuaController::step(ControlIO& io) {
+    reloader_->poll(L_);
+    if (class_version_ != cls_->version) migrate();
     if (pushed_version_ != param_version()) push_params();
     lua_rawgeti(L_, LUA_REGISTRYINDEX, cls_->step_ref);
     lua_rawgeti(L_, LUA_REGISTRYINDEX, self_ref_);
     lua_pushnumber(L_, io.dt());
     io_ = &io;
+    const LuaController* outer = t_stepping;
+    t_stepping = this;
+    // a count hook that fires once the step has run `budget` instructions
+    lua_sethook(L_, budget_hook, LUA_MASKCOUNT,
+                static_cast<int>(std::min<long long>(cls_->budget, 0x7fffffff)));
     try {
         protected_call(L_, 2, 0);
     } catch (...) {
+        lua_sethook(L_, nullptr, 0, 0);
+        t_stepping = outer;
         io_ = nullptr;
         throw;
     }
+    lua_sethook(L_, nullptr, 0, 0);
+    t_stepping = outer;
     io_ = nullptr;
 }
 

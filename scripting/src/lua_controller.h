@@ -4,20 +4,37 @@
 
 #include <lua.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "gaitlab/controller.h"
 
 namespace gaitlab::scripting {
 
-/// What gaitlab.controller{...} declares: the definition and the Lua functions.
+class LuaController;
+
+/// Instructions one step may run before it is stopped, unless the class sets its own budget.
+inline constexpr long long kDefaultInstructionBudget = 10'000'000;
+
+/// What gaitlab.controller{...} declares: the definition and the Lua functions. A class
+/// loaded from a file is the unit of hot reload: a new version replaces these fields in place
+/// and increases `version`; its instances migrate at their next step.
 struct LuaControllerClass {
     ControllerDef def;
-    int step_ref = LUA_NOREF;  ///< registry reference to step(self, dt)
-    std::string file;          ///< where the class was defined
+    int step_ref = LUA_NOREF;                      ///< registry reference to step(self, dt)
+    int snapshot_ref = LUA_NOREF;                  ///< snapshot(self) -> table, or LUA_NOREF
+    int on_reload_ref = LUA_NOREF;                 ///< on_reload(self, snapshot), or LUA_NOREF
+    long long budget = kDefaultInstructionBudget;  ///< instructions per step
+    std::string file;                              ///< where the class was defined
     int line = 0;
+    std::uint64_t version = 0;              ///< increases with every successful reload
+    std::string reload_error;               ///< why the last reload failed ("" if it did not)
+    std::vector<LuaController*> instances;  ///< live instances, for the snapshot hook
 };
+
+class Reloader;
 
 class LuaController final : public Controller {
   public:
@@ -27,12 +44,21 @@ class LuaController final : public Controller {
     void step(ControlIO& io) override;
     const LuaControllerClass& cls() const { return *cls_; }
 
+    /// Calls the class's snapshot(self) and keeps the result for on_reload; throws ScriptError.
+    /// Does nothing when the class has no snapshot hook or the instance is not bound.
+    void take_snapshot();
+    /// Drops a snapshot taken for a reload that did not happen.
+    void drop_snapshot();
+
   protected:
     void sync_values() const override;
     void on_bind() override;
 
   private:
     void push_params();
+    // adopts the current version of the class: parameters and values kept by name
+    void migrate();
+    static void budget_hook(lua_State* L, lua_Debug* ar);
     static int l_set_angle(lua_State* L);
     static int l_angle(lua_State* L);
     static int l_velocity(lua_State* L);
@@ -40,8 +66,11 @@ class LuaController final : public Controller {
 
     lua_State* L_;
     std::shared_ptr<LuaControllerClass> cls_;
-    int self_ref_ = LUA_NOREF;  // the instance table passed to step as self
+    Reloader* reloader_;
+    int self_ref_ = LUA_NOREF;      // the instance table passed to step as self
+    int snapshot_ref_ = LUA_NOREF;  // what snapshot(self) returned before a reload
     std::uint64_t pushed_version_ = ~std::uint64_t{0};
+    std::uint64_t class_version_;
     ControlIO* io_ = nullptr;  // set only while step runs
 };
 

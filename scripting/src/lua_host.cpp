@@ -2,6 +2,7 @@
 
 #include <lua.hpp>
 
+#include "hot_reload.h"
 #include "lua_util.h"
 #include "stdlib.h"
 
@@ -135,6 +136,17 @@ void LuaHost::set_args(const std::string& script, const std::vector<std::string>
         lua_rawseti(L_, -2, static_cast<lua_Integer>(i + 1));
     }
     lua_setglobal(L_, "arg");
+}
+
+void LuaHost::set_reporter(std::function<void(const std::string&)> fn) {
+    using Reporter = std::function<void(const std::string&)>;
+    register_type<Reporter>(L_, "gaitlab.Reporter", nullptr);
+    new_object<Reporter>(L_, "gaitlab.Reporter", std::move(fn));
+    lua_setfield(L_, LUA_REGISTRYINDEX, kReporterKey);
+}
+
+void LuaHost::set_reload_interval(double seconds) {
+    Reloader::of(L_).set_interval(seconds);
 }
 
 void LuaHost::run_file(const std::string& path) {

@@ -38,6 +38,10 @@ std::string did_you_mean(std::string_view word, const std::vector<std::string>& 
 /// Registry key of the last ScriptError that crossed C++ into Lua (see push_script_error).
 inline constexpr const char* kErrorOriginKey = "gaitlab.error_origin";
 
+/// Registry key of the host's reporting hook (a std::function<void(const std::string&)> in a
+/// userdata; see LuaHost::set_reporter).
+inline constexpr const char* kReporterKey = "gaitlab.reporter";
+
 /// Pushes a ScriptError's message as the Lua error value and keeps its file, line and
 /// traceback in the registry, so the message handler of an enclosing protected_call reports
 /// where it happened (e.g. inside a Lua controller stepped by sim:run), not where it resurfaced.

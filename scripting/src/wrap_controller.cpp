@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "gaitlab/controllers/registry.h"
+#include "hot_reload.h"
 #include "lua_controller.h"
 #include "lua_util.h"
 #include "scene.h"
@@ -88,9 +89,21 @@ int controller_index(lua_State* L) {
             lua_pushstring(L, c.name().c_str());
             return 1;
         }
+        if (key == "failed") {
+            lua_pushboolean(L, c.failed());
+            return 1;
+        }
+        if (key == "error") {
+            if (c.failed()) {
+                lua_pushstring(L, c.failure().c_str());
+            } else {
+                lua_pushnil(L);
+            }
+            return 1;
+        }
         if (lua_getfield(L, lua_upvalueindex(1), key.c_str()) != LUA_TNIL) return 1;
         std::vector<std::string> names = param_names(c);
-        for (const char* m : {"name", "params", "values"})
+        for (const char* m : {"name", "params", "values", "failed", "error"})
             names.emplace_back(m);
         throw Error(fmt::format("controller '{}' has no parameter or method '{}'{}", c.name(), key,
                                 did_you_mean(key, names)));
@@ -216,10 +229,24 @@ ParamDef read_param(lua_State* L, int index, const std::string& name) {
     return p;
 }
 
-// gaitlab.controller{ name = , params = , values = , step = }
+// an optional function field of gaitlab.controller{...}: a registry reference or LUA_NOREF
+int optional_function(lua_State* L, const Fields& f, const char* key) {
+    const int t = f.push(key);
+    if (t == LUA_TNIL) {
+        lua_pop(L, 1);
+        return LUA_NOREF;
+    }
+    if (t != LUA_TFUNCTION) f.fail(key, "function expected, got " + type_name(L, -1));
+    return luaL_ref(L, LUA_REGISTRYINDEX);
+}
+
+// gaitlab.controller{ name = , params = , values = , step = , snapshot = , on_reload = ,
+// instruction_budget = }
 int class_new(lua_State* L) {
     return protect(L, [&] {
-        Fields f(L, 2, 1, {"name", "params", "values", "step"});
+        Fields f(
+            L, 2, 1,
+            {"name", "params", "values", "step", "snapshot", "on_reload", "instruction_budget"});
         auto cls = std::make_shared<LuaControllerClass>();
         if (!f.has("name")) f.fail("name", "string expected, got nil");
         cls->def.name = f.string("name", "");
@@ -269,7 +296,16 @@ int class_new(lua_State* L) {
         if (f.push("step") != LUA_TFUNCTION) {
             f.fail("step", "function expected, got " + type_name(L, -1));
         }
+        if (f.has("instruction_budget")) {
+            const long long budget = f.integer("instruction_budget", kDefaultInstructionBudget);
+            if (budget < 1 || budget > 0x7fffffff) {
+                f.fail("instruction_budget", "integer in [1, 2147483647] expected");
+            }
+            cls->budget = budget;
+        }
         cls->step_ref = luaL_ref(L, LUA_REGISTRYINDEX);
+        cls->snapshot_ref = optional_function(L, f, "snapshot");
+        cls->on_reload_ref = optional_function(L, f, "on_reload");
         lua_Debug ar;
         if (lua_getstack(L, 1, &ar) && lua_getinfo(L, "Sl", &ar)) {
             cls->file = ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
@@ -299,6 +335,16 @@ int class_index(lua_State* L) {
             lua_pushstring(L, cls->def.name.c_str());
         } else if (key == "file") {
             lua_pushstring(L, cls->file.c_str());
+        } else if (key == "version") {
+            lua_pushinteger(L, static_cast<lua_Integer>(cls->version));
+        } else if (key == "reload_error") {
+            if (cls->reload_error.empty()) {
+                lua_pushnil(L);
+            } else {
+                lua_pushstring(L, cls->reload_error.c_str());
+            }
+        } else if (key == "instruction_budget") {
+            lua_pushinteger(L, static_cast<lua_Integer>(cls->budget));
         } else {
             lua_pushnil(L);
         }
@@ -324,10 +370,16 @@ std::filesystem::path caller_dir(lua_State* L) {
     return {};
 }
 
-// gaitlab.controller.load(path): runs a controller file once and caches the class it returns
+// gaitlab.controller.load(path [, { sandbox = }]): runs a controller file once (in a sandbox
+// unless told otherwise), caches the class it returns and watches the file for changes
 int class_load(lua_State* L) {
     return protect(L, [&] {
         const std::string arg = check_string(L, 1);
+        bool sandbox = true;
+        if (!lua_isnoneornil(L, 2)) {
+            Fields opts(L, 2, 2, {"sandbox"});
+            sandbox = opts.boolean("sandbox", true);
+        }
         std::filesystem::path path(arg);
         if (path.is_relative()) path = caller_dir(L) / path;
         std::error_code ec;
@@ -341,12 +393,7 @@ int class_load(lua_State* L) {
                 fmt::format("cannot load controller '{}': no file at {}", arg, path.string()));
         }
         const std::string chunk = path.lexically_normal().string();
-        if (luaL_loadfilex(L, chunk.c_str(), "t") != LUA_OK) {
-            std::string msg = lua_tostring(L, -1);
-            lua_pop(L, 1);
-            throw ScriptError(msg, chunk, 0, "");
-        }
-        protected_call(L, 0, 1);
+        run_controller_file(L, chunk, sandbox);
         if (!luaL_testudata(L, -1, kControllerClassType)) {
             const std::string t = type_name(L, -1);
             throw Error(
@@ -356,7 +403,20 @@ int class_load(lua_State* L) {
         }
         lua_pushvalue(L, -1);
         lua_setfield(L, lua_upvalueindex(1), key.c_str());
+        Reloader::of(L).watch(*static_cast<ClassPtr*>(lua_touserdata(L, -1)), chunk, sandbox);
         return 1;
+    });
+}
+
+// gaitlab.controller.reload(): runs every loaded controller file again now; true, or false and
+// the first error (the classes that failed keep their last good version)
+int class_reload(lua_State* L) {
+    return protect(L, [&] {
+        const std::string error = Reloader::of(L).reload_all(L);
+        lua_pushboolean(L, error.empty());
+        if (error.empty()) return 1;
+        lua_pushstring(L, error.c_str());
+        return 2;
     });
 }
 
@@ -382,6 +442,7 @@ void open_controller(lua_State* L) {
                                    {"__tostring", class_tostring},
                                    {nullptr, nullptr}};
     register_type<ClassPtr>(L, kControllerClassType, nullptr, class_meta);
+    Reloader::install(L);
 
     // gaitlab.controllers.<name>{...}
     lua_newtable(L);
@@ -397,6 +458,8 @@ void open_controller(lua_State* L) {
     lua_newtable(L);  // cache: canonical path -> class
     lua_pushcclosure(L, class_load, 1);
     lua_setfield(L, -2, "load");
+    lua_pushcfunction(L, class_reload);
+    lua_setfield(L, -2, "reload");
     lua_createtable(L, 0, 1);
     lua_pushcfunction(L, class_new);
     lua_setfield(L, -2, "__call");

@@ -1,6 +1,10 @@
 // gaitlab.simulation: compile a world, step it, read its time.
 #include <cmath>
 
+#include <fmt/format.h>
+
+#include "gaitlab/controller.h"
+#include "hot_reload.h"
 #include "lua_util.h"
 #include "scene.h"
 #include "wrap.h"
@@ -18,7 +22,9 @@ Simulation& check_sim(lua_State* L, int index) {
 int simulation_new(lua_State* L) {
     // called as gaitlab.simulation{...}: argument 1 is the gaitlab.simulation table itself
     return protect(L, [&] {
-        Fields f(L, 2, 1, {"world", "dt", "control_every", "record", "seed", "solver_iterations"});
+        Fields f(L, 2, 1,
+                 {"world", "dt", "control_every", "record", "seed", "solver_iterations",
+                  "on_controller_error"});
         if (f.push("world") == LUA_TNIL) f.fail("world", "gaitlab.World expected, got nil");
         if (!luaL_testudata(L, -1, kWorldType)) {
             f.fail("world", "gaitlab.World expected, got " + type_name(L, -1));
@@ -32,6 +38,12 @@ int simulation_new(lua_State* L) {
         const long long seed = f.integer("seed", 0);
         if (seed < 0) f.fail("seed", "non-negative integer expected");
         o.seed = static_cast<std::uint64_t>(seed);
+        const std::string policy = f.string("on_controller_error", "stop");
+        if (policy == "continue") {
+            o.on_controller_error = ControllerErrorPolicy::continue_;
+        } else if (policy != "stop") {
+            f.fail("on_controller_error", "'stop' or 'continue' expected, got '" + policy + "'");
+        }
         const int rt = f.push("record");
         const bool records = !(rt == LUA_TNIL || (rt == LUA_TBOOLEAN && !lua_toboolean(L, -1)));
         lua_pop(L, 1);
@@ -42,7 +54,15 @@ int simulation_new(lua_State* L) {
         }
         try {
             validate(o);
-            new_object<SimulationPtr>(L, kSimulationType, world->compile(o));
+            SimulationPtr sim = world->compile(o);
+            // the simulation lives in this Lua state: reporting through it is safe
+            sim->set_controller_error_handler([L](const Controller& c, const std::exception& e) {
+                std::string message = fmt::format("controller '{}' failed: {}", c.name(), e.what());
+                const auto* se = dynamic_cast<const ScriptError*>(&e);
+                if (se && !se->traceback().empty()) message += "\n" + se->traceback();
+                report(L, message);
+            });
+            new_object<SimulationPtr>(L, kSimulationType, std::move(sim));
         } catch (const SpecError& e) {
             throw ArgError(1, e.what());
         }
@@ -94,6 +114,10 @@ int simulation_index(lua_State* L) {
             lua_pushinteger(L, sim.options().control_every);
         } else if (k == "solver_iterations") {
             lua_pushinteger(L, sim.options().solver_iterations);
+        } else if (k == "on_controller_error") {
+            lua_pushstring(L, sim.options().on_controller_error == ControllerErrorPolicy::stop
+                                  ? "stop"
+                                  : "continue");
         } else if (k == "seed") {
             lua_pushinteger(L, static_cast<lua_Integer>(sim.options().seed));
         } else {

@@ -96,11 +96,22 @@ class Controller {
 
     /// Back to the state just after bind(): values zero, parameters kept.
     virtual void reset();
+    /// Whether a step of this controller failed (see SimulationOptions::on_controller_error).
+    bool failed() const { return failed_; }
+    /// What the failed step reported ("" if none).
+    const std::string& failure() const { return failure_; }
+    /// Marks the controller failed (its group then holds its position) or, with `failed`
+    /// false, running again.
+    void set_failed(bool failed, std::string message = {});
     /// Computes the group's targets for this control step.
     virtual void step(ControlIO& io) = 0;
 
   protected:
     std::vector<double>& value(int k) { return values_[k]; }
+    /// Replaces the definition of a bound controller (a scripted controller whose code was
+    /// reloaded): `params` holds one value per parameter of `def`, each inside its range. Values
+    /// are resized to the new names (zeros); a subclass keeping them elsewhere syncs them.
+    void redefine(ControllerDef def, std::vector<double> params);
     /// Brings values_ up to date when a subclass keeps its state elsewhere (e.g. in Lua).
     virtual void sync_values() const {}
     /// Called by bind() and reset() once values are sized and zeroed.
@@ -112,6 +123,8 @@ class Controller {
     std::vector<double> params_;
     std::uint64_t param_version_ = 0;
     int joints_ = 0;
+    bool failed_ = false;
+    std::string failure_;
 };
 
 }  // namespace gaitlab

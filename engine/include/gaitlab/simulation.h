@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -12,6 +13,14 @@
 
 namespace gaitlab {
 
+/// What a simulation does when a controller's step throws.
+enum class ControllerErrorPolicy {
+    stop,      ///< the error leaves Simulation::step (batch runs)
+    continue_  ///< the controller is marked failed, its group holds, the run goes on
+};
+
+class Controller;
+
 /// Global options of a simulation.
 struct SimulationOptions {
     double dt = 0.001;       ///< physics step, s, in (0, 0.1]
@@ -20,6 +29,9 @@ struct SimulationOptions {
     /// a converged solution and resting robots still (see docs/performance.md)
     int solver_iterations = 20;
     std::uint64_t seed = 0;  ///< seeds everything random in the run
+    /// In both cases the failed controller is marked failed and its joints hold the angles
+    /// measured when it failed (targets frozen) until reset().
+    ControllerErrorPolicy on_controller_error = ControllerErrorPolicy::stop;
 };
 
 inline SimulationOptions default_simulation_options() {
@@ -87,6 +99,11 @@ class Simulation {
     /// Contact points in the last physics step.
     int contact_count() const;
 
+    /// Called when a controller fails under ControllerErrorPolicy::continue_, once per failure,
+    /// with the exception its step threw.
+    using ControllerErrorHandler = std::function<void(const Controller&, const std::exception&)>;
+    void set_controller_error_handler(ControllerErrorHandler fn) { on_error_ = std::move(fn); }
+
     /// Calls `fn` in the record phase of every tick; returns an id for remove_observer.
     int add_observer(std::function<void(const Simulation&)> fn);
     void remove_observer(int id);
@@ -108,6 +125,8 @@ class Simulation {
     void build();
     void check_robot(int robot) const;
     void bind(int robot, Drive drive);
+    // marks the drive's controller failed and freezes its targets at the measured angles
+    void fail(DriveSlot& d, const std::exception& e);
 
     WorldSpec world_;
     SimulationOptions options_;
@@ -121,6 +140,7 @@ class Simulation {
     std::vector<double> commands_;  // per global joint, rad/s, computed in act
     std::vector<std::pair<int, std::function<void(const Simulation&)>>> observers_;
     int next_observer_ = 1;
+    ControllerErrorHandler on_error_;
 };
 
 }  // namespace gaitlab

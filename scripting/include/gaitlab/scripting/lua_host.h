@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,14 @@ class LuaHost {
     void seed(std::uint64_t seed);
     /// Sets the global `arg` table as lua.c does: arg[0] = script, arg[1..] = args.
     void set_args(const std::string& script, const std::vector<std::string>& args);
+    /// Where the host's messages go: failed reloads of controller files ("reload failed:
+    /// FILE:LINE: message") and controllers failing under on_controller_error = "continue".
+    /// One message per call, without "gaitlab: " or a trailing newline. Without a reporter they
+    /// go to stderr as "gaitlab: MESSAGE".
+    void set_reporter(std::function<void(const std::string&)> fn);
+    /// Wall time between two checks of the controller files for changes (default 0.2 s).
+    void set_reload_interval(double seconds);
+
     /// Loads and runs a Lua file; throws ScriptError (syntax or runtime).
     void run_file(const std::string& path);
     /// Loads and runs a string; `name` is the chunk name shown in messages.
