@@ -49,6 +49,7 @@ class HindmarshRose final : public Controller {
     std::vector<double> since_spike_;  ///< model time since each neuron's last spike
     std::vector<int> count_;           ///< spikes so far in each neuron's burst
     std::vector<double> level_;        ///< b, the smoothed burst indicator
+    std::vector<double> sigmoid_;      ///< scratch: each neuron's presynaptic sigmoid
     std::unique_ptr<detail::Rk4> rk4_;
 };
 
