@@ -24,6 +24,18 @@ void validate(const SimulationOptions& o) {
     }
 }
 
+const char* to_string(ControllerErrorPolicy policy) {
+    switch (policy) {
+        case ControllerErrorPolicy::stop:
+            return "stop";
+        case ControllerErrorPolicy::continue_:
+            return "continue";
+        case ControllerErrorPolicy::pause:
+            return "pause";
+    }
+    return "stop";
+}
+
 Scheduler::Scheduler(double dt, int control_every)
     : dt_(dt), control_every_(control_every), control_dt_(dt * control_every) {}
 
@@ -196,26 +208,35 @@ void Simulation::fail(DriveSlot& d, const std::exception& e) {
         d.targets[m] = angles_[static_cast<size_t>(d.global_joints[m])];
     }
     d.drive.controller->set_failed(true, e.what());
-    if (options_.on_controller_error == ControllerErrorPolicy::continue_ && on_error_) {
-        on_error_(*d.drive.controller, e);
-    }
+    if (options_.on_controller_error == ControllerErrorPolicy::stop) return;
+    if (options_.on_controller_error == ControllerErrorPolicy::pause) pause_pending_ = true;
+    if (on_error_) on_error_(*d.drive.controller, e);
 }
 
-void Simulation::step(long ticks) {
-    for (long i = 0; i < ticks; ++i)
+long Simulation::step(long ticks) {
+    paused_ = false;
+    for (long i = 0; i < ticks; ++i) {
         scheduler_.tick(*phases_);
+        if (pause_pending_) {
+            pause_pending_ = false;
+            paused_ = true;
+            return i + 1;
+        }
+    }
+    return ticks;
 }
 
-void Simulation::run(double seconds) {
+long Simulation::run(double seconds) {
     if (!(std::isfinite(seconds) && seconds >= 0)) {
         throw SpecError(
             fmt::format("run time must be a non-negative number of seconds (got {})", seconds));
     }
-    step(std::lround(seconds / options_.dt));
+    return step(std::lround(seconds / options_.dt));
 }
 
 void Simulation::reset() {
     scheduler_.reset();
+    pause_pending_ = paused_ = false;
     for (DriveSlot& d : drives_) {
         d.drive.controller->set_failed(false);
         d.drive.controller->reset();

@@ -176,6 +176,11 @@ std::string Reloader::reload(lua_State* L, File& f, LuaControllerClass& cls) {
     cls.budget = fresh->budget;
     cls.line = fresh->line;
     ++cls.version;
+    // the fix a student saved revives a failed controller: it runs the new version at the next
+    // control tick, from the state it had when it failed
+    for (LuaController* c : cls.instances) {
+        if (c->failed()) c->set_failed(false);
+    }
     return "";
 }
 

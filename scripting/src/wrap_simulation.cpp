@@ -41,8 +41,11 @@ int simulation_new(lua_State* L) {
         const std::string policy = f.string("on_controller_error", "stop");
         if (policy == "continue") {
             o.on_controller_error = ControllerErrorPolicy::continue_;
+        } else if (policy == "pause") {
+            o.on_controller_error = ControllerErrorPolicy::pause;
         } else if (policy != "stop") {
-            f.fail("on_controller_error", "'stop' or 'continue' expected, got '" + policy + "'");
+            f.fail("on_controller_error",
+                   "'stop', 'continue' or 'pause' expected, got '" + policy + "'");
         }
         const int rt = f.push("record");
         const bool records = !(rt == LUA_TNIL || (rt == LUA_TBOOLEAN && !lua_toboolean(L, -1)));
@@ -115,9 +118,9 @@ int simulation_index(lua_State* L) {
         } else if (k == "solver_iterations") {
             lua_pushinteger(L, sim.options().solver_iterations);
         } else if (k == "on_controller_error") {
-            lua_pushstring(L, sim.options().on_controller_error == ControllerErrorPolicy::stop
-                                  ? "stop"
-                                  : "continue");
+            lua_pushstring(L, to_string(sim.options().on_controller_error));
+        } else if (k == "paused") {
+            lua_pushboolean(L, sim.paused());
         } else if (k == "seed") {
             lua_pushinteger(L, static_cast<lua_Integer>(sim.options().seed));
         } else {

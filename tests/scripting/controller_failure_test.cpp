@@ -79,9 +79,33 @@ TEST_CASE("on_controller_error = 'continue' holds the failed group and keeps run
     // reset runs it again
     lua.run("sim:reset()");
     CHECK(lua.boolean("ctl.failed") == false);
-    CHECK(lua.error_of("gaitlab.simulation{ world = world, on_controller_error = 'pause' }") ==
-          "test:1: bad argument #1 to 'simulation' (field 'on_controller_error': 'stop' or "
-          "'continue' expected, got 'pause')");
+    CHECK(lua.error_of("gaitlab.simulation{ world = world, on_controller_error = 'halt' }") ==
+          "test:1: bad argument #1 to 'simulation' (field 'on_controller_error': 'stop', "
+          "'continue' or 'pause' expected, got 'halt')");
+}
+
+TEST_CASE("on_controller_error = 'pause' returns from sim:run at the failure, and runs on after",
+          "[controller_failure]") {
+    LuaFixture lua;
+    std::vector<std::string> reports;
+    lua.host.set_reporter([&](const std::string& m) { reports.push_back(m); });
+    lua.run(kFailingSnake);
+    lua.run(R"(
+        sim = gaitlab.simulation{ world = world, on_controller_error = "pause" }
+        sim:run(5)
+    )");
+    CHECK(lua.string("sim.on_controller_error") == "pause");
+    CHECK(lua.boolean("sim.paused"));
+    // the 10th control step is at tick 270; the tick completes, then the run returns
+    CHECK(lua.integer("sim.ticks") == 271);
+    CHECK(lua.boolean("ctl.failed"));
+    REQUIRE(reports.size() == 1);
+    CHECK(reports[0].rfind("controller 'wobble' failed: test:6: wobble broke", 0) == 0);
+    // running again goes on with the failed group holding, and is not paused again
+    lua.run("sim:run(1)");
+    CHECK(lua.boolean("sim.paused") == false);
+    CHECK(lua.integer("sim.ticks") == 1271);
+    CHECK(reports.size() == 1);
 }
 
 TEST_CASE("the instruction budget stops a runaway step", "[controller_failure]") {

@@ -241,6 +241,59 @@ TEST_CASE("snapshot and on_reload carry state the names do not", "[hot_reload]")
           "number)");
 }
 
+TEST_CASE("saving a fixed file revives a controller that failed", "[hot_reload]") {
+    TempDir dir("revive");
+    const std::string file = dir.file("buggy.lua");
+    // fails from its 5th step on: a typo a student would make
+    write(file, R"(return gaitlab.controller{
+  name = "buggy",
+  values = { "n" },
+  step = function(self, dt)
+    self.n[1] = self.n[1] + 1
+    if self.n[1] >= 5 then self:set_angle(1, self.amplitde * 2) end
+    self:set_angle(1, 10)
+  end,
+}
+)");
+    LuaFixture lua;
+    std::vector<std::string> reports;
+    lua.host.set_reporter([&](const std::string& m) { reports.push_back(m); });
+    lua.run("FILE = '" + file + "'");
+    lua.run(R"(
+        Buggy = gaitlab.controller.load(FILE)
+        robot = gaitlab.robot.chain{ modules = 2 }
+        world = gaitlab.world()
+        world:add(robot)
+        ctl = robot:group{ 1 }:drive(Buggy())
+        sim = gaitlab.simulation{ world = world, on_controller_error = "pause" }
+        sim:run(10)
+    )");
+    CHECK(lua.boolean("sim.paused"));
+    CHECK(lua.boolean("ctl.failed"));
+    REQUIRE(reports.size() == 1);
+    CAPTURE(reports[0]);
+    CHECK(reports[0].rfind("controller 'buggy' failed: " + file +
+                               ":6: attempt to perform arithmetic on a nil value (field "
+                               "'amplitde')",
+                           0) == 0);
+    write(file, R"(return gaitlab.controller{
+  name = "buggy",
+  values = { "n" },
+  step = function(self, dt)
+    self.n[1] = self.n[1] + 1
+    self:set_angle(1, 25)
+  end,
+}
+)");
+    lua.run("assert(gaitlab.controller.reload())");
+    CHECK(lua.boolean("ctl.failed") == false);
+    lua.run("sim:run(0.1)");
+    CHECK(lua.boolean("sim.paused") == false);
+    CHECK(lua.number("robot:joints()[1].target") == Approx(25));
+    CHECK(lua.number("ctl:values().n[1]") > 5);  // it goes on from the state it had
+    CHECK(reports.size() == 1);
+}
+
 TEST_CASE("controller files run in a sandbox unless the script opts out", "[hot_reload]") {
     TempDir dir("sandbox");
     const std::string body = R"(

@@ -15,9 +15,13 @@ namespace gaitlab {
 
 /// What a simulation does when a controller's step throws.
 enum class ControllerErrorPolicy {
-    stop,      ///< the error leaves Simulation::step (batch runs)
-    continue_  ///< the controller is marked failed, its group holds, the run goes on
+    stop,       ///< the error leaves Simulation::step (batch runs)
+    continue_,  ///< the controller is marked failed, its group holds, the run goes on
+    pause       ///< as continue_, but step/run return at the end of that tick (consoles)
 };
+
+/// "stop", "continue" or "pause".
+const char* to_string(ControllerErrorPolicy policy);
 
 class Controller;
 
@@ -76,10 +80,15 @@ class Simulation {
     long ticks() const { return scheduler_.ticks(); }
     double time() const { return scheduler_.time(); }
 
-    /// Advances `ticks` ticks (see scheduler.h for the order inside one tick).
-    void step(long ticks = 1);
-    /// Advances round(seconds / dt) ticks.
-    void run(double seconds);
+    /// Advances `ticks` ticks (see scheduler.h for the order inside one tick). Under
+    /// ControllerErrorPolicy::pause it returns early, at the end of the tick in which a
+    /// controller failed; returns the number of ticks run.
+    long step(long ticks = 1);
+    /// Advances round(seconds / dt) ticks (fewer if paused); returns the ticks run.
+    long run(double seconds);
+    /// Whether the last step/run returned early because a controller failed under
+    /// ControllerErrorPolicy::pause; the next step/run clears it.
+    bool paused() const { return paused_; }
     /// Rebuilds the physics from the spec, time 0, controllers reset (parameters kept).
     void reset();
 
@@ -99,8 +108,8 @@ class Simulation {
     /// Contact points in the last physics step.
     int contact_count() const;
 
-    /// Called when a controller fails under ControllerErrorPolicy::continue_, once per failure,
-    /// with the exception its step threw.
+    /// Called when a controller fails under ControllerErrorPolicy::continue_ or pause, once per
+    /// failure, with the exception its step threw.
     using ControllerErrorHandler = std::function<void(const Controller&, const std::exception&)>;
     void set_controller_error_handler(ControllerErrorHandler fn) { on_error_ = std::move(fn); }
 
@@ -141,6 +150,8 @@ class Simulation {
     std::vector<std::pair<int, std::function<void(const Simulation&)>>> observers_;
     int next_observer_ = 1;
     ControllerErrorHandler on_error_;
+    bool pause_pending_ = false;  // a controller failed under the pause policy in this tick
+    bool paused_ = false;
 };
 
 }  // namespace gaitlab
