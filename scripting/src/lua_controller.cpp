@@ -118,10 +118,11 @@ void LuaController::on_bind() {
     lua_setfield(L, -2, "joints");
 
     lua_createtable(L, 0, 1);  // metatable
+    // keep these names in kControllerMethods: class definitions may not reuse them
     const luaL_Reg methods[] = {{"set_angle", l_set_angle},
-                                {"angle", l_angle},
-                                {"velocity", l_velocity},
-                                {"torque", l_torque},
+                                {"joint_angle", l_joint_angle},
+                                {"joint_velocity", l_joint_velocity},
+                                {"joint_torque", l_joint_torque},
                                 {nullptr, nullptr}};
     lua_createtable(L, 0, 4);
     lua_pushlightuserdata(L, this);
@@ -221,26 +222,27 @@ int LuaController::l_set_angle(lua_State* L) {
     return 0;
 }
 
-int LuaController::l_angle(lua_State* L) {
+int LuaController::l_joint_angle(lua_State* L) {
     LuaController* c = self_of(L);
     const int m = check_joint(L, *c);
-    if (!c->io_) return luaL_error(L, "angle can only be called while the controller steps");
+    if (!c->io_) return luaL_error(L, "joint_angle can only be called while the controller steps");
     lua_pushnumber(L, rad_to_deg(c->io_->angle(m)));
     return 1;
 }
 
-int LuaController::l_velocity(lua_State* L) {
+int LuaController::l_joint_velocity(lua_State* L) {
     LuaController* c = self_of(L);
     const int m = check_joint(L, *c);
-    if (!c->io_) return luaL_error(L, "velocity can only be called while the controller steps");
+    if (!c->io_)
+        return luaL_error(L, "joint_velocity can only be called while the controller steps");
     lua_pushnumber(L, rad_to_deg(c->io_->velocity(m)));
     return 1;
 }
 
-int LuaController::l_torque(lua_State* L) {
+int LuaController::l_joint_torque(lua_State* L) {
     LuaController* c = self_of(L);
     const int m = check_joint(L, *c);
-    if (!c->io_) return luaL_error(L, "torque can only be called while the controller steps");
+    if (!c->io_) return luaL_error(L, "joint_torque can only be called while the controller steps");
     lua_pushnumber(L, c->io_->torque(m));
     return 1;
 }

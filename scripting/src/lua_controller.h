@@ -15,6 +15,11 @@ namespace gaitlab::scripting {
 
 class LuaController;
 
+/// The methods every Lua controller instance has (self:set_angle(m, deg), ...): parameter and
+/// value names may not reuse them, nor "joints" (the group size).
+inline constexpr const char* kControllerMethods[] = {"set_angle", "joint_angle", "joint_velocity",
+                                                     "joint_torque"};
+
 /// Instructions one step may run before it is stopped, unless the class sets its own budget.
 inline constexpr long long kDefaultInstructionBudget = 10'000'000;
 
@@ -60,9 +65,9 @@ class LuaController final : public Controller {
     void migrate();
     static void budget_hook(lua_State* L, lua_Debug* ar);
     static int l_set_angle(lua_State* L);
-    static int l_angle(lua_State* L);
-    static int l_velocity(lua_State* L);
-    static int l_torque(lua_State* L);
+    static int l_joint_angle(lua_State* L);
+    static int l_joint_velocity(lua_State* L);
+    static int l_joint_torque(lua_State* L);
 
     lua_State* L_;
     std::shared_ptr<LuaControllerClass> cls_;

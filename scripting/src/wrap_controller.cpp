@@ -281,13 +281,20 @@ int class_new(lua_State* L) {
             f.fail("values", "list of names expected, got " + type_name(L, -1));
         }
         lua_pop(L, 1);
-        for (const std::string& v : cls->def.values) {
-            if (v == "joints") f.fail("values", "'joints' is reserved (it holds the joint count)");
-        }
-        for (const ParamDef& p : cls->def.params) {
-            if (p.name == "joints")
-                f.fail("params", "'joints' is reserved (it holds the joint count)");
-        }
+        // names that self already holds for something else
+        const auto check_free = [&](const char* field, const std::string& name) {
+            if (name == "joints") f.fail(field, "'joints' is reserved (it holds the joint count)");
+            for (const char* m : kControllerMethods) {
+                if (name == m) {
+                    f.fail(field,
+                           fmt::format("'{}' is reserved (a method of every controller)", m));
+                }
+            }
+        };
+        for (const std::string& v : cls->def.values)
+            check_free("values", v);
+        for (const ParamDef& p : cls->def.params)
+            check_free("params", p.name);
         try {
             validate(cls->def);
         } catch (const SpecError& e) {

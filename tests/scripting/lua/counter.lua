@@ -7,7 +7,7 @@ return gaitlab.controller{
   step = function(self, dt)
     for m = 1, self.joints do
       self.steps[m] = self.steps[m] + 1
-      self.seen[m] = self:angle(m) + 0 * self:velocity(m) + 0 * self:torque(m)
+      self.seen[m] = self:joint_angle(m) + 0 * self:joint_velocity(m) + 0 * self:joint_torque(m)
       self:set_angle(m, self.level)
     end
   end,
