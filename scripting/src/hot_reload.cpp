@@ -64,17 +64,36 @@ void push_sandbox(lua_State* L) {
     lua_setfield(L, -2, "_G");
 }
 
+namespace {
+
+// runs the chunk on top of the stack (in a sandbox if asked); leaves its one result
+void run_loaded_chunk(lua_State* L, bool sandbox) {
+    if (sandbox) {
+        push_sandbox(L);
+        if (!lua_setupvalue(L, -2, 1)) lua_pop(L, 1);  // the chunk's only upvalue is _ENV
+    }
+    protected_call(L, 0, 1);
+}
+
+}  // namespace
+
 void run_controller_file(lua_State* L, const std::string& chunk, bool sandbox) {
     if (luaL_loadfilex(L, chunk.c_str(), "t") != LUA_OK) {
         std::string msg = lua_tostring(L, -1);
         lua_pop(L, 1);
         throw ScriptError(msg, chunk, 0, "");
     }
-    if (sandbox) {
-        push_sandbox(L);
-        if (!lua_setupvalue(L, -2, 1)) lua_pop(L, 1);  // the chunk's only upvalue is _ENV
+    run_loaded_chunk(L, sandbox);
+}
+
+void run_controller_source(lua_State* L, std::string_view code, const std::string& name) {
+    const std::string chunk = "@" + name;
+    if (luaL_loadbufferx(L, code.data(), code.size(), chunk.c_str(), "t") != LUA_OK) {
+        std::string msg = lua_tostring(L, -1);
+        lua_pop(L, 1);
+        throw ScriptError(msg, name, 0, "");
     }
-    protected_call(L, 0, 1);
+    run_loaded_chunk(L, true);
 }
 
 Reloader& Reloader::of(lua_State* L) {

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "lua_controller.h"
@@ -27,6 +28,10 @@ void push_sandbox(lua_State* L);
 /// Loads the Lua file `chunk` (text only), in a sandbox if asked, and runs it; leaves its one
 /// result on the stack. Throws ScriptError (syntax or runtime).
 void run_controller_file(lua_State* L, const std::string& chunk, bool sandbox);
+
+/// Runs controller source text (an embedded template) in a sandbox as chunk "@name"; leaves its
+/// one result on the stack. Throws ScriptError.
+void run_controller_source(lua_State* L, std::string_view code, const std::string& name);
 
 class Reloader {
   public:

@@ -4,6 +4,7 @@
 
 #include "gaitlab/scripting/lua_host.h"
 #include "stdlib_sources.h"
+#include "template_sources.h"
 
 namespace gaitlab::scripting {
 
@@ -17,6 +18,10 @@ void open_stdlib(lua_State* L, int gaitlab_index) {
         lua_pushvalue(L, LUA_REGISTRYINDEX);
         lua_call(L, 2, 0);
     }
+}
+
+const StdlibSource* controller_templates() {
+    return kTemplateSources;
 }
 
 }  // namespace gaitlab::scripting

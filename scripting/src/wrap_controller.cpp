@@ -5,10 +5,12 @@
 #include <fmt/format.h>
 
 #include "gaitlab/controllers/registry.h"
+#include "gaitlab/files.h"
 #include "hot_reload.h"
 #include "lua_controller.h"
 #include "lua_util.h"
 #include "scene.h"
+#include "stdlib.h"
 #include "wrap.h"
 
 namespace gaitlab::scripting {
@@ -415,6 +417,68 @@ int class_load(lua_State* L) {
     });
 }
 
+// the embedded template called `name`; throws ArgError(arg) naming the ones there are
+const StdlibSource& find_template(std::string_view name, int arg) {
+    std::vector<std::string> names;
+    for (const StdlibSource* t = controller_templates(); t->name; ++t) {
+        const std::string_view file = t->name;
+        const std::string_view stem = file.substr(0, file.size() - 4);  // without ".lua"
+        if (stem == name) return *t;
+        names.emplace_back(stem);
+    }
+    throw ArgError(arg, fmt::format("unknown template '{}'{} (templates: {})", name,
+                                    did_you_mean(name, names), fmt::join(names, ", ")));
+}
+
+// gaitlab.controller.templates(): the names of the embedded templates, sorted
+int class_templates(lua_State* L) {
+    return protect(L, [&] {
+        lua_newtable(L);
+        lua_Integer i = 0;
+        for (const StdlibSource* t = controller_templates(); t->name; ++t) {
+            const std::string_view file = t->name;
+            lua_pushlstring(L, file.data(), file.size() - 4);
+            lua_rawseti(L, -2, ++i);
+        }
+        return 1;
+    });
+}
+
+// gaitlab.controller.template(name): the class an embedded template defines, ready to use
+int class_template(lua_State* L) {
+    return protect(L, [&] {
+        const StdlibSource& t = find_template(check_string(L, 1), 1);
+        run_controller_source(L, t.code, std::string("template/") + t.name);
+        return 1;
+    });
+}
+
+// gaitlab.controller.write_template(name, path): copies a template into a new file to edit and
+// load; the path, or nil and a message if the file exists or cannot be written
+int class_write_template(lua_State* L) {
+    return protect(L, [&] {
+        const StdlibSource& t = find_template(check_string(L, 1), 1);
+        std::filesystem::path path(check_string(L, 2));
+        if (path.is_relative()) path = caller_dir(L) / path;
+        const std::string file = path.lexically_normal().string();
+        std::error_code ec;
+        if (std::filesystem::exists(path, ec)) {
+            lua_pushnil(L);
+            lua_pushstring(L, (file + ": file exists (templates never overwrite)").c_str());
+            return 2;
+        }
+        try {
+            write_file_atomic(file, t.code);
+        } catch (const IoError& e) {
+            lua_pushnil(L);
+            lua_pushstring(L, e.what());
+            return 2;
+        }
+        lua_pushstring(L, file.c_str());
+        return 1;
+    });
+}
+
 // gaitlab.controller.reload(): runs every loaded controller file again now; true, or false and
 // the first error (the classes that failed keep their last good version)
 int class_reload(lua_State* L) {
@@ -467,6 +531,12 @@ void open_controller(lua_State* L) {
     lua_setfield(L, -2, "load");
     lua_pushcfunction(L, class_reload);
     lua_setfield(L, -2, "reload");
+    lua_pushcfunction(L, class_templates);
+    lua_setfield(L, -2, "templates");
+    lua_pushcfunction(L, class_template);
+    lua_setfield(L, -2, "template");
+    lua_pushcfunction(L, class_write_template);
+    lua_setfield(L, -2, "write_template");
     lua_createtable(L, 0, 1);
     lua_pushcfunction(L, class_new);
     lua_setfield(L, -2, "__call");
