@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "gaitlab/error.h"
+#include "gaitlab/suggest.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/types.h"
 
@@ -30,10 +31,6 @@ class ArgError : public Error {
 
 /// The type name Lua uses in its own messages (honours __name).
 std::string type_name(lua_State* L, int index);
-/// The candidate closest to `word` by edit distance, or "" if none is close.
-std::string closest(std::string_view word, const std::vector<std::string>& candidates);
-/// " (did you mean 'x'?)" or "".
-std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates);
 
 /// Registry key of the last ScriptError that crossed C++ into Lua (see push_script_error).
 inline constexpr const char* kErrorOriginKey = "gaitlab.error_origin";
