@@ -1,4 +1,4 @@
-// The gaitlab executable: gaitlab run FILE.lua, gaitlab FILE.lua, --help, --version.
+// The gaitlab executable: gaitlab run FILE.lua|FILE.xml, gaitlab FILE.lua, --help, --version.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -16,8 +16,12 @@ bool ends_with(const std::string& s, const char* suffix) {
 }
 
 int run_script(const std::string& file, std::uint64_t seed, const std::vector<std::string>& args) {
-    if (!ends_with(file, ".lua")) {
-        std::fprintf(stderr, "gaitlab: %s: expected a Lua script (FILE.lua)\n", file.c_str());
+    const bool xml = ends_with(file, ".xml");
+    if (!ends_with(file, ".lua") && !xml) {
+        std::fprintf(stderr,
+                     "gaitlab: %s: expected a Lua script (FILE.lua) or a simulation file "
+                     "(FILE.xml)\n",
+                     file.c_str());
         return 2;
     }
     try {
@@ -29,7 +33,11 @@ int run_script(const std::string& file, std::uint64_t seed, const std::vector<st
         });
         host.seed(seed);
         host.set_args(file, args);
-        host.run_file(file);
+        if (xml) {
+            host.run_simulation_file(file);
+        } else {
+            host.run_file(file);
+        }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "gaitlab: %s\n", e.what());
         return 1;
@@ -41,8 +49,10 @@ int run_script(const std::string& file, std::uint64_t seed, const std::vector<st
 
 int main(int argc, char** argv) {
     std::vector<std::string> argl(argv + 1, argv + argc);
-    // "gaitlab FILE.lua ..." is "gaitlab run FILE.lua ..."
-    if (!argl.empty() && ends_with(argl[0], ".lua")) argl.insert(argl.begin(), "run");
+    // "gaitlab FILE.lua ..." is "gaitlab run FILE.lua ..." (and FILE.xml)
+    if (!argl.empty() && (ends_with(argl[0], ".lua") || ends_with(argl[0], ".xml"))) {
+        argl.insert(argl.begin(), "run");
+    }
 
     CLI::App app{"gaitlab: simulate modular robots and their locomotion controllers", "gaitlab"};
     app.set_version_flag("--version", std::string("gaitlab ") + gaitlab::version());
@@ -50,8 +60,9 @@ int main(int argc, char** argv) {
 
     std::string file;
     std::uint64_t seed = 0;
-    CLI::App* run = app.add_subcommand("run", "Run a Lua script headless");
-    run->add_option("file", file, "The script (FILE.lua)")->required();
+    CLI::App* run = app.add_subcommand("run", "Run a Lua script, or a simulation file, headless");
+    run->add_option("file", file, "The script (FILE.lua) or simulation file (FILE.xml)")
+        ->required();
     run->add_option("--seed", seed, "Seed for everything random (math.random too)")
         ->capture_default_str();
     // from the first argument after FILE that gaitlab does not know, everything goes to the

@@ -98,6 +98,15 @@ void Controller::reset() {
     on_bind();
 }
 
+ControllerRef Controller::ref() const {
+    ControllerRef r;
+    r.kind = ControllerRef::Kind::builtin;
+    r.name = name();
+    for (size_t i = 0; i < def_.params.size(); ++i)
+        r.params.emplace_back(def_.params[i].name, params_[i]);
+    return r;
+}
+
 void Controller::set_failed(bool failed, std::string message) {
     failed_ = failed;
     failure_ = failed ? std::move(message) : std::string();

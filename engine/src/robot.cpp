@@ -107,6 +107,7 @@ RobotSpec make_chain(const ChainSpec& spec) {
         js.servo = m.servo;
         robot.joints.push_back(std::move(js));
     }
+    robot.chain = spec;
     return robot;
 }
 
@@ -120,6 +121,21 @@ void validate(const RobotSpec& robot) {
         detail::check_positive(q + "size y", b.size.y, "m");
         detail::check_positive(q + "size z", b.size.z, "m");
         detail::check_range(q + "friction", b.friction, 0, 1);
+    }
+    // files refer to bodies by name
+    for (size_t b = 0; b < robot.bodies.size(); ++b) {
+        for (size_t c = 0; c < b; ++c) {
+            if (robot.bodies[b].name == robot.bodies[c].name) {
+                throw SpecError(p + "has two bodies named '" + robot.bodies[b].name + "'");
+            }
+        }
+    }
+    for (size_t j = 0; j < robot.joints.size(); ++j) {
+        for (size_t k = 0; k < j; ++k) {
+            if (robot.joints[j].name == robot.joints[k].name) {
+                throw SpecError(p + "has two joints named '" + robot.joints[j].name + "'");
+            }
+        }
     }
     const int nb = static_cast<int>(robot.bodies.size());
     for (const JointSpec& j : robot.joints) {
@@ -149,6 +165,28 @@ std::vector<int> select_joints(const RobotSpec& robot, std::string_view role) {
         throw SpecError(fmt::format("robot '{}' has no {} joints", robot.name, role));
     }
     return out;
+}
+
+bool operator==(const BodySpec& a, const BodySpec& b) {
+    return a.name == b.name && a.size == b.size && a.mass == b.mass &&
+           a.pose.position == b.pose.position && a.pose.orientation == b.pose.orientation &&
+           a.friction == b.friction;
+}
+
+bool operator==(const JointSpec& a, const JointSpec& b) {
+    return a.name == b.name && a.role == b.role && a.parent == b.parent && a.child == b.child &&
+           a.pivot == b.pivot && a.axis == b.axis && a.min_angle == b.min_angle &&
+           a.max_angle == b.max_angle && a.servo == b.servo;
+}
+
+bool operator==(const ChainSpec& a, const ChainSpec& b) {
+    return a.name == b.name && a.modules == b.modules && a.connection == b.connection &&
+           a.module == b.module;
+}
+
+bool operator==(const RobotSpec& a, const RobotSpec& b) {
+    return a.name == b.name && a.bodies == b.bodies && a.joints == b.joints &&
+           a.self_collision == b.self_collision && a.chain == b.chain;
 }
 
 double total_mass(const RobotSpec& robot) {

@@ -3,10 +3,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <string_view>
 
 #include <fmt/format.h>
 
 #include "lua_util.h"
+#include "stdlib.h"
 #include "wrap.h"
 
 namespace gaitlab::scripting {
@@ -15,6 +17,8 @@ namespace {
 
 constexpr const char* kReloaderKey = "gaitlab.reloader";
 constexpr const char* kReloaderType = "gaitlab.Reloader";
+// registry table: canonical path of a controller file -> its class
+constexpr const char* kFileClassesKey = "gaitlab.controller_files";
 
 }  // namespace
 
@@ -87,13 +91,67 @@ void run_controller_file(lua_State* L, const std::string& chunk, bool sandbox) {
 }
 
 void run_controller_source(lua_State* L, std::string_view code, const std::string& name) {
-    const std::string chunk = "@" + name;
+    const std::string chunk = "=" + name;  // not a file: relative paths ignore it
     if (luaL_loadbufferx(L, code.data(), code.size(), chunk.c_str(), "t") != LUA_OK) {
         std::string msg = lua_tostring(L, -1);
         lua_pop(L, 1);
         throw ScriptError(msg, name, 0, "");
     }
     run_loaded_chunk(L, true);
+}
+
+void push_file_class(lua_State* L, const std::string& path, bool sandbox) {
+    std::error_code ec;
+    const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
+    const std::filesystem::path canonical = std::filesystem::weakly_canonical(absolute, ec);
+    const std::string key = (ec ? absolute : canonical).string();
+    if (lua_getfield(L, LUA_REGISTRYINDEX, kFileClassesKey) != LUA_TTABLE) {
+        lua_pop(L, 1);
+        lua_newtable(L);
+        lua_pushvalue(L, -1);
+        lua_setfield(L, LUA_REGISTRYINDEX, kFileClassesKey);
+    }
+    if (lua_getfield(L, -1, key.c_str()) != LUA_TNIL) {
+        lua_remove(L, -2);
+        return;
+    }
+    lua_pop(L, 1);
+    const std::string chunk = std::filesystem::path(path).lexically_normal().string();
+    run_controller_file(L, chunk, sandbox);
+    if (!luaL_testudata(L, -1, kControllerClassType)) {
+        const std::string t = type_name(L, -1);
+        lua_pop(L, 2);
+        throw Error(fmt::format(
+            "{}: a controller file must return gaitlab.controller{{...}}, got {}", chunk, t));
+    }
+    auto& cls = *static_cast<std::shared_ptr<LuaControllerClass>*>(lua_touserdata(L, -1));
+    cls->origin_kind = ControllerRef::Kind::file;
+    cls->origin = key;
+    lua_pushvalue(L, -1);
+    lua_setfield(L, -3, key.c_str());
+    lua_remove(L, -2);
+    Reloader::of(L).watch(cls, chunk, sandbox);
+}
+
+const StdlibSource& find_template(std::string_view name) {
+    std::vector<std::string> names;
+    for (const StdlibSource* t = controller_templates(); t->name; ++t) {
+        const std::string_view file = t->name;
+        const std::string_view stem = file.substr(0, file.size() - 4);  // without ".lua"
+        if (stem == name) return *t;
+        names.emplace_back(stem);
+    }
+    throw SpecError(fmt::format("unknown template '{}'{} (templates: {})", name,
+                                did_you_mean(name, names), fmt::join(names, ", ")));
+}
+
+void push_template_class(lua_State* L, std::string_view name) {
+    const StdlibSource& t = find_template(name);
+    run_controller_source(L, t.code, std::string("template/") + t.name);
+    auto& cls = *static_cast<std::shared_ptr<LuaControllerClass>*>(
+        luaL_checkudata(L, -1, kControllerClassType));
+    cls->origin_kind = ControllerRef::Kind::template_;
+    cls->origin = std::string(name);
 }
 
 Reloader& Reloader::of(lua_State* L) {

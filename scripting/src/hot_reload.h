@@ -29,9 +29,23 @@ void push_sandbox(lua_State* L);
 /// result on the stack. Throws ScriptError (syntax or runtime).
 void run_controller_file(lua_State* L, const std::string& chunk, bool sandbox);
 
-/// Runs controller source text (an embedded template) in a sandbox as chunk "@name"; leaves its
+/// Runs controller source text (an embedded template) in a sandbox as chunk "=name"; leaves its
 /// one result on the stack. Throws ScriptError.
 void run_controller_source(lua_State* L, std::string_view code, const std::string& name);
+
+struct StdlibSource;
+
+/// Pushes the class of the controller file at `path` (made absolute and normal): the cached
+/// class if the file was loaded before, else runs the file (in a sandbox if asked), checks that
+/// it returns gaitlab.controller{...}, caches the class, records its origin and watches the
+/// file for hot reload. Throws ScriptError or Error naming the file.
+void push_file_class(lua_State* L, const std::string& path, bool sandbox);
+
+/// The embedded template called `name` (without ".lua"); throws SpecError naming the others.
+const StdlibSource& find_template(std::string_view name);
+
+/// Pushes a new class made from the embedded template `name`; throws SpecError or ScriptError.
+void push_template_class(lua_State* L, std::string_view name);
 
 class Reloader {
   public:

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
+#include "gaitlab/error.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/types.h"
 #include "hot_reload.h"
@@ -29,6 +32,19 @@ LuaController::~LuaController() {
     v.erase(std::remove(v.begin(), v.end(), this), v.end());
     luaL_unref(L_, LUA_REGISTRYINDEX, self_ref_);
     luaL_unref(L_, LUA_REGISTRYINDEX, snapshot_ref_);
+}
+
+ControllerRef LuaController::ref() const {
+    if (cls_->origin.empty()) {
+        throw SpecError(fmt::format(
+            "controller '{}' is defined inside a script ({}:{}): a file can only name a "
+            "controller loaded from its own file (gaitlab.controller.load) or a template",
+            name(), cls_->file, cls_->line));
+    }
+    ControllerRef r = Controller::ref();
+    r.kind = cls_->origin_kind;
+    r.name = cls_->origin;
+    return r;
 }
 
 void LuaController::take_snapshot() {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "gaitlab/actuation.h"
 #include "gaitlab/controller.h"
 
 namespace gaitlab::scripting {
@@ -34,6 +35,10 @@ struct LuaControllerClass {
     long long budget = kDefaultInstructionBudget;  ///< instructions per step
     std::string file;                              ///< where the class was defined
     int line = 0;
+    /// How an actuation file names this class: a controller file (origin = its absolute path)
+    /// or a template (origin = its name); origin is "" for a class defined inside a script.
+    ControllerRef::Kind origin_kind = ControllerRef::Kind::file;
+    std::string origin;
     std::uint64_t version = 0;              ///< increases with every successful reload
     std::string reload_error;               ///< why the last reload failed ("" if it did not)
     std::vector<LuaController*> instances;  ///< live instances, for the snapshot hook
@@ -47,6 +52,7 @@ class LuaController final : public Controller {
     ~LuaController() override;
 
     void step(ControlIO& io) override;
+    ControllerRef ref() const override;
     const LuaControllerClass& cls() const { return *cls_; }
 
     /// Calls the class's snapshot(self) and keeps the result for on_reload; throws ScriptError.

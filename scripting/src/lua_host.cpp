@@ -2,6 +2,8 @@
 
 #include <lua.hpp>
 
+#include <filesystem>
+
 #include "hot_reload.h"
 #include "lua_util.h"
 #include "stdlib.h"
@@ -165,6 +167,18 @@ void LuaHost::run_string(const std::string& code, const std::string& name) {
         throw ScriptError(msg, name, 0, "");
     }
     protected_call(L_, 0, 0);
+}
+
+void LuaHost::run_simulation_file(const std::string& path) {
+    lua_getglobal(L_, "gaitlab");
+    lua_getfield(L_, -1, "simulation");
+    lua_getfield(L_, -1, "run_file");
+    lua_replace(L_, -3);
+    lua_pop(L_, 1);
+    std::error_code ec;
+    const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
+    lua_pushstring(L_, (ec ? path : absolute.lexically_normal().string()).c_str());
+    protected_call(L_, 1, 0);
 }
 
 }  // namespace gaitlab::scripting

@@ -1,6 +1,7 @@
 #include "lua_util.h"
 
 #include <algorithm>
+#include <filesystem>
 
 namespace gaitlab::scripting {
 
@@ -12,6 +13,21 @@ std::string type_name(lua_State* L, int index) {
     }
     if (lua_type(L, index) == LUA_TLIGHTUSERDATA) return "light userdata";
     return luaL_typename(L, index);
+}
+
+std::string script_path(lua_State* L, const std::string& path) {
+    std::filesystem::path p(path);
+    if (p.is_relative()) {
+        lua_Debug ar;
+        for (int level = 1; lua_getstack(L, level, &ar); ++level) {
+            lua_getinfo(L, "S", &ar);
+            if (ar.source[0] == '@') {
+                p = std::filesystem::path(ar.source + 1).parent_path() / p;
+                break;
+            }
+        }
+    }
+    return p.lexically_normal().string();
 }
 
 void push_script_error(lua_State* L, const ScriptError& e) {

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "gaitlab/error.h"
-#include "gaitlab/suggest.h"
 #include "gaitlab/scripting/lua_host.h"
+#include "gaitlab/suggest.h"
 #include "gaitlab/types.h"
 
 namespace gaitlab::scripting {
@@ -112,6 +112,10 @@ void check_table(lua_State* L, int index);
 double check_number(lua_State* L, int index);
 long long check_integer(lua_State* L, int index);
 std::string check_string(lua_State* L, int index);
+
+/// `path` as the calling script means it: relative paths are relative to the folder of the Lua
+/// file that called the current C function (the working directory if none, e.g. in a REPL).
+std::string script_path(lua_State* L, const std::string& path);
 
 /// Pushes {x = , y = , z = } with the gaitlab.Vec3 metatable.
 void push_vec3(lua_State* L, const Vec3& v);

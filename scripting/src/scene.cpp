@@ -20,6 +20,18 @@ void RobotBinding::drive(std::vector<int> joints, std::shared_ptr<Controller> co
     drives.push_back(std::move(d));
 }
 
+void WorldBinding::add(std::shared_ptr<RobotBinding> robot, std::optional<Pose> pose) {
+    if (robot->in_world) throw Error("robot '" + robot->spec.name + "' is already in a world");
+    if (!pose) {
+        pose = Pose{};
+        for (const Placement& p : placements) {
+            if (p.robot == robot->spec.name) pose = p.pose;
+        }
+    }
+    robots.push_back({robot, *pose});
+    robot->in_world = true;
+}
+
 std::shared_ptr<Simulation> WorldBinding::compile(const SimulationOptions& options) const {
     WorldSpec world = spec;
     for (const Entry& e : robots)

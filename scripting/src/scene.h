@@ -3,12 +3,14 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "gaitlab/controller.h"
 #include "gaitlab/simulation.h"
 #include "gaitlab/world.h"
+#include "gaitlab/xml.h"
 
 namespace gaitlab::scripting {
 
@@ -34,7 +36,12 @@ struct WorldBinding {
         Pose pose;
     };
     std::vector<Entry> robots;
+    /// Where robots go by name when added without a pose (from an environment file).
+    std::vector<Placement> placements;
 
+    /// Adds a robot at `pose`, or without one where `placements` puts a robot of its name, or
+    /// else with its tail at the origin; throws Error if the robot is in a world already.
+    void add(std::shared_ptr<RobotBinding> robot, std::optional<Pose> pose);
     /// Compiles the world into a simulation and links every robot to it.
     std::shared_ptr<Simulation> compile(const SimulationOptions& options) const;
 };

@@ -10,7 +10,8 @@ namespace gaitlab::scripting {
 
 void open_stdlib(lua_State* L, int gaitlab_index) {
     for (const StdlibSource* s = kStdlibSources; s->name; ++s) {
-        const std::string chunk = std::string("@stdlib/") + s->name;
+        // "=": a name, not a file, so paths in calls from it are not relative to it
+        const std::string chunk = std::string("=stdlib/") + s->name;
         if (luaL_loadbufferx(L, s->code, std::strlen(s->code), chunk.c_str(), "t") != LUA_OK) {
             lua_error(L);  // a broken stdlib is a build defect; report it as Lua would
         }

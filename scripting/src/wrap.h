@@ -6,6 +6,10 @@
 
 #include <memory>
 
+namespace gaitlab {
+class Controller;
+}
+
 namespace gaitlab::scripting {
 
 struct RobotBinding;
@@ -17,15 +21,23 @@ inline constexpr const char* kWorldType = "gaitlab.World";
 inline constexpr const char* kSimulationType = "gaitlab.Simulation";
 inline constexpr const char* kControllerType = "gaitlab.Controller";
 inline constexpr const char* kControllerClassType = "gaitlab.ControllerClass";
+inline constexpr const char* kActuationType = "gaitlab.Actuation";
 
 // each open_* adds its functions to the gaitlab table on top of the stack
 void open_robot(lua_State* L);
 void open_world(lua_State* L);
 void open_simulation(lua_State* L);
 void open_controller(lua_State* L);
+void open_actuation(lua_State* L);
 
 bool is_robot(lua_State* L, int index);
 std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index);
 std::shared_ptr<WorldBinding> to_world(lua_State* L, int index);
+/// Pushes a handle for a robot (as gaitlab.robot.chain does).
+void push_robot(lua_State* L, std::shared_ptr<RobotBinding> robot);
+/// Pushes a handle for a world.
+void push_world(lua_State* L, std::shared_ptr<WorldBinding> world);
+/// Pushes a handle for a controller; `attached` if a group already uses it.
+void push_controller(lua_State* L, std::shared_ptr<Controller> controller, bool attached);
 
 }  // namespace gaitlab::scripting

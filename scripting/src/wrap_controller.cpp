@@ -64,7 +64,7 @@ void apply_params(lua_State* L, int index, int arg, Controller& c) {
 }
 
 void push_handle(lua_State* L, std::shared_ptr<Controller> c) {
-    new_object<ControllerHandle>(L, kControllerType, ControllerHandle{std::move(c), false});
+    push_controller(L, std::move(c), false);
 }
 
 // gaitlab.controllers.<name>{params}: upvalue 1 is the built-in's name
@@ -369,16 +369,6 @@ int class_tostring(lua_State* L) {
     });
 }
 
-// the directory of the Lua file that called the current C function ("" if none)
-std::filesystem::path caller_dir(lua_State* L) {
-    lua_Debug ar;
-    for (int level = 1; lua_getstack(L, level, &ar); ++level) {
-        lua_getinfo(L, "S", &ar);
-        if (ar.source[0] == '@') return std::filesystem::path(ar.source + 1).parent_path();
-    }
-    return {};
-}
-
 // gaitlab.controller.load(path [, { sandbox = }]): runs a controller file once (in a sandbox
 // unless told otherwise), caches the class it returns and watches the file for changes
 int class_load(lua_State* L) {
@@ -389,45 +379,14 @@ int class_load(lua_State* L) {
             Fields opts(L, 2, 2, {"sandbox"});
             sandbox = opts.boolean("sandbox", true);
         }
-        std::filesystem::path path(arg);
-        if (path.is_relative()) path = caller_dir(L) / path;
-        std::error_code ec;
-        const std::filesystem::path canonical = std::filesystem::weakly_canonical(path, ec);
-        const std::string key = (ec ? path : canonical).string();
-        lua_getfield(L, lua_upvalueindex(1), key.c_str());
-        if (!lua_isnil(L, -1)) return 1;
-        lua_pop(L, 1);
+        const std::filesystem::path path = script_path(L, arg);
         if (!std::filesystem::exists(path)) {
             throw Error(
                 fmt::format("cannot load controller '{}': no file at {}", arg, path.string()));
         }
-        const std::string chunk = path.lexically_normal().string();
-        run_controller_file(L, chunk, sandbox);
-        if (!luaL_testudata(L, -1, kControllerClassType)) {
-            const std::string t = type_name(L, -1);
-            throw Error(
-                fmt::format("{}: a controller file must return gaitlab.controller{{...}}, "
-                            "got {}",
-                            chunk, t));
-        }
-        lua_pushvalue(L, -1);
-        lua_setfield(L, lua_upvalueindex(1), key.c_str());
-        Reloader::of(L).watch(*static_cast<ClassPtr*>(lua_touserdata(L, -1)), chunk, sandbox);
+        push_file_class(L, path.string(), sandbox);
         return 1;
     });
-}
-
-// the embedded template called `name`; throws ArgError(arg) naming the ones there are
-const StdlibSource& find_template(std::string_view name, int arg) {
-    std::vector<std::string> names;
-    for (const StdlibSource* t = controller_templates(); t->name; ++t) {
-        const std::string_view file = t->name;
-        const std::string_view stem = file.substr(0, file.size() - 4);  // without ".lua"
-        if (stem == name) return *t;
-        names.emplace_back(stem);
-    }
-    throw ArgError(arg, fmt::format("unknown template '{}'{} (templates: {})", name,
-                                    did_you_mean(name, names), fmt::join(names, ", ")));
 }
 
 // gaitlab.controller.templates(): the names of the embedded templates, sorted
@@ -447,8 +406,12 @@ int class_templates(lua_State* L) {
 // gaitlab.controller.template(name): the class an embedded template defines, ready to use
 int class_template(lua_State* L) {
     return protect(L, [&] {
-        const StdlibSource& t = find_template(check_string(L, 1), 1);
-        run_controller_source(L, t.code, std::string("template/") + t.name);
+        const std::string name = check_string(L, 1);
+        try {
+            push_template_class(L, name);
+        } catch (const SpecError& e) {
+            throw ArgError(1, e.what());
+        }
         return 1;
     });
 }
@@ -457,10 +420,14 @@ int class_template(lua_State* L) {
 // load; the path, or nil and a message if the file exists or cannot be written
 int class_write_template(lua_State* L) {
     return protect(L, [&] {
-        const StdlibSource& t = find_template(check_string(L, 1), 1);
-        std::filesystem::path path(check_string(L, 2));
-        if (path.is_relative()) path = caller_dir(L) / path;
-        const std::string file = path.lexically_normal().string();
+        const StdlibSource* t = nullptr;
+        try {
+            t = &find_template(check_string(L, 1));
+        } catch (const SpecError& e) {
+            throw ArgError(1, e.what());
+        }
+        const std::string file = script_path(L, check_string(L, 2));
+        const std::filesystem::path path(file);
         std::error_code ec;
         if (std::filesystem::exists(path, ec)) {
             lua_pushnil(L);
@@ -468,7 +435,7 @@ int class_write_template(lua_State* L) {
             return 2;
         }
         try {
-            write_file_atomic(file, t.code);
+            write_file_atomic(file, t->code);
         } catch (const IoError& e) {
             lua_pushnil(L);
             lua_pushstring(L, e.what());
@@ -492,6 +459,11 @@ int class_reload(lua_State* L) {
 }
 
 }  // namespace
+
+void push_controller(lua_State* L, std::shared_ptr<Controller> controller, bool attached) {
+    new_object<ControllerHandle>(L, kControllerType,
+                                 ControllerHandle{std::move(controller), attached});
+}
 
 void open_controller(lua_State* L) {
     const luaL_Reg methods[] = {
@@ -526,8 +498,7 @@ void open_controller(lua_State* L) {
 
     // gaitlab.controller{...} and gaitlab.controller.load(path)
     lua_newtable(L);
-    lua_newtable(L);  // cache: canonical path -> class
-    lua_pushcclosure(L, class_load, 1);
+    lua_pushcfunction(L, class_load);
     lua_setfield(L, -2, "load");
     lua_pushcfunction(L, class_reload);
     lua_setfield(L, -2, "reload");

@@ -1,6 +1,8 @@
 // gaitlab.robot: chain builder, robot handles and joint groups.
 #include <fmt/format.h>
 
+#include "config_files.h"
+#include "gaitlab/files.h"
 #include "lua_util.h"
 #include "scene.h"
 #include "wrap.h"
@@ -26,7 +28,7 @@ int robot_chain(lua_State* L) {
             spec.connection = parse_connection(f.string("connection", "pitch-pitch"));
             auto robot = std::make_shared<RobotBinding>();
             robot->spec = make_chain(spec);
-            new_object<RobotPtr>(L, kRobotType, std::move(robot));
+            push_robot(L, std::move(robot));
         } catch (const SpecError& e) {
             throw ArgError(1, e.what());
         }
@@ -205,6 +207,68 @@ int robot_len(lua_State* L) {
     });
 }
 
+// gaitlab.robot.load(path): a robot from a robot file, or nil and a message
+int robot_load(lua_State* L) {
+    return protect(L, [&] {
+        const std::string path = script_path(L, check_string(L, 1));
+        auto robot = std::make_shared<RobotBinding>();
+        try {
+            robot->spec = read_robot(path);
+        } catch (const FormatError& e) {
+            lua_pushnil(L);
+            lua_pushstring(L, e.what());
+            return 2;
+        }
+        push_robot(L, std::move(robot));
+        return 1;
+    });
+}
+
+// robot:save(path): writes the robot file; the path, or nil and a message
+int robot_save(lua_State* L) {
+    return protect(L, [&] {
+        RobotBinding& r = check_robot(L, 1);
+        const std::string path = script_path(L, check_string(L, 2));
+        try {
+            write_robot(path, r.spec);
+        } catch (const IoError& e) {
+            lua_pushnil(L);
+            lua_pushstring(L, e.what());
+            return 2;
+        }
+        lua_pushstring(L, path.c_str());
+        return 1;
+    });
+}
+
+// robot:actuation(): the spec of its groups and controllers, parameters at their current values
+int robot_actuation(lua_State* L) {
+    return protect(L, [&] {
+        new_object<ActuationSpec>(L, kActuationType, actuation_of(check_robot(L, 1)));
+        return 1;
+    });
+}
+
+// robot:actuate(actuation): drives the robot as the spec says; returns its controllers
+int robot_actuate(lua_State* L) {
+    return protect(L, [&] {
+        RobotBinding& r = check_robot(L, 1);
+        const ActuationSpec& a = check_object<ActuationSpec>(L, 2, kActuationType);
+        std::vector<std::shared_ptr<Controller>> made;
+        try {
+            made = actuate(L, r, a);
+        } catch (const SpecError& e) {
+            throw ArgError(2, e.what());
+        }
+        lua_createtable(L, static_cast<int>(made.size()), 0);
+        for (size_t i = 0; i < made.size(); ++i) {
+            push_controller(L, made[i], true);
+            lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+        }
+        return 1;
+    });
+}
+
 int group_drive(lua_State* L) {
     return protect(L, [&] {
         GroupHandle& g = check_object<GroupHandle>(L, 1, kGroupType);
@@ -246,18 +310,20 @@ bool is_robot(lua_State* L, int index) {
     return luaL_testudata(L, index, kRobotType) != nullptr;
 }
 
+void push_robot(lua_State* L, std::shared_ptr<RobotBinding> robot) {
+    new_object<RobotPtr>(L, kRobotType, std::move(robot));
+}
+
 std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index) {
     return check_object<RobotPtr>(L, index, kRobotType);
 }
 
 void open_robot(lua_State* L) {
-    const luaL_Reg methods[] = {{"group", robot_group},
-                                {"position", robot_position},
-                                {"velocity", robot_velocity},
-                                {"displacement", robot_displacement},
-                                {"bodies", robot_bodies},
-                                {"joints", robot_joints},
-                                {nullptr, nullptr}};
+    const luaL_Reg methods[] = {{"group", robot_group},       {"position", robot_position},
+                                {"velocity", robot_velocity}, {"displacement", robot_displacement},
+                                {"bodies", robot_bodies},     {"joints", robot_joints},
+                                {"save", robot_save},         {"actuation", robot_actuation},
+                                {"actuate", robot_actuate},   {nullptr, nullptr}};
     luaL_newmetatable(L, kRobotType);
     lua_newtable(L);
     luaL_setfuncs(L, methods, 0);
@@ -278,6 +344,8 @@ void open_robot(lua_State* L) {
     lua_newtable(L);
     lua_pushcfunction(L, robot_chain);
     lua_setfield(L, -2, "chain");
+    lua_pushcfunction(L, robot_load);
+    lua_setfield(L, -2, "load");
     lua_setfield(L, -2, "robot");
 }
 

@@ -1,6 +1,8 @@
 // gaitlab.world: gravity, floor, boxes, and placing robots.
 #include <fmt/format.h>
 
+#include "gaitlab/files.h"
+#include "gaitlab/xml.h"
 #include "lua_util.h"
 #include "scene.h"
 #include "wrap.h"
@@ -38,7 +40,7 @@ int world_new(lua_State* L) {
         } catch (const SpecError& e) {
             throw ArgError(1, e.what());
         }
-        new_object<WorldPtr>(L, kWorldType, std::move(world));
+        push_world(L, std::move(world));
         return 1;
     });
 }
@@ -50,15 +52,15 @@ int world_add(lua_State* L) {
         if (robot->in_world) {
             throw ArgError(2, "robot '" + robot->spec.name + "' is already in a world");
         }
-        // the robot frame has its tail at the origin and the floor at z = 0
-        Pose pose;
+        // the robot frame has its tail at the origin and the floor at z = 0; without a pose the
+        // world's placement for the robot's name (from an environment file) applies
+        std::optional<Pose> pose;
         if (!lua_isnoneornil(L, 3)) {
             Fields f(L, 3, 3, {"x", "y", "z", "yaw"});
-            pose.position = {f.number("x", 0), f.number("y", 0), f.number("z", 0)};
-            pose.orientation = yaw_rotation(f.number("yaw", 0));
+            pose = Pose{{f.number("x", 0), f.number("y", 0), f.number("z", 0)},
+                        yaw_rotation(f.number("yaw", 0))};
         }
-        w.robots.push_back({robot, pose});
-        robot->in_world = true;
+        w.add(robot, pose);
         lua_settop(L, 1);
         return 1;
     });
@@ -89,6 +91,57 @@ int world_box(lua_State* L) {
     });
 }
 
+// gaitlab.world.load(path): a world from an environment file (objects, and where robots of
+// the names it places go when added), or nil and a message
+int world_load(lua_State* L) {
+    return protect(L, [&] {
+        const std::string path = script_path(L, check_string(L, 1));
+        auto world = std::make_shared<WorldBinding>();
+        try {
+            EnvironmentSpec env = read_environment(path);
+            world->spec = std::move(env.world);
+            world->placements = std::move(env.placements);
+        } catch (const FormatError& e) {
+            lua_pushnil(L);
+            lua_pushstring(L, e.what());
+            return 2;
+        }
+        push_world(L, std::move(world));
+        return 1;
+    });
+}
+
+// world:save(path): writes the environment file, with where its robots are; the path, or nil
+// and a message
+int world_save(lua_State* L) {
+    return protect(L, [&] {
+        WorldBinding& w = *check_object<WorldPtr>(L, 1, kWorldType);
+        const std::string path = script_path(L, check_string(L, 2));
+        EnvironmentSpec env;
+        env.world = w.spec;
+        for (const WorldBinding::Entry& e : w.robots) {
+            for (const Placement& p : env.placements) {
+                if (p.robot == e.robot->spec.name) {
+                    throw Error(
+                        fmt::format("two robots are named '{}': give each its own name "
+                                    "to save where they are",
+                                    p.robot));
+                }
+            }
+            env.placements.push_back({e.robot->spec.name, e.pose});
+        }
+        try {
+            write_environment(path, env);
+        } catch (const IoError& e) {
+            lua_pushnil(L);
+            lua_pushstring(L, e.what());
+            return 2;
+        }
+        lua_pushstring(L, path.c_str());
+        return 1;
+    });
+}
+
 int world_tostring(lua_State* L) {
     return protect(L, [&] {
         WorldBinding& w = *check_object<WorldPtr>(L, 1, kWorldType);
@@ -100,12 +153,17 @@ int world_tostring(lua_State* L) {
 
 }  // namespace
 
+void push_world(lua_State* L, std::shared_ptr<WorldBinding> world) {
+    new_object<WorldPtr>(L, kWorldType, std::move(world));
+}
+
 std::shared_ptr<WorldBinding> to_world(lua_State* L, int index) {
     return check_object<WorldPtr>(L, index, kWorldType);
 }
 
 void open_world(lua_State* L) {
-    const luaL_Reg methods[] = {{"add", world_add}, {"box", world_box}, {nullptr, nullptr}};
+    const luaL_Reg methods[] = {
+        {"add", world_add}, {"box", world_box}, {"save", world_save}, {nullptr, nullptr}};
     const luaL_Reg meta[] = {{"__tostring", world_tostring}, {nullptr, nullptr}};
     register_type<WorldPtr>(L, kWorldType, methods, meta);
 
@@ -115,6 +173,8 @@ void open_world(lua_State* L) {
     lua_pushcfunction(L, world_new);
     lua_setfield(L, -2, "__call");
     lua_setmetatable(L, -2);
+    lua_pushcfunction(L, world_load);
+    lua_setfield(L, -2, "load");
     lua_setfield(L, -2, "world");
 }
 

@@ -128,7 +128,8 @@ TEST_CASE("a missing script fails with one line naming it", "[cli]") {
     CHECK(b.err == r.err);
 
     check_failure(gaitlab({"run", "notes.txt"}),
-                  "gaitlab: notes.txt: expected a Lua script (FILE.lua)");
+                  "gaitlab: notes.txt: expected a Lua script (FILE.lua) or a simulation file "
+                  "(FILE.xml)");
 }
 
 TEST_CASE("script errors print one line: gaitlab: FILE:LINE: message", "[cli]") {

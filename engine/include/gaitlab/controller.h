@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include "gaitlab/actuation.h"
+
 namespace gaitlab {
 
 /// A named controller parameter.
@@ -105,6 +107,9 @@ class Controller {
     void set_failed(bool failed, std::string message = {});
     /// Computes the group's targets for this control step.
     virtual void step(ControlIO& io) = 0;
+    /// How an actuation file names this controller, with every parameter at its current value.
+    /// A built-in is named by name(); throws SpecError for a controller no file can name.
+    virtual ControllerRef ref() const;
 
   protected:
     std::vector<double>& value(int k) { return values_[k]; }

@@ -13,6 +13,10 @@ struct ServoDef {
     double max_torque = 0.4;  ///< N·m
 };
 
+inline bool operator==(const ServoDef& a, const ServoDef& b) {
+    return a.kp == b.kp && a.max_speed == b.max_speed && a.max_torque == b.max_torque;
+}
+
 /// The servo of the y1 module (Futaba S3003 as modelled by OpenMR).
 inline ServoDef default_servo_def() {
     return ServoDef{};
@@ -30,6 +34,15 @@ struct ModuleDef {
     double friction = 1.0;  ///< surface friction in [0, 1]; contacts multiply the two surfaces'
     ServoDef servo = default_servo_def();
 };
+
+inline bool operator==(const ModuleDef& a, const ModuleDef& b) {
+    return a.name == b.name && a.length == b.length && a.width == b.width && a.height == b.height &&
+           a.mass == b.mass && a.min_angle == b.min_angle && a.max_angle == b.max_angle &&
+           a.friction == b.friction && a.servo == b.servo;
+}
+inline bool operator!=(const ModuleDef& a, const ModuleDef& b) {
+    return !(a == b);
+}
 
 /// The default y1 module: 72 mm joint to joint, 52 × 52 mm, 50 g, ±90°, 0.4 N·m, 4.5 rad/s.
 inline ModuleDef default_module_def() {

@@ -1,6 +1,7 @@
 // Robot specs: plain values describing bodies and joints, and the chain builder.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,6 +46,14 @@ struct JointSpec {
     ServoDef servo;
 };
 
+/// A straight chain of identical modules.
+struct ChainSpec {
+    std::string name = "robot";
+    int modules = 1;  ///< >= 1
+    Connection connection = Connection::pitch_pitch;
+    ModuleDef module = default_module_def();
+};
+
 /// A robot: bodies, the joints between them, and options. The robot frame has its tail at the
 /// origin, the chain along +x and the floor at z = 0.
 struct RobotSpec {
@@ -52,14 +61,9 @@ struct RobotSpec {
     std::vector<BodySpec> bodies;
     std::vector<JointSpec> joints;
     bool self_collision = false;  ///< collide non-adjacent bodies of the robot with each other
-};
-
-/// A straight chain of identical modules.
-struct ChainSpec {
-    std::string name = "robot";
-    int modules = 1;  ///< >= 1
-    Connection connection = Connection::pitch_pitch;
-    ModuleDef module = default_module_def();
+    /// The chain make_chain built this robot from, if it did: robot files then store the chain
+    /// rather than every body and joint (when the bodies and joints are still the chain's).
+    std::optional<ChainSpec> chain;
 };
 
 /// Builds a chain of N modules: N joints and N + 1 bodies (tail half, N - 1 segments, head half),
@@ -75,5 +79,14 @@ std::vector<int> select_joints(const RobotSpec& robot, std::string_view role);
 
 /// Total mass, kg.
 double total_mass(const RobotSpec& robot);
+
+/// Field-by-field equality (exact), as robot files must give back what was saved.
+bool operator==(const BodySpec& a, const BodySpec& b);
+bool operator==(const JointSpec& a, const JointSpec& b);
+bool operator==(const ChainSpec& a, const ChainSpec& b);
+bool operator==(const RobotSpec& a, const RobotSpec& b);
+inline bool operator!=(const RobotSpec& a, const RobotSpec& b) {
+    return !(a == b);
+}
 
 }  // namespace gaitlab

@@ -62,6 +62,9 @@ class LuaHost {
     void run_file(const std::string& path);
     /// Loads and runs a string; `name` is the chunk name shown in messages.
     void run_string(const std::string& code, const std::string& name);
+    /// Loads a simulation file and the parts it names, runs it for its duration and prints how
+    /// far each robot moved (`gaitlab run FILE.xml`); throws ScriptError.
+    void run_simulation_file(const std::string& path);
 
   private:
     lua_State* L_;

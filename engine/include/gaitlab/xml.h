@@ -1,0 +1,95 @@
+// Configuration files: robot, actuation, environment and simulation (the master that names the
+// other three), each a versioned XML file (<gaitlab version="1">) described in docs/formats.md.
+// Readers check everything before they return; writers check the spec before they write and
+// write atomically, so a failed save leaves the old file as it was.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "gaitlab/actuation.h"
+#include "gaitlab/error.h"
+#include "gaitlab/robot.h"
+#include "gaitlab/simulation.h"
+#include "gaitlab/world.h"
+
+namespace gaitlab {
+
+/// A configuration file is malformed or names something that does not exist. what() is
+/// "FILE:LINE: PATH: message", PATH the element path (e.g. "robot/joint[3]").
+class FormatError : public Error {
+  public:
+    FormatError(const std::string& message, std::string file, int line)
+        : Error(message), file_(std::move(file)), line_(line) {}
+    const std::string& file() const { return file_; }
+    int line() const { return line_; }
+
+  private:
+    std::string file_;
+    int line_;
+};
+
+/// Where a robot of the simulation lies in its environment.
+struct Placement {
+    std::string robot;  ///< the robot's name
+    Pose pose;          ///< robot frame in the world frame
+};
+
+/// An environment file: everything of a world but its robots, and where the robots go.
+struct EnvironmentSpec {
+    WorldSpec world;  ///< its `robots` stay empty
+    std::vector<Placement> placements;
+};
+
+/// One robot of a simulation file: the files of its body and of its actuation, as written
+/// (relative paths are relative to the simulation file's folder).
+struct RobotEntry {
+    std::string robot;
+    std::string actuation;  ///< "" for a robot without controllers
+};
+
+/// What a run records (see docs/data.md); written in the simulation file.
+struct RecordSpec {
+    bool enabled = true;
+    std::string dir;           ///< run folder ("" = runs/<name>-<timestamp>/)
+    int every = 0;             ///< ticks between samples (0 = every control tick)
+    double flush_seconds = 2;  ///< wall time between flushes to disk, s
+};
+
+/// A simulation (master) file: options, the parts it is made of, how long it runs.
+struct SimulationFile {
+    std::string name = "simulation";
+    SimulationOptions options = default_simulation_options();
+    double duration = 10;     ///< simulated seconds `gaitlab run` runs it for
+    std::string environment;  ///< the environment file, as written
+    std::vector<RobotEntry> robots;
+    RecordSpec record;
+};
+
+/// File readers: `path` is read and checked; `parse_*` read text (`file` names it in messages).
+/// All throw FormatError (malformed input, unknown elements or attributes, values out of
+/// range, an unreadable file).
+RobotSpec read_robot(const std::string& path);
+RobotSpec parse_robot(std::string_view text, const std::string& file);
+ActuationSpec read_actuation(const std::string& path);
+ActuationSpec parse_actuation(std::string_view text, const std::string& file);
+EnvironmentSpec read_environment(const std::string& path);
+EnvironmentSpec parse_environment(std::string_view text, const std::string& file);
+SimulationFile read_simulation(const std::string& path);
+SimulationFile parse_simulation(std::string_view text, const std::string& file);
+
+/// File writers: check the spec (SpecError), then write atomically (IoError).
+void write_robot(const std::string& path, const RobotSpec& robot);
+std::string format_robot(const RobotSpec& robot);
+void write_actuation(const std::string& path, const ActuationSpec& actuation);
+std::string format_actuation(const ActuationSpec& actuation);
+void write_environment(const std::string& path, const EnvironmentSpec& environment);
+std::string format_environment(const EnvironmentSpec& environment);
+void write_simulation(const std::string& path, const SimulationFile& simulation);
+std::string format_simulation(const SimulationFile& simulation);
+
+/// `path` resolved against the folder of the file `from` (unless absolute).
+std::string resolve_path(const std::string& from, const std::string& path);
+
+}  // namespace gaitlab

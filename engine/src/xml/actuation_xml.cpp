@@ -1,0 +1,145 @@
+// Actuation files: joint groups and the controller that drives each, with its parameter values.
+// Parameter names are checked when the controller is built (they depend on the controller),
+// so each ControllerRef keeps the file and line it came from. See docs/formats.md.
+#include <cstdlib>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "gaitlab/files.h"
+#include "gaitlab/xml.h"
+#include "xml_io.h"
+
+namespace gaitlab {
+
+namespace {
+
+using xml::Element;
+
+constexpr const char* kRefKinds[] = {"builtin", "file", "template"};
+
+void read_joints(const Element& e, GroupSpec& g) {
+    const std::string text = e.required_string("joints");
+    std::istringstream in(text);
+    std::string word;
+    std::vector<std::string> words;
+    while (in >> word)
+        words.push_back(word);
+    if (words.empty()) e.fail("attribute 'joints': a role or joint numbers expected, got ''");
+    if (words.size() == 1 && (words[0] == "pitch" || words[0] == "yaw" || words[0] == "all")) {
+        g.role = words[0];
+        return;
+    }
+    for (const std::string& w : words) {
+        char* end = nullptr;
+        const long n = std::strtol(w.c_str(), &end, 10);
+        if (*end != '\0' || n < 1 || n > 100000) {
+            e.fail(fmt::format(
+                "attribute 'joints': 'pitch', 'yaw', 'all' or joint numbers (from 1) expected, "
+                "got '{}'",
+                text));
+        }
+        for (int j : g.joints) {
+            if (j == n - 1) e.fail(fmt::format("attribute 'joints': joint {} is listed twice", n));
+        }
+        g.joints.push_back(static_cast<int>(n - 1));
+    }
+}
+
+ControllerRef read_controller(const Element& e) {
+    e.children({});
+    ControllerRef ref;
+    ref.source = e.file();
+    ref.line = e.line();
+    int kinds = 0;
+    for (const std::string& a : e.attribute_names()) {
+        bool is_kind = false;
+        for (size_t k = 0; k < std::size(kRefKinds); ++k) {
+            if (a == kRefKinds[k]) {
+                ref.kind = static_cast<ControllerRef::Kind>(k);
+                ref.name = e.string(a.c_str(), "");
+                is_kind = true;
+                ++kinds;
+            }
+        }
+        if (!is_kind) ref.params.emplace_back(a, e.required_number(a.c_str()));
+    }
+    if (kinds != 1) {
+        e.fail(
+            "exactly one of 'builtin', 'file' or 'template' expected (which controller), "
+            "then its parameters, e.g. <controller builtin=\"sine\" amplitude=\"30\"/>");
+    }
+    if (ref.name.empty()) e.fail(fmt::format("attribute '{}' is empty", to_string(ref.kind)));
+    return ref;
+}
+
+ActuationSpec read_actuation_element(const Element& root) {
+    root.allow({});
+    ActuationSpec a;
+    for (const Element& g : root.children({"group"})) {
+        g.allow({"joints"});
+        GroupSpec group;
+        read_joints(g, group);
+        const std::vector<Element> kids = g.children({"controller"});
+        if (kids.size() != 1) g.fail("one <controller> per group expected");
+        group.controller = read_controller(kids[0]);
+        a.groups.push_back(std::move(group));
+    }
+    return a;
+}
+
+void check(const ActuationSpec& a) {
+    for (size_t i = 0; i < a.groups.size(); ++i) {
+        const GroupSpec& g = a.groups[i];
+        const std::string p = fmt::format("group {}: ", i + 1);
+        if (g.role.empty() == g.joints.empty()) {
+            throw SpecError(p + "a group is a role or a list of joints, exactly one of them");
+        }
+        if (g.controller.name.empty()) throw SpecError(p + "the controller has no name");
+        for (int j : g.joints) {
+            if (j < 0) throw SpecError(p + fmt::format("joint numbers start at 1 (got {})", j + 1));
+        }
+    }
+}
+
+}  // namespace
+
+ActuationSpec parse_actuation(std::string_view text, const std::string& file) {
+    const xml::Document doc(text, file, "actuation");
+    return read_actuation_element(doc.root());
+}
+
+ActuationSpec read_actuation(const std::string& path) {
+    return parse_actuation(xml::read_text(path), path);
+}
+
+std::string format_actuation(const ActuationSpec& a) {
+    check(a);
+    xml::Writer w;
+    w.open("actuation");
+    for (const GroupSpec& g : a.groups) {
+        w.open("group");
+        if (!g.role.empty()) {
+            w.attr("joints", g.role);
+        } else {
+            std::string list;
+            for (int j : g.joints)
+                list += (list.empty() ? "" : " ") + std::to_string(j + 1);
+            w.attr("joints", list);
+        }
+        w.open("controller");
+        w.attr(to_string(g.controller.kind), g.controller.name);
+        for (const auto& [name, value] : g.controller.params)
+            w.attr(name.c_str(), value);
+        w.close();
+        w.close();
+    }
+    w.close();
+    return w.text();
+}
+
+void write_actuation(const std::string& path, const ActuationSpec& a) {
+    write_file_atomic(path, format_actuation(a));
+}
+
+}  // namespace gaitlab

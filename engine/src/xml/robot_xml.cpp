@@ -1,0 +1,245 @@
+// Robot files: a chain (modules, connection, module type) or, for any other robot, every body
+// and joint. See docs/formats.md.
+#include <fmt/format.h>
+
+#include "gaitlab/files.h"
+#include "gaitlab/suggest.h"
+#include "gaitlab/xml.h"
+#include "xml_io.h"
+
+namespace gaitlab {
+
+namespace {
+
+using xml::Element;
+
+// the module library by name (the default module is y1)
+ModuleDef library_module(const Element& e, const std::string& name) {
+    if (name == "y1") return default_module_def();
+    e.fail(fmt::format("unknown module type '{}'{} (module types: 'y1')", name,
+                       did_you_mean(name, {"y1"})));
+}
+
+ModuleDef read_module(const Element& e, ModuleDef m) {
+    e.allow({"name", "length", "width", "height", "mass", "min", "max", "friction", "kp",
+             "max_speed", "max_torque"});
+    e.children({});
+    m.name = e.string("name", m.name);
+    m.length = e.number("length", m.length);
+    m.width = e.number("width", m.width);
+    m.height = e.number("height", m.height);
+    m.mass = e.number("mass", m.mass);
+    m.min_angle = e.angle("min", m.min_angle);
+    m.max_angle = e.angle("max", m.max_angle);
+    m.friction = e.number("friction", m.friction);
+    m.servo.kp = e.number("kp", m.servo.kp);
+    m.servo.max_speed = e.number("max_speed", m.servo.max_speed);
+    m.servo.max_torque = e.number("max_torque", m.servo.max_torque);
+    return m;
+}
+
+RobotSpec read_chain(const Element& e, const std::string& name) {
+    e.allow({"modules", "connection", "module"});
+    ChainSpec chain;
+    chain.name = name;
+    if (!e.has("modules")) e.fail("attribute 'modules' is required (the number of modules)");
+    const long long n = e.integer("modules", 1);
+    if (n < 1 || n > 1000) e.fail(fmt::format("modules must be in [1, 1000] (got {})", n));
+    chain.modules = static_cast<int>(n);
+    try {
+        chain.connection = parse_connection(e.string("connection", "pitch-pitch"));
+    } catch (const SpecError& err) {
+        e.fail(err.what());
+    }
+    chain.module = library_module(e, e.string("module", "y1"));
+    const std::vector<Element> kids = e.children({"module"});
+    if (kids.size() > 1) kids[1].fail("one <module> per chain expected");
+    if (!kids.empty()) chain.module = read_module(kids[0], chain.module);
+    try {
+        return make_chain(chain);
+    } catch (const SpecError& err) {
+        (kids.empty() ? e : kids[0]).fail(err.what());
+    }
+}
+
+int body_index(const Element& e, const RobotSpec& robot, const char* attr) {
+    const std::string name = e.required_string(attr);
+    std::vector<std::string> names;
+    for (size_t b = 0; b < robot.bodies.size(); ++b) {
+        if (robot.bodies[b].name == name) return static_cast<int>(b);
+        names.push_back(robot.bodies[b].name);
+    }
+    e.fail(fmt::format("attribute '{}': no body '{}' above this joint{}", attr, name,
+                       did_you_mean(name, names)));
+}
+
+JointRole parse_role(const Element& e) {
+    const std::string role = e.string("role", "pitch");
+    if (role == "pitch") return JointRole::pitch;
+    if (role == "yaw") return JointRole::yaw;
+    e.fail(fmt::format("attribute 'role': 'pitch' or 'yaw' expected, got '{}'", role));
+}
+
+RobotSpec read_robot_element(const Element& root) {
+    root.allow({"name", "self_collision"});
+    const std::string name = root.string("name", "robot");
+    const bool self_collision = root.boolean("self_collision", false);
+    const std::vector<Element> kids = root.children({"chain", "body", "joint"});
+    RobotSpec robot;
+    bool chain = false, parts = false;
+    for (const Element& k : kids) {
+        const std::string kind = k.name();
+        if (kind == "chain") {
+            if (chain || parts) k.fail("a robot is one <chain>, or <body> and <joint> elements");
+            robot = read_chain(k, name);
+            chain = true;
+            continue;
+        }
+        if (chain) k.fail("a robot is one <chain>, or <body> and <joint> elements");
+        parts = true;
+        if (kind == "body") {
+            k.allow({"name", "size", "mass", "position", "orientation", "friction"});
+            k.children({});
+            BodySpec b;
+            b.name = k.required_string("name");
+            for (const BodySpec& other : robot.bodies) {
+                if (other.name == b.name) k.fail(fmt::format("a second body named '{}'", b.name));
+            }
+            if (!k.has("size")) k.fail("attribute 'size' is required (\"x y z\", m)");
+            b.size = k.vec3("size", {});
+            b.mass = k.required_number("mass");
+            b.pose.position = k.vec3("position", {});
+            b.pose.orientation = k.quat("orientation", {});
+            b.friction = k.number("friction", 1.0);
+            robot.bodies.push_back(b);
+        } else {
+            k.allow({"name", "role", "parent", "child", "pivot", "axis", "min", "max", "kp",
+                     "max_speed", "max_torque"});
+            k.children({});
+            JointSpec j;
+            j.name = k.required_string("name");
+            j.role = parse_role(k);
+            j.parent = body_index(k, robot, "parent");
+            j.child = body_index(k, robot, "child");
+            if (!k.has("pivot")) k.fail("attribute 'pivot' is required (\"x y z\", m)");
+            j.pivot = k.vec3("pivot", {});
+            if (!k.has("axis")) k.fail("attribute 'axis' is required (a unit vector \"x y z\")");
+            j.axis = k.vec3("axis", {});
+            const ModuleDef y1 = default_module_def();
+            j.min_angle = k.angle("min", y1.min_angle);
+            j.max_angle = k.angle("max", y1.max_angle);
+            j.servo.kp = k.number("kp", y1.servo.kp);
+            j.servo.max_speed = k.number("max_speed", y1.servo.max_speed);
+            j.servo.max_torque = k.number("max_torque", y1.servo.max_torque);
+            robot.joints.push_back(j);
+            try {
+                RobotSpec probe;
+                probe.bodies = robot.bodies;
+                probe.joints = {j};
+                validate(probe);
+            } catch (const SpecError& err) {
+                k.fail(err.what());
+            }
+        }
+    }
+    if (!chain && !parts) root.fail("a robot needs a <chain>, or <body> and <joint> elements");
+    robot.name = name;
+    if (robot.chain) robot.chain->name = name;
+    robot.self_collision = self_collision;
+    try {
+        validate(robot);
+    } catch (const SpecError& err) {
+        root.fail(err.what());
+    }
+    return robot;
+}
+
+void write_module(xml::Writer& w, const ModuleDef& m) {
+    w.open("module");
+    w.attr("name", m.name);
+    w.attr("length", m.length);
+    w.attr("width", m.width);
+    w.attr("height", m.height);
+    w.attr("mass", m.mass);
+    w.angle("min", m.min_angle);
+    w.angle("max", m.max_angle);
+    w.attr("friction", m.friction);
+    w.attr("kp", m.servo.kp);
+    w.attr("max_speed", m.servo.max_speed);
+    w.attr("max_torque", m.servo.max_torque);
+    w.close();
+}
+
+// whether the robot is still exactly the chain it was built from
+bool is_chain(const RobotSpec& robot) {
+    if (!robot.chain) return false;
+    ChainSpec c = *robot.chain;
+    c.name = robot.name;
+    const RobotSpec built = make_chain(c);
+    return built.bodies == robot.bodies && built.joints == robot.joints;
+}
+
+}  // namespace
+
+RobotSpec parse_robot(std::string_view text, const std::string& file) {
+    const xml::Document doc(text, file, "robot");
+    return read_robot_element(doc.root());
+}
+
+RobotSpec read_robot(const std::string& path) {
+    return parse_robot(xml::read_text(path), path);
+}
+
+std::string format_robot(const RobotSpec& robot) {
+    validate(robot);
+    xml::Writer w;
+    w.open("robot");
+    w.attr("name", robot.name);
+    if (robot.self_collision) w.attr("self_collision", true);
+    if (is_chain(robot)) {
+        const ChainSpec& c = *robot.chain;
+        w.open("chain");
+        w.attr_int("modules", c.modules);
+        w.attr("connection", to_string(c.connection));
+        if (c.module == default_module_def()) {
+            w.attr("module", c.module.name);
+        } else {
+            write_module(w, c.module);
+        }
+        w.close();
+    } else {
+        for (const BodySpec& b : robot.bodies) {
+            w.open("body");
+            w.attr("name", b.name);
+            w.attr("size", b.size);
+            w.attr("mass", b.mass);
+            w.attr("position", b.pose.position);
+            if (!(b.pose.orientation == Quat{})) w.attr("orientation", b.pose.orientation);
+            w.attr("friction", b.friction);
+            w.close();
+        }
+        for (const JointSpec& j : robot.joints) {
+            w.open("joint");
+            w.attr("name", j.name);
+            w.attr("role", to_string(j.role));
+            w.attr("parent", robot.bodies[static_cast<size_t>(j.parent)].name);
+            w.attr("child", robot.bodies[static_cast<size_t>(j.child)].name);
+            w.attr("pivot", j.pivot);
+            w.attr("axis", j.axis);
+            w.angle("min", j.min_angle);
+            w.angle("max", j.max_angle);
+            w.attr("kp", j.servo.kp);
+            w.attr("max_speed", j.servo.max_speed);
+            w.attr("max_torque", j.servo.max_torque);
+            w.close();
+        }
+    }
+    w.close();
+    return w.text();
+}
+
+void write_robot(const std::string& path, const RobotSpec& robot) {
+    write_file_atomic(path, format_robot(robot));
+}
+
+}  // namespace gaitlab

@@ -1,0 +1,147 @@
+// Simulation (master) files: the options of a run and the files of its parts, with paths
+// relative to the master's folder. See docs/formats.md.
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "gaitlab/files.h"
+#include "gaitlab/xml.h"
+#include "xml_io.h"
+
+namespace gaitlab {
+
+namespace {
+
+using xml::Element;
+
+// a referenced file, which must exist (its resolved path is named if it does not)
+std::string read_ref(const Element& e, const char* attr, bool required) {
+    if (!required && !e.has(attr)) return "";
+    const std::string path = e.required_string(attr);
+    if (path.empty()) e.fail(fmt::format("attribute '{}' is empty", attr));
+    const std::string resolved = resolve_path(e.file(), path);
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(resolved, ec)) {
+        e.fail(fmt::format("attribute '{}': no file at {}", attr, resolved));
+    }
+    return path;
+}
+
+ControllerErrorPolicy parse_policy(const Element& e) {
+    const std::string p = e.string("on_controller_error", "stop");
+    for (ControllerErrorPolicy c : {ControllerErrorPolicy::stop, ControllerErrorPolicy::continue_,
+                                    ControllerErrorPolicy::pause}) {
+        if (p == to_string(c)) return c;
+    }
+    e.fail(fmt::format(
+        "attribute 'on_controller_error': 'stop', 'continue' or 'pause' expected, got '{}'", p));
+}
+
+SimulationFile read_simulation_element(const Element& root) {
+    root.allow({"name", "duration", "dt", "control_every", "solver_iterations", "seed",
+                "on_controller_error"});
+    SimulationFile s;
+    s.name = root.string("name", s.name);
+    s.duration = root.number("duration", s.duration);
+    if (!(s.duration >= 0)) root.fail(fmt::format("duration must be >= 0 s (got {})", s.duration));
+    SimulationOptions& o = s.options;
+    o.dt = root.number("dt", o.dt);
+    const long long ce = root.integer("control_every", o.control_every);
+    const long long it = root.integer("solver_iterations", o.solver_iterations);
+    if (ce < 1 || ce > 1000000) root.fail(fmt::format("control_every must be >= 1 (got {})", ce));
+    if (it < 1 || it > 10000) {
+        root.fail(fmt::format("solver_iterations must be in [1, 10000] (got {})", it));
+    }
+    o.control_every = static_cast<int>(ce);
+    o.solver_iterations = static_cast<int>(it);
+    const long long seed = root.integer("seed", 0);
+    if (seed < 0) root.fail(fmt::format("seed must be >= 0 (got {})", seed));
+    o.seed = static_cast<std::uint64_t>(seed);
+    o.on_controller_error = parse_policy(root);
+    try {
+        validate(o);
+    } catch (const SpecError& err) {
+        root.fail(err.what());
+    }
+    bool env = false, record = false;
+    for (const Element& k : root.children({"environment", "robot", "record"})) {
+        const std::string kind = k.name();
+        k.children({});
+        if (kind == "environment") {
+            if (env) k.fail("one <environment> per simulation expected");
+            env = true;
+            k.allow({"file"});
+            s.environment = read_ref(k, "file", true);
+        } else if (kind == "robot") {
+            k.allow({"file", "actuation"});
+            RobotEntry r;
+            r.robot = read_ref(k, "file", true);
+            r.actuation = read_ref(k, "actuation", false);
+            s.robots.push_back(r);
+        } else {
+            if (record) k.fail("one <record> per simulation expected");
+            record = true;
+            k.allow({"enabled", "dir", "every", "flush_seconds"});
+            s.record.enabled = k.boolean("enabled", true);
+            s.record.dir = k.string("dir", "");
+            const long long every = k.integer("every", 0);
+            if (every < 0) k.fail(fmt::format("every must be >= 0 ticks (got {})", every));
+            s.record.every = static_cast<int>(every);
+            s.record.flush_seconds = k.number("flush_seconds", s.record.flush_seconds);
+            if (!(s.record.flush_seconds > 0)) {
+                k.fail(fmt::format("flush_seconds must be > 0 s (got {})", s.record.flush_seconds));
+            }
+        }
+    }
+    if (!env) root.fail("an <environment file=\"...\"/> element is required");
+    return s;
+}
+
+}  // namespace
+
+SimulationFile parse_simulation(std::string_view text, const std::string& file) {
+    const xml::Document doc(text, file, "simulation");
+    return read_simulation_element(doc.root());
+}
+
+SimulationFile read_simulation(const std::string& path) {
+    return parse_simulation(xml::read_text(path), path);
+}
+
+std::string format_simulation(const SimulationFile& s) {
+    validate(s.options);
+    if (s.environment.empty()) throw SpecError("a simulation file needs an environment file");
+    xml::Writer w;
+    w.open("simulation");
+    w.attr("name", s.name);
+    w.attr("duration", s.duration);
+    const SimulationOptions& o = s.options;
+    w.attr("dt", o.dt);
+    w.attr_int("control_every", o.control_every);
+    w.attr_int("solver_iterations", o.solver_iterations);
+    w.attr_int("seed", static_cast<long long>(o.seed));
+    w.attr("on_controller_error", to_string(o.on_controller_error));
+    w.open("environment");
+    w.attr("file", s.environment);
+    w.close();
+    for (const RobotEntry& r : s.robots) {
+        w.open("robot");
+        w.attr("file", r.robot);
+        if (!r.actuation.empty()) w.attr("actuation", r.actuation);
+        w.close();
+    }
+    w.open("record");
+    w.attr("enabled", s.record.enabled);
+    if (!s.record.dir.empty()) w.attr("dir", s.record.dir);
+    w.attr_int("every", s.record.every);
+    w.attr("flush_seconds", s.record.flush_seconds);
+    w.close();
+    w.close();
+    return w.text();
+}
+
+void write_simulation(const std::string& path, const SimulationFile& s) {
+    write_file_atomic(path, format_simulation(s));
+}
+
+}  // namespace gaitlab

@@ -1,0 +1,341 @@
+#include "xml_io.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "gaitlab/suggest.h"
+
+namespace gaitlab::xml {
+
+namespace {
+
+std::vector<std::string> to_strings(std::initializer_list<const char*> names) {
+    return {names.begin(), names.end()};
+}
+
+std::string quoted_list(std::initializer_list<const char*> names) {
+    std::string out;
+    for (const char* n : names) {
+        if (!out.empty()) out += ", ";
+        out += fmt::format("'{}'", n);
+    }
+    return out;
+}
+
+}  // namespace
+
+std::string read_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        throw FormatError(fmt::format("{}: cannot read the file: {}", path, std::strerror(errno)),
+                          path, 0);
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+Document::Document(std::string_view text, std::string file, const char* kind)
+    : doc_(std::make_unique<tinyxml2::XMLDocument>(true, tinyxml2::COLLAPSE_WHITESPACE)),
+      file_(std::move(file)) {
+    if (doc_->Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
+        // tinyxml2's own text names the line as "Line number=N"; say it our way
+        const int line = doc_->ErrorLineNum();
+        throw FormatError(fmt::format("{}:{}: malformed XML: {}", file_, line,
+                                      tinyxml2::XMLDocument::ErrorIDToName(doc_->ErrorID())),
+                          file_, line);
+    }
+    const tinyxml2::XMLElement* top = doc_->RootElement();
+    if (!top || std::strcmp(top->Name(), "gaitlab") != 0) {
+        const int line = top ? top->GetLineNum() : 1;
+        throw FormatError(
+            fmt::format("{}:{}: expected a <gaitlab version=\"{}\"> root element{}", file_, line,
+                        kVersion, top ? fmt::format(", got <{}>", top->Name()) : ""),
+            file_, line);
+    }
+    Element g(*this, top, "gaitlab");
+    g.allow({"version"});
+    if (!g.has("version")) g.fail("attribute 'version' is required (version=\"1\")");
+    const long long version = g.integer("version", 0);
+    if (version != kVersion) {
+        g.fail(fmt::format("version {} is not supported (this gaitlab reads version {})", version,
+                           kVersion));
+    }
+    const tinyxml2::XMLElement* inner = top->FirstChildElement();
+    if (!inner) g.fail(fmt::format("expected a <{}> element inside", kind));
+    if (std::strcmp(inner->Name(), kind) != 0) {
+        Element(*this, inner, "gaitlab")
+            .fail(fmt::format("expected <{}>, got <{}> (is this a {} file?)", kind, inner->Name(),
+                              kind));
+    }
+    if (const tinyxml2::XMLElement* extra = inner->NextSiblingElement()) {
+        Element(*this, extra, "gaitlab")
+            .fail(fmt::format("one <{}> per file expected, got another <{}>", kind, extra->Name()));
+    }
+    root_ = inner;
+}
+
+Element Document::root() const {
+    return Element(*this, root_, root_->Name());
+}
+
+Element::Element(const Document& doc, const tinyxml2::XMLElement* e, std::string path)
+    : doc_(&doc), e_(e), path_(std::move(path)) {}
+
+void Element::fail(const std::string& message) const {
+    throw FormatError(fmt::format("{}:{}: {}: {}", file(), line(), path_, message), file(), line());
+}
+
+void Element::allow(std::initializer_list<const char*> allowed) const {
+    const std::vector<std::string> names = to_strings(allowed);
+    for (const tinyxml2::XMLAttribute* a = e_->FirstAttribute(); a; a = a->Next()) {
+        const std::string n = a->Name();
+        if (std::find(names.begin(), names.end(), n) == names.end()) {
+            fail(fmt::format("unknown attribute '{}'{}{}", n, did_you_mean(n, names),
+                             names.empty() ? " (it takes none)"
+                                           : fmt::format(" (expected {})", quoted_list(allowed))));
+        }
+    }
+}
+
+bool Element::has(const char* attr) const {
+    return e_->Attribute(attr) != nullptr;
+}
+
+const char* Element::raw(const char* attr) const {
+    return e_->Attribute(attr);
+}
+
+std::string Element::string(const char* attr, const std::string& fallback) const {
+    const char* v = raw(attr);
+    return v ? v : fallback;
+}
+
+std::string Element::required_string(const char* attr) const {
+    const char* v = raw(attr);
+    if (!v) fail(fmt::format("attribute '{}' is required", attr));
+    return v;
+}
+
+double Element::parse_number(const char* attr, const char* text) const {
+    errno = 0;
+    char* end = nullptr;
+    const double v = std::strtod(text, &end);
+    while (end && *end == ' ')
+        ++end;
+    if (end == text || (end && *end != '\0') || !std::isfinite(v)) {
+        fail(fmt::format("attribute '{}': number expected, got '{}'", attr, text));
+    }
+    return v;
+}
+
+double Element::number(const char* attr, double fallback) const {
+    const char* v = raw(attr);
+    return v ? parse_number(attr, v) : fallback;
+}
+
+double Element::required_number(const char* attr) const {
+    const char* v = raw(attr);
+    if (!v) fail(fmt::format("attribute '{}' is required (a number)", attr));
+    return parse_number(attr, v);
+}
+
+long long Element::integer(const char* attr, long long fallback) const {
+    const char* v = raw(attr);
+    if (!v) return fallback;
+    errno = 0;
+    char* end = nullptr;
+    const long long n = std::strtoll(v, &end, 10);
+    if (end == v || *end != '\0' || errno == ERANGE) {
+        fail(fmt::format("attribute '{}': integer expected, got '{}'", attr, v));
+    }
+    return n;
+}
+
+bool Element::boolean(const char* attr, bool fallback) const {
+    const char* v = raw(attr);
+    if (!v) return fallback;
+    if (std::strcmp(v, "true") == 0) return true;
+    if (std::strcmp(v, "false") == 0) return false;
+    fail(fmt::format("attribute '{}': 'true' or 'false' expected, got '{}'", attr, v));
+}
+
+namespace {
+
+// splits "a b c" into numbers; empty on a malformed list
+std::vector<double> numbers(const char* text) {
+    std::vector<double> out;
+    const char* p = text;
+    while (*p) {
+        while (*p == ' ')
+            ++p;
+        if (!*p) break;
+        char* end = nullptr;
+        const double v = std::strtod(p, &end);
+        if (end == p || !std::isfinite(v) || (*end != ' ' && *end != '\0')) return {};
+        out.push_back(v);
+        p = end;
+    }
+    return out;
+}
+
+}  // namespace
+
+Vec3 Element::vec3(const char* attr, const Vec3& fallback) const {
+    const char* v = raw(attr);
+    if (!v) return fallback;
+    const std::vector<double> n = numbers(v);
+    if (n.size() != 3)
+        fail(fmt::format("attribute '{}': three numbers \"x y z\" expected, got '{}'", attr, v));
+    return {n[0], n[1], n[2]};
+}
+
+Quat Element::quat(const char* attr, const Quat& fallback) const {
+    const char* v = raw(attr);
+    if (!v) return fallback;
+    const std::vector<double> n = numbers(v);
+    if (n.size() != 4) {
+        fail(fmt::format("attribute '{}': four numbers \"w x y z\" expected, got '{}'", attr, v));
+    }
+    const double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2] + n[3] * n[3]);
+    if (std::abs(norm - 1) > 1e-6) {
+        fail(
+            fmt::format("attribute '{}': a unit quaternion expected (its norm is {})", attr, norm));
+    }
+    return {n[0], n[1], n[2], n[3]};
+}
+
+double Element::angle(const char* attr, double fallback_rad) const {
+    const char* v = raw(attr);
+    return v ? deg_to_rad(parse_number(attr, v)) : fallback_rad;
+}
+
+std::vector<Element> Element::children(std::initializer_list<const char*> allowed) const {
+    const std::vector<std::string> names = to_strings(allowed);
+    std::vector<Element> out;
+    std::vector<std::pair<std::string, int>> counts;
+    for (const tinyxml2::XMLElement* c = e_->FirstChildElement(); c; c = c->NextSiblingElement()) {
+        const std::string n = c->Name();
+        if (std::find(names.begin(), names.end(), n) == names.end()) {
+            Element(*doc_, c, path_ + "/" + n)
+                .fail(fmt::format("unknown element <{}>{}{}", n, did_you_mean(n, names),
+                                  names.empty()
+                                      ? fmt::format(" (<{}> has no elements inside)", name())
+                                      : fmt::format(" (expected {})", quoted_list(allowed))));
+        }
+        int k = 1;
+        for (auto& [name, count] : counts) {
+            if (name == n) k = ++count;
+        }
+        if (k == 1) counts.emplace_back(n, 1);
+        out.emplace_back(*doc_, c, fmt::format("{}/{}[{}]", path_, n, k));
+    }
+    return out;
+}
+
+std::vector<std::string> Element::attribute_names() const {
+    std::vector<std::string> out;
+    for (const tinyxml2::XMLAttribute* a = e_->FirstAttribute(); a; a = a->Next())
+        out.emplace_back(a->Name());
+    return out;
+}
+
+std::string format_number(double v) {
+    // fmt's default is the shortest representation that round-trips
+    return fmt::format("{}", v);
+}
+
+double degrees_for(double rad) {
+    return degrees_for(rad, [rad](double deg) { return deg_to_rad(deg) == rad; });
+}
+
+double degrees_for(double rad, const std::function<bool(double)>& exact) {
+    const double d = rad_to_deg(rad);
+    // the number a person would have typed (30, not 29.999999999999996), when it is exact
+    const double typed = std::strtod(fmt::format("{:.12g}", d).c_str(), nullptr);
+    if (exact(typed)) return typed;
+    if (exact(d)) return d;
+    // the degrees a user typed map to this angle; they lie within a few ulps of d
+    double up = d, down = d;
+    for (int i = 0; i < 8; ++i) {
+        up = std::nextafter(up, HUGE_VAL);
+        down = std::nextafter(down, -HUGE_VAL);
+        if (exact(up)) return up;
+        if (exact(down)) return down;
+    }
+    return d;
+}
+
+Writer::Writer() : printer_(nullptr, false, 0) {
+    printer_.PushHeader(false, true);
+    printer_.OpenElement("gaitlab");
+    printer_.PushAttribute("version", kVersion);
+}
+
+void Writer::open(const char* name) {
+    printer_.OpenElement(name);
+}
+
+void Writer::close() {
+    printer_.CloseElement();
+}
+
+void Writer::attr(const char* name, const std::string& value) {
+    printer_.PushAttribute(name, value.c_str());
+}
+
+void Writer::attr(const char* name, double value) {
+    attr(name, format_number(value));
+}
+
+void Writer::attr_int(const char* name, long long value) {
+    attr(name, fmt::format("{}", value));
+}
+
+void Writer::attr(const char* name, bool value) {
+    attr(name, std::string(value ? "true" : "false"));
+}
+
+void Writer::attr(const char* name, const Vec3& v) {
+    attr(name, fmt::format("{} {} {}", format_number(v.x), format_number(v.y), format_number(v.z)));
+}
+
+void Writer::attr(const char* name, const Quat& q) {
+    attr(name, fmt::format("{} {} {} {}", format_number(q.w), format_number(q.x),
+                           format_number(q.y), format_number(q.z)));
+}
+
+void Writer::angle(const char* name, double rad) {
+    attr(name, degrees_for(rad));
+}
+
+void Writer::comment(const std::string& text) {
+    printer_.PushComment((" " + text + " ").c_str());
+}
+
+std::string Writer::text() {
+    if (!done_) {
+        printer_.CloseElement();
+        done_ = true;
+    }
+    return std::string(printer_.CStr(), static_cast<size_t>(printer_.CStrSize() - 1));
+}
+
+}  // namespace gaitlab::xml
+
+namespace gaitlab {
+
+std::string resolve_path(const std::string& from, const std::string& path) {
+    const std::filesystem::path p(path);
+    if (p.is_absolute()) return p.lexically_normal().string();
+    return (std::filesystem::path(from).parent_path() / p).lexically_normal().string();
+}
+
+}  // namespace gaitlab

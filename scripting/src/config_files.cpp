@@ -1,0 +1,243 @@
+#include "config_files.h"
+
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "gaitlab/controllers/registry.h"
+#include "gaitlab/scripting/lua_host.h"
+#include "gaitlab/suggest.h"
+#include "hot_reload.h"
+#include "lua_controller.h"
+#include "wrap.h"
+
+namespace gaitlab::scripting {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// an error at the place a reference was read (plain SpecError when it was made in code)
+[[noreturn]] void fail_at(const ControllerRef& ref, const std::string& message) {
+    if (ref.source.empty()) throw SpecError(message);
+    throw FormatError(fmt::format("{}:{}: {}", ref.source, ref.line, message), ref.source,
+                      ref.line);
+}
+
+std::shared_ptr<LuaControllerClass> class_on_top(lua_State* L) {
+    auto cls = *static_cast<std::shared_ptr<LuaControllerClass>*>(
+        luaL_checkudata(L, -1, kControllerClassType));
+    lua_pop(L, 1);
+    return cls;
+}
+
+// a controller file as an actuation file at `from_file` names it: relative when it is in the
+// same folder tree (or one level up), so the two can move together; absolute otherwise
+std::string relative_or_absolute(const std::string& path, const std::string& from_file) {
+    const fs::path dir = fs::absolute(from_file).parent_path();
+    std::error_code ec;
+    const fs::path rel = fs::relative(path, dir, ec);
+    const std::string r = rel.generic_string();
+    if (ec || rel.empty() || r.rfind("../..", 0) == 0) return fs::absolute(path).string();
+    return r;
+}
+
+}  // namespace
+
+std::shared_ptr<Controller> make_controller(lua_State* L, const ControllerRef& ref) {
+    std::shared_ptr<Controller> c;
+    try {
+        switch (ref.kind) {
+            case ControllerRef::Kind::builtin: {
+                c = controllers::make_builtin(ref.name);
+                if (!c) {
+                    const std::vector<std::string> names = controllers::builtin_names();
+                    fail_at(ref, fmt::format("unknown built-in controller '{}'{} (built-ins: {})",
+                                             ref.name, did_you_mean(ref.name, names),
+                                             fmt::join(names, ", ")));
+                }
+                break;
+            }
+            case ControllerRef::Kind::file: {
+                const std::string path =
+                    ref.source.empty() ? ref.name : resolve_path(ref.source, ref.name);
+                std::error_code ec;
+                if (!fs::is_regular_file(path, ec)) {
+                    fail_at(ref, fmt::format("no controller file at {}", path));
+                }
+                push_file_class(L, path, true);
+                c = std::make_shared<LuaController>(L, class_on_top(L));
+                break;
+            }
+            case ControllerRef::Kind::template_:
+                push_template_class(L, ref.name);
+                c = std::make_shared<LuaController>(L, class_on_top(L));
+                break;
+        }
+    } catch (const FormatError&) {
+        throw;
+    } catch (const ScriptError&) {
+        throw;  // names the Lua file and line itself
+    } catch (const Error& e) {
+        fail_at(ref, e.what());
+    }
+    std::vector<std::string> names;
+    for (const ParamDef& p : c->def().params)
+        names.push_back(p.name);
+    for (const auto& [name, value] : ref.params) {
+        const int i = c->find_param(name);
+        if (i < 0) {
+            fail_at(ref, fmt::format("controller '{}' has no parameter '{}'{} (parameters: {})",
+                                     c->name(), name, did_you_mean(name, names),
+                                     fmt::join(names, ", ")));
+        }
+        try {
+            c->set_param(i, value);
+        } catch (const SpecError& e) {
+            fail_at(ref, e.what());
+        }
+    }
+    return c;
+}
+
+std::vector<std::shared_ptr<Controller>> actuate(lua_State* L, RobotBinding& robot,
+                                                 const ActuationSpec& spec) {
+    std::vector<std::vector<int>> groups;
+    std::vector<std::shared_ptr<Controller>> made;
+    for (const GroupSpec& g : spec.groups) {
+        try {
+            groups.push_back(resolve_group(g, robot.spec));
+        } catch (const SpecError& e) {
+            fail_at(g.controller, fmt::format("group {}: {}", groups.size() + 1, e.what()));
+        }
+        made.push_back(make_controller(L, g.controller));
+    }
+    for (size_t i = 0; i < made.size(); ++i)
+        robot.drive(groups[i], made[i]);
+    return made;
+}
+
+ActuationSpec actuation_of(const RobotBinding& robot) {
+    ActuationSpec spec;
+    for (const Drive& d : robot.drives) {
+        GroupSpec g;
+        for (const char* role : {"pitch", "yaw", "all"}) {
+            try {
+                if (select_joints(robot.spec, role) == d.joints) {
+                    g.role = role;
+                    break;
+                }
+            } catch (const SpecError&) {
+                // the robot has no joints of this role
+            }
+        }
+        if (g.role.empty()) g.joints = d.joints;
+        g.controller = d.controller->ref();
+        spec.groups.push_back(std::move(g));
+    }
+    return spec;
+}
+
+ActuationSpec relative_to(ActuationSpec spec, const std::string& file) {
+    for (GroupSpec& g : spec.groups) {
+        if (g.controller.kind == ControllerRef::Kind::file) {
+            const std::string& from = g.controller.source;
+            const std::string absolute =
+                from.empty() ? g.controller.name : resolve_path(from, g.controller.name);
+            g.controller.name = relative_or_absolute(absolute, file);
+        }
+    }
+    return spec;
+}
+
+LoadedSimulation load_simulation(lua_State* L, const std::string& path) {
+    LoadedSimulation out;
+    out.file = read_simulation(path);
+    const EnvironmentSpec env = read_environment(resolve_path(path, out.file.environment));
+    out.world = std::make_shared<WorldBinding>();
+    out.world->spec = env.world;
+    out.world->placements = env.placements;
+    for (const RobotEntry& entry : out.file.robots) {
+        auto robot = std::make_shared<RobotBinding>();
+        robot->spec = read_robot(resolve_path(path, entry.robot));
+        for (const auto& other : out.robots) {
+            if (other->spec.name == robot->spec.name) {
+                throw FormatError(fmt::format("{}: two robots named '{}' (placements name robots: "
+                                              "give each its own name)",
+                                              path, robot->spec.name),
+                                  path, 0);
+            }
+        }
+        std::vector<std::shared_ptr<Controller>> controllers;
+        if (!entry.actuation.empty()) {
+            controllers = actuate(L, *robot, read_actuation(resolve_path(path, entry.actuation)));
+        }
+        out.world->add(robot, std::nullopt);
+        out.robots.push_back(robot);
+        out.controllers.push_back(std::move(controllers));
+    }
+    for (const Placement& p : env.placements) {
+        bool found = false;
+        for (const auto& r : out.robots)
+            found = found || r->spec.name == p.robot;
+        if (!found) {
+            const std::string env_file = resolve_path(path, out.file.environment);
+            throw FormatError(fmt::format("{}: robot '{}' is placed but the simulation has no "
+                                          "robot of that name",
+                                          env_file, p.robot),
+                              env_file, 0);
+        }
+    }
+    return out;
+}
+
+void save_simulation(const std::string& path, const WorldBinding& world,
+                     const SimulationOptions& options, double duration) {
+    const fs::path master(path);
+    const std::string stem = master.stem().string();
+    const auto next_to = [&](const std::string& name) {
+        return (master.parent_path() / name).string();
+    };
+    SimulationFile file;
+    file.name = stem;
+    file.options = options;
+    file.duration = duration;
+    file.environment = stem + ".environment.xml";
+    EnvironmentSpec env;
+    env.world = world.spec;
+    // every part is built and checked before the first file is written
+    std::vector<std::pair<std::string, RobotSpec>> robots;
+    std::vector<std::pair<std::string, ActuationSpec>> actuations;
+    for (const WorldBinding::Entry& e : world.robots) {
+        const std::string& name = e.robot->spec.name;
+        for (const Placement& p : env.placements) {
+            if (p.robot == name) {
+                throw SpecError(fmt::format(
+                    "two robots are named '{}': give each its own name to save the simulation",
+                    name));
+            }
+        }
+        env.placements.push_back({name, e.pose});
+        RobotEntry entry;
+        entry.robot = stem + "." + name + ".robot.xml";
+        robots.emplace_back(next_to(entry.robot), e.robot->spec);
+        format_robot(e.robot->spec);
+        if (!e.robot->drives.empty()) {
+            entry.actuation = stem + "." + name + ".actuation.xml";
+            const std::string act_path = next_to(entry.actuation);
+            actuations.emplace_back(act_path, relative_to(actuation_of(*e.robot), act_path));
+            format_actuation(actuations.back().second);
+        }
+        file.robots.push_back(entry);
+    }
+    format_environment(env);
+    format_simulation(file);
+    for (const auto& [p, r] : robots)
+        write_robot(p, r);
+    for (const auto& [p, a] : actuations)
+        write_actuation(p, a);
+    write_environment(next_to(file.environment), env);
+    write_simulation(path, file);
+}
+
+}  // namespace gaitlab::scripting

@@ -1,0 +1,54 @@
+// Configuration files on the Lua side: building live controllers from the references of an
+// actuation file (built-ins, Lua controller files, templates), the references of a robot's live
+// controllers, and whole simulations to and from a simulation file with its parts.
+#pragma once
+
+#include <lua.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "gaitlab/xml.h"
+#include "scene.h"
+
+namespace gaitlab::scripting {
+
+/// The controller `ref` names, with its parameters set. Lua controller files (relative to the
+/// file the reference was read from) load through the controller-file cache, so they hot
+/// reload. Errors (an unknown controller or parameter, a value out of range, a broken Lua
+/// file) are FormatError at the reference's file and line, or ScriptError from Lua.
+std::shared_ptr<Controller> make_controller(lua_State* L, const ControllerRef& ref);
+
+/// Drives `robot` as `spec` says; returns the controllers, one per group. Checks every group
+/// and builds every controller before driving any, so a bad file changes nothing.
+std::vector<std::shared_ptr<Controller>> actuate(lua_State* L, RobotBinding& robot,
+                                                 const ActuationSpec& spec);
+
+/// The actuation of a robot's drives: each group by role when a role selects exactly its
+/// joints, the controllers by ref() (SpecError for controllers defined inside a script).
+ActuationSpec actuation_of(const RobotBinding& robot);
+
+/// Lua controller files of `spec` named relative to the folder of `file` (as an actuation file
+/// written at `file` should name them).
+ActuationSpec relative_to(ActuationSpec spec, const std::string& file);
+
+/// A world that a simulation file describes, with its robots placed and driven.
+struct LoadedSimulation {
+    SimulationFile file;
+    std::shared_ptr<WorldBinding> world;
+    std::vector<std::shared_ptr<RobotBinding>> robots;
+    std::vector<std::vector<std::shared_ptr<Controller>>> controllers;  ///< per robot
+};
+
+/// Reads the simulation file at `path` and everything it names. Throws FormatError,
+/// ScriptError or SpecError; builds nothing half-way.
+LoadedSimulation load_simulation(lua_State* L, const std::string& path);
+
+/// Writes a simulation file at `path` and its parts next to it: `<stem>.environment.xml`, and
+/// for each robot `<stem>.<robot>.robot.xml` and `<stem>.<robot>.actuation.xml`. Checks
+/// everything (unique robot names, nameable controllers) before writing anything.
+void save_simulation(const std::string& path, const WorldBinding& world,
+                     const SimulationOptions& options, double duration);
+
+}  // namespace gaitlab::scripting

@@ -1,0 +1,364 @@
+// Tests for engine/src/xml/: every file format round-trips exactly (spec -> XML -> spec), and
+// every reader rejects bad input with "FILE:LINE: PATH: message", suggesting the closest valid
+// name for unknown elements and attributes; writers check before writing and write atomically.
+#include "gaitlab/xml.h"
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <string>
+
+#include "gaitlab/files.h"
+#include "temp_dir.h"
+
+using namespace gaitlab;
+using Catch::Matchers::Equals;
+using gaitlab::test::TempDir;
+
+namespace {
+
+std::string doc(const std::string& inner) {
+    return "<?xml version=\"1.0\"?>\n<gaitlab version=\"1\">\n" + inner + "\n</gaitlab>\n";
+}
+
+std::string robot_error(const std::string& inner) {
+    try {
+        parse_robot(doc(inner), "robot.xml");
+    } catch (const FormatError& e) {
+        return e.what();
+    }
+    FAIL("no error for: " << inner);
+    return "";
+}
+
+std::string actuation_error(const std::string& inner) {
+    try {
+        parse_actuation(doc(inner), "act.xml");
+    } catch (const FormatError& e) {
+        return e.what();
+    }
+    FAIL("no error for: " << inner);
+    return "";
+}
+
+std::string environment_error(const std::string& inner) {
+    try {
+        parse_environment(doc(inner), "env.xml");
+    } catch (const FormatError& e) {
+        return e.what();
+    }
+    FAIL("no error for: " << inner);
+    return "";
+}
+
+}  // namespace
+
+TEST_CASE("a chain robot round-trips as a chain") {
+    for (Connection c : {Connection::pitch_pitch, Connection::pitch_yaw, Connection::yaw_yaw}) {
+        ChainSpec chain;
+        chain.name = "snake";
+        chain.modules = 7;
+        chain.connection = c;
+        const RobotSpec robot = make_chain(chain);
+        const std::string text = format_robot(robot);
+        CHECK(text.find("<chain modules=\"7\"") != std::string::npos);
+        CHECK(text.find("module=\"y1\"") != std::string::npos);
+        CHECK(parse_robot(text, "r.xml") == robot);
+    }
+}
+
+TEST_CASE("a chain of a custom module round-trips, angles typed in degrees exactly") {
+    ChainSpec chain;
+    chain.name = "big";
+    chain.modules = 3;
+    chain.module.name = "wide";
+    chain.module.width = 0.08;
+    chain.module.mass = 0.123;
+    chain.module.min_angle = deg_to_rad(-37.3);
+    chain.module.max_angle = deg_to_rad(61.7);
+    chain.module.servo.max_torque = 1.5;
+    const RobotSpec robot = make_chain(chain);
+    const std::string text = format_robot(robot);
+    CHECK(text.find("min=\"-37.3\" max=\"61.7\"") != std::string::npos);
+    CHECK(parse_robot(text, "r.xml") == robot);
+}
+
+TEST_CASE("a robot that is not a chain round-trips body by body") {
+    RobotSpec robot = make_chain(ChainSpec{"arm", 2, Connection::pitch_yaw, default_module_def()});
+    robot.chain.reset();
+    robot.bodies[1].pose.orientation = Quat::from_axis_angle({0, 0, 1}, 0.3);
+    robot.bodies[2].friction = 0.25;
+    robot.joints[1].servo.kp = 12;
+    robot.joints[0].max_angle = deg_to_rad(45);
+    robot.self_collision = true;
+    const std::string text = format_robot(robot);
+    CHECK(text.find("<chain") == std::string::npos);
+    CHECK(text.find("<body name=\"segment1\"") != std::string::npos);
+    CHECK(text.find("parent=\"tail\" child=\"segment1\"") != std::string::npos);
+    CHECK(parse_robot(text, "r.xml") == robot);
+}
+
+TEST_CASE("robot files reject bad input with file, line, element path and a suggestion") {
+    CHECK_THAT(robot_error("<robot>\n<chain modules=\"8\" conection=\"pitch-pitch\"/>\n</robot>"),
+               Equals("robot.xml:4: robot/chain[1]: unknown attribute 'conection'; did you mean "
+                      "'connection'? (expected 'modules', 'connection', 'module')"));
+    CHECK_THAT(robot_error("<robot>\n<chian modules=\"8\"/>\n</robot>"),
+               Equals("robot.xml:4: robot/chian: unknown element <chian>; did you mean "
+                      "'chain'? (expected 'chain', 'body', 'joint')"));
+    CHECK_THAT(robot_error("<robot><chain modules=\"0\"/></robot>"),
+               Equals("robot.xml:3: robot/chain[1]: modules must be in [1, 1000] (got 0)"));
+    CHECK_THAT(robot_error("<robot><chain modules=\"eight\"/></robot>"),
+               Equals("robot.xml:3: robot/chain[1]: attribute 'modules': integer expected, got "
+                      "'eight'"));
+    CHECK_THAT(robot_error("<robot><chain modules=\"2\" connection=\"pitch-roll\"/></robot>"),
+               Equals("robot.xml:3: robot/chain[1]: unknown connection type 'pitch-roll' (expected "
+                      "'pitch-pitch', 'pitch-yaw' or 'yaw-yaw')"));
+    CHECK_THAT(robot_error("<robot><chain modules=\"2\">\n<module mass=\"-1\"/></chain></robot>"),
+               Equals("robot.xml:4: robot/chain[1]/module[1]: module 'y1' mass must be positive "
+                      "(got -1 kg)"));
+    CHECK_THAT(
+        robot_error(
+            "<robot><chain modules=\"2\">\n<module min=\"40\" max=\"20\"/></chain></robot>"),
+        Equals("robot.xml:4: robot/chain[1]/module[1]: module 'y1' joint range must satisfy -180 "
+               "<= min < max <= 180 deg"));
+    CHECK_THAT(robot_error("<robot>\n<body name=\"a\" size=\"1 1 1\" mass=\"1\"/>\n"
+                           "<body name=\"b\" size=\"1 1 1\" mass=\"1\"/>\n"
+                           "<joint name=\"j\" parent=\"a\" child=\"bb\" pivot=\"0 0 0\" "
+                           "axis=\"0 1 0\"/>\n</robot>"),
+               Equals("robot.xml:6: robot/joint[1]: attribute 'child': no body 'bb' above this "
+                      "joint; did you mean 'b'?"));
+    CHECK_THAT(robot_error("<robot>\n<body name=\"a\" size=\"1 1\" mass=\"1\"/>\n</robot>"),
+               Equals("robot.xml:4: robot/body[1]: attribute 'size': three numbers \"x y z\" "
+                      "expected, got '1 1'"));
+    CHECK_THAT(robot_error("<robot>\n<body name=\"a\" size=\"1 1 -1\" mass=\"1\"/>\n</robot>"),
+               Equals("robot.xml:3: robot: robot 'robot' body 'a' size z must be positive (got "
+                      "-1 m)"));
+    CHECK_THAT(robot_error("<robot/>"),
+               Equals("robot.xml:3: robot: a robot needs a <chain>, or <body> and <joint> "
+                      "elements"));
+}
+
+TEST_CASE("every reader checks the document: XML, root, version, kind") {
+    CHECK_THAT(robot_error("<robot><chain modules=\"2\"></robot>"),
+               Equals("robot.xml:3: malformed XML: XML_ERROR_MISMATCHED_ELEMENT"));
+    try {
+        parse_robot("<robot/>", "r.xml");
+        FAIL("no error");
+    } catch (const FormatError& e) {
+        CHECK_THAT(e.what(), Equals("r.xml:1: expected a <gaitlab version=\"1\"> root element, got "
+                                    "<robot>"));
+        CHECK(e.file() == "r.xml");
+        CHECK(e.line() == 1);
+    }
+    try {
+        parse_robot("<gaitlab version=\"2\"><robot/></gaitlab>", "r.xml");
+        FAIL("no error");
+    } catch (const FormatError& e) {
+        CHECK_THAT(e.what(), Equals("r.xml:1: gaitlab: version 2 is not supported (this gaitlab "
+                                    "reads version 1)"));
+    }
+    try {
+        parse_robot(doc("<environment/>"), "r.xml");
+        FAIL("no error");
+    } catch (const FormatError& e) {
+        CHECK_THAT(e.what(), Equals("r.xml:3: gaitlab: expected <robot>, got <environment> (is "
+                                    "this a robot file?)"));
+    }
+    CHECK_THROWS_WITH(
+        read_robot("/no/such/robot.xml"),
+        Equals("/no/such/robot.xml: cannot read the file: No such file or directory"));
+}
+
+TEST_CASE("actuation files round-trip groups by role or joints, with parameters") {
+    ActuationSpec a;
+    GroupSpec pitch;
+    pitch.role = "pitch";
+    pitch.controller.kind = ControllerRef::Kind::builtin;
+    pitch.controller.name = "sine";
+    pitch.controller.params = {{"amplitude", 30}, {"phase", -120.5}};
+    GroupSpec some;
+    some.joints = {1, 3, 5};
+    some.controller.kind = ControllerRef::Kind::file;
+    some.controller.name = "controllers/my_sine.lua";
+    GroupSpec tmpl;
+    tmpl.role = "yaw";
+    tmpl.controller.kind = ControllerRef::Kind::template_;
+    tmpl.controller.name = "cpg_chain";
+    tmpl.controller.params = {{"coupling", 12.25}};
+    a.groups = {pitch, some, tmpl};
+    const std::string text = format_actuation(a);
+    CHECK(text.find("<group joints=\"2 4 6\">") != std::string::npos);
+    CHECK(text.find("<controller builtin=\"sine\" amplitude=\"30\" phase=\"-120.5\"/>") !=
+          std::string::npos);
+    const ActuationSpec back = parse_actuation(text, "a.xml");
+    CHECK(back == a);
+    CHECK(back.groups[1].controller.source == "a.xml");
+    CHECK(back.groups[1].controller.line == 8);
+}
+
+TEST_CASE("actuation files reject bad groups and controllers") {
+    CHECK_THAT(
+        actuation_error("<actuation>\n<group joints=\"1 2 2\"><controller builtin=\"sine\"/>"
+                        "</group></actuation>"),
+        Equals("act.xml:4: actuation/group[1]: attribute 'joints': joint 2 is listed twice"));
+    CHECK_THAT(
+        actuation_error("<actuation>\n<group joints=\"pitch 3\"><controller builtin=\"sine\"/>"
+                        "</group></actuation>"),
+        Equals("act.xml:4: actuation/group[1]: attribute 'joints': 'pitch', 'yaw', 'all' "
+               "or joint numbers (from 1) expected, got 'pitch 3'"));
+    CHECK_THAT(actuation_error("<actuation>\n<group joints=\"all\"/></actuation>"),
+               Equals("act.xml:4: actuation/group[1]: one <controller> per group expected"));
+    CHECK_THAT(actuation_error("<actuation>\n<group joints=\"all\">\n<controller builtin=\"sine\" "
+                               "file=\"x.lua\"/></group></actuation>"),
+               Equals("act.xml:5: actuation/group[1]/controller[1]: exactly one of 'builtin', "
+                      "'file' or 'template' expected (which controller), then its parameters, "
+                      "e.g. <controller builtin=\"sine\" amplitude=\"30\"/>"));
+    CHECK_THAT(actuation_error("<actuation>\n<group joints=\"all\">\n<controller builtin=\"sine\" "
+                               "amplitude=\"big\"/></group></actuation>"),
+               Equals("act.xml:5: actuation/group[1]/controller[1]: attribute 'amplitude': number "
+                      "expected, got 'big'"));
+    CHECK_THAT(actuation_error("<actuation>\n<groups/></actuation>"),
+               Equals("act.xml:4: actuation/groups: unknown element <groups>; did you mean "
+                      "'group'? (expected 'group')"));
+}
+
+TEST_CASE("a group resolves against its robot") {
+    const RobotSpec robot =
+        make_chain(ChainSpec{"s", 4, Connection::pitch_yaw, default_module_def()});
+    GroupSpec g;
+    g.role = "yaw";
+    CHECK(resolve_group(g, robot) == std::vector<int>{1, 3});
+    g.role.clear();
+    g.joints = {0, 4};
+    CHECK_THROWS_WITH(resolve_group(g, robot), "robot 's' has no joint 5 (it has joints 1 to 4)");
+    g.joints.clear();
+    CHECK_THROWS_WITH(resolve_group(g, robot), "a joint group needs at least one joint");
+}
+
+TEST_CASE("environment files round-trip gravity, floor, boxes and placements") {
+    EnvironmentSpec env;
+    env.world.gravity = {0, 0, -1.62};
+    env.world.floor.friction = 0.35;
+    BoxSpec still;
+    still.size = {0.2, 0.1, 0.05};
+    still.pose.position = {1, 0.5, 0.025};
+    still.pose.orientation = Quat::from_axis_angle({0, 0, 1}, deg_to_rad(30));
+    BoxSpec tilted;
+    tilted.size = {0.1, 0.1, 0.1};
+    tilted.pose.position = {-1, 0, 0.3};
+    tilted.pose.orientation = Quat::from_axis_angle({1, 0, 0}, 0.2);
+    tilted.mass = 0.5;
+    tilted.friction = 0.6;
+    env.world.boxes = {still, tilted};
+    env.placements = {
+        {"snake", {{0.1, -0.2, 0}, Quat::from_axis_angle({0, 0, 1}, deg_to_rad(-45))}}};
+    const std::string text = format_environment(env);
+    CHECK(text.find("yaw=\"30\"") != std::string::npos);
+    CHECK(text.find("yaw=\"-45\"") != std::string::npos);
+    CHECK(text.find("orientation=") != std::string::npos);  // not a pure yaw
+    const EnvironmentSpec back = parse_environment(text, "e.xml");
+    CHECK(back.world.gravity == env.world.gravity);
+    CHECK(back.world.floor.friction == env.world.floor.friction);
+    REQUIRE(back.world.boxes.size() == 2);
+    for (size_t i = 0; i < 2; ++i) {
+        CHECK(back.world.boxes[i].size == env.world.boxes[i].size);
+        CHECK(back.world.boxes[i].pose.position == env.world.boxes[i].pose.position);
+        CHECK(back.world.boxes[i].pose.orientation == env.world.boxes[i].pose.orientation);
+        CHECK(back.world.boxes[i].mass == env.world.boxes[i].mass);
+        CHECK(back.world.boxes[i].friction == env.world.boxes[i].friction);
+    }
+    REQUIRE(back.placements.size() == 1);
+    CHECK(back.placements[0].robot == "snake");
+    CHECK(back.placements[0].pose.position == env.placements[0].pose.position);
+    CHECK(back.placements[0].pose.orientation == env.placements[0].pose.orientation);
+}
+
+TEST_CASE("environment files reject values out of range before anything runs") {
+    CHECK_THAT(environment_error("<environment>\n<floor friction=\"1.5\"/></environment>"),
+               Equals("env.xml:4: environment/floor[1]: floor friction must be in [0, 1] (got "
+                      "1.5)"));
+    CHECK_THAT(environment_error("<environment>\n<box size=\"0.1 0.1 0.1\"/>\n"
+                                 "<box size=\"0.1 0.1 0.1\" mass=\"-2\"/></environment>"),
+               Equals("env.xml:5: environment/box[2]: box 2 mass must not be negative (got -2 "
+                      "kg)"));
+    CHECK_THAT(environment_error("<environment>\n<box size=\"0.1 0.1 0.1\" yaw=\"10\" "
+                                 "orientation=\"1 0 0 0\"/></environment>"),
+               Equals("env.xml:4: environment/box[1]: give 'yaw' or 'orientation', not both"));
+    CHECK_THAT(environment_error("<environment>\n<place robot=\"a\"/>\n<place robot=\"a\"/>"
+                                 "</environment>"),
+               Equals("env.xml:5: environment/place[2]: robot 'a' is placed twice"));
+    CHECK_THAT(environment_error("<environment>\n<box size=\"0.1 0.1 0.1\" frction=\"1\"/>"
+                                 "</environment>"),
+               Equals("env.xml:4: environment/box[1]: unknown attribute 'frction'; did you mean "
+                      "'friction'? (expected 'size', 'position', 'yaw', 'orientation', 'mass', "
+                      "'friction')"));
+}
+
+TEST_CASE("simulation files round-trip and name missing parts by their resolved path") {
+    TempDir dir("xml_sim");
+    test::write_text(dir.file("env.xml"), doc("<environment/>"));
+    test::write_text(dir.file("snake.xml"), doc("<robot><chain modules=\"3\"/></robot>"));
+    SimulationFile s;
+    s.name = "walk";
+    s.duration = 12.5;
+    s.options.dt = 0.0005;
+    s.options.control_every = 20;
+    s.options.solver_iterations = 30;
+    s.options.seed = 42;
+    s.options.on_controller_error = ControllerErrorPolicy::pause;
+    s.environment = "env.xml";
+    s.robots = {{"snake.xml", ""}};
+    s.record.enabled = false;
+    s.record.every = 5;
+    s.record.flush_seconds = 0.5;
+    write_simulation(dir.file("sim.xml"), s);
+    const SimulationFile back = read_simulation(dir.file("sim.xml"));
+    CHECK(back.name == "walk");
+    CHECK(back.duration == 12.5);
+    CHECK(back.options.dt == 0.0005);
+    CHECK(back.options.control_every == 20);
+    CHECK(back.options.solver_iterations == 30);
+    CHECK(back.options.seed == 42);
+    CHECK(back.options.on_controller_error == ControllerErrorPolicy::pause);
+    CHECK(back.environment == "env.xml");
+    REQUIRE(back.robots.size() == 1);
+    CHECK(back.robots[0].robot == "snake.xml");
+    CHECK(back.robots[0].actuation.empty());
+    CHECK(back.record.enabled == false);
+    CHECK(back.record.every == 5);
+    CHECK(back.record.flush_seconds == 0.5);
+
+    test::write_text(dir.file("bad.xml"), doc("<simulation>\n<environment file=\"env.xml\"/>\n"
+                                              "<robot file=\"robots/snake.xml\"/>\n</simulation>"));
+    const std::string missing = (dir.path / "robots" / "snake.xml").string();
+    CHECK_THROWS_WITH(
+        read_simulation(dir.file("bad.xml")),
+        dir.file("bad.xml") + ":5: simulation/robot[1]: attribute 'file': no file at " + missing);
+    test::write_text(dir.file("bad2.xml"), doc("<simulation dt=\"0.5\">\n<environment "
+                                               "file=\"env.xml\"/></simulation>"));
+    CHECK_THROWS_WITH(
+        read_simulation(dir.file("bad2.xml")),
+        dir.file("bad2.xml") + ":3: simulation: dt must be in [1e-06, 0.1] s (got 0.5)");
+    test::write_text(dir.file("bad3.xml"), doc("<simulation/>"));
+    CHECK_THROWS_WITH(read_simulation(dir.file("bad3.xml")),
+                      dir.file("bad3.xml") +
+                          ":3: simulation: an <environment file=\"...\"/> element is required");
+}
+
+TEST_CASE("writers check before writing and replace files atomically") {
+    TempDir dir("xml_write");
+    const std::string path = dir.file("robot.xml");
+    const RobotSpec good =
+        make_chain(ChainSpec{"good", 2, Connection::pitch_pitch, default_module_def()});
+    write_robot(path, good);
+    const std::string before = test::read_text(path);
+    RobotSpec bad = good;
+    bad.bodies[0].mass = -1;
+    CHECK_THROWS_AS(write_robot(path, bad), SpecError);
+    CHECK(test::read_text(path) == before);  // nothing written when validation fails
+    CHECK_FALSE(std::filesystem::exists(path + ".tmp"));
+    CHECK_THROWS_WITH(
+        write_robot(dir.file("no/such/dir/robot.xml"), good),
+        "cannot write " + dir.file("no/such/dir/robot.xml") + ": No such file or directory");
+    CHECK(read_robot(path) == good);
+}
