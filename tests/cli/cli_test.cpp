@@ -99,6 +99,31 @@ TEST_CASE("the bare form runs a script like 'gaitlab run'", "[cli]") {
     CHECK(s.out == r.out);
 }
 
+TEST_CASE("a simulation file runs for its duration and says how far each robot moved", "[cli]") {
+    const Run r = gaitlab({"run", "examples/walk.xml"}, GAITLAB_SOURCE_DIR);
+    CHECK(r.status == 0);
+    CHECK(r.err.empty());
+    CHECK_THAT(r.out,
+               Catch::Matches(R"(snake: moved 0\.[0-9]+ m \(x -[0-9.]+, y -?[0-9.]+\) in 20 s\n)"));
+    const Run bare = gaitlab({"examples/walk.xml"}, GAITLAB_SOURCE_DIR);
+    CHECK(bare.out == r.out);
+}
+
+TEST_CASE("a bad simulation file fails with one line naming the file and line", "[cli]") {
+    const std::string files = kScripts + "/files/";
+    check_failure(gaitlab({"run", "files/bad_actuation.xml"}),
+                  "gaitlab: " + files +
+                      "typo.xml:5: controller 'sine' has no parameter 'frequncy'; did you mean "
+                      "'frequency'? (parameters: amplitude, frequency, phase, phase0, offset)");
+    check_failure(gaitlab({"run", "files/bad_floor.xml"}),
+                  "gaitlab: " + files +
+                      "slippery.xml:4: environment/floor[1]: floor friction must be in [0, 1] "
+                      "(got -0.2)");
+    check_failure(
+        gaitlab({"run", "files/none.xml"}),
+        "gaitlab: " + files + "none.xml: cannot read the file: No such file or directory");
+}
+
 TEST_CASE("version and help options", "[cli]") {
     const Run v = gaitlab({"--version"});
     CHECK(v.status == 0);

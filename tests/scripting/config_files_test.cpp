@@ -1,0 +1,194 @@
+// Configuration files from Lua (scripting/src/config_files.cpp and the save/load bindings): a
+// simulation saved with sim:save and loaded with gaitlab.simulation.load runs the same
+// trajectory to the bit; robots, worlds and actuations save and load on their own; bad files
+// give nil and "FILE:LINE: ..." messages; controllers defined inside a script cannot be saved.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "lua_fixture.h"
+#include "temp_dir.h"
+
+using gaitlab::test::LuaFixture;
+using gaitlab::test::TempDir;
+
+namespace {
+
+// a two-robot scene with a box, a Lua controller file, a template and built-ins, parameters
+// changed online; defines build() -> sim, robots
+const char* kScene = R"(
+    function build()
+      local MySine = gaitlab.controller.load(EXAMPLES .. "/controllers/my_sine.lua")
+      local snake = gaitlab.robot.chain{ name = "snake", modules = 6, connection = "pitch-yaw" }
+      local worm = gaitlab.robot.chain{ name = "worm", modules = 4 }
+      local world = gaitlab.world{ floor = { friction = 0.7 } }
+      world:box{ size = {0.1, 0.2, 0.05}, position = {0.6, 0.3, 0.025}, yaw = 30 }
+      world:add(snake, { x = 0.1, yaw = 15 })
+      world:add(worm, { y = 1 })
+      snake:group("pitch"):drive(MySine{ amplitude = 30 })
+      local s = snake:group{ 2, 4 }:drive(gaitlab.controllers.sine{ amplitude = 20, phase = 90 })
+      s.frequency = 0.7
+      worm:group("all"):drive(gaitlab.controller.template("cpg_chain"){ phase = 100 })
+      local sim = gaitlab.simulation{ world = world, control_every = 10, seed = 3 }
+      return sim, { snake = snake, worm = worm }
+    end
+)";
+
+}  // namespace
+
+TEST_CASE("a saved simulation loads and runs the same trajectory to the bit", "[config_files]") {
+    TempDir dir("sim_save");
+    LuaFixture lua;
+    lua.run("EXAMPLES = '" GAITLAB_SOURCE_DIR "/examples'  DIR = '" + dir.path.string() + "'");
+    lua.run(kScene);
+    lua.run(R"(
+        sim, robots = build()
+        saved = assert(sim:save(DIR .. "/walk.xml", { duration = 2 }))
+        sim:run(2)
+        loaded, setup = assert(gaitlab.simulation.load(DIR .. "/walk.xml"))
+        loaded:run(setup.duration)
+    )");
+    CHECK(lua.string("saved") == dir.file("walk.xml"));
+    for (const char* f :
+         {"walk.xml", "walk.environment.xml", "walk.snake.robot.xml", "walk.snake.actuation.xml",
+          "walk.worm.robot.xml", "walk.worm.actuation.xml"}) {
+        CHECK(std::filesystem::exists(dir.file(f)));
+    }
+    CHECK(lua.number("setup.duration") == 2);
+    CHECK(lua.string("setup.name") == "walk");
+    CHECK(lua.integer("loaded.control_every") == 10);
+    CHECK(lua.integer("loaded.seed") == 3);
+    CHECK(lua.number("robots.snake:displacement():norm()") > 0.01);
+    for (const char* name : {"snake", "worm"}) {
+        for (const char* axis : {"x", "y", "z"}) {
+            const std::string a = std::string("robots.") + name + ":position()." + axis;
+            const std::string b = std::string("setup.robots.") + name + ":position()." + axis;
+            CHECK(lua.number(a) == lua.number(b));
+        }
+    }
+    // the online change is saved: the loaded sine runs at 0.7 Hz
+    CHECK(lua.number("setup.controllers.snake[2].frequency") == 0.7);
+    CHECK(lua.string("setup.controllers.worm[1].name") == "my_cpg");
+    const std::string actuation = gaitlab::test::read_text(dir.file("walk.snake.actuation.xml"));
+    CHECK(actuation.find("file=\"" GAITLAB_SOURCE_DIR "/examples/controllers/my_sine.lua\"") !=
+          std::string::npos);
+}
+
+TEST_CASE("robots, worlds and actuations save and load on their own", "[config_files]") {
+    TempDir dir("parts");
+    LuaFixture lua;
+    lua.run("EXAMPLES = '" GAITLAB_SOURCE_DIR "/examples'  DIR = '" + dir.path.string() + "'");
+    lua.run(kScene);
+    lua.run(R"(
+        sim, robots = build()
+        assert(robots.snake:save(DIR .. "/snake.xml"))
+        assert(robots.snake:actuation():save(DIR .. "/snake_act.xml"))
+        assert(robots.worm:actuation():save(DIR .. "/worm_act.xml"))
+        sim:run(1)
+
+        local snake = assert(gaitlab.robot.load(DIR .. "/snake.xml"))
+        local worm = gaitlab.robot.chain{ name = "worm", modules = 4 }
+        local world = gaitlab.world{ floor = { friction = 0.7 } }
+        world:box{ size = {0.1, 0.2, 0.05}, position = {0.6, 0.3, 0.025}, yaw = 30 }
+        world:add(snake, { x = 0.1, yaw = 15 })
+        world:add(worm, { y = 1 })
+        assert(world:save(DIR .. "/world.xml"))
+        act = assert(gaitlab.actuation.load(DIR .. "/snake_act.xml"))
+        ctls = snake:actuate(act)
+        worm:actuate(assert(gaitlab.actuation.load(DIR .. "/worm_act.xml")))
+        sim2 = gaitlab.simulation{ world = world, control_every = 10, seed = 3 }
+        sim2:run(1)
+        copy = { snake = snake, worm = worm }
+
+        -- a loaded world places robots by name when they are added without a pose
+        world3 = assert(gaitlab.world.load(DIR .. "/world.xml"))
+        snake3 = assert(gaitlab.robot.load(DIR .. "/snake.xml"))
+        world3:add(snake3)
+        sim3 = gaitlab.simulation{ world = world3 }
+    )");
+    CHECK(lua.integer("#act") == 2);
+    CHECK(lua.string("act:groups()[1].joints") == "pitch");
+    CHECK(lua.integer("act:groups()[2].joints[2]") == 4);
+    CHECK(lua.string("act:groups()[2].controller.builtin") == "sine");
+    CHECK(lua.number("act:groups()[2].controller.params.frequency") == 0.7);
+    CHECK(lua.string("tostring(act)") == "gaitlab.Actuation (2 groups)");
+    CHECK(lua.integer("#ctls") == 2);
+    CHECK(lua.boolean("ctls[1].name == 'my_sine'"));
+    for (const char* name : {"snake", "worm"}) {
+        for (const char* axis : {"x", "y", "z"}) {
+            const std::string a = std::string("robots.") + name + ":position()." + axis;
+            const std::string b = std::string("copy.") + name + ":position()." + axis;
+            CHECK(lua.number(a) == lua.number(b));
+        }
+    }
+    const double tail_x = lua.number("snake3:bodies()[1].position.x");
+    const double tail_y = lua.number("snake3:bodies()[1].position.y");
+    CHECK(tail_x == Approx(0.1 + 0.018 * std::cos(15 * 3.14159265358979 / 180)));
+    CHECK(tail_y == Approx(0.018 * std::sin(15 * 3.14159265358979 / 180)));
+}
+
+TEST_CASE("bad files give nil and a message naming file and line", "[config_files]") {
+    TempDir dir("bad_files");
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.path.string() + "'");
+    gaitlab::test::write_text(dir.file("robot.xml"),
+                              "<gaitlab version=\"1\">\n<robot>\n<chain modules=\"3\" "
+                              "conection=\"pitch-yaw\"/>\n</robot>\n</gaitlab>\n");
+    lua.run("r, err = gaitlab.robot.load(DIR .. '/robot.xml')");
+    CHECK(lua.boolean("r == nil"));
+    CHECK(lua.string("err") == dir.file("robot.xml") +
+                                   ":3: robot/chain[1]: unknown attribute 'conection'; did you "
+                                   "mean 'connection'? (expected 'modules', 'connection', "
+                                   "'module')");
+    lua.run("r, err = gaitlab.world.load(DIR .. '/none.xml')");
+    CHECK(lua.string("err") ==
+          dir.file("none.xml") + ": cannot read the file: No such file or directory");
+
+    // parameters are checked against the controller when the actuation is applied; the
+    // message names the script line and the file line
+    gaitlab::test::write_text(dir.file("act.xml"),
+                              "<gaitlab version=\"1\">\n<actuation>\n<group joints=\"pitch\">\n"
+                              "<controller builtin=\"sine\" amplitud=\"30\"/>\n</group>\n"
+                              "<group joints=\"1 9\">\n<controller builtin=\"offset\"/>\n"
+                              "</group>\n</actuation>\n</gaitlab>\n");
+    lua.run("act = assert(gaitlab.actuation.load(DIR .. '/act.xml'))");
+    lua.run("robot = gaitlab.robot.chain{ modules = 4 }");
+    CHECK(lua.error_of("robot:actuate(act)") ==
+          "test:1: " + dir.file("act.xml") +
+              ":4: controller 'sine' has no parameter 'amplitud'; did you mean 'amplitude'? "
+              "(parameters: amplitude, frequency, phase, phase0, offset)");
+    gaitlab::test::write_text(dir.file("act2.xml"),
+                              "<gaitlab version=\"1\">\n<actuation>\n"
+                              "<group joints=\"1 9\">\n<controller builtin=\"offset\"/>\n"
+                              "</group>\n</actuation>\n</gaitlab>\n");
+    CHECK(lua.error_of("robot:actuate(assert(gaitlab.actuation.load(DIR .. '/act2.xml')))") ==
+          "test:1: " + dir.file("act2.xml") +
+              ":4: group 1: robot 'robot' has no joint 9 (it has joints 1 to 4)");
+    CHECK(lua.integer("#robot:actuation()") == 0);  // a bad file drives nothing
+
+    // a simulation file whose robot file is missing names its resolved path
+    gaitlab::test::write_text(dir.file("env.xml"),
+                              "<gaitlab version=\"1\"><environment/></gaitlab>");
+    gaitlab::test::write_text(dir.file("sim.xml"),
+                              "<gaitlab version=\"1\">\n<simulation>\n<environment "
+                              "file=\"env.xml\"/>\n<robot file=\"robots/r.xml\"/>\n"
+                              "</simulation>\n</gaitlab>\n");
+    lua.run("s, err = gaitlab.simulation.load(DIR .. '/sim.xml')");
+    CHECK(lua.string("err") == dir.file("sim.xml") +
+                                   ":4: simulation/robot[1]: attribute 'file': no file at " +
+                                   dir.file("robots/r.xml"));
+}
+
+TEST_CASE("a controller defined inside a script cannot be saved, and says why", "[config_files]") {
+    LuaFixture lua;
+    lua.run(R"(
+        Inline = gaitlab.controller{ name = "inline", step = function(self) end }
+        robot = gaitlab.robot.chain{ modules = 2 }
+        robot:group("all"):drive(Inline())
+    )");
+    CHECK(lua.error_of("robot:actuation()") ==
+          "test:1: controller 'inline' is defined inside a script (test:2): a file can only "
+          "name a controller loaded from its own file (gaitlab.controller.load) or a template");
+}
