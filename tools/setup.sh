@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian packages gaitlab builds, tests and benchmarks with.
+# Installs the Debian packages gaitlab builds, tests and benchmarks with; `tools/setup.sh fuzz`
+# also installs clang and libFuzzer (tools/fuzz.sh).
 # Idempotent: prints nothing and installs nothing when everything is already there.
 set -euo pipefail
 
@@ -9,6 +10,10 @@ packages=(
     libbullet-dev libeigen3-dev libfmt-dev libtinyxml2-dev
     catch2 libcli11-dev libbenchmark-dev libedit-dev
 )
+
+if [ "${1:-}" = fuzz ]; then
+    packages+=(clang libclang-rt-14-dev)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
