@@ -3,6 +3,7 @@
 
 #include "config_files.h"
 #include "gaitlab/files.h"
+#include "gaitlab/urdf.h"
 #include "lua_util.h"
 #include "scene.h"
 #include "wrap.h"
@@ -241,6 +242,40 @@ int robot_save(lua_State* L) {
     });
 }
 
+// gaitlab.robot.load_urdf(path): a robot from a URDF serial chain, or nil and a message
+int robot_load_urdf(lua_State* L) {
+    return protect(L, [&] {
+        const std::string path = script_path(L, check_string(L, 1));
+        auto robot = std::make_shared<RobotBinding>();
+        try {
+            robot->spec = read_urdf(path);
+        } catch (const FormatError& e) {
+            lua_pushnil(L);
+            lua_pushstring(L, e.what());
+            return 2;
+        }
+        push_robot(L, std::move(robot));
+        return 1;
+    });
+}
+
+// robot:save_urdf(path): writes the robot as URDF; the path, or nil and a message
+int robot_save_urdf(lua_State* L) {
+    return protect(L, [&] {
+        RobotBinding& r = check_robot(L, 1);
+        const std::string path = script_path(L, check_string(L, 2));
+        try {
+            write_urdf(path, r.spec);
+        } catch (const IoError& e) {
+            lua_pushnil(L);
+            lua_pushstring(L, e.what());
+            return 2;
+        }
+        lua_pushstring(L, path.c_str());
+        return 1;
+    });
+}
+
 // robot:actuation(): the spec of its groups and controllers, parameters at their current values
 int robot_actuation(lua_State* L) {
     return protect(L, [&] {
@@ -319,11 +354,17 @@ std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index) {
 }
 
 void open_robot(lua_State* L) {
-    const luaL_Reg methods[] = {{"group", robot_group},       {"position", robot_position},
-                                {"velocity", robot_velocity}, {"displacement", robot_displacement},
-                                {"bodies", robot_bodies},     {"joints", robot_joints},
-                                {"save", robot_save},         {"actuation", robot_actuation},
-                                {"actuate", robot_actuate},   {nullptr, nullptr}};
+    const luaL_Reg methods[] = {{"group", robot_group},
+                                {"position", robot_position},
+                                {"velocity", robot_velocity},
+                                {"displacement", robot_displacement},
+                                {"bodies", robot_bodies},
+                                {"joints", robot_joints},
+                                {"save", robot_save},
+                                {"save_urdf", robot_save_urdf},
+                                {"actuation", robot_actuation},
+                                {"actuate", robot_actuate},
+                                {nullptr, nullptr}};
     luaL_newmetatable(L, kRobotType);
     lua_newtable(L);
     luaL_setfuncs(L, methods, 0);
@@ -346,6 +387,8 @@ void open_robot(lua_State* L) {
     lua_setfield(L, -2, "chain");
     lua_pushcfunction(L, robot_load);
     lua_setfield(L, -2, "load");
+    lua_pushcfunction(L, robot_load_urdf);
+    lua_setfield(L, -2, "load_urdf");
     lua_setfield(L, -2, "robot");
 }
 

@@ -42,7 +42,7 @@ std::string read_text(const std::string& path) {
     return text.str();
 }
 
-Document::Document(std::string_view text, std::string file, const char* kind)
+Document::Document(std::string_view text, std::string file)
     : doc_(std::make_unique<tinyxml2::XMLDocument>(true, tinyxml2::COLLAPSE_WHITESPACE)),
       file_(std::move(file)) {
     if (doc_->Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
@@ -52,6 +52,24 @@ Document::Document(std::string_view text, std::string file, const char* kind)
                                       tinyxml2::XMLDocument::ErrorIDToName(doc_->ErrorID())),
                           file_, line);
     }
+}
+
+std::unique_ptr<Document> Document::foreign(std::string_view text, std::string file,
+                                            const char* root) {
+    std::unique_ptr<Document> d(new Document(text, std::move(file)));
+    const tinyxml2::XMLElement* top = d->doc_->RootElement();
+    if (!top || std::strcmp(top->Name(), root) != 0) {
+        const int line = top ? top->GetLineNum() : 1;
+        throw FormatError(fmt::format("{}:{}: expected a <{}> root element{}", d->file_, line, root,
+                                      top ? fmt::format(", got <{}>", top->Name()) : ""),
+                          d->file_, line);
+    }
+    d->root_ = top;
+    return d;
+}
+
+Document::Document(std::string_view text, std::string file, const char* kind)
+    : Document(text, std::move(file)) {
     const tinyxml2::XMLElement* top = doc_->RootElement();
     if (!top || std::strcmp(top->Name(), "gaitlab") != 0) {
         const int line = top ? top->GetLineNum() : 1;
@@ -170,7 +188,7 @@ bool Element::boolean(const char* attr, bool fallback) const {
 namespace {
 
 // splits "a b c" into numbers; empty on a malformed list
-std::vector<double> numbers(const char* text) {
+std::vector<double> split_numbers(const char* text) {
     std::vector<double> out;
     const char* p = text;
     while (*p) {
@@ -188,10 +206,21 @@ std::vector<double> numbers(const char* text) {
 
 }  // namespace
 
+std::vector<double> Element::numbers(const char* attr, size_t n,
+                                     const std::vector<double>& fallback) const {
+    const char* v = raw(attr);
+    if (!v) return fallback;
+    std::vector<double> out = split_numbers(v);
+    if (out.size() != n) {
+        fail(fmt::format("attribute '{}': {} numbers expected, got '{}'", attr, n, v));
+    }
+    return out;
+}
+
 Vec3 Element::vec3(const char* attr, const Vec3& fallback) const {
     const char* v = raw(attr);
     if (!v) return fallback;
-    const std::vector<double> n = numbers(v);
+    const std::vector<double> n = split_numbers(v);
     if (n.size() != 3)
         fail(fmt::format("attribute '{}': three numbers \"x y z\" expected, got '{}'", attr, v));
     return {n[0], n[1], n[2]};
@@ -200,7 +229,7 @@ Vec3 Element::vec3(const char* attr, const Vec3& fallback) const {
 Quat Element::quat(const char* attr, const Quat& fallback) const {
     const char* v = raw(attr);
     if (!v) return fallback;
-    const std::vector<double> n = numbers(v);
+    const std::vector<double> n = split_numbers(v);
     if (n.size() != 4) {
         fail(fmt::format("attribute '{}': four numbers \"w x y z\" expected, got '{}'", attr, v));
     }
@@ -238,6 +267,12 @@ std::vector<Element> Element::children(std::initializer_list<const char*> allowe
         out.emplace_back(*doc_, c, fmt::format("{}/{}[{}]", path_, n, k));
     }
     return out;
+}
+
+std::optional<Element> Element::child(const char* name) const {
+    const tinyxml2::XMLElement* c = e_->FirstChildElement(name);
+    if (!c) return std::nullopt;
+    return Element(*doc_, c, path_ + "/" + name);
 }
 
 std::vector<std::string> Element::attribute_names() const {

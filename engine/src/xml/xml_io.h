@@ -31,6 +31,9 @@ class Document {
   public:
     /// Parses `text`; `file` names it in messages. Throws FormatError.
     Document(std::string_view text, std::string file, const char* kind);
+    /// A foreign format (URDF): `text` whose root element must be `root`, no gaitlab wrapper.
+    static std::unique_ptr<Document> foreign(std::string_view text, std::string file,
+                                             const char* root);
     Document(const Document&) = delete;
     Document& operator=(const Document&) = delete;
 
@@ -38,6 +41,7 @@ class Document {
     const std::string& file() const { return file_; }
 
   private:
+    Document(std::string_view text, std::string file);
     std::unique_ptr<tinyxml2::XMLDocument> doc_;
     std::string file_;
     const tinyxml2::XMLElement* root_ = nullptr;
@@ -72,6 +76,9 @@ class Element {
     bool boolean(const char* attr, bool fallback) const;
     /// "x y z".
     Vec3 vec3(const char* attr, const Vec3& fallback) const;
+    /// Exactly `n` numbers separated by spaces.
+    std::vector<double> numbers(const char* attr, size_t n,
+                                const std::vector<double>& fallback) const;
     /// "w x y z", normalised check within 1e-6.
     Quat quat(const char* attr, const Quat& fallback) const;
     /// An angle written in degrees, returned in radians.
@@ -79,6 +86,8 @@ class Element {
 
     /// The child elements, each of which must be named in `allowed`.
     std::vector<Element> children(std::initializer_list<const char*> allowed) const;
+    /// The first child element called `name`, if any (the others are not checked).
+    std::optional<Element> child(const char* name) const;
     /// The attribute names present, in file order.
     std::vector<std::string> attribute_names() const;
 

@@ -1,0 +1,357 @@
+// URDF export and import (see gaitlab/urdf.h). Link frames are parallel to the robot frame at
+// rest: the root link's at its body's centre, every other link's at the pivot of the joint
+// that carries it, so joint origins are pure translations and URDF's rule that a child link's
+// frame is its joint's frame holds.
+#include "gaitlab/urdf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "gaitlab/files.h"
+#include "gaitlab/xml.h"
+#include "xml_io.h"
+
+namespace gaitlab {
+
+namespace {
+
+using xml::Element;
+
+// URDF's rpy: fixed-axis roll about x, then pitch about y, then yaw about z
+Quat from_rpy(double r, double p, double y) {
+    return Quat::from_axis_angle({0, 0, 1}, y) * Quat::from_axis_angle({0, 1, 0}, p) *
+           Quat::from_axis_angle({1, 0, 0}, r);
+}
+
+Vec3 to_rpy(const Quat& q) {
+    const double sinp = 2 * (q.w * q.y - q.z * q.x);
+    return {std::atan2(2 * (q.w * q.x + q.y * q.z), 1 - 2 * (q.x * q.x + q.y * q.y)),
+            std::abs(sinp) >= 1 ? std::copysign(kPi / 2, sinp) : std::asin(sinp),
+            std::atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))};
+}
+
+std::string numbers3(const Vec3& v) {
+    return fmt::format("{} {} {}", xml::format_number(v.x), xml::format_number(v.y),
+                       xml::format_number(v.z));
+}
+
+void origin(tinyxml2::XMLPrinter& p, const Vec3& xyz, const Quat& q) {
+    p.OpenElement("origin");
+    p.PushAttribute("xyz", numbers3(xyz).c_str());
+    p.PushAttribute("rpy", numbers3(to_rpy(q)).c_str());
+    p.CloseElement();
+}
+
+void box(tinyxml2::XMLPrinter& p, const Vec3& size) {
+    p.OpenElement("geometry");
+    p.OpenElement("box");
+    p.PushAttribute("size", numbers3(size).c_str());
+    p.CloseElement();
+    p.CloseElement();
+}
+
+// the joint that carries each body (-1 for the root); SpecError unless the robot is a tree
+std::vector<int> carriers(const RobotSpec& robot) {
+    std::vector<int> by(robot.bodies.size(), -1);
+    for (size_t j = 0; j < robot.joints.size(); ++j) {
+        const int child = robot.joints[j].child;
+        if (by[static_cast<size_t>(child)] >= 0) {
+            throw SpecError(fmt::format(
+                "robot '{}' is not a tree: body '{}' hangs from two joints (URDF needs a tree)",
+                robot.name, robot.bodies[static_cast<size_t>(child)].name));
+        }
+        by[static_cast<size_t>(child)] = static_cast<int>(j);
+    }
+    if (std::count(by.begin(), by.end(), -1) != 1) {
+        throw SpecError(
+            fmt::format("robot '{}' is not connected: URDF needs a single root body", robot.name));
+    }
+    return by;
+}
+
+}  // namespace
+
+std::string format_urdf(const RobotSpec& robot) {
+    validate(robot);
+    const std::vector<int> carrier = carriers(robot);
+    const auto link_origin = [&](size_t b) {
+        return carrier[b] < 0 ? robot.bodies[b].pose.position
+                              : robot.joints[static_cast<size_t>(carrier[b])].pivot;
+    };
+    tinyxml2::XMLPrinter p(nullptr, false, 0);
+    p.PushHeader(false, true);
+    p.PushComment(" written by gaitlab: one link per body, one revolute joint per joint ");
+    p.OpenElement("robot");
+    p.PushAttribute("name", robot.name.c_str());
+    for (size_t b = 0; b < robot.bodies.size(); ++b) {
+        const BodySpec& body = robot.bodies[b];
+        const Vec3 at = body.pose.position - link_origin(b);
+        const Vec3& s = body.size;
+        p.OpenElement("link");
+        p.PushAttribute("name", body.name.c_str());
+        p.OpenElement("inertial");
+        origin(p, at, body.pose.orientation);
+        p.OpenElement("mass");
+        p.PushAttribute("value", xml::format_number(body.mass).c_str());
+        p.CloseElement();
+        p.OpenElement("inertia");
+        const double m = body.mass / 12;
+        p.PushAttribute("ixx", xml::format_number(m * (s.y * s.y + s.z * s.z)).c_str());
+        p.PushAttribute("ixy", "0");
+        p.PushAttribute("ixz", "0");
+        p.PushAttribute("iyy", xml::format_number(m * (s.x * s.x + s.z * s.z)).c_str());
+        p.PushAttribute("iyz", "0");
+        p.PushAttribute("izz", xml::format_number(m * (s.x * s.x + s.y * s.y)).c_str());
+        p.CloseElement();
+        p.CloseElement();
+        for (const char* kind : {"visual", "collision"}) {
+            p.OpenElement(kind);
+            origin(p, at, body.pose.orientation);
+            box(p, s);
+            p.CloseElement();
+        }
+        p.CloseElement();
+    }
+    for (size_t j = 0; j < robot.joints.size(); ++j) {
+        const JointSpec& joint = robot.joints[j];
+        const size_t parent = static_cast<size_t>(joint.parent);
+        p.OpenElement("joint");
+        p.PushAttribute("name", joint.name.c_str());
+        p.PushAttribute("type", "revolute");
+        origin(p, joint.pivot - link_origin(parent), Quat{});
+        p.OpenElement("parent");
+        p.PushAttribute("link", robot.bodies[parent].name.c_str());
+        p.CloseElement();
+        p.OpenElement("child");
+        p.PushAttribute("link", robot.bodies[static_cast<size_t>(joint.child)].name.c_str());
+        p.CloseElement();
+        p.OpenElement("axis");
+        p.PushAttribute("xyz", numbers3(joint.axis).c_str());
+        p.CloseElement();
+        p.OpenElement("limit");
+        p.PushAttribute("lower", xml::format_number(joint.min_angle).c_str());
+        p.PushAttribute("upper", xml::format_number(joint.max_angle).c_str());
+        p.PushAttribute("effort", xml::format_number(joint.servo.max_torque).c_str());
+        p.PushAttribute("velocity", xml::format_number(joint.servo.max_speed).c_str());
+        p.CloseElement();
+        p.CloseElement();
+    }
+    p.CloseElement();
+    return std::string(p.CStr(), static_cast<size_t>(p.CStrSize() - 1));
+}
+
+void write_urdf(const std::string& path, const RobotSpec& robot) {
+    write_file_atomic(path, format_urdf(robot));
+}
+
+namespace {
+
+struct UrdfLink {
+    int line = 0;
+    Pose geometry;  // of the box, in the link frame
+    Vec3 size;
+    double mass = 0;
+};
+
+struct UrdfJoint {
+    std::string name;
+    std::string parent, child;
+    Pose origin;  // of the joint (child link) frame in the parent link frame
+    Vec3 axis{1, 0, 0};
+    double lower = 0, upper = 0, effort = 0, velocity = 0;
+};
+
+Pose read_origin(const Element& e) {
+    const std::optional<Element> o = e.child("origin");
+    if (!o) return {};
+    o->allow({"xyz", "rpy"});
+    const std::vector<double> rpy = o->numbers("rpy", 3, {0, 0, 0});
+    return {o->vec3("xyz", {}), from_rpy(rpy[0], rpy[1], rpy[2])};
+}
+
+UrdfLink read_link(const Element& link) {
+    UrdfLink out;
+    out.line = link.line();
+    bool geometry = false;
+    for (const Element& k : link.children({"inertial", "visual", "collision"})) {
+        const std::string kind = k.name();
+        if (kind == "inertial") {
+            for (const Element& i : k.children({"origin", "mass", "inertia"})) {
+                if (std::string(i.name()) == "mass") out.mass = i.required_number("value");
+            }
+            continue;
+        }
+        // the collision box is the body; a visual box serves when there is no collision
+        if (geometry && kind == "visual") continue;
+        for (const Element& g : k.children({"origin", "geometry", "material"})) {
+            if (std::string(g.name()) != "geometry") continue;
+            for (const Element& shape : g.children({"box", "cylinder", "sphere", "mesh"})) {
+                if (std::string(shape.name()) != "box") {
+                    shape.fail(
+                        fmt::format("only box geometry can be imported (got <{}>)", shape.name()));
+                }
+                if (!shape.has("size")) shape.fail("attribute 'size' is required");
+                out.size = shape.vec3("size", {});
+                out.geometry = read_origin(k);
+                geometry = true;
+            }
+        }
+    }
+    if (!geometry) link.fail("a link needs a box in <collision> or <visual>");
+    if (!(out.mass > 0)) link.fail("a link needs an <inertial> with a mass > 0");
+    return out;
+}
+
+UrdfJoint read_joint(const Element& e) {
+    UrdfJoint j;
+    j.name = e.required_string("name");
+    const std::string type = e.required_string("type");
+    if (type != "revolute") {
+        e.fail(fmt::format("only revolute joints can be imported (got type '{}')", type));
+    }
+    j.origin = read_origin(e);
+    bool limit = false;
+    for (const Element& k : e.children({"origin", "parent", "child", "axis", "limit", "dynamics",
+                                        "safety_controller", "calibration", "mimic"})) {
+        const std::string kind = k.name();
+        if (kind == "parent") j.parent = k.required_string("link");
+        if (kind == "child") j.child = k.required_string("link");
+        if (kind == "axis") {
+            const Vec3 a = k.vec3("xyz", {1, 0, 0});
+            const double n = a.norm();
+            if (!(n > 0)) k.fail("attribute 'xyz': a non-zero axis expected");
+            j.axis = a * (1 / n);
+        }
+        if (kind == "limit") {
+            limit = true;
+            j.lower = k.required_number("lower");
+            j.upper = k.required_number("upper");
+            j.effort = k.required_number("effort");
+            j.velocity = k.required_number("velocity");
+        }
+    }
+    if (j.parent.empty() || j.child.empty()) e.fail("a joint needs <parent link> and <child link>");
+    if (!limit) e.fail("a revolute joint needs a <limit lower upper effort velocity>");
+    return j;
+}
+
+Pose compose(const Pose& a, const Pose& b) {
+    return {a.apply(b.position), a.orientation * b.orientation};
+}
+
+}  // namespace
+
+RobotSpec parse_urdf(std::string_view text, const std::string& file) {
+    const auto doc = xml::Document::foreign(text, file, "robot");
+    const Element root = doc->root();
+    RobotSpec robot;
+    robot.name = root.string("name", "robot");
+    std::map<std::string, UrdfLink> links;
+    std::vector<std::string> link_order;
+    std::map<std::string, UrdfJoint> by_child;    // the joint that carries each link
+    std::map<std::string, std::string> child_of;  // a link's one child link
+    for (const Element& k :
+         root.children({"link", "joint", "material", "gazebo", "transmission"})) {
+        const std::string kind = k.name();
+        if (kind == "link") {
+            const std::string name = k.required_string("name");
+            if (links.count(name)) k.fail(fmt::format("a second link named '{}'", name));
+            links[name] = read_link(k);
+            link_order.push_back(name);
+        } else if (kind == "joint") {
+            UrdfJoint j = read_joint(k);
+            if (by_child.count(j.child)) {
+                k.fail(fmt::format("link '{}' hangs from two joints", j.child));
+            }
+            if (child_of.count(j.parent)) {
+                k.fail(
+                    fmt::format("link '{}' has two child links: only serial chains can be "
+                                "imported",
+                                j.parent));
+            }
+            child_of[j.parent] = j.child;
+            by_child[j.child] = j;
+        }
+    }
+    if (links.empty()) root.fail("a robot needs at least one <link>");
+    for (const auto& [child, j] : by_child) {
+        for (const std::string& l : {j.parent, j.child}) {
+            if (!links.count(l)) root.fail(fmt::format("joint '{}' names no link '{}'", j.name, l));
+        }
+    }
+    std::string first;
+    for (const std::string& l : link_order) {
+        if (!by_child.count(l)) {
+            if (!first.empty()) {
+                root.fail(
+                    fmt::format("links '{}' and '{}' both have no parent: a chain has one "
+                                "root",
+                                first, l));
+            }
+            first = l;
+        }
+    }
+    if (first.empty()) root.fail("the joints form a loop: a chain has one root link");
+    // walk the chain from the root, placing every link frame in the robot frame
+    Pose frame;
+    for (std::string l = first;;) {
+        const UrdfLink& link = links[l];
+        BodySpec b;
+        b.name = l;
+        b.size = link.size;
+        b.mass = link.mass;
+        b.pose = compose(frame, link.geometry);
+        robot.bodies.push_back(b);
+        const auto next = child_of.find(l);
+        if (next == child_of.end()) break;
+        const UrdfJoint& j = by_child[next->second];
+        frame = compose(frame, j.origin);
+        JointSpec js;
+        js.name = j.name;
+        js.parent = static_cast<int>(robot.bodies.size()) - 1;
+        js.child = js.parent + 1;
+        js.pivot = frame.position;
+        js.axis = frame.orientation.rotate(j.axis);
+        js.role = std::abs(js.axis.z) > std::abs(js.axis.y) ? JointRole::yaw : JointRole::pitch;
+        js.min_angle = j.lower;
+        js.max_angle = j.upper;
+        js.servo.max_torque = j.effort;
+        js.servo.max_speed = j.velocity;
+        robot.joints.push_back(js);
+        l = next->second;
+    }
+    if (robot.bodies.size() != links.size()) {
+        root.fail("some links are not on the chain from the root link");
+    }
+    // gaitlab's robot frame: the rearmost point at x = 0, the lowest on the floor (z = 0)
+    Vec3 low{std::numeric_limits<double>::infinity(), 0, std::numeric_limits<double>::infinity()};
+    for (const BodySpec& b : robot.bodies) {
+        for (int c = 0; c < 8; ++c) {
+            const Vec3 corner =
+                b.pose.apply({(c & 1 ? 0.5 : -0.5) * b.size.x, (c & 2 ? 0.5 : -0.5) * b.size.y,
+                              (c & 4 ? 0.5 : -0.5) * b.size.z});
+            low.x = std::min(low.x, corner.x);
+            low.z = std::min(low.z, corner.z);
+        }
+    }
+    for (BodySpec& b : robot.bodies)
+        b.pose.position = b.pose.position - low;
+    for (JointSpec& j : robot.joints)
+        j.pivot = j.pivot - low;
+    try {
+        validate(robot);
+    } catch (const SpecError& e) {
+        root.fail(e.what());
+    }
+    return robot;
+}
+
+RobotSpec read_urdf(const std::string& path) {
+    return parse_urdf(xml::read_text(path), path);
+}
+
+}  // namespace gaitlab
