@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "gaitlab/module.h"
+#include "gaitlab/sensor.h"
 #include "gaitlab/types.h"
 
 namespace gaitlab {
@@ -52,6 +53,8 @@ struct RobotSpec {
     std::vector<BodySpec> bodies;
     std::vector<JointSpec> joints;
     bool self_collision = false;  ///< collide non-adjacent bodies of the robot with each other
+    /// sensors on its modules and joints, in the order simulations number them (sensor.h)
+    std::vector<SensorSpec> sensors;
 };
 
 /// A straight chain of identical modules.
@@ -66,7 +69,7 @@ struct ChainSpec {
 /// lying along +x with its tail at the origin. Throws SpecError on invalid input.
 RobotSpec make_chain(const ChainSpec& spec);
 
-/// Checks a robot spec (indices, masses, sizes, ranges, friction); throws SpecError.
+/// Checks a robot spec (indices, masses, sizes, ranges, friction, sensors); throws SpecError.
 void validate(const RobotSpec& robot);
 
 /// Joint indices (0-based, from the tail) selected by role: "pitch", "yaw" or "all". Throws
