@@ -22,6 +22,7 @@ extern "C" int luaopen_gaitlab(lua_State* L) {
     open_world(L);       // gaitlab.world
     open_simulation(L);  // gaitlab.simulation
     open_controller(L);  // gaitlab.controllers, gaitlab.controller
+    open_sensor(L);      // gaitlab.sensor, robot:sensor{...}
 
     open_stdlib(L, lua_gettop(L));  // vec3.lua ...
     return 1;

@@ -63,6 +63,7 @@ class LuaController final : public Controller {
     static int l_angle(lua_State* L);
     static int l_velocity(lua_State* L);
     static int l_torque(lua_State* L);
+    static int l_sensor(lua_State* L);
 
     lua_State* L_;
     std::shared_ptr<LuaControllerClass> cls_;

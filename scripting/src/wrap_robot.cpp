@@ -257,6 +257,8 @@ void open_robot(lua_State* L) {
                                 {"displacement", robot_displacement},
                                 {"bodies", robot_bodies},
                                 {"joints", robot_joints},
+                                {"sensor", robot_sensor},
+                                {"sensors", robot_sensors},
                                 {nullptr, nullptr}};
     luaL_newmetatable(L, kRobotType);
     lua_newtable(L);
