@@ -8,6 +8,7 @@
 
 #include "gaitlab/error.h"
 #include "gaitlab/robot.h"
+#include "gaitlab/simulation.h"
 #include "gaitlab/world.h"
 
 using namespace gaitlab;
@@ -169,4 +170,7 @@ TEST_CASE("sensor names are unique within a robot and made of letters, digits an
     WorldSpec w;
     w.robots.push_back({r, {}, {}});
     REQUIRE_THROWS_WITH(validate(w), Equals("robot 'snake' has no joint 6 (it has joints 1 to 3)"));
+    // a simulation checks them before anything runs
+    REQUIRE_THROWS_WITH(Simulation(w),
+                        Equals("robot 'snake' has no joint 6 (it has joints 1 to 3)"));
 }
