@@ -5,6 +5,7 @@
 //   gaitlab_bench accuracy [--quick] [--ce MS] [--jobs J]      displacement vs converged runs
 //   gaitlab_bench one --impl raw|gaitlab|lua-sine|lua-controller [--conn pp|py] [--modules N]
 //                     [--ce C] [--iterations I] [--dt S] [--seconds S] [--controller NAME]
+//                     [--sensors none|off|on]
 //
 // Timed runs measure the stepping loop only (the scene is built before the clock starts), as
 // thread CPU time and wall time. Variants of one scenario run back to back and alternate their
@@ -201,6 +202,8 @@ Args parse(int argc, char** argv) {
             a.one.dt = std::stod(value());
         } else if (k == "--controller") {
             a.one.controller = value();
+        } else if (k == "--sensors") {
+            a.one.sensors = value();
         } else if (k == "--lua-controller") {
             a.lua_file = value();
         } else {

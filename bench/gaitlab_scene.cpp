@@ -31,6 +31,28 @@ gaitlab::WorldSpec make_world(const Scenario& sc) {
     };
     drive("pitch", sc.pitch_amplitude);
     if (sc.pitch_yaw) drive("yaw", sc.yaw_amplitude);
+    if (sc.sensors != "none") {
+        if (sc.sensors != "off" && sc.sensors != "on") {
+            throw std::runtime_error("--sensors takes none, off or on");
+        }
+        auto& sensors = placed.robot.sensors;
+        for (int m = 0; m < sc.modules; ++m) {
+            for (gaitlab::SensorKind k :
+                 {gaitlab::SensorKind::joint, gaitlab::SensorKind::imu,
+                  gaitlab::SensorKind::contact, gaitlab::SensorKind::range}) {
+                gaitlab::SensorSpec s;
+                s.kind = k;
+                s.joint = m;
+                s.module = m;
+                s.direction = {0, 0, -1};
+                sensors.push_back(s);
+            }
+        }
+        sensors.push_back(gaitlab::SensorSpec{});
+        sensors.back().kind = gaitlab::SensorKind::position;
+        for (gaitlab::SensorSpec& s : sensors)
+            s.enabled = sc.sensors == "on";
+    }
 
     gaitlab::WorldSpec world;
     world.floor.friction = sc.floor_friction;

@@ -3,8 +3,8 @@
 #
 #   bench/run.sh [--quick] [--no-build] [--only SECTION]...
 #
-# SECTION: overhead | lua | callgrind (incl. the built-in controllers) | process | accuracy
-# (default: all of them).
+# SECTION: overhead | lua | callgrind (incl. the built-in controllers) | sensors | process |
+# accuracy (default: all of them).
 # --quick: shorter runs, fewer repetitions and scenarios (about 3 minutes instead of about 10).
 # BUILD_DIR (default build-bench) selects the build directory.
 set -euo pipefail
@@ -22,7 +22,7 @@ while [ $# -gt 0 ]; do
     esac
     shift
 done
-[ ${#sections[@]} -eq 0 ] && sections=(overhead lua callgrind process accuracy)
+[ ${#sections[@]} -eq 0 ] && sections=(overhead lua callgrind sensors process accuracy)
 want() { local s; for s in "${sections[@]}"; do [ "$s" = "$1" ] && return 0; done; return 1; }
 
 if [ $do_build -eq 1 ]; then
@@ -127,6 +127,48 @@ if want callgrind; then
         controllers_table "$secs"
     else
         echo; echo "(valgrind not found: callgrind section skipped)"
+    fi
+fi
+
+# what sensors cost: the same gait with no sensors, with 4 per module + 1 all switched off, and
+# with them all on (callgrind, instructions of the stepping loop); the share of the loop spent
+# reading them is Sensing::update's inclusive count
+sensors_table() {
+    local secs=$1 steps n s out none total own
+    steps=$(awk -v s="$secs" 'BEGIN {printf "%d", s * 1000 + 0.5}')
+    echo
+    echo "### Sensors on pp, control_every = 10: none, all switched off, all on (callgrind, $secs simulated s)"
+    echo
+    echo "| robot | sensors | state | Ir/step | vs none | reading them, Ir/step |"
+    echo "|---|---|---|---|---|---|"
+    for n in 8 32; do
+        for s in none off on; do
+            out="$work/cgs.$n.$s"
+            valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file="$out" \
+                "$bench" one --impl gaitlab --conn pp --modules "$n" --ce 10 --seconds "$secs" \
+                --sensors "$s" >/dev/null 2>&1 &
+        done
+        wait
+        none=$(awk '/^totals:/ {print $2}' "$work/cgs.$n.none")
+        for s in none off on; do
+            out="$work/cgs.$n.$s"
+            total=$(awk '/^totals:/ {print $2}' "$out")
+            own=$(callgrind_annotate --inclusive=yes --threshold=100 "$out" 2>/dev/null |
+                grep -E 'gaitlab::Sensing::update\(' | awk '{gsub(",", "", $1); s += $1} END {print s + 0}')
+            awk -v n="$n" -v st="$s" -v t="$total" -v z="$none" -v o="$own" -v k="$steps" 'BEGIN {
+                count = st == "none" ? 0 : 4 * n + 1
+                printf "| pp%d | %d | %s | %.0f | **%+.4f %%** | %.0f |\n", n, count, st, t / k,
+                    100 * (t - z) / z, o / k }'
+        done
+    done
+}
+if want sensors; then
+    if command -v valgrind >/dev/null; then
+        secs=1
+        [ $quick -eq 1 ] && secs=0.5
+        sensors_table "$secs"
+    else
+        echo; echo "(valgrind not found: sensors section skipped)"
     fi
 fi
 

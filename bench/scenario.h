@@ -25,6 +25,10 @@ struct Scenario {
     /// built-in controller driving each group (gaitlab side only; the raw loop runs the sine);
     /// its amplitude, frequency and phase parameters are set when it has them
     std::string controller = "sine";
+    /// sensors on the robot (gaitlab side only): "none"; "off" or "on": a joint, an IMU, a
+    /// contact and a range sensor (looking down) on every module, and a position sensor, all
+    /// switched off or on
+    std::string sensors = "none";
 
     long ticks() const;
     /// "pp8 ce10", "py32 ce30 it50 dt0.1ms", ...

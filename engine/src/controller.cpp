@@ -44,6 +44,13 @@ Controller::Controller(ControllerDef def) : def_(std::move(def)) {
     values_.resize(def_.values.size());
 }
 
+int ControlIO::find_sensor(std::string_view name) const {
+    for (int k = 0; k < sensor_count(); ++k) {
+        if (sensors_->spec(k).name == name) return k;
+    }
+    return -1;
+}
+
 int Controller::find_param(std::string_view name) const {
     for (size_t i = 0; i < def_.params.size(); ++i) {
         if (def_.params[i].name == name) return static_cast<int>(i);

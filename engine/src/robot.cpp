@@ -149,6 +149,7 @@ void validate(const RobotSpec& robot) {
         detail::check_positive(q + "servo max_speed", j.servo.max_speed, "rad/s");
         detail::check_positive(q + "servo max_torque", j.servo.max_torque, "N·m");
     }
+    validate_sensors(robot);
 }
 
 std::vector<int> select_joints(const RobotSpec& robot, std::string_view role) {

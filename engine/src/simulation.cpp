@@ -10,6 +10,7 @@
 #include "gaitlab/controller.h"
 #include "gaitlab/error.h"
 #include "gaitlab/servo.h"
+#include "sensing.h"
 
 namespace gaitlab {
 
@@ -52,7 +53,8 @@ class Simulation::Phases final : public TickPhases, public JointReader {
         for (DriveSlot& d : sim_.drives_) {
             Controller& c = *d.drive.controller;
             if (!c.failed()) {  // a failed controller's targets stay frozen
-                ControlIO io(control_dt, time, d.global_joints, *this, d.targets.data());
+                ControlIO io(control_dt, time, d.global_joints, *this, d.targets.data(),
+                             &sim_.sensing_->reader(d.robot));
                 try {
                     c.step(io);
                 } catch (const std::exception& e) {
@@ -80,6 +82,9 @@ class Simulation::Phases final : public TickPhases, public JointReader {
     void physics(double dt) override { sim_.physics_->step(dt); }
 
     void record(long /*tick*/, double /*time*/) override {
+        // the sensors read the state the step reached: the next tick's think sees it, and so
+        // do the observers
+        sim_.sensing_->update(*sim_.physics_);
         for (auto& o : sim_.observers_)
             o.second(sim_);
     }
@@ -151,6 +156,7 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     angles_.assign(static_cast<size_t>(first_joint), 0.0);
     targets_.assign(angles_.size(), 0.0);
     commands_.assign(angles_.size(), 0.0);
+    sensing_ = std::make_unique<Sensing>(world_, options_.dt);
 
     // bind every drive of the spec; the spec keeps them so reset() and copies see them too
     for (size_t r = 0; r < world_.robots.size(); ++r) {
@@ -170,6 +176,7 @@ void Simulation::build() {
         robots_[r].start_position = robot_position(static_cast<int>(r));
     }
     physics_->read_angles(angles_.data());
+    sensing_->attach(*physics_);
 }
 
 void Simulation::check_robot(int robot) const {
@@ -302,6 +309,70 @@ JointError Simulation::joint_error(int robot, int j) const {
 
 int Simulation::contact_count() const {
     return physics_->contact_count();
+}
+
+void Simulation::check_sensor(int i) const {
+    if (i < 0 || i >= sensor_count()) {
+        throw SpecError(fmt::format("sensor index {} out of range [0, {})", i, sensor_count()));
+    }
+}
+
+int Simulation::sensor_count() const {
+    return sensing_->count();
+}
+
+const SensorSpec& Simulation::sensor(int i) const {
+    check_sensor(i);
+    return sensing_->spec(i);
+}
+
+int Simulation::sensor_robot(int i) const {
+    check_sensor(i);
+    return sensing_->robot(i);
+}
+
+int Simulation::find_sensor(int robot, std::string_view name) const {
+    check_robot(robot);
+    return sensing_->find(robot, name);
+}
+
+int Simulation::sensor_index(int robot, int k) const {
+    check_robot(robot);
+    const int n = sensing_->robot_sensor_count(robot);
+    if (k < 0 || k >= n) {
+        throw SpecError(fmt::format("robot sensor index {} out of range [0, {})", k, n));
+    }
+    return sensing_->index(robot, k);
+}
+
+const std::vector<SensorChannel>& Simulation::sensor_channels(int i) const {
+    return gaitlab::sensor_channels(sensor(i).kind);
+}
+
+const std::vector<double>& Simulation::sensor_values(int i) const {
+    check_sensor(i);
+    return sensing_->values(i);
+}
+
+bool Simulation::sensor_enabled(int i) const {
+    return sensor(i).enabled;
+}
+
+void Simulation::set_sensor_enabled(int i, bool on) {
+    check_sensor(i);
+    sensing_->set_enabled(i, on, *physics_);
+    // the spec follows, so reset() and a copy of world() keep the switch
+    RobotSpec& robot = world_.robots[static_cast<size_t>(sensing_->robot(i))].robot;
+    robot.sensors[static_cast<size_t>(sensing_->local_index(i))].enabled = on;
+}
+
+int Simulation::add_sensor(int robot, SensorSpec sensor) {
+    check_robot(robot);
+    RobotSpec& spec = world_.robots[static_cast<size_t>(robot)].robot;
+    validate_sensor(spec, sensor);
+    const int i = sensing_->add(robot, sensor, *physics_);
+    spec.sensors.push_back(std::move(sensor));
+    return i;
 }
 
 int Simulation::add_observer(std::function<void(const Simulation&)> fn) {

@@ -23,6 +23,7 @@ extern "C" int luaopen_gaitlab(lua_State* L) {
     open_simulation(L);  // gaitlab.simulation
     open_controller(L);  // gaitlab.controllers, gaitlab.controller
     open_actuation(L);   // gaitlab.actuation
+    open_sensor(L);      // gaitlab.sensor, robot:sensor{...}
 
     open_stdlib(L, lua_gettop(L));  // vec3.lua ...
     return 1;

@@ -8,6 +8,7 @@
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/types.h"
 #include "hot_reload.h"
+#include "lua_util.h"
 
 namespace gaitlab::scripting {
 
@@ -139,8 +140,9 @@ void LuaController::on_bind() {
                                 {"joint_angle", l_joint_angle},
                                 {"joint_velocity", l_joint_velocity},
                                 {"joint_torque", l_joint_torque},
+                                {"sensor", l_sensor},
                                 {nullptr, nullptr}};
-    lua_createtable(L, 0, 4);
+    lua_createtable(L, 0, 5);
     lua_pushlightuserdata(L, this);
     luaL_setfuncs(L, methods, 1);
     lua_setfield(L, -2, "__index");
@@ -221,6 +223,45 @@ LuaController* self_of(lua_State* L) {
     return static_cast<LuaController*>(lua_touserdata(L, lua_upvalueindex(1)));
 }
 
+// pushes why `name` names no sensor of the robot (C++ strings live only inside this call)
+void push_no_sensor(lua_State* L, const ControlIO& io, const char* name) {
+    std::vector<std::string> names;
+    for (int k = 0; k < io.sensor_count(); ++k)
+        names.push_back(io.sensor(k).name);
+    std::string message = "the controller's robot has no sensor '" + std::string(name) + "'" +
+                          did_you_mean(name, names);
+    if (names.empty()) {
+        message += " (it has no sensors)";
+    } else {
+        message += " (its sensors:";
+        for (size_t i = 0; i < names.size(); ++i)
+            message += (i ? ", " : " ") + names[i];
+        message += ")";
+    }
+    lua_pushstring(L, message.c_str());
+}
+
+// pushes why `channel` is not a channel of sensor kind `kind`
+void push_no_channel(lua_State* L, SensorKind kind, const char* channel) {
+    std::vector<std::string> names;
+    for (const SensorChannel& c : sensor_channels(kind))
+        names.push_back(c.name);
+    std::string message = std::string(to_string(kind)) + " sensors have no channel '" + channel +
+                          "'" + did_you_mean(channel, names) + " (channels:";
+    for (size_t i = 0; i < names.size(); ++i)
+        message += (i ? ", " : " ") + names[i];
+    message += ")";
+    lua_pushstring(L, message.c_str());
+}
+
+void push_reading(lua_State* L, const SensorChannel& c, double value) {
+    if (c.boolean) {
+        lua_pushboolean(L, value != 0);
+    } else {
+        lua_pushnumber(L, to_user_units(c, value));
+    }
+}
+
 int check_joint(lua_State* L, const Controller& c) {
     const lua_Integer m = luaL_checkinteger(L, 2);
     luaL_argcheck(L, m >= 1 && m <= c.joints(), 2, "joint number out of range");
@@ -260,6 +301,45 @@ int LuaController::l_joint_torque(lua_State* L) {
     const int m = check_joint(L, *c);
     if (!c->io_) return luaL_error(L, "joint_torque can only be called while the controller steps");
     lua_pushnumber(L, c->io_->torque(m));
+    return 1;
+}
+
+int LuaController::l_sensor(lua_State* L) {
+    LuaController* c = self_of(L);
+    const char* name = luaL_checkstring(L, 2);
+    const char* channel = luaL_optstring(L, 3, nullptr);
+    if (!c->io_) return luaL_error(L, "sensor can only be called while the controller steps");
+    const ControlIO& io = *c->io_;
+    const int k = io.find_sensor(name);
+    if (k < 0) {
+        push_no_sensor(L, io, name);
+        return luaL_argerror(L, 2, lua_tostring(L, -1));
+    }
+    const SensorSpec& spec = io.sensor(k);
+    const auto& channels = sensor_channels(spec.kind);
+    int ch = -1;
+    if (channel) {
+        ch = find_sensor_channel(spec.kind, channel);
+        if (ch < 0) {
+            push_no_channel(L, spec.kind, channel);
+            return luaL_argerror(L, 3, lua_tostring(L, -1));
+        }
+    }
+    // a switched-off sensor reads nil: its last values are stale
+    if (!spec.enabled) {
+        lua_pushnil(L);
+        return 1;
+    }
+    const double* values = io.sensor_values(k);
+    if (ch >= 0) {
+        push_reading(L, channels[static_cast<size_t>(ch)], values[ch]);
+        return 1;
+    }
+    lua_createtable(L, 0, static_cast<int>(channels.size()));
+    for (size_t i = 0; i < channels.size(); ++i) {
+        push_reading(L, channels[i], values[i]);
+        lua_setfield(L, -2, channels[i].name.c_str());
+    }
     return 1;
 }
 

@@ -19,7 +19,7 @@ class LuaController;
 /// The methods every Lua controller instance has (self:set_angle(m, deg), ...): parameter and
 /// value names may not reuse them, nor "joints" (the group size).
 inline constexpr const char* kControllerMethods[] = {"set_angle", "joint_angle", "joint_velocity",
-                                                     "joint_torque"};
+                                                     "sensor", "joint_torque"};
 
 /// Instructions one step may run before it is stopped, unless the class sets its own budget.
 inline constexpr long long kDefaultInstructionBudget = 10'000'000;
@@ -74,6 +74,7 @@ class LuaController final : public Controller {
     static int l_joint_angle(lua_State* L);
     static int l_joint_velocity(lua_State* L);
     static int l_joint_torque(lua_State* L);
+    static int l_sensor(lua_State* L);
 
     lua_State* L_;
     std::shared_ptr<LuaControllerClass> cls_;

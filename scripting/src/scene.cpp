@@ -32,6 +32,17 @@ void WorldBinding::add(std::shared_ptr<RobotBinding> robot, std::optional<Pose> 
     robot->in_world = true;
 }
 
+int RobotBinding::attach(SensorSpec sensor) {
+    if (auto s = sim.lock()) s->add_sensor(index, sensor);
+    spec.sensors.push_back(std::move(sensor));
+    return static_cast<int>(spec.sensors.size()) - 1;
+}
+
+void RobotBinding::set_sensor_enabled(int k, bool on) {
+    if (auto s = sim.lock()) s->set_sensor_enabled(s->sensor_index(index, k), on);
+    spec.sensors[static_cast<size_t>(k)].enabled = on;
+}
+
 std::shared_ptr<Simulation> WorldBinding::compile(const SimulationOptions& options) const {
     WorldSpec world = spec;
     for (const Entry& e : robots)

@@ -26,6 +26,11 @@ struct RobotBinding {
     std::shared_ptr<Simulation> live() const;
     /// Drives `joints` with `controller`, now and in the running simulation if any.
     void drive(std::vector<int> joints, std::shared_ptr<Controller> controller);
+    /// Attaches a sensor (validated), now and in the running simulation if any; returns its
+    /// index among the robot's sensors.
+    int attach(SensorSpec sensor);
+    /// Switches the robot's sensor k on or off, in the spec and in the running simulation.
+    void set_sensor_enabled(int k, bool on);
 };
 
 /// A world as Lua sees it: its spec without robots, and the robots added to it.

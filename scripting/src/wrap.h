@@ -22,6 +22,7 @@ inline constexpr const char* kSimulationType = "gaitlab.Simulation";
 inline constexpr const char* kControllerType = "gaitlab.Controller";
 inline constexpr const char* kControllerClassType = "gaitlab.ControllerClass";
 inline constexpr const char* kActuationType = "gaitlab.Actuation";
+inline constexpr const char* kSensorType = "gaitlab.Sensor";
 
 // each open_* adds its functions to the gaitlab table on top of the stack
 void open_robot(lua_State* L);
@@ -29,6 +30,12 @@ void open_world(lua_State* L);
 void open_simulation(lua_State* L);
 void open_controller(lua_State* L);
 void open_actuation(lua_State* L);
+void open_sensor(lua_State* L);
+
+// robot:sensor{...} / robot:sensor(name) and robot:sensors() (wrap_sensor.cpp), methods of
+// the robot handle
+int robot_sensor(lua_State* L);
+int robot_sensors(lua_State* L);
 
 bool is_robot(lua_State* L, int index);
 std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index);

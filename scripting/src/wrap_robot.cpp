@@ -364,6 +364,8 @@ void open_robot(lua_State* L) {
                                 {"save_urdf", robot_save_urdf},
                                 {"actuation", robot_actuation},
                                 {"actuate", robot_actuate},
+                                {"sensor", robot_sensor},
+                                {"sensors", robot_sensors},
                                 {nullptr, nullptr}};
     luaL_newmetatable(L, kRobotType);
     lua_newtable(L);

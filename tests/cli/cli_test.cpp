@@ -167,6 +167,9 @@ TEST_CASE("script errors print one line: gaitlab: FILE:LINE: message", "[cli]") 
                   "'conection'; did you mean 'connection'?)");
     check_failure(gaitlab({"run", "out_of_range.lua"}),
                   "gaitlab: out_of_range.lua:7: sine.amplitude must be in [0, 90] deg (got 120)");
+    check_failure(gaitlab({"run", "bad_sensor.lua"}),
+                  "gaitlab: bad_sensor.lua:3: bad argument #1 to 'sensor' (robot 'snake' has no "
+                  "module 9 (it has modules 1 to 8))");
     // the file is named as the user gave it
     check_failure(gaitlab({"run", kScripts + "/runtime_error.lua"}, "/"),
                   "gaitlab: " + kScripts +

@@ -167,3 +167,103 @@ TEST_CASE("stepping Lua controllers from C++ keeps the Lua stack balanced", "[lu
     CHECK(controller->values(steps)[0] == 0);
     CHECK(lua_gettop(L) == 1);
 }
+
+TEST_CASE("self:sensor reads the robot's sensors in degrees, nil when off", "[lua_controller]") {
+    LuaFixture lua;
+    lua.run(R"(
+        -- each step copies what it reads into self.seen
+        Reader = gaitlab.controller{
+          name = "reader",
+          step = function(self, dt)
+            local j = self:sensor("joint3")
+            self.seen = {
+              table = j and j.angle, channel = self:sensor("joint3", "angle"),
+              angle = self:joint_angle(3), touch = self:sensor("contact1", "contact"),
+              imu = self:sensor("imu1"),
+            }
+            self:set_angle(3, 25)
+            seen = self.seen
+          end,
+        }
+        robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
+        world = gaitlab.world()
+        world:add(robot)
+        js = robot:sensor{ kind = "joint", joint = 3 }
+        robot:sensor{ kind = "contact", module = 1 }
+        imu = robot:sensor{ kind = "imu", module = 1, enabled = false }
+        robot:group("all"):drive(Reader{})
+        sim = gaitlab.simulation{ world = world }
+        sim:run(1)
+    )");
+    // the joint sensor, read by the controller, is the joint's angle it sees, in degrees; joint
+    // 3 lifts the head half only
+    CHECK(lua.number("seen.table") == Approx(25).margin(0.5));
+    CHECK(lua.number("seen.table") == lua.number("seen.angle"));
+    CHECK(lua.number("seen.channel") == lua.number("seen.angle"));
+    CHECK(lua.boolean("seen.touch == true"));
+    CHECK(lua.boolean("seen.imu == nil"));  // switched off
+    lua.run("imu:on() js:off() sim:run(0.1)");
+    CHECK(lua.boolean("seen.table == nil and seen.channel == nil"));
+    CHECK(lua.number("seen.imu.az") == Approx(9.81).margin(0.05));
+
+    // errors name what exists, in the controller's step
+    lua.run(R"(
+        Bad = gaitlab.controller{ name = "bad", step = function(self) self:sensor(WHAT, CH) end }
+        robot2 = gaitlab.robot.chain{ name = "other", modules = 2 }
+        world2 = gaitlab.world()
+        world2:add(robot2)
+        robot2:sensor{ kind = "imu", module = 2 }
+        robot2:group("all"):drive(Bad{})
+        sim2 = gaitlab.simulation{ world = world2 }
+    )");
+    lua.run("WHAT = 'imu3'");
+    CHECK(lua.error_of("sim2:step(1)") ==
+          "test:2: bad argument #1 to 'sensor' (the controller's robot has no sensor 'imu3'; did "
+          "you mean 'imu2'? (its sensors: imu2))");
+    lua.run("WHAT = 'imu2' CH = 'pich'");
+    lua.run("sim2:reset()");
+    CHECK(lua.error_of("sim2:step(1)") ==
+          "test:2: bad argument #2 to 'sensor' (imu sensors have no channel 'pich'; did you mean "
+          "'pitch'? (channels: roll, pitch, yaw, qw, qx, qy, qz, wx, wy, wz, ax, ay, az))");
+    lua.run("WHAT = 42 CH = nil");
+    lua.run("sim2:reset()");
+    CHECK(lua.error_of("sim2:step(1)") ==
+          "test:2: bad argument #1 to 'sensor' (the controller's robot has no sensor '42' (its "
+          "sensors: imu2))");
+}
+
+TEST_CASE("sensor feedback: the shuttle turns back before the wall", "[lua_controller]") {
+    // examples/controllers/shuttle.lua reverses its gait when its range sensor sees a wall
+    // closer than `near`; with its sensors off it crawls into the wall
+    LuaFixture lua;
+    lua.run("EXAMPLES = '" GAITLAB_SOURCE_DIR "/examples'");
+    lua.run(R"(
+        local Shuttle = gaitlab.controller.load(EXAMPLES .. "/controllers/shuttle.lua")
+        function crawl(feedback)
+          local robot = gaitlab.robot.chain{ modules = 8 }
+          local world = gaitlab.world{ floor = { friction = 0.8 } }
+          world:add(robot)
+          world:box{ size = {0.05, 1, 0.3}, position = {-0.2, 0, 0.15} }  -- face at -0.175
+          robot:sensor{ kind = "range", name = "back", module = 1, half = "tail",
+                        direction = {-1, 0, 1}, enabled = feedback }
+          robot:sensor{ kind = "range", name = "front", module = 8, direction = {1, 0, 1},
+                        enabled = feedback }
+          robot:group("all"):drive(Shuttle{ near = 0.1 })
+          local sim = gaitlab.simulation{ world = world }
+          local start, closest = robot:position().x, math.huge
+          for _ = 1, 80 do
+            sim:run(0.1)
+            closest = math.min(closest, robot:bodies()[1].position.x - 0.018 + 0.175)
+          end
+          return closest, robot:position().x - start, robot:velocity().x
+        end
+        with_gap, with_dx = crawl(true)
+        without_gap, without_dx = crawl(false)
+    )");
+    // with feedback it turns back short of the wall and crawls away past its start
+    CHECK(lua.number("with_gap") > 0.03);
+    CHECK(lua.number("with_dx") > 0.02);
+    // without, it reaches the wall and stays there
+    CHECK(lua.number("without_gap") < 0.01);
+    CHECK(lua.number("without_dx") < -0.1);
+}

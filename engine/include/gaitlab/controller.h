@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "gaitlab/actuation.h"
+#include "gaitlab/sensor.h"
 
 namespace gaitlab {
 
@@ -39,13 +40,32 @@ class JointReader {
     virtual double torque(int joint) const = 0;    ///< N·m on the head-side body
 };
 
+/// The sensors of the robot a controller's group belongs to, numbered k = 0.. in the order
+/// of RobotSpec::sensors, read on demand.
+class SensorReader {
+  public:
+    virtual ~SensorReader() = default;
+    virtual int count() const = 0;
+    /// Sensor k's spec: its name is resolved and `enabled` is its current switch.
+    virtual const SensorSpec& spec(int k) const = 0;
+    /// Sensor k's latest readings, one per channel of its kind (sensor_channels), engine
+    /// units; while the sensor is switched off they keep the values of its last reading.
+    virtual const double* values(int k) const = 0;
+};
+
 /// The inputs and outputs of one control step for one group. Joint numbers m are 0-based
 /// within the group, from the tail.
 class ControlIO {
   public:
+    /// `sensors` (may be null: no sensors) are those of the group's robot.
     ControlIO(double dt, double time, const std::vector<int>& joints, const JointReader& reader,
-              double* targets)
-        : dt_(dt), time_(time), joints_(joints), reader_(reader), targets_(targets) {}
+              double* targets, const SensorReader* sensors = nullptr)
+        : dt_(dt),
+          time_(time),
+          joints_(joints),
+          reader_(reader),
+          targets_(targets),
+          sensors_(sensors) {}
 
     double dt() const { return dt_; }      ///< time since the previous control step, s
     double time() const { return time_; }  ///< simulation time, s
@@ -57,12 +77,23 @@ class ControlIO {
     void set_target(int m, double rad) { targets_[m] = rad; }
     double target(int m) const { return targets_[m]; }
 
+    /// Number of sensors of the group's robot (feedback: see sensor.h).
+    int sensor_count() const { return sensors_ ? sensors_->count() : 0; }
+    /// Index k of the robot's sensor called `name`, or -1.
+    int find_sensor(std::string_view name) const;
+    /// Sensor k's spec (resolved name, current switch in `enabled`).
+    const SensorSpec& sensor(int k) const { return sensors_->spec(k); }
+    /// Sensor k's readings at the start of this tick, one per channel, engine units (radians);
+    /// stale (its last reading) while it is switched off.
+    const double* sensor_values(int k) const { return sensors_->values(k); }
+
   private:
     double dt_;
     double time_;
     const std::vector<int>& joints_;
     const JointReader& reader_;
     double* targets_;
+    const SensorReader* sensors_;
 };
 
 /// Base of every controller, built in or scripted. A controller drives one joint group.

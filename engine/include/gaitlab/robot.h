@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gaitlab/module.h"
+#include "gaitlab/sensor.h"
 #include "gaitlab/types.h"
 
 namespace gaitlab {
@@ -64,13 +65,15 @@ struct RobotSpec {
     /// The chain make_chain built this robot from, if it did: robot files then store the chain
     /// rather than every body and joint (when the bodies and joints are still the chain's).
     std::optional<ChainSpec> chain;
+    /// sensors on its modules and joints, in the order simulations number them (sensor.h)
+    std::vector<SensorSpec> sensors;
 };
 
 /// Builds a chain of N modules: N joints and N + 1 bodies (tail half, N - 1 segments, head half),
 /// lying along +x with its tail at the origin. Throws SpecError on invalid input.
 RobotSpec make_chain(const ChainSpec& spec);
 
-/// Checks a robot spec (indices, masses, sizes, ranges, friction); throws SpecError.
+/// Checks a robot spec (indices, masses, sizes, ranges, friction, sensors); throws SpecError.
 void validate(const RobotSpec& robot);
 
 /// Joint indices (0-based, from the tail) selected by role: "pitch", "yaw" or "all". Throws

@@ -7,6 +7,9 @@
 //   5. record   observers see the state after the step (every tick; each keeps its own rate)
 //
 // The time seen by sense/think/act is tick * dt before the step; record sees (tick + 1) * dt.
+// The sensors a simulation reads for the sense phase are read as soon as the state they
+// describe exists: at the start of record, before the observers (and when the simulation is
+// built), so think, observers and callers between ticks all see readings of the current state.
 #pragma once
 
 namespace gaitlab {

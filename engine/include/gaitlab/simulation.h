@@ -6,9 +6,11 @@
 #include <exception>
 #include <functional>
 #include <memory>
+#include <string_view>
 #include <vector>
 
 #include "gaitlab/scheduler.h"
+#include "gaitlab/sensor.h"
 #include "gaitlab/world.h"
 
 namespace gaitlab {
@@ -66,6 +68,7 @@ struct JointError {
 };
 
 class PhysicsWorld;
+class Sensing;
 
 class Simulation {
   public:
@@ -108,6 +111,35 @@ class Simulation {
     /// Contact points in the last physics step.
     int contact_count() const;
 
+    // Sensors (sensor.h, docs/sensors.md). They are numbered 0.. over the whole simulation:
+    // robot by robot in the order of their specs' sensors, then those added later. Readings
+    // describe the state at time(): each sensor that is on is read once per tick, right after
+    // the physics step (so record observers, and callers between steps, see the new state, and
+    // the next tick's think sees the same values), and when the simulation is built or reset,
+    // and when it is added or switched on. A sensor that is off is not visited at all.
+
+    int sensor_count() const;
+    /// Sensor i's spec: its name resolved, `enabled` its current switch.
+    const SensorSpec& sensor(int i) const;
+    /// The robot sensor i belongs to.
+    int sensor_robot(int i) const;
+    /// Index of robot r's sensor called `name`, or -1.
+    int find_sensor(int robot, std::string_view name) const;
+    /// Index of robot r's k-th sensor (RobotSpec::sensors order).
+    int sensor_index(int robot, int k) const;
+    /// The names and engine units of sensor i's values (sensor_channels of its kind).
+    const std::vector<SensorChannel>& sensor_channels(int i) const;
+    /// Sensor i's latest readings, one per channel, engine units (rad, rad/s, m ...). While it
+    /// is switched off they keep the values of its last reading.
+    const std::vector<double>& sensor_values(int i) const;
+    bool sensor_enabled(int i) const;
+    /// Switches sensor i on (it reads at once, then every tick) or off (no more readings, no
+    /// cost); kept by reset() and in world().
+    void set_sensor_enabled(int i, bool on);
+    /// Attaches a sensor to robot r while the simulation exists; returns its index. Throws
+    /// SpecError (see validate_sensor).
+    int add_sensor(int robot, SensorSpec sensor);
+
     /// Called when a controller fails under ControllerErrorPolicy::continue_ or pause, once per
     /// failure, with the exception its step threw.
     using ControllerErrorHandler = std::function<void(const Controller&, const std::exception&)>;
@@ -133,6 +165,7 @@ class Simulation {
 
     void build();
     void check_robot(int robot) const;
+    void check_sensor(int sensor) const;
     void bind(int robot, Drive drive);
     // marks the drive's controller failed and freezes its targets at the measured angles
     void fail(DriveSlot& d, const std::exception& e);
@@ -141,6 +174,7 @@ class Simulation {
     SimulationOptions options_;
     Scheduler scheduler_;
     std::unique_ptr<PhysicsWorld> physics_;
+    std::unique_ptr<Sensing> sensing_;
     std::unique_ptr<Phases> phases_;
     std::vector<RobotSlot> robots_;
     std::vector<DriveSlot> drives_;

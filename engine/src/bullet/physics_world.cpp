@@ -246,4 +246,12 @@ int PhysicsWorld::contact_count() const {
     return n;
 }
 
+btDiscreteDynamicsWorld& PhysicsWorld::bullet_world() const {
+    return impl_->world;
+}
+
+btRigidBody& PhysicsWorld::bullet_body(int body) const {
+    return *impl_->bodies[static_cast<size_t>(body)];
+}
+
 }  // namespace gaitlab

@@ -8,6 +8,9 @@
 #include "gaitlab/simulation.h"
 #include "gaitlab/world.h"
 
+class btDiscreteDynamicsWorld;
+class btRigidBody;
+
 namespace gaitlab {
 
 class PhysicsWorld {
@@ -37,6 +40,10 @@ class PhysicsWorld {
     double speed(int body) const;
     JointError joint_error(int joint) const;
     int contact_count() const;
+
+    /// The Bullet world and bodies, for the other Bullet code of this folder (sensor_probes).
+    btDiscreteDynamicsWorld& bullet_world() const;
+    btRigidBody& bullet_body(int body) const;
 
   private:
     struct Impl;
