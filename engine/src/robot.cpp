@@ -185,9 +185,15 @@ bool operator==(const ChainSpec& a, const ChainSpec& b) {
            a.module == b.module;
 }
 
+bool operator==(const SensorSpec& a, const SensorSpec& b) {
+    return a.kind == b.kind && a.name == b.name && a.module == b.module && a.joint == b.joint &&
+           a.half == b.half && a.direction == b.direction && a.max_range == b.max_range &&
+           a.enabled == b.enabled;
+}
+
 bool operator==(const RobotSpec& a, const RobotSpec& b) {
     return a.name == b.name && a.bodies == b.bodies && a.joints == b.joints &&
-           a.self_collision == b.self_collision && a.chain == b.chain;
+           a.self_collision == b.self_collision && a.chain == b.chain && a.sensors == b.sensors;
 }
 
 double total_mass(const RobotSpec& robot) {

@@ -98,13 +98,45 @@ TEST_CASE("a robot that is not a chain round-trips body by body") {
     CHECK(parse_robot(text, "r.xml") == robot);
 }
 
+TEST_CASE("sensors round-trip with the robot, each with the fields of its kind") {
+    RobotSpec robot =
+        make_chain(ChainSpec{"snake", 4, Connection::pitch_yaw, default_module_def()});
+    SensorSpec joint{SensorKind::joint, "j2", 0, 1};
+    SensorSpec imu{SensorKind::imu, "imu_tail", 2, 0, ModuleHalf::tail};
+    SensorSpec contact{SensorKind::contact, "contact4", 3};
+    SensorSpec range{SensorKind::range, "eye", 3, 0, ModuleHalf::head, {1, 0, -0.5}, 1.5, false};
+    SensorSpec position{SensorKind::position, "position"};
+    robot.sensors = {joint, imu, contact, range, position};
+    const std::string text = format_robot(robot);
+    CHECK(text.find("<sensor kind=\"range\" name=\"eye\" module=\"4\" half=\"head\" "
+                    "direction=\"1 0 -0.5\" max_range=\"1.5\" enabled=\"false\"/>") !=
+          std::string::npos);
+    CHECK(parse_robot(text, "r.xml") == robot);
+    // a sensor without a name takes its default one
+    const RobotSpec named = parse_robot(
+        doc("<robot><chain modules=\"3\"/><sensor kind=\"imu\" module=\"2\"/></robot>"), "r.xml");
+    REQUIRE(named.sensors.size() == 1);
+    CHECK(named.sensors[0].name == "imu2");
+}
+
 TEST_CASE("robot files reject bad input with file, line, element path and a suggestion") {
+    CHECK_THAT(robot_error("<robot><chain modules=\"3\"/>\n<sensor kind=\"imu\" module=\"4\"/>"
+                           "</robot>"),
+               Equals("robot.xml:4: robot/sensor[1]: robot 'robot' has no module 4 (it has "
+                      "modules 1 to 3)"));
+    CHECK_THAT(robot_error("<robot><chain modules=\"3\"/>\n<sensor kind=\"lidar\"/></robot>"),
+               Equals("robot.xml:4: robot/sensor[1]: unknown sensor kind 'lidar' (expected "
+                      "'joint', 'imu', 'contact', 'range' or 'position')"));
+    CHECK_THAT(robot_error("<robot><chain modules=\"3\"/>\n<sensor kind=\"contact\" "
+                           "max_range=\"2\"/></robot>"),
+               Equals("robot.xml:4: robot/sensor[1]: unknown attribute 'max_range' (expected "
+                      "'kind', 'name', 'module', 'enabled')"));
     CHECK_THAT(robot_error("<robot>\n<chain modules=\"8\" conection=\"pitch-pitch\"/>\n</robot>"),
                Equals("robot.xml:4: robot/chain[1]: unknown attribute 'conection'; did you mean "
                       "'connection'? (expected 'modules', 'connection', 'module')"));
     CHECK_THAT(robot_error("<robot>\n<chian modules=\"8\"/>\n</robot>"),
                Equals("robot.xml:4: robot/chian: unknown element <chian>; did you mean "
-                      "'chain'? (expected 'chain', 'body', 'joint')"));
+                      "'chain'? (expected 'chain', 'body', 'joint', 'sensor')"));
     CHECK_THAT(robot_error("<robot><chain modules=\"0\"/></robot>"),
                Equals("robot.xml:3: robot/chain[1]: modules must be in [1, 1000] (got 0)"));
     CHECK_THAT(robot_error("<robot><chain modules=\"eight\"/></robot>"),

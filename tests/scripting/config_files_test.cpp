@@ -31,6 +31,8 @@ const char* kScene = R"(
       local s = snake:group{ 2, 4 }:drive(gaitlab.controllers.sine{ amplitude = 20, phase = 90 })
       s.frequency = 0.7
       worm:group("all"):drive(gaitlab.controller.template("cpg_chain"){ phase = 100 })
+      snake:sensor{ kind = "imu", module = 2 }
+      snake:sensor{ kind = "range", name = "eye", module = 6, max_range = 1.5 }:off()
       local sim = gaitlab.simulation{ world = world, control_every = 10, seed = 3 }
       return sim, { snake = snake, worm = worm }
     end
@@ -68,6 +70,13 @@ TEST_CASE("a saved simulation loads and runs the same trajectory to the bit", "[
             CHECK(lua.number(a) == lua.number(b));
         }
     }
+    // sensors are part of the robot file, switched on or off as they were
+    CHECK(lua.integer("#setup.robots.snake:sensors()") == 2);
+    CHECK(lua.boolean("setup.robots.snake:sensor('imu2').enabled"));
+    CHECK(lua.boolean("setup.robots.snake:sensor('eye').enabled") == false);
+    CHECK(lua.number("setup.robots.snake:sensor('eye').max_range") == 1.5);
+    CHECK(lua.number("setup.robots.snake:sensor('imu2'):read().roll") ==
+          lua.number("robots.snake:sensor('imu2'):read().roll"));
     // the online change is saved: the loaded sine runs at 0.7 Hz
     CHECK(lua.number("setup.controllers.snake[2].frequency") == 0.7);
     CHECK(lua.string("setup.controllers.worm[1].name") == "my_cpg");

@@ -87,6 +87,7 @@ double total_mass(const RobotSpec& robot);
 bool operator==(const BodySpec& a, const BodySpec& b);
 bool operator==(const JointSpec& a, const JointSpec& b);
 bool operator==(const ChainSpec& a, const ChainSpec& b);
+bool operator==(const SensorSpec& a, const SensorSpec& b);
 bool operator==(const RobotSpec& a, const RobotSpec& b);
 inline bool operator!=(const RobotSpec& a, const RobotSpec& b) {
     return !(a == b);

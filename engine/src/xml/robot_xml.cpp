@@ -80,22 +80,97 @@ JointRole parse_role(const Element& e) {
     e.fail(fmt::format("attribute 'role': 'pitch' or 'yaw' expected, got '{}'", role));
 }
 
+// one <sensor>: the fields of its kind (module and joint numbered from 1, as users do)
+SensorSpec read_sensor(const Element& e) {
+    SensorSpec s;
+    try {
+        s.kind = parse_sensor_kind(e.required_string("kind"));
+    } catch (const SpecError& err) {
+        e.fail(err.what());
+    }
+    switch (s.kind) {
+        case SensorKind::joint:
+            e.allow({"kind", "name", "joint", "enabled"});
+            break;
+        case SensorKind::imu:
+            e.allow({"kind", "name", "module", "half", "enabled"});
+            break;
+        case SensorKind::contact:
+            e.allow({"kind", "name", "module", "enabled"});
+            break;
+        case SensorKind::range:
+            e.allow({"kind", "name", "module", "half", "direction", "max_range", "enabled"});
+            break;
+        case SensorKind::position:
+            e.allow({"kind", "name", "enabled"});
+            break;
+    }
+    e.children({});
+    s.name = e.string("name", "");
+    s.module = static_cast<int>(e.integer("module", 1)) - 1;
+    s.joint = static_cast<int>(e.integer("joint", 1)) - 1;
+    try {
+        s.half = parse_module_half(e.string("half", "head"));
+    } catch (const SpecError& err) {
+        e.fail(err.what());
+    }
+    s.direction = e.vec3("direction", s.direction);
+    s.max_range = e.number("max_range", s.max_range);
+    s.enabled = e.boolean("enabled", true);
+    return s;
+}
+
+void write_sensor(xml::Writer& w, const SensorSpec& s) {
+    w.open("sensor");
+    w.attr("kind", to_string(s.kind));
+    w.attr("name", sensor_name(s));
+    switch (s.kind) {
+        case SensorKind::joint:
+            w.attr_int("joint", s.joint + 1);
+            break;
+        case SensorKind::imu:
+            w.attr_int("module", s.module + 1);
+            w.attr("half", to_string(s.half));
+            break;
+        case SensorKind::contact:
+            w.attr_int("module", s.module + 1);
+            break;
+        case SensorKind::range:
+            w.attr_int("module", s.module + 1);
+            w.attr("half", to_string(s.half));
+            w.attr("direction", s.direction);
+            w.attr("max_range", s.max_range);
+            break;
+        case SensorKind::position:
+            break;
+    }
+    if (!s.enabled) w.attr("enabled", false);
+    w.close();
+}
+
 RobotSpec read_robot_element(const Element& root) {
     root.allow({"name", "self_collision"});
     const std::string name = root.string("name", "robot");
     const bool self_collision = root.boolean("self_collision", false);
-    const std::vector<Element> kids = root.children({"chain", "body", "joint"});
+    const std::vector<Element> kids = root.children({"chain", "body", "joint", "sensor"});
     RobotSpec robot;
     bool chain = false, parts = false;
+    std::vector<std::pair<const Element*, SensorSpec>> sensors;
     for (const Element& k : kids) {
         const std::string kind = k.name();
+        if (kind == "sensor") {
+            sensors.emplace_back(&k, read_sensor(k));
+            continue;
+        }
         if (kind == "chain") {
-            if (chain || parts) k.fail("a robot is one <chain>, or <body> and <joint> elements");
+            if (chain || parts) {
+                k.fail("a robot is one <chain>, or <body> and <joint> elements (and <sensor>s)");
+            }
             robot = read_chain(k, name);
             chain = true;
             continue;
         }
-        if (chain) k.fail("a robot is one <chain>, or <body> and <joint> elements");
+        if (chain) k.fail("a robot is one <chain>, or <body> and <joint> elements (and <sensor>s)");
         parts = true;
         if (kind == "body") {
             k.allow({"name", "size", "mass", "position", "orientation", "friction"});
@@ -146,6 +221,16 @@ RobotSpec read_robot_element(const Element& root) {
     robot.name = name;
     if (robot.chain) robot.chain->name = name;
     robot.self_collision = self_collision;
+    // sensors name modules and joints, so they are checked once the robot is complete
+    for (auto& [element, sensor] : sensors) {
+        try {
+            validate_sensor(robot, sensor);
+        } catch (const SpecError& err) {
+            element->fail(err.what());
+        }
+        if (sensor.name.empty()) sensor.name = default_sensor_name(sensor);
+        robot.sensors.push_back(sensor);
+    }
     try {
         validate(robot);
     } catch (const SpecError& err) {
@@ -234,6 +319,8 @@ std::string format_robot(const RobotSpec& robot) {
             w.close();
         }
     }
+    for (const SensorSpec& sensor : robot.sensors)
+        write_sensor(w, sensor);
     w.close();
     return w.text();
 }
