@@ -13,9 +13,11 @@
 #include <vector>
 
 #include "gaitlab/error.h"
+#include "gaitlab/files.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/suggest.h"
 #include "gaitlab/types.h"
+#include "gaitlab/xml.h"
 
 namespace gaitlab::scripting {
 
@@ -116,6 +118,35 @@ std::string check_string(lua_State* L, int index);
 /// `path` as the calling script means it: relative paths are relative to the folder of the Lua
 /// file that called the current C function (the working directory if none, e.g. in a REPL).
 std::string script_path(lua_State* L, const std::string& path);
+
+/// The result of every save(path) function: runs `write` (which writes `path`) and pushes the
+/// path, or nil and the message of the IoError it threw (Lua's luaL_fileresult convention).
+template <class F>
+int file_written(lua_State* L, const std::string& path, F&& write) {
+    try {
+        write();
+    } catch (const IoError& e) {
+        lua_pushnil(L);
+        lua_pushstring(L, e.what());
+        return 2;
+    }
+    lua_pushstring(L, path.c_str());
+    return 1;
+}
+
+/// The result of every load(path) function: runs `read` (which reads a file and pushes one
+/// value), or pushes nil and the message of the FormatError it threw.
+template <class F>
+int file_read(lua_State* L, F&& read) {
+    try {
+        read();
+    } catch (const FormatError& e) {
+        lua_pushnil(L);
+        lua_pushstring(L, e.what());
+        return 2;
+    }
+    return 1;
+}
 
 /// Pushes {x = , y = , z = } with the gaitlab.Vec3 metatable.
 void push_vec3(lua_State* L, const Vec3& v);

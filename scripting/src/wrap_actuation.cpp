@@ -20,14 +20,8 @@ ActuationSpec& check_actuation(lua_State* L, int index) {
 int actuation_load(lua_State* L) {
     return protect(L, [&] {
         const std::string path = script_path(L, check_string(L, 1));
-        try {
-            new_object<ActuationSpec>(L, kActuationType, read_actuation(path));
-        } catch (const FormatError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
-            return 2;
-        }
-        return 1;
+        return file_read(
+            L, [&] { new_object<ActuationSpec>(L, kActuationType, read_actuation(path)); });
     });
 }
 
@@ -36,15 +30,7 @@ int actuation_save(lua_State* L) {
     return protect(L, [&] {
         const ActuationSpec& a = check_actuation(L, 1);
         const std::string path = script_path(L, check_string(L, 2));
-        try {
-            write_actuation(path, relative_to(a, path));
-        } catch (const IoError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
-            return 2;
-        }
-        lua_pushstring(L, path.c_str());
-        return 1;
+        return file_written(L, path, [&] { write_actuation(path, relative_to(a, path)); });
     });
 }
 

@@ -212,16 +212,11 @@ int robot_len(lua_State* L) {
 int robot_load(lua_State* L) {
     return protect(L, [&] {
         const std::string path = script_path(L, check_string(L, 1));
-        auto robot = std::make_shared<RobotBinding>();
-        try {
+        return file_read(L, [&] {
+            auto robot = std::make_shared<RobotBinding>();
             robot->spec = read_robot(path);
-        } catch (const FormatError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
-            return 2;
-        }
-        push_robot(L, std::move(robot));
-        return 1;
+            push_robot(L, std::move(robot));
+        });
     });
 }
 
@@ -230,15 +225,7 @@ int robot_save(lua_State* L) {
     return protect(L, [&] {
         RobotBinding& r = check_robot(L, 1);
         const std::string path = script_path(L, check_string(L, 2));
-        try {
-            write_robot(path, r.spec);
-        } catch (const IoError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
-            return 2;
-        }
-        lua_pushstring(L, path.c_str());
-        return 1;
+        return file_written(L, path, [&] { write_robot(path, r.spec); });
     });
 }
 
@@ -246,16 +233,11 @@ int robot_save(lua_State* L) {
 int robot_load_urdf(lua_State* L) {
     return protect(L, [&] {
         const std::string path = script_path(L, check_string(L, 1));
-        auto robot = std::make_shared<RobotBinding>();
-        try {
+        return file_read(L, [&] {
+            auto robot = std::make_shared<RobotBinding>();
             robot->spec = read_urdf(path);
-        } catch (const FormatError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
-            return 2;
-        }
-        push_robot(L, std::move(robot));
-        return 1;
+            push_robot(L, std::move(robot));
+        });
     });
 }
 
@@ -264,15 +246,7 @@ int robot_save_urdf(lua_State* L) {
     return protect(L, [&] {
         RobotBinding& r = check_robot(L, 1);
         const std::string path = script_path(L, check_string(L, 2));
-        try {
-            write_urdf(path, r.spec);
-        } catch (const IoError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
-            return 2;
-        }
-        lua_pushstring(L, path.c_str());
-        return 1;
+        return file_written(L, path, [&] { write_urdf(path, r.spec); });
     });
 }
 

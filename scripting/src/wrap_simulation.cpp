@@ -141,15 +141,8 @@ int simulation_save(lua_State* L) {
         lua_rawget(L, -2);
         auto world = to_world(L, -1);
         lua_pop(L, 2);
-        try {
-            save_simulation(path, *world, sim.options(), duration);
-        } catch (const IoError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
-            return 2;
-        }
-        lua_pushstring(L, path.c_str());
-        return 1;
+        return file_written(L, path,
+                            [&] { save_simulation(path, *world, sim.options(), duration); });
     });
 }
 

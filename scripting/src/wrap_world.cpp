@@ -96,18 +96,13 @@ int world_box(lua_State* L) {
 int world_load(lua_State* L) {
     return protect(L, [&] {
         const std::string path = script_path(L, check_string(L, 1));
-        auto world = std::make_shared<WorldBinding>();
-        try {
+        return file_read(L, [&] {
             EnvironmentSpec env = read_environment(path);
+            auto world = std::make_shared<WorldBinding>();
             world->spec = std::move(env.world);
             world->placements = std::move(env.placements);
-        } catch (const FormatError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
-            return 2;
-        }
-        push_world(L, std::move(world));
-        return 1;
+            push_world(L, std::move(world));
+        });
     });
 }
 
@@ -130,15 +125,7 @@ int world_save(lua_State* L) {
             }
             env.placements.push_back({e.robot->spec.name, e.pose});
         }
-        try {
-            write_environment(path, env);
-        } catch (const IoError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
-            return 2;
-        }
-        lua_pushstring(L, path.c_str());
-        return 1;
+        return file_written(L, path, [&] { write_environment(path, env); });
     });
 }
 

@@ -58,11 +58,7 @@ EnvironmentSpec read_environment_element(const Element& root) {
             world.floor.friction = k.number("friction", world.floor.friction);
             WorldSpec probe;
             probe.floor = world.floor;
-            try {
-                validate(probe);
-            } catch (const SpecError& err) {
-                k.fail(err.what());
-            }
+            k.check([&] { validate(probe); });
         } else if (kind == "box") {
             k.allow({"size", "position", "yaw", "orientation", "mass", "friction"});
             BoxSpec b;
@@ -74,11 +70,7 @@ EnvironmentSpec read_environment_element(const Element& root) {
             world.boxes.push_back(b);
             WorldSpec probe;
             probe.boxes = world.boxes;
-            try {
-                validate(probe);
-            } catch (const SpecError& err) {
-                k.fail(err.what());
-            }
+            k.check([&] { validate(probe); });
         } else {
             k.allow({"robot", "position", "yaw", "orientation"});
             Placement p;
@@ -93,11 +85,7 @@ EnvironmentSpec read_environment_element(const Element& root) {
             env.placements.push_back(p);
         }
     }
-    try {
-        validate(world);
-    } catch (const SpecError& err) {
-        root.fail(err.what());
-    }
+    root.check([&] { validate(world); });
     return env;
 }
 

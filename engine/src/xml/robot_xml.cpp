@@ -46,11 +46,7 @@ RobotSpec read_chain(const Element& e, const std::string& name) {
     const long long n = e.integer("modules", 1);
     if (n < 1 || n > 1000) e.fail(fmt::format("modules must be in [1, 1000] (got {})", n));
     chain.modules = static_cast<int>(n);
-    try {
-        chain.connection = parse_connection(e.string("connection", "pitch-pitch"));
-    } catch (const SpecError& err) {
-        e.fail(err.what());
-    }
+    e.check([&] { chain.connection = parse_connection(e.string("connection", "pitch-pitch")); });
     chain.module = library_module(e, e.string("module", "y1"));
     const std::vector<Element> kids = e.children({"module"});
     if (kids.size() > 1) kids[1].fail("one <module> per chain expected");
@@ -83,11 +79,7 @@ JointRole parse_role(const Element& e) {
 // one <sensor>: the fields of its kind (module and joint numbered from 1, as users do)
 SensorSpec read_sensor(const Element& e) {
     SensorSpec s;
-    try {
-        s.kind = parse_sensor_kind(e.required_string("kind"));
-    } catch (const SpecError& err) {
-        e.fail(err.what());
-    }
+    e.check([&] { s.kind = parse_sensor_kind(e.required_string("kind")); });
     switch (s.kind) {
         case SensorKind::joint:
             e.allow({"kind", "name", "joint", "enabled"});
@@ -109,11 +101,7 @@ SensorSpec read_sensor(const Element& e) {
     s.name = e.string("name", "");
     s.module = static_cast<int>(e.integer("module", 1)) - 1;
     s.joint = static_cast<int>(e.integer("joint", 1)) - 1;
-    try {
-        s.half = parse_module_half(e.string("half", "head"));
-    } catch (const SpecError& err) {
-        e.fail(err.what());
-    }
+    e.check([&] { s.half = parse_module_half(e.string("half", "head")); });
     s.direction = e.vec3("direction", s.direction);
     s.max_range = e.number("max_range", s.max_range);
     s.enabled = e.boolean("enabled", true);
@@ -207,14 +195,10 @@ RobotSpec read_robot_element(const Element& root) {
             j.servo.max_speed = k.number("max_speed", y1.servo.max_speed);
             j.servo.max_torque = k.number("max_torque", y1.servo.max_torque);
             robot.joints.push_back(j);
-            try {
-                RobotSpec probe;
-                probe.bodies = robot.bodies;
-                probe.joints = {j};
-                validate(probe);
-            } catch (const SpecError& err) {
-                k.fail(err.what());
-            }
+            RobotSpec probe;
+            probe.bodies = robot.bodies;
+            probe.joints = {j};
+            k.check([&] { validate(probe); });
         }
     }
     if (!chain && !parts) root.fail("a robot needs a <chain>, or <body> and <joint> elements");
@@ -223,20 +207,21 @@ RobotSpec read_robot_element(const Element& root) {
     robot.self_collision = self_collision;
     // sensors name modules and joints, so they are checked once the robot is complete
     for (auto& [element, sensor] : sensors) {
-        try {
-            validate_sensor(robot, sensor);
-        } catch (const SpecError& err) {
-            element->fail(err.what());
-        }
+        element->check([&] { validate_sensor(robot, sensor); });
         if (sensor.name.empty()) sensor.name = default_sensor_name(sensor);
         robot.sensors.push_back(sensor);
     }
-    try {
-        validate(robot);
-    } catch (const SpecError& err) {
-        root.fail(err.what());
-    }
+    root.check([&] { validate(robot); });
     return robot;
+}
+
+// the joint range and servo, as <module> and <joint> write them
+void write_servo(xml::Writer& w, double min, double max, const ServoDef& servo) {
+    w.angle("min", min);
+    w.angle("max", max);
+    w.attr("kp", servo.kp);
+    w.attr("max_speed", servo.max_speed);
+    w.attr("max_torque", servo.max_torque);
 }
 
 void write_module(xml::Writer& w, const ModuleDef& m) {
@@ -246,12 +231,8 @@ void write_module(xml::Writer& w, const ModuleDef& m) {
     w.attr("width", m.width);
     w.attr("height", m.height);
     w.attr("mass", m.mass);
-    w.angle("min", m.min_angle);
-    w.angle("max", m.max_angle);
     w.attr("friction", m.friction);
-    w.attr("kp", m.servo.kp);
-    w.attr("max_speed", m.servo.max_speed);
-    w.attr("max_torque", m.servo.max_torque);
+    write_servo(w, m.min_angle, m.max_angle, m.servo);
     w.close();
 }
 
@@ -311,11 +292,7 @@ std::string format_robot(const RobotSpec& robot) {
             w.attr("child", robot.bodies[static_cast<size_t>(j.child)].name);
             w.attr("pivot", j.pivot);
             w.attr("axis", j.axis);
-            w.angle("min", j.min_angle);
-            w.angle("max", j.max_angle);
-            w.attr("kp", j.servo.kp);
-            w.attr("max_speed", j.servo.max_speed);
-            w.attr("max_torque", j.servo.max_torque);
+            write_servo(w, j.min_angle, j.max_angle, j.servo);
             w.close();
         }
     }

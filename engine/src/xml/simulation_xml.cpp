@@ -58,11 +58,7 @@ SimulationFile read_simulation_element(const Element& root) {
     if (seed < 0) root.fail(fmt::format("seed must be >= 0 (got {})", seed));
     o.seed = static_cast<std::uint64_t>(seed);
     o.on_controller_error = parse_policy(root);
-    try {
-        validate(o);
-    } catch (const SpecError& err) {
-        root.fail(err.what());
-    }
+    root.check([&] { validate(o); });
     bool env = false, record = false;
     for (const Element& k : root.children({"environment", "robot", "record"})) {
         const std::string kind = k.name();

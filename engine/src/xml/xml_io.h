@@ -64,6 +64,16 @@ class Element {
     /// Throws FormatError at this element: "FILE:LINE: PATH: message".
     [[noreturn]] void fail(const std::string& message) const;
 
+    /// Runs `check` (a spec check) and reports its SpecError at this element.
+    template <class F>
+    void check(F&& check) const {
+        try {
+            check();
+        } catch (const SpecError& e) {
+            fail(e.what());
+        }
+    }
+
     /// Rejects attributes outside `allowed`, naming the closest valid one.
     void allow(std::initializer_list<const char*> allowed) const;
     bool has(const char* attr) const;
