@@ -66,10 +66,11 @@ int robot_group(lua_State* L) {
                 joints.push_back(static_cast<int>(j - 1));
             }
         } else {
-            throw ArgError(2,
-                           "role ('pitch', 'yaw', 'all') or list of joint numbers expected, "
-                           "got " +
-                               type_name(L, 2));
+            throw ArgError(
+                2,
+                "role ('pitch', 'yaw', 'roll', 'all') or list of joint numbers expected, "
+                "got " +
+                    type_name(L, 2));
         }
         new_object<GroupHandle>(L, kGroupType, GroupHandle{robot, std::move(joints)});
         return 1;
