@@ -18,11 +18,12 @@ extern "C" int luaopen_gaitlab(lua_State* L) {
     luaL_newmetatable(L, "gaitlab.Vec3");  // filled in by stdlib/vec3.lua
     lua_pop(L, 1);
 
+    open_module(L);      // gaitlab.module, gaitlab.modules
     open_robot(L);       // gaitlab.robot
     open_world(L);       // gaitlab.world
     open_simulation(L);  // gaitlab.simulation
     open_controller(L);  // gaitlab.controllers, gaitlab.controller
 
-    open_stdlib(L, lua_gettop(L));  // vec3.lua ...
+    open_stdlib(L, lua_gettop(L));  // vec3.lua, worlds.lua (gaitlab.worlds) ...
     return 1;
 }

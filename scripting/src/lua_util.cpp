@@ -98,6 +98,15 @@ std::string check_string(lua_State* L, int index) {
     return std::string(s, len);
 }
 
+std::filesystem::path caller_dir(lua_State* L) {
+    lua_Debug ar;
+    for (int level = 1; lua_getstack(L, level, &ar); ++level) {
+        lua_getinfo(L, "S", &ar);
+        if (ar.source[0] == '@') return std::filesystem::path(ar.source + 1).parent_path();
+    }
+    return {};
+}
+
 void push_vec3(lua_State* L, const Vec3& v) {
     lua_createtable(L, 0, 3);
     lua_pushnumber(L, v.x);

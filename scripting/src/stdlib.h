@@ -5,7 +5,8 @@
 
 namespace gaitlab::scripting {
 
-/// Runs every stdlib chunk with (gaitlab table, registry) as its arguments.
+/// Runs every stdlib chunk with (gaitlab table, registry) as its arguments; the registry holds
+/// "gaitlab.closest" (did-you-mean) and "gaitlab.world_sources" (worlds/*.lua by name).
 void open_stdlib(lua_State* L, int gaitlab_index);
 
 }  // namespace gaitlab::scripting

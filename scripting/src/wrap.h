@@ -6,6 +6,8 @@
 
 #include <memory>
 
+#include "gaitlab/module.h"
+
 namespace gaitlab::scripting {
 
 struct RobotBinding;
@@ -17,15 +19,20 @@ inline constexpr const char* kWorldType = "gaitlab.World";
 inline constexpr const char* kSimulationType = "gaitlab.Simulation";
 inline constexpr const char* kControllerType = "gaitlab.Controller";
 inline constexpr const char* kControllerClassType = "gaitlab.ControllerClass";
+inline constexpr const char* kModuleType = "gaitlab.Module";
 
 // each open_* adds its functions to the gaitlab table on top of the stack
 void open_robot(lua_State* L);
 void open_world(lua_State* L);
 void open_simulation(lua_State* L);
 void open_controller(lua_State* L);
+void open_module(lua_State* L);
 
 bool is_robot(lua_State* L, int index);
 std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index);
 std::shared_ptr<WorldBinding> to_world(lua_State* L, int index);
+/// The module type at `index`: a gaitlab.Module, or the name of one in gaitlab.modules. Throws
+/// Error ("unknown module type 'x'; did you mean ...") otherwise.
+ModuleDef to_module(lua_State* L, int index);
 
 }  // namespace gaitlab::scripting

@@ -360,16 +360,6 @@ int class_tostring(lua_State* L) {
     });
 }
 
-// the directory of the Lua file that called the current C function ("" if none)
-std::filesystem::path caller_dir(lua_State* L) {
-    lua_Debug ar;
-    for (int level = 1; lua_getstack(L, level, &ar); ++level) {
-        lua_getinfo(L, "S", &ar);
-        if (ar.source[0] == '@') return std::filesystem::path(ar.source + 1).parent_path();
-    }
-    return {};
-}
-
 // gaitlab.controller.load(path [, { sandbox = }]): runs a controller file once (in a sandbox
 // unless told otherwise), caches the class it returns and watches the file for changes
 int class_load(lua_State* L) {

@@ -17,11 +17,20 @@ RobotBinding& check_robot(lua_State* L, int index) {
 
 int robot_chain(lua_State* L) {
     return protect(L, [&] {
-        Fields f(L, 1, 1, {"name", "modules", "connection"});
+        Fields f(L, 1, 1, {"name", "modules", "connection", "module"});
         ChainSpec spec;
         spec.name = f.string("name", "robot");
         if (!f.has("modules")) f.fail("modules", "number of modules expected, got nil");
-        spec.modules = static_cast<int>(f.integer("modules", 0));
+        spec.modules = saturate_int(f.integer("modules", 0));
+        if (f.push("module") != LUA_TNIL) {
+            try {
+                spec.module = to_module(L, -1);
+            } catch (const Error& e) {
+                lua_pop(L, 1);
+                f.fail("module", e.what());
+            }
+        }
+        lua_pop(L, 1);
         try {
             spec.connection = parse_connection(f.string("connection", "pitch-pitch"));
             auto robot = std::make_shared<RobotBinding>();
