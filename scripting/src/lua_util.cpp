@@ -118,6 +118,18 @@ void push_vec3(lua_State* L, const Vec3& v) {
     luaL_setmetatable(L, "gaitlab.Vec3");
 }
 
+void push_quat(lua_State* L, const Quat& q) {
+    lua_createtable(L, 0, 4);
+    lua_pushnumber(L, q.w);
+    lua_setfield(L, -2, "w");
+    lua_pushnumber(L, q.x);
+    lua_setfield(L, -2, "x");
+    lua_pushnumber(L, q.y);
+    lua_setfield(L, -2, "y");
+    lua_pushnumber(L, q.z);
+    lua_setfield(L, -2, "z");
+}
+
 Fields::Fields(lua_State* L, int index, int arg, std::initializer_list<const char*> allowed)
     : L_(L), index_(lua_absindex(L, index)), arg_(arg) {
     if (!lua_istable(L, index_)) throw ArgError(arg, "table expected, got " + type_name(L, index_));

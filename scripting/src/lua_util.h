@@ -133,6 +133,9 @@ inline int saturate_int(long long v) {
 /// Pushes {x = , y = , z = } with the gaitlab.Vec3 metatable.
 void push_vec3(lua_State* L, const Vec3& v);
 
+/// Pushes {w = , x = , y = , z = }.
+void push_quat(lua_State* L, const Quat& q);
+
 /// Reads the fields of a table argument; unknown keys are an error naming the closest valid one.
 class Fields {
   public:

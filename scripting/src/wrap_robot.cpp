@@ -110,18 +110,6 @@ int robot_displacement(lua_State* L) {
     });
 }
 
-void push_quat(lua_State* L, const Quat& q) {
-    lua_createtable(L, 0, 4);
-    lua_pushnumber(L, q.w);
-    lua_setfield(L, -2, "w");
-    lua_pushnumber(L, q.x);
-    lua_setfield(L, -2, "x");
-    lua_pushnumber(L, q.y);
-    lua_setfield(L, -2, "y");
-    lua_pushnumber(L, q.z);
-    lua_setfield(L, -2, "z");
-}
-
 int robot_bodies(lua_State* L) {
     return protect(L, [&] {
         RobotBinding& r = check_robot(L, 1);
