@@ -323,6 +323,15 @@ int world_heightfield(lua_State* L) {
         s.width = f.number("width", s.width);
         read_placement(f, s, {});
         const int number = static_cast<int>(w.spec.heightfields.size() + 1);
+        // sizes and placement first (on a stand-in grid), so no sampling runs before they pass
+        HeightfieldSpec probe = s;
+        probe.samples_x = probe.samples_y = 2;
+        probe.heights.assign(4, 0.0);
+        try {
+            validate(probe, number);
+        } catch (const SpecError& e) {
+            throw ArgError(2, e.what());
+        }
         const int ht = f.push("heights");
         const int heights = lua_gettop(L);
         const bool has_image = f.has("image");
@@ -340,11 +349,6 @@ int world_heightfield(lua_State* L) {
         if (ht == LUA_TFUNCTION) {
             if (f.has("samples") && f.has("resolution")) {
                 f.fail("samples", "give samples or resolution, not both");
-            }
-            if (!(s.length > 0 && s.width > 0 && std::isfinite(s.length) &&
-                  std::isfinite(s.width))) {
-                // validate() words this
-                return add_object(L, w.spec.heightfields, s);
             }
             if (f.has("samples")) {
                 const auto [nx, ny] = read_samples(L, f);

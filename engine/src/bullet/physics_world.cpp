@@ -33,8 +33,9 @@ Quat from_bt(const btQuaternion& q) {
 // collision margin of every shape: Bullet's default 4 cm is larger than a module's half-width
 constexpr btScalar kMargin = btScalar(0.001);
 
-// the Bullet shape of a solid; a heightfield's samples go to `heights`, which must outlive it
-std::unique_ptr<btCollisionShape> make_shape(const Solid& s, std::vector<float>& heights) {
+// the Bullet shape of a solid; a heightfield's samples are copied to `*heights`, which must
+// outlive the shape
+std::unique_ptr<btCollisionShape> make_shape(const Solid& s, std::vector<float>* heights) {
     std::unique_ptr<btCollisionShape> shape;
     switch (s.kind) {
         case Solid::Kind::box:
@@ -53,10 +54,10 @@ std::unique_ptr<btCollisionShape> make_shape(const Solid& s, std::vector<float>&
         }
         case Solid::Kind::heightfield: {
             const HeightGrid& g = s.grid;
-            heights.assign(g.heights.begin(), g.heights.end());
-            const auto [lo, hi] = std::minmax_element(heights.begin(), heights.end());
+            heights->assign(g.heights.begin(), g.heights.end());
+            const auto [lo, hi] = std::minmax_element(heights->begin(), heights->end());
             auto field = std::make_unique<btHeightfieldTerrainShape>(
-                g.samples_x, g.samples_y, heights.data(), *lo, *hi, 2, false);
+                g.samples_x, g.samples_y, heights->data(), *lo, *hi, 2, false);
             field->setLocalScaling(btVector3(btScalar(g.length / (g.samples_x - 1)),
                                              btScalar(g.width / (g.samples_y - 1)), 1));
             shape = std::move(field);
@@ -117,9 +118,13 @@ struct PhysicsWorld::Impl {
     std::vector<std::unique_ptr<std::vector<float>>> height_data;  // of heightfield shapes
 
     btRigidBody* add_body(const Solid& solid, int group, int mask) {
-        height_data.push_back(std::make_unique<std::vector<float>>());
-        auto shape = make_shape(solid, *height_data.back());
-        if (height_data.back()->empty()) height_data.pop_back();
+        // a heightfield shape points into its samples, which live as long as the world
+        std::vector<float>* heights = nullptr;
+        if (solid.kind == Solid::Kind::heightfield) {
+            height_data.push_back(std::make_unique<std::vector<float>>());
+            heights = height_data.back().get();
+        }
+        auto shape = make_shape(solid, heights);
         const double mass = solid.mass;
         btVector3 inertia(0, 0, 0);
         if (mass > 0) shape->calculateLocalInertia(btScalar(mass), inertia);
