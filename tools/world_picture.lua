@@ -143,9 +143,8 @@ local plots = { string.format("'%s' using 1:2:3:4 with pm3d", files.solid) }
 local script = table.concat({
   "set terminal pngcairo size 900,560 enhanced font 'DejaVu Sans,11'",
   string.format("set output '%s'", out),
-  string.format("set title \"gaitlab.worlds.%s{}: %s%s\" noenhanced", name,
-    "8-module snake, " .. seconds .. " s into a head-first gait",
-    next(walls) and " (pipe cut open)" or ""),
+  string.format("set title \"gaitlab.worlds.%s{}: friction %g, 8-module snake %g s into a " ..
+    "head-first gait%s\" noenhanced", name, mu, seconds, next(walls) and " (pipe cut open)" or ""),
   string.format("set view %d, %d, 1.75", tilt, azimuth),
   "set view equal xyz",
   string.format("set xrange [%f:%f]", lo.x, lo.x + span),

@@ -266,3 +266,29 @@ TEST_CASE("world:triangles gives the objects and the robots where they are", "[w
     )");
     CHECK(lua.number("top") > 0.06);  // the head lifted off the floor
 }
+
+TEST_CASE("a heightfield from a Lua function gives contact at the height it says", "[wrap_world]") {
+    LuaFixture lua;
+    lua.run(R"(
+        -- bumps on a gentle incline along x (so x and y cannot be mixed up unnoticed)
+        function f(x, y)
+          return 0.05 + 0.02 * x + 0.02 * math.cos(2 * math.pi * x) * math.cos(2 * math.pi * y)
+        end
+        w = gaitlab.world{ floor = false }
+        w:heightfield{ length = 2, width = 2, resolution = 0.01, heights = f }
+        -- 2 cm cubes on hill tops (0, 0), (0.5, 0.5) and in valleys (0.5, 0), (0, -0.5)
+        spots = { { 0, 0 }, { 0.5, 0.5 }, { 0.5, 0 }, { 0, -0.5 } }
+        for _, p in ipairs(spots) do
+          w:box{ size = { 0.02, 0.02, 0.02 }, mass = 0.05,
+                 position = { p[1], p[2], f(p[1], p[2]) + 0.015 } }
+        end
+        sim = gaitlab.simulation{ world = w }
+        sim:run(0.5)
+        worst = 0
+        for k, o in ipairs(sim:objects()) do
+          local x, y = spots[k][1], spots[k][2]
+          worst = math.max(worst, math.abs(o.position.z - 0.01 - f(x, y)))
+        end
+    )");
+    CHECK(lua.number("worst") < 0.0015);
+}

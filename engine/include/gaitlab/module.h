@@ -34,7 +34,7 @@ const char* to_string(JointAxis a);
 /// A module type: a box or a cylinder cut in two rigid halves by the joint at its mid-plane.
 /// The default values are the y1 module's.
 struct ModuleDef {
-    std::string name = "y1";
+    std::string name = "y1";   ///< the name messages and the library use
     Shape shape = Shape::box;  ///< a cylinder's axis runs along the chain
     double length = 0.072;     ///< joint-to-joint length along the chain, m
     double width = 0.052;      ///< box: cross-section side along the pitch axis, m

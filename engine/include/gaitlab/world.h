@@ -17,7 +17,7 @@ namespace gaitlab {
 
 /// An infinite static plane at z = 0.
 struct FloorSpec {
-    bool enabled = true;
+    bool enabled = true;    ///< false: no floor
     double friction = 1.0;  ///< in [0, 1]
 };
 
@@ -98,10 +98,10 @@ struct RubbleSpec {
     double max_size = 0.06;    ///< m, >= min_size
     double min_height = 0.01;  ///< m, > 0
     double max_height = 0.03;  ///< m, >= min_height
-    std::uint64_t seed = 1;
-    Vec3 position;          ///< centre of the area on the ground, world frame, m
-    double yaw = 0;         ///< rad about +z
-    double friction = 1.0;  ///< in [0, 1]
+    std::uint64_t seed = 1;    ///< which stones: the same seed, the same stones
+    Vec3 position;             ///< centre of the area on the ground, world frame, m
+    double yaw = 0;            ///< rad about +z
+    double friction = 1.0;     ///< in [0, 1]
 };
 
 /// A static terrain: heights over a length × width grid centred on `position`. The heights are
