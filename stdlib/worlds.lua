@@ -51,13 +51,14 @@ local function check_param(name, p)
 end
 
 --- gaitlab.world.preset{ name =, description =, params = { name = { default, min =, max =,
---- unit =, integer =, doc = } }, build = function(p) return world [, start] end }
+--- unit =, integer =, doc = } }, check = function(p) return nil or message end,
+--- build = function(p) return world [, start] end }
 function gaitlab.world.preset(def)
   if type(def) ~= "table" then bad("preset", "table expected, got " .. typename(def)) end
   for k in pairs(def) do
-    if k ~= "name" and k ~= "description" and k ~= "params" and k ~= "build" then
+    if k ~= "name" and k ~= "description" and k ~= "params" and k ~= "check" and k ~= "build" then
       bad("preset", "unknown key '" .. tostring(k) .. "'"
-        .. did_you_mean(tostring(k), { "name", "description", "params", "build" }))
+        .. did_you_mean(tostring(k), { "name", "description", "params", "check", "build" }))
     end
   end
   if type(def.name) ~= "string" or def.name == "" then
@@ -66,6 +67,9 @@ function gaitlab.world.preset(def)
   if type(def.build) ~= "function" then
     bad("preset", "field 'build': function expected, got " .. typename(def.build))
   end
+  if def.check ~= nil and type(def.check) ~= "function" then
+    bad("preset", "field 'check': function expected, got " .. typename(def.check))
+  end
   local params = def.params or {}
   if type(params) ~= "table" then bad("preset", "field 'params': table expected") end
   for name, p in pairs(params) do check_param(name, p) end
@@ -73,6 +77,7 @@ function gaitlab.world.preset(def)
     name = def.name,
     description = def.description or "",
     params = params,
+    check = def.check,
     build = def.build,
   }, Preset)
 end
@@ -100,13 +105,16 @@ function Preset.__call(self, args)
     end
     if not (v >= spec.min and v <= spec.max) then
       bad(fn, string.format("%s must be in [%s, %s]%s (got %s)", k, spec.min, spec.max,
-        spec.unit and spec.unit ~= "" and (" " .. spec.unit) or "", v))
+        spec.unit and spec.unit ~= "" and (" " .. spec.unit) or "", v ~= v and "nan" or v))
     end
     p[k] = spec.integer and math.tointeger(v) or v
   end
   for _, name in ipairs(names) do
     if p[name] == nil then p[name] = self.params[name][1] end
   end
+  -- what one parameter's range cannot say (e.g. min_size <= max_size)
+  local problem = self.check and self.check(p)
+  if problem then bad(fn, problem) end
   local world, start = self.build(p)
   if typename(world) ~= "gaitlab.World" then
     error(string.format("world preset '%s': build must return a gaitlab.World, got %s", fn,

@@ -14,6 +14,16 @@ return gaitlab.world.preset{
     seed = { 1, min = 0, max = 2 ^ 53, integer = true, doc = "which random field" },
     friction = { 0.8, min = 0, max = 1, doc = "friction of the floor and the stones" },
   },
+  check = function(p)
+    if p.max_size < p.min_size then
+      return string.format("max_size must not be below min_size (got %g < %g m)", p.max_size,
+        p.min_size)
+    end
+    if p.max_height < p.min_height then
+      return string.format("max_height must not be below min_height (got %g < %g m)",
+        p.max_height, p.min_height)
+    end
+  end,
   build = function(p)
     local world = gaitlab.world{ floor = { friction = p.friction } }
     world:rubble{ length = p.length, width = p.width, count = p.count, min_size = p.min_size,

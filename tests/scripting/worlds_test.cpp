@@ -228,6 +228,12 @@ TEST_CASE("preset parameters are checked like any Lua argument", "[worlds]") {
     CHECK(lua.error_of("gaitlab.worlds.stairs{ steps = 2.5 }") ==
           "test:1: bad argument #1 to 'stairs' (field 'steps': integer expected, got a "
           "fractional number)");
+    CHECK(lua.error_of("gaitlab.worlds.ramp{ slope = 0/0 }") ==
+          bad + "slope must be in [1, 45] deg (got nan))");
+    // a check across parameters
+    CHECK(lua.error_of("gaitlab.worlds.rubble{ min_size = 0.1 }") ==
+          "test:1: bad argument #1 to 'rubble' (max_size must not be below min_size (got 0.06 < "
+          "0.1 m))");
     // integers given as floats are accepted
     lua.run("w = gaitlab.worlds.stairs{ steps = 2.0 }");
     CHECK(lua.integer("#w:triangles()") == 2);
