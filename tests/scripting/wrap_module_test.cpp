@@ -60,6 +60,8 @@ TEST_CASE("gaitlab.module defines a custom module type", "[wrap_module]") {
     CHECK(lua.number("seg.mass") == Approx(0.08));
     CHECK(lua.number("seg.size.x") == Approx(0.1));
     CHECK(lua.number("seg.size.y") == Approx(0.06));
+    CHECK(lua.string("seg.shape") == "cylinder");
+    CHECK(lua.string("gaitlab.robot.chain{ modules = 1 }:bodies()[1].shape") == "box");
     CHECK(lua.number("#r") == 4);
     // it runs: a chain of cylinders lies at its radius
     lua.run(R"(
