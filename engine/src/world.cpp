@@ -20,6 +20,13 @@ void check_position(const std::string& p, const Vec3& v) {
     detail::check_finite(p + "position z", v.z);
 }
 
+void check_orientation(const std::string& p, const Quat& q) {
+    if (!(std::isfinite(q.w) && std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z) &&
+          std::abs(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z - 1) < 1e-6)) {
+        throw SpecError(p + "orientation must be a unit quaternion");
+    }
+}
+
 void check_placement(const std::string& p, const Vec3& position, double yaw, double friction) {
     check_position(p, position);
     detail::check_finite(p + "yaw", yaw);
@@ -52,6 +59,7 @@ void validate(const BoxSpec& b, int number) {
     detail::check_non_negative(p + "mass", b.mass, "kg");
     detail::check_range(p + "friction", b.friction, 0, 1);
     check_position(p, b.pose.position);
+    check_orientation(p, b.pose.orientation);
 }
 
 void validate(const WallSpec& w, int number) {
@@ -163,14 +171,8 @@ void validate(const WorldSpec& world) {
     each(world.heightfields);
     for (const PlacedRobot& r : world.robots) {
         validate(r.robot);
-        const Pose& pose = r.pose;
-        const Quat& q = pose.orientation;
-        check_position("robot '" + r.robot.name + "' ", pose.position);
-        if (!(std::isfinite(q.w) && std::isfinite(q.x) && std::isfinite(q.y) &&
-              std::isfinite(q.z) &&
-              std::abs(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z - 1) < 1e-6)) {
-            throw SpecError("robot '" + r.robot.name + "' orientation must be a unit quaternion");
-        }
+        check_position("robot '" + r.robot.name + "' ", r.pose.position);
+        check_orientation("robot '" + r.robot.name + "' ", r.pose.orientation);
     }
 }
 

@@ -115,7 +115,13 @@ int world_box(lua_State* L) {
         BoxSpec box;
         box.size = f.vec3("size", box.size);
         box.pose.position = f.vec3("position", {0, 0, box.size.z / 2});
-        box.pose.orientation = yaw_rotation(f.number("yaw", 0));
+        const double yaw = f.number("yaw", 0);
+        if (!std::isfinite(yaw)) {
+            // worded as the objects that keep their yaw in the spec
+            throw ArgError(
+                2, fmt::format("box {} yaw must be a finite number", w.spec.boxes.size() + 1));
+        }
+        box.pose.orientation = yaw_rotation(yaw);
         box.mass = f.number("mass", 0);
         box.friction = f.number("friction", 1.0);
         return add_object(L, w.spec.boxes, box);

@@ -77,6 +77,10 @@ TEST_CASE("boxes are checked and numbered from 1") {
         w.boxes[1].pose.position.z = std::numeric_limits<double>::infinity();
         require_rejected(w, "box 2 position z must be a finite number");
     }
+    SECTION("an orientation that is not a rotation") {
+        w.boxes[0].pose.orientation = Quat::from_axis_angle({0, 0, 1}, std::nan(""));
+        require_rejected(w, "box 1 orientation must be a unit quaternion");
+    }
 }
 
 TEST_CASE("gravity must be finite") {

@@ -40,6 +40,7 @@ TEST_CASE("world:box checks its fields", "[wrap_world]") {
     CHECK(lua.error_of("w:box{ sise = { 1, 1, 1 } }") ==
           bad + "unknown key 'sise'; did you mean 'size'?)");
     CHECK(lua.error_of("w:box()") == bad + "table expected, got no value)");
+    CHECK(lua.error_of("w:box{ yaw = 0/0 }") == bad + "box 1 yaw must be a finite number)");
     // a valid box returns the world, so calls chain
     CHECK(lua.string("tostring(w:box{ size = { 1, 1, 0.1 } }:box{ mass = 1 })") ==
           "gaitlab.World (0 robots, 2 boxes)");
