@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "gaitlab/error.h"
 #include "gaitlab/types.h"
 #include "sim_support.h"
 
@@ -427,23 +426,6 @@ TEST_CASE("a wall stops a crawling robot") {
     };
     CHECK(tail_x(false) < -0.2);
     CHECK(tail_x(true) > -0.1 + 0.018 - 0.003);  // the tail half is 36 mm long
-}
-
-TEST_CASE("dynamic objects are numbered boxes first, then cylinders") {
-    WorldSpec w;
-    BoxSpec fixed, moving;
-    moving.mass = 1;
-    moving.pose.position = {1, 0, 0.05};
-    w.boxes = {fixed, moving};
-    CylinderSpec c;
-    c.mass = 1;
-    c.position = {2, 0, 0.05};
-    w.cylinders.push_back(c);
-    Simulation sim(w);
-    REQUIRE(sim.object_count() == 2);
-    CHECK(sim.object(0).pose.position.x == Approx(1));
-    CHECK(sim.object(1).pose.position.x == Approx(2));
-    REQUIRE_THROWS_AS(sim.object(2), SpecError);
 }
 
 TEST_CASE("a chain of cylinder modules lies on the floor at its radius") {
