@@ -1,6 +1,8 @@
 // Tests for engine/src/bullet/physics_world.cpp, through the public Simulation API: a robot at
 // rest stays put, the classic sine gaits move as the literature says, joints hold together, and
-// the engine's joint angles follow the documented sign conventions.
+// the engine's joint angles follow the documented sign conventions; the world library's objects
+// behave as their physics says (boxes slide or stay on ramps, cylinders roll, things rest on
+// steps, terrain and pipe bottoms, walls stop robots).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
