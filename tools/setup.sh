@@ -7,9 +7,10 @@ set -euo pipefail
 packages=(
     cmake g++ ninja-build pkg-config
     liblua5.4-dev lua5.4
-    libbullet-dev libeigen3-dev libfmt-dev libtinyxml2-dev
+    libbullet-dev libeigen3-dev libfmt-dev libtinyxml2-dev libpng-dev
     catch2 libcli11-dev libbenchmark-dev libedit-dev
     liburdfdom-tools
+    gnuplot-nox
 )
 
 if [ "${1:-}" = fuzz ]; then

@@ -20,7 +20,15 @@ const char* to_string(Connection c) {
 }
 
 const char* to_string(JointRole r) {
-    return r == JointRole::pitch ? "pitch" : "yaw";
+    switch (r) {
+        case JointRole::pitch:
+            return "pitch";
+        case JointRole::yaw:
+            return "yaw";
+        case JointRole::roll:
+            return "roll";
+    }
+    return "?";
 }
 
 Connection parse_connection(std::string_view name) {
@@ -33,22 +41,8 @@ Connection parse_connection(std::string_view name) {
 
 namespace {
 
-void validate_module(const ModuleDef& m) {
-    const std::string p = "module '" + m.name + "' ";
-    detail::check_positive(p + "length", m.length, "m");
-    detail::check_positive(p + "width", m.width, "m");
-    detail::check_positive(p + "height", m.height, "m");
-    detail::check_positive(p + "mass", m.mass, "kg");
-    detail::check_range(p + "friction", m.friction, 0, 1);
-    detail::check_positive(p + "servo kp", m.servo.kp, "1/s");
-    detail::check_positive(p + "servo max_speed", m.servo.max_speed, "rad/s");
-    detail::check_positive(p + "servo max_torque", m.servo.max_torque, "N·m");
-    if (!(m.min_angle < m.max_angle && m.min_angle >= -kPi && m.max_angle <= kPi)) {
-        throw SpecError(p + "joint range must satisfy -180 <= min < max <= 180 deg");
-    }
-}
-
-JointRole role_of(Connection c, int joint) {
+JointRole role_of(const ModuleDef& m, Connection c, int joint) {
+    if (m.axis == JointAxis::twist) return JointRole::roll;
     switch (c) {
         case Connection::pitch_pitch:
             return JointRole::pitch;
@@ -69,9 +63,19 @@ RobotSpec make_chain(const ChainSpec& spec) {
     if (spec.modules > 1000) {
         throw SpecError(fmt::format("modules must be at most 1000 (got {})", spec.modules));
     }
-    validate_module(spec.module);
+    validate(spec.module);
     const ModuleDef& m = spec.module;
-    const double len = m.length, z = m.height / 2;
+    const bool box = m.shape == Shape::box;
+    // a pitch-yaw chain turns every other module by 90 degrees about the chain's axis, which
+    // one rigid body per segment can only represent for a symmetric cross-section
+    if (box && spec.connection == Connection::pitch_yaw && m.width != m.height) {
+        throw SpecError(fmt::format(
+            "a pitch-yaw chain needs modules with a square cross-section (module '{}' is {} x {} "
+            "m; make width = height or use a cylinder)",
+            m.name, m.width, m.height));
+    }
+    const Vec3 section = box ? Vec3{0, m.width, m.height} : Vec3{0, 2 * m.radius, 2 * m.radius};
+    const double len = m.length, z = section.z / 2;
     const int n = spec.modules;
 
     RobotSpec robot;
@@ -81,7 +85,8 @@ RobotSpec make_chain(const ChainSpec& spec) {
     auto add_body = [&](std::string name, double x0, double x1, double mass) {
         BodySpec b;
         b.name = std::move(name);
-        b.size = {x1 - x0, m.width, m.height};
+        b.shape = m.shape;
+        b.size = {x1 - x0, section.y, section.z};
         b.mass = mass;
         b.pose.position = {(x0 + x1) / 2, 0, z};
         b.friction = m.friction;
@@ -96,12 +101,15 @@ RobotSpec make_chain(const ChainSpec& spec) {
     for (int j = 0; j < n; ++j) {
         JointSpec js;
         js.name = fmt::format("joint{}", j + 1);
-        js.role = role_of(spec.connection, j);
+        js.role = role_of(m, spec.connection, j);
         js.parent = j;
         js.child = j + 1;
         js.pivot = {len * (j + 0.5), 0, z};
-        // a positive pitch lifts the head side; a positive yaw turns it counter-clockwise
-        js.axis = js.role == JointRole::pitch ? Vec3{0, -1, 0} : Vec3{0, 0, 1};
+        // a positive pitch lifts the head side; a positive yaw turns it counter-clockwise seen
+        // from +z; a positive roll turns it counter-clockwise seen from the head
+        js.axis = js.role == JointRole::pitch ? Vec3{0, -1, 0}
+                  : js.role == JointRole::yaw ? Vec3{0, 0, 1}
+                                              : Vec3{1, 0, 0};
         js.min_angle = m.min_angle;
         js.max_angle = m.max_angle;
         js.servo = m.servo;
@@ -121,6 +129,9 @@ void validate(const RobotSpec& robot) {
         detail::check_positive(q + "size y", b.size.y, "m");
         detail::check_positive(q + "size z", b.size.z, "m");
         detail::check_range(q + "friction", b.friction, 0, 1);
+        if (b.shape == Shape::cylinder && b.size.y != b.size.z) {
+            throw SpecError(q + "is a cylinder: size y and z (its diameter) must be equal");
+        }
     }
     // files refer to bodies by name
     for (size_t b = 0; b < robot.bodies.size(); ++b) {
@@ -154,9 +165,9 @@ void validate(const RobotSpec& robot) {
 
 std::vector<int> select_joints(const RobotSpec& robot, std::string_view role) {
     const bool all = role == "all";
-    if (!all && role != "pitch" && role != "yaw") {
-        throw SpecError(
-            fmt::format("unknown joint role '{}' (expected 'pitch', 'yaw' or 'all')", role));
+    if (!all && role != "pitch" && role != "yaw" && role != "roll") {
+        throw SpecError(fmt::format(
+            "unknown joint role '{}' (expected 'pitch', 'yaw', 'roll' or 'all')", role));
     }
     std::vector<int> out;
     for (int j = 0; j < static_cast<int>(robot.joints.size()); ++j) {

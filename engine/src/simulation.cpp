@@ -153,6 +153,7 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
         robots_[r].first_body = first_body;
         first_body += static_cast<int>(world_.robots[r].robot.bodies.size());
     }
+    first_object_ = first_body;
     angles_.assign(static_cast<size_t>(first_joint), 0.0);
     targets_.assign(angles_.size(), 0.0);
     commands_.assign(angles_.size(), 0.0);
@@ -305,6 +306,18 @@ JointError Simulation::joint_error(int robot, int j) const {
     const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.joints.size());
     if (j < 0 || j >= n) throw SpecError(fmt::format("joint index {} out of range [0, {})", j, n));
     return physics_->joint_error(robots_[robot].first_joint + j);
+}
+
+int Simulation::object_count() const {
+    return physics_->body_count() - first_object_;
+}
+
+BodyState Simulation::object(int index) const {
+    const int n = object_count();
+    if (index < 0 || index >= n) {
+        throw SpecError(fmt::format("object index {} out of range [0, {})", index, n));
+    }
+    return physics_->body(first_object_ + index);
 }
 
 int Simulation::contact_count() const {

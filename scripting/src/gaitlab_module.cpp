@@ -18,6 +18,7 @@ extern "C" int luaopen_gaitlab(lua_State* L) {
     luaL_newmetatable(L, "gaitlab.Vec3");  // filled in by stdlib/vec3.lua
     lua_pop(L, 1);
 
+    open_module(L);      // gaitlab.module, gaitlab.modules
     open_robot(L);       // gaitlab.robot
     open_world(L);       // gaitlab.world
     open_simulation(L);  // gaitlab.simulation
@@ -25,6 +26,6 @@ extern "C" int luaopen_gaitlab(lua_State* L) {
     open_actuation(L);   // gaitlab.actuation
     open_sensor(L);      // gaitlab.sensor, robot:sensor{...}
 
-    open_stdlib(L, lua_gettop(L));  // vec3.lua ...
+    open_stdlib(L, lua_gettop(L));  // vec3.lua, worlds.lua (gaitlab.worlds) ...
     return 1;
 }

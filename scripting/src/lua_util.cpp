@@ -17,16 +17,7 @@ std::string type_name(lua_State* L, int index) {
 
 std::string script_path(lua_State* L, const std::string& path) {
     std::filesystem::path p(path);
-    if (p.is_relative()) {
-        lua_Debug ar;
-        for (int level = 1; lua_getstack(L, level, &ar); ++level) {
-            lua_getinfo(L, "S", &ar);
-            if (ar.source[0] == '@') {
-                p = std::filesystem::path(ar.source + 1).parent_path() / p;
-                break;
-            }
-        }
-    }
+    if (p.is_relative()) p = caller_dir(L) / p;
     return p.lexically_normal().string();
 }
 
@@ -76,6 +67,15 @@ std::string check_string(lua_State* L, int index) {
     return std::string(s, len);
 }
 
+std::filesystem::path caller_dir(lua_State* L) {
+    lua_Debug ar;
+    for (int level = 1; lua_getstack(L, level, &ar); ++level) {
+        lua_getinfo(L, "S", &ar);
+        if (ar.source[0] == '@') return std::filesystem::path(ar.source + 1).parent_path();
+    }
+    return {};
+}
+
 void push_vec3(lua_State* L, const Vec3& v) {
     lua_createtable(L, 0, 3);
     lua_pushnumber(L, v.x);
@@ -85,6 +85,18 @@ void push_vec3(lua_State* L, const Vec3& v) {
     lua_pushnumber(L, v.z);
     lua_setfield(L, -2, "z");
     luaL_setmetatable(L, "gaitlab.Vec3");
+}
+
+void push_quat(lua_State* L, const Quat& q) {
+    lua_createtable(L, 0, 4);
+    lua_pushnumber(L, q.w);
+    lua_setfield(L, -2, "w");
+    lua_pushnumber(L, q.x);
+    lua_setfield(L, -2, "x");
+    lua_pushnumber(L, q.y);
+    lua_setfield(L, -2, "y");
+    lua_pushnumber(L, q.z);
+    lua_setfield(L, -2, "z");
 }
 
 Fields::Fields(lua_State* L, int index, int arg, std::initializer_list<const char*> allowed)

@@ -4,7 +4,10 @@
 
 #include <lua.hpp>
 
+#include <algorithm>
+#include <filesystem>
 #include <initializer_list>
+#include <limits>
 #include <new>
 #include <optional>
 #include <string>
@@ -115,6 +118,17 @@ double check_number(lua_State* L, int index);
 long long check_integer(lua_State* L, int index);
 std::string check_string(lua_State* L, int index);
 
+/// The folder of the innermost Lua file on the call stack ("" if none): relative paths that
+/// scripts give are resolved against it.
+std::filesystem::path caller_dir(lua_State* L);
+
+/// An integer argument as an int: values beyond int's range saturate, so the spec's own range
+/// check rejects them with the message it gives for any out-of-range count.
+inline int saturate_int(long long v) {
+    return static_cast<int>(
+        std::clamp<long long>(v, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
+}
+
 /// `path` as the calling script means it: relative paths are relative to the folder of the Lua
 /// file that called the current C function (the working directory if none, e.g. in a REPL).
 std::string script_path(lua_State* L, const std::string& path);
@@ -150,6 +164,9 @@ int file_read(lua_State* L, F&& read) {
 
 /// Pushes {x = , y = , z = } with the gaitlab.Vec3 metatable.
 void push_vec3(lua_State* L, const Vec3& v);
+
+/// Pushes {w = , x = , y = , z = }.
+void push_quat(lua_State* L, const Quat& q);
 
 /// Reads the fields of a table argument; unknown keys are an error naming the closest valid one.
 class Fields {

@@ -12,7 +12,8 @@ struct StdlibSource {
     const char* code;
 };
 
-/// Runs every stdlib chunk with (gaitlab table, registry) as its arguments.
+/// Runs every stdlib chunk with (gaitlab table, registry) as its arguments; the registry holds
+/// "gaitlab.closest" (did-you-mean) and "gaitlab.world_sources" (worlds/*.lua by name).
 void open_stdlib(lua_State* L, int gaitlab_index);
 
 /// The embedded controller templates, ending with {nullptr, nullptr}.

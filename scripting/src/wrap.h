@@ -9,6 +9,7 @@
 namespace gaitlab {
 class Controller;
 }
+#include "gaitlab/module.h"
 
 namespace gaitlab::scripting {
 
@@ -23,6 +24,7 @@ inline constexpr const char* kControllerType = "gaitlab.Controller";
 inline constexpr const char* kControllerClassType = "gaitlab.ControllerClass";
 inline constexpr const char* kActuationType = "gaitlab.Actuation";
 inline constexpr const char* kSensorType = "gaitlab.Sensor";
+inline constexpr const char* kModuleType = "gaitlab.Module";
 
 // each open_* adds its functions to the gaitlab table on top of the stack
 void open_robot(lua_State* L);
@@ -36,6 +38,7 @@ void open_sensor(lua_State* L);
 // the robot handle
 int robot_sensor(lua_State* L);
 int robot_sensors(lua_State* L);
+void open_module(lua_State* L);
 
 bool is_robot(lua_State* L, int index);
 std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index);
@@ -46,5 +49,8 @@ void push_robot(lua_State* L, std::shared_ptr<RobotBinding> robot);
 void push_world(lua_State* L, std::shared_ptr<WorldBinding> world);
 /// Pushes a handle for a controller; `attached` if a group already uses it.
 void push_controller(lua_State* L, std::shared_ptr<Controller> controller, bool attached);
+/// The module type at `index`: a gaitlab.Module, or the name of one in gaitlab.modules. Throws
+/// Error ("unknown module type 'x'; did you mean ...") otherwise.
+ModuleDef to_module(lua_State* L, int index);
 
 }  // namespace gaitlab::scripting

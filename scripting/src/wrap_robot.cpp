@@ -20,11 +20,20 @@ RobotBinding& check_robot(lua_State* L, int index) {
 
 int robot_chain(lua_State* L) {
     return protect(L, [&] {
-        Fields f(L, 1, 1, {"name", "modules", "connection"});
+        Fields f(L, 1, 1, {"name", "modules", "connection", "module"});
         ChainSpec spec;
         spec.name = f.string("name", "robot");
         if (!f.has("modules")) f.fail("modules", "number of modules expected, got nil");
-        spec.modules = static_cast<int>(f.integer("modules", 0));
+        spec.modules = saturate_int(f.integer("modules", 0));
+        if (f.push("module") != LUA_TNIL) {
+            try {
+                spec.module = to_module(L, -1);
+            } catch (const Error& e) {
+                lua_pop(L, 1);
+                f.fail("module", e.what());
+            }
+        }
+        lua_pop(L, 1);
         try {
             spec.connection = parse_connection(f.string("connection", "pitch-pitch"));
             auto robot = std::make_shared<RobotBinding>();
@@ -69,10 +78,11 @@ int robot_group(lua_State* L) {
                 joints.push_back(static_cast<int>(j - 1));
             }
         } else {
-            throw ArgError(2,
-                           "role ('pitch', 'yaw', 'all') or list of joint numbers expected, "
-                           "got " +
-                               type_name(L, 2));
+            throw ArgError(
+                2,
+                "role ('pitch', 'yaw', 'roll', 'all') or list of joint numbers expected, "
+                "got " +
+                    type_name(L, 2));
         }
         new_object<GroupHandle>(L, kGroupType, GroupHandle{robot, std::move(joints)});
         return 1;
@@ -103,18 +113,6 @@ int robot_displacement(lua_State* L) {
     });
 }
 
-void push_quat(lua_State* L, const Quat& q) {
-    lua_createtable(L, 0, 4);
-    lua_pushnumber(L, q.w);
-    lua_setfield(L, -2, "w");
-    lua_pushnumber(L, q.x);
-    lua_setfield(L, -2, "x");
-    lua_pushnumber(L, q.y);
-    lua_setfield(L, -2, "y");
-    lua_pushnumber(L, q.z);
-    lua_setfield(L, -2, "z");
-}
-
 int robot_bodies(lua_State* L) {
     return protect(L, [&] {
         RobotBinding& r = check_robot(L, 1);
@@ -122,13 +120,15 @@ int robot_bodies(lua_State* L) {
         const auto& bodies = r.spec.bodies;
         lua_createtable(L, static_cast<int>(bodies.size()), 0);
         for (size_t b = 0; b < bodies.size(); ++b) {
-            lua_createtable(L, 0, 6);
+            lua_createtable(L, 0, 7);
             lua_pushstring(L, bodies[b].name.c_str());
             lua_setfield(L, -2, "name");
             lua_pushnumber(L, bodies[b].mass);
             lua_setfield(L, -2, "mass");
             push_vec3(L, bodies[b].size);
             lua_setfield(L, -2, "size");
+            lua_pushstring(L, to_string(bodies[b].shape));
+            lua_setfield(L, -2, "shape");
             if (sim) {
                 const BodyState s = sim->body(r.index, static_cast<int>(b));
                 push_vec3(L, s.pose.position);

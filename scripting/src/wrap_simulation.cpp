@@ -211,6 +211,37 @@ int simulation_reset(lua_State* L) {
     });
 }
 
+// sim:objects(): the world's dynamic objects (boxes, then cylinders, with mass > 0) as
+// { object = "box 2", position =, orientation =, velocity = }
+int simulation_objects(lua_State* L) {
+    return protect(L, [&] {
+        Simulation& sim = check_sim(L, 1);
+        std::vector<std::string> names;
+        const WorldSpec& w = sim.world();
+        for (size_t i = 0; i < w.boxes.size(); ++i) {
+            if (w.boxes[i].mass > 0) names.push_back(fmt::format("box {}", i + 1));
+        }
+        for (size_t i = 0; i < w.cylinders.size(); ++i) {
+            if (w.cylinders[i].mass > 0) names.push_back(fmt::format("cylinder {}", i + 1));
+        }
+        lua_createtable(L, static_cast<int>(names.size()), 0);
+        for (size_t k = 0; k < names.size(); ++k) {
+            const BodyState s = sim.object(static_cast<int>(k));
+            lua_createtable(L, 0, 4);
+            lua_pushstring(L, names[k].c_str());
+            lua_setfield(L, -2, "object");
+            push_vec3(L, s.pose.position);
+            lua_setfield(L, -2, "position");
+            push_quat(L, s.pose.orientation);
+            lua_setfield(L, -2, "orientation");
+            push_vec3(L, s.linear_velocity);
+            lua_setfield(L, -2, "velocity");
+            lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+        }
+        return 1;
+    });
+}
+
 int simulation_index(lua_State* L) {
     return protect(L, [&] {
         Simulation& sim = check_sim(L, 1);
@@ -251,11 +282,9 @@ int simulation_tostring(lua_State* L) {
 }  // namespace
 
 void open_simulation(lua_State* L) {
-    const luaL_Reg methods[] = {{"run", simulation_run},
-                                {"step", simulation_step},
-                                {"reset", simulation_reset},
-                                {"save", simulation_save},
-                                {nullptr, nullptr}};
+    const luaL_Reg methods[] = {{"run", simulation_run},         {"step", simulation_step},
+                                {"reset", simulation_reset},     {"save", simulation_save},
+                                {"objects", simulation_objects}, {nullptr, nullptr}};
     luaL_newmetatable(L, kSimulationType);
     lua_newtable(L);
     luaL_setfuncs(L, methods, 0);

@@ -1,7 +1,12 @@
-// gaitlab.world: gravity, floor, boxes, and placing robots.
+// gaitlab.world: gravity, floor, the world library's objects, placing robots, and the world's
+// geometry as triangles.
+#include <algorithm>
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include "gaitlab/files.h"
+#include "gaitlab/geometry.h"
 #include "gaitlab/xml.h"
 #include "lua_util.h"
 #include "scene.h"
@@ -12,6 +17,10 @@ namespace gaitlab::scripting {
 namespace {
 
 using WorldPtr = std::shared_ptr<WorldBinding>;
+
+WorldBinding& check_world(lua_State* L, int index) {
+    return *check_object<WorldPtr>(L, index, kWorldType);
+}
 
 Quat yaw_rotation(double deg) {
     return Quat::from_axis_angle({0, 0, 1}, deg_to_rad(deg));
@@ -47,18 +56,33 @@ int world_new(lua_State* L) {
 
 int world_add(lua_State* L) {
     return protect(L, [&] {
-        WorldBinding& w = *check_object<WorldPtr>(L, 1, kWorldType);
+        WorldBinding& w = check_world(L, 1);
         auto robot = to_robot(L, 2);
         if (robot->in_world) {
             throw ArgError(2, "robot '" + robot->spec.name + "' is already in a world");
         }
-        // the robot frame has its tail at the origin and the floor at z = 0; without a pose the
-        // world's placement for the robot's name (from an environment file) applies
+        // the robot frame has its tail at the origin and the floor at z = 0; yaw, then pitch
+        // (a positive pitch raises the head, like a pitch joint), then roll about the chain.
+        // Without a pose the world's placement for the robot's name (from an environment
+        // file) applies
         std::optional<Pose> pose;
         if (!lua_isnoneornil(L, 3)) {
-            Fields f(L, 3, 3, {"x", "y", "z", "yaw"});
-            pose = Pose{{f.number("x", 0), f.number("y", 0), f.number("z", 0)},
-                        yaw_rotation(f.number("yaw", 0))};
+            pose = Pose{};
+            Fields f(L, 3, 3, {"x", "y", "z", "yaw", "pitch", "roll"});
+            pose->position = {f.number("x", 0), f.number("y", 0), f.number("z", 0)};
+            const double angles[3] = {f.number("yaw", 0), f.number("pitch", 0),
+                                      f.number("roll", 0)};
+            const char* names[3] = {"yaw", "pitch", "roll"};
+            for (int i = 0; i < 3; ++i) {
+                if (!std::isfinite(angles[i]))
+                    f.fail(names[i], "finite number of degrees expected");
+            }
+            for (double c : {pose->position.x, pose->position.y, pose->position.z}) {
+                if (!std::isfinite(c)) throw ArgError(3, "x, y and z must be finite numbers");
+            }
+            pose->orientation = yaw_rotation(angles[0]) *
+                                Quat::from_axis_angle({0, -1, 0}, deg_to_rad(angles[1])) *
+                                Quat::from_axis_angle({1, 0, 0}, deg_to_rad(angles[2]));
         }
         w.add(robot, pose);
         lua_settop(L, 1);
@@ -66,27 +90,366 @@ int world_add(lua_State* L) {
     });
 }
 
+// Validates `spec` as the next object of its kind in `objects` (so messages number it as the
+// world does), appends it, and returns the world for chained calls.
+template <class Spec>
+int add_object(lua_State* L, std::vector<Spec>& objects, Spec spec) {
+    try {
+        validate(spec, static_cast<int>(objects.size() + 1));
+    } catch (const SpecError& e) {
+        throw ArgError(2, e.what());
+    }
+    objects.push_back(std::move(spec));
+    lua_settop(L, 1);
+    return 1;
+}
+
+// the position, yaw (deg) and friction every object takes
+template <class Spec>
+void read_placement(const Fields& f, Spec& s, const Vec3& default_position) {
+    s.position = f.vec3("position", default_position);
+    s.yaw = deg_to_rad(f.number("yaw", 0));
+    s.friction = f.number("friction", s.friction);
+}
+
 int world_box(lua_State* L) {
     return protect(L, [&] {
-        WorldBinding& w = *check_object<WorldPtr>(L, 1, kWorldType);
+        WorldBinding& w = check_world(L, 1);
         Fields f(L, 2, 2, {"size", "position", "yaw", "mass", "friction"});
         BoxSpec box;
         box.size = f.vec3("size", box.size);
         box.pose.position = f.vec3("position", {0, 0, box.size.z / 2});
-        box.pose.orientation = yaw_rotation(f.number("yaw", 0));
+        const double yaw = f.number("yaw", 0);
+        if (!std::isfinite(yaw)) {
+            // worded as the objects that keep their yaw in the spec
+            throw ArgError(
+                2, fmt::format("box {} yaw must be a finite number", w.spec.boxes.size() + 1));
+        }
+        box.pose.orientation = yaw_rotation(yaw);
         box.mass = f.number("mass", 0);
         box.friction = f.number("friction", 1.0);
-        // validated among the world's boxes, so the message numbers it as the world does
-        WorldSpec probe;
-        probe.boxes = w.spec.boxes;
-        probe.boxes.push_back(box);
+        return add_object(L, w.spec.boxes, box);
+    });
+}
+
+int world_wall(lua_State* L) {
+    return protect(L, [&] {
+        WorldBinding& w = check_world(L, 1);
+        Fields f(L, 2, 2, {"length", "height", "thickness", "position", "yaw", "friction"});
+        WallSpec s;
+        s.length = f.number("length", s.length);
+        s.height = f.number("height", s.height);
+        s.thickness = f.number("thickness", s.thickness);
+        read_placement(f, s, {});
+        return add_object(L, w.spec.walls, s);
+    });
+}
+
+int world_ramp(lua_State* L) {
+    return protect(L, [&] {
+        WorldBinding& w = check_world(L, 1);
+        Fields f(L, 2, 2, {"slope", "length", "width", "position", "yaw", "friction"});
+        RampSpec s;
+        s.slope = deg_to_rad(f.number("slope", 10));
+        s.length = f.number("length", s.length);
+        s.width = f.number("width", s.width);
+        read_placement(f, s, {});
+        return add_object(L, w.spec.ramps, s);
+    });
+}
+
+int world_stairs(lua_State* L) {
+    return protect(L, [&] {
+        WorldBinding& w = check_world(L, 1);
+        Fields f(L, 2, 2,
+                 {"steps", "step_height", "step_depth", "width", "landing", "position", "yaw",
+                  "friction"});
+        StairsSpec s;
+        const long long steps = f.integer("steps", s.steps);
+        s.steps = saturate_int(steps);
+        s.step_height = f.number("step_height", s.step_height);
+        s.step_depth = f.number("step_depth", s.step_depth);
+        s.width = f.number("width", s.width);
+        s.landing = f.number("landing", s.landing);
+        read_placement(f, s, {});
+        return add_object(L, w.spec.stairs, s);
+    });
+}
+
+int world_cylinder(lua_State* L) {
+    return protect(L, [&] {
+        WorldBinding& w = check_world(L, 1);
+        Fields f(L, 2, 2, {"radius", "length", "lying", "position", "yaw", "mass", "friction"});
+        CylinderSpec s;
+        s.radius = f.number("radius", s.radius);
+        s.length = f.number("length", s.length);
+        s.lying = f.boolean("lying", false);
+        // resting on the floor at the origin unless told otherwise
+        read_placement(f, s, {0, 0, s.lying ? s.radius : s.length / 2});
+        s.mass = f.number("mass", 0);
+        return add_object(L, w.spec.cylinders, s);
+    });
+}
+
+int world_pipe(lua_State* L) {
+    return protect(L, [&] {
+        WorldBinding& w = check_world(L, 1);
+        Fields f(L, 2, 2,
+                 {"radius", "thickness", "length", "sides", "position", "yaw", "friction"});
+        PipeSpec s;
+        s.radius = f.number("radius", s.radius);
+        s.thickness = f.number("thickness", s.thickness);
+        s.length = f.number("length", s.length);
+        s.sides = saturate_int(f.integer("sides", s.sides));
+        // lying on the floor unless told otherwise
+        read_placement(f, s, {0, 0, s.radius + s.thickness});
+        return add_object(L, w.spec.pipes, s);
+    });
+}
+
+int world_rubble(lua_State* L) {
+    return protect(L, [&] {
+        WorldBinding& w = check_world(L, 1);
+        Fields f(L, 2, 2,
+                 {"length", "width", "count", "min_size", "max_size", "min_height", "max_height",
+                  "seed", "position", "yaw", "friction"});
+        RubbleSpec s;
+        s.length = f.number("length", s.length);
+        s.width = f.number("width", s.width);
+        s.count = saturate_int(f.integer("count", s.count));
+        s.min_size = f.number("min_size", s.min_size);
+        s.max_size = f.number("max_size", s.max_size);
+        s.min_height = f.number("min_height", s.min_height);
+        s.max_height = f.number("max_height", s.max_height);
+        const long long seed = f.integer("seed", 1);
+        if (seed < 0) f.fail("seed", "non-negative integer expected");
+        s.seed = static_cast<std::uint64_t>(seed);
+        read_placement(f, s, {});
+        return add_object(L, w.spec.rubble, s);
+    });
+}
+
+// samples = {nx, ny}: two integers in [2, 4096]
+std::pair<int, int> read_samples(lua_State* L, const Fields& f) {
+    const char* expected = "{nx, ny} with two integers in [2, 4096] expected";
+    if (f.push("samples") != LUA_TTABLE || luaL_len(L, -1) != 2) {
+        lua_pop(L, 1);
+        f.fail("samples", expected);
+    }
+    int n[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+        lua_rawgeti(L, -1, k + 1);
+        int ok = 0;
+        const lua_Integer v = lua_tointegerx(L, -1, &ok);
+        lua_pop(L, 1);
+        if (!ok || v < 2 || v > 4096) {
+            lua_pop(L, 1);
+            f.fail("samples", expected);
+        }
+        n[k] = static_cast<int>(v);
+    }
+    lua_pop(L, 1);
+    return {n[0], n[1]};
+}
+
+// heights = function(x, y): sampled on the grid, in the field's own frame (centred on it)
+void sample_function(lua_State* L, const Fields& f, int fn, HeightfieldSpec& s) {
+    const int nx = s.samples_x, ny = s.samples_y;
+    s.heights.reserve(static_cast<size_t>(nx) * static_cast<size_t>(ny));
+    for (int j = 0; j < ny; ++j) {
+        const double y = -s.width / 2 + j * (s.width / (ny - 1));
+        for (int i = 0; i < nx; ++i) {
+            const double x = -s.length / 2 + i * (s.length / (nx - 1));
+            lua_pushvalue(L, fn);
+            lua_pushnumber(L, x);
+            lua_pushnumber(L, y);
+            protected_call(L, 2, 1);  // a Lua error becomes a ScriptError naming its line
+            int ok = 0;
+            const double h = lua_tonumberx(L, -1, &ok);
+            const std::string t = type_name(L, -1);
+            lua_pop(L, 1);
+            if (!ok || !std::isfinite(h)) {
+                f.fail("heights", fmt::format("the function returned {} at x = {:g}, y = {:g} (a "
+                                              "finite number of metres expected)",
+                                              !ok             ? t
+                                              : std::isnan(h) ? "nan"
+                                                              : fmt::format("{}", h),
+                                              x, y));
+            }
+            s.heights.push_back(h);
+        }
+    }
+}
+
+// heights = { row1, row2, ... }: row j is y = -width/2 + (j - 1) · width/(rows - 1)
+void read_rows(lua_State* L, const Fields& f, int rows_index, HeightfieldSpec& s) {
+    const lua_Integer ny = luaL_len(L, rows_index);
+    if (ny < 2 || ny > 4096) {
+        f.fail("heights", fmt::format("2 to 4096 rows expected (got {})", ny));
+    }
+    for (lua_Integer j = 1; j <= ny; ++j) {
+        if (lua_rawgeti(L, rows_index, j) != LUA_TTABLE) {
+            const std::string t = type_name(L, -1);
+            lua_pop(L, 1);
+            f.fail("heights", fmt::format("row {} is a {} (a list of numbers expected)", j, t));
+        }
+        const lua_Integer nx = luaL_len(L, -1);
+        if (j == 1) {
+            if (nx < 2 || nx > 4096) {
+                lua_pop(L, 1);
+                f.fail("heights", fmt::format("2 to 4096 numbers per row expected (got {})", nx));
+            }
+            s.samples_x = static_cast<int>(nx);
+        } else if (nx != s.samples_x) {
+            lua_pop(L, 1);
+            f.fail("heights", fmt::format("row {} has {} numbers, row 1 has {} (rows must be "
+                                          "equally long)",
+                                          j, nx, s.samples_x));
+        }
+        for (lua_Integer i = 1; i <= nx; ++i) {
+            lua_rawgeti(L, -1, i);
+            int ok = 0;
+            const double h = lua_tonumberx(L, -1, &ok);
+            lua_pop(L, 1);
+            if (!ok) {
+                lua_pop(L, 1);
+                f.fail("heights", fmt::format("row {}, entry {} is not a number", j, i));
+            }
+            s.heights.push_back(h);
+        }
+        lua_pop(L, 1);
+    }
+    s.samples_y = static_cast<int>(ny);
+}
+
+int world_heightfield(lua_State* L) {
+    return protect(L, [&] {
+        WorldBinding& w = check_world(L, 1);
+        Fields f(L, 2, 2,
+                 {"length", "width", "heights", "samples", "resolution", "image", "max_height",
+                  "position", "yaw", "friction"});
+        HeightfieldSpec s;
+        s.length = f.number("length", s.length);
+        s.width = f.number("width", s.width);
+        read_placement(f, s, {});
+        const int number = static_cast<int>(w.spec.heightfields.size() + 1);
+        // sizes and placement first (on a stand-in grid), so no sampling runs before they pass
+        HeightfieldSpec probe = s;
+        probe.samples_x = probe.samples_y = 2;
+        probe.heights.assign(4, 0.0);
         try {
-            validate(probe);
+            validate(probe, number);
         } catch (const SpecError& e) {
             throw ArgError(2, e.what());
         }
-        w.spec.boxes.push_back(box);
+        const int ht = f.push("heights");
+        const int heights = lua_gettop(L);
+        const bool has_image = f.has("image");
+        if ((ht == LUA_TNIL) == !has_image) {
+            f.fail(has_image ? "image" : "heights",
+                   "give either heights (a function or a table of rows) or an image");
+        }
+        if (!has_image && f.has("max_height")) {
+            f.fail("max_height", "only an image takes max_height (heights are in metres)");
+        }
+        if (ht != LUA_TFUNCTION && (f.has("samples") || f.has("resolution"))) {
+            f.fail(f.has("samples") ? "samples" : "resolution",
+                   "only a heights function is sampled");
+        }
+        if (ht == LUA_TFUNCTION) {
+            if (f.has("samples") && f.has("resolution")) {
+                f.fail("samples", "give samples or resolution, not both");
+            }
+            if (f.has("samples")) {
+                const auto [nx, ny] = read_samples(L, f);
+                s.samples_x = nx;
+                s.samples_y = ny;
+            } else {
+                const double res = f.number("resolution", 0.02);
+                if (!(std::isfinite(res) && res > 0)) {
+                    f.fail("resolution", "positive number of metres expected");
+                }
+                auto count = [&](double extent) {
+                    const double n = std::round(extent / res) + 1;
+                    if (n > 4096) {
+                        f.fail("resolution", fmt::format("{:g} m gives more than 4096 samples "
+                                                         "across {:g} m",
+                                                         res, extent));
+                    }
+                    return std::max(2, static_cast<int>(n));
+                };
+                s.samples_x = count(s.length);
+                s.samples_y = count(s.width);
+            }
+            sample_function(L, f, heights, s);
+        } else if (ht == LUA_TTABLE) {
+            read_rows(L, f, heights, s);
+        } else if (ht != LUA_TNIL) {
+            f.fail("heights", "function or table of rows expected, got " + type_name(L, -1));
+        } else {
+            // relative to the script that names it; read now, so a bad image fails here
+            std::filesystem::path path(f.string("image", ""));
+            if (path.is_relative()) path = caller_dir(L) / path;
+            s.image = path.lexically_normal().string();
+            s.max_height = f.number("max_height", s.max_height);
+            try {
+                validate(s, number);
+                height_grid(s, number);
+            } catch (const SpecError& e) {
+                throw ArgError(2, e.what());
+            }
+        }
         lua_settop(L, 1);
+        return add_object(L, w.spec.heightfields, s);
+    });
+}
+
+// world:triangles(): the world's solids (and its robots, where they are now if they run) as
+// { object =, kind =, vertices = { x1, y1, z1, x2, ... } }, nine numbers per triangle
+int world_triangles(lua_State* L) {
+    return protect(L, [&] {
+        WorldBinding& w = check_world(L, 1);
+        std::vector<std::pair<std::string, Solid>> solids;
+        try {
+            for (Solid& s : world_solids(w.spec)) {
+                std::string kind = s.object.substr(0, s.object.find(' '));
+                solids.emplace_back(std::move(kind), std::move(s));
+            }
+        } catch (const SpecError& e) {
+            throw Error(e.what());
+        }
+        for (const WorldBinding::Entry& e : w.robots) {
+            const RobotSpec& robot = e.robot->spec;
+            auto sim = e.robot->sim.lock();
+            for (size_t b = 0; b < robot.bodies.size(); ++b) {
+                const Pose& local = robot.bodies[b].pose;
+                const Pose pose = sim ? sim->body(e.robot->index, static_cast<int>(b)).pose
+                                      : Pose{e.pose.apply(local.position),
+                                             e.pose.orientation * local.orientation};
+                solids.emplace_back("robot", body_solid(robot, static_cast<int>(b), pose));
+            }
+        }
+        lua_createtable(L, static_cast<int>(solids.size()), 0);
+        for (size_t k = 0; k < solids.size(); ++k) {
+            const std::vector<Triangle> tris = triangles(solids[k].second);
+            lua_createtable(L, 0, 3);
+            lua_pushstring(L, solids[k].second.object.c_str());
+            lua_setfield(L, -2, "object");
+            lua_pushstring(L, solids[k].first.c_str());
+            lua_setfield(L, -2, "kind");
+            lua_createtable(L, static_cast<int>(tris.size() * 9), 0);
+            lua_Integer i = 0;
+            for (const Triangle& t : tris) {
+                for (const Vec3& p : {t.a, t.b, t.c}) {
+                    for (double c : {p.x, p.y, p.z}) {
+                        lua_pushnumber(L, c);
+                        lua_rawseti(L, -2, ++i);
+                    }
+                }
+            }
+            lua_setfield(L, -2, "vertices");
+            lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+        }
         return 1;
     });
 }
@@ -131,9 +494,21 @@ int world_save(lua_State* L) {
 
 int world_tostring(lua_State* L) {
     return protect(L, [&] {
-        WorldBinding& w = *check_object<WorldPtr>(L, 1, kWorldType);
-        lua_pushfstring(L, "gaitlab.World (%d robots, %d boxes)", static_cast<int>(w.robots.size()),
-                        static_cast<int>(w.spec.boxes.size()));
+        WorldBinding& w = check_world(L, 1);
+        const WorldSpec& s = w.spec;
+        std::string text =
+            fmt::format("gaitlab.World ({} robots, {} boxes", w.robots.size(), s.boxes.size());
+        const std::pair<const char*, size_t> others[] = {{"walls", s.walls.size()},
+                                                         {"ramps", s.ramps.size()},
+                                                         {"stairs", s.stairs.size()},
+                                                         {"cylinders", s.cylinders.size()},
+                                                         {"pipes", s.pipes.size()},
+                                                         {"rubble fields", s.rubble.size()},
+                                                         {"heightfields", s.heightfields.size()}};
+        for (const auto& [name, n] : others) {
+            if (n > 0) text += fmt::format(", {} {}", n, name);
+        }
+        lua_pushstring(L, (text + ")").c_str());
         return 1;
     });
 }
@@ -149,12 +524,23 @@ std::shared_ptr<WorldBinding> to_world(lua_State* L, int index) {
 }
 
 void open_world(lua_State* L) {
-    const luaL_Reg methods[] = {
-        {"add", world_add}, {"box", world_box}, {"save", world_save}, {nullptr, nullptr}};
+    const luaL_Reg methods[] = {{"add", world_add},
+                                {"box", world_box},
+                                {"wall", world_wall},
+                                {"ramp", world_ramp},
+                                {"stairs", world_stairs},
+                                {"cylinder", world_cylinder},
+                                {"pipe", world_pipe},
+                                {"rubble", world_rubble},
+                                {"heightfield", world_heightfield},
+                                {"triangles", world_triangles},
+                                {"save", world_save},
+                                {nullptr, nullptr}};
     const luaL_Reg meta[] = {{"__tostring", world_tostring}, {nullptr, nullptr}};
     register_type<WorldPtr>(L, kWorldType, methods, meta);
 
-    // gaitlab.world is a table (for future members) that is called to make a world
+    // gaitlab.world is a table (load and preset come from stdlib/worlds.lua) that is called to
+    // make a world
     lua_newtable(L);
     lua_createtable(L, 0, 1);
     lua_pushcfunction(L, world_new);

@@ -1,6 +1,8 @@
 // Tests for engine/src/bullet/physics_world.cpp, through the public Simulation API: a robot at
 // rest stays put, the classic sine gaits move as the literature says, joints hold together, and
-// the engine's joint angles follow the documented sign conventions.
+// the engine's joint angles follow the documented sign conventions; the world library's objects
+// behave as their physics says (boxes slide or stay on ramps, cylinders roll, things rest on
+// steps, terrain and pipe bottoms, walls stop robots).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -213,4 +215,248 @@ TEST_CASE("on the floor a positive pitch lifts the head and a positive yaw turns
         CHECK(head.pose.position.y > 0.005);
         CHECK(head.pose.position.z == Approx(0.026).margin(0.002));
     }
+}
+
+// ---- the world library in the physics ----
+
+namespace {
+
+// a box of `size` resting on a ramp of `slope` (rad, rising towards +x from the origin), its
+// centre above the point at horizontal distance `along` from the ramp's foot
+BoxSpec box_on_ramp(double slope, double along, const Vec3& size, double friction) {
+    BoxSpec b;
+    b.size = size;
+    b.mass = 0.2;
+    b.friction = friction;
+    const Vec3 surface{along, 0, along * std::tan(slope)};
+    const Vec3 normal{-std::sin(slope), 0, std::cos(slope)};
+    b.pose.position = surface + normal * (size.z / 2 + 0.0005);
+    // a positive pitch (about -y) raises the box's +x end, parallel to the slope
+    b.pose.orientation = Quat::from_axis_angle({0, -1, 0}, slope);
+    return b;
+}
+
+WorldSpec ramp_world(double slope_deg, double ramp_friction) {
+    WorldSpec w;
+    RampSpec ramp;
+    ramp.slope = deg_to_rad(slope_deg);
+    ramp.length = 2;
+    ramp.width = 1;
+    ramp.friction = ramp_friction;
+    w.ramps.push_back(ramp);
+    return w;
+}
+
+// how far dynamic object 0 moved during `seconds`, m
+double object_travel(Simulation& sim, double seconds) {
+    const Vec3 start = sim.object(0).pose.position;
+    sim.run(seconds);
+    return (sim.object(0).pose.position - start).norm();
+}
+
+}  // namespace
+
+TEST_CASE("a box on a ramp slides above atan(friction) and stays below it") {
+    // contact friction 0.5 either way round (the product of the two surfaces'): critical slope
+    // atan(0.5) = 26.6 degrees
+    const bool ramp_slippery = GENERATE(true, false);
+    const double ramp_friction = ramp_slippery ? 0.5 : 1.0;
+    const double box_friction = ramp_slippery ? 1.0 : 0.5;
+    CAPTURE(ramp_friction, box_friction);
+    for (double slope : {15.0, 22.0}) {
+        CAPTURE(slope);
+        WorldSpec w = ramp_world(slope, ramp_friction);
+        w.boxes.push_back(box_on_ramp(deg_to_rad(slope), 1.5, {0.1, 0.1, 0.05}, box_friction));
+        Simulation sim(w);
+        sim.run(0.2);  // settle
+        CHECK(object_travel(sim, 1.0) < 0.002);
+    }
+    for (double slope : {31.0, 40.0}) {
+        CAPTURE(slope);
+        WorldSpec w = ramp_world(slope, ramp_friction);
+        w.boxes.push_back(box_on_ramp(deg_to_rad(slope), 1.5, {0.1, 0.1, 0.05}, box_friction));
+        Simulation sim(w);
+        const Vec3 start = sim.object(0).pose.position;
+        sim.run(0.5);
+        const Vec3 moved = sim.object(0).pose.position - start;
+        // it slides down the slope, about as fast as a = g (sin - 0.5 cos) says
+        const double a = 9.81 * (std::sin(deg_to_rad(slope)) - 0.5 * std::cos(deg_to_rad(slope)));
+        CHECK(moved.x < 0);
+        CHECK(moved.norm() == Approx(a * 0.5 * 0.5 / 2).epsilon(0.15));
+    }
+}
+
+TEST_CASE("a cylinder rolls down a ramp on which a box stays") {
+    WorldSpec w = ramp_world(15, 0.5);
+    CylinderSpec c;
+    c.lying = true;
+    c.yaw = kPi / 2;  // its axis across the slope
+    c.radius = 0.04;
+    c.length = 0.2;
+    c.mass = 0.3;
+    const double slope = deg_to_rad(15);
+    c.position = Vec3{1.5, 0, 1.5 * std::tan(slope)} +
+                 Vec3{-std::sin(slope), 0, std::cos(slope)} * (c.radius + 0.0005);
+    w.cylinders.push_back(c);
+    Simulation sim(w);
+    REQUIRE(sim.object_count() == 1);
+    const Vec3 start = sim.object(0).pose.position;
+    sim.run(0.5);
+    const BodyState s = sim.object(0);
+    // a rolling solid cylinder accelerates at 2/3 g sin(slope)
+    const double expected = 2.0 / 3 * 9.81 * std::sin(slope) * 0.5 * 0.5 / 2;
+    CHECK((s.pose.position - start).norm() == Approx(expected).epsilon(0.1));
+    CHECK(s.angular_velocity.norm() > 5);
+}
+
+TEST_CASE("a box dropped on each step rests at that step's height") {
+    WorldSpec w;
+    StairsSpec st;
+    st.steps = 3;
+    st.step_height = 0.04;
+    st.step_depth = 0.2;
+    st.width = 0.5;
+    st.position = {0.3, 0, 0};
+    w.stairs.push_back(st);
+    for (int k = 0; k < 3; ++k) {
+        BoxSpec b;
+        b.size = {0.05, 0.05, 0.05};
+        b.mass = 0.1;
+        b.pose.position = {0.3 + 0.2 * k + 0.1, 0, (k + 1) * 0.04 + 0.025 + 0.01};
+        w.boxes.push_back(b);
+    }
+    Simulation sim(w);
+    sim.run(0.5);
+    for (int k = 0; k < 3; ++k) {
+        CAPTURE(k);
+        const double bottom = sim.object(k).pose.position.z - 0.025;
+        CHECK(bottom == Approx((k + 1) * 0.04).margin(0.002));
+    }
+}
+
+TEST_CASE("a heightfield gives contact at the heights it holds") {
+    // h(x, y) = 0.05 + 0.03 cos(4 pi x) cos(4 pi y) over 1 m x 1 m, 101 x 101 samples
+    HeightfieldSpec h;
+    h.samples_x = h.samples_y = 101;
+    auto f = [](double x, double y) {
+        return 0.05 + 0.03 * std::cos(4 * kPi * x) * std::cos(4 * kPi * y);
+    };
+    for (int j = 0; j < 101; ++j) {
+        for (int i = 0; i < 101; ++i)
+            h.heights.push_back(f(-0.5 + i * 0.01, -0.5 + j * 0.01));
+    }
+    h.position = {2, 1, 0};
+    WorldSpec w;
+    w.floor.enabled = false;
+    w.heightfields.push_back(h);
+    // small boxes on peaks and in valleys, where the surface is level
+    const std::vector<std::pair<double, double>> spots{
+        {0, 0}, {0.25, 0}, {0.25, 0.25}, {-0.25, 0.5 - 0.25}};
+    for (const auto& [x, y] : spots) {
+        BoxSpec b;
+        b.size = {0.02, 0.02, 0.02};
+        b.mass = 0.05;
+        b.pose.position = {2 + x, 1 + y, f(x, y) + 0.011 + 0.005};
+        w.boxes.push_back(b);
+    }
+    Simulation sim(w);
+    sim.run(0.5);
+    for (size_t k = 0; k < spots.size(); ++k) {
+        const auto [x, y] = spots[k];
+        CAPTURE(x, y, f(x, y));
+        const BodyState s = sim.object(static_cast<int>(k));
+        CHECK(s.pose.position.z - 0.01 == Approx(f(x, y)).margin(0.002));
+        CHECK(s.pose.position.x == Approx(2 + x).margin(0.003));  // did not slide away
+    }
+}
+
+TEST_CASE("a robot lies on a heightfield at its height") {
+    WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+    w.floor.enabled = false;
+    HeightfieldSpec h;
+    h.length = h.width = 2;
+    h.samples_x = h.samples_y = 5;
+    h.heights.assign(25, 0.1);
+    w.heightfields.push_back(h);
+    w.robots[0].pose.position.z = 0.1;
+    Simulation sim(w);
+    sim.run(1.0);
+    CHECK(sim.robot_position(0).z == Approx(0.1 + 0.026).margin(0.001));
+}
+
+TEST_CASE("a box inside a pipe rests on the pipe's bottom") {
+    WorldSpec w;
+    w.floor.enabled = false;
+    PipeSpec p;
+    p.radius = 0.08;
+    p.position = {0, 0, 0.5};
+    p.yaw = 0.3;
+    w.pipes.push_back(p);
+    // narrower than the flat bottom wall (23.7 mm), along the pipe
+    BoxSpec b;
+    b.size = {0.06, 0.02, 0.04};
+    b.mass = 0.1;
+    b.pose = {{0.5 * std::cos(0.3), 0.5 * std::sin(0.3), 0.5},
+              Quat::from_axis_angle({0, 0, 1}, 0.3)};
+    w.boxes.push_back(b);
+    Simulation sim(w);
+    sim.run(1.0);
+    CHECK(sim.object(0).pose.position.z - 0.02 == Approx(0.5 - 0.08).margin(0.002));
+    CHECK(sim.object(0).linear_velocity.norm() < 0.01);
+}
+
+TEST_CASE("a wall stops a crawling robot") {
+    // the standard gait moves the robot tail first, towards -x, by about 0.28 m in 10 s
+    auto tail_x = [](bool wall) {
+        WorldSpec w = test::chain_world(8, Connection::pitch_pitch);
+        if (wall) {
+            WallSpec wall_spec;
+            wall_spec.length = 1;
+            wall_spec.yaw = kPi / 2;
+            wall_spec.thickness = 0.02;
+            wall_spec.position = {-0.11, 0, 0};  // its face at x = -0.1
+            w.walls.push_back(wall_spec);
+        }
+        Simulation sim(w);
+        test::drive_pitch_pitch_gait(sim, 120);
+        double least = 1e9;
+        sim.add_observer([&least](const Simulation& s) {
+            least = std::min(least, s.body(0, 0).pose.position.x);
+        });
+        sim.run(10);
+        return least;
+    };
+    CHECK(tail_x(false) < -0.2);
+    CHECK(tail_x(true) > -0.1 + 0.018 - 0.003);  // the tail half is 36 mm long
+}
+
+TEST_CASE("a chain of cylinder modules lies on the floor at its radius") {
+    ChainSpec chain;
+    chain.modules = 4;
+    chain.module.shape = Shape::cylinder;
+    chain.module.radius = 0.03;
+    WorldSpec w;
+    w.robots.push_back({make_chain(chain), {}, {}});
+    Simulation sim(w);
+    sim.run(1.0);
+    CHECK(sim.robot_position(0).z == Approx(0.03).margin(0.0005));
+    CHECK(sim.robot_velocity(0).norm() < 1e-3);
+}
+
+TEST_CASE("a twist joint turns the head side about the chain's axis") {
+    ChainSpec chain;
+    chain.modules = 1;
+    chain.module.axis = JointAxis::twist;
+    chain.module.shape = Shape::cylinder;
+    WorldSpec w;
+    w.gravity = {0, 0, 0};
+    w.floor.enabled = false;
+    w.robots.push_back({make_chain(chain), {}, {}});
+    Simulation sim(w);
+    test::drive(sim, "roll", test::sine(0, 0.5, 0, 0, 30));  // a constant 30 degrees
+    sim.run(1.0);
+    const Quat tail = sim.body(0, 0).pose.orientation, head = sim.body(0, 1).pose.orientation;
+    // 30 degrees about +x, counter-clockwise seen from the head
+    CHECK(rad_to_deg(geometric_angle(tail, head, {1, 0, 0})) == Approx(30).margin(0.5));
+    CHECK(rad_to_deg(sim.joint(0, 0).angle) == Approx(30).margin(0.5));
 }

@@ -167,12 +167,13 @@ TEST_CASE("select_joints picks joints by role, from the tail") {
     }
     SECTION("unknown roles are errors") {
         const RobotSpec r = chain(2, Connection::pitch_yaw, "x");
-        REQUIRE_THROWS_WITH(select_joints(r, "roll"),
-                            Equals("unknown joint role 'roll' (expected 'pitch', 'yaw' or "
-                                   "'all')"));
+        REQUIRE_THROWS_WITH(select_joints(r, "twist"),
+                            Equals("unknown joint role 'twist' (expected 'pitch', 'yaw', 'roll' "
+                                   "or 'all')"));
         REQUIRE_THROWS_WITH(select_joints(r, "Pitch"),
-                            Equals("unknown joint role 'Pitch' (expected 'pitch', 'yaw' or "
-                                   "'all')"));
+                            Equals("unknown joint role 'Pitch' (expected 'pitch', 'yaw', 'roll' "
+                                   "or 'all')"));
+        REQUIRE_THROWS_WITH(select_joints(r, "roll"), Equals("robot 'x' has no roll joints"));
     }
 }
 
@@ -261,6 +262,71 @@ TEST_CASE("a custom module scales the chain") {
     CHECK(r.joints[2].pivot.x == Approx(0.25));
 }
 
+TEST_CASE("make_chain builds chains of any module of the library") {
+    ChainSpec spec;
+    spec.modules = 4;
+    spec.module = builtin_module("cube");
+    const RobotSpec r = make_chain(spec);
+    REQUIRE(r.bodies.size() == 5);
+    CHECK(r.bodies[0].size == Vec3{0.03, 0.06, 0.06});
+    CHECK(r.bodies[1].size.x == Approx(0.06));
+    CHECK(r.bodies[4].pose.position.x + r.bodies[4].size.x / 2 == Approx(0.24));
+    CHECK(r.bodies[2].pose.position.z == Approx(0.03));  // resting on the floor
+    CHECK(total_mass(r) == Approx(0.4));
+    CHECK(r.joints[0].servo.max_torque == 1.0);
+    CHECK(r.joints[0].pivot == Vec3{0.03, 0, 0.03});
+}
+
+TEST_CASE("cylinder modules make cylinder bodies along the chain") {
+    ModuleDef m;
+    m.name = "tube";
+    m.shape = Shape::cylinder;
+    m.radius = 0.02;
+    m.length = 0.1;
+    m.width = 0.5;  // ignored by a cylinder
+    ChainSpec spec = chain_spec_with(m);
+    spec.connection = Connection::pitch_yaw;
+    const RobotSpec r = make_chain(spec);
+    for (const BodySpec& b : r.bodies) {
+        CHECK(b.shape == Shape::cylinder);
+        CHECK(b.size.y == Approx(0.04));
+        CHECK(b.size.z == Approx(0.04));
+        CHECK(b.pose.position.z == Approx(0.02));
+    }
+    CHECK(r.joints[1].role == JointRole::yaw);
+    CHECK_NOTHROW(validate(r));
+}
+
+TEST_CASE("twist modules make roll joints about the chain's axis") {
+    ModuleDef m;
+    m.name = "roller";
+    m.axis = JointAxis::twist;
+    const Connection c =
+        GENERATE(Connection::pitch_pitch, Connection::pitch_yaw, Connection::yaw_yaw);
+    ChainSpec spec = chain_spec_with(m);
+    spec.connection = c;
+    const RobotSpec r = make_chain(spec);
+    for (const JointSpec& j : r.joints) {
+        CHECK(j.role == JointRole::roll);
+        CHECK(j.axis == Vec3{1, 0, 0});
+    }
+    CHECK(select_joints(r, "roll") == std::vector<int>{0, 1, 2});
+    CHECK(std::string(to_string(JointRole::roll)) == "roll");
+}
+
+TEST_CASE("a pitch-yaw chain of box modules needs a square cross-section") {
+    ModuleDef m;
+    m.name = "flat";
+    m.height = 0.03;
+    ChainSpec spec = chain_spec_with(m);
+    CHECK_NOTHROW(make_chain(spec));  // pitch-pitch: fine
+    spec.connection = Connection::pitch_yaw;
+    REQUIRE_THROWS_WITH(make_chain(spec),
+                        Equals("a pitch-yaw chain needs modules with a square cross-section "
+                               "(module 'flat' is 0.052 x 0.03 m; make width = height or use a "
+                               "cylinder)"));
+}
+
 TEST_CASE("validate(RobotSpec) rejects broken robots") {
     RobotSpec r = chain(2, Connection::pitch_pitch, "x");
     REQUIRE_NOTHROW(validate(r));
@@ -290,6 +356,13 @@ TEST_CASE("validate(RobotSpec) rejects broken robots") {
         r.joints[1].axis = {0, 0, 2};
         REQUIRE_THROWS_WITH(validate(r),
                             Equals("robot 'x' joint 'joint2' axis must be a unit vector"));
+    }
+    SECTION("a cylinder body with two diameters") {
+        r.bodies[1].shape = Shape::cylinder;
+        REQUIRE_NOTHROW(validate(r));
+        r.bodies[1].size.z = 0.06;
+        REQUIRE_THROWS_WITH(validate(r), Equals("robot 'x' body 'segment1' is a cylinder: size y "
+                                                "and z (its diameter) must be equal"));
     }
     SECTION("a joint with an empty range") {
         r.joints[1].min_angle = 1;

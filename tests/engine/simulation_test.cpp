@@ -1,5 +1,5 @@
 // Tests for engine/src/simulation.cpp: option and drive validation, placement, summed targets of
-// overlapping groups, observers, time and reset.
+// overlapping groups, observers, time and reset, dynamic objects.
 #include "gaitlab/simulation.h"
 
 #include <catch2/catch.hpp>
@@ -299,4 +299,21 @@ TEST_CASE("reset gives back time 0 and the same trajectory") {
     const std::vector<double> second = trace_positions(sim, 2.0);
     REQUIRE(second.size() == first.size());
     CHECK(second == first);  // bit for bit
+}
+
+TEST_CASE("dynamic objects are numbered boxes first, then cylinders") {
+    WorldSpec w;
+    BoxSpec fixed, moving;
+    moving.mass = 1;
+    moving.pose.position = {1, 0, 0.05};
+    w.boxes = {fixed, moving};
+    CylinderSpec c;
+    c.mass = 1;
+    c.position = {2, 0, 0.05};
+    w.cylinders.push_back(c);
+    Simulation sim(w);
+    REQUIRE(sim.object_count() == 2);
+    CHECK(sim.object(0).pose.position.x == Approx(1));
+    CHECK(sim.object(1).pose.position.x == Approx(2));
+    REQUIRE_THROWS_AS(sim.object(2), SpecError);
 }

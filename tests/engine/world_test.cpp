@@ -77,6 +77,10 @@ TEST_CASE("boxes are checked and numbered from 1") {
         w.boxes[1].pose.position.z = std::numeric_limits<double>::infinity();
         require_rejected(w, "box 2 position z must be a finite number");
     }
+    SECTION("an orientation that is not a rotation") {
+        w.boxes[0].pose.orientation = Quat::from_axis_angle({0, 0, 1}, std::nan(""));
+        require_rejected(w, "box 1 orientation must be a unit quaternion");
+    }
 }
 
 TEST_CASE("gravity must be finite") {
@@ -89,4 +93,107 @@ TEST_CASE("the robots of a world are validated") {
     WorldSpec w = world_with_robot();
     w.robots[0].robot.bodies[2].mass = 0;
     require_rejected(w, "robot 'snake' body 'head' mass must be positive (got 0 kg)");
+}
+
+TEST_CASE("every object of the world library is checked, named by kind and number") {
+    WorldSpec w = world_with_robot();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    SECTION("walls") {
+        w.walls.resize(2);
+        REQUIRE_NOTHROW(validate(w));
+        w.walls[1].thickness = -0.01;
+        require_rejected(w, "wall 2 thickness must be positive (got -0.01 m)");
+        w.walls[1].thickness = 0.01;
+        w.walls[0].yaw = nan;
+        require_rejected(w, "wall 1 yaw must be a finite number");
+    }
+    SECTION("ramps") {
+        w.ramps.resize(1);
+        REQUIRE_NOTHROW(validate(w));
+        w.ramps[0].slope = deg_to_rad(95);
+        require_rejected(w,
+                         "ramp 1 slope must be between 0 and 90 deg, both excluded (got 95 deg)");
+        w.ramps[0].slope = 0;
+        require_rejected(w, "ramp 1 slope must be between 0 and 90 deg, both excluded (got 0 deg)");
+        w.ramps[0].slope = nan;
+        require_rejected(w, "ramp 1 slope must be between 0 and 90 deg, both excluded (got nan)");
+        w.ramps[0].slope = 0.2;
+        w.ramps[0].friction = 1.01;
+        require_rejected(w, "ramp 1 friction must be in [0, 1] (got 1.01)");
+    }
+    SECTION("stairs") {
+        w.stairs.resize(2);
+        w.stairs[1].step_height = -0.01;
+        require_rejected(w, "stairs 2 step_height must be positive (got -0.01 m)");
+        w.stairs[1].step_height = 0.01;
+        w.stairs[1].steps = 0;
+        require_rejected(w, "stairs 2 steps must be in [1, 1000] (got 0)");
+        w.stairs[1].steps = 2;
+        w.stairs[0].landing = -1;
+        require_rejected(w, "stairs 1 landing must not be negative (got -1 m)");
+    }
+    SECTION("cylinders") {
+        w.cylinders.resize(1);
+        w.cylinders[0].mass = -2;
+        require_rejected(w, "cylinder 1 mass must not be negative (got -2 kg)");
+        w.cylinders[0].mass = 2;
+        w.cylinders[0].radius = 0;
+        require_rejected(w, "cylinder 1 radius must be positive (got 0 m)");
+    }
+    SECTION("pipes") {
+        w.pipes.resize(1);
+        w.pipes[0].sides = 2;
+        require_rejected(w, "pipe 1 sides must be in [3, 256] (got 2)");
+        w.pipes[0].sides = 8;
+        w.pipes[0].position.y = std::numeric_limits<double>::infinity();
+        require_rejected(w, "pipe 1 position y must be a finite number");
+    }
+    SECTION("rubble") {
+        w.rubble.resize(1);
+        w.rubble[0].max_size = 0.01;
+        require_rejected(w, "rubble 1 max_size must not be below min_size (got 0.01 < 0.02 m)");
+        w.rubble[0].max_size = 0.05;
+        w.rubble[0].count = -1;
+        require_rejected(w, "rubble 1 count must be in [0, 100000] (got -1)");
+        w.rubble[0].count = 0;
+        CHECK_NOTHROW(validate(w));
+        w.rubble[0].friction = -0.5;
+        require_rejected(w, "rubble 1 friction must be in [0, 1] (got -0.5)");
+    }
+    SECTION("heightfields") {
+        w.heightfields.resize(1);
+        require_rejected(w, "heightfield 1 needs heights or an image");
+        HeightfieldSpec& h = w.heightfields[0];
+        h.samples_x = 2;
+        h.samples_y = 3;
+        h.heights = {0, 0, 0, 0, 0};
+        require_rejected(w, "heightfield 1 needs samples_x · samples_y = 6 heights (got 5)");
+        h.heights.push_back(nan);
+        require_rejected(w, "heightfield 1 height at grid point (2, 3) must be a finite number");
+        h.heights.back() = 0.1;
+        CHECK_NOTHROW(validate(w));
+        h.samples_x = 1;
+        h.heights.resize(3);
+        require_rejected(w, "heightfield 1 samples_x must be in [2, 4096] (got 1)");
+        h.image = "x.png";
+        require_rejected(w, "heightfield 1 has both heights and an image (give one)");
+        h.heights.clear();
+        h.max_height = 0;
+        require_rejected(w, "heightfield 1 max_height must be positive (got 0 m)");
+        // validation does not read the image; compiling does
+        h.max_height = 0.1;
+        h.image = "/tmp/gaitlab_no_such_dir/x.png";
+        CHECK_NOTHROW(validate(w));
+        REQUIRE_THROWS_WITH(
+            Simulation(w),
+            Equals("heightfield 1 cannot read image '/tmp/gaitlab_no_such_dir/x.png': no such "
+                   "file"));
+    }
+    SECTION("a robot's placement") {
+        w.robots[0].pose.position.x = nan;
+        require_rejected(w, "robot 'snake' position x must be a finite number");
+        w.robots[0].pose.position.x = 0;
+        w.robots[0].pose.orientation = {2, 0, 0, 0};
+        require_rejected(w, "robot 'snake' orientation must be a unit quaternion");
+    }
 }

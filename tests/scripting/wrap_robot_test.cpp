@@ -60,10 +60,13 @@ TEST_CASE("groups must name joints the robot has", "[wrap_robot]") {
     CHECK(lua.error_of("r:group{1, 'two'}") == bad + "entry 2 is not a joint number)");
     CHECK(lua.error_of("r:group{2, 2}") == bad + "joint 2 is listed twice)");
     CHECK(lua.error_of("r:group('yaw')") == bad + "robot 'pp' has no yaw joints)");
-    CHECK(lua.error_of("r:group('roll')") ==
-          bad + "unknown joint role 'roll' (expected 'pitch', 'yaw' or 'all'))");
+    CHECK(lua.error_of("r:group('roll')") == bad + "robot 'pp' has no roll joints)");
+    CHECK(lua.error_of("r:group('twist')") ==
+          bad + "unknown joint role 'twist' (expected 'pitch', 'yaw', 'roll' or 'all'))");
     CHECK(lua.error_of("r:group(true)") ==
-          bad + "role ('pitch', 'yaw', 'all') or list of joint numbers expected, got boolean)");
+          bad +
+              "role ('pitch', 'yaw', 'roll', 'all') or list of joint numbers "
+              "expected, got boolean)");
     CHECK(lua.error_of("r.group(3, 'all')") ==
           "test:1: bad argument #1 to 'group' (gaitlab.Robot expected, got number)");
 }

@@ -97,3 +97,25 @@ TEST_CASE("reset replays the same trajectory", "[wrap_simulation]") {
     CHECK(lua.boolean("first == second"));
     CHECK(lua.number("(first - start):norm()") > 1e-3);
 }
+
+TEST_CASE("sim:objects reports the dynamic objects of the world", "[wrap_simulation]") {
+    LuaFixture lua;
+    lua.run(R"(
+        w = gaitlab.world{ floor = false }
+        w:box{ size = { 0.1, 0.1, 0.1 } }                                   -- static: not listed
+        w:box{ size = { 0.1, 0.1, 0.1 }, mass = 1, position = { 1, 0, 1 } }
+        w:cylinder{ mass = 2, position = { 2, 0, 1 } }
+        sim = gaitlab.simulation{ world = w }
+        before = sim:objects()
+        sim:run(0.5)
+        after = sim:objects()
+    )");
+    CHECK(lua.integer("#before") == 2);
+    CHECK(lua.string("before[1].object") == "box 2");
+    CHECK(lua.string("before[2].object") == "cylinder 1");
+    CHECK(lua.number("before[2].position.x") == 2);
+    CHECK(lua.number("before[1].orientation.w") == 1);
+    // no floor: both fall freely, 9.81 · 0.5² / 2 m
+    CHECK(lua.number("before[1].position.z - after[1].position.z") == Approx(1.226).margin(0.01));
+    CHECK(lua.number("after[2].velocity.z") == Approx(-4.905).margin(0.01));
+}

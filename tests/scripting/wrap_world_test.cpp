@@ -40,6 +40,7 @@ TEST_CASE("world:box checks its fields", "[wrap_world]") {
     CHECK(lua.error_of("w:box{ sise = { 1, 1, 1 } }") ==
           bad + "unknown key 'sise'; did you mean 'size'?)");
     CHECK(lua.error_of("w:box()") == bad + "table expected, got no value)");
+    CHECK(lua.error_of("w:box{ yaw = 0/0 }") == bad + "box 1 yaw must be a finite number)");
     // a valid box returns the world, so calls chain
     CHECK(lua.string("tostring(w:box{ size = { 1, 1, 0.1 } }:box{ mass = 1 })") ==
           "gaitlab.World (0 robots, 2 boxes)");
@@ -79,4 +80,216 @@ TEST_CASE("gravity and floor options change what happens", "[wrap_world]") {
     // free fall without a floor: 9.81 · 0.2² / 2 = 0.196 m
     CHECK(lua.number("r1:displacement().z") == Approx(-0.1962).margin(2e-3));
     CHECK(lua.number("r2:displacement():norm()") == Approx(0).margin(1e-9));
+}
+
+TEST_CASE("world library methods check their fields and name the object", "[wrap_world]") {
+    LuaFixture lua;
+    lua.run("w = gaitlab.world()");
+    auto bad = [](const char* fn) {
+        return std::string("test:1: bad argument #1 to '") + fn + "' (";
+    };
+    CHECK(lua.error_of("w:wall{ height = -0.1 }") ==
+          bad("wall") + "wall 1 height must be positive (got -0.1 m))");
+    CHECK(lua.error_of("w:wall{ lenght = 2 }") ==
+          bad("wall") + "unknown key 'lenght'; did you mean 'length'?)");
+    CHECK(lua.error_of("w:ramp{ slope = 95 }") ==
+          bad("ramp") + "ramp 1 slope must be between 0 and 90 deg, both excluded (got 95 deg))");
+    CHECK(lua.error_of("w:ramp{ slop = 5 }") ==
+          bad("ramp") + "unknown key 'slop'; did you mean 'slope'?)");
+    CHECK(lua.error_of("w:ramp{ friction = 1.5 }") ==
+          bad("ramp") + "ramp 1 friction must be in [0, 1] (got 1.5))");
+    lua.run("w:stairs{} w:stairs{}");
+    CHECK(lua.error_of("w:stairs{ step_height = -0.01 }") ==
+          bad("stairs") + "stairs 3 step_height must be positive (got -0.01 m))");
+    CHECK(lua.error_of("w:stairs{ steps = 2.5 }") ==
+          bad("stairs") + "field 'steps': integer expected, got a fractional number)");
+    CHECK(lua.error_of("w:stairs{ step_heigth = 0.01 }") ==
+          bad("stairs") + "unknown key 'step_heigth'; did you mean 'step_height'?)");
+    CHECK(lua.error_of("w:cylinder{ mass = -1 }") ==
+          bad("cylinder") + "cylinder 1 mass must not be negative (got -1 kg))");
+    CHECK(lua.error_of("w:cylinder{ lying = 'yes' }") ==
+          bad("cylinder") + "field 'lying': boolean expected, got string)");
+    CHECK(lua.error_of("w:pipe{ sides = 2 }") ==
+          bad("pipe") + "pipe 1 sides must be in [3, 256] (got 2))");
+    CHECK(lua.error_of("w:pipe{ radius = 0 }") ==
+          bad("pipe") + "pipe 1 radius must be positive (got 0 m))");
+    CHECK(lua.error_of("w:rubble{ min_size = 0.1 }") ==
+          bad("rubble") + "rubble 1 max_size must not be below min_size (got 0.06 < 0.1 m))");
+    CHECK(lua.error_of("w:rubble{ seed = -1 }") ==
+          bad("rubble") + "field 'seed': non-negative integer expected)");
+    CHECK(lua.error_of("w:rubble{ friction = -0.1 }") ==
+          bad("rubble") + "rubble 1 friction must be in [0, 1] (got -0.1))");
+    CHECK(lua.error_of("w:rubble{ position = 3 }") ==
+          bad("rubble") + "field 'position': vector expected ({x, y, z}), got number)");
+    // nothing was added by the failed calls
+    CHECK(lua.string("tostring(w)") == "gaitlab.World (0 robots, 0 boxes, 2 stairs)");
+    lua.run("w:wall{}:ramp{}:cylinder{}:pipe{}:rubble{}");
+    CHECK(lua.string("tostring(w)") ==
+          "gaitlab.World (0 robots, 0 boxes, 1 walls, 1 ramps, 2 stairs, 1 cylinders, 1 pipes, "
+          "1 rubble fields)");
+}
+
+TEST_CASE("world:heightfield samples a function, takes rows, or reads an image", "[wrap_world]") {
+    LuaFixture lua;
+    lua.run(R"(
+        w = gaitlab.world()
+        calls = 0
+        w:heightfield{ length = 1, width = 0.5, samples = { 11, 6 },
+                       heights = function(x, y) calls = calls + 1 return x + 10 * y end }
+        t = w:triangles()[1]
+    )");
+    // 11 x 6 samples, 10 x 5 cells of two triangles
+    CHECK(lua.integer("calls") == 66);
+    CHECK(lua.string("t.kind") == "heightfield");
+    CHECK(lua.string("t.object") == "heightfield 1");
+    CHECK(lua.integer("#t.vertices") == 10 * 5 * 2 * 9);
+    // the function is called in the field's frame, centred on it: every vertex has z = x + 10 y
+    lua.run(R"(
+        worst = 0
+        for i = 1, #t.vertices, 3 do
+          local x, y, z = t.vertices[i], t.vertices[i + 1], t.vertices[i + 2]
+          worst = math.max(worst, math.abs(z - (x + 10 * y)))
+        end
+    )");
+    CHECK(lua.number("worst") < 1e-12);
+    // resolution: 0.25 m over 1 m gives 5 samples
+    lua.run(
+        "n = 0 w:heightfield{ resolution = 0.25, heights = function() n = n + 1 return 0 end }");
+    CHECK(lua.integer("n") == 25);
+    // rows: row 1 at y = -width/2
+    lua.run("w:heightfield{ length = 2, width = 2, heights = { { 0, 0, 0 }, { 1, 1, 1 } } }");
+    lua.run("t3 = w:triangles()[3].vertices");
+    CHECK(lua.integer("#t3") == 2 * 2 * 9);
+
+    const std::string bad = "test:1: bad argument #1 to 'heightfield' (";
+    CHECK(lua.error_of("w:heightfield{}") ==
+          bad +
+              "field 'heights': give either heights (a function or a table of rows) or an "
+              "image)");
+    CHECK(lua.error_of("w:heightfield{ heights = {{0, 0}, {0, 0}}, image = 'a.png' }") ==
+          bad + "field 'image': give either heights (a function or a table of rows) or an image)");
+    CHECK(lua.error_of("w:heightfield{ heights = function() return 'up' end }") ==
+          bad +
+              "field 'heights': the function returned string at x = -0.5, y = -0.5 (a finite "
+              "number of metres expected))");
+    CHECK(lua.error_of("w:heightfield{ heights = function() return 0 / 0 end }") ==
+          bad +
+              "field 'heights': the function returned nan at x = -0.5, y = -0.5 (a finite "
+              "number of metres expected))");
+    CHECK(lua.error_of("w:heightfield{ heights = {{0, 0}, {0}} }") ==
+          bad + "field 'heights': row 2 has 1 numbers, row 1 has 2 (rows must be equally long))");
+    CHECK(lua.error_of("w:heightfield{ heights = {{0, 0}} }") ==
+          bad + "field 'heights': 2 to 4096 rows expected (got 1))");
+    CHECK(lua.error_of("w:heightfield{ heights = {{0, 'a'}, {0, 0}} }") ==
+          bad + "field 'heights': row 1, entry 2 is not a number)");
+    CHECK(lua.error_of("w:heightfield{ samples = { 1, 5 }, heights = function() return 0 end }") ==
+          bad + "field 'samples': {nx, ny} with two integers in [2, 4096] expected)");
+    CHECK(lua.error_of("w:heightfield{ resolution = 0, heights = function() return 0 end }") ==
+          bad + "field 'resolution': positive number of metres expected)");
+    CHECK(lua.error_of("w:heightfield{ heights = {{0, 0}, {0, 0}}, max_height = 1 }") ==
+          bad + "field 'max_height': only an image takes max_height (heights are in metres))");
+    CHECK(lua.error_of("w:heightfield{ length = -1, heights = function() return 0 end }") ==
+          bad + "heightfield 4 length must be positive (got -1 m))");
+    // an error inside the function is reported where it happened
+    CHECK(lua.error_of("w:heightfield{ heights = function() error('no terrain here') end }") ==
+          "test:1: no terrain here");
+    // a missing image fails at once, naming the path resolved against the script's folder
+    CHECK(lua.error_of("w:heightfield{ image = '/tmp/gaitlab_no_such_dir/t.png' }") ==
+          bad +
+              "heightfield 4 cannot read image '/tmp/gaitlab_no_such_dir/t.png': no such "
+              "file)");
+}
+
+TEST_CASE("a heightfield image path is relative to the script naming it", "[wrap_world]") {
+    LuaFixture lua;
+    const std::string file = gaitlab::test::lua_dir() + "/worlds/missing_image.lua";
+    const auto e = lua.script_error_of("dofile('" + file + "')");
+    // (Lua shortens long file names in positions)
+    CHECK_THAT(e.what(), Catch::Matchers::EndsWith(
+                             "/missing_image.lua:3: bad argument #1 to 'heightfield' (heightfield "
+                             "1 cannot read image '" +
+                             gaitlab::test::lua_dir() +
+                             "/worlds/no_such_terrain.png': no such "
+                             "file)"));
+    CHECK(e.file() == file);
+    CHECK(e.line() == 3);
+}
+
+TEST_CASE("world:add takes a pitch and a roll", "[wrap_world]") {
+    LuaFixture lua;
+    lua.run(R"(
+        r = gaitlab.robot.chain{ modules = 2 }
+        w = gaitlab.world{ floor = false, gravity = { 0, 0, 0 } }
+        w:add(r, { z = 1, pitch = 30 })
+        sim = gaitlab.simulation{ world = w }
+        head = r:bodies()[3].position
+    )");
+    // the head end, 0.144 m along the chain, rises by 0.144 sin 30 deg; the head body's centre
+    // is 0.126 along the chain and 0.026 above its bottom
+    CHECK(lua.number("head.x") ==
+          Approx(0.126 * std::cos(M_PI / 6) - 0.026 * std::sin(M_PI / 6)).margin(1e-6));
+    CHECK(lua.number("head.z") ==
+          Approx(1 + 0.126 * std::sin(M_PI / 6) + 0.026 * std::cos(M_PI / 6)).margin(1e-6));
+    lua.run("r2 = gaitlab.robot.chain{ modules = 1 } w:add(r2, { roll = 90, y = 1 })");
+    CHECK(lua.error_of("w:add(gaitlab.robot.chain{ modules = 1 }, { pitch = 0/0 })") ==
+          "test:1: bad argument #2 to 'add' (field 'pitch': finite number of degrees expected)");
+    CHECK(lua.error_of("w:add(gaitlab.robot.chain{ modules = 1 }, { pich = 3 })") ==
+          "test:1: bad argument #2 to 'add' (unknown key 'pich'; did you mean 'pitch'?)");
+}
+
+TEST_CASE("world:triangles gives the objects and the robots where they are", "[wrap_world]") {
+    LuaFixture lua;
+    lua.run(R"(
+        w = gaitlab.world()
+        w:box{ size = { 1, 1, 1 } }:ramp{}:stairs{ steps = 2 }
+        r = gaitlab.robot.chain{ name = "s", modules = 2 }
+        w:add(r, { x = 5 })
+        t = w:triangles()
+    )");
+    // a box, a ramp, two steps, then the robot's three bodies
+    CHECK(lua.integer("#t") == 7);
+    CHECK(lua.string("t[1].object") == "box 1");
+    CHECK(lua.string("t[2].kind") == "ramp");
+    CHECK(lua.string("t[4].object") == "stairs 1");
+    CHECK(lua.string("t[5].object") == "s tail");
+    CHECK(lua.string("t[5].kind") == "robot");
+    CHECK(lua.integer("#t[1].vertices") == 12 * 9);
+    CHECK(lua.integer("#t[2].vertices") == 8 * 9);  // a wedge: 2 quads, 1 quad, 2 triangles
+    // before the simulation the robot is where it was placed; afterwards where it is
+    CHECK(lua.number("t[5].vertices[1]") >= 5);
+    lua.run(R"(
+        sim = gaitlab.simulation{ world = w }
+        r:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 60, phase = 0 })
+        sim:run(1)
+        head = w:triangles()[7].vertices
+        top = -1
+        for i = 3, #head, 3 do top = math.max(top, head[i]) end
+    )");
+    CHECK(lua.number("top") > 0.06);  // the head lifted off the floor
+}
+
+TEST_CASE("a heightfield from a Lua function gives contact at the height it says", "[wrap_world]") {
+    LuaFixture lua;
+    lua.run(R"(
+        -- bumps on a gentle incline along x (so x and y cannot be mixed up unnoticed)
+        function f(x, y)
+          return 0.05 + 0.02 * x + 0.02 * math.cos(2 * math.pi * x) * math.cos(2 * math.pi * y)
+        end
+        w = gaitlab.world{ floor = false }
+        w:heightfield{ length = 2, width = 2, resolution = 0.01, heights = f }
+        -- 2 cm cubes on hill tops (0, 0), (0.5, 0.5) and in valleys (0.5, 0), (0, -0.5)
+        spots = { { 0, 0 }, { 0.5, 0.5 }, { 0.5, 0 }, { 0, -0.5 } }
+        for _, p in ipairs(spots) do
+          w:box{ size = { 0.02, 0.02, 0.02 }, mass = 0.05,
+                 position = { p[1], p[2], f(p[1], p[2]) + 0.015 } }
+        end
+        sim = gaitlab.simulation{ world = w }
+        sim:run(0.5)
+        worst = 0
+        for k, o in ipairs(sim:objects()) do
+          local x, y = spots[k][1], spots[k][2]
+          worst = math.max(worst, math.abs(o.position.z - 0.01 - f(x, y)))
+        end
+    )");
+    CHECK(lua.number("worst") < 0.0015);
 }

@@ -1,7 +1,11 @@
-// Module types: the building blocks robots are chained from.
+// Module types: the building blocks robots are chained from, and the module library.
 #pragma once
 
 #include <string>
+#include <string_view>
+#include <vector>
+
+#include "gaitlab/types.h"
 
 namespace gaitlab {
 
@@ -22,13 +26,26 @@ inline ServoDef default_servo_def() {
     return ServoDef{};
 }
 
-/// A module type: a box cut in two rigid halves by the joint at its mid-plane.
+/// Which way a module's joint turns.
+enum class JointAxis {
+    bend,   ///< across the chain: a pitch or a yaw joint, as the chain's connection says
+    twist,  ///< along the chain: a roll joint, the head side turns about the chain's axis
+};
+
+/// "bend" or "twist".
+const char* to_string(JointAxis a);
+
+/// A module type: a box or a cylinder cut in two rigid halves by the joint at its mid-plane.
+/// The default values are the y1 module's.
 struct ModuleDef {
-    std::string name = "y1";
-    double length = 0.072;                   ///< joint-to-joint length along the chain, m
-    double width = 0.052;                    ///< cross-section side across the chain, m
-    double height = 0.052;                   ///< cross-section side, m
-    double mass = 0.05;                      ///< kg, split equally between the two halves
+    std::string name = "y1";   ///< the name messages and the library use
+    Shape shape = Shape::box;  ///< a cylinder's axis runs along the chain
+    double length = 0.072;     ///< joint-to-joint length along the chain, m
+    double width = 0.052;      ///< box: cross-section side along the pitch axis, m
+    double height = 0.052;     ///< box: cross-section side along the yaw axis, m
+    double radius = 0.026;     ///< cylinder: cross-section radius, m
+    double mass = 0.05;        ///< kg, split equally between the two halves
+    JointAxis axis = JointAxis::bend;
     double min_angle = -1.5707963267948966;  ///< joint range lower end, rad
     double max_angle = 1.5707963267948966;   ///< joint range upper end, rad
     double friction = 1.0;  ///< surface friction in [0, 1]; contacts multiply the two surfaces'
@@ -48,5 +65,19 @@ inline bool operator!=(const ModuleDef& a, const ModuleDef& b) {
 inline ModuleDef default_module_def() {
     return ModuleDef{};
 }
+
+/// The cube module: a 60 mm cube, 100 g, ±90°, 1.0 N·m, 5.2 rad/s. Illustrative numbers for a
+/// module built around a standard-size high-torque hobby servo (see docs/modules.md).
+ModuleDef cube_module_def();
+
+/// The module library: every built-in module type ("y1", "cube"), the default first.
+const std::vector<ModuleDef>& builtin_modules();
+
+/// The built-in module type called `name`; throws SpecError naming the valid names.
+ModuleDef builtin_module(std::string_view name);
+
+/// Checks sizes, mass, friction, joint range and servo (messages start "module 'NAME' ");
+/// throws SpecError.
+void validate(const ModuleDef& module);
 
 }  // namespace gaitlab

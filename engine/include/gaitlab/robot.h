@@ -16,21 +16,26 @@ namespace gaitlab {
 enum class Connection { pitch_pitch, pitch_yaw, yaw_yaw };
 
 /// What a joint does when the robot lies straight on the floor.
-enum class JointRole { pitch, yaw };
+enum class JointRole {
+    pitch,  ///< bends the chain up and down
+    yaw,    ///< bends the chain left and right
+    roll,   ///< twists the chain about its own axis (modules whose axis is "twist")
+};
 
 /// "pitch-pitch", "pitch-yaw" or "yaw-yaw".
 const char* to_string(Connection c);
-/// "pitch" or "yaw".
+/// "pitch", "yaw" or "roll".
 const char* to_string(JointRole r);
 /// Parses a connection name; throws SpecError naming the valid ones.
 Connection parse_connection(std::string_view name);
 
-/// One rigid body of a robot: a box.
+/// One rigid body of a robot: a box, or a cylinder along the body's x axis.
 struct BodySpec {
     std::string name;
-    Vec3 size;              ///< full extents along the body's x, y, z, m
-    double mass;            ///< kg, > 0
-    Pose pose;              ///< at rest, in the robot frame
+    Shape shape = Shape::box;
+    Vec3 size;    ///< box: full extents along x, y, z; cylinder: length, diameter, diameter; m
+    double mass;  ///< kg, > 0
+    Pose pose;    ///< at rest, in the robot frame
     double friction = 1.0;  ///< in [0, 1]
 };
 
@@ -47,7 +52,8 @@ struct JointSpec {
     ServoDef servo;
 };
 
-/// A straight chain of identical modules.
+/// A straight chain of identical modules. Modules whose axis is "twist" make roll joints
+/// whatever the connection; a pitch-yaw chain of box modules needs a square cross-section.
 struct ChainSpec {
     std::string name = "robot";
     int modules = 1;  ///< >= 1
@@ -76,7 +82,7 @@ RobotSpec make_chain(const ChainSpec& spec);
 /// Checks a robot spec (indices, masses, sizes, ranges, friction, sensors); throws SpecError.
 void validate(const RobotSpec& robot);
 
-/// Joint indices (0-based, from the tail) selected by role: "pitch", "yaw" or "all". Throws
+/// Joint indices (0-based, from the tail) selected by role: "pitch", "yaw", "roll" or "all". Throws
 /// SpecError for an unknown role or an empty selection.
 std::vector<int> select_joints(const RobotSpec& robot, std::string_view role);
 

@@ -108,6 +108,11 @@ class Simulation {
     BodyState body(int robot, int body) const;
     JointState joint(int robot, int joint) const;
     JointError joint_error(int robot, int joint) const;
+    /// Number of dynamic objects of the world (boxes and cylinders with mass > 0).
+    int object_count() const;
+    /// State of dynamic object `index` (from 0, in the order of world_solids(): boxes first,
+    /// then cylinders, each in spec order).
+    BodyState object(int index) const;
     /// Contact points in the last physics step.
     int contact_count() const;
 
@@ -177,6 +182,7 @@ class Simulation {
     std::unique_ptr<Sensing> sensing_;
     std::unique_ptr<Phases> phases_;
     std::vector<RobotSlot> robots_;
+    int first_object_ = 0;  // index of the first dynamic object among the physics' bodies
     std::vector<DriveSlot> drives_;
     std::vector<double> angles_;    // per global joint, rad, read in sense
     std::vector<double> targets_;   // per global joint, rad, summed in think

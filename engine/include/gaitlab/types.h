@@ -60,6 +60,14 @@ struct Quat {
     bool operator==(const Quat& o) const { return w == o.w && x == o.x && y == o.y && z == o.z; }
 };
 
+/// The shape of a rigid body or a module: a box, or a cylinder whose axis is the body's x axis.
+enum class Shape { box, cylinder };
+
+/// "box" or "cylinder".
+inline const char* to_string(Shape s) {
+    return s == Shape::box ? "box" : "cylinder";
+}
+
 /// A rigid transform: `position` in metres, `orientation` relative to the world frame.
 struct Pose {
     Vec3 position;

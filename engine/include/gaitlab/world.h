@@ -1,7 +1,12 @@
-// World specs: gravity, floor, objects, and the robots placed in them.
+// World specs: gravity, floor, the objects of the world library, and the robots placed in them.
+// Every object is a plain value holding its parameters (a staircase is its step count and sizes,
+// a rubble field its area, count, size ranges and seed); compiling a simulation expands them
+// into rigid bodies (see geometry.h). Angles are radians; messages show them in degrees.
 #pragma once
 
+#include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "gaitlab/actuation.h"
@@ -12,7 +17,7 @@ namespace gaitlab {
 
 /// An infinite static plane at z = 0.
 struct FloorSpec {
-    bool enabled = true;
+    bool enabled = true;    ///< false: no floor
     double friction = 1.0;  ///< in [0, 1]
 };
 
@@ -24,6 +29,100 @@ struct BoxSpec {
     double friction = 1.0;     ///< in [0, 1]
 };
 
+/// A static wall: a thin upright box standing on its base.
+struct WallSpec {
+    double length = 1.0;      ///< along its local x, m, > 0
+    double height = 0.1;      ///< m, > 0
+    double thickness = 0.02;  ///< m, > 0
+    Vec3 position;            ///< centre of its base, world frame, m
+    double yaw = 0;           ///< rad about +z; 0: the wall runs along x
+    double friction = 1.0;    ///< in [0, 1]
+};
+
+/// A static ramp: a wedge whose top face rises from its lower edge towards its local +x, with a
+/// vertical back face. Its top edge is length · tan(slope) above its lower edge.
+struct RampSpec {
+    double slope = 0.17453292519943295;  ///< rad, in (0, 90°); default 10°
+    double length = 0.5;                 ///< horizontal run of the slope, m, > 0
+    double width = 0.5;                  ///< across, along its local y, m, > 0
+    Vec3 position;                       ///< centre of the lower edge, world frame, m
+    double yaw = 0;                      ///< rad about +z; 0: rises towards +x
+    double friction = 1.0;               ///< in [0, 1]
+};
+
+/// A static staircase rising towards its local +x: step k (1-based) is a block from the ground
+/// to k · step_height, step_depth deep; the top step is `landing` deeper.
+struct StairsSpec {
+    int steps = 3;              ///< number of steps, in [1, 1000]
+    double step_height = 0.02;  ///< rise of each step, m, > 0
+    double step_depth = 0.2;    ///< tread of each step, m, > 0
+    double width = 0.5;         ///< across, along its local y, m, > 0
+    double landing = 0;         ///< extra depth of the top step, m, >= 0
+    Vec3 position;              ///< centre of the first step's front edge at its foot, m
+    double yaw = 0;             ///< rad about +z; 0: rises towards +x
+    double friction = 1.0;      ///< in [0, 1]
+};
+
+/// A cylinder, upright or lying. mass = 0 makes it static.
+struct CylinderSpec {
+    double radius = 0.05;   ///< m, > 0
+    double length = 0.1;    ///< along its axis, m, > 0
+    bool lying = false;     ///< false: axis along z; true: axis along its local x
+    Vec3 position;          ///< centre, world frame, m
+    double yaw = 0;         ///< rad about +z
+    double mass = 0;        ///< kg, >= 0 (0: static)
+    double friction = 1.0;  ///< in [0, 1]
+};
+
+/// A static hollow tube lying along its local +x: a regular polygon of `sides` flat walls whose
+/// inscribed circle has `radius`, one wall flat at the bottom.
+struct PipeSpec {
+    double radius = 0.08;     ///< inner radius (of the inscribed circle), m, > 0
+    double thickness = 0.01;  ///< wall thickness, m, > 0
+    double length = 1.0;      ///< m, > 0
+    int sides = 24;           ///< number of walls around, in [3, 256]
+    Vec3 position;            ///< centre of the entrance (the end at local x = 0), on the axis, m
+    double yaw = 0;           ///< rad about +z; 0: runs towards +x
+    double friction = 1.0;    ///< in [0, 1]
+};
+
+/// A static field of `count` random boxes ("stones") standing on the ground, drawn from `seed`:
+/// each has its centre uniformly inside length × width, a random yaw, sides uniform in
+/// [min_size, max_size] and height uniform in [min_height, max_height]. The same seed always
+/// gives the same stones.
+struct RubbleSpec {
+    double length = 1.0;       ///< area along its local x, m, > 0
+    double width = 1.0;        ///< area along its local y, m, > 0
+    int count = 50;            ///< number of stones, in [0, 100000]
+    double min_size = 0.02;    ///< m, > 0
+    double max_size = 0.06;    ///< m, >= min_size
+    double min_height = 0.01;  ///< m, > 0
+    double max_height = 0.03;  ///< m, >= min_height
+    std::uint64_t seed = 1;    ///< which stones: the same seed, the same stones
+    Vec3 position;             ///< centre of the area on the ground, world frame, m
+    double yaw = 0;            ///< rad about +z
+    double friction = 1.0;     ///< in [0, 1]
+};
+
+/// A static terrain: heights over a length × width grid centred on `position`. The heights are
+/// either stored (`heights`, e.g. sampled from a function) or read from a PNG image at compile
+/// time (`image`: grey level 0 is height 0, white is max_height; the top row of the image is the
+/// +y edge, its left column the −x edge).
+struct HeightfieldSpec {
+    double length = 1.0;  ///< extent along its local x, m, > 0
+    double width = 1.0;   ///< extent along its local y, m, > 0
+    int samples_x = 0;    ///< grid points along x, in [2, 4096] (0 with an image)
+    int samples_y = 0;    ///< grid points along y, in [2, 4096] (0 with an image)
+    /// heights, m, samples_x · samples_y values; point (i, j) is heights[j · samples_x + i] at
+    /// x = −length/2 + i · length/(samples_x − 1), y = −width/2 + j · width/(samples_y − 1)
+    std::vector<double> heights;
+    std::string image;        ///< PNG file, used when `heights` is empty
+    double max_height = 0.1;  ///< height of a white pixel, m, > 0 (images only)
+    Vec3 position;            ///< centre of the grid at height 0, world frame, m
+    double yaw = 0;           ///< rad about +z
+    double friction = 1.0;    ///< in [0, 1]
+};
+
 /// A robot placed in a world, with the controllers that drive its joint groups.
 struct PlacedRobot {
     RobotSpec robot;
@@ -31,15 +130,34 @@ struct PlacedRobot {
     Actuation actuation;
 };
 
-/// Everything the physics needs to build a scene.
+/// Everything the physics needs to build a scene. Objects of each kind are numbered from 1 in
+/// the order of their vector ("stairs 2").
 struct WorldSpec {
     Vec3 gravity{0, 0, -9.81};  ///< m/s²
     FloorSpec floor;
     std::vector<BoxSpec> boxes;
+    std::vector<WallSpec> walls;
+    std::vector<RampSpec> ramps;
+    std::vector<StairsSpec> stairs;
+    std::vector<CylinderSpec> cylinders;
+    std::vector<PipeSpec> pipes;
+    std::vector<RubbleSpec> rubble;
+    std::vector<HeightfieldSpec> heightfields;
     std::vector<PlacedRobot> robots;
 };
 
-/// Checks a world spec (friction ranges, sizes, masses, robots); throws SpecError.
+/// Checks one object; `number` (from 1) names it in messages, e.g. "stairs 2 step_height must be
+/// positive (got -0.01 m)". Throws SpecError. A heightfield's image is not read here.
+void validate(const BoxSpec& box, int number);
+void validate(const WallSpec& wall, int number);
+void validate(const RampSpec& ramp, int number);
+void validate(const StairsSpec& stairs, int number);
+void validate(const CylinderSpec& cylinder, int number);
+void validate(const PipeSpec& pipe, int number);
+void validate(const RubbleSpec& rubble, int number);
+void validate(const HeightfieldSpec& heightfield, int number);
+
+/// Checks a world spec (gravity, floor, every object, robots); throws SpecError.
 void validate(const WorldSpec& world);
 
 }  // namespace gaitlab

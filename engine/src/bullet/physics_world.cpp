@@ -1,10 +1,13 @@
 #include "physics_world.h"
 
+#include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
+
+#include "gaitlab/geometry.h"
 
 namespace gaitlab {
 
@@ -27,8 +30,55 @@ Quat from_bt(const btQuaternion& q) {
     return {q.w(), q.x(), q.y(), q.z()};
 }
 
-// collision margin of every box: Bullet's default 4 cm is larger than a module's half-width
+// collision margin of every shape: Bullet's default 4 cm is larger than a module's half-width
 constexpr btScalar kMargin = btScalar(0.001);
+
+// the Bullet shape of a solid; a heightfield's samples are copied to `*heights`, which must
+// outlive the shape
+std::unique_ptr<btCollisionShape> make_shape(const Solid& s, std::vector<float>* heights) {
+    std::unique_ptr<btCollisionShape> shape;
+    switch (s.kind) {
+        case Solid::Kind::box:
+            shape = std::make_unique<btBoxShape>(to_bt(s.size * 0.5));
+            break;
+        case Solid::Kind::cylinder:
+            shape = std::make_unique<btCylinderShapeX>(to_bt(s.size * 0.5));
+            break;
+        case Solid::Kind::convex: {
+            auto hull = std::make_unique<btConvexHullShape>();
+            for (const Vec3& p : s.points)
+                hull->addPoint(to_bt(p), false);
+            hull->recalcLocalAabb();
+            shape = std::move(hull);
+            break;
+        }
+        case Solid::Kind::heightfield: {
+            const HeightGrid& g = s.grid;
+            heights->assign(g.heights.begin(), g.heights.end());
+            const auto [lo, hi] = std::minmax_element(heights->begin(), heights->end());
+            auto field = std::make_unique<btHeightfieldTerrainShape>(
+                g.samples_x, g.samples_y, heights->data(), *lo, *hi, 2, false);
+            field->setLocalScaling(btVector3(btScalar(g.length / (g.samples_x - 1)),
+                                             btScalar(g.width / (g.samples_y - 1)), 1));
+            shape = std::move(field);
+            break;
+        }
+    }
+    shape->setMargin(kMargin);
+    return shape;
+}
+
+// Bullet centres a heightfield between its lowest and highest sample: the body's transform puts
+// height 0 of the grid at the solid's origin
+btTransform body_transform(const Solid& s) {
+    btTransform t = to_bt(s.pose);
+    if (s.kind == Solid::Kind::heightfield) {
+        const auto [lo, hi] = std::minmax_element(s.grid.heights.begin(), s.grid.heights.end());
+        const btScalar mid = btScalar((static_cast<float>(*lo) + static_cast<float>(*hi)) / 2);
+        t.setOrigin(t * btVector3(0, 0, mid));
+    }
+    return t;
+}
 // robots get collision group bits 8..31 so that robots collide with each other but a robot's
 // bodies do not collide among themselves (unless self_collision asks for it)
 constexpr int kFirstRobotBit = 8;
@@ -65,16 +115,23 @@ struct PhysicsWorld::Impl {
             world.removeRigidBody(b.get());
     }
 
-    btRigidBody* add_body(const Vec3& size, double mass, const btTransform& pose, double friction,
-                          int group, int mask) {
-        auto shape = std::make_unique<btBoxShape>(to_bt(size * 0.5));
-        shape->setMargin(kMargin);
+    std::vector<std::unique_ptr<std::vector<float>>> height_data;  // of heightfield shapes
+
+    btRigidBody* add_body(const Solid& solid, int group, int mask) {
+        // a heightfield shape points into its samples, which live as long as the world
+        std::vector<float>* heights = nullptr;
+        if (solid.kind == Solid::Kind::heightfield) {
+            height_data.push_back(std::make_unique<std::vector<float>>());
+            heights = height_data.back().get();
+        }
+        auto shape = make_shape(solid, heights);
+        const double mass = solid.mass;
         btVector3 inertia(0, 0, 0);
         if (mass > 0) shape->calculateLocalInertia(btScalar(mass), inertia);
         btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), nullptr, shape.get(),
                                                       inertia);
-        info.m_startWorldTransform = pose;
-        info.m_friction = btScalar(friction);
+        info.m_startWorldTransform = body_transform(solid);
+        info.m_friction = btScalar(solid.friction);
         info.m_restitution = 0;
         auto body = std::make_unique<btRigidBody>(info);
         btRigidBody* raw = body.get();
@@ -118,10 +175,11 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
         const int mask = robot.self_collision ? btBroadphaseProxy::AllFilter
                                               : (btBroadphaseProxy::AllFilter & ~bit);
         const size_t first = s.bodies.size();
-        for (const BodySpec& b : robot.bodies) {
-            const Pose world_pose{placed.pose.apply(b.pose.position),
-                                  placed.pose.orientation * b.pose.orientation};
-            s.add_body(b.size, b.mass, to_bt(world_pose), b.friction, bit, mask);
+        for (size_t b = 0; b < robot.bodies.size(); ++b) {
+            const Pose& local = robot.bodies[b].pose;
+            const Pose world_pose{placed.pose.apply(local.position),
+                                  placed.pose.orientation * local.orientation};
+            s.add_body(body_solid(robot, static_cast<int>(b), world_pose), bit, mask);
         }
         for (const JointSpec& j : robot.joints) {
             btRigidBody* child = s.bodies[first + static_cast<size_t>(j.child)].get();
@@ -154,11 +212,13 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
         j.hinge->enableFeedback(true);
     }
 
-    for (const BoxSpec& b : spec.boxes) {
-        s.add_body(b.size, b.mass, to_bt(b.pose), b.friction,
-                   b.mass > 0 ? btBroadphaseProxy::DefaultFilter : btBroadphaseProxy::StaticFilter,
-                   b.mass > 0 ? btBroadphaseProxy::AllFilter
-                              : (btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter));
+    // the world's objects, expanded into solids only now (a heightfield reads its image here)
+    for (const Solid& solid : world_solids(spec)) {
+        const bool dynamic = solid.mass > 0;
+        s.add_body(solid,
+                   dynamic ? btBroadphaseProxy::DefaultFilter : btBroadphaseProxy::StaticFilter,
+                   dynamic ? btBroadphaseProxy::AllFilter
+                           : (btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter));
     }
 }
 

@@ -1,6 +1,6 @@
 // The Bullet side of a simulation. Only this folder includes Bullet headers; this interface
 // speaks gaitlab types. Bodies are numbered robot by robot (in WorldSpec order) and then the
-// dynamic boxes; joints robot by robot.
+// dynamic objects (in world_solids order); joints robot by robot.
 #pragma once
 
 #include <memory>
@@ -16,6 +16,7 @@ namespace gaitlab {
 class PhysicsWorld {
   public:
     /// Builds the Bullet scene for `world`; `dt` sets the servo torque limits as impulses.
+    /// Throws SpecError if a heightfield's image cannot be read.
     PhysicsWorld(const WorldSpec& world, double dt, int solver_iterations);
     ~PhysicsWorld();
     PhysicsWorld(const PhysicsWorld&) = delete;

@@ -1,0 +1,226 @@
+// gaitlab.module and gaitlab.modules: the module library and custom module types.
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "lua_util.h"
+#include "wrap.h"
+
+namespace gaitlab::scripting {
+
+namespace {
+
+// registry key of the module library table, which is also gaitlab.modules
+constexpr const char* kLibraryKey = "gaitlab.modules";
+
+ModuleDef& check_module(lua_State* L, int index) {
+    return check_object<ModuleDef>(L, index, kModuleType);
+}
+
+bool is_builtin(const std::string& name) {
+    for (const ModuleDef& m : builtin_modules()) {
+        if (m.name == name) return true;
+    }
+    return false;
+}
+
+// the names in the library, sorted, for messages
+std::vector<std::string> library_names(lua_State* L) {
+    std::vector<std::string> names;
+    lua_getfield(L, LUA_REGISTRYINDEX, kLibraryKey);
+    lua_pushnil(L);
+    while (lua_next(L, -2) != 0) {
+        if (lua_type(L, -2) == LUA_TSTRING && luaL_testudata(L, -1, kModuleType)) {
+            names.emplace_back(lua_tostring(L, -2));
+        }
+        lua_pop(L, 1);
+    }
+    lua_pop(L, 1);
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+void push_module(lua_State* L, ModuleDef m) {
+    new_object<ModuleDef>(L, kModuleType, std::move(m));
+}
+
+// gaitlab.module{ name =, base =, shape =, ... }: a new module type, added to gaitlab.modules
+int module_new(lua_State* L) {
+    // called as gaitlab.module{...}: argument 1 is the gaitlab.module table itself
+    return protect(L, [&] {
+        Fields f(L, 2, 1,
+                 {"name", "base", "shape", "length", "width", "height", "radius", "mass", "axis",
+                  "range", "max_speed", "max_torque", "kp", "friction"});
+        if (!f.has("name")) f.fail("name", "string expected, got nil");
+        const std::string name = f.string("name", "");
+        if (name.empty()) f.fail("name", "a module type needs a name");
+        if (is_builtin(name)) {
+            f.fail("name", "'" + name + "' is a built-in module type (choose another name)");
+        }
+        ModuleDef m = default_module_def();
+        if (f.push("base") != LUA_TNIL) {
+            try {
+                m = to_module(L, -1);
+            } catch (const Error& e) {
+                lua_pop(L, 1);
+                f.fail("base", e.what());
+            }
+        }
+        lua_pop(L, 1);
+        m.name = name;
+        const std::string shape = f.string("shape", to_string(m.shape));
+        if (shape == "box") {
+            m.shape = Shape::box;
+        } else if (shape == "cylinder") {
+            m.shape = Shape::cylinder;
+        } else {
+            f.fail("shape", "'box' or 'cylinder' expected, got '" + shape + "'");
+        }
+        m.length = f.number("length", m.length);
+        m.width = f.number("width", m.width);
+        m.height = f.number("height", m.height);
+        m.radius = f.number("radius", m.radius);
+        m.mass = f.number("mass", m.mass);
+        const std::string axis = f.string("axis", to_string(m.axis));
+        if (axis == "bend") {
+            m.axis = JointAxis::bend;
+        } else if (axis == "twist") {
+            m.axis = JointAxis::twist;
+        } else {
+            f.fail("axis", "'bend' or 'twist' expected, got '" + axis + "'");
+        }
+        if (f.push("range") != LUA_TNIL) {
+            double r[2] = {0, 0};
+            bool ok = lua_istable(L, -1) && luaL_len(L, -1) == 2;
+            for (int k = 0; ok && k < 2; ++k) {
+                lua_rawgeti(L, -1, k + 1);
+                int is_num = 0;
+                r[k] = lua_tonumberx(L, -1, &is_num);
+                ok = is_num != 0;
+                lua_pop(L, 1);
+            }
+            lua_pop(L, 1);
+            if (!ok) f.fail("range", "{min, max} in degrees expected");
+            m.min_angle = deg_to_rad(r[0]);
+            m.max_angle = deg_to_rad(r[1]);
+        } else {
+            lua_pop(L, 1);
+        }
+        // degrees per second at the Lua boundary, like every angle users type
+        const double max_speed = f.number("max_speed", rad_to_deg(m.servo.max_speed));
+        if (!(std::isfinite(max_speed) && max_speed > 0)) {
+            f.fail("max_speed", fmt::format("must be positive (got {} deg/s)", max_speed));
+        }
+        m.servo.max_speed = deg_to_rad(max_speed);
+        m.servo.max_torque = f.number("max_torque", m.servo.max_torque);
+        m.servo.kp = f.number("kp", m.servo.kp);
+        m.friction = f.number("friction", m.friction);
+        try {
+            validate(m);
+        } catch (const SpecError& e) {
+            throw ArgError(1, e.what());
+        }
+        lua_getfield(L, LUA_REGISTRYINDEX, kLibraryKey);
+        push_module(L, m);
+        lua_pushvalue(L, -1);
+        lua_setfield(L, -3, name.c_str());
+        return 1;
+    });
+}
+
+int module_index(lua_State* L) {
+    return protect(L, [&] {
+        const ModuleDef& m = check_module(L, 1);
+        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+        if (key == "name") {
+            lua_pushstring(L, m.name.c_str());
+        } else if (key == "shape") {
+            lua_pushstring(L, to_string(m.shape));
+        } else if (key == "axis") {
+            lua_pushstring(L, to_string(m.axis));
+        } else if (key == "range") {
+            lua_createtable(L, 2, 0);
+            lua_pushnumber(L, rad_to_deg(m.min_angle));
+            lua_rawseti(L, -2, 1);
+            lua_pushnumber(L, rad_to_deg(m.max_angle));
+            lua_rawseti(L, -2, 2);
+        } else if (key == "max_speed") {
+            lua_pushnumber(L, rad_to_deg(m.servo.max_speed));
+        } else if (key == "max_torque") {
+            lua_pushnumber(L, m.servo.max_torque);
+        } else if (key == "kp") {
+            lua_pushnumber(L, m.servo.kp);
+        } else {
+            const std::pair<const char*, double> numbers[] = {
+                {"length", m.length}, {"width", m.width}, {"height", m.height},
+                {"radius", m.radius}, {"mass", m.mass},   {"friction", m.friction}};
+            lua_pushnil(L);
+            for (const auto& [name, value] : numbers) {
+                if (key == name) {
+                    lua_pop(L, 1);
+                    lua_pushnumber(L, value);
+                }
+            }
+        }
+        return 1;
+    });
+}
+
+int module_tostring(lua_State* L) {
+    return protect(L, [&] {
+        const ModuleDef& m = check_module(L, 1);
+        lua_pushfstring(L, "gaitlab.Module '%s'", m.name.c_str());
+        return 1;
+    });
+}
+
+}  // namespace
+
+ModuleDef to_module(lua_State* L, int index) {
+    if (const void* p = luaL_testudata(L, index, kModuleType)) {
+        return *static_cast<const ModuleDef*>(p);
+    }
+    if (lua_type(L, index) != LUA_TSTRING) {
+        throw Error("module type name or gaitlab.Module expected, got " + type_name(L, index));
+    }
+    const std::string name = lua_tostring(L, index);
+    lua_getfield(L, LUA_REGISTRYINDEX, kLibraryKey);
+    lua_getfield(L, -1, name.c_str());
+    if (const void* p = luaL_testudata(L, -1, kModuleType)) {
+        ModuleDef m = *static_cast<const ModuleDef*>(p);
+        lua_pop(L, 2);
+        return m;
+    }
+    lua_pop(L, 2);
+    const std::vector<std::string> names = library_names(L);
+    std::string list;
+    for (const std::string& n : names)
+        list += (list.empty() ? "" : ", ") + n;
+    throw Error(fmt::format("unknown module type '{}'{} (module types: {})", name,
+                            did_you_mean(name, names), list));
+}
+
+void open_module(lua_State* L) {
+    const luaL_Reg meta[] = {
+        {"__index", module_index}, {"__tostring", module_tostring}, {nullptr, nullptr}};
+    register_type<ModuleDef>(L, kModuleType, nullptr, meta);
+
+    // gaitlab.modules: the library, built-in types first; gaitlab.module{...} adds to it
+    lua_newtable(L);
+    for (const ModuleDef& m : builtin_modules()) {
+        push_module(L, m);
+        lua_setfield(L, -2, m.name.c_str());
+    }
+    lua_pushvalue(L, -1);
+    lua_setfield(L, LUA_REGISTRYINDEX, kLibraryKey);
+    lua_setfield(L, -2, "modules");
+
+    lua_newtable(L);
+    lua_createtable(L, 0, 1);
+    lua_pushcfunction(L, module_new);
+    lua_setfield(L, -2, "__call");
+    lua_setmetatable(L, -2);
+    lua_setfield(L, -2, "module");
+}
+
+}  // namespace gaitlab::scripting

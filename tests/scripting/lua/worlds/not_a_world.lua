@@ -1,0 +1,2 @@
+-- returns something that is not a world preset
+return { name = "nope" }
