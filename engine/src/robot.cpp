@@ -180,7 +180,7 @@ std::vector<int> select_joints(const RobotSpec& robot, std::string_view role) {
 }
 
 bool operator==(const BodySpec& a, const BodySpec& b) {
-    return a.name == b.name && a.size == b.size && a.mass == b.mass &&
+    return a.name == b.name && a.shape == b.shape && a.size == b.size && a.mass == b.mass &&
            a.pose.position == b.pose.position && a.pose.orientation == b.pose.orientation &&
            a.friction == b.friction;
 }

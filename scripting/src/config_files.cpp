@@ -31,17 +31,6 @@ std::shared_ptr<LuaControllerClass> class_on_top(lua_State* L) {
     return cls;
 }
 
-// a controller file as an actuation file at `from_file` names it: relative when it is in the
-// same folder tree (or one level up), so the two can move together; absolute otherwise
-std::string relative_or_absolute(const std::string& path, const std::string& from_file) {
-    const fs::path dir = fs::absolute(from_file).parent_path();
-    std::error_code ec;
-    const fs::path rel = fs::relative(path, dir, ec);
-    const std::string r = rel.generic_string();
-    if (ec || rel.empty() || r.rfind("../..", 0) == 0) return fs::absolute(path).string();
-    return r;
-}
-
 }  // namespace
 
 std::shared_ptr<Controller> make_controller(lua_State* L, const ControllerRef& ref) {
@@ -144,7 +133,7 @@ ActuationSpec relative_to(ActuationSpec spec, const std::string& file) {
             const std::string& from = g.controller.source;
             const std::string absolute =
                 from.empty() ? g.controller.name : resolve_path(from, g.controller.name);
-            g.controller.name = relative_or_absolute(absolute, file);
+            g.controller.name = relative_path(absolute, file);
         }
     }
     return spec;
@@ -230,7 +219,7 @@ void save_simulation(const std::string& path, const WorldBinding& world,
         }
         file.robots.push_back(entry);
     }
-    format_environment(env);
+    format_environment(env, next_to(file.environment));
     format_simulation(file);
     for (const auto& [p, r] : robots)
         write_robot(p, r);

@@ -40,6 +40,7 @@ void check_same_robot(const RobotSpec& a, const RobotSpec& b) {
     for (size_t i = 0; i < a.bodies.size(); ++i) {
         CAPTURE(i);
         CHECK(a.bodies[i].name == b.bodies[i].name);
+        CHECK(a.bodies[i].shape == b.bodies[i].shape);
         check_close(a.bodies[i].size, b.bodies[i].size);
         CHECK(a.bodies[i].mass == b.bodies[i].mass);
         check_close(a.bodies[i].pose.position, b.bodies[i].pose.position);
@@ -83,10 +84,16 @@ TEST_CASE("exported robots pass check_urdf and import back to the same robot") {
     strong.name = "strong";
     strong.max_angle = deg_to_rad(60);
     strong.servo.max_torque = 1.2;
+    ModuleDef roller = default_module_def();
+    roller.name = "roller";
+    roller.shape = Shape::cylinder;
+    roller.radius = 0.03;
+    roller.axis = JointAxis::twist;
     const RobotSpec robots[] = {
         make_chain(ChainSpec{"pp8", 8, Connection::pitch_pitch, default_module_def()}),
         make_chain(ChainSpec{"py5", 5, Connection::pitch_yaw, default_module_def()}),
         make_chain(ChainSpec{"strong", 1, Connection::yaw_yaw, strong}),
+        make_chain(ChainSpec{"rollers", 3, Connection::pitch_pitch, roller}),
     };
     for (const RobotSpec& robot : robots) {
         CAPTURE(robot.name);
@@ -144,8 +151,8 @@ TEST_CASE("URDF that is not a serial chain of revolute joints with boxes is reje
     CHECK_THAT(import_error("<robot name=\"r\">\n<link name=\"a\"><inertial><mass value=\"1\"/>"
                             "</inertial>\n<collision><geometry><mesh filename=\"a.stl\"/>"
                             "</geometry></collision></link>\n</robot>"),
-               Equals("r.urdf:3: robot/link[1]/collision[1]/geometry[1]/mesh[1]: only box "
-                      "geometry can be imported (got <mesh>)"));
+               Equals("r.urdf:3: robot/link[1]/collision[1]/geometry[1]/mesh[1]: only box and "
+                      "cylinder geometry can be imported (got <mesh>)"));
     CHECK_THAT(
         import_error("<robot name=\"r\">\n<link name=\"a\">" + link + "</link>\n<link name=\"b\">" +
                      link + "</link>\n<link name=\"c\">" + link +

@@ -83,6 +83,31 @@ TEST_CASE("a chain of a custom module round-trips, angles typed in degrees exact
     CHECK(parse_robot(text, "r.xml") == robot);
 }
 
+TEST_CASE("chains of library modules are saved by name, cylinder and twist modules in full") {
+    const RobotSpec cube = make_chain(ChainSpec{"c", 3, Connection::pitch_yaw, cube_module_def()});
+    const std::string text = format_robot(cube);
+    CHECK(text.find("module=\"cube\"") != std::string::npos);
+    CHECK(parse_robot(text, "r.xml") == cube);
+    ModuleDef roller = default_module_def();
+    roller.name = "roller";
+    roller.shape = Shape::cylinder;
+    roller.radius = 0.03;
+    roller.axis = JointAxis::twist;
+    roller.servo.max_speed = 3;
+    const RobotSpec rolling = make_chain(ChainSpec{"r", 4, Connection::pitch_pitch, roller});
+    const std::string rolled = format_robot(rolling);
+    CHECK(rolled.find("shape=\"cylinder\"") != std::string::npos);
+    CHECK(rolled.find("axis=\"twist\"") != std::string::npos);
+    const RobotSpec back = parse_robot(rolled, "r.xml");
+    CHECK(back == rolling);
+    CHECK(back.joints[0].role == JointRole::roll);
+    CHECK(back.bodies[1].shape == Shape::cylinder);
+    // the same robot written body by body keeps its shapes and roles
+    RobotSpec parts = rolling;
+    parts.chain.reset();
+    CHECK(parse_robot(format_robot(parts), "r.xml") == parts);
+}
+
 TEST_CASE("a robot that is not a chain round-trips body by body") {
     RobotSpec robot = make_chain(ChainSpec{"arm", 2, Connection::pitch_yaw, default_module_def()});
     robot.chain.reset();

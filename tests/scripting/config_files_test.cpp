@@ -138,6 +138,49 @@ TEST_CASE("robots, worlds and actuations save and load on their own", "[config_f
     CHECK(tail_y == Approx(0.018 * std::sin(15 * 3.14159265358979 / 180)));
 }
 
+TEST_CASE("every object of the world library saves and loads exactly", "[config_files]") {
+    TempDir dir("world_library");
+    LuaFixture lua;
+    lua.run("EXAMPLES = '" GAITLAB_SOURCE_DIR "/examples'  DIR = '" + dir.path.string() + "'");
+    lua.run(R"(
+        world = gaitlab.world{ floor = { friction = 0.6 }, gravity = {0, 0.5, -9.81} }
+        world:box{ size = {0.1, 0.2, 0.05}, position = {0.6, 0.3, 0.025}, yaw = 30, mass = 0.2 }
+        world:wall{ length = 1.2, height = 0.15, position = {0, 0.8, 0}, yaw = 5 }
+        world:ramp{ slope = 12.5, length = 0.6, width = 0.4, position = {1, -1, 0} }
+        world:stairs{ steps = 4, step_height = 0.015, step_depth = 0.12, landing = 0.2,
+                      position = {-1, 1, 0}, yaw = 90, friction = 0.7 }
+        world:cylinder{ radius = 0.04, length = 0.3, lying = true, position = {0.3, -0.5, 0.04},
+                        mass = 0.3 }
+        world:pipe{ radius = 0.07, length = 0.8, sides = 12, position = {2, 0, 0.08} }
+        world:rubble{ count = 20, seed = 7, position = {-2, -2, 0}, max_height = 0.025 }
+        world:heightfield{ length = 0.6, width = 0.4, samples = {7, 5},
+                           heights = function(x, y) return 0.01 * x + 0.02 * y * y end,
+                           position = {0, -2, 0} }
+        world:heightfield{ image = EXAMPLES .. "/terrain.png", max_height = 0.04, length = 1.5,
+                           width = 1, position = {3, 3, 0}, yaw = 45 }
+        assert(world:save(DIR .. "/library.xml"))
+        copy = assert(gaitlab.world.load(DIR .. "/library.xml"))
+        a, b = world:triangles(), copy:triangles()
+    )");
+    CHECK(lua.string("tostring(copy)") == lua.string("tostring(world)"));
+    REQUIRE(lua.integer("#a") == lua.integer("#b"));
+    const long long n = lua.integer("#a");
+    CHECK(n >= 9);
+    lua.run(R"(
+        same = true
+        for i = 1, #a do
+          if a[i].kind ~= b[i].kind or #a[i].vertices ~= #b[i].vertices then same = false end
+          for k = 1, #a[i].vertices do
+            if a[i].vertices[k] ~= b[i].vertices[k] then same = false end
+          end
+        end
+    )");
+    CHECK(lua.boolean("same"));
+    const std::string text = gaitlab::test::read_text(dir.file("library.xml"));
+    CHECK(text.find("<ramp slope=\"12.5\"") != std::string::npos);
+    CHECK(text.find("image=\"" GAITLAB_SOURCE_DIR "/examples/terrain.png\"") != std::string::npos);
+}
+
 TEST_CASE("bad files give nil and a message naming file and line", "[config_files]") {
     TempDir dir("bad_files");
     LuaFixture lua;

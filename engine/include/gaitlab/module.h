@@ -53,9 +53,10 @@ struct ModuleDef {
 };
 
 inline bool operator==(const ModuleDef& a, const ModuleDef& b) {
-    return a.name == b.name && a.length == b.length && a.width == b.width && a.height == b.height &&
-           a.mass == b.mass && a.min_angle == b.min_angle && a.max_angle == b.max_angle &&
-           a.friction == b.friction && a.servo == b.servo;
+    return a.name == b.name && a.shape == b.shape && a.length == b.length && a.width == b.width &&
+           a.height == b.height && a.radius == b.radius && a.mass == b.mass && a.axis == b.axis &&
+           a.min_angle == b.min_angle && a.max_angle == b.max_angle && a.friction == b.friction &&
+           a.servo == b.servo;
 }
 inline bool operator!=(const ModuleDef& a, const ModuleDef& b) {
     return !(a == b);

@@ -18,11 +18,11 @@ std::string format_urdf(const RobotSpec& robot);
 void write_urdf(const std::string& path, const RobotSpec& robot);
 
 /// A robot from URDF text: a serial chain (each link has at most one child) of revolute
-/// joints between links whose collision (or visual) geometry is a box. Servo speed, torque and
-/// range come from each joint's <limit>, the gain is y1's; joints turning about z are yaw
-/// joints, the others pitch. The robot is moved so its rearmost point is at x = 0 and its
-/// lowest on the floor (z = 0), as gaitlab lays robots out. Throws FormatError ("FILE:LINE:
-/// what was expected").
+/// joints between links whose collision (or visual) geometry is a box or a cylinder. Servo speed,
+/// torque and range come from each joint's <limit>, the gain is y1's; joints turning mostly about z
+/// are yaw joints, about x roll joints, the others pitch. The robot is moved so its rearmost point
+/// is at x = 0 and its lowest on the floor (z = 0), as gaitlab lays robots out. Throws FormatError
+/// ("FILE:LINE: what was expected").
 RobotSpec parse_urdf(std::string_view text, const std::string& file);
 RobotSpec read_urdf(const std::string& path);
 

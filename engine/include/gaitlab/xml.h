@@ -85,11 +85,15 @@ std::string format_robot(const RobotSpec& robot);
 void write_actuation(const std::string& path, const ActuationSpec& actuation);
 std::string format_actuation(const ActuationSpec& actuation);
 void write_environment(const std::string& path, const EnvironmentSpec& environment);
-std::string format_environment(const EnvironmentSpec& environment);
+/// `file`: where the text will be written (heightfield images are named relative to it).
+std::string format_environment(const EnvironmentSpec& environment, const std::string& file = "");
 void write_simulation(const std::string& path, const SimulationFile& simulation);
 std::string format_simulation(const SimulationFile& simulation);
 
 /// `path` resolved against the folder of the file `from` (unless absolute).
 std::string resolve_path(const std::string& from, const std::string& path);
+/// `path` as a file written at `from_file` names it: relative to its folder when the two are in
+/// the same folder tree (or one level apart), so they can move together; absolute otherwise.
+std::string relative_path(const std::string& path, const std::string& from_file);
 
 }  // namespace gaitlab

@@ -1,6 +1,10 @@
-// Environment files: gravity, the floor, objects, and where each robot is placed. See
-// docs/formats.md.
+// Environment files: gravity, the floor, the objects of the world library, and where each robot
+// is placed. See docs/formats.md. Each object kind lists its fields once, in a function that
+// both the reader and the writer walk, so the two cannot disagree.
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -41,16 +45,235 @@ void write_orientation(xml::Writer& w, const Quat& q) {
     w.attr("orientation", q);
 }
 
+// the three walks over an object's fields: collect the attribute names, read, write
+struct Names {
+    std::vector<const char*> names;
+    template <class T>
+    void field(const char* name, T&) {
+        names.push_back(name);
+    }
+    template <class T>
+    void angle(const char* name, T&) {
+        names.push_back(name);
+    }
+};
+
+struct Read {
+    const Element& e;
+    void field(const char* name, double& v) { v = e.number(name, v); }
+    void field(const char* name, int& v) {
+        const long long n = e.integer(name, v);
+        // beyond int, the object's own range check says what is expected
+        v = static_cast<int>(std::clamp<long long>(n, -1, 1 << 30));
+    }
+    void field(const char* name, std::uint64_t& v) {
+        const long long n = e.integer(name, static_cast<long long>(v));
+        if (n < 0) e.fail(fmt::format("attribute '{}': a non-negative integer expected", name));
+        v = static_cast<std::uint64_t>(n);
+    }
+    void field(const char* name, bool& v) { v = e.boolean(name, v); }
+    void field(const char* name, Vec3& v) { v = e.vec3(name, v); }
+    void angle(const char* name, double& v) { v = e.angle(name, v); }
+};
+
+struct Write {
+    xml::Writer& w;
+    void field(const char* name, double v) { w.attr(name, v); }
+    void field(const char* name, int v) { w.attr_int(name, v); }
+    void field(const char* name, std::uint64_t v) { w.attr_int(name, static_cast<long long>(v)); }
+    void field(const char* name, bool v) { w.attr(name, v); }
+    void field(const char* name, const Vec3& v) { w.attr(name, v); }
+    void angle(const char* name, double v) { w.angle(name, v); }
+};
+
+// the fields of each object, in file order; S is the spec or a const spec
+template <class V, class S>
+void fields(V& v, S& s, WallSpec*) {
+    v.field("length", s.length);
+    v.field("height", s.height);
+    v.field("thickness", s.thickness);
+    v.field("position", s.position);
+    v.angle("yaw", s.yaw);
+    v.field("friction", s.friction);
+}
+
+template <class V, class S>
+void fields(V& v, S& s, RampSpec*) {
+    v.angle("slope", s.slope);
+    v.field("length", s.length);
+    v.field("width", s.width);
+    v.field("position", s.position);
+    v.angle("yaw", s.yaw);
+    v.field("friction", s.friction);
+}
+
+template <class V, class S>
+void fields(V& v, S& s, StairsSpec*) {
+    v.field("steps", s.steps);
+    v.field("step_height", s.step_height);
+    v.field("step_depth", s.step_depth);
+    v.field("width", s.width);
+    v.field("landing", s.landing);
+    v.field("position", s.position);
+    v.angle("yaw", s.yaw);
+    v.field("friction", s.friction);
+}
+
+template <class V, class S>
+void fields(V& v, S& s, CylinderSpec*) {
+    v.field("radius", s.radius);
+    v.field("length", s.length);
+    v.field("lying", s.lying);
+    v.field("position", s.position);
+    v.angle("yaw", s.yaw);
+    v.field("mass", s.mass);
+    v.field("friction", s.friction);
+}
+
+template <class V, class S>
+void fields(V& v, S& s, PipeSpec*) {
+    v.field("radius", s.radius);
+    v.field("thickness", s.thickness);
+    v.field("length", s.length);
+    v.field("sides", s.sides);
+    v.field("position", s.position);
+    v.angle("yaw", s.yaw);
+    v.field("friction", s.friction);
+}
+
+template <class V, class S>
+void fields(V& v, S& s, RubbleSpec*) {
+    v.field("length", s.length);
+    v.field("width", s.width);
+    v.field("count", s.count);
+    v.field("min_size", s.min_size);
+    v.field("max_size", s.max_size);
+    v.field("min_height", s.min_height);
+    v.field("max_height", s.max_height);
+    v.field("seed", s.seed);
+    v.field("position", s.position);
+    v.angle("yaw", s.yaw);
+    v.field("friction", s.friction);
+}
+
+// a heightfield's scalar fields; its heights (or image) are read and written beside them
+template <class V, class S>
+void fields(V& v, S& s, HeightfieldSpec*) {
+    v.field("length", s.length);
+    v.field("width", s.width);
+    v.field("max_height", s.max_height);
+    v.field("position", s.position);
+    v.angle("yaw", s.yaw);
+    v.field("friction", s.friction);
+}
+
+template <class S>
+std::vector<const char*> names_of(std::initializer_list<const char*> extra = {}) {
+    Names n;
+    S probe;
+    fields(n, probe, static_cast<S*>(nullptr));
+    n.names.insert(n.names.end(), extra.begin(), extra.end());
+    return n.names;
+}
+
+// reads one object of kind S into `out`, checked as object number out.size()
+template <class S>
+void read_object(const Element& e, std::vector<S>& out) {
+    e.allow(names_of<S>());
+    e.children({});
+    S s;
+    Read r{e};
+    fields(r, s, static_cast<S*>(nullptr));
+    e.check([&] { validate(s, static_cast<int>(out.size()) + 1); });
+    out.push_back(std::move(s));
+}
+
+template <class S>
+void write_objects(xml::Writer& w, const char* element, const std::vector<S>& objects) {
+    for (const S& s : objects) {
+        w.open(element);
+        Write wr{w};
+        fields(wr, s, static_cast<S*>(nullptr));
+        w.close();
+    }
+}
+
+void read_heightfield(const Element& e, std::vector<HeightfieldSpec>& out) {
+    e.allow(names_of<HeightfieldSpec>({"image", "samples"}));
+    HeightfieldSpec h;
+    Read r{e};
+    fields(r, h, static_cast<HeightfieldSpec*>(nullptr));
+    const std::vector<Element> kids = e.children({"heights"});
+    if (e.has("image") == (e.has("samples") || !kids.empty())) {
+        e.fail("give 'image' (a PNG file) or 'samples' and <heights>, one of them");
+    }
+    if (e.has("image")) {
+        // relative to the environment file, as every path in a file is
+        h.image = resolve_path(e.file(), e.required_string("image"));
+    } else {
+        const std::vector<double> n = e.numbers("samples", 2, {});
+        if (n.empty()) e.fail("attribute 'samples' is required (\"nx ny\") with <heights>");
+        if (!(n[0] >= 2 && n[0] <= 4096 && n[1] >= 2 && n[1] <= 4096 && n[0] == std::floor(n[0]) &&
+              n[1] == std::floor(n[1]))) {
+            e.fail(fmt::format("attribute 'samples': two whole numbers in [2, 4096] expected"));
+        }
+        h.samples_x = static_cast<int>(n[0]);
+        h.samples_y = static_cast<int>(n[1]);
+        if (kids.size() != 1) e.fail("one <heights> expected (nx × ny heights in m)");
+        std::istringstream in(kids[0].text());
+        double z = 0;
+        while (in >> z)
+            h.heights.push_back(z);
+        if (!in.eof()) kids[0].fail("numbers expected (heights in m)");
+        const size_t want = static_cast<size_t>(h.samples_x) * static_cast<size_t>(h.samples_y);
+        if (h.heights.size() != want) {
+            kids[0].fail(fmt::format("{} heights expected ({} × {}), got {}", want, h.samples_x,
+                                     h.samples_y, h.heights.size()));
+        }
+    }
+    e.check([&] { validate(h, static_cast<int>(out.size()) + 1); });
+    out.push_back(std::move(h));
+}
+
+void write_heightfields(xml::Writer& w, const std::vector<HeightfieldSpec>& all,
+                        const std::string& file) {
+    for (const HeightfieldSpec& h : all) {
+        w.open("heightfield");
+        Write wr{w};
+        fields(wr, h, static_cast<HeightfieldSpec*>(nullptr));
+        if (h.heights.empty()) {
+            w.attr("image", relative_path(h.image, file));
+            w.close();
+            continue;
+        }
+        w.attr("samples", fmt::format("{} {}", h.samples_x, h.samples_y));
+        w.open("heights");
+        // one row of x samples per line, from the −y edge
+        std::string rows = "\n";
+        for (int j = 0; j < h.samples_y; ++j) {
+            for (int i = 0; i < h.samples_x; ++i) {
+                rows += (i ? " " : "") +
+                        xml::format_number(h.heights[static_cast<size_t>(j * h.samples_x + i)]);
+            }
+            rows += "\n";
+        }
+        w.text(rows);
+        w.close();
+        w.close();
+    }
+}
+
 EnvironmentSpec read_environment_element(const Element& root) {
     root.allow({"gravity"});
     EnvironmentSpec env;
     WorldSpec& world = env.world;
     world.gravity = root.vec3("gravity", world.gravity);
     bool floor_seen = false;
-    for (const Element& k : root.children({"floor", "box", "place"})) {
+    for (const Element& k : root.children({"floor", "box", "wall", "ramp", "stairs", "cylinder",
+                                           "pipe", "rubble", "heightfield", "place"})) {
         const std::string kind = k.name();
-        k.children({});
         if (kind == "floor") {
+            k.children({});
             if (floor_seen) k.fail("one <floor> per environment expected");
             floor_seen = true;
             k.allow({"enabled", "friction"});
@@ -60,6 +283,7 @@ EnvironmentSpec read_environment_element(const Element& root) {
             probe.floor = world.floor;
             k.check([&] { validate(probe); });
         } else if (kind == "box") {
+            k.children({});
             k.allow({"size", "position", "yaw", "orientation", "mass", "friction"});
             BoxSpec b;
             b.size = k.vec3("size", b.size);
@@ -67,11 +291,24 @@ EnvironmentSpec read_environment_element(const Element& root) {
             b.pose.orientation = read_orientation(k);
             b.mass = k.number("mass", 0);
             b.friction = k.number("friction", 1.0);
+            k.check([&] { validate(b, static_cast<int>(world.boxes.size()) + 1); });
             world.boxes.push_back(b);
-            WorldSpec probe;
-            probe.boxes = world.boxes;
-            k.check([&] { validate(probe); });
+        } else if (kind == "wall") {
+            read_object(k, world.walls);
+        } else if (kind == "ramp") {
+            read_object(k, world.ramps);
+        } else if (kind == "stairs") {
+            read_object(k, world.stairs);
+        } else if (kind == "cylinder") {
+            read_object(k, world.cylinders);
+        } else if (kind == "pipe") {
+            read_object(k, world.pipes);
+        } else if (kind == "rubble") {
+            read_object(k, world.rubble);
+        } else if (kind == "heightfield") {
+            read_heightfield(k, world.heightfields);
         } else {
+            k.children({});
             k.allow({"robot", "position", "yaw", "orientation"});
             Placement p;
             p.robot = k.required_string("robot");
@@ -91,6 +328,18 @@ EnvironmentSpec read_environment_element(const Element& root) {
 
 }  // namespace
 
+std::string relative_path(const std::string& path, const std::string& from_file) {
+    namespace fs = std::filesystem;
+    if (path.empty()) return path;
+    std::error_code ec;
+    const fs::path dir = fs::absolute(from_file, ec).parent_path();
+    const fs::path rel = fs::relative(fs::absolute(path, ec), dir, ec);
+    const std::string r = rel.generic_string();
+    // in the same folder tree (or one level up) the two move together; else absolute
+    if (ec || rel.empty() || r.rfind("../..", 0) == 0) return fs::absolute(path, ec).string();
+    return r;
+}
+
 EnvironmentSpec parse_environment(std::string_view text, const std::string& file) {
     const xml::Document doc(text, file, "environment");
     return read_environment_element(doc.root());
@@ -100,7 +349,7 @@ EnvironmentSpec read_environment(const std::string& path) {
     return parse_environment(xml::read_text(path), path);
 }
 
-std::string format_environment(const EnvironmentSpec& env) {
+std::string format_environment(const EnvironmentSpec& env, const std::string& file) {
     WorldSpec world = env.world;
     world.robots.clear();
     validate(world);
@@ -120,6 +369,13 @@ std::string format_environment(const EnvironmentSpec& env) {
         w.attr("friction", b.friction);
         w.close();
     }
+    write_objects(w, "wall", world.walls);
+    write_objects(w, "ramp", world.ramps);
+    write_objects(w, "stairs", world.stairs);
+    write_objects(w, "cylinder", world.cylinders);
+    write_objects(w, "pipe", world.pipes);
+    write_objects(w, "rubble", world.rubble);
+    write_heightfields(w, world.heightfields, file);
     for (const Placement& p : env.placements) {
         w.open("place");
         w.attr("robot", p.robot);
@@ -132,7 +388,7 @@ std::string format_environment(const EnvironmentSpec& env) {
 }
 
 void write_environment(const std::string& path, const EnvironmentSpec& env) {
-    write_file_atomic(path, format_environment(env));
+    write_file_atomic(path, format_environment(env, path));
 }
 
 }  // namespace gaitlab

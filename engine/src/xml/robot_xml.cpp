@@ -15,20 +15,37 @@ using xml::Element;
 
 // the module library by name (the default module is y1)
 ModuleDef library_module(const Element& e, const std::string& name) {
-    if (name == "y1") return default_module_def();
-    e.fail(fmt::format("unknown module type '{}'{} (module types: 'y1')", name,
-                       did_you_mean(name, {"y1"})));
+    ModuleDef m;
+    e.check([&] { m = builtin_module(name); });
+    return m;
+}
+
+Shape parse_shape(const Element& e, Shape fallback) {
+    const std::string s = e.string("shape", to_string(fallback));
+    if (s == "box") return Shape::box;
+    if (s == "cylinder") return Shape::cylinder;
+    e.fail(fmt::format("attribute 'shape': 'box' or 'cylinder' expected, got '{}'", s));
 }
 
 ModuleDef read_module(const Element& e, ModuleDef m) {
-    e.allow({"name", "length", "width", "height", "mass", "min", "max", "friction", "kp",
-             "max_speed", "max_torque"});
+    e.allow({"name", "shape", "length", "width", "height", "radius", "mass", "axis", "min", "max",
+             "friction", "kp", "max_speed", "max_torque"});
     e.children({});
     m.name = e.string("name", m.name);
+    m.shape = parse_shape(e, m.shape);
     m.length = e.number("length", m.length);
     m.width = e.number("width", m.width);
     m.height = e.number("height", m.height);
+    m.radius = e.number("radius", m.radius);
     m.mass = e.number("mass", m.mass);
+    const std::string axis = e.string("axis", to_string(m.axis));
+    if (axis == "bend") {
+        m.axis = JointAxis::bend;
+    } else if (axis == "twist") {
+        m.axis = JointAxis::twist;
+    } else {
+        e.fail(fmt::format("attribute 'axis': 'bend' or 'twist' expected, got '{}'", axis));
+    }
     m.min_angle = e.angle("min", m.min_angle);
     m.max_angle = e.angle("max", m.max_angle);
     m.friction = e.number("friction", m.friction);
@@ -73,7 +90,8 @@ JointRole parse_role(const Element& e) {
     const std::string role = e.string("role", "pitch");
     if (role == "pitch") return JointRole::pitch;
     if (role == "yaw") return JointRole::yaw;
-    e.fail(fmt::format("attribute 'role': 'pitch' or 'yaw' expected, got '{}'", role));
+    if (role == "roll") return JointRole::roll;
+    e.fail(fmt::format("attribute 'role': 'pitch', 'yaw' or 'roll' expected, got '{}'", role));
 }
 
 // one <sensor>: the fields of its kind (module and joint numbered from 1, as users do)
@@ -161,13 +179,14 @@ RobotSpec read_robot_element(const Element& root) {
         if (chain) k.fail("a robot is one <chain>, or <body> and <joint> elements (and <sensor>s)");
         parts = true;
         if (kind == "body") {
-            k.allow({"name", "size", "mass", "position", "orientation", "friction"});
+            k.allow({"name", "shape", "size", "mass", "position", "orientation", "friction"});
             k.children({});
             BodySpec b;
             b.name = k.required_string("name");
             for (const BodySpec& other : robot.bodies) {
                 if (other.name == b.name) k.fail(fmt::format("a second body named '{}'", b.name));
             }
+            b.shape = parse_shape(k, Shape::box);
             if (!k.has("size")) k.fail("attribute 'size' is required (\"x y z\", m)");
             b.size = k.vec3("size", {});
             b.mass = k.required_number("mass");
@@ -227,10 +246,13 @@ void write_servo(xml::Writer& w, double min, double max, const ServoDef& servo) 
 void write_module(xml::Writer& w, const ModuleDef& m) {
     w.open("module");
     w.attr("name", m.name);
+    w.attr("shape", to_string(m.shape));
     w.attr("length", m.length);
     w.attr("width", m.width);
     w.attr("height", m.height);
+    w.attr("radius", m.radius);
     w.attr("mass", m.mass);
+    w.attr("axis", to_string(m.axis));
     w.attr("friction", m.friction);
     write_servo(w, m.min_angle, m.max_angle, m.servo);
     w.close();
@@ -267,7 +289,11 @@ std::string format_robot(const RobotSpec& robot) {
         w.open("chain");
         w.attr_int("modules", c.modules);
         w.attr("connection", to_string(c.connection));
-        if (c.module == default_module_def()) {
+        // a module of the library by its name, any other with all its values
+        bool library = false;
+        for (const ModuleDef& m : builtin_modules())
+            library = library || m == c.module;
+        if (library) {
             w.attr("module", c.module.name);
         } else {
             write_module(w, c.module);
@@ -277,6 +303,7 @@ std::string format_robot(const RobotSpec& robot) {
         for (const BodySpec& b : robot.bodies) {
             w.open("body");
             w.attr("name", b.name);
+            if (b.shape != Shape::box) w.attr("shape", to_string(b.shape));
             w.attr("size", b.size);
             w.attr("mass", b.mass);
             w.attr("position", b.pose.position);

@@ -46,10 +46,20 @@ void origin(tinyxml2::XMLPrinter& p, const Vec3& xyz, const Quat& q) {
     p.CloseElement();
 }
 
-void box(tinyxml2::XMLPrinter& p, const Vec3& size) {
+// URDF cylinders lie along their frame's z, gaitlab's along the body's x: turning by +90°
+// about y takes z to x
+const Quat kZToX = Quat::from_axis_angle({0, 1, 0}, kPi / 2);
+
+void geometry(tinyxml2::XMLPrinter& p, const BodySpec& body) {
     p.OpenElement("geometry");
-    p.OpenElement("box");
-    p.PushAttribute("size", numbers3(size).c_str());
+    if (body.shape == Shape::box) {
+        p.OpenElement("box");
+        p.PushAttribute("size", numbers3(body.size).c_str());
+    } else {
+        p.OpenElement("cylinder");
+        p.PushAttribute("radius", xml::format_number(body.size.y / 2).c_str());
+        p.PushAttribute("length", xml::format_number(body.size.x).c_str());
+    }
     p.CloseElement();
     p.CloseElement();
 }
@@ -91,27 +101,36 @@ std::string format_urdf(const RobotSpec& robot) {
         const BodySpec& body = robot.bodies[b];
         const Vec3 at = body.pose.position - link_origin(b);
         const Vec3& s = body.size;
+        const bool box = body.shape == Shape::box;
+        // a cylinder's geometry frame has its axis along z
+        const Quat turn = box ? body.pose.orientation : body.pose.orientation * kZToX;
         p.OpenElement("link");
         p.PushAttribute("name", body.name.c_str());
         p.OpenElement("inertial");
-        origin(p, at, body.pose.orientation);
+        origin(p, at, turn);
         p.OpenElement("mass");
         p.PushAttribute("value", xml::format_number(body.mass).c_str());
         p.CloseElement();
         p.OpenElement("inertia");
         const double m = body.mass / 12;
-        p.PushAttribute("ixx", xml::format_number(m * (s.y * s.y + s.z * s.z)).c_str());
+        const double r = s.y / 2;
+        // solid box, or solid cylinder about its own (z) axis
+        const Vec3 inertia = box ? Vec3{m * (s.y * s.y + s.z * s.z), m * (s.x * s.x + s.z * s.z),
+                                        m * (s.x * s.x + s.y * s.y)}
+                                 : Vec3{m * (3 * r * r + s.x * s.x), m * (3 * r * r + s.x * s.x),
+                                        body.mass * r * r / 2};
+        p.PushAttribute("ixx", xml::format_number(inertia.x).c_str());
         p.PushAttribute("ixy", "0");
         p.PushAttribute("ixz", "0");
-        p.PushAttribute("iyy", xml::format_number(m * (s.x * s.x + s.z * s.z)).c_str());
+        p.PushAttribute("iyy", xml::format_number(inertia.y).c_str());
         p.PushAttribute("iyz", "0");
-        p.PushAttribute("izz", xml::format_number(m * (s.x * s.x + s.y * s.y)).c_str());
+        p.PushAttribute("izz", xml::format_number(inertia.z).c_str());
         p.CloseElement();
         p.CloseElement();
         for (const char* kind : {"visual", "collision"}) {
             p.OpenElement(kind);
-            origin(p, at, body.pose.orientation);
-            box(p, s);
+            origin(p, at, turn);
+            geometry(p, body);
             p.CloseElement();
         }
         p.CloseElement();
@@ -152,7 +171,8 @@ namespace {
 
 struct UrdfLink {
     int line = 0;
-    Pose geometry;  // of the box, in the link frame
+    Shape shape = Shape::box;
+    Pose geometry;  // of the body (x along a cylinder's axis), in the link frame
     Vec3 size;
     double mass = 0;
 };
@@ -185,23 +205,32 @@ UrdfLink read_link(const Element& link) {
             }
             continue;
         }
-        // the collision box is the body; a visual box serves when there is no collision
+        // the collision shape is the body; a visual one serves when there is no collision
         if (geometry && kind == "visual") continue;
         for (const Element& g : k.children({"origin", "geometry", "material"})) {
             if (std::string(g.name()) != "geometry") continue;
             for (const Element& shape : g.children({"box", "cylinder", "sphere", "mesh"})) {
-                if (std::string(shape.name()) != "box") {
-                    shape.fail(
-                        fmt::format("only box geometry can be imported (got <{}>)", shape.name()));
-                }
-                if (!shape.has("size")) shape.fail("attribute 'size' is required");
-                out.size = shape.vec3("size", {});
+                const std::string name = shape.name();
                 out.geometry = read_origin(k);
+                if (name == "box") {
+                    if (!shape.has("size")) shape.fail("attribute 'size' is required");
+                    out.shape = Shape::box;
+                    out.size = shape.vec3("size", {});
+                } else if (name == "cylinder") {
+                    const double r = shape.required_number("radius");
+                    out.shape = Shape::cylinder;
+                    out.size = {shape.required_number("length"), 2 * r, 2 * r};
+                    // back from URDF's z axis to gaitlab's x
+                    out.geometry.orientation = out.geometry.orientation * kZToX.conjugate();
+                } else {
+                    shape.fail(fmt::format(
+                        "only box and cylinder geometry can be imported (got <{}>)", name));
+                }
                 geometry = true;
             }
         }
     }
-    if (!geometry) link.fail("a link needs a box in <collision> or <visual>");
+    if (!geometry) link.fail("a link needs a box or a cylinder in <collision> or <visual>");
     if (!(out.mass > 0)) link.fail("a link needs an <inertial> with a mass > 0");
     return out;
 }
@@ -302,6 +331,7 @@ RobotSpec parse_urdf(std::string_view text, const std::string& file) {
         const UrdfLink& link = links[l];
         BodySpec b;
         b.name = l;
+        b.shape = link.shape;
         b.size = link.size;
         b.mass = link.mass;
         b.pose = compose(frame, link.geometry);
@@ -316,7 +346,11 @@ RobotSpec parse_urdf(std::string_view text, const std::string& file) {
         js.child = js.parent + 1;
         js.pivot = frame.position;
         js.axis = frame.orientation.rotate(j.axis);
-        js.role = std::abs(js.axis.z) > std::abs(js.axis.y) ? JointRole::yaw : JointRole::pitch;
+        // the role follows the axis's largest component: x roll, y pitch, z yaw
+        const Vec3 a{std::abs(js.axis.x), std::abs(js.axis.y), std::abs(js.axis.z)};
+        js.role = a.x > a.y && a.x > a.z ? JointRole::roll
+                  : a.z > a.y            ? JointRole::yaw
+                                         : JointRole::pitch;
         js.min_angle = j.lower;
         js.max_angle = j.upper;
         js.servo.max_torque = j.effort;

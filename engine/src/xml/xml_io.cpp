@@ -20,7 +20,7 @@ std::vector<std::string> to_strings(std::initializer_list<const char*> names) {
     return {names.begin(), names.end()};
 }
 
-std::string quoted_list(std::initializer_list<const char*> names) {
+std::string quoted_list(const std::vector<const char*>& names) {
     std::string out;
     for (const char* n : names) {
         if (!out.empty()) out += ", ";
@@ -112,7 +112,11 @@ void Element::fail(const std::string& message) const {
 }
 
 void Element::allow(std::initializer_list<const char*> allowed) const {
-    const std::vector<std::string> names = to_strings(allowed);
+    allow(std::vector<const char*>(allowed));
+}
+
+void Element::allow(const std::vector<const char*>& allowed) const {
+    const std::vector<std::string> names(allowed.begin(), allowed.end());
     for (const tinyxml2::XMLAttribute* a = e_->FirstAttribute(); a; a = a->Next()) {
         const std::string n = a->Name();
         if (std::find(names.begin(), names.end(), n) == names.end()) {
@@ -269,6 +273,11 @@ std::vector<Element> Element::children(std::initializer_list<const char*> allowe
     return out;
 }
 
+std::string Element::text() const {
+    const char* t = e_->GetText();
+    return t ? t : "";
+}
+
 std::optional<Element> Element::child(const char* name) const {
     const tinyxml2::XMLElement* c = e_->FirstChildElement(name);
     if (!c) return std::nullopt;
@@ -349,6 +358,10 @@ void Writer::attr(const char* name, const Quat& q) {
 
 void Writer::angle(const char* name, double rad) {
     attr(name, degrees_for(rad));
+}
+
+void Writer::text(const std::string& text) {
+    printer_.PushText(text.c_str());
 }
 
 void Writer::comment(const std::string& text) {

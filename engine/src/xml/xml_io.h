@@ -76,6 +76,7 @@ class Element {
 
     /// Rejects attributes outside `allowed`, naming the closest valid one.
     void allow(std::initializer_list<const char*> allowed) const;
+    void allow(const std::vector<const char*>& allowed) const;
     bool has(const char* attr) const;
 
     std::string string(const char* attr, const std::string& fallback) const;
@@ -96,6 +97,8 @@ class Element {
 
     /// The child elements, each of which must be named in `allowed`.
     std::vector<Element> children(std::initializer_list<const char*> allowed) const;
+    /// The element's text content ("" if none).
+    std::string text() const;
     /// The first child element called `name`, if any (the others are not checked).
     std::optional<Element> child(const char* name) const;
     /// The attribute names present, in file order.
@@ -128,6 +131,8 @@ class Writer {
     /// An angle given in radians, written in degrees that read back to the same radians.
     void angle(const char* name, double rad);
     void comment(const std::string& text);
+    /// Text content of the element opened last (after its attributes).
+    void text(const std::string& text);
     /// The finished text.
     std::string text();
 
