@@ -121,12 +121,13 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     phases_ = std::make_unique<Phases>(*this);
     int first_joint = 0;
     for (const PlacedRobot& r : world_.robots) {
+        RobotSlot slot;
+        slot.label = unique_label(r.robot.name);
         for (const JointSpec& j : r.robot.joints) {
             phases_->servos_.push_back(j.servo);
             phases_->min_.push_back(j.min_angle);
             phases_->max_.push_back(j.max_angle);
         }
-        RobotSlot slot;
         slot.first_joint = first_joint;
         first_joint += static_cast<int>(r.robot.joints.size());
         robots_.push_back(slot);
@@ -150,7 +151,18 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     build();
 }
 
-Simulation::~Simulation() = default;
+Simulation::~Simulation() {
+    // controllers may outlive the simulation (a Lua handle keeps them): stop telling it
+    for (DriveSlot& d : drives_)
+        d.drive.controller->set_param_listener(nullptr);
+}
+
+std::string Simulation::unique_label(const std::string& base) {
+    std::string label = base;
+    for (int k = 2; !labels_.insert(label).second; ++k)
+        label = fmt::format("{}_{}", base, k);
+    return label;
+}
 
 void Simulation::build() {
     physics_ = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations);
@@ -166,7 +178,13 @@ void Simulation::check_robot(int robot) const {
     }
 }
 
-void Simulation::add_drive(int robot, Drive drive) {
+void Simulation::check_drive(int drive) const {
+    if (drive < 0 || drive >= drive_count()) {
+        throw SpecError(fmt::format("drive index {} out of range [0, {})", drive, drive_count()));
+    }
+}
+
+void Simulation::add_drive(int robot, Drive drive, Origin origin) {
     check_robot(robot);
     const PlacedRobot& placed = world_.robots[static_cast<size_t>(robot)];
     const int nj = static_cast<int>(placed.robot.joints.size());
@@ -184,11 +202,65 @@ void Simulation::add_drive(int robot, Drive drive) {
         }
     }
     drive.controller->bind(static_cast<int>(drive.joints.size()));
-    DriveSlot slot{robot, drive, {}, std::vector<double>(drive.joints.size(), 0.0)};
+    DriveSlot slot{robot,
+                   drive,
+                   {},
+                   std::vector<double>(drive.joints.size(), 0.0),
+                   unique_label(drive.controller->name())};
     for (int j : drive.joints)
         slot.global_joints.push_back(robots_[robot].first_joint + j);
+    const int index = drive_count();
+    // parameter changes become events stamped with the tick they act from
+    drive.controller->set_param_listener([this, index](int param, double value, Origin o) {
+        Event e;
+        e.kind = EventKind::param;
+        e.origin = o;
+        e.name = drives_[static_cast<size_t>(index)].label + "." +
+                 drives_[static_cast<size_t>(index)].drive.controller->def().params[param].name;
+        e.value = value;
+        e.drive = index;
+        post_event(std::move(e));
+    });
     drives_.push_back(std::move(slot));
     world_.robots[static_cast<size_t>(robot)].actuation.push_back(std::move(drive));
+    if (physics_) {  // not while the constructor binds the drives of the spec
+        Event e;
+        e.kind = EventKind::drive;
+        e.origin = origin;
+        e.name = drives_.back().label;
+        e.drive = index;
+        post_event(std::move(e));
+    }
+}
+
+const std::string& Simulation::robot_label(int robot) const {
+    check_robot(robot);
+    return robots_[static_cast<size_t>(robot)].label;
+}
+
+const Controller& Simulation::controller(int drive) const {
+    check_drive(drive);
+    return *drives_[static_cast<size_t>(drive)].drive.controller;
+}
+
+Controller& Simulation::controller(int drive) {
+    check_drive(drive);
+    return *drives_[static_cast<size_t>(drive)].drive.controller;
+}
+
+int Simulation::drive_robot(int drive) const {
+    check_drive(drive);
+    return drives_[static_cast<size_t>(drive)].robot;
+}
+
+const std::vector<int>& Simulation::drive_joints(int drive) const {
+    check_drive(drive);
+    return drives_[static_cast<size_t>(drive)].drive.joints;
+}
+
+const std::string& Simulation::drive_label(int drive) const {
+    check_drive(drive);
+    return drives_[static_cast<size_t>(drive)].label;
 }
 
 void Simulation::fail(DriveSlot& d, const std::exception& e) {
@@ -202,8 +274,16 @@ void Simulation::fail(DriveSlot& d, const std::exception& e) {
 }
 
 void Simulation::step(long ticks) {
-    for (long i = 0; i < ticks; ++i)
+    pre_ticks_.erase(std::remove_if(pre_ticks_.begin(), pre_ticks_.end(),
+                                    [](const auto& h) { return !h.second; }),
+                     pre_ticks_.end());
+    for (long i = 0; i < ticks; ++i) {
+        // by index: a hook may add or remove hooks (removal only empties the slot)
+        for (size_t k = 0; k < pre_ticks_.size(); ++k) {
+            if (pre_ticks_[k].second) pre_ticks_[k].second(*this);
+        }
         scheduler_.tick(*phases_);
+    }
 }
 
 void Simulation::run(double seconds) {
@@ -214,7 +294,7 @@ void Simulation::run(double seconds) {
     step(std::lround(seconds / options_.dt));
 }
 
-void Simulation::reset() {
+void Simulation::reset(Origin origin) {
     scheduler_.reset();
     for (DriveSlot& d : drives_) {
         d.drive.controller->set_failed(false);
@@ -224,6 +304,10 @@ void Simulation::reset() {
     std::fill(targets_.begin(), targets_.end(), 0.0);
     std::fill(commands_.begin(), commands_.end(), 0.0);
     build();
+    Event e;
+    e.kind = EventKind::reset;
+    e.origin = origin;
+    post_event(std::move(e));
 }
 
 Vec3 Simulation::robot_position(int robot) const {
@@ -292,6 +376,36 @@ void Simulation::remove_observer(int id) {
     observers_.erase(std::remove_if(observers_.begin(), observers_.end(),
                                     [id](const auto& o) { return o.first == id; }),
                      observers_.end());
+}
+
+int Simulation::add_pre_tick(std::function<void(Simulation&)> fn) {
+    pre_ticks_.emplace_back(next_observer_, std::move(fn));
+    return next_observer_++;
+}
+
+void Simulation::remove_pre_tick(int id) {
+    for (auto& h : pre_ticks_) {
+        if (h.first == id) h.second = nullptr;
+    }
+}
+
+int Simulation::add_event_listener(std::function<void(const Simulation&, const Event&)> fn) {
+    listeners_.emplace_back(next_observer_, std::move(fn));
+    return next_observer_++;
+}
+
+void Simulation::remove_event_listener(int id) {
+    listeners_.erase(std::remove_if(listeners_.begin(), listeners_.end(),
+                                    [id](const auto& l) { return l.first == id; }),
+                     listeners_.end());
+}
+
+void Simulation::post_event(Event event) {
+    event.tick = ticks();
+    // a copy: a listener may add or remove listeners (events are rare, copying is cheap)
+    const auto listeners = listeners_;
+    for (const auto& l : listeners)
+        l.second(*this, event);
 }
 
 }  // namespace gaitlab

@@ -25,4 +25,16 @@ class DivergenceError : public Error {
     using Error::Error;
 };
 
+/// A file or folder could not be created, read or written; the message names it and says why.
+class IoError : public Error {
+  public:
+    using Error::Error;
+};
+
+/// A file does not hold what was expected; the message names FILE:LINE and the expected form.
+class FormatError : public Error {
+  public:
+    using Error::Error;
+};
+
 }  // namespace gaitlab

@@ -6,8 +6,11 @@
 #include <exception>
 #include <functional>
 #include <memory>
+#include <set>
+#include <string>
 #include <vector>
 
+#include "gaitlab/event.h"
 #include "gaitlab/scheduler.h"
 #include "gaitlab/world.h"
 
@@ -76,17 +79,36 @@ class Simulation {
     long ticks() const { return scheduler_.ticks(); }
     double time() const { return scheduler_.time(); }
 
-    /// Advances `ticks` ticks (see scheduler.h for the order inside one tick).
+    /// Advances `ticks` ticks (see scheduler.h for the order inside one tick); the pre-tick
+    /// hooks run before each of them.
     void step(long ticks = 1);
     /// Advances round(seconds / dt) ticks.
     void run(double seconds);
-    /// Rebuilds the physics from the spec, time 0, controllers reset (parameters kept).
-    void reset();
+    /// Rebuilds the physics from the spec, time 0, controllers reset (parameters kept); posts
+    /// a reset event.
+    void reset(Origin origin = Origin::script);
 
-    /// Adds a drive to robot r while the simulation exists; throws SpecError.
-    void add_drive(int robot, Drive drive);
+    /// Adds a drive to robot r while the simulation exists; throws SpecError. After time 0 it
+    /// posts a drive event.
+    void add_drive(int robot, Drive drive, Origin origin = Origin::script);
 
     int robot_count() const { return static_cast<int>(world_.robots.size()); }
+    /// The robot's name, made unique within the simulation ("snake", "snake_2", ...): series
+    /// names start with it.
+    const std::string& robot_label(int robot) const;
+
+    /// Drives in the order they were added (robot by robot for those of the spec).
+    int drive_count() const { return static_cast<int>(drives_.size()); }
+    const Controller& controller(int drive) const;
+    Controller& controller(int drive);
+    /// The robot a drive belongs to.
+    int drive_robot(int drive) const;
+    /// Its joints, 0-based indices into the robot's joints, in group order.
+    const std::vector<int>& drive_joints(int drive) const;
+    /// The controller's name, made unique within the simulation (among robot labels too): the
+    /// second controller called "sine" is "sine_2", the third "sine_3". Labels never change
+    /// once given.
+    const std::string& drive_label(int drive) const;
     /// Centre of mass of robot r, m.
     Vec3 robot_position(int robot) const;
     /// Velocity of robot r's centre of mass, m/s.
@@ -108,23 +130,40 @@ class Simulation {
     int add_observer(std::function<void(const Simulation&)> fn);
     void remove_observer(int id);
 
+    /// Calls `fn` before every tick, between ticks: the place where changes from outside the
+    /// script (console, viewer, replay) are applied, so they act from that tick on. Returns an
+    /// id for remove_pre_tick. A hook must not step the simulation.
+    int add_pre_tick(std::function<void(Simulation&)> fn);
+    /// Safe to call from inside a hook.
+    void remove_pre_tick(int id);
+
+    /// Calls `fn` for every event (parameter changes of its controllers, resets, ...), in the
+    /// order they happen; returns an id for remove_event_listener.
+    int add_event_listener(std::function<void(const Simulation&, const Event&)> fn);
+    void remove_event_listener(int id);
+    /// Stamps `event` with the current tick and hands it to every listener.
+    void post_event(Event event);
+
   private:
     class Phases;
     struct RobotSlot {
         int first_body = 0;
         int first_joint = 0;
         Vec3 start_position;
+        std::string label;
     };
     struct DriveSlot {
         int robot;
         Drive drive;
         std::vector<int> global_joints;
         std::vector<double> targets;
+        std::string label;
     };
 
     void build();
     void check_robot(int robot) const;
-    void bind(int robot, Drive drive);
+    void check_drive(int drive) const;
+    std::string unique_label(const std::string& base);
     // marks the drive's controller failed and freezes its targets at the measured angles
     void fail(DriveSlot& d, const std::exception& e);
 
@@ -139,7 +178,11 @@ class Simulation {
     std::vector<double> targets_;   // per global joint, rad, summed in think
     std::vector<double> commands_;  // per global joint, rad/s, computed in act
     std::vector<std::pair<int, std::function<void(const Simulation&)>>> observers_;
+    // removed pre-tick hooks leave an empty function until the next step() compacts the list
+    std::vector<std::pair<int, std::function<void(Simulation&)>>> pre_ticks_;
+    std::vector<std::pair<int, std::function<void(const Simulation&, const Event&)>>> listeners_;
     int next_observer_ = 1;
+    std::set<std::string> labels_;
     ControllerErrorHandler on_error_;
 };
 

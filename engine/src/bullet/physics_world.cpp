@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace gaitlab {
@@ -35,6 +36,12 @@ constexpr int kFirstRobotBit = 8;
 constexpr int kRobotBits = 24;
 
 }  // namespace
+
+const char* physics_version() {
+    static const std::string v =
+        std::to_string(btGetVersion() / 100) + "." + std::to_string(btGetVersion() % 100);
+    return v.c_str();
+}
 
 struct PhysicsWorld::Impl {
     struct Joint {
