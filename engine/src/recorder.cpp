@@ -269,6 +269,7 @@ void Recorder::write_meta(const std::string& status, const std::string& message)
     for (const std::string& a : context_.args)
         args.push(a);
     run.set("seed", context_.script_seed);
+    run.set("started_by", context_.started_by);
 
     Json& files = j.set("config", Json::array());
     for (const ConfigFile& f : context_.files) {

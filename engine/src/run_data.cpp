@@ -151,6 +151,7 @@ RunMeta meta_from(const Json& j, const std::string& file) {
                 m.args.push_back(a.str());
         }
         if (const Json* seed = r->find("seed")) m.script_seed = seed->uint(0);
+        if (const Json* by = r->find("started_by")) m.started_by = by->str("simulation");
     }
     if (const Json* files = j.find("config")) {
         for (const Json& f : files->items()) {
@@ -342,6 +343,23 @@ std::vector<SeriesData> RunData::get(const std::vector<std::string>& names, doub
         }
     }
     return out;
+}
+
+std::vector<double> RunData::times() const {
+    LineReader r((fs::path(dir_) / "data.csv").string());
+    std::string_view line;
+    r.next(line);
+    std::vector<double> t;
+    const std::vector<size_t> first{0};
+    std::vector<std::string> header{"time"};
+    for (const SeriesInfo& s : series_)
+        header.push_back(s.name);
+    double v = 0;
+    while (r.next(line)) {
+        parse_row(r, line, header.size(), first, &v, header);
+        t.push_back(v);
+    }
+    return t;
 }
 
 long RunData::rows() const {

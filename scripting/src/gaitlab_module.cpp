@@ -20,8 +20,9 @@ extern "C" int luaopen_gaitlab(lua_State* L) {
 
     open_robot(L);       // gaitlab.robot
     open_world(L);       // gaitlab.world
-    open_simulation(L);  // gaitlab.simulation
     open_controller(L);  // gaitlab.controllers, gaitlab.controller
+    open_simulation(L);  // gaitlab.simulation (and the recordings)
+    open_data(L);        // gaitlab.data
 
     open_stdlib(L, lua_gettop(L));  // vec3.lua ...
     return 1;

@@ -2,8 +2,12 @@
 
 #include <lua.hpp>
 
+#include <fstream>
+#include <sstream>
+
 #include "hot_reload.h"
 #include "lua_util.h"
+#include "recording.h"
 #include "stdlib.h"
 
 extern "C" int luaopen_gaitlab(lua_State* L);
@@ -125,6 +129,7 @@ void LuaHost::seed(std::uint64_t seed) {
     lua_remove(L_, -2);
     lua_pushinteger(L_, static_cast<lua_Integer>(seed));
     protected_call(L_, 1, 0);
+    Recordings::of(L_).script_seed = seed;
 }
 
 void LuaHost::set_args(const std::string& script, const std::vector<std::string>& args) {
@@ -136,6 +141,7 @@ void LuaHost::set_args(const std::string& script, const std::vector<std::string>
         lua_rawseti(L_, -2, static_cast<lua_Integer>(i + 1));
     }
     lua_setglobal(L_, "arg");
+    Recordings::of(L_).script_args = args;
 }
 
 void LuaHost::set_reporter(std::function<void(const std::string&)> fn) {
@@ -150,12 +156,42 @@ void LuaHost::set_reload_interval(double seconds) {
 }
 
 void LuaHost::run_file(const std::string& path) {
+    Recordings& r = Recordings::of(L_);
+    if (!r.settings.script.empty() && path == r.settings.script) {
+        // the recorded script: keep the very code that runs for the run folders
+        std::ifstream in(path, std::ios::binary);
+        if (in) {
+            std::ostringstream text;
+            text << in.rdbuf();
+            r.script_source = text.str();
+        }
+    }
     if (luaL_loadfilex(L_, path.c_str(), "t") != LUA_OK) {
         std::string msg = lua_tostring(L_, -1);
         lua_pop(L_, 1);
         throw ScriptError(msg, path, 0, "");
     }
     protected_call(L_, 0, 0);
+}
+
+void LuaHost::set_recording(RecordSettings settings) {
+    Recordings::of(L_).settings = std::move(settings);
+}
+
+std::vector<std::string> LuaHost::run_folders() const {
+    return Recordings::of(L_).folders();
+}
+
+void LuaHost::finish(const std::string& error) {
+    Recordings::of(L_).finish(error);
+}
+
+void LuaHost::on_simulation(std::function<void(Simulation&, int)> fn) {
+    Recordings::of(L_).on_created.push_back(std::move(fn));
+}
+
+void LuaHost::set_print(bool to_stdout) {
+    Recordings::of(L_).print_to_stdout = to_stdout;
 }
 
 void LuaHost::run_string(const std::string& code, const std::string& name) {

@@ -17,12 +17,18 @@ inline constexpr const char* kWorldType = "gaitlab.World";
 inline constexpr const char* kSimulationType = "gaitlab.Simulation";
 inline constexpr const char* kControllerType = "gaitlab.Controller";
 inline constexpr const char* kControllerClassType = "gaitlab.ControllerClass";
+inline constexpr const char* kRunType = "gaitlab.Run";
+inline constexpr const char* kLiveType = "gaitlab.Live";
 
 // each open_* adds its functions to the gaitlab table on top of the stack
 void open_robot(lua_State* L);
 void open_world(lua_State* L);
 void open_simulation(lua_State* L);
 void open_controller(lua_State* L);
+void open_data(lua_State* L);
+
+/// sim:live{...} (wrap_data.cpp): live buffers of a simulation.
+int live_new(lua_State* L);
 
 bool is_robot(lua_State* L, int index);
 std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index);

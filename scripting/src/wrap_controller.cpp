@@ -103,7 +103,7 @@ int controller_index(lua_State* L) {
         }
         if (lua_getfield(L, lua_upvalueindex(1), key.c_str()) != LUA_TNIL) return 1;
         std::vector<std::string> names = param_names(c);
-        for (const char* m : {"name", "params", "values", "failed", "error"})
+        for (const char* m : {"name", "params", "values", "set", "failed", "error"})
             names.emplace_back(m);
         throw Error(fmt::format("controller '{}' has no parameter or method '{}'{}", c.name(), key,
                                 did_you_mean(key, names)));
@@ -126,6 +126,32 @@ int controller_newindex(lua_State* L) {
                 fmt::format("{}.{}: number expected, got {}", c.name(), key, type_name(L, 3)));
         }
         c.set_param(i, v);
+        return 0;
+    });
+}
+
+// ctl:set(name, value [, origin]): a parameter change made by `origin` ("script", the default,
+// "console" or "viewer"): front ends use it so that a replay can tell their changes apart
+int controller_set(lua_State* L) {
+    return protect(L, [&] {
+        Controller& c = check_controller(L, 1);
+        const std::string key = check_string(L, 2);
+        const double v = check_number(L, 3);
+        Origin origin = Origin::script;
+        if (!lua_isnoneornil(L, 4)) {
+            const std::string o = check_string(L, 4);
+            const auto parsed = parse_origin(o);
+            if (!parsed || *parsed == Origin::file) {
+                throw ArgError(4, "'script', 'console' or 'viewer' expected, got '" + o + "'");
+            }
+            origin = *parsed;
+        }
+        const int i = c.find_param(key);
+        if (i < 0) {
+            throw ArgError(2, fmt::format("controller '{}' has no parameter '{}'{}", c.name(), key,
+                                          did_you_mean(key, param_names(c))));
+        }
+        c.set_param(i, v, origin);
         return 0;
     });
 }
@@ -393,17 +419,9 @@ int class_load(lua_State* L) {
                 fmt::format("cannot load controller '{}': no file at {}", arg, path.string()));
         }
         const std::string chunk = path.lexically_normal().string();
-        run_controller_file(L, chunk, sandbox);
-        if (!luaL_testudata(L, -1, kControllerClassType)) {
-            const std::string t = type_name(L, -1);
-            throw Error(
-                fmt::format("{}: a controller file must return gaitlab.controller{{...}}, "
-                            "got {}",
-                            chunk, t));
-        }
+        Reloader::of(L).load(L, chunk, sandbox);
         lua_pushvalue(L, -1);
         lua_setfield(L, lua_upvalueindex(1), key.c_str());
-        Reloader::of(L).watch(*static_cast<ClassPtr*>(lua_touserdata(L, -1)), chunk, sandbox);
         return 1;
     });
 }
@@ -423,8 +441,10 @@ int class_reload(lua_State* L) {
 }  // namespace
 
 void open_controller(lua_State* L) {
-    const luaL_Reg methods[] = {
-        {"params", controller_params}, {"values", controller_values}, {nullptr, nullptr}};
+    const luaL_Reg methods[] = {{"params", controller_params},
+                                {"values", controller_values},
+                                {"set", controller_set},
+                                {nullptr, nullptr}};
     luaL_newmetatable(L, kControllerType);
     lua_newtable(L);
     luaL_setfuncs(L, methods, 0);

@@ -7,8 +7,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -19,6 +21,23 @@ extern char** environ;
 namespace {
 
 const std::string kScripts = GAITLAB_SOURCE_DIR "/tests/cli/scripts";
+
+// a fresh folder for one test, removed with what it holds (temp_dir.h's, which cannot be used
+// here: its namespace gaitlab would hide the gaitlab() helper below)
+struct TempDir {
+    explicit TempDir(const std::string& name) {
+        std::string t = "/tmp/gaitlab_" + name + ".XXXXXX";
+        path = mkdtemp(t.data()) ? t : std::string();
+        REQUIRE(!path.empty());
+    }
+    ~TempDir() {
+        std::error_code ec;
+        std::filesystem::remove_all(path, ec);
+    }
+    std::string operator/(const std::string& name) const { return path + "/" + name; }
+    std::string str() const { return path; }
+    std::string path;
+};
 
 struct Run {
     int status = -1;  // exit status, or -1 if the process did not exit normally
@@ -33,8 +52,14 @@ std::string slurp(const std::string& path) {
     return s.str();
 }
 
-// runs the gaitlab executable with `args` in directory `cwd`, capturing stdout and stderr
-Run gaitlab(const std::vector<std::string>& args, const std::string& cwd = kScripts) {
+// runs the gaitlab executable with `args` in directory `cwd`, capturing stdout and stderr.
+// `gaitlab run` records by default: the tests record only where they say (--record DIR), so
+// the source tree stays clean
+Run gaitlab(std::vector<std::string> args, const std::string& cwd = kScripts) {
+    if (!args.empty() && args[0] == "run" &&
+        std::find(args.begin(), args.end(), "--record") == args.end()) {
+        args.insert(args.begin() + 1, "--no-record");
+    }
     char dir_template[] = "/tmp/gaitlab_cli_test.XXXXXX";
     const char* dir = mkdtemp(dir_template);
     REQUIRE(dir != nullptr);
@@ -89,13 +114,18 @@ void check_failure(const Run& r, const std::string& line) {
 }  // namespace
 
 TEST_CASE("the bare form runs a script like 'gaitlab run'", "[cli]") {
-    const Run r = gaitlab({"examples/first_snake.lua"}, GAITLAB_SOURCE_DIR);
+    // the README's command: a printed result, and one line saying where the run was recorded
+    TempDir cwd("cli_bare");
+    const Run r = gaitlab({GAITLAB_SOURCE_DIR "/examples/first_snake.lua"}, cwd.str());
     CHECK(r.status == 0);
-    CHECK(r.err.empty());
     CHECK_THAT(r.out, Catch::Matches(R"(moved [0-9.]+ m \(x -?[0-9.]+, y -?[0-9.]+\)\n)"));
+    CHECK_THAT(r.err, Catch::Matches(R"(recorded runs/first_snake-[0-9]{8}-[0-9]{6}\n)"));
+    const std::string dir = cwd / r.err.substr(9, r.err.size() - 10);
+    CHECK(std::filesystem::exists(dir + "/data.csv"));
     // same simulation, same output
     const Run s = gaitlab({"run", "examples/first_snake.lua"}, GAITLAB_SOURCE_DIR);
     CHECK(s.status == 0);
+    CHECK(s.err.empty());
     CHECK(s.out == r.out);
 }
 

@@ -65,6 +65,9 @@ struct RunContext {
     std::vector<std::string> args;  ///< the script's arguments
     std::uint64_t script_seed = 0;  ///< the seed of the script's random numbers (--seed)
     int simulation = 1;             ///< which simulation (1-based, in creation order) this is
+    /// what started the recording: "simulation" (when it was created) or "record" (a later
+    /// call of sim:record); a replay starts it at the same point
+    std::string started_by = "simulation";
     std::vector<ConfigFile> files;
     /// extra provenance, e.g. {"lua", "Lua 5.4.4"}, {"command", "gaitlab run ..."}
     std::vector<std::pair<std::string, std::string>> provenance;

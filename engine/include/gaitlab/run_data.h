@@ -42,7 +42,8 @@ struct RunMeta {
     std::string script;               ///< config-relative path of the script ("" if none)
     std::vector<std::string> args;
     std::uint64_t script_seed = 0;
-    std::vector<ConfigFile> files;  ///< without content (read config/PATH)
+    std::string started_by = "simulation";  ///< "simulation" or "record" (see RunContext)
+    std::vector<ConfigFile> files;          ///< without content (read config/PATH)
     std::vector<std::pair<std::string, std::string>> provenance;
 };
 
@@ -72,6 +73,8 @@ class RunData {
     /// Several at once (one pass over the file).
     std::vector<SeriesData> get(const std::vector<std::string>& names, double from = -kInf,
                                 double to = kInf) const;
+    /// The time column of every complete row, s.
+    std::vector<double> times() const;
     /// Complete rows in data.csv (reads the file).
     long rows() const;
     /// Whether data.csv ends in a partly written line (dropped by every read).
