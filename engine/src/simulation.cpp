@@ -295,6 +295,7 @@ void Simulation::run(double seconds) {
 }
 
 void Simulation::reset(Origin origin) {
+    const long at = ticks();
     scheduler_.reset();
     for (DriveSlot& d : drives_) {
         d.drive.controller->set_failed(false);
@@ -304,10 +305,12 @@ void Simulation::reset(Origin origin) {
     std::fill(targets_.begin(), targets_.end(), 0.0);
     std::fill(commands_.begin(), commands_.end(), 0.0);
     build();
+    // stamped with the tick it happened at, like every other event (a replay applies it there)
     Event e;
     e.kind = EventKind::reset;
     e.origin = origin;
-    post_event(std::move(e));
+    e.tick = at;
+    dispatch(e);
 }
 
 Vec3 Simulation::robot_position(int robot) const {
@@ -402,6 +405,10 @@ void Simulation::remove_event_listener(int id) {
 
 void Simulation::post_event(Event event) {
     event.tick = ticks();
+    dispatch(event);
+}
+
+void Simulation::dispatch(const Event& event) {
     // a copy: a listener may add or remove listeners (events are rare, copying is cheap)
     const auto listeners = listeners_;
     for (const auto& l : listeners)

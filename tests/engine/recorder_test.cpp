@@ -256,7 +256,7 @@ TEST_CASE("parameter changes and resets are events with their tick and origin", 
     CHECK(ev[1].name == "sine.frequency");
     CHECK(ev[2].kind == EventKind::reset);
     CHECK(ev[2].origin == Origin::console);
-    CHECK(ev[2].tick == 0);
+    CHECK(ev[2].tick == 200);  // when it happened
     // after the reset the rows start again at t = 0, with the state the reset made
     const SeriesData a = run.get("sine.amplitude");
     const SeriesData x = run.get("snake.com.x");

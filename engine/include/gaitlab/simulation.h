@@ -85,7 +85,7 @@ class Simulation {
     /// Advances round(seconds / dt) ticks.
     void run(double seconds);
     /// Rebuilds the physics from the spec, time 0, controllers reset (parameters kept); posts
-    /// a reset event.
+    /// a reset event stamped with the tick it happened at.
     void reset(Origin origin = Origin::script);
 
     /// Adds a drive to robot r while the simulation exists; throws SpecError. After time 0 it
@@ -163,6 +163,7 @@ class Simulation {
     void build();
     void check_robot(int robot) const;
     void check_drive(int drive) const;
+    void dispatch(const Event& event);
     std::string unique_label(const std::string& base);
     // marks the drive's controller failed and freezes its targets at the measured angles
     void fail(DriveSlot& d, const std::exception& e);
