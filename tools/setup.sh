@@ -8,6 +8,7 @@ packages=(
     liblua5.4-dev lua5.4
     libbullet-dev libeigen3-dev libfmt-dev libtinyxml2-dev
     catch2 libcli11-dev libbenchmark-dev libedit-dev
+    gnuplot-nox libpng-dev valgrind
 )
 
 missing=()
