@@ -98,12 +98,9 @@ class RobotSource final : public SeriesSource {
     // mechanical power of each servo, and its integral |P| dt, every tick
     void tick(const Simulation& sim) override {
         const double dt = sim.options().dt;
-        for (int j = 0; j < joints_; ++j) {
-            const JointState s = sim.joint(robot_, j);
-            const double p = s.torque * s.velocity;
-            power_[static_cast<size_t>(j)] = p;
-            energy_[static_cast<size_t>(j)] += std::abs(p) * dt;
-        }
+        sim.joint_powers(robot_, power_.data());
+        for (size_t j = 0; j < power_.size(); ++j)
+            energy_[j] += std::abs(power_[j]) * dt;
     }
 
     void sample(const Simulation& sim, double* out) override {

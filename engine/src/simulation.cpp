@@ -359,6 +359,14 @@ JointState Simulation::joint(int robot, int j) const {
     return s;
 }
 
+void Simulation::joint_powers(int robot, double* out) const {
+    check_robot(robot);
+    const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.joints.size());
+    const int first = robots_[static_cast<size_t>(robot)].first_joint;
+    for (int j = 0; j < n; ++j)
+        out[j] = physics_->torque(first + j) * physics_->velocity(first + j);
+}
+
 JointError Simulation::joint_error(int robot, int j) const {
     check_robot(robot);
     const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.joints.size());

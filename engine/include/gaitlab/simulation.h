@@ -117,6 +117,9 @@ class Simulation {
     Vec3 robot_displacement(int robot) const;
     BodyState body(int robot, int body) const;
     JointState joint(int robot, int joint) const;
+    /// Mechanical power of every servo of robot r, torque × velocity, W, into
+    /// out[0 .. joints) (cheaper than joint() for each).
+    void joint_powers(int robot, double* out) const;
     JointError joint_error(int robot, int joint) const;
     /// Contact points in the last physics step.
     int contact_count() const;

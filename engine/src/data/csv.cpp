@@ -26,8 +26,11 @@ void append_number(std::string& out, double v) {
         out.append("nan");
         return;
     }
-    // fmt's default for a double is the shortest decimal that reads back to the same bits
-    fmt::format_to(std::back_inserter(out), "{}", v);
+    // the shortest decimal that reads back to the same bits (to_chars without a precision),
+    // into a local buffer: the recorder writes hundreds of numbers per row
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    out.append(buf, static_cast<size_t>(r.ptr - buf));
 }
 
 std::string csv_line(const std::vector<std::string>& fields) {
