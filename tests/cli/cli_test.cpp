@@ -316,6 +316,21 @@ TEST_CASE("gaitlab run records into --record DIR, or nothing with --no-record", 
           slurp(kScripts + "/controllers/bad_step.lua"));
 }
 
+TEST_CASE("each simulation of a script gets its own run folder", "[cli][data]") {
+    TempDir tmp("cli_two");
+    const Run r = cli({"run", "--record", tmp / "run", "two_sims.lua"});
+    CHECK(r.status == 0);
+    CHECK(r.err == "recorded 2 runs: " + (tmp / "run") + ", " + (tmp / "run-2") + "\n");
+    CHECK(gaitlab::RunData(tmp / "run").meta().simulation == 1);
+    CHECK(gaitlab::RunData(tmp / "run-2").meta().simulation == 2);
+    CHECK(gaitlab::RunData(tmp / "run-2").series()[0].name == "worm3.com.x");
+    // replaying the second one reruns the script and records only its second simulation
+    const Run p = cli({"replay", tmp / "run-2"});
+    CHECK(p.status == 0);
+    CHECK_THAT(p.out, Catch::StartsWith("replay identical: 4 rows x "));
+    CHECK_FALSE(std::filesystem::exists(tmp / "run-2-replay-2"));
+}
+
 TEST_CASE("gaitlab data lists, extracts, exports and plots series", "[cli][data]") {
     TempDir tmp("cli_data");
     REQUIRE(cli({"run", "--record", tmp / "run", kFirstSnake}, tmp.str()).status == 0);

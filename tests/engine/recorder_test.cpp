@@ -9,6 +9,9 @@
 #include <cstring>
 #include <filesystem>
 
+#include <fmt/format.h>
+
+#include "gaitlab/controllers/hopf.h"
 #include "gaitlab/error.h"
 #include "gaitlab/recorder.h"
 #include "gaitlab/run_data.h"
@@ -334,4 +337,33 @@ TEST_CASE("a write failure stops the run with a clear message and keeps what was
     CHECK_THAT(run.meta().message, Catch::Contains("File too large"));
     CHECK_THAT(run.log(), Catch::Contains("recording stopped at t = "));
     rec.close();  // nothing more to do, no second error
+}
+
+TEST_CASE("every parameter and per-joint value of a controller is a series", "[recorder]") {
+    TempDir tmp("recorder_hopf");
+    Simulation sim(test::chain_world(5, Connection::pitch_pitch));
+    auto hopf = std::make_shared<controllers::Hopf>();
+    test::drive(sim, "pitch", hopf);
+    RecordOptions o;
+    o.dir = tmp / "run";
+    o.series = {"hopf.*"};
+    Recorder rec(sim, o);
+    sim.run(0.6);  // the last row is taken after the last control step's values
+    rec.close();
+    RunData run(tmp / "run");
+    CHECK(run.series().size() == 7 + 3 * 5);
+    const SeriesInfo& x3 = run.find("hopf.x[3]");
+    CHECK(x3.kind == SeriesKind::controller);
+    CHECK(x3.source == "hopf");
+    CHECK(x3.value == "x");
+    CHECK(x3.joint == 3);
+    CHECK(run.find("hopf.convergence").unit == "1/s");
+    for (const char* v : {"x", "y", "angle"}) {
+        const std::vector<double>& now = hopf->values(hopf->find_value(v));
+        for (int m = 1; m <= 5; ++m) {
+            const SeriesData d = run.get(fmt::format("hopf.{}[{}]", v, m));
+            CHECK(d.values.back() == now[static_cast<size_t>(m - 1)]);
+        }
+    }
+    CHECK(run.get("hopf.frequency").values.back() == 0.5);
 }

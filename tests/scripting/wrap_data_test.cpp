@@ -206,3 +206,31 @@ TEST_CASE("live buffers keep the latest samples of chosen series", "[wrap_data]"
     CHECK(lua.error_of("sim:live{ size = 1, sample_every = 0 }") ==
           "test:1: bad argument #1 to 'live' (field 'sample_every': at least 1 expected)");
 }
+
+TEST_CASE("a Lua controller's parameters and values are recorded like a built-in's",
+          "[wrap_data]") {
+    TempDir tmp("wrap_data_lua");
+    LuaFixture lua;
+    lua.run("DIR = '" + tmp / "run" + "'");
+    lua.run("FILE = '" GAITLAB_SOURCE_DIR "/examples/controllers/my_sine.lua'");
+    lua.run(R"(
+        local MySine = gaitlab.controller.load(FILE)
+        robot = gaitlab.robot.chain{ name = "snake", modules = 4 }
+        world = gaitlab.world()
+        world:add(robot)
+        ctl = robot:group("pitch"):drive(MySine{ amplitude = 30 })
+        sim = gaitlab.simulation{ world = world, record = DIR }
+        sim:run(0.51)  -- the last row (0.51 s) holds the values of the last control step
+        sim:record(false)
+        run = gaitlab.data.open(DIR)
+        t = run:get("my_sine.time[4]")
+        a = run:get("my_sine.angle[2]")
+    )");
+    CHECK(lua.number("t.values[#t.values]") == lua.number("ctl:values().time[4]"));
+    CHECK(lua.number("a.values[#a.values]") == lua.number("ctl:values().angle[2]"));
+    CHECK(lua.string("run:get('my_sine.frequency').unit") == "Hz");
+    CHECK(lua.number("run:get('my_sine.amplitude').values[1]") == 30);
+    // the controller file is in the run folder, as it ran
+    CHECK(read_text(tmp / "run/config/external/1-my_sine.lua") ==
+          read_text(GAITLAB_SOURCE_DIR "/examples/controllers/my_sine.lua"));
+}
