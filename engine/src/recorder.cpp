@@ -127,10 +127,15 @@ std::string default_run_dir(const std::string& root, const std::string& name) {
     std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
     const std::string base =
         (fs::path(root) / fmt::format("{}-{}", name.empty() ? "run" : name, stamp)).string();
-    std::string dir = base;
+    // the folder is made here, so two runs started in the same second never share one
     std::error_code ec;
-    for (int k = 2; fs::exists(dir, ec); ++k)
+    fs::create_directories(root.empty() ? "." : root, ec);
+    std::string dir = base;
+    for (int k = 2; k < 10000; ++k) {
+        if (fs::create_directory(dir, ec)) return dir;
+        if (ec) return dir;  // the recorder reports why it cannot be made
         dir = fmt::format("{}-{}", base, k);
+    }
     return dir;
 }
 

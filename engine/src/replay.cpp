@@ -26,6 +26,12 @@ EventReplay::EventReplay(Simulation& sim, std::vector<Event> events, Apply apply
 }
 
 EventReplay::~EventReplay() {
+    detach();
+}
+
+void EventReplay::detach() {
+    if (!attached_) return;
+    attached_ = false;
     sim_.remove_pre_tick(hook_);
     sim_.remove_event_listener(listener_);
 }

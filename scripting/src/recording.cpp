@@ -1,5 +1,7 @@
 #include "recording.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include <fmt/format.h>
@@ -19,23 +21,51 @@ constexpr const char* kRecordingsType = "gaitlab.Recordings";
 
 // print(...) as Lua's, to stdout (unless a replay mutes it) and to the logs of the recordings
 int l_print(lua_State* L) {
+    // the conversions may raise Lua errors: done before any C++ object exists
     const int n = lua_gettop(L);
-    std::string line;
-    for (int i = 1; i <= n; ++i) {
-        size_t len = 0;
-        const char* s = luaL_tolstring(L, i, &len);
-        if (i > 1) line += '\t';
-        line.append(s, len);
-        lua_pop(L, 1);
+    for (int i = 1; i <= n; ++i)
+        luaL_tolstring(L, i, nullptr);
+    return protect(L, [&] {
+        std::string line;
+        for (int i = 1; i <= n; ++i) {
+            size_t len = 0;
+            const char* s = lua_tolstring(L, n + i, &len);
+            if (i > 1) line += '\t';
+            line.append(s, len);
+        }
+        Recordings& r = Recordings::of(L);
+        if (r.print_to_stdout) {
+            std::fwrite(line.data(), 1, line.size(), stdout);
+            std::fputc('\n', stdout);
+            std::fflush(stdout);
+        }
+        r.log_line(line);
+        return 0;
+    });
+}
+
+// os.exit(...) ends the process without closing the Lua state: close the recordings first
+// ("finished", or "failed" for a failure status), then exit as Lua's os.exit does
+int l_exit(lua_State* L) {
+    bool ok = true;
+    if (lua_isboolean(L, 1)) {
+        ok = lua_toboolean(L, 1);
+    } else if (!lua_isnoneornil(L, 1)) {
+        ok = luaL_optinteger(L, 1, 0) == 0;
     }
-    Recordings& r = Recordings::of(L);
-    if (r.print_to_stdout) {
-        std::fwrite(line.data(), 1, line.size(), stdout);
-        std::fputc('\n', stdout);
-        std::fflush(stdout);
-    }
-    r.log_line(line);
-    return 0;
+    protect(L, [&] {
+        try {
+            Recordings::of(L).finish(ok ? "" : "the script called os.exit with a failure status");
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        }
+        return 0;
+    });
+    std::fflush(stdout);
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_insert(L, 1);
+    lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+    return lua_gettop(L);
 }
 
 bool same_options(const SimulationOptions& a, const SimulationOptions& b) {
@@ -66,6 +96,12 @@ void Recordings::install(lua_State* L) {
     lua_setfield(L, LUA_REGISTRYINDEX, kRecordingsKey);
     lua_pushcfunction(L, l_print);
     lua_setglobal(L, "print");
+    if (lua_getglobal(L, "os") == LUA_TTABLE) {
+        lua_getfield(L, -1, "exit");
+        lua_pushcclosure(L, l_exit, 1);
+        lua_setfield(L, -2, "exit");
+    }
+    lua_pop(L, 1);
     // every controller file that loads or reloads goes into the run folders, and a reload is
     // an event of every simulation (a replay applies it again at the same tick)
     Reloader::of(L).set_observer([](lua_State* S, const Reloader::Change& c) {
@@ -170,6 +206,13 @@ void Recordings::begin_replay(lua_State* L, SimulationHandle& h, const std::stri
 
 void Recordings::created(lua_State* L, SimulationHandle& h, const RecordRequest& request) {
     h.index = ++created_;
+    // scripts may make thousands of simulations: forget the ones that are gone
+    sims_.erase(
+        std::remove_if(sims_.begin(), sims_.end(), [](const auto& w) { return w.expired(); }),
+        sims_.end());
+    recorders_.erase(std::remove_if(recorders_.begin(), recorders_.end(),
+                                    [](const auto& w) { return w.expired(); }),
+                     recorders_.end());
     sims_.push_back(h.sim);
     if (replay) {
         if (h.index == replay->simulation && replay->started_by == "simulation") {
@@ -201,6 +244,8 @@ std::string Recordings::start(lua_State* L, SimulationHandle& h, const RecordReq
 
 void Recordings::stop(SimulationHandle& h) {
     if (h.recorder) h.recorder->close();
+    // a replay follows the run only while it recorded
+    if (replay && replay->sim == h.sim && replay->replay) replay->replay->detach();
 }
 
 void Recordings::finish(const std::string& error) {

@@ -331,6 +331,22 @@ TEST_CASE("each simulation of a script gets its own run folder", "[cli][data]") 
     CHECK_FALSE(std::filesystem::exists(tmp / "run-2-replay-2"));
 }
 
+TEST_CASE("os.exit closes the run folders first", "[cli][data]") {
+    TempDir tmp("cli_exit");
+    const Run ok = cli({"run", "--record", tmp / "ok", "exits.lua"});
+    CHECK(ok.status == 0);
+    CHECK(ok.out == "leaving\n");
+    const gaitlab::RunData a(tmp / "ok");
+    CHECK(a.meta().status == "finished");
+    CHECK(a.rows() == 34);  // all of it, though the flush period is a minute
+    CHECK_THAT(a.log(), Catch::Contains("\nleaving\n"));
+    const Run bad = cli({"run", "--record", tmp / "bad", "exits.lua", "4"});
+    CHECK(bad.status == 4);
+    const gaitlab::RunData b(tmp / "bad");
+    CHECK(b.meta().status == "failed");
+    CHECK(b.meta().message == "the script called os.exit with a failure status");
+}
+
 TEST_CASE("gaitlab data lists, extracts, exports and plots series", "[cli][data]") {
     TempDir tmp("cli_data");
     REQUIRE(cli({"run", "--record", tmp / "run", kFirstSnake}, tmp.str()).status == 0);

@@ -73,7 +73,8 @@ struct RunContext {
     std::vector<std::pair<std::string, std::string>> provenance;
 };
 
-/// "<root>/<name>-<YYYYmmdd-HHMMSS>" (local time), with "-2", "-3", ... when that exists.
+/// Makes and returns "<root>/<name>-<YYYYmmdd-HHMMSS>" (local time), with "-2", "-3", ... when
+/// that exists (made here, so concurrent runs never get the same folder).
 std::string default_run_dir(const std::string& root, const std::string& name);
 
 /// Provenance of this build and machine: gaitlab, bullet, compiler, cpu, cores, os, host, date.

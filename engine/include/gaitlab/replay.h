@@ -47,6 +47,8 @@ class EventReplay {
     size_t matched() const { return next_; }
     /// Whether the replay stopped at stop_tick.
     bool ended() const { return ended_; }
+    /// Stops following the simulation (its recording stopped); the results stay.
+    void detach();
 
   private:
     void on_event(const Event& e);
@@ -64,6 +66,7 @@ class EventReplay {
     std::string divergence_;
     int hook_ = 0;
     int listener_ = 0;
+    bool attached_ = true;
 };
 
 }  // namespace gaitlab
