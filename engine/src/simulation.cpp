@@ -274,16 +274,30 @@ void Simulation::fail(DriveSlot& d, const std::exception& e) {
 }
 
 void Simulation::step(long ticks) {
-    pre_ticks_.erase(std::remove_if(pre_ticks_.begin(), pre_ticks_.end(),
-                                    [](const auto& h) { return !h.second; }),
-                     pre_ticks_.end());
     for (long i = 0; i < ticks; ++i) {
-        // by index: a hook may add or remove hooks (removal only empties the slot)
-        for (size_t k = 0; k < pre_ticks_.size(); ++k) {
-            if (pre_ticks_[k].second) pre_ticks_[k].second(*this);
-        }
+        if (!pre_ticks_.empty() || !added_pre_ticks_.empty()) run_pre_ticks();
         scheduler_.tick(*phases_);
     }
+}
+
+void Simulation::run_pre_ticks() {
+    // hooks added or removed by a hook take effect here, never while the list is walked
+    for (auto& h : added_pre_ticks_)
+        pre_ticks_.push_back(std::move(h));
+    added_pre_ticks_.clear();
+    pre_ticks_.erase(std::remove_if(pre_ticks_.begin(), pre_ticks_.end(),
+                                    [](const PreTick& h) { return !h.live; }),
+                     pre_ticks_.end());
+    in_pre_ticks_ = true;
+    try {
+        for (PreTick& h : pre_ticks_) {
+            if (h.live) h.fn(*this);
+        }
+    } catch (...) {
+        in_pre_ticks_ = false;
+        throw;
+    }
+    in_pre_ticks_ = false;
 }
 
 void Simulation::run(double seconds) {
@@ -390,13 +404,17 @@ void Simulation::remove_observer(int id) {
 }
 
 int Simulation::add_pre_tick(std::function<void(Simulation&)> fn) {
-    pre_ticks_.emplace_back(next_observer_, std::move(fn));
+    auto& list = in_pre_ticks_ ? added_pre_ticks_ : pre_ticks_;
+    list.push_back(PreTick{next_observer_, true, std::move(fn)});
     return next_observer_++;
 }
 
 void Simulation::remove_pre_tick(int id) {
-    for (auto& h : pre_ticks_) {
-        if (h.first == id) h.second = nullptr;
+    // only marked: a hook may be running (it is dropped at the next step)
+    for (auto* list : {&pre_ticks_, &added_pre_ticks_}) {
+        for (PreTick& h : *list) {
+            if (h.id == id) h.live = false;
+        }
     }
 }
 

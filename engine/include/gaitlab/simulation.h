@@ -182,8 +182,15 @@ class Simulation {
     std::vector<double> targets_;   // per global joint, rad, summed in think
     std::vector<double> commands_;  // per global joint, rad/s, computed in act
     std::vector<std::pair<int, std::function<void(const Simulation&)>>> observers_;
-    // removed pre-tick hooks leave an empty function until the next step() compacts the list
-    std::vector<std::pair<int, std::function<void(Simulation&)>>> pre_ticks_;
+    struct PreTick {
+        int id;
+        bool live;  // false once removed; dropped at the next step()
+        std::function<void(Simulation&)> fn;
+    };
+    void run_pre_ticks();
+    std::vector<PreTick> pre_ticks_;
+    std::vector<PreTick> added_pre_ticks_;  // added while the hooks run
+    bool in_pre_ticks_ = false;
     std::vector<std::pair<int, std::function<void(const Simulation&, const Event&)>>> listeners_;
     int next_observer_ = 1;
     std::set<std::string> labels_;
