@@ -59,6 +59,8 @@ class Reloader {
     using SourceOverride =
         std::function<std::optional<std::string>(size_t index, std::uint64_t version)>;
     void set_source_override(SourceOverride fn) { override_ = std::move(fn); }
+    /// Whether the next file to load has overriding code (then it need not exist).
+    bool has_override() const { return override_ && override_(files_.size(), 0).has_value(); }
     /// Replay: no checks of the files for changes (recorded reloads are applied instead).
     void set_polling(bool on) { polling_ = on; }
 

@@ -117,6 +117,9 @@ LuaHost::LuaHost() : L_(luaL_newstate()) {
     luaL_openlibs(L_);
     luaL_requiref(L_, "gaitlab", luaopen_gaitlab, 1);
     lua_pop(L_, 1);
+    // Lua 5.4 seeds math.random from the clock: seed 0 unless told otherwise, so every run is
+    // reproducible and its recorded seed is true
+    seed(0);
 }
 
 LuaHost::~LuaHost() {

@@ -153,6 +153,35 @@ TEST_CASE("a controller file changed on disk during the run replays its new vers
     CHECK(r.applied == 1);
 }
 
+TEST_CASE("a controller file from outside the script's folder replays from the run's copy",
+          "[replay]") {
+    TempDir tmp("replay_external");
+    fs::create_directories(tmp.path / "lib");
+    fs::create_directories(tmp.path / "src");
+    write_text(tmp / "lib/wave.lua", kController);
+    std::string script = kScript;
+    script.replace(script.find("\"controllers/wave.lua\""), 22, "\"../lib/wave.lua\"");
+    write_text(tmp / "src/snake.lua", script);
+    {
+        scripting::LuaHost host;
+        scripting::RecordSettings s;
+        s.dir = tmp / "run";
+        s.by_default = true;
+        s.script = tmp / "src/snake.lua";
+        host.set_recording(s);
+        host.set_print(false);
+        host.run_file(s.script);
+        host.finish();
+    }
+    CHECK(read_text(tmp / "run/config/external/1-wave.lua") == kController);
+    // the original is gone: the replay runs the copy
+    fs::remove_all(tmp.path / "lib");
+    const scripting::ReplayResult r = scripting::replay(tmp / "run");
+    INFO(r.divergence << " / " << r.comparison.difference);
+    CHECK(r.script_error.empty());
+    CHECK(r.ok());
+}
+
 TEST_CASE("a run cut short replays up to its last row", "[replay]") {
     TempDir tmp("replay_short");
     record(tmp, [](Simulation&) {});

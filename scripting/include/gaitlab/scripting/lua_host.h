@@ -67,7 +67,7 @@ class LuaHost {
 
     lua_State* state() const { return L_; }
 
-    /// Seeds math.random, so scripts that use it are reproducible.
+    /// Seeds math.random, so scripts that use it are reproducible (a new host has seed 0).
     void seed(std::uint64_t seed);
     /// Sets the global `arg` table as lua.c does: arg[0] = script, arg[1..] = args.
     void set_args(const std::string& script, const std::vector<std::string>& args);
