@@ -4,6 +4,8 @@
 
 #include <filesystem>
 
+#include <fmt/format.h>
+
 #include "gaitlab/error.h"
 #include "gaitlab/recorder.h"
 #include "gaitlab/run_data.h"
@@ -45,6 +47,9 @@ TEST_CASE("series by name, by kind + value + joint, and over a time range", "[ru
     // the sine's own value: A sin(2 pi f t + (m - 1) phase) at the last control step
     CHECK(a.values[33] == Approx(40 * std::sin(2 * kPi * 0.5 * 0.99 + kPi * 120 / 180)));
 
+    // before the first step no servo has acted (Bullet's feedback starts at zero)
+    for (int j = 1; j <= 4; ++j)
+        CHECK(run.get(fmt::format("snake.torque[{}]", j)).values[0] == 0);
     CHECK(run.find(SeriesKind::robot, "angle", 3).name == "snake.angle[3]");
     CHECK(run.find(SeriesKind::robot, "energy", 0).name == "snake.energy");
     CHECK(run.find(SeriesKind::controller, "amplitude", 0, "sine").name == "sine.amplitude");

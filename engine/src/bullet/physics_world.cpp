@@ -155,8 +155,15 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
             s.joints.push_back(joint);
         }
     }
-    // feedback pointers must stay put: set them once the joints vector is complete
+    // feedback pointers must stay put: set them once the joints vector is complete. Bullet
+    // leaves the feedback uninitialized until the first step: zero, so torques read before it
+    // (a recording's first row) are 0, not whatever the memory held
     for (Impl::Joint& j : s.joints) {
+        const btVector3 zero(0, 0, 0);
+        j.feedback.m_appliedForceBodyA = zero;
+        j.feedback.m_appliedTorqueBodyA = zero;
+        j.feedback.m_appliedForceBodyB = zero;
+        j.feedback.m_appliedTorqueBodyB = zero;
         j.hinge->setJointFeedback(&j.feedback);
         j.hinge->enableFeedback(true);
     }
