@@ -105,7 +105,7 @@ void Recordings::install(lua_State* L) {
     // every controller file that loads or reloads goes into the run folders, and a reload is
     // an event of every simulation (a replay applies it again at the same tick)
     Reloader::of(L).set_observer([](lua_State* S, const Reloader::Change& c) {
-        Recordings::of(S).on_file(S, c.index, c.chunk, c.source, c.version, c.origin);
+        Recordings::of(S).on_file(c.index, c.chunk, c.source, c.version, c.origin);
     });
 }
 
@@ -269,8 +269,8 @@ void Recordings::log_line(const std::string& line) {
     }
 }
 
-void Recordings::on_file(lua_State* L, size_t index, const std::string& chunk,
-                         const std::string& source, std::uint64_t version, Origin origin) {
+void Recordings::on_file(size_t index, const std::string& chunk, const std::string& source,
+                         std::uint64_t version, Origin origin) {
     const std::string path = config_path(index, chunk);
     ConfigFile f;
     f.origin = chunk;
@@ -298,7 +298,6 @@ void Recordings::on_file(lua_State* L, size_t index, const std::string& chunk,
     for (const auto& w : sims_) {
         if (auto sim = w.lock()) sim->post_event(e);
     }
-    (void)L;
 }
 
 }  // namespace gaitlab::scripting

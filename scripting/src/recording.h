@@ -97,7 +97,9 @@ class Recordings {
     std::string config_path(size_t index, const std::string& chunk) const;
     // where version `version` of controller file `index` (at config path `path`) goes
     static std::string reload_path(size_t index, const std::string& path, std::uint64_t version);
-    void on_file(lua_State* L, size_t index, const std::string& chunk, const std::string& source,
+    // a controller file loaded (version 0) or reloaded: copied into the open run folders; a
+    // reload is also an event of every simulation
+    void on_file(size_t index, const std::string& chunk, const std::string& source,
                  std::uint64_t version, Origin origin);
 
     int created_ = 0;
