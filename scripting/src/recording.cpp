@@ -139,6 +139,8 @@ RunContext Recordings::context(lua_State* L, int index, const std::string& start
         c.script = fs::path(settings.script).filename().string();
         c.files.push_back({"script", c.script, settings.script, script_source, "", 0});
     }
+    for (const ConfigFile& f : settings.files)
+        c.files.push_back(f);
     const std::vector<Reloader::FileRecord> files = Reloader::of(L).history();
     for (size_t k = 0; k < files.size(); ++k) {
         const std::string path = config_path(k, files[k].chunk);

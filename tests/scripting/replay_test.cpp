@@ -61,6 +61,9 @@ void record(const TempDir& tmp, const std::function<void(Simulation&)>& outside,
     host.seed(5);
     host.set_reload_interval(reload_interval);
     host.set_print(false);
+    // configuration a host adds itself (the XML parts, later) goes into config/ too
+    s.files.push_back({"master", "snake.xml", "/somewhere/snake.xml", "<gaitlab/>\n", "", 0});
+    host.set_recording(s);
     host.on_simulation([&](Simulation& sim, int) { sim.add_pre_tick(outside); });
     host.run_file(s.script);
     host.finish();
@@ -84,6 +87,8 @@ TEST_CASE("changes from a console replay at their ticks, bit for bit", "[replay]
     CHECK(run.meta().script_seed == 5);
     CHECK(read_text(tmp / "run/config/controllers/wave.lua") == kController);
     CHECK(read_text(tmp / "run/config/snake.lua") == kScript);
+    CHECK(read_text(tmp / "run/config/snake.xml") == "<gaitlab/>\n");
+    CHECK(run.meta().files[1].role == "master");
     CHECK_THAT(run.log(), Catch::Contains("\ndone\n"));
 
     const scripting::ReplayResult r = scripting::replay(tmp / "run");

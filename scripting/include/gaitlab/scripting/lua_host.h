@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "gaitlab/error.h"
+#include "gaitlab/recorder.h"
 
 struct lua_State;
 
@@ -32,6 +33,9 @@ struct RecordSettings {
     /// the script the host runs (LuaHost::run_file of this path is copied into run folders)
     std::string script;
     std::string command;  ///< the command line, kept as provenance
+    /// more configuration to copy into every run folder (the XML master and its parts, with
+    /// roles "master", "robot", "actuation", "environment"); paths relative to config/
+    std::vector<ConfigFile> files;
 };
 
 /// A Lua error, split into its parts (never parsed from strings after the fact).
