@@ -3,9 +3,11 @@
 //   gaitlab_bench overhead [--quick] [--reps R] [--seconds S]   gaitlab vs the raw Bullet loop
 //   gaitlab_bench lua      [--quick] [--reps R] [--seconds S]   Lua controller vs C++ sine
 //   gaitlab_bench accuracy [--quick] [--ce MS] [--jobs J]      displacement vs converged runs
+//   gaitlab_bench record   [--quick] [--reps R] [--seconds S]   gaitlab with and without recording
+//   gaitlab_bench memory   [--hours H] [--modules N] [--ce C]   memory over a long recorded run
 //   gaitlab_bench one --impl raw|gaitlab|lua-sine|lua-controller [--conn pp|py] [--modules N]
 //                     [--ce C] [--iterations I] [--dt S] [--seconds S] [--controller NAME]
-//                     [--sensors none|off|on]
+//                     [--sensors none|off|on] [--record DIR]
 //
 // Timed runs measure the stepping loop only (the scene is built before the clock starts), as
 // thread CPU time and wall time. Variants of one scenario run back to back and alternate their
@@ -32,6 +34,11 @@
 #define CALLGRIND_STOP_INSTRUMENTATION
 #endif
 
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "gaitlab/recorder.h"
 #include "gaitlab/simulation.h"
 #include "gaitlab_scene.h"
 #include "raw_bullet_loop.h"
@@ -125,7 +132,10 @@ Vec to_vec(const gaitlab::Vec3& v) {
     return {v.x, v.y, v.z};
 }
 
-Sample run_once(Impl impl, const Scenario& sc, const std::string& lua_file) {
+// `record_dir` non-empty (gaitlab only): every series recorded at every control tick into it,
+// the last write inside the timed loop
+Sample run_once(Impl impl, const Scenario& sc, const std::string& lua_file,
+                const std::string& record_dir = {}) {
     const long ticks = sc.ticks();
     switch (impl) {
         case Impl::raw: {
@@ -136,7 +146,19 @@ Sample run_once(Impl impl, const Scenario& sc, const std::string& lua_file) {
         }
         case Impl::gaitlab: {
             gaitlab::Simulation sim(make_world(sc), make_options(sc));
-            Sample s = time_loop([&](long n) { sim.step(n); }, ticks);
+            std::unique_ptr<gaitlab::Recorder> rec;
+            if (!record_dir.empty()) {
+                gaitlab::RecordOptions o;
+                o.dir = record_dir;
+                rec = std::make_unique<gaitlab::Recorder>(sim, o);
+            }
+            Sample s = time_loop(
+                [&](long n) {
+                    sim.step(n);
+                    if (rec) rec->flush();
+                },
+                ticks);
+            if (rec) rec->close();
             s.d = to_vec(sim.robot_displacement(0));
             return s;
         }
@@ -164,6 +186,8 @@ struct Args {
     Impl impl = Impl::gaitlab;
     Scenario one;
     std::string lua_file = default_lua_controller();
+    std::string record_dir;  // one: record into this folder
+    double hours = 1;        // memory: simulated hours
 };
 
 Args parse(int argc, char** argv) {
@@ -206,6 +230,10 @@ Args parse(int argc, char** argv) {
             a.one.sensors = value();
         } else if (k == "--lua-controller") {
             a.lua_file = value();
+        } else if (k == "--record") {
+            a.record_dir = value();
+        } else if (k == "--hours") {
+            a.hours = std::stod(value());
         } else {
             throw std::runtime_error("unknown option " + k);
         }
@@ -527,8 +555,131 @@ int cmd_accuracy(const Args& a) {
     return 0;
 }
 
+// a fresh temporary folder, removed with its content
+struct TempFolder {
+    std::filesystem::path path;
+    TempFolder() {
+        std::string t = (std::filesystem::temp_directory_path() / "gaitlab_bench.XXXXXX").string();
+        if (!mkdtemp(t.data())) throw std::runtime_error("cannot make a temporary folder");
+        path = t;
+    }
+    ~TempFolder() {
+        std::error_code ec;
+        std::filesystem::remove_all(path, ec);
+    }
+};
+
+// gaitlab with and without recording every series at every control tick, interleaved
+int cmd_record(const Args& a) {
+    const int reps = a.reps > 0 ? a.reps : (a.quick ? 3 : 5);
+    const double seconds = a.seconds > 0 ? a.seconds : (a.quick ? 5 : 10);
+    TempFolder tmp;
+    std::printf(
+        "\n### Recording every series at every control tick (thread CPU time per step, "
+        "%g simulated s, median of %d interleaved runs)\n\n",
+        seconds, reps);
+    std::printf(
+        "| scenario | series | gaitlab µs/step | recorded µs/step | ratio (CPU) | ratio "
+        "range | data.csv MB per simulated s | same trajectory |\n");
+    std::printf("|---|---|---|---|---|---|---|---|\n");
+    std::vector<double> ratios;
+    for (int ce : {30, 10}) {
+        for (bool py : {false, true}) {
+            Scenario sc;
+            sc.modules = 16;
+            sc.pitch_yaw = py;
+            sc.control_every = ce;
+            sc.seconds = seconds;
+            std::vector<double> plain, recorded, r;
+            bool same = true;
+            const std::string dir = (tmp.path / "run").string();
+            for (int rep = 0; rep < reps; ++rep) {
+                const bool first_plain = rep % 2 == 0;
+                Sample p, q;
+                if (first_plain) p = run_once(Impl::gaitlab, sc, "");
+                q = run_once(Impl::gaitlab, sc, "", dir);
+                if (!first_plain) p = run_once(Impl::gaitlab, sc, "");
+                plain.push_back(p.cpu_us);
+                recorded.push_back(q.cpu_us);
+                r.push_back(q.cpu_us / p.cpu_us);
+                same = same && p.d.x == q.d.x && p.d.y == q.d.y && p.d.z == q.d.z;
+                std::fprintf(stderr, "  %s repetition %d/%d done\n", sc.label().c_str(), rep + 1,
+                             reps);
+            }
+            const double mb =
+                static_cast<double>(std::filesystem::file_size(tmp.path / "run" / "data.csv")) /
+                1e6 / seconds;
+            const gaitlab::Simulation probe(make_world(sc), make_options(sc));
+            const size_t series = gaitlab::SeriesSet(probe).size();
+            std::printf("| %s | %zu | %.2f | %.2f | **%.3f** | %.3f–%.3f | %.2f | %s |\n",
+                        sc.label().c_str(), series, median(plain), median(recorded), median(r),
+                        min_of(r), max_of(r), mb, same ? "identical" : "DIFFERENT");
+            ratios.push_back(median(r));
+        }
+    }
+    double log_sum = 0;
+    for (double x : ratios)
+        log_sum += std::log(x);
+    std::printf("\ngeometric mean of the CPU ratios: %.3f (target ≤ 1.05)\n",
+                std::exp(log_sum / static_cast<double>(ratios.size())));
+    return 0;
+}
+
+// resident memory of this process, kB: (VmRSS, VmHWM)
+std::pair<long, long> memory_kb() {
+    std::ifstream in("/proc/self/status");
+    std::string line;
+    long rss = 0, hwm = 0;
+    while (std::getline(in, line)) {
+        if (line.rfind("VmRSS:", 0) == 0) rss = std::atol(line.c_str() + 6);
+        if (line.rfind("VmHWM:", 0) == 0) hwm = std::atol(line.c_str() + 6);
+    }
+    return {rss, hwm};
+}
+
+// a long recorded run: memory every 5 simulated minutes
+int cmd_memory(const Args& a) {
+    Scenario sc;
+    sc.modules = a.one.modules;
+    sc.control_every = a.ce > 0 ? a.ce : 30;
+    TempFolder tmp;
+    gaitlab::Simulation sim(make_world(sc), make_options(sc));
+    gaitlab::RecordOptions o;
+    o.dir = (tmp.path / "run").string();
+    gaitlab::Recorder rec(sim, o);
+    const long chunk = std::lround(300 / sc.dt);  // 5 simulated minutes
+    const long total = std::lround(a.hours * 3600 / sc.dt);
+    std::printf(
+        "\n### Memory over a recorded run: %s, every series (%zu) at every control tick, "
+        "%g simulated h\n\n",
+        sc.label().c_str(), rec.series().size(), a.hours);
+    std::printf("| simulated min | rows | data.csv MB | VmRSS MB | VmHWM MB | wall s |\n");
+    std::printf("|---|---|---|---|---|---|\n");
+    const Stopwatch w;
+    long first_rss = 0, last_rss = 0;
+    for (long done = 0; done < total; done += chunk) {
+        sim.step(std::min(chunk, total - done));
+        rec.flush();
+        const auto [rss, hwm] = memory_kb();
+        if (first_rss == 0) first_rss = rss;
+        last_rss = rss;
+        std::printf(
+            "| %.0f | %ld | %.1f | %.1f | %.1f | %.0f |\n", sim.time() / 60, rec.rows(),
+            static_cast<double>(std::filesystem::file_size(tmp.path / "run/data.csv")) / 1e6,
+            static_cast<double>(rss) / 1024, static_cast<double>(hwm) / 1024, w.wall());
+        std::fflush(stdout);
+    }
+    rec.close();
+    std::printf(
+        "\nresident memory after the first 5 simulated min: %.1f MB; at the end: %.1f MB "
+        "(%+.1f MB)\n",
+        static_cast<double>(first_rss) / 1024, static_cast<double>(last_rss) / 1024,
+        static_cast<double>(last_rss - first_rss) / 1024);
+    return 0;
+}
+
 int cmd_one(const Args& a) {
-    const Sample s = run_once(a.impl, a.one, a.lua_file);
+    const Sample s = run_once(a.impl, a.one, a.lua_file, a.record_dir);
     std::printf(
         "impl=%s scenario=\"%s\" ticks=%ld cpu_us_per_step=%.3f wall_us_per_step=%.3f "
         "dx=%.6f dy=%.6f dz=%.6f\n",
@@ -548,8 +699,10 @@ int main(int argc, char** argv) {
         if (a.command == "lua") return cmd_lua(a);
         if (a.command == "accuracy") return cmd_accuracy(a);
         if (a.command == "one") return cmd_one(a);
+        if (a.command == "record") return cmd_record(a);
+        if (a.command == "memory") return cmd_memory(a);
         throw std::runtime_error("unknown command '" + a.command +
-                                 "' (expected overhead, lua, accuracy or one)");
+                                 "' (expected overhead, lua, accuracy, record, memory or one)");
     } catch (const std::exception& e) {
         std::fprintf(stderr, "gaitlab_bench: %s\n", e.what());
         return 2;

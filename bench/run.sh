@@ -4,7 +4,8 @@
 #   bench/run.sh [--quick] [--no-build] [--only SECTION]...
 #
 # SECTION: overhead | lua | callgrind (incl. the built-in controllers) | sensors | process |
-# accuracy (default: all of them).
+# accuracy | record (recording cost, time and callgrind) | memory (a one-hour recorded run)
+# (default: all of them).
 # --quick: shorter runs, fewer repetitions and scenarios (about 3 minutes instead of about 10).
 # BUILD_DIR (default build-bench) selects the build directory.
 set -euo pipefail
@@ -22,7 +23,7 @@ while [ $# -gt 0 ]; do
     esac
     shift
 done
-[ ${#sections[@]} -eq 0 ] && sections=(overhead lua callgrind sensors process accuracy)
+[ ${#sections[@]} -eq 0 ] && sections=(overhead lua callgrind sensors process accuracy record memory)
 want() { local s; for s in "${sections[@]}"; do [ "$s" = "$1" ] && return 0; done; return 1; }
 
 if [ $do_build -eq 1 ]; then
@@ -199,4 +200,40 @@ if want process; then
 fi
 
 want accuracy && "$bench" accuracy "${q[@]}"
+
+# recording every series at every control tick of a 16-module robot: time, then instructions
+if want record; then
+    "$bench" record "${q[@]}"
+    if command -v valgrind >/dev/null; then
+        secs=1
+        [ $quick -eq 1 ] && secs=0.5
+        echo
+        echo "### Recording: instructions per step (callgrind, $secs simulated s), every series at every control tick"
+        echo
+        echo "| scenario | gaitlab Ir/step | recorded Ir/step | ratio |"
+        echo "|---|---|---|---|"
+        steps=$(awk -v s="$secs" 'BEGIN {printf "%d", s * 1000 + 0.5}')
+        for ce in 30 10; do
+            for conn in pp py; do
+                cg_ir gaitlab "$conn" 16 "$ce" "$secs" > "$work/ia" &
+                valgrind --tool=callgrind --instr-atstart=no \
+                    --callgrind-out-file="$work/cg.rec.$conn.$ce" "$bench" one --impl gaitlab \
+                    --conn "$conn" --modules 16 --ce "$ce" --seconds "$secs" \
+                    --record "$work/run.$conn.$ce" >/dev/null 2>&1 &
+                wait
+                ia=$(cat "$work/ia")
+                ib=$(awk '/^totals:/ {print $2}' "$work/cg.rec.$conn.$ce")
+                awk -v l="$conn""16 ce$ce" -v a="$ia" -v b="$ib" -v s="$steps" 'BEGIN {
+                    printf "| %s | %.0f | %.0f | **%.4f** |\n", l, a / s, b / s, b / a }'
+            done
+        done
+    fi
+fi
+
+# memory over one simulated hour of recording (4 modules to keep it to a few minutes)
+if want memory; then
+    hours=1
+    [ $quick -eq 1 ] && hours=0.25
+    "$bench" memory --hours "$hours" --modules 4 --ce 30
+fi
 exit 0

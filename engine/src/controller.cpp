@@ -66,7 +66,7 @@ double Controller::param(std::string_view name) const {
     return params_[i];
 }
 
-void Controller::set_param(int i, double value) {
+void Controller::set_param(int i, double value, Origin origin) {
     const ParamDef& p = def_.params[i];
     if (!(value >= p.min && value <= p.max)) {
         throw SpecError(fmt::format("{}.{} must be in [{}, {}]{}{} (got {})", def_.name, p.name,
@@ -76,15 +76,16 @@ void Controller::set_param(int i, double value) {
     if (params_[i] != value) {
         params_[i] = value;
         ++param_version_;
+        if (param_listener_) param_listener_(i, value, origin);
     }
 }
 
-void Controller::set_param(std::string_view name, double value) {
+void Controller::set_param(std::string_view name, double value, Origin origin) {
     const int i = find_param(name);
     if (i < 0) {
         throw SpecError(fmt::format("controller '{}' has no parameter '{}'", def_.name, name));
     }
-    set_param(i, value);
+    set_param(i, value, origin);
 }
 
 void Controller::bind(int joints) {
@@ -135,12 +136,18 @@ void Controller::redefine(ControllerDef def, std::vector<double> params) {
     def_ = std::move(def);
     params_ = std::move(params);
     ++param_version_;
+    ++def_version_;
     values_.assign(def_.values.size(), std::vector<double>(static_cast<size_t>(joints_), 0.0));
 }
 
 const std::vector<double>& Controller::values(int k) const {
     sync_values();
     return values_[k];
+}
+
+const std::vector<std::vector<double>>& Controller::all_values() const {
+    sync_values();
+    return values_;
 }
 
 int Controller::find_value(std::string_view name) const {

@@ -138,12 +138,13 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     phases_ = std::make_unique<Phases>(*this);
     int first_joint = 0;
     for (const PlacedRobot& r : world_.robots) {
+        RobotSlot slot;
+        slot.label = unique_label(r.robot.name);
         for (const JointSpec& j : r.robot.joints) {
             phases_->servos_.push_back(j.servo);
             phases_->min_.push_back(j.min_angle);
             phases_->max_.push_back(j.max_angle);
         }
-        RobotSlot slot;
         slot.first_joint = first_joint;
         first_joint += static_cast<int>(r.robot.joints.size());
         robots_.push_back(slot);
@@ -169,7 +170,18 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     build();
 }
 
-Simulation::~Simulation() = default;
+Simulation::~Simulation() {
+    // controllers may outlive the simulation (a Lua handle keeps them): stop telling it
+    for (DriveSlot& d : drives_)
+        d.drive.controller->set_param_listener(nullptr);
+}
+
+std::string Simulation::unique_label(const std::string& base) {
+    std::string label = base;
+    for (int k = 2; !labels_.insert(label).second; ++k)
+        label = fmt::format("{}_{}", base, k);
+    return label;
+}
 
 void Simulation::build() {
     physics_ = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations);
@@ -186,7 +198,13 @@ void Simulation::check_robot(int robot) const {
     }
 }
 
-void Simulation::add_drive(int robot, Drive drive) {
+void Simulation::check_drive(int drive) const {
+    if (drive < 0 || drive >= drive_count()) {
+        throw SpecError(fmt::format("drive index {} out of range [0, {})", drive, drive_count()));
+    }
+}
+
+void Simulation::add_drive(int robot, Drive drive, Origin origin) {
     check_robot(robot);
     const PlacedRobot& placed = world_.robots[static_cast<size_t>(robot)];
     const int nj = static_cast<int>(placed.robot.joints.size());
@@ -204,11 +222,65 @@ void Simulation::add_drive(int robot, Drive drive) {
         }
     }
     drive.controller->bind(static_cast<int>(drive.joints.size()));
-    DriveSlot slot{robot, drive, {}, std::vector<double>(drive.joints.size(), 0.0)};
+    DriveSlot slot{robot,
+                   drive,
+                   {},
+                   std::vector<double>(drive.joints.size(), 0.0),
+                   unique_label(drive.controller->name())};
     for (int j : drive.joints)
         slot.global_joints.push_back(robots_[robot].first_joint + j);
+    const int index = drive_count();
+    // parameter changes become events stamped with the tick they act from
+    drive.controller->set_param_listener([this, index](int param, double value, Origin o) {
+        Event e;
+        e.kind = EventKind::param;
+        e.origin = o;
+        e.name = drives_[static_cast<size_t>(index)].label + "." +
+                 drives_[static_cast<size_t>(index)].drive.controller->def().params[param].name;
+        e.value = value;
+        e.drive = index;
+        post_event(std::move(e));
+    });
     drives_.push_back(std::move(slot));
     world_.robots[static_cast<size_t>(robot)].actuation.push_back(std::move(drive));
+    if (physics_) {  // not while the constructor binds the drives of the spec
+        Event e;
+        e.kind = EventKind::drive;
+        e.origin = origin;
+        e.name = drives_.back().label;
+        e.drive = index;
+        post_event(std::move(e));
+    }
+}
+
+const std::string& Simulation::robot_label(int robot) const {
+    check_robot(robot);
+    return robots_[static_cast<size_t>(robot)].label;
+}
+
+const Controller& Simulation::controller(int drive) const {
+    check_drive(drive);
+    return *drives_[static_cast<size_t>(drive)].drive.controller;
+}
+
+Controller& Simulation::controller(int drive) {
+    check_drive(drive);
+    return *drives_[static_cast<size_t>(drive)].drive.controller;
+}
+
+int Simulation::drive_robot(int drive) const {
+    check_drive(drive);
+    return drives_[static_cast<size_t>(drive)].robot;
+}
+
+const std::vector<int>& Simulation::drive_joints(int drive) const {
+    check_drive(drive);
+    return drives_[static_cast<size_t>(drive)].drive.joints;
+}
+
+const std::string& Simulation::drive_label(int drive) const {
+    check_drive(drive);
+    return drives_[static_cast<size_t>(drive)].label;
 }
 
 void Simulation::fail(DriveSlot& d, const std::exception& e) {
@@ -224,6 +296,7 @@ void Simulation::fail(DriveSlot& d, const std::exception& e) {
 long Simulation::step(long ticks) {
     paused_ = false;
     for (long i = 0; i < ticks; ++i) {
+        if (!pre_ticks_.empty() || !added_pre_ticks_.empty()) run_pre_ticks();
         scheduler_.tick(*phases_);
         if (pause_pending_) {
             pause_pending_ = false;
@@ -234,6 +307,26 @@ long Simulation::step(long ticks) {
     return ticks;
 }
 
+void Simulation::run_pre_ticks() {
+    // hooks added or removed by a hook take effect here, never while the list is walked
+    for (auto& h : added_pre_ticks_)
+        pre_ticks_.push_back(std::move(h));
+    added_pre_ticks_.clear();
+    pre_ticks_.erase(std::remove_if(pre_ticks_.begin(), pre_ticks_.end(),
+                                    [](const PreTick& h) { return !h.live; }),
+                     pre_ticks_.end());
+    in_pre_ticks_ = true;
+    try {
+        for (PreTick& h : pre_ticks_) {
+            if (h.live) h.fn(*this);
+        }
+    } catch (...) {
+        in_pre_ticks_ = false;
+        throw;
+    }
+    in_pre_ticks_ = false;
+}
+
 long Simulation::run(double seconds) {
     if (!(std::isfinite(seconds) && seconds >= 0)) {
         throw SpecError(
@@ -242,7 +335,8 @@ long Simulation::run(double seconds) {
     return step(std::lround(seconds / options_.dt));
 }
 
-void Simulation::reset() {
+void Simulation::reset(Origin origin) {
+    const long at = ticks();
     scheduler_.reset();
     pause_pending_ = paused_ = false;
     for (DriveSlot& d : drives_) {
@@ -253,6 +347,12 @@ void Simulation::reset() {
     std::fill(targets_.begin(), targets_.end(), 0.0);
     std::fill(commands_.begin(), commands_.end(), 0.0);
     build();
+    // stamped with the tick it happened at, like every other event (a replay applies it there)
+    Event e;
+    e.kind = EventKind::reset;
+    e.origin = origin;
+    e.tick = at;
+    dispatch(e);
 }
 
 Vec3 Simulation::robot_position(int robot) const {
@@ -299,6 +399,14 @@ JointState Simulation::joint(int robot, int j) const {
     s.velocity = physics_->velocity(g);
     s.torque = physics_->torque(g);
     return s;
+}
+
+void Simulation::joint_powers(int robot, double* out) const {
+    check_robot(robot);
+    const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.joints.size());
+    const int first = robots_[static_cast<size_t>(robot)].first_joint;
+    for (int j = 0; j < n; ++j)
+        out[j] = physics_->torque(first + j) * physics_->velocity(first + j);
 }
 
 JointError Simulation::joint_error(int robot, int j) const {
@@ -397,6 +505,44 @@ void Simulation::remove_observer(int id) {
     observers_.erase(std::remove_if(observers_.begin(), observers_.end(),
                                     [id](const auto& o) { return o.first == id; }),
                      observers_.end());
+}
+
+int Simulation::add_pre_tick(std::function<void(Simulation&)> fn) {
+    auto& list = in_pre_ticks_ ? added_pre_ticks_ : pre_ticks_;
+    list.push_back(PreTick{next_observer_, true, std::move(fn)});
+    return next_observer_++;
+}
+
+void Simulation::remove_pre_tick(int id) {
+    // only marked: a hook may be running (it is dropped at the next step)
+    for (auto* list : {&pre_ticks_, &added_pre_ticks_}) {
+        for (PreTick& h : *list) {
+            if (h.id == id) h.live = false;
+        }
+    }
+}
+
+int Simulation::add_event_listener(std::function<void(const Simulation&, const Event&)> fn) {
+    listeners_.emplace_back(next_observer_, std::move(fn));
+    return next_observer_++;
+}
+
+void Simulation::remove_event_listener(int id) {
+    listeners_.erase(std::remove_if(listeners_.begin(), listeners_.end(),
+                                    [id](const auto& l) { return l.first == id; }),
+                     listeners_.end());
+}
+
+void Simulation::post_event(Event event) {
+    event.tick = ticks();
+    dispatch(event);
+}
+
+void Simulation::dispatch(const Event& event) {
+    // a copy: a listener may add or remove listeners (events are rare, copying is cheap)
+    const auto listeners = listeners_;
+    for (const auto& l : listeners)
+        l.second(*this, event);
 }
 
 }  // namespace gaitlab

@@ -9,6 +9,7 @@
 #include "gaitlab/suggest.h"
 #include "hot_reload.h"
 #include "lua_controller.h"
+#include "recording.h"
 #include "wrap.h"
 
 namespace gaitlab::scripting {
@@ -51,7 +52,8 @@ std::shared_ptr<Controller> make_controller(lua_State* L, const ControllerRef& r
                 const std::string path =
                     ref.source.empty() ? ref.name : resolve_path(ref.source, ref.name);
                 std::error_code ec;
-                if (!fs::is_regular_file(path, ec)) {
+                // a replay has the code even where the file is gone
+                if (!fs::is_regular_file(path, ec) && !Reloader::of(L).has_override()) {
                     fail_at(ref, fmt::format("no controller file at {}", path));
                 }
                 push_file_class(L, path, true);
@@ -141,14 +143,16 @@ ActuationSpec relative_to(ActuationSpec spec, const std::string& file) {
 
 LoadedSimulation load_simulation(lua_State* L, const std::string& path) {
     LoadedSimulation out;
-    out.file = read_simulation(path);
-    const EnvironmentSpec env = read_environment(resolve_path(path, out.file.environment));
+    // every file goes through input_path: noted for the run folders, a replay reads its copies
+    out.file = read_simulation(input_path(L, path));
+    const EnvironmentSpec env =
+        read_environment(input_path(L, resolve_path(path, out.file.environment)));
     out.world = std::make_shared<WorldBinding>();
     out.world->spec = env.world;
     out.world->placements = env.placements;
     for (const RobotEntry& entry : out.file.robots) {
         auto robot = std::make_shared<RobotBinding>();
-        robot->spec = read_robot(resolve_path(path, entry.robot));
+        robot->spec = read_robot(input_path(L, resolve_path(path, entry.robot)));
         for (const auto& other : out.robots) {
             if (other->spec.name == robot->spec.name) {
                 throw FormatError(fmt::format("{}: two robots named '{}' (placements name robots: "
@@ -159,7 +163,8 @@ LoadedSimulation load_simulation(lua_State* L, const std::string& path) {
         }
         std::vector<std::shared_ptr<Controller>> controllers;
         if (!entry.actuation.empty()) {
-            controllers = actuate(L, *robot, read_actuation(resolve_path(path, entry.actuation)));
+            controllers = actuate(
+                L, *robot, read_actuation(input_path(L, resolve_path(path, entry.actuation))));
         }
         out.world->add(robot, std::nullopt);
         out.robots.push_back(robot);
@@ -178,6 +183,32 @@ LoadedSimulation load_simulation(lua_State* L, const std::string& path) {
         }
     }
     return out;
+}
+
+std::string normalized_config(const std::string& master, std::vector<ConfigFile>& parts) {
+    SimulationFile file = read_simulation(master);
+    const std::string stem = fs::path(master).stem().string();
+    const std::string env_path = resolve_path(master, file.environment);
+    file.environment = stem + ".environment.xml";
+    parts.push_back({"environment", file.environment, env_path,
+                     format_environment(read_environment(env_path)), "", 0});
+    for (RobotEntry& entry : file.robots) {
+        const std::string robot_path = resolve_path(master, entry.robot);
+        const RobotSpec robot = read_robot(robot_path);
+        entry.robot = stem + "." + robot.name + ".robot.xml";
+        parts.push_back({"robot", entry.robot, robot_path, format_robot(robot), "", 0});
+        if (entry.actuation.empty()) continue;
+        const std::string act_path = resolve_path(master, entry.actuation);
+        ActuationSpec act = read_actuation(act_path);
+        for (GroupSpec& g : act.groups) {
+            if (g.controller.kind == ControllerRef::Kind::file) {
+                g.controller.name = resolve_path(act_path, g.controller.name);
+            }
+        }
+        entry.actuation = stem + "." + robot.name + ".actuation.xml";
+        parts.push_back({"actuation", entry.actuation, act_path, format_actuation(act), "", 0});
+    }
+    return format_simulation(file);
 }
 
 void save_simulation(const std::string& path, const WorldBinding& world,

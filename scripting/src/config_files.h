@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "gaitlab/recorder.h"
 #include "gaitlab/xml.h"
 #include "scene.h"
 
@@ -44,6 +45,13 @@ struct LoadedSimulation {
 /// Reads the simulation file at `path` and everything it names. Throws FormatError,
 /// ScriptError or SpecError; builds nothing half-way.
 LoadedSimulation load_simulation(lua_State* L, const std::string& path);
+
+/// The configuration a run folder keeps of the simulation file `master`, normalized so it stands
+/// on its own: the master's text, naming its parts as `<stem>.environment.xml`,
+/// `<stem>.<robot>.robot.xml` and `<stem>.<robot>.actuation.xml` next to it, and those parts
+/// (roles "environment", "robot", "actuation"). Lua controller files are named by absolute path
+/// (the run folder keeps their code itself). Throws FormatError.
+std::string normalized_config(const std::string& master, std::vector<ConfigFile>& parts);
 
 /// Writes a simulation file at `path` and its parts next to it: `<stem>.environment.xml`, and
 /// for each robot `<stem>.<robot>.robot.xml` and `<stem>.<robot>.actuation.xml`. Checks

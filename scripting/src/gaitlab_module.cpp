@@ -21,10 +21,11 @@ extern "C" int luaopen_gaitlab(lua_State* L) {
     open_module(L);      // gaitlab.module, gaitlab.modules
     open_robot(L);       // gaitlab.robot
     open_world(L);       // gaitlab.world
-    open_simulation(L);  // gaitlab.simulation
     open_controller(L);  // gaitlab.controllers, gaitlab.controller
     open_actuation(L);   // gaitlab.actuation
     open_sensor(L);      // gaitlab.sensor, robot:sensor{...}
+    open_simulation(L);  // gaitlab.simulation (and the recordings)
+    open_data(L);        // gaitlab.data
 
     open_stdlib(L, lua_gettop(L));  // vec3.lua, worlds.lua (gaitlab.worlds) ...
     return 1;

@@ -2,12 +2,15 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <sstream>
 #include <string_view>
 
 #include <fmt/format.h>
 
 #include "lua_util.h"
+#include "recording.h"
 #include "stdlib.h"
 #include "wrap.h"
 
@@ -23,6 +26,7 @@ constexpr const char* kFileClassesKey = "gaitlab.controller_files";
 }  // namespace
 
 void report(lua_State* L, const std::string& message) {
+    log_to_recordings(L, "gaitlab: " + message);
     if (lua_getfield(L, LUA_REGISTRYINDEX, kReporterKey) == LUA_TUSERDATA) {
         auto* fn = static_cast<std::function<void(const std::string&)>*>(lua_touserdata(L, -1));
         lua_pop(L, 1);
@@ -68,10 +72,21 @@ void push_sandbox(lua_State* L) {
     lua_setfield(L, -2, "_G");
 }
 
-namespace {
-
-// runs the chunk on top of the stack (in a sandbox if asked); leaves its one result
-void run_loaded_chunk(lua_State* L, bool sandbox) {
+void run_controller_source(lua_State* L, const std::string& source, const std::string& chunk,
+                           bool sandbox) {
+    // as luaL_loadfile does: a first line starting with '#' (a shebang) is skipped, keeping
+    // the line numbers
+    std::string code = source;
+    if (!code.empty() && code[0] == '#') {
+        const size_t eol = code.find('\n');
+        code = eol == std::string::npos ? std::string() : code.substr(eol);
+    }
+    const std::string name = "@" + chunk;
+    if (luaL_loadbufferx(L, code.data(), code.size(), name.c_str(), "t") != LUA_OK) {
+        std::string msg = lua_tostring(L, -1);
+        lua_pop(L, 1);
+        throw ScriptError(msg, chunk, 0, "");
+    }
     if (sandbox) {
         push_sandbox(L);
         if (!lua_setupvalue(L, -2, 1)) lua_pop(L, 1);  // the chunk's only upvalue is _ENV
@@ -79,26 +94,18 @@ void run_loaded_chunk(lua_State* L, bool sandbox) {
     protected_call(L, 0, 1);
 }
 
+namespace {
+
+// the whole file, or nullopt if it cannot be read
+std::optional<std::string> read_source(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return std::nullopt;
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
 }  // namespace
-
-void run_controller_file(lua_State* L, const std::string& chunk, bool sandbox) {
-    if (luaL_loadfilex(L, chunk.c_str(), "t") != LUA_OK) {
-        std::string msg = lua_tostring(L, -1);
-        lua_pop(L, 1);
-        throw ScriptError(msg, chunk, 0, "");
-    }
-    run_loaded_chunk(L, sandbox);
-}
-
-void run_controller_source(lua_State* L, std::string_view code, const std::string& name) {
-    const std::string chunk = "=" + name;  // not a file: relative paths ignore it
-    if (luaL_loadbufferx(L, code.data(), code.size(), chunk.c_str(), "t") != LUA_OK) {
-        std::string msg = lua_tostring(L, -1);
-        lua_pop(L, 1);
-        throw ScriptError(msg, name, 0, "");
-    }
-    run_loaded_chunk(L, true);
-}
 
 void push_file_class(lua_State* L, const std::string& path, bool sandbox) {
     std::error_code ec;
@@ -116,21 +123,13 @@ void push_file_class(lua_State* L, const std::string& path, bool sandbox) {
         return;
     }
     lua_pop(L, 1);
-    const std::string chunk = std::filesystem::path(path).lexically_normal().string();
-    run_controller_file(L, chunk, sandbox);
-    if (!luaL_testudata(L, -1, kControllerClassType)) {
-        const std::string t = type_name(L, -1);
-        lua_pop(L, 2);
-        throw Error(fmt::format(
-            "{}: a controller file must return gaitlab.controller{{...}}, got {}", chunk, t));
-    }
+    Reloader::of(L).load(L, std::filesystem::path(path).lexically_normal().string(), sandbox);
     auto& cls = *static_cast<std::shared_ptr<LuaControllerClass>*>(lua_touserdata(L, -1));
     cls->origin_kind = ControllerRef::Kind::file;
     cls->origin = key;
     lua_pushvalue(L, -1);
     lua_setfield(L, -3, key.c_str());
     lua_remove(L, -2);
-    Reloader::of(L).watch(cls, chunk, sandbox);
 }
 
 const StdlibSource& find_template(std::string_view name) {
@@ -147,7 +146,7 @@ const StdlibSource& find_template(std::string_view name) {
 
 void push_template_class(lua_State* L, std::string_view name) {
     const StdlibSource& t = find_template(name);
-    run_controller_source(L, t.code, std::string("template/") + t.name);
+    run_controller_source(L, t.code, std::string("template/") + t.name, true);
     auto& cls = *static_cast<std::shared_ptr<LuaControllerClass>*>(
         luaL_checkudata(L, -1, kControllerClassType));
     cls->origin_kind = ControllerRef::Kind::template_;
@@ -167,12 +166,39 @@ void Reloader::install(lua_State* L) {
     lua_setfield(L, LUA_REGISTRYINDEX, kReloaderKey);
 }
 
-void Reloader::watch(const std::shared_ptr<LuaControllerClass>& cls, const std::string& chunk,
-                     bool sandbox) {
-    files_.push_back(File{cls, chunk, sandbox, stamp_of(chunk)});
+std::string Reloader::source_of(size_t index, std::uint64_t version,
+                                const std::string& chunk) const {
+    if (override_) {
+        if (auto o = override_(index, version)) return *o;
+    }
+    auto source = read_source(chunk);
+    if (!source) throw Error(fmt::format("cannot read {}", chunk));
+    return *source;
+}
+
+void Reloader::load(lua_State* L, const std::string& chunk, bool sandbox) {
+    const size_t index = files_.size();
+    const std::string source = source_of(index, 0, chunk);
+    run_controller_source(L, source, chunk, sandbox);
+    if (!luaL_testudata(L, -1, kControllerClassType)) {
+        const std::string t = type_name(L, -1);
+        lua_pop(L, 1);
+        throw Error(fmt::format(
+            "{}: a controller file must return gaitlab.controller{{...}}, got {}", chunk, t));
+    }
+    const auto& cls = *static_cast<std::shared_ptr<LuaControllerClass>*>(lua_touserdata(L, -1));
+    files_.push_back(File{cls, chunk, sandbox, stamp_of(chunk), {source}});
     if (next_check_ == std::chrono::steady_clock::time_point{}) {
         next_check_ = std::chrono::steady_clock::now() + interval_;
     }
+    if (observer_) observer_(L, Change{index, chunk, source, 0, Origin::script, *cls});
+}
+
+std::vector<Reloader::FileRecord> Reloader::history() const {
+    std::vector<FileRecord> out;
+    for (const File& f : files_)
+        out.push_back(FileRecord{f.chunk, f.versions});
+    return out;
 }
 
 Reloader::Stamp Reloader::stamp_of(const std::string& path) {
@@ -188,26 +214,14 @@ Reloader::Stamp Reloader::stamp_of(const std::string& path) {
     return s;
 }
 
-std::string Reloader::check(lua_State* L, bool force) {
+std::string Reloader::check(lua_State* L, bool force, Origin origin) {
     std::string first;
     for (size_t i = 0; i < files_.size(); ++i) {
-        std::shared_ptr<LuaControllerClass> cls = files_[i].cls.lock();
-        if (!cls) continue;
+        if (!files_[i].cls.lock()) continue;
         const Stamp now = stamp_of(files_[i].chunk);
         if (!force && now == files_[i].stamp) continue;
         files_[i].stamp = now;  // a broken version is reported once, not at every check
-        std::string error;
-        if (!now.exists) {
-            error = fmt::format(
-                "{}: cannot read the file (deleted?); '{}' keeps its last good "
-                "version",
-                files_[i].chunk, cls->def.name);
-        } else {
-            // reload() may load other files: copy what it needs, files_ may grow
-            File f = files_[i];
-            error = reload(L, f, *cls);
-        }
-        cls->reload_error = error;
+        std::string error = reload_one(L, i, origin);
         if (!error.empty()) {
             report(L, "reload failed: " + error);
             if (first.empty()) first = error;
@@ -216,11 +230,44 @@ std::string Reloader::check(lua_State* L, bool force) {
     return first;
 }
 
-std::string Reloader::reload(lua_State* L, File& f, LuaControllerClass& cls) {
+std::string Reloader::reload_file(lua_State* L, size_t index, Origin origin) {
+    if (index >= files_.size()) return fmt::format("no controller file number {}", index + 1);
+    return reload_one(L, index, origin);
+}
+
+std::string Reloader::reload_one(lua_State* L, size_t i, Origin origin) {
+    std::shared_ptr<LuaControllerClass> cls = files_[i].cls.lock();
+    if (!cls) return "";
+    std::string error;
+    std::string source;
+    try {
+        source = source_of(i, cls->version + 1, files_[i].chunk);
+    } catch (const Error&) {
+        error = fmt::format("{}: cannot read the file (deleted?); '{}' keeps its last good version",
+                            files_[i].chunk, cls->def.name);
+    }
+    if (error.empty()) {
+        // reload() may load other files: copy what it needs, files_ may grow
+        const File f = files_[i];
+        error = reload(L, f, source, *cls);
+    }
+    cls->reload_error = error;
+    if (error.empty()) {
+        files_[i].versions.push_back(source);
+        if (observer_) {
+            observer_(L, Change{i, files_[i].chunk, files_[i].versions.back(), cls->version, origin,
+                                *cls});
+        }
+    }
+    return error;
+}
+
+std::string Reloader::reload(lua_State* L, const File& f, const std::string& source,
+                             LuaControllerClass& cls) {
     const int top = lua_gettop(L);
     std::shared_ptr<LuaControllerClass> fresh;
     try {
-        run_controller_file(L, f.chunk, f.sandbox);
+        run_controller_source(L, source, f.chunk, f.sandbox);
         if (!luaL_testudata(L, -1, kControllerClassType)) {
             const std::string t = type_name(L, -1);
             lua_settop(L, top);

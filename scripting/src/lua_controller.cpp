@@ -20,11 +20,7 @@ thread_local const LuaController* t_stepping = nullptr;
 }  // namespace
 
 LuaController::LuaController(lua_State* L, std::shared_ptr<LuaControllerClass> cls)
-    : Controller(cls->def),
-      L_(L),
-      cls_(std::move(cls)),
-      reloader_(&Reloader::of(L)),
-      class_version_(cls_->version) {
+    : Controller(cls->def), L_(L), cls_(std::move(cls)), class_version_(cls_->version) {
     cls_->instances.push_back(this);
 }
 
@@ -174,7 +170,6 @@ void LuaController::budget_hook(lua_State* L, lua_Debug* ar) {
 }
 
 void LuaController::step(ControlIO& io) {
-    reloader_->poll(L_);
     if (class_version_ != cls_->version) migrate();
     if (pushed_version_ != param_version()) push_params();
     lua_rawgeti(L_, LUA_REGISTRYINDEX, cls_->step_ref);

@@ -44,8 +44,6 @@ struct LuaControllerClass {
     std::vector<LuaController*> instances;  ///< live instances, for the snapshot hook
 };
 
-class Reloader;
-
 class LuaController final : public Controller {
   public:
     LuaController(lua_State* L, std::shared_ptr<LuaControllerClass> cls);
@@ -78,7 +76,6 @@ class LuaController final : public Controller {
 
     lua_State* L_;
     std::shared_ptr<LuaControllerClass> cls_;
-    Reloader* reloader_;
     int self_ref_ = LUA_NOREF;      // the instance table passed to step as self
     int snapshot_ref_ = LUA_NOREF;  // what snapshot(self) returned before a reload
     std::uint64_t pushed_version_ = ~std::uint64_t{0};

@@ -3,9 +3,13 @@
 #include <lua.hpp>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
+#include "config_files.h"
 #include "hot_reload.h"
 #include "lua_util.h"
+#include "recording.h"
 #include "stdlib.h"
 
 extern "C" int luaopen_gaitlab(lua_State* L);
@@ -115,6 +119,9 @@ LuaHost::LuaHost() : L_(luaL_newstate()) {
     luaL_openlibs(L_);
     luaL_requiref(L_, "gaitlab", luaopen_gaitlab, 1);
     lua_pop(L_, 1);
+    // Lua 5.4 seeds math.random from the clock: seed 0 unless told otherwise, so every run is
+    // reproducible and its recorded seed is true
+    seed(0);
 }
 
 LuaHost::~LuaHost() {
@@ -127,6 +134,7 @@ void LuaHost::seed(std::uint64_t seed) {
     lua_remove(L_, -2);
     lua_pushinteger(L_, static_cast<lua_Integer>(seed));
     protected_call(L_, 1, 0);
+    Recordings::of(L_).script_seed = seed;
 }
 
 void LuaHost::set_args(const std::string& script, const std::vector<std::string>& args) {
@@ -138,6 +146,7 @@ void LuaHost::set_args(const std::string& script, const std::vector<std::string>
         lua_rawseti(L_, -2, static_cast<lua_Integer>(i + 1));
     }
     lua_setglobal(L_, "arg");
+    Recordings::of(L_).script_args = args;
 }
 
 void LuaHost::set_reporter(std::function<void(const std::string&)> fn) {
@@ -152,12 +161,42 @@ void LuaHost::set_reload_interval(double seconds) {
 }
 
 void LuaHost::run_file(const std::string& path) {
+    Recordings& r = Recordings::of(L_);
+    if (!r.settings.script.empty() && path == r.settings.script) {
+        // the recorded script: keep the very code that runs for the run folders
+        std::ifstream in(path, std::ios::binary);
+        if (in) {
+            std::ostringstream text;
+            text << in.rdbuf();
+            r.script_source = text.str();
+        }
+    }
     if (luaL_loadfilex(L_, path.c_str(), "t") != LUA_OK) {
         std::string msg = lua_tostring(L_, -1);
         lua_pop(L_, 1);
         throw ScriptError(msg, path, 0, "");
     }
     protected_call(L_, 0, 0);
+}
+
+void LuaHost::set_recording(RecordSettings settings) {
+    Recordings::of(L_).settings = std::move(settings);
+}
+
+std::vector<std::string> LuaHost::run_folders() const {
+    return Recordings::of(L_).folders();
+}
+
+void LuaHost::finish(const std::string& error) {
+    Recordings::of(L_).finish(error);
+}
+
+void LuaHost::on_simulation(std::function<void(Simulation&, int)> fn) {
+    Recordings::of(L_).on_created.push_back(std::move(fn));
+}
+
+void LuaHost::set_print(bool to_stdout) {
+    Recordings::of(L_).print_to_stdout = to_stdout;
 }
 
 void LuaHost::run_string(const std::string& code, const std::string& name) {
@@ -170,14 +209,23 @@ void LuaHost::run_string(const std::string& code, const std::string& name) {
 }
 
 void LuaHost::run_simulation_file(const std::string& path) {
+    std::error_code ec;
+    const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
+    const std::string file = ec ? path : absolute.lexically_normal().string();
+    Recordings& r = Recordings::of(L_);
+    if (!r.settings.script.empty() && path == r.settings.script) {
+        // the run folders keep the simulation file and its parts as one folder that replays
+        std::vector<ConfigFile> parts;
+        r.script_source = normalized_config(file, parts);
+        for (ConfigFile& f : parts)
+            r.settings.files.push_back(std::move(f));
+    }
     lua_getglobal(L_, "gaitlab");
     lua_getfield(L_, -1, "simulation");
     lua_getfield(L_, -1, "run_file");
     lua_replace(L_, -3);
     lua_pop(L_, 1);
-    std::error_code ec;
-    const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
-    lua_pushstring(L_, (ec ? path : absolute.lexically_normal().string()).c_str());
+    lua_pushstring(L_, file.c_str());
     protected_call(L_, 1, 0);
 }
 

@@ -25,6 +25,8 @@ inline constexpr const char* kControllerClassType = "gaitlab.ControllerClass";
 inline constexpr const char* kActuationType = "gaitlab.Actuation";
 inline constexpr const char* kSensorType = "gaitlab.Sensor";
 inline constexpr const char* kModuleType = "gaitlab.Module";
+inline constexpr const char* kRunType = "gaitlab.Run";
+inline constexpr const char* kLiveType = "gaitlab.Live";
 
 // each open_* adds its functions to the gaitlab table on top of the stack
 void open_robot(lua_State* L);
@@ -39,6 +41,10 @@ void open_sensor(lua_State* L);
 int robot_sensor(lua_State* L);
 int robot_sensors(lua_State* L);
 void open_module(lua_State* L);
+void open_data(lua_State* L);
+
+/// sim:live{...} (wrap_data.cpp): live buffers of a simulation.
+int live_new(lua_State* L);
 
 bool is_robot(lua_State* L, int index);
 std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index);

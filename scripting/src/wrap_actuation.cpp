@@ -6,6 +6,7 @@
 #include "config_files.h"
 #include "gaitlab/files.h"
 #include "lua_util.h"
+#include "recording.h"
 #include "wrap.h"
 
 namespace gaitlab::scripting {
@@ -19,7 +20,7 @@ ActuationSpec& check_actuation(lua_State* L, int index) {
 // gaitlab.actuation.load(path): the actuation file's spec, or nil and a message
 int actuation_load(lua_State* L) {
     return protect(L, [&] {
-        const std::string path = script_path(L, check_string(L, 1));
+        const std::string path = input_path(L, check_string(L, 1));
         return file_read(
             L, [&] { new_object<ActuationSpec>(L, kActuationType, read_actuation(path)); });
     });

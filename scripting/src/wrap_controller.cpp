@@ -105,7 +105,7 @@ int controller_index(lua_State* L) {
         }
         if (lua_getfield(L, lua_upvalueindex(1), key.c_str()) != LUA_TNIL) return 1;
         std::vector<std::string> names = param_names(c);
-        for (const char* m : {"name", "params", "values", "failed", "error"})
+        for (const char* m : {"name", "params", "values", "set", "failed", "error"})
             names.emplace_back(m);
         throw Error(fmt::format("controller '{}' has no parameter or method '{}'{}", c.name(), key,
                                 did_you_mean(key, names)));
@@ -128,6 +128,32 @@ int controller_newindex(lua_State* L) {
                 fmt::format("{}.{}: number expected, got {}", c.name(), key, type_name(L, 3)));
         }
         c.set_param(i, v);
+        return 0;
+    });
+}
+
+// ctl:set(name, value [, origin]): a parameter change made by `origin` ("script", the default,
+// "console" or "viewer"): front ends use it so that a replay can tell their changes apart
+int controller_set(lua_State* L) {
+    return protect(L, [&] {
+        Controller& c = check_controller(L, 1);
+        const std::string key = check_string(L, 2);
+        const double v = check_number(L, 3);
+        Origin origin = Origin::script;
+        if (!lua_isnoneornil(L, 4)) {
+            const std::string o = check_string(L, 4);
+            const auto parsed = parse_origin(o);
+            if (!parsed || *parsed == Origin::file) {
+                throw ArgError(4, "'script', 'console' or 'viewer' expected, got '" + o + "'");
+            }
+            origin = *parsed;
+        }
+        const int i = c.find_param(key);
+        if (i < 0) {
+            throw ArgError(2, fmt::format("controller '{}' has no parameter '{}'{}", c.name(), key,
+                                          did_you_mean(key, param_names(c))));
+        }
+        c.set_param(i, v, origin);
         return 0;
     });
 }
@@ -380,7 +406,8 @@ int class_load(lua_State* L) {
             sandbox = opts.boolean("sandbox", true);
         }
         const std::filesystem::path path = script_path(L, arg);
-        if (!std::filesystem::exists(path)) {
+        // a replay has the code even where the file is gone (a path outside the run folder)
+        if (!std::filesystem::exists(path) && !Reloader::of(L).has_override()) {
             throw Error(
                 fmt::format("cannot load controller '{}': no file at {}", arg, path.string()));
         }
@@ -466,8 +493,10 @@ void push_controller(lua_State* L, std::shared_ptr<Controller> controller, bool 
 }
 
 void open_controller(lua_State* L) {
-    const luaL_Reg methods[] = {
-        {"params", controller_params}, {"values", controller_values}, {nullptr, nullptr}};
+    const luaL_Reg methods[] = {{"params", controller_params},
+                                {"values", controller_values},
+                                {"set", controller_set},
+                                {nullptr, nullptr}};
     luaL_newmetatable(L, kControllerType);
     lua_newtable(L);
     luaL_setfuncs(L, methods, 0);

@@ -5,6 +5,7 @@
 #include "gaitlab/files.h"
 #include "gaitlab/urdf.h"
 #include "lua_util.h"
+#include "recording.h"
 #include "scene.h"
 #include "wrap.h"
 
@@ -211,7 +212,7 @@ int robot_len(lua_State* L) {
 // gaitlab.robot.load(path): a robot from a robot file, or nil and a message
 int robot_load(lua_State* L) {
     return protect(L, [&] {
-        const std::string path = script_path(L, check_string(L, 1));
+        const std::string path = input_path(L, check_string(L, 1));
         return file_read(L, [&] {
             auto robot = std::make_shared<RobotBinding>();
             robot->spec = read_robot(path);
@@ -232,7 +233,7 @@ int robot_save(lua_State* L) {
 // gaitlab.robot.load_urdf(path): a robot from a URDF serial chain, or nil and a message
 int robot_load_urdf(lua_State* L) {
     return protect(L, [&] {
-        const std::string path = script_path(L, check_string(L, 1));
+        const std::string path = input_path(L, check_string(L, 1));
         return file_read(L, [&] {
             auto robot = std::make_shared<RobotBinding>();
             robot->spec = read_urdf(path);

@@ -1,4 +1,4 @@
-// gaitlab.simulation: compile a world, step it, read its time.
+// gaitlab.simulation: compile a world, step it, read its time, record it.
 #include <cmath>
 
 #include <fmt/format.h>
@@ -8,6 +8,7 @@
 #include "gaitlab/files.h"
 #include "hot_reload.h"
 #include "lua_util.h"
+#include "recording.h"
 #include "scene.h"
 #include "wrap.h"
 
@@ -15,22 +16,83 @@ namespace gaitlab::scripting {
 
 namespace {
 
-using SimulationPtr = std::shared_ptr<Simulation>;
-
-Simulation& check_sim(lua_State* L, int index) {
-    return *check_object<SimulationPtr>(L, index, kSimulationType);
+SimulationHandle& check_handle(lua_State* L, int index) {
+    return check_object<SimulationHandle>(L, index, kSimulationType);
 }
 
-// registry table (weak keys): simulation userdata -> the world userdata it was compiled from
-constexpr const char* kSimWorldsKey = "gaitlab.sim_worlds";
+Simulation& check_sim(lua_State* L, int index) {
+    return *check_handle(L, index).sim;
+}
 
-// compiles the world at `world_index` into a simulation with options `o` and pushes it; reports
-// controller failures through the host and remembers the world (for sim:save)
-void push_new_simulation(lua_State* L, int world_index, const SimulationOptions& o) {
-    auto world = to_world(L, world_index);
+// record = false | true | "dir" | { dir =, record_every =, flush_seconds =, series = {...} }
+// at `index`; errors are ArgErrors of argument `arg` (prefixed "field 'record': " in a table)
+RecordRequest to_request(lua_State* L, int index, int arg, const std::string& prefix) {
+    RecordRequest r;
+    const int t = lua_type(L, index);
+    auto fail = [&](const std::string& m) { throw ArgError(arg, prefix + m); };
+    if (t == LUA_TNIL || t == LUA_TNONE) return r;
+    if (t == LUA_TBOOLEAN) {
+        r.mode = lua_toboolean(L, index) ? RecordRequest::Mode::on : RecordRequest::Mode::off;
+        return r;
+    }
+    r.mode = RecordRequest::Mode::on;
+    if (t == LUA_TSTRING) {
+        r.dir = lua_tostring(L, index);
+        if (r.dir.empty()) fail("run folder expected, got an empty string");
+        return r;
+    }
+    if (t != LUA_TTABLE) {
+        fail("false, true, a run folder or a table expected, got " + type_name(L, index));
+    }
+    try {
+        Fields f(L, index, arg, {"dir", "record_every", "flush_seconds", "series"});
+        r.dir = f.string("dir", "");
+        const long long every = f.integer("record_every", 0);
+        if (f.has("record_every") && every < 1) {
+            fail(fmt::format("record_every must be at least 1 (got {})", every));
+        }
+        r.options.record_every = static_cast<int>(every);
+        r.options.flush_seconds = f.number("flush_seconds", r.options.flush_seconds);
+        if (!(std::isfinite(r.options.flush_seconds) && r.options.flush_seconds >= 0)) {
+            fail("flush_seconds must be a non-negative number of seconds");
+        }
+        const int st = f.push("series");
+        if (st == LUA_TTABLE) {
+            const lua_Integer n = luaL_len(L, -1);
+            for (lua_Integer i = 1; i <= n; ++i) {
+                lua_rawgeti(L, -1, i);
+                if (lua_type(L, -1) != LUA_TSTRING) {
+                    lua_pop(L, 2);
+                    fail("series: list of names, patterns or kinds expected");
+                }
+                r.options.series.emplace_back(lua_tostring(L, -1));
+                lua_pop(L, 1);
+            }
+        } else if (st != LUA_TNIL) {
+            const std::string tn = type_name(L, -1);
+            lua_pop(L, 1);
+            fail("series: list of names, patterns or kinds expected, got " + tn);
+        }
+        lua_pop(L, 1);
+
+    } catch (const ArgError& e) {
+        // the Fields helper's own messages ("unknown key ...") say which table
+        const std::string m = e.what();
+        if (!prefix.empty() && m.rfind(prefix, 0) != 0) throw ArgError(arg, prefix + m);
+        throw;
+    }
+    return r;
+}
+
+// compiles `world` into a simulation with options `o` and pushes it: reports controller
+// failures through the host, reloads changed controller files between ticks, and records as
+// `request` and the host say
+void push_new_simulation(lua_State* L, std::shared_ptr<WorldBinding> world,
+                         const SimulationOptions& o, const RecordRequest& request) {
+    SimulationHandle* h = nullptr;
     try {
         validate(o);
-        SimulationPtr sim = world->compile(o);
+        std::shared_ptr<Simulation> sim = world->compile(o);
         // the simulation lives in this Lua state: reporting through it is safe
         sim->set_controller_error_handler([L](const Controller& c, const std::exception& e) {
             std::string message = fmt::format("controller '{}' failed: {}", c.name(), e.what());
@@ -38,24 +100,21 @@ void push_new_simulation(lua_State* L, int world_index, const SimulationOptions&
             if (se && !se->traceback().empty()) message += "\n" + se->traceback();
             report(L, message);
         });
-        new_object<SimulationPtr>(L, kSimulationType, std::move(sim));
+        // controller files changed on disk are reloaded between ticks, at control ticks
+        Simulation* raw = sim.get();
+        sim->add_pre_tick([L, raw](Simulation&) {
+            if (raw->ticks() % raw->options().control_every == 0) Reloader::of(L).poll(L);
+        });
+        h = new_object<SimulationHandle>(L, kSimulationType,
+                                         SimulationHandle{sim, 0, {}, std::move(world)});
     } catch (const SpecError& e) {
         throw ArgError(1, e.what());
     }
-    if (lua_getfield(L, LUA_REGISTRYINDEX, kSimWorldsKey) != LUA_TTABLE) {
-        lua_pop(L, 1);
-        lua_newtable(L);
-        lua_createtable(L, 0, 1);
-        lua_pushstring(L, "k");
-        lua_setfield(L, -2, "__mode");
-        lua_setmetatable(L, -2);
-        lua_pushvalue(L, -1);
-        lua_setfield(L, LUA_REGISTRYINDEX, kSimWorldsKey);
+    try {
+        Recordings::of(L).created(L, *h, request);
+    } catch (const SpecError& e) {
+        throw ArgError(1, std::string("field 'record': ") + e.what());
     }
-    lua_pushvalue(L, -2);
-    lua_pushvalue(L, world_index);
-    lua_rawset(L, -3);
-    lua_pop(L, 1);
 }
 
 int simulation_new(lua_State* L) {
@@ -85,16 +144,11 @@ int simulation_new(lua_State* L) {
             f.fail("on_controller_error",
                    "'stop', 'continue' or 'pause' expected, got '" + policy + "'");
         }
-        const int rt = f.push("record");
-        const bool records = !(rt == LUA_TNIL || (rt == LUA_TBOOLEAN && !lua_toboolean(L, -1)));
+        f.push("record");
+        const RecordRequest request = to_request(L, -1, 1, "field 'record': ");
         lua_pop(L, 1);
-        if (records) {
-            f.fail("record",
-                   "recording to a run folder is not available in this version "
-                   "(use record = false)");
-        }
         lua_getfield(L, 2, "world");
-        push_new_simulation(L, lua_gettop(L), o);
+        push_new_simulation(L, to_world(L, -1), o, request);
         return 1;
     });
 }
@@ -126,7 +180,8 @@ int simulation_step(lua_State* L) {
 // path, or nil and a message
 int simulation_save(lua_State* L) {
     return protect(L, [&] {
-        Simulation& sim = check_sim(L, 1);
+        SimulationHandle& h = check_handle(L, 1);
+        const Simulation& sim = *h.sim;
         const std::string path = script_path(L, check_string(L, 2));
         double duration = sim.time() > 0 ? sim.time() : 10;
         if (!lua_isnoneornil(L, 3)) {
@@ -136,13 +191,8 @@ int simulation_save(lua_State* L) {
                 f.fail("duration", "non-negative number of seconds expected");
             }
         }
-        lua_getfield(L, LUA_REGISTRYINDEX, kSimWorldsKey);
-        lua_pushvalue(L, 1);
-        lua_rawget(L, -2);
-        auto world = to_world(L, -1);
-        lua_pop(L, 2);
         return file_written(L, path,
-                            [&] { save_simulation(path, *world, sim.options(), duration); });
+                            [&] { save_simulation(path, *h.world, sim.options(), duration); });
     });
 }
 
@@ -162,8 +212,17 @@ int simulation_load(lua_State* L) {
         }
         push_world(L, loaded.world);
         const int world = lua_gettop(L);
+        // the file's <record> applies as `record = ...` would
+        const RecordSpec& rec = loaded.file.record;
+        RecordRequest request;
+        if (rec.enabled) {
+            request.mode = *rec.enabled ? RecordRequest::Mode::on : RecordRequest::Mode::off;
+        }
+        request.dir = rec.dir.empty() ? "" : resolve_path(path, rec.dir);
+        request.options.record_every = rec.every;
+        request.options.flush_seconds = rec.flush_seconds;
         try {
-            push_new_simulation(L, world, loaded.file.options);
+            push_new_simulation(L, loaded.world, loaded.file.options, request);
         } catch (const ArgError& e) {
             throw Error(fmt::format("{}: {}", path, e.what()));
         }
@@ -189,10 +248,11 @@ int simulation_load(lua_State* L) {
         }
         lua_setfield(L, -3, "controllers");
         lua_setfield(L, -2, "robots");
-        const RecordSpec& rec = loaded.file.record;
         lua_createtable(L, 0, 4);
-        lua_pushboolean(L, rec.enabled);
-        lua_setfield(L, -2, "enabled");
+        if (rec.enabled) {
+            lua_pushboolean(L, *rec.enabled);
+            lua_setfield(L, -2, "enabled");
+        }
         lua_pushstring(L, rec.dir.c_str());
         lua_setfield(L, -2, "dir");
         lua_pushinteger(L, rec.every);
@@ -201,6 +261,40 @@ int simulation_load(lua_State* L) {
         lua_setfield(L, -2, "flush_seconds");
         lua_setfield(L, -2, "record");
         return 2;
+    });
+}
+
+// sim:record(false | true | "dir" | { ... }): starts (or stops) recording now; returns the run
+// folder, or nil if nothing records (gaitlab run --no-record)
+int simulation_record(lua_State* L) {
+    return protect(L, [&] {
+        SimulationHandle& h = check_handle(L, 1);
+        const RecordRequest r = to_request(L, 2, 2, "");
+        if (r.mode == RecordRequest::Mode::off) {
+            Recordings::of(L).stop(h);
+            return 0;
+        }
+        std::string dir;
+        try {
+            dir = Recordings::of(L).start(L, h, r);
+        } catch (const SpecError& e) {
+            throw ArgError(2, e.what());
+        }
+        if (dir.empty()) {
+            lua_pushnil(L);
+        } else {
+            lua_pushstring(L, dir.c_str());
+        }
+        return 1;
+    });
+}
+
+// sim:flush(): writes what the recording holds in memory now
+int simulation_flush(lua_State* L) {
+    return protect(L, [&] {
+        SimulationHandle& h = check_handle(L, 1);
+        if (h.recorder) h.recorder->flush();
+        return 0;
     });
 }
 
@@ -263,6 +357,13 @@ int simulation_index(lua_State* L) {
             lua_pushboolean(L, sim.paused());
         } else if (k == "seed") {
             lua_pushinteger(L, static_cast<lua_Integer>(sim.options().seed));
+        } else if (k == "record_dir") {
+            const SimulationHandle& h = check_handle(L, 1);
+            if (h.recorder && !h.recorder->closed()) {
+                lua_pushstring(L, h.recorder->dir().c_str());
+            } else {
+                lua_pushnil(L);
+            }
         } else {
             lua_getfield(L, lua_upvalueindex(1), key);
         }
@@ -282,9 +383,15 @@ int simulation_tostring(lua_State* L) {
 }  // namespace
 
 void open_simulation(lua_State* L) {
-    const luaL_Reg methods[] = {{"run", simulation_run},         {"step", simulation_step},
-                                {"reset", simulation_reset},     {"save", simulation_save},
-                                {"objects", simulation_objects}, {nullptr, nullptr}};
+    const luaL_Reg methods[] = {{"run", simulation_run},
+                                {"step", simulation_step},
+                                {"reset", simulation_reset},
+                                {"save", simulation_save},
+                                {"objects", simulation_objects},
+                                {"record", simulation_record},
+                                {"flush", simulation_flush},
+                                {"live", live_new},
+                                {nullptr, nullptr}};
     luaL_newmetatable(L, kSimulationType);
     lua_newtable(L);
     luaL_setfuncs(L, methods, 0);
@@ -293,7 +400,8 @@ void open_simulation(lua_State* L) {
     lua_pushcfunction(L, simulation_tostring);
     lua_setfield(L, -2, "__tostring");
     lua_pop(L, 1);
-    register_type<SimulationPtr>(L, kSimulationType, nullptr);
+    register_type<SimulationHandle>(L, kSimulationType, nullptr);
+    Recordings::install(L);
 
     lua_newtable(L);
     lua_createtable(L, 0, 1);

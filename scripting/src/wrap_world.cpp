@@ -9,6 +9,7 @@
 #include "gaitlab/geometry.h"
 #include "gaitlab/xml.h"
 #include "lua_util.h"
+#include "recording.h"
 #include "scene.h"
 #include "wrap.h"
 
@@ -388,9 +389,7 @@ int world_heightfield(lua_State* L) {
             f.fail("heights", "function or table of rows expected, got " + type_name(L, -1));
         } else {
             // relative to the script that names it; read now, so a bad image fails here
-            std::filesystem::path path(f.string("image", ""));
-            if (path.is_relative()) path = caller_dir(L) / path;
-            s.image = path.lexically_normal().string();
+            s.image = input_path(L, f.string("image", ""));
             s.max_height = f.number("max_height", s.max_height);
             try {
                 validate(s, number);
@@ -458,7 +457,7 @@ int world_triangles(lua_State* L) {
 // the names it places go when added), or nil and a message
 int world_load(lua_State* L) {
     return protect(L, [&] {
-        const std::string path = script_path(L, check_string(L, 1));
+        const std::string path = input_path(L, check_string(L, 1));
         return file_read(L, [&] {
             EnvironmentSpec env = read_environment(path);
             auto world = std::make_shared<WorldBinding>();

@@ -3,22 +3,33 @@
 #include <catch2/catch.hpp>
 
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "gaitlab/run_data.h"
+
+#include "temp_dir.h"
+
 extern char** environ;
+
+using gaitlab::test::TempDir;
 
 namespace {
 
 const std::string kScripts = GAITLAB_SOURCE_DIR "/tests/cli/scripts";
+
 
 struct Run {
     int status = -1;  // exit status, or -1 if the process did not exit normally
@@ -33,8 +44,14 @@ std::string slurp(const std::string& path) {
     return s.str();
 }
 
-// runs the gaitlab executable with `args` in directory `cwd`, capturing stdout and stderr
-Run gaitlab(const std::vector<std::string>& args, const std::string& cwd = kScripts) {
+// runs the gaitlab executable (`gaitlab ARGS...`) in directory `cwd`, capturing stdout and stderr.
+// `gaitlab run` records by default: the tests record only where they say (--record DIR), so
+// the source tree stays clean
+Run cli(std::vector<std::string> args, const std::string& cwd = kScripts) {
+    if (!args.empty() && args[0] == "run" &&
+        std::find(args.begin(), args.end(), "--record") == args.end()) {
+        args.insert(args.begin() + 1, "--no-record");
+    }
     char dir_template[] = "/tmp/gaitlab_cli_test.XXXXXX";
     const char* dir = mkdtemp(dir_template);
     REQUIRE(dir != nullptr);
@@ -89,92 +106,97 @@ void check_failure(const Run& r, const std::string& line) {
 }  // namespace
 
 TEST_CASE("the bare form runs a script like 'gaitlab run'", "[cli]") {
-    const Run r = gaitlab({"examples/first_snake.lua"}, GAITLAB_SOURCE_DIR);
+    // the README's command: a printed result, and one line saying where the run was recorded
+    TempDir cwd("cli_bare");
+    const Run r = cli({GAITLAB_SOURCE_DIR "/examples/first_snake.lua"}, cwd.str());
     CHECK(r.status == 0);
-    CHECK(r.err.empty());
     CHECK_THAT(r.out, Catch::Matches(R"(moved [0-9.]+ m \(x -?[0-9.]+, y -?[0-9.]+\)\n)"));
+    CHECK_THAT(r.err, Catch::Matches(R"(recorded runs/first_snake-[0-9]{8}-[0-9]{6}\n)"));
+    const std::string dir = cwd / r.err.substr(9, r.err.size() - 10);
+    CHECK(std::filesystem::exists(dir + "/data.csv"));
     // same simulation, same output
-    const Run s = gaitlab({"run", "examples/first_snake.lua"}, GAITLAB_SOURCE_DIR);
+    const Run s = cli({"run", "examples/first_snake.lua"}, GAITLAB_SOURCE_DIR);
     CHECK(s.status == 0);
+    CHECK(s.err.empty());
     CHECK(s.out == r.out);
 }
 
 TEST_CASE("a simulation file runs for its duration and says how far each robot moved", "[cli]") {
-    const Run r = gaitlab({"run", "examples/walk.xml"}, GAITLAB_SOURCE_DIR);
+    const Run r = cli({"run", "examples/walk.xml"}, GAITLAB_SOURCE_DIR);
     CHECK(r.status == 0);
     CHECK(r.err.empty());
     CHECK_THAT(r.out,
                Catch::Matches(R"(snake: moved 0\.[0-9]+ m \(x -[0-9.]+, y -?[0-9.]+\) in 20 s\n)"));
-    const Run bare = gaitlab({"examples/walk.xml"}, GAITLAB_SOURCE_DIR);
+    const Run bare = cli({"examples/walk.xml"}, GAITLAB_SOURCE_DIR);
     CHECK(bare.out == r.out);
 }
 
 TEST_CASE("a bad simulation file fails with one line naming the file and line", "[cli]") {
     const std::string files = kScripts + "/files/";
-    check_failure(gaitlab({"run", "files/bad_actuation.xml"}),
+    check_failure(cli({"run", "files/bad_actuation.xml"}),
                   "gaitlab: " + files +
                       "typo.xml:5: controller 'sine' has no parameter 'frequncy'; did you mean "
                       "'frequency'? (parameters: amplitude, frequency, phase, phase0, offset)");
-    check_failure(gaitlab({"run", "files/bad_floor.xml"}),
+    check_failure(cli({"run", "files/bad_floor.xml"}),
                   "gaitlab: " + files +
                       "slippery.xml:4: environment/floor[1]: floor friction must be in [0, 1] "
                       "(got -0.2)");
     check_failure(
-        gaitlab({"run", "files/none.xml"}),
+        cli({"run", "files/none.xml"}),
         "gaitlab: " + files + "none.xml: cannot read the file: No such file or directory");
 }
 
 TEST_CASE("version and help options", "[cli]") {
-    const Run v = gaitlab({"--version"});
+    const Run v = cli({"--version"});
     CHECK(v.status == 0);
     CHECK_THAT(v.out, Catch::Matches(R"(gaitlab [0-9]+\.[0-9]+\.[0-9]+\n)"));
     CHECK(v.err.empty());
 
-    const Run h = gaitlab({"--help"});
+    const Run h = cli({"--help"});
     CHECK(h.status == 0);
     CHECK_THAT(h.out, Catch::Contains("Usage: gaitlab"));
     CHECK_THAT(h.out, Catch::Contains("run"));
     CHECK(h.err.empty());
 
-    const Run rh = gaitlab({"run", "--help"});
+    const Run rh = cli({"run", "--help"});
     CHECK(rh.status == 0);
     CHECK_THAT(rh.out, Catch::Contains("--seed"));
 }
 
 TEST_CASE("a missing script fails with one line naming it", "[cli]") {
-    const Run r = gaitlab({"run", "no_such_script.lua"});
+    const Run r = cli({"run", "no_such_script.lua"});
     CHECK(r.status > 0);
     CHECK_THAT(r.err, Catch::StartsWith("gaitlab: cannot open no_such_script.lua"));
     CHECK(r.err.find('\n') == r.err.size() - 1);
     check_failure(r, r.err.substr(0, r.err.size() - 1));
 
-    const Run b = gaitlab({"no_such_script.lua"});
+    const Run b = cli({"no_such_script.lua"});
     CHECK(b.status == r.status);
     CHECK(b.err == r.err);
 
-    check_failure(gaitlab({"run", "notes.txt"}),
+    check_failure(cli({"run", "notes.txt"}),
                   "gaitlab: notes.txt: expected a Lua script (FILE.lua) or a simulation file "
                   "(FILE.xml)");
 }
 
 TEST_CASE("script errors print one line: gaitlab: FILE:LINE: message", "[cli]") {
-    check_failure(gaitlab({"run", "syntax_error.lua"}),
+    check_failure(cli({"run", "syntax_error.lua"}),
                   "gaitlab: syntax_error.lua:3: '}' expected near 'end'");
-    check_failure(gaitlab({"run", "runtime_error.lua"}),
+    check_failure(cli({"run", "runtime_error.lua"}),
                   "gaitlab: runtime_error.lua:4: attempt to call a nil value (field 'populate')");
-    check_failure(gaitlab({"run", "unknown_key.lua"}),
+    check_failure(cli({"run", "unknown_key.lua"}),
                   "gaitlab: unknown_key.lua:2: bad argument #1 to 'chain' (unknown key "
                   "'conection'; did you mean 'connection'?)");
-    check_failure(gaitlab({"run", "out_of_range.lua"}),
+    check_failure(cli({"run", "out_of_range.lua"}),
                   "gaitlab: out_of_range.lua:7: sine.amplitude must be in [0, 90] deg (got 120)");
-    check_failure(gaitlab({"run", "bad_sensor.lua"}),
+    check_failure(cli({"run", "bad_sensor.lua"}),
                   "gaitlab: bad_sensor.lua:3: bad argument #1 to 'sensor' (robot 'snake' has no "
                   "module 9 (it has modules 1 to 8))");
     // the file is named as the user gave it
-    check_failure(gaitlab({"run", kScripts + "/runtime_error.lua"}, "/"),
+    check_failure(cli({"run", kScripts + "/runtime_error.lua"}, "/"),
                   "gaitlab: " + kScripts +
                       "/runtime_error.lua:4: attempt to call a nil value (field 'populate')");
-    check_failure(gaitlab({"scripts/unknown_key.lua"}, GAITLAB_SOURCE_DIR "/tests/cli"),
+    check_failure(cli({"scripts/unknown_key.lua"}, GAITLAB_SOURCE_DIR "/tests/cli"),
                   "gaitlab: scripts/unknown_key.lua:2: bad argument #1 to 'chain' (unknown key "
                   "'conection'; did you mean 'connection'?)");
 }
@@ -182,36 +204,36 @@ TEST_CASE("script errors print one line: gaitlab: FILE:LINE: message", "[cli]") 
 TEST_CASE("a controller error names the controller file and line", "[cli]") {
     const std::string message =
         "controllers/bad_step.lua:5: attempt to perform arithmetic on a nil value (field 'gain')";
-    check_failure(gaitlab({"run", "controller_error.lua"}), "gaitlab: " + message);
+    check_failure(cli({"run", "controller_error.lua"}), "gaitlab: " + message);
     // controller paths resolve against the folder of the script that loads them
-    check_failure(gaitlab({"run", "scripts/controller_error.lua"}, GAITLAB_SOURCE_DIR "/tests/cli"),
+    check_failure(cli({"run", "scripts/controller_error.lua"}, GAITLAB_SOURCE_DIR "/tests/cli"),
                   "gaitlab: scripts/" + message);
 }
 
 TEST_CASE("scripts get their arguments in arg", "[cli]") {
-    const Run r = gaitlab({"args.lua", "one", "two words", "--three", "-4"});
+    const Run r = cli({"args.lua", "one", "two words", "--three", "-4"});
     CHECK(r.status == 0);
     CHECK(r.err.empty());
     CHECK(r.out == "args.lua\n1\tone\n2\ttwo words\n3\t--three\n4\t-4\n");
 
-    const Run none = gaitlab({"run", "args.lua"});
+    const Run none = cli({"run", "args.lua"});
     CHECK(none.out == "args.lua\n");
 
     // gaitlab's own options may come before or right after FILE; the rest is the script's
-    const Run seeded = gaitlab({"run", "args.lua", "--seed", "3", "x"});
+    const Run seeded = cli({"run", "args.lua", "--seed", "3", "x"});
     CHECK(seeded.status == 0);
     CHECK(seeded.out == "args.lua\n1\tx\n");
-    const Run after = gaitlab({"run", "args.lua", "x", "--seed", "3"});
+    const Run after = cli({"run", "args.lua", "x", "--seed", "3"});
     CHECK(after.out == "args.lua\n1\tx\n2\t--seed\n3\t3\n");
 }
 
 TEST_CASE("the seed option makes math.random reproducible", "[cli]") {
-    const Run a = gaitlab({"run", "--seed", "11", "random.lua"});
-    const Run b = gaitlab({"run", "--seed", "11", "random.lua"});
-    const Run c = gaitlab({"run", "--seed", "12", "random.lua"});
-    const Run d = gaitlab({"run", "random.lua", "--seed", "12"});
-    const Run e = gaitlab({"random.lua"});
-    const Run f = gaitlab({"run", "--seed", "0", "random.lua"});
+    const Run a = cli({"run", "--seed", "11", "random.lua"});
+    const Run b = cli({"run", "--seed", "11", "random.lua"});
+    const Run c = cli({"run", "--seed", "12", "random.lua"});
+    const Run d = cli({"run", "random.lua", "--seed", "12"});
+    const Run e = cli({"random.lua"});
+    const Run f = cli({"run", "--seed", "0", "random.lua"});
     CHECK(a.status == 0);
     CHECK(a.err.empty());
     CHECK_THAT(a.out, Catch::Matches(R"([0-9]+ [0-9]+ [0-9]+ [0-9]+\n)"));
@@ -223,10 +245,265 @@ TEST_CASE("the seed option makes math.random reproducible", "[cli]") {
     CHECK(e.out != a.out);
 
     // command-line mistakes are one line too
-    check_failure(gaitlab({"run", "--seed", "many", "random.lua"}),
+    check_failure(cli({"run", "--seed", "many", "random.lua"}),
                   "gaitlab: Could not convert: --seed = many (see 'gaitlab --help')");
-    check_failure(gaitlab({"run"}), "gaitlab: file is required (see 'gaitlab --help')");
-    check_failure(gaitlab({"launch"}),
+    check_failure(cli({"run"}), "gaitlab: file is required (see 'gaitlab --help')");
+    check_failure(cli({"launch"}),
                   "gaitlab: The following argument was not expected: launch (see 'gaitlab "
                   "--help')");
+}
+
+// ---------------------------------------------------------------------------------------------
+// recording, gaitlab data, gaitlab replay
+
+namespace {
+
+const std::string kFirstSnake = GAITLAB_SOURCE_DIR "/examples/first_snake.lua";
+
+double now_seconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+
+// starts gaitlab with `args` (argv[0] included) in the background, stderr to `err`
+pid_t spawn(const std::vector<std::string>& args, const std::string& err) {
+    std::vector<std::string> argv_s = args;
+    std::vector<char*> argv;
+    for (std::string& a : argv_s)
+        argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err.c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    pid_t pid = 0;
+    const int rc = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    REQUIRE(rc == 0);
+    return pid;
+}
+
+// the last complete number line of a progress file, or -1
+double last_progress(const std::string& path) {
+    const std::string text = slurp(path);
+    const size_t end = text.rfind('\n');
+    if (end == std::string::npos) return -1;
+    const size_t start = text.rfind('\n', end - 1);
+    return std::atof(text.substr(start == std::string::npos ? 0 : start + 1).c_str());
+}
+
+}  // namespace
+
+TEST_CASE("gaitlab run records into --record DIR, or nothing with --no-record", "[cli][data]") {
+    TempDir tmp("cli_record");
+    const Run r = cli({"run", "--record", tmp / "run", kFirstSnake}, tmp.str());
+    CHECK(r.status == 0);
+    CHECK(r.err == "recorded " + (tmp / "run") + "\n");
+    const gaitlab::RunData run(tmp / "run");
+    CHECK(run.meta().status == "finished");
+    CHECK(run.rows() == 667);
+    CHECK(slurp(tmp / "run/config/first_snake.lua") == slurp(kFirstSnake));
+    CHECK_THAT(run.log(), Catch::Contains("\nmoved 0.561 m"));
+    bool command = false;
+    for (const auto& [k, v] : run.meta().provenance)
+        command = command || (k == "command" && v.find("--record") != std::string::npos);
+    CHECK(command);
+
+    const Run n = cli({"run", "--no-record", kFirstSnake}, tmp.str());
+    CHECK(n.err.empty());
+    CHECK(n.out == r.out);
+    CHECK_FALSE(std::filesystem::exists(tmp / "runs"));
+    check_failure(cli({"run", "--record", tmp / "x", "--no-record", kFirstSnake}),
+                  "gaitlab: --record excludes --no-record (see 'gaitlab --help')");
+
+    // a folder that cannot be made: one line naming it, exit 1
+    std::ofstream(tmp / "file") << "x";
+    check_failure(cli({"run", "--record", tmp / "file/run", kFirstSnake}, tmp.str()),
+                  "gaitlab: " + kFirstSnake + ":6: cannot create run folder " + (tmp / "file/run") +
+                      ": Not a directory");
+    // a run that fails keeps its folder, marked failed with the reason
+    const Run f = cli({"run", "--record", tmp / "failed", "controller_error.lua"});
+    CHECK(f.status == 1);
+    const gaitlab::RunData failed(tmp / "failed");
+    CHECK(failed.meta().status == "failed");
+    CHECK_THAT(failed.meta().message,
+               Catch::Contains("controllers/bad_step.lua:5: attempt to perform arithmetic"));
+    CHECK(slurp(tmp / "failed/config/controllers/bad_step.lua") ==
+          slurp(kScripts + "/controllers/bad_step.lua"));
+}
+
+TEST_CASE("each simulation of a script gets its own run folder", "[cli][data]") {
+    TempDir tmp("cli_two");
+    const Run r = cli({"run", "--record", tmp / "run", "two_sims.lua"});
+    CHECK(r.status == 0);
+    CHECK(r.err == "recorded 2 runs: " + (tmp / "run") + ", " + (tmp / "run-2") + "\n");
+    CHECK(gaitlab::RunData(tmp / "run").meta().simulation == 1);
+    CHECK(gaitlab::RunData(tmp / "run-2").meta().simulation == 2);
+    CHECK(gaitlab::RunData(tmp / "run-2").series()[0].name == "worm3.com.x");
+    // replaying the second one reruns the script and records only its second simulation
+    const Run p = cli({"replay", tmp / "run-2"});
+    CHECK(p.status == 0);
+    CHECK_THAT(p.out, Catch::StartsWith("replay identical: 4 rows x "));
+    CHECK_FALSE(std::filesystem::exists(tmp / "run-2-replay-2"));
+}
+
+TEST_CASE("os.exit closes the run folders first", "[cli][data]") {
+    TempDir tmp("cli_exit");
+    const Run ok = cli({"run", "--record", tmp / "ok", "exits.lua"});
+    CHECK(ok.status == 0);
+    CHECK(ok.out == "leaving\n");
+    const gaitlab::RunData a(tmp / "ok");
+    CHECK(a.meta().status == "finished");
+    CHECK(a.rows() == 34);  // all of it, though the flush period is a minute
+    CHECK_THAT(a.log(), Catch::Contains("\nleaving\n"));
+    const Run bad = cli({"run", "--record", tmp / "bad", "exits.lua", "4"});
+    CHECK(bad.status == 4);
+    const gaitlab::RunData b(tmp / "bad");
+    CHECK(b.meta().status == "failed");
+    CHECK(b.meta().message == "the script called os.exit with a failure status");
+}
+
+TEST_CASE("gaitlab data lists, extracts, exports and plots series", "[cli][data]") {
+    TempDir tmp("cli_data");
+    REQUIRE(cli({"run", "--record", tmp / "run", kFirstSnake}, tmp.str()).status == 0);
+    const std::string dir = tmp / "run";
+
+    const Run summary = cli({"data", dir});
+    CHECK(summary.status == 0);
+    CHECK_THAT(summary.out, Catch::Contains("status   finished\n"));
+    CHECK_THAT(summary.out, Catch::Contains("rows     667, t = 0 .. 19.98 s, every 30 ticks"));
+
+    const Run list = cli({"data", dir, "--list"});
+    CHECK(list.status == 0);
+    CHECK_THAT(list.out, Catch::StartsWith("name "));
+    CHECK_THAT(list.out, Catch::Matches(R"((.|\n)*\nsnake\.angle\[3\] +robot +3 +deg\n(.|\n)*)"));
+    CHECK_THAT(list.out, Catch::Matches(R"((.|\n)*\nsine\.amplitude +controller +deg\n(.|\n)*)"));
+
+    const Run one = cli({"data", dir, "--series", "sine.amplitude,sine.angle[2]", "--to", "0.06"});
+    CHECK(one.status == 0);
+    CHECK_THAT(one.out,
+               Catch::Matches("time,sine.amplitude,sine.angle\\[2\\]\n0,40,0\n0.03,40,[-0-9.e]+\n"
+                              "0.06,40,[-0-9.e]+\n"));
+
+    REQUIRE(cli({"data", dir, "--series", "snake.com.x", "--csv", tmp / "x.csv"}).status == 0);
+    CHECK(slurp(tmp / "x.csv").rfind("time,snake.com.x\n0,0.288", 0) == 0);
+    const Run split = cli({"data", dir, "--series", "snake.angle[*]", "--split", tmp / "each"});
+    CHECK(split.status == 0);
+    for (int j = 1; j <= 8; ++j)
+        CHECK(std::filesystem::exists(tmp / ("each/snake.angle[" + std::to_string(j) + "].csv")));
+
+    const Run plot =
+        cli({"data", dir, "--plot", tmp / "p.png", "--series", "snake.com.x,snake.com.y"});
+    CHECK(plot.status == 0);
+    CHECK(plot.out == "wrote " + (tmp / "p.png") + " (gnuplot script " + (tmp / "p.gp") +
+                          ", data " + (tmp / "p.csv") + ")\n");
+    CHECK(std::filesystem::file_size(tmp / "p.png") > 5000);
+
+    check_failure(cli({"data", dir, "--series", "snake.angle[12]"}),
+                  "gaitlab: unknown series 'snake.angle[12]'; did you mean 'snake.angle[1]', "
+                  "'snake.angle[2]' or 'snake.angle[3]'?");
+    check_failure(cli({"data", tmp.str()}),
+                  "gaitlab: " + tmp.str() +
+                      " is not a run folder: it has no run.json, series.csv and data.csv (a "
+                      "run folder holds run.json, series.csv, data.csv, events.csv, log.txt and "
+                      "config/)");
+    check_failure(cli({"data", dir, "--plot", tmp / "q.png"}),
+                  "gaitlab: --plot needs --series NAME[,NAME...]");
+}
+
+TEST_CASE("gaitlab replay reproduces a run bit for bit and says when it does not",
+          "[cli][replay]") {
+    TempDir tmp("cli_replay");
+    const std::string script = GAITLAB_SOURCE_DIR "/examples/my_sine_snake.lua";
+    REQUIRE(cli({"run", "--record", tmp / "run", script}, tmp.str()).status == 0);
+    const Run r = cli({"replay", tmp / "run"});
+    CHECK(r.status == 0);
+    CHECK(r.err.empty());
+    CHECK(r.out ==
+          "replay identical: 667 rows x 138 series, bit for bit; 0 recorded changes "
+          "applied (into " +
+              (tmp / "run-replay") + ")\n");
+    // a controller that is not the one that ran gives other data
+    std::string code = slurp(tmp / "run/config/controllers/my_sine.lua");
+    code.replace(code.find("2 * math.pi"), 11, "2.001 * math.pi");
+    std::ofstream(tmp / "run/config/controllers/my_sine.lua") << code;
+    const Run d = cli({"replay", tmp / "run", "--into", tmp / "other"});
+    CHECK(d.status == 1);
+    CHECK_THAT(d.err, Catch::StartsWith("gaitlab: replay differs: first difference at t = 0.03 "
+                                        "s (data.csv line 3): "));
+    check_failure(cli({"replay", tmp / "nothing"}),
+                  "gaitlab: no run folder at " + (tmp / "nothing"));
+}
+
+TEST_CASE("a run killed with SIGKILL leaves a readable folder missing at most one flush period",
+          "[cli][data]") {
+    TempDir tmp("cli_kill");
+    const std::string progress = tmp / "progress";
+    const pid_t pid = spawn(
+        {GAITLAB_BINARY, "run", "--record", tmp / "run", kScripts + "/long_run.lua"}, progress);
+    // (wall time, simulated time) as the run reports it
+    std::vector<std::pair<double, double>> seen;
+    const double start = now_seconds();
+    while (now_seconds() - start < 1.5) {
+        const double t = last_progress(progress);
+        if (t > 0) seen.emplace_back(now_seconds(), t);
+        usleep(10000);
+    }
+    const double killed_at = now_seconds();
+    REQUIRE(kill(pid, SIGKILL) == 0);
+    int wstatus = 0;
+    REQUIRE(waitpid(pid, &wstatus, 0) == pid);
+    CHECK(WIFSIGNALED(wstatus));
+    const double sim_at_kill = last_progress(progress);
+    REQUIRE(sim_at_kill > 1);
+
+    const gaitlab::RunData run(tmp / "run");
+    CHECK(run.meta().status == "running");
+    const std::vector<double> t = run.times();
+    REQUIRE(!t.empty());
+    const double last = t.back();
+    // the data reaches what the run had done one flush period (0.2 s) before the kill, with
+    // 0.3 s more for the machine's scheduling; it cannot go past what it had done at the kill
+    double sim_before = 0;
+    for (const auto& [wall, sim] : seen) {
+        if (wall <= killed_at - 0.2 - 0.3) sim_before = sim;
+    }
+    INFO("last row " << last << " s, at kill " << sim_at_kill << " s, one flush before "
+                     << sim_before << " s");
+    CHECK(last >= sim_before);
+    CHECK(last <= sim_at_kill + 0.3);
+    // every row up to there reads back
+    CHECK(static_cast<long>(t.size()) == run.rows());
+    CHECK(run.get("snake.com.x").values.size() == t.size());
+    const Run summary = cli({"data", tmp / "run"});
+    CHECK(summary.status == 0);
+    CHECK_THAT(summary.out,
+               Catch::Contains("status   incomplete (the process ended without closing it)"));
+    // and it replays up to where it stopped
+    const Run replay = cli({"replay", tmp / "run"});
+    CHECK(replay.status == 0);
+    CHECK_THAT(replay.out, Catch::Contains("bit for bit (up to where the run stopped)"));
+}
+
+TEST_CASE("a full disk stops the run with one clear line and keeps what was written",
+          "[cli][data]") {
+    TempDir tmp("cli_full");
+    // a file size limit stands in for a full disk: writes past 100 kB fail with EFBIG
+    const std::string cmd = "trap '' XFSZ; ulimit -f 200; exec " + std::string(GAITLAB_BINARY) +
+                            " run --record " + (tmp / "run") + " " + kScripts +
+                            "/long_run.lua quiet";
+    const pid_t pid = spawn({"sh", "-c", cmd}, tmp / "err");
+    int wstatus = 0;
+    REQUIRE(waitpid(pid, &wstatus, 0) == pid);
+    REQUIRE(WIFEXITED(wstatus));
+    CHECK(WEXITSTATUS(wstatus) == 1);
+    CHECK(slurp(tmp / "err") ==
+          "gaitlab: " + kScripts + "/long_run.lua:10: cannot write " + (tmp / "run/data.csv") +
+              ": File too large (recording stopped; what was written before is kept)\n");
+    const gaitlab::RunData run(tmp / "run");
+    CHECK(run.rows() > 10);
+    CHECK(run.meta().status == "failed");
+    CHECK_THAT(run.log(), Catch::Contains("recording stopped at t = "));
 }

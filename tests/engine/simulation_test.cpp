@@ -317,3 +317,67 @@ TEST_CASE("dynamic objects are numbered boxes first, then cylinders") {
     CHECK(sim.object(1).pose.position.x == Approx(2));
     REQUIRE_THROWS_AS(sim.object(2), SpecError);
 }
+
+TEST_CASE("pre-tick hooks run before every tick and may add or remove hooks", "[simulation]") {
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    std::vector<long> seen;
+    int added = 0, self = 0;
+    self = sim.add_pre_tick([&](Simulation& s) {
+        seen.push_back(s.ticks());
+        if (s.ticks() == 2) {
+            // adding a hook from a hook: it runs from the next tick on
+            sim.add_pre_tick([&](Simulation&) { ++added; });
+        }
+        if (s.ticks() == 4) sim.remove_pre_tick(self);  // removing itself
+    });
+    sim.step(8);
+    CHECK(seen == std::vector<long>{0, 1, 2, 3, 4});
+    CHECK(added == 5);  // before ticks 3 to 7
+}
+
+TEST_CASE("events carry the tick they act from and their origin", "[simulation]") {
+    Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+    auto sine = test::sine(20, 0.5, 0);
+    test::drive(sim, "all", sine);
+    std::vector<Event> events;
+    const int id =
+        sim.add_event_listener([&](const Simulation&, const Event& e) { events.push_back(e); });
+    sim.step(10);
+    sine->set_param("amplitude", 25);
+    sim.add_pre_tick([&](Simulation& s) {
+        if (s.ticks() == 15) s.controller(0).set_param("phase", 30, Origin::viewer);
+    });
+    sim.step(10);
+    sim.add_drive(0, Drive{{0}, test::sine(5, 1, 0)});
+    sim.reset(Origin::console);
+    sim.remove_event_listener(id);
+    sine->set_param("amplitude", 30);
+    REQUIRE(events.size() == 4);
+    CHECK(events[0].kind == EventKind::param);
+    CHECK(events[0].tick == 10);
+    CHECK(events[0].name == "sine.amplitude");
+    CHECK(events[0].value == 25);
+    CHECK(events[0].drive == 0);
+    CHECK(events[0].origin == Origin::script);
+    CHECK(events[1].tick == 15);
+    CHECK(events[1].origin == Origin::viewer);
+    CHECK(events[1].name == "sine.phase");
+    CHECK(events[2].kind == EventKind::drive);
+    CHECK(events[2].name == "sine_2");
+    CHECK(events[2].tick == 20);
+    CHECK(events[3].kind == EventKind::reset);
+    CHECK(events[3].origin == Origin::console);
+    CHECK(events[3].tick == 20);  // when it happened, not the tick after it (0)
+    CHECK(sim.ticks() == 0);
+}
+
+TEST_CASE("a controller that outlives its simulation stops telling it", "[simulation]") {
+    auto sine = test::sine(20, 0.5, 0);
+    {
+        Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+        test::drive(sim, "all", sine);
+        sim.add_event_listener([](const Simulation&, const Event&) {});
+    }
+    sine->set_param("amplitude", 10);  // no listener left to call
+    CHECK(sine->param("amplitude") == 10);
+}

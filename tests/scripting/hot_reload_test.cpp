@@ -12,32 +12,15 @@
 #include <vector>
 
 #include "lua_fixture.h"
+#include "temp_dir.h"
 
 using gaitlab::test::LuaFixture;
+using gaitlab::test::TempDir;
+using gaitlab::test::write_text;
 namespace fs = std::filesystem;
 
 namespace {
 
-// a fresh folder for one test case
-struct TempDir {
-    explicit TempDir(const std::string& name)
-        : path(fs::temp_directory_path() /
-               ("gaitlab_" + name + "_" +
-                std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()))) {
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-    fs::path path;
-};
-
-void write(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::trunc);
-    out << text;
-}
 
 // sets every joint to gain degrees and counts its steps
 const char* kProbeV1 = R"(return gaitlab.controller{
@@ -87,7 +70,7 @@ TEST_CASE("a changed controller file replaces the running version at the next co
           "[hot_reload]") {
     TempDir dir("reload");
     const std::string file = dir.file("probe.lua");
-    write(file, kProbeV1);
+    write_text(file, kProbeV1);
     LuaFixture lua;
     std::vector<std::string> reports;
     lua.host.set_reporter([&](const std::string& m) { reports.push_back(m); });
@@ -110,7 +93,7 @@ TEST_CASE("a changed controller file replaces the running version at the next co
 
     // v2 while the simulation exists; the first control tick after the check interval (0.2 s
     // of wall time) runs it, in both groups
-    write(file, kProbeV2);
+    write_text(file, kProbeV2);
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
     lua.run("sim:step(1)");
     CHECK(lua.integer("Probe.version") == 1);
@@ -128,7 +111,7 @@ TEST_CASE("a changed controller file replaces the running version at the next co
     CHECK(lua.number("robot:joints()[1].target") == Approx(-30));
 
     // a syntax error keeps v2 running and names the file and line
-    write(file, kProbeSyntaxError);
+    write_text(file, kProbeSyntaxError);
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
     lua.run("sim:run(0.1)");
     const std::string syntax = file + ":4: unexpected symbol near ')'";
@@ -145,7 +128,7 @@ TEST_CASE("a changed controller file replaces the running version at the next co
     CHECK(reports.size() == 2);
 
     // so does an error while the file runs
-    write(file, kProbeLoadError);
+    write_text(file, kProbeLoadError);
     lua.run("ok, err = gaitlab.controller.reload()");
     CHECK(lua.string("err") == file + ":2: attempt to index a nil value (local 'x')");
     lua.run("sim:run(0.1)");
@@ -163,7 +146,7 @@ TEST_CASE("a changed controller file replaces the running version at the next co
     CHECK(lua.number("robot:joints()[2].target") == Approx(-35));
 
     // back again: v1 runs, parameters still carried over
-    write(file, kProbeV1);
+    write_text(file, kProbeV1);
     lua.run("ok, err = gaitlab.controller.reload()");
     CHECK(lua.boolean("ok"));
     CHECK(lua.boolean("err == nil"));
@@ -180,14 +163,14 @@ TEST_CASE("a script can rewrite its controller while sim:run runs it", "[hot_rel
     lua.host.set_reload_interval(0);
     lua.run("FILE = '" + file + "'");
     lua.run(R"(
-        local function write(level)
+        local function write_text(level)
             local f = assert(io.open(FILE, "w"))
             f:write(string.format([[return gaitlab.controller{ name = "level",
               step = function(self) self:set_angle(1, %d) end }
             ]], level))
             f:close()
         end
-        write(10)
+        write_text(10)
         local Level = gaitlab.controller.load(FILE)
         robot = gaitlab.robot.chain{ modules = 2 }
         world = gaitlab.world()
@@ -197,7 +180,7 @@ TEST_CASE("a script can rewrite its controller while sim:run runs it", "[hot_rel
         targets = {}
         sim:run(0.1)
         targets[1] = robot:joints()[1].target
-        write(25)
+        write_text(25)
         sim:run(0.1)
         targets[2] = robot:joints()[1].target
     )");
@@ -208,7 +191,7 @@ TEST_CASE("a script can rewrite its controller while sim:run runs it", "[hot_rel
 TEST_CASE("snapshot and on_reload carry state the names do not", "[hot_reload]") {
     TempDir dir("hooks");
     const std::string file = dir.file("hooks.lua");
-    write(file, R"(return gaitlab.controller{
+    write_text(file, R"(return gaitlab.controller{
   name = "hooks",
   snapshot = function(self) return { steps = self.steps } end,
   step = function(self, dt)
@@ -228,7 +211,7 @@ TEST_CASE("snapshot and on_reload carry state the names do not", "[hot_reload]")
         sim = gaitlab.simulation{ world = world }
         sim:run(0.3)
     )");
-    write(file, R"(return gaitlab.controller{
+    write_text(file, R"(return gaitlab.controller{
   name = "hooks",
   on_reload = function(self, snapshot) self.restored = snapshot.steps end,
   step = function(self, dt) self:set_angle(1, self.restored) end,
@@ -245,7 +228,7 @@ TEST_CASE("saving a fixed file revives a controller that failed", "[hot_reload]"
     TempDir dir("revive");
     const std::string file = dir.file("buggy.lua");
     // fails from its 5th step on: a typo a student would make
-    write(file, R"(return gaitlab.controller{
+    write_text(file, R"(return gaitlab.controller{
   name = "buggy",
   values = { "n" },
   step = function(self, dt)
@@ -276,7 +259,7 @@ TEST_CASE("saving a fixed file revives a controller that failed", "[hot_reload]"
                                ":6: attempt to perform arithmetic on a nil value (field "
                                "'amplitde')",
                            0) == 0);
-    write(file, R"(return gaitlab.controller{
+    write_text(file, R"(return gaitlab.controller{
   name = "buggy",
   values = { "n" },
   step = function(self, dt)
@@ -299,14 +282,14 @@ TEST_CASE("controller files run in a sandbox unless the script opts out", "[hot_
     const std::string body = R"(
   return gaitlab.controller{ name = "s", step = function(self) self:set_angle(1, 0) end }
 )";
-    write(dir.file("closed.lua"), R"(
+    write_text(dir.file("closed.lua"), R"(
   assert(os == nil and io == nil and require == nil and debug == nil, "not sandboxed")
   assert(load == nil and loadfile == nil and dofile == nil and package == nil)
   assert(math.sin and string.format and table.concat and utf8.char and pairs and print)
   assert(gaitlab.robot == nil and _G.gaitlab.controller)
   math.sin = nil  -- a copy: the script's math keeps its sin
 )" + std::string(body));
-    write(dir.file("open.lua"), "assert(os.time and io.open, 'not open')" + std::string(body));
+    write_text(dir.file("open.lua"), "assert(os.time and io.open, 'not open')" + std::string(body));
     LuaFixture lua;
     lua.run("DIR = '" + dir.path.string() + "'");
     lua.run("gaitlab.controller.load(DIR .. '/closed.lua')");

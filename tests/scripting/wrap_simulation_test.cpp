@@ -13,14 +13,18 @@ TEST_CASE("simulation rejects bad options with Lua-worded messages", "[wrap_simu
           bad + "unknown key 'dtt'; did you mean 'dt'?)");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, control_evry = 10 }") ==
           bad + "unknown key 'control_evry'; did you mean 'control_every'?)");
-    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = 'dir' }") ==
-          bad +
-              "field 'record': recording to a run folder is not available in this version "
-              "(use record = false))");
-    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = true }") ==
-          bad +
-              "field 'record': recording to a run folder is not available in this version "
-              "(use record = false))");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = 3 }") ==
+          bad + "field 'record': false, true, a run folder or a table expected, got number)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { every = 3 } }") ==
+          bad + "field 'record': unknown key 'every')");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { record_every = 0 } }") ==
+          bad + "field 'record': record_every must be at least 1 (got 0))");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { flush_seconds = -1 } }") ==
+          bad + "field 'record': flush_seconds must be a non-negative number of seconds)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { series = 'x' } }") ==
+          bad + "field 'record': series: list of names, patterns or kinds expected, got string)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = '' }") ==
+          bad + "field 'record': run folder expected, got an empty string)");
     CHECK(lua.error_of("gaitlab.simulation{}") ==
           bad + "field 'world': gaitlab.World expected, got nil)");
     CHECK(lua.error_of("gaitlab.simulation{ world = 3 }") ==
@@ -36,8 +40,11 @@ TEST_CASE("simulation rejects bad options with Lua-worded messages", "[wrap_simu
     CHECK(lua.error_of("gaitlab.simulation{ world = w, solver_iterations = 0 }") ==
           bad + "solver_iterations must be in [1, 10000] (got 0))");
     CHECK(lua.error_of("gaitlab.simulation(w)") == bad + "table expected, got gaitlab.World)");
-    // record = false is the one accepted value
-    lua.run("gaitlab.simulation{ world = w, record = false }");
+    // without a host that records by default, nothing records unless asked
+    lua.run("s = gaitlab.simulation{ world = w, record = false }");
+    CHECK(lua.boolean("s.record_dir == nil"));
+    lua.run("s = gaitlab.simulation{ world = w }");
+    CHECK(lua.boolean("s.record_dir == nil"));
 }
 
 TEST_CASE("run and step advance time by whole ticks", "[wrap_simulation]") {

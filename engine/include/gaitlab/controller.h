@@ -3,11 +3,13 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "gaitlab/actuation.h"
+#include "gaitlab/event.h"
 #include "gaitlab/sensor.h"
 
 namespace gaitlab {
@@ -113,10 +115,19 @@ class Controller {
     /// Value of the parameter called `name`; throws SpecError if there is none.
     double param(std::string_view name) const;
     /// Sets parameter i after checking its range; throws SpecError naming the range and unit.
-    void set_param(int i, double value);
-    void set_param(std::string_view name, double value);
+    /// `origin` says who made the change: the simulation driving the controller records it as
+    /// an event (see event.h).
+    void set_param(int i, double value, Origin origin = Origin::script);
+    void set_param(std::string_view name, double value, Origin origin = Origin::script);
     /// Increases whenever a parameter changes.
     std::uint64_t param_version() const { return param_version_; }
+    /// Increases whenever the definition changes (a scripted controller's code was reloaded).
+    std::uint64_t def_version() const { return def_version_; }
+
+    /// Called after a parameter took a new value, with its index, the value and the origin of
+    /// the change; the simulation that drives the controller sets it. One listener at a time.
+    using ParamListener = std::function<void(int param, double value, Origin origin)>;
+    void set_param_listener(ParamListener fn) { param_listener_ = std::move(fn); }
 
     /// Number of joints of the group this controller drives (0 until bound).
     int joints() const { return joints_; }
@@ -125,6 +136,8 @@ class Controller {
     void bind(int joints);
     /// Per-joint value k (as declared in def().values), one entry per joint.
     const std::vector<double>& values(int k) const;
+    /// Every per-joint value at once, indexed like def().values (one sync for all of them).
+    const std::vector<std::vector<double>>& all_values() const;
     int find_value(std::string_view name) const;
 
     /// Back to the state just after bind(): values zero, parameters kept.
@@ -158,6 +171,8 @@ class Controller {
     ControllerDef def_;
     std::vector<double> params_;
     std::uint64_t param_version_ = 0;
+    std::uint64_t def_version_ = 0;
+    ParamListener param_listener_;
     int joints_ = 0;
     bool failed_ = false;
     std::string failure_;

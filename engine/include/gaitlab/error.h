@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace gaitlab {
 
@@ -23,6 +24,27 @@ class SpecError : public Error {
 class DivergenceError : public Error {
   public:
     using Error::Error;
+};
+
+/// A file or folder could not be created, read or written; the message names it and says why.
+class IoError : public Error {
+  public:
+    using Error::Error;
+};
+
+/// A file does not hold what was expected; the message names FILE:LINE and the expected form
+/// (configuration files add the element path: "FILE:LINE: PATH: message").
+class FormatError : public Error {
+  public:
+    explicit FormatError(const std::string& message, std::string file = {}, int line = 0)
+        : Error(message), file_(std::move(file)), line_(line) {}
+    /// The file and line the message names ("" and 0 when unknown).
+    const std::string& file() const { return file_; }
+    int line() const { return line_; }
+
+  private:
+    std::string file_;
+    int line_;
 };
 
 }  // namespace gaitlab

@@ -9,12 +9,6 @@
 
 namespace gaitlab {
 
-/// A file could not be read or written; the message names the path and the reason.
-class IoError : public Error {
-  public:
-    using Error::Error;
-};
-
 /// Writes `text` to `path` atomically: into a temporary file in the same folder, flushed, then
 /// renamed over `path`. On failure nothing at `path` changes and IoError names the path.
 void write_file_atomic(const std::string& path, std::string_view text);

@@ -6,9 +6,12 @@
 #include <exception>
 #include <functional>
 #include <memory>
+#include <set>
+#include <string>
 #include <string_view>
 #include <vector>
 
+#include "gaitlab/event.h"
 #include "gaitlab/scheduler.h"
 #include "gaitlab/sensor.h"
 #include "gaitlab/world.h"
@@ -83,22 +86,40 @@ class Simulation {
     long ticks() const { return scheduler_.ticks(); }
     double time() const { return scheduler_.time(); }
 
-    /// Advances `ticks` ticks (see scheduler.h for the order inside one tick). Under
-    /// ControllerErrorPolicy::pause it returns early, at the end of the tick in which a
-    /// controller failed; returns the number of ticks run.
+    /// Advances `ticks` ticks (see scheduler.h for the order inside one tick); the pre-tick
+    /// hooks run before each of them. Under ControllerErrorPolicy::pause it returns early, at
+    /// the end of the tick in which a controller failed; returns the number of ticks run.
     long step(long ticks = 1);
     /// Advances round(seconds / dt) ticks (fewer if paused); returns the ticks run.
     long run(double seconds);
     /// Whether the last step/run returned early because a controller failed under
     /// ControllerErrorPolicy::pause; the next step/run clears it.
     bool paused() const { return paused_; }
-    /// Rebuilds the physics from the spec, time 0, controllers reset (parameters kept).
-    void reset();
+    /// Rebuilds the physics from the spec, time 0, controllers reset (parameters kept); posts
+    /// a reset event stamped with the tick it happened at.
+    void reset(Origin origin = Origin::script);
 
-    /// Adds a drive to robot r while the simulation exists; throws SpecError.
-    void add_drive(int robot, Drive drive);
+    /// Adds a drive to robot r while the simulation exists; throws SpecError. After time 0 it
+    /// posts a drive event.
+    void add_drive(int robot, Drive drive, Origin origin = Origin::script);
 
     int robot_count() const { return static_cast<int>(world_.robots.size()); }
+    /// The robot's name, made unique within the simulation ("snake", "snake_2", ...): series
+    /// names start with it.
+    const std::string& robot_label(int robot) const;
+
+    /// Drives in the order they were added (robot by robot for those of the spec).
+    int drive_count() const { return static_cast<int>(drives_.size()); }
+    const Controller& controller(int drive) const;
+    Controller& controller(int drive);
+    /// The robot a drive belongs to.
+    int drive_robot(int drive) const;
+    /// Its joints, 0-based indices into the robot's joints, in group order.
+    const std::vector<int>& drive_joints(int drive) const;
+    /// The controller's name, made unique within the simulation (among robot labels too): the
+    /// second controller called "sine" is "sine_2", the third "sine_3". Labels never change
+    /// once given.
+    const std::string& drive_label(int drive) const;
     /// Centre of mass of robot r, m.
     Vec3 robot_position(int robot) const;
     /// Velocity of robot r's centre of mass, m/s.
@@ -107,6 +128,9 @@ class Simulation {
     Vec3 robot_displacement(int robot) const;
     BodyState body(int robot, int body) const;
     JointState joint(int robot, int joint) const;
+    /// Mechanical power of every servo of robot r, torque × velocity, W, into
+    /// out[0 .. joints) (cheaper than joint() for each).
+    void joint_powers(int robot, double* out) const;
     JointError joint_error(int robot, int joint) const;
     /// Number of dynamic objects of the world (boxes and cylinders with mass > 0).
     int object_count() const;
@@ -154,24 +178,42 @@ class Simulation {
     int add_observer(std::function<void(const Simulation&)> fn);
     void remove_observer(int id);
 
+    /// Calls `fn` before every tick, between ticks: the place where changes from outside the
+    /// script (console, viewer, replay) are applied, so they act from that tick on. Returns an
+    /// id for remove_pre_tick. A hook must not step the simulation.
+    int add_pre_tick(std::function<void(Simulation&)> fn);
+    /// Safe to call from inside a hook.
+    void remove_pre_tick(int id);
+
+    /// Calls `fn` for every event (parameter changes of its controllers, resets, ...), in the
+    /// order they happen; returns an id for remove_event_listener.
+    int add_event_listener(std::function<void(const Simulation&, const Event&)> fn);
+    void remove_event_listener(int id);
+    /// Stamps `event` with the current tick and hands it to every listener.
+    void post_event(Event event);
+
   private:
     class Phases;
     struct RobotSlot {
         int first_body = 0;
         int first_joint = 0;
         Vec3 start_position;
+        std::string label;
     };
     struct DriveSlot {
         int robot;
         Drive drive;
         std::vector<int> global_joints;
         std::vector<double> targets;
+        std::string label;
     };
 
     void build();
     void check_robot(int robot) const;
     void check_sensor(int sensor) const;
-    void bind(int robot, Drive drive);
+    void check_drive(int drive) const;
+    void dispatch(const Event& event);
+    std::string unique_label(const std::string& base);
     // marks the drive's controller failed and freezes its targets at the measured angles
     void fail(DriveSlot& d, const std::exception& e);
 
@@ -188,7 +230,18 @@ class Simulation {
     std::vector<double> targets_;   // per global joint, rad, summed in think
     std::vector<double> commands_;  // per global joint, rad/s, computed in act
     std::vector<std::pair<int, std::function<void(const Simulation&)>>> observers_;
+    struct PreTick {
+        int id;
+        bool live;  // false once removed; dropped at the next step()
+        std::function<void(Simulation&)> fn;
+    };
+    void run_pre_ticks();
+    std::vector<PreTick> pre_ticks_;
+    std::vector<PreTick> added_pre_ticks_;  // added while the hooks run
+    bool in_pre_ticks_ = false;
+    std::vector<std::pair<int, std::function<void(const Simulation&, const Event&)>>> listeners_;
     int next_observer_ = 1;
+    std::set<std::string> labels_;
     ControllerErrorHandler on_error_;
     bool pause_pending_ = false;  // a controller failed under the pause policy in this tick
     bool paused_ = false;

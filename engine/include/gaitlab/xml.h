@@ -4,6 +4,7 @@
 // write atomically, so a failed save leaves the old file as it was.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -15,20 +16,6 @@
 #include "gaitlab/world.h"
 
 namespace gaitlab {
-
-/// A configuration file is malformed or names something that does not exist. what() is
-/// "FILE:LINE: PATH: message", PATH the element path (e.g. "robot/joint[3]").
-class FormatError : public Error {
-  public:
-    FormatError(const std::string& message, std::string file, int line)
-        : Error(message), file_(std::move(file)), line_(line) {}
-    const std::string& file() const { return file_; }
-    int line() const { return line_; }
-
-  private:
-    std::string file_;
-    int line_;
-};
 
 /// Where a robot of the simulation lies in its environment.
 struct Placement {
@@ -51,7 +38,8 @@ struct RobotEntry {
 
 /// What a run records (see docs/data.md); written in the simulation file.
 struct RecordSpec {
-    bool enabled = true;
+    /// record or not; unset: as the host decides (`gaitlab run` records by default)
+    std::optional<bool> enabled;
     std::string dir;           ///< run folder ("" = runs/<name>-<timestamp>/)
     int every = 0;             ///< ticks between samples (0 = every control tick)
     double flush_seconds = 2;  ///< wall time between flushes to disk, s
@@ -85,7 +73,8 @@ std::string format_robot(const RobotSpec& robot);
 void write_actuation(const std::string& path, const ActuationSpec& actuation);
 std::string format_actuation(const ActuationSpec& actuation);
 void write_environment(const std::string& path, const EnvironmentSpec& environment);
-/// `file`: where the text will be written (heightfield images are named relative to it).
+/// `file`: where the text will be written (heightfield images are named relative to it; "":
+/// as the spec holds them).
 std::string format_environment(const EnvironmentSpec& environment, const std::string& file = "");
 void write_simulation(const std::string& path, const SimulationFile& simulation);
 std::string format_simulation(const SimulationFile& simulation);

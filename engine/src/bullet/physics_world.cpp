@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "gaitlab/geometry.h"
@@ -85,6 +86,12 @@ constexpr int kFirstRobotBit = 8;
 constexpr int kRobotBits = 24;
 
 }  // namespace
+
+const char* physics_version() {
+    static const std::string v =
+        std::to_string(btGetVersion() / 100) + "." + std::to_string(btGetVersion() % 100);
+    return v.c_str();
+}
 
 struct PhysicsWorld::Impl {
     struct Joint {
@@ -206,8 +213,15 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
             s.joints.push_back(joint);
         }
     }
-    // feedback pointers must stay put: set them once the joints vector is complete
+    // feedback pointers must stay put: set them once the joints vector is complete. Bullet
+    // leaves the feedback uninitialized until the first step: zero, so torques read before it
+    // (a recording's first row) are 0, not whatever the memory held
     for (Impl::Joint& j : s.joints) {
+        const btVector3 zero(0, 0, 0);
+        j.feedback.m_appliedForceBodyA = zero;
+        j.feedback.m_appliedTorqueBodyA = zero;
+        j.feedback.m_appliedForceBodyB = zero;
+        j.feedback.m_appliedTorqueBodyB = zero;
         j.hinge->setJointFeedback(&j.feedback);
         j.hinge->enableFeedback(true);
     }

@@ -13,6 +13,9 @@ class btRigidBody;
 
 namespace gaitlab {
 
+/// "3.24": the version of the Bullet library this engine was built with.
+const char* physics_version();
+
 class PhysicsWorld {
   public:
     /// Builds the Bullet scene for `world`; `dt` sets the servo torque limits as impulses.

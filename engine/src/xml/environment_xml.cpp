@@ -242,7 +242,7 @@ void write_heightfields(xml::Writer& w, const std::vector<HeightfieldSpec>& all,
         Write wr{w};
         fields(wr, h, static_cast<HeightfieldSpec*>(nullptr));
         if (h.heights.empty()) {
-            w.attr("image", relative_path(h.image, file));
+            w.attr("image", file.empty() ? h.image : relative_path(h.image, file));
             w.close();
             continue;
         }

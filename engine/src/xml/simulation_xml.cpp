@@ -78,7 +78,7 @@ SimulationFile read_simulation_element(const Element& root) {
             if (record) k.fail("one <record> per simulation expected");
             record = true;
             k.allow({"enabled", "dir", "every", "flush_seconds"});
-            s.record.enabled = k.boolean("enabled", true);
+            if (k.has("enabled")) s.record.enabled = k.boolean("enabled", true);
             s.record.dir = k.string("dir", "");
             const long long every = k.integer("every", 0);
             if (every < 0) k.fail(fmt::format("every must be >= 0 ticks (got {})", every));
@@ -127,7 +127,7 @@ std::string format_simulation(const SimulationFile& s) {
         w.close();
     }
     w.open("record");
-    w.attr("enabled", s.record.enabled);
+    if (s.record.enabled) w.attr("enabled", *s.record.enabled);
     if (!s.record.dir.empty()) w.attr("dir", s.record.dir);
     w.attr_int("every", s.record.every);
     w.attr("flush_seconds", s.record.flush_seconds);

@@ -8,10 +8,35 @@
 #include <vector>
 
 #include "gaitlab/error.h"
+#include "gaitlab/recorder.h"
 
 struct lua_State;
 
+namespace gaitlab {
+class Simulation;
+}
+
 namespace gaitlab::scripting {
+
+/// How the simulations that scripts create are recorded (docs/data.md). `gaitlab run` records
+/// by default; a host made for embedding or tests records only what a script asks for.
+struct RecordSettings {
+    /// simulations created without `record = ...` record (`gaitlab run`)
+    bool by_default = false;
+    /// nothing records, whatever the script says (`gaitlab run --no-record`)
+    bool disabled = false;
+    /// the folder of the first run that has no folder of its own (`--record DIR`); the next
+    /// ones get DIR-2, DIR-3, ... "" : ROOT/NAME-YYYYmmdd-HHMMSS
+    std::string dir;
+    std::string root = "runs";  ///< parent of the default run folders
+    std::string name = "run";   ///< run name, usually the script's file name without .lua
+    /// the script the host runs (LuaHost::run_file of this path is copied into run folders)
+    std::string script;
+    std::string command;  ///< the command line, kept as provenance
+    /// more configuration to copy into every run folder (the XML master and its parts, with
+    /// roles "master", "robot", "actuation", "environment"); paths relative to config/
+    std::vector<ConfigFile> files;
+};
 
 /// A Lua error, split into its parts (never parsed from strings after the fact).
 class ScriptError : public Error {
@@ -46,7 +71,7 @@ class LuaHost {
 
     lua_State* state() const { return L_; }
 
-    /// Seeds math.random, so scripts that use it are reproducible.
+    /// Seeds math.random, so scripts that use it are reproducible (a new host has seed 0).
     void seed(std::uint64_t seed);
     /// Sets the global `arg` table as lua.c does: arg[0] = script, arg[1..] = args.
     void set_args(const std::string& script, const std::vector<std::string>& args);
@@ -57,6 +82,20 @@ class LuaHost {
     void set_reporter(std::function<void(const std::string&)> fn);
     /// Wall time between two checks of the controller files for changes (default 0.2 s).
     void set_reload_interval(double seconds);
+
+    /// How simulations created from now on are recorded (see RecordSettings).
+    void set_recording(RecordSettings settings);
+    /// The run folders recorded so far, in the order they were started.
+    std::vector<std::string> run_folders() const;
+    /// Closes every recording still open: "finished", or "failed" with `error` as the reason.
+    /// Throws IoError if a last write fails.
+    void finish(const std::string& error = {});
+    /// Calls `fn` for every simulation a script creates, with its 1-based creation index,
+    /// before the script goes on (a console or viewer attaches here).
+    void on_simulation(std::function<void(Simulation&, int)> fn);
+    /// Where the script's print() goes besides the logs of its recordings: stdout (the
+    /// default) or nowhere (`false`, for replays).
+    void set_print(bool to_stdout);
 
     /// Loads and runs a Lua file; throws ScriptError (syntax or runtime).
     void run_file(const std::string& path);

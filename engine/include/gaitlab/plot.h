@@ -1,0 +1,36 @@
+// Plots of recorded series as PNG, drawn by gnuplot (pngcairo). The gnuplot script and the data
+// it plots are kept next to the PNG, so the plot can be edited and redrawn by hand.
+#pragma once
+
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace gaitlab {
+
+class RunData;
+
+/// What to plot and where.
+struct PlotOptions {
+    /// the PNG to write, e.g. "walk.png"; "walk.gp" (the script) and "walk.csv" (its data) go
+    /// next to it
+    std::string output;
+    std::vector<std::string> series;  ///< names, kinds or '*' patterns (RunData::select)
+    double from = -std::numeric_limits<double>::infinity();  ///< s
+    double to = std::numeric_limits<double>::infinity();     ///< s
+    std::string title;                                       ///< "" : the run's name
+    int width = 1000;                                        ///< pixels
+    int height = 600;                                        ///< pixels
+};
+
+/// The files a plot wrote.
+struct PlotFiles {
+    std::string png, script, data;
+};
+
+/// Writes the data and the gnuplot script, then runs `gnuplot` on it. Throws SpecError (bad
+/// options or series names, with suggestions) or IoError (files, or gnuplot missing or
+/// failing: the script and data stay, to run by hand).
+PlotFiles plot(const RunData& run, const PlotOptions& options);
+
+}  // namespace gaitlab

@@ -1,0 +1,45 @@
+// Files of run folders: whole files written atomically (temporary file + rename), files that
+// grow by appending, and reading. Every failure is an IoError naming the path and the reason.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+namespace gaitlab::data {
+
+/// "No space left on device" for ENOSPC ...
+std::string reason(int error_number);
+
+/// Writes `content` to PATH.tmp, then renames it to `path`: readers see the old file or the
+/// new one, never a part.
+void write_atomically(const std::string& path, std::string_view content);
+
+/// The whole file; throws IoError.
+std::string read_file(const std::string& path);
+
+/// A file opened for appending (created or truncated on open). Writes go straight to the
+/// operating system (write(2), no fsync): once write() returns they survive the process, not
+/// a power loss.
+class AppendFile {
+  public:
+    AppendFile() = default;
+    /// Creates or truncates `path`; throws IoError.
+    explicit AppendFile(std::string path);
+    ~AppendFile();
+    AppendFile(AppendFile&& other) noexcept;
+    AppendFile& operator=(AppendFile&& other) noexcept;
+    AppendFile(const AppendFile&) = delete;
+    AppendFile& operator=(const AppendFile&) = delete;
+
+    /// Writes all of `bytes`; throws IoError (a full disk: "No space left on device").
+    void write(std::string_view bytes);
+    void close();
+    bool is_open() const { return fd_ >= 0; }
+    const std::string& path() const { return path_; }
+
+  private:
+    std::string path_;
+    int fd_ = -1;
+};
+
+}  // namespace gaitlab::data

@@ -1,0 +1,354 @@
+#include "recording.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "gaitlab/error.h"
+#include "hot_reload.h"
+#include "lua_util.h"
+
+namespace gaitlab::scripting {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kRecordingsKey = "gaitlab.recordings";
+constexpr const char* kRecordingsType = "gaitlab.Recordings";
+
+// print(...) as Lua's, to stdout (unless a replay mutes it) and to the logs of the recordings
+int l_print(lua_State* L) {
+    // the conversions may raise Lua errors: done before any C++ object exists
+    const int n = lua_gettop(L);
+    for (int i = 1; i <= n; ++i)
+        luaL_tolstring(L, i, nullptr);
+    return protect(L, [&] {
+        std::string line;
+        for (int i = 1; i <= n; ++i) {
+            size_t len = 0;
+            const char* s = lua_tolstring(L, n + i, &len);
+            if (i > 1) line += '\t';
+            line.append(s, len);
+        }
+        Recordings& r = Recordings::of(L);
+        if (r.print_to_stdout) {
+            std::fwrite(line.data(), 1, line.size(), stdout);
+            std::fputc('\n', stdout);
+            std::fflush(stdout);
+        }
+        r.log_line(line);
+        return 0;
+    });
+}
+
+// os.exit(...) ends the process without closing the Lua state: close the recordings first
+// ("finished", or "failed" for a failure status), then exit as Lua's os.exit does
+int l_exit(lua_State* L) {
+    bool ok = true;
+    if (lua_isboolean(L, 1)) {
+        ok = lua_toboolean(L, 1);
+    } else if (!lua_isnoneornil(L, 1)) {
+        ok = luaL_optinteger(L, 1, 0) == 0;
+    }
+    protect(L, [&] {
+        try {
+            Recordings::of(L).finish(ok ? "" : "the script called os.exit with a failure status");
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        }
+        return 0;
+    });
+    std::fflush(stdout);
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_insert(L, 1);
+    lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
+    return lua_gettop(L);
+}
+
+bool same_options(const SimulationOptions& a, const SimulationOptions& b) {
+    return a.dt == b.dt && a.control_every == b.control_every &&
+           a.solver_iterations == b.solver_iterations && a.seed == b.seed &&
+           a.on_controller_error == b.on_controller_error;
+}
+
+}  // namespace
+
+void log_to_recordings(lua_State* L, const std::string& line) {
+    if (lua_getfield(L, LUA_REGISTRYINDEX, kRecordingsKey) == LUA_TUSERDATA) {
+        static_cast<Recordings*>(lua_touserdata(L, -1))->log_line(line);
+    }
+    lua_pop(L, 1);
+}
+
+Recordings& Recordings::of(lua_State* L) {
+    lua_getfield(L, LUA_REGISTRYINDEX, kRecordingsKey);
+    auto* r = static_cast<Recordings*>(lua_touserdata(L, -1));
+    lua_pop(L, 1);
+    return *r;
+}
+
+void Recordings::install(lua_State* L) {
+    register_type<Recordings>(L, kRecordingsType, nullptr);
+    new_object<Recordings>(L, kRecordingsType, Recordings{});
+    lua_setfield(L, LUA_REGISTRYINDEX, kRecordingsKey);
+    lua_pushcfunction(L, l_print);
+    lua_setglobal(L, "print");
+    if (lua_getglobal(L, "os") == LUA_TTABLE) {
+        lua_getfield(L, -1, "exit");
+        lua_pushcclosure(L, l_exit, 1);
+        lua_setfield(L, -2, "exit");
+    }
+    lua_pop(L, 1);
+    // every controller file that loads or reloads goes into the run folders, and a reload is
+    // an event of every simulation (a replay applies it again at the same tick)
+    Reloader::of(L).set_observer([](lua_State* S, const Reloader::Change& c) {
+        Recordings::of(S).on_file(c.index, c.chunk, c.source, c.version, c.origin);
+    });
+}
+
+std::string Recordings::config_path(size_t index, const std::string& chunk) const {
+    // a replay names the files as the run did (a script may load a file whose name changes
+    // from run to run, e.g. os.tmpname())
+    if (replay && index < replay->controller_paths.size()) return replay->controller_paths[index];
+    std::error_code ec;
+    const fs::path file = fs::weakly_canonical(chunk, ec);
+    if (!settings.script.empty()) {
+        const fs::path dir = fs::weakly_canonical(settings.script, ec).parent_path();
+        const fs::path rel = file.lexically_relative(dir);
+        const bool inside = !rel.empty() && *rel.begin() != ".." && !rel.is_absolute();
+        if (inside && rel != fs::path(settings.script).filename()) return rel.string();
+    }
+    // outside the script's folder: config/external/N-NAME
+    return fmt::format("external/{}-{}", index + 1, file.filename().string());
+}
+
+std::string Recordings::reload_path(size_t index, const std::string& path, std::uint64_t version) {
+    return fmt::format("reloads/{}-{}.v{}.lua", index + 1, fs::path(path).stem().string(), version);
+}
+
+RunContext Recordings::context(lua_State* L, int index, const std::string& started_by) const {
+    RunContext c;
+    c.args = script_args;
+    c.script_seed = script_seed;
+    c.simulation = index;
+    c.started_by = started_by;
+    if (!settings.script.empty()) {
+        c.script = fs::path(settings.script).filename().string();
+        c.files.push_back({"script", c.script, settings.script, script_source, "", 0});
+    }
+    for (const ConfigFile& f : settings.files)
+        c.files.push_back(f);
+    for (const ConfigFile& f : inputs_)
+        c.files.push_back(f);
+    const std::vector<Reloader::FileRecord> files = Reloader::of(L).history();
+    for (size_t k = 0; k < files.size(); ++k) {
+        const std::string path = config_path(k, files[k].chunk);
+        c.files.push_back({"controller", path, files[k].chunk, files[k].versions[0], "", 0});
+        for (size_t v = 1; v < files[k].versions.size(); ++v) {
+            c.files.push_back(
+                {"reload", reload_path(k, path, v), files[k].chunk, files[k].versions[v], path, v});
+        }
+    }
+    c.provenance.emplace_back("lua", LUA_RELEASE);
+    if (!settings.command.empty()) c.provenance.emplace_back("command", settings.command);
+    return c;
+}
+
+std::string Recordings::next_dir() {
+    ++dirs_;
+    if (settings.dir.empty()) return default_run_dir(settings.root, settings.name);
+    return dirs_ == 1 ? settings.dir : fmt::format("{}-{}", settings.dir, dirs_);
+}
+
+std::string Recordings::begin(lua_State* L, SimulationHandle& h, const RecordRequest& request,
+                              const std::string& started_by) {
+    RecordOptions o = request.options;
+    o.dir = request.dir.empty() ? next_dir() : request.dir;
+    auto rec = std::make_shared<Recorder>(*h.sim, o, context(L, h.index, started_by));
+    h.recorder = rec;
+    recorders_.push_back(rec);
+    folders_.push_back(o.dir);
+    return o.dir;
+}
+
+void Recordings::begin_replay(lua_State* L, SimulationHandle& h, const std::string& started_by) {
+    ReplayPlan& p = *replay;
+    if (started_by != p.started_by) {
+        p.mismatch = fmt::format(
+            "the run started recording {} and the replay {}",
+            p.started_by == "simulation" ? "when the simulation was created" : "with sim:record",
+            started_by == "simulation" ? "when the simulation was created" : "with sim:record");
+    }
+    if (!same_options(h.sim->options(), p.expect)) {
+        p.mismatch =
+            "the replayed simulation has other options (dt, control_every, "
+            "solver_iterations, seed or on_controller_error) than the run";
+    }
+    RecordOptions o = p.options;
+    o.dir = p.into;
+    h.recorder = std::make_shared<Recorder>(*h.sim, o, context(L, h.index, started_by));
+    recorders_.push_back(h.recorder);
+    folders_.push_back(o.dir);
+    p.sim = h.sim;
+    p.recorder = h.recorder;
+    // recorded reloads of controller code from disk run the recorded version again
+    auto apply = [L](Simulation&, const Event& e) {
+        ReplayPlan& plan = *Recordings::of(L).replay;
+        for (size_t k = 0; k < plan.controller_paths.size(); ++k) {
+            if (plan.controller_paths[k] != e.name) continue;
+            const std::string error = Reloader::of(L).reload_file(L, k, e.origin);
+            if (!error.empty()) throw Error(error);
+            return;
+        }
+        throw Error(fmt::format("the run has no controller file '{}'", e.name));
+    };
+    p.replay = std::make_unique<EventReplay>(*h.sim, p.events, apply, p.stop_tick);
+}
+
+void Recordings::created(lua_State* L, SimulationHandle& h, const RecordRequest& request) {
+    h.index = ++created_;
+    // scripts may make thousands of simulations: forget the ones that are gone
+    sims_.erase(
+        std::remove_if(sims_.begin(), sims_.end(), [](const auto& w) { return w.expired(); }),
+        sims_.end());
+    recorders_.erase(std::remove_if(recorders_.begin(), recorders_.end(),
+                                    [](const auto& w) { return w.expired(); }),
+                     recorders_.end());
+    sims_.push_back(h.sim);
+    if (replay) {
+        if (h.index == replay->simulation && replay->started_by == "simulation") {
+            begin_replay(L, h, "simulation");
+        }
+    } else if (!settings.disabled) {
+        const bool on = request.mode == RecordRequest::Mode::on ||
+                        (request.mode == RecordRequest::Mode::absent && settings.by_default);
+        if (on) begin(L, h, request, "simulation");
+    }
+    for (const auto& fn : on_created)
+        fn(*h.sim, h.index);
+}
+
+std::string Recordings::start(lua_State* L, SimulationHandle& h, const RecordRequest& request) {
+    if (h.recorder && !h.recorder->closed()) {
+        throw Error(
+            fmt::format("the simulation already records into {} (sim:record(false) stops that)",
+                        h.recorder->dir()));
+    }
+    if (replay) {
+        if (h.index != replay->simulation || replay->sim) return "";
+        begin_replay(L, h, "record");
+        return replay->into;
+    }
+    if (settings.disabled) return "";
+    return begin(L, h, request, "record");
+}
+
+void Recordings::stop(SimulationHandle& h) {
+    if (h.recorder) h.recorder->close();
+    // a replay follows the run only while it recorded
+    if (replay && replay->sim == h.sim && replay->replay) replay->replay->detach();
+}
+
+void Recordings::finish(const std::string& error) {
+    std::string first;
+    for (const auto& w : recorders_) {
+        auto rec = w.lock();
+        if (!rec || rec->closed()) continue;
+        try {
+            rec->close(error.empty() ? "finished" : "failed", error);
+        } catch (const std::exception& e) {
+            if (first.empty()) first = e.what();
+        }
+    }
+    recorders_.clear();
+    if (!first.empty()) throw IoError(first);
+}
+
+void Recordings::log_line(const std::string& line) {
+    for (const auto& w : recorders_) {
+        if (auto rec = w.lock()) rec->log(line);
+    }
+}
+
+void Recordings::on_input(const std::string& path) {
+    std::error_code ec;
+    const std::string origin = fs::weakly_canonical(path, ec).string();
+    for (const ConfigFile& f : inputs_) {
+        if (f.origin == origin) return;
+    }
+    std::ifstream in(origin, std::ios::binary);
+    if (!in) return;
+    std::ostringstream content;
+    content << in.rdbuf();
+    ConfigFile f;
+    f.role = "input";
+    f.origin = origin;
+    f.content = content.str();
+    // inside the script's folder a copy at the same place is found by the same relative path;
+    // outside, under external/ + its absolute path, so files that name each other by relative
+    // paths (a simulation file and its parts) still find each other
+    f.path = "external" + origin;
+    if (!settings.script.empty()) {
+        const fs::path dir = fs::weakly_canonical(settings.script, ec).parent_path();
+        const fs::path rel = fs::path(origin).lexically_relative(dir);
+        if (!rel.empty() && *rel.begin() != ".." && !rel.is_absolute()) f.path = rel.string();
+    }
+    for (const auto& w : recorders_) {
+        auto rec = w.lock();
+        if (rec && !rec->closed()) rec->add_config_file(f);
+    }
+    inputs_.push_back(std::move(f));
+}
+
+std::string input_path(lua_State* L, const std::string& arg) {
+    const std::string path = script_path(L, arg);
+    Recordings& r = Recordings::of(L);
+    const std::string read = r.input_path(path);
+    r.on_input(read);
+    return read;
+}
+
+std::string Recordings::input_path(const std::string& path) const {
+    if (!replay || replay->inputs.empty()) return path;
+    std::error_code ec;
+    const auto it = replay->inputs.find(fs::weakly_canonical(path, ec).string());
+    return it != replay->inputs.end() ? it->second : path;
+}
+
+void Recordings::on_file(size_t index, const std::string& chunk, const std::string& source,
+                         std::uint64_t version, Origin origin) {
+    const std::string path = config_path(index, chunk);
+    ConfigFile f;
+    f.origin = chunk;
+    f.content = source;
+    if (version == 0) {
+        f.role = "controller";
+        f.path = path;
+    } else {
+        f.role = "reload";
+        f.path = reload_path(index, path, version);
+        f.of = path;
+        f.version = version;
+    }
+    for (const auto& w : recorders_) {
+        auto rec = w.lock();
+        if (rec && !rec->closed()) rec->add_config_file(f);
+    }
+    if (version == 0) return;
+    Event e;
+    e.kind = EventKind::reload;
+    e.origin = origin;
+    e.name = path;
+    e.value = static_cast<double>(version);
+    e.detail = "config/" + f.path;
+    for (const auto& w : sims_) {
+        if (auto sim = w.lock()) sim->post_event(e);
+    }
+}
+
+}  // namespace gaitlab::scripting

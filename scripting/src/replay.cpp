@@ -1,0 +1,171 @@
+#include "gaitlab/scripting/replay.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "gaitlab/scripting/lua_host.h"
+#include "hot_reload.h"
+#include "recording.h"
+
+namespace gaitlab::scripting {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_config(const fs::path& run, const std::string& path) {
+    const fs::path file = run / "config" / path;
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw Error(fmt::format("cannot replay: {} is missing", file.string()));
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+}  // namespace
+
+ReplayResult replay(const std::string& run_dir, const std::string& into) {
+    const RunData run(run_dir);
+    const RunMeta& m = run.meta();
+    if (m.script.empty()) {
+        throw Error(
+            fmt::format("cannot replay {}: it holds no script (only runs recorded from a "
+                        "script can be replayed)",
+                        run_dir));
+    }
+    const fs::path dir(run_dir);
+    ReplayResult result;
+    std::string base = run_dir;
+    while (base.size() > 1 && base.back() == '/')
+        base.pop_back();
+    result.into = into.empty() ? base + "-replay" : into;
+    if (fs::weakly_canonical(result.into) == fs::weakly_canonical(dir)) {
+        throw Error("cannot replay a run into its own folder");
+    }
+
+    auto plan = std::make_shared<ReplayPlan>();
+    plan->into = result.into;
+    plan->simulation = m.simulation;
+    plan->started_by = m.started_by;
+    plan->options.record_every = m.record_every;
+    plan->options.flush_seconds = m.flush_seconds;
+    plan->options.series = m.select;
+    plan->expect = m.options;
+    plan->events = run.events();
+    if (m.status == "running") {
+        // the process ended without closing the run: replay up to its last complete row
+        const std::vector<double> t = run.times();
+        plan->stop_tick = t.empty() ? 0 : std::lround(t.back() / m.options.dt);
+    }
+    for (const ConfigFile& f : m.files) {
+        if (f.role == "controller") {
+            plan->controller_paths.push_back(f.path);
+            plan->controller_sources.push_back(read_config(dir, f.path));
+        }
+    }
+    // every saved version of a controller file: those listed in run.json, and those the
+    // events name (a run that was killed did not list them)
+    auto add_version = [&](const std::string& of, std::uint64_t version, const std::string& path) {
+        for (size_t k = 0; k < plan->controller_paths.size(); ++k) {
+            if (plan->controller_paths[k] == of) {
+                plan->reload_sources[{k, version}] = read_config(dir, path);
+            }
+        }
+    };
+    for (const ConfigFile& f : m.files) {
+        if (f.role == "reload") add_version(f.of, f.version, f.path);
+    }
+    // files the run read: a replay reads the run folder's copies
+    for (const ConfigFile& f : m.files) {
+        if (f.role == "input") plan->inputs[f.origin] = (dir / "config" / f.path).string();
+    }
+    for (const Event& e : plan->events) {
+        if (e.kind == EventKind::reload && e.detail.rfind("config/", 0) == 0) {
+            add_version(e.name, static_cast<std::uint64_t>(e.value), e.detail.substr(7));
+        }
+    }
+
+    const std::string script = (dir / "config" / m.script).string();
+    {
+        LuaHost host;
+        lua_State* L = host.state();
+        host.set_print(false);
+        host.set_reporter([L](const std::string&) {});  // reports go to the replay's log
+        RecordSettings settings;
+        settings.script = script;
+        settings.command = "gaitlab replay " + run_dir;
+        host.set_recording(settings);
+        host.seed(m.script_seed);
+        host.set_args(script, m.args);
+        Recordings& rec = Recordings::of(L);
+        rec.replay = plan;
+        // controller files come from the run folder, in the order the run loaded them
+        Reloader& reloader = Reloader::of(L);
+        reloader.set_polling(false);
+        reloader.set_source_override(
+            [plan](size_t index, std::uint64_t version) -> std::optional<std::string> {
+                if (version == 0) {
+                    if (index < plan->controller_sources.size()) {
+                        return plan->controller_sources[index];
+                    }
+                    return std::nullopt;
+                }
+                const auto it = plan->reload_sources.find({index, version});
+                if (it != plan->reload_sources.end()) return it->second;
+                return std::nullopt;
+            });
+        std::string error;
+        try {
+            if (script.size() > 4 && script.compare(script.size() - 4, 4, ".xml") == 0) {
+                host.run_simulation_file(script);
+            } else {
+                host.run_file(script);
+            }
+        } catch (const std::exception& e) {
+            error = e.what();
+        }
+        if (plan->replay) {
+            if (plan->replay->ended()) {
+                result.stopped_early = true;
+                error.clear();
+            } else if (error.empty()) {
+                plan->replay->apply_due();  // changes made after the last step
+            }
+            result.divergence = plan->replay->divergence();
+            result.applied = plan->replay->applied();
+            if (result.divergence.empty() && !result.stopped_early &&
+                plan->replay->matched() < plan->events.size()) {
+                result.divergence =
+                    fmt::format("the replay made {} of the {} changes the run recorded",
+                                plan->replay->matched(), plan->events.size());
+            }
+        } else if (!plan->sim) {
+            result.divergence =
+                fmt::format("the script did not create simulation {} again", m.simulation);
+        }
+        if (!plan->mismatch.empty() && result.divergence.empty()) {
+            result.divergence = plan->mismatch;
+        }
+        // the run's own error, if it ended with one, is expected again
+        if (!error.empty() && !(m.status == "failed" && m.message == error)) {
+            result.script_error = error;
+        }
+        host.finish(error);
+        plan->replay.reset();
+        plan->recorder.reset();
+        plan->sim.reset();
+        rec.replay.reset();
+    }
+    if (!fs::exists(fs::path(result.into) / "run.json")) {
+        result.comparison.difference = "the replay recorded nothing";
+        return result;
+    }
+    result.comparison = compare(run, RunData(result.into));
+    return result;
+}
+
+}  // namespace gaitlab::scripting

@@ -1,0 +1,95 @@
+// Run folder files (engine/src/data/files.cpp, csv.cpp, json.cpp): atomic writes, appends that
+// report a full disk, CSV quoting and numbers that round-trip, JSON.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "data/csv.h"
+#include "data/files.h"
+#include "data/json.h"
+#include "gaitlab/error.h"
+#include "temp_dir.h"
+
+using namespace gaitlab;
+using namespace gaitlab::data;
+using gaitlab::test::TempDir;
+
+TEST_CASE("a full disk is an error naming the file and the reason", "[files]") {
+    AppendFile full("/dev/full");
+    CHECK_THROWS_AS(full.write("x\n"), IoError);
+    CHECK_THROWS_WITH(full.write("x\n"), "cannot write /dev/full: No space left on device");
+    TempDir tmp("files_atomic");
+    write_atomically(tmp / "a.txt", "one");
+    write_atomically(tmp / "a.txt", "two");
+    CHECK(read_file(tmp / "a.txt") == "two");
+    CHECK_FALSE(std::filesystem::exists(tmp / "a.txt.tmp"));
+    CHECK_THROWS_WITH(
+        write_atomically(tmp / "no/such/dir/a.txt", "x"),
+        "cannot write " + (tmp / "no/such/dir/a.txt") + ": No such file or directory");
+    CHECK_THROWS_WITH(read_file(tmp / "none"),
+                      "cannot read " + (tmp / "none") + ": No such file or directory");
+}
+
+TEST_CASE("numbers are written in their shortest form and read back to the same bits", "[csv]") {
+    const double values[] = {0.0,
+                             -0.0,
+                             0.1,
+                             1.0 / 3.0,
+                             1e-310,
+                             1.7976931348623157e308,
+                             static_cast<double>(0.1f),
+                             -123456.789,
+                             5e-324,
+                             std::numeric_limits<double>::infinity(),
+                             -std::numeric_limits<double>::infinity()};
+    for (double v : values) {
+        std::string s;
+        append_number(s, v);
+        double back = 0;
+        REQUIRE(parse_number(s, back));
+        CHECK(std::memcmp(&v, &back, sizeof v) == 0);
+    }
+    std::string s;
+    append_number(s, 0.1);
+    CHECK(s == "0.1");
+    s.clear();
+    append_number(s, std::nan(""));
+    CHECK(s == "nan");
+    double v = 0;
+    CHECK(parse_number("nan", v));
+    CHECK(std::isnan(v));
+    CHECK_FALSE(parse_number("1.5x", v));
+    CHECK_FALSE(parse_number("", v));
+    CHECK(parse_number("+2", v));
+    CHECK(v == 2);
+}
+
+TEST_CASE("CSV fields are quoted only when needed and split back", "[csv]") {
+    CHECK(csv_line({"a", "b,c", "say \"hi\"", ""}) == "a,\"b,c\",\"say \"\"hi\"\"\",");
+    std::vector<std::string> f;
+    REQUIRE(split_line("a,\"b,c\",\"say \"\"hi\"\"\",", f));
+    CHECK(f == std::vector<std::string>{"a", "b,c", "say \"hi\"", ""});
+    CHECK_FALSE(split_line("a,\"open", f));
+}
+
+TEST_CASE("JSON round-trips and reports errors with the line", "[json]") {
+    Json j = Json::object();
+    j.set("name", "a \"quoted\"\nline");
+    j.set("seed", std::uint64_t{18446744073709551615ull});
+    j.set("dt", 0.001);
+    j.set("list", Json::array()).push(1);
+    const Json back = Json::parse(j.dump(), "x.json");
+    CHECK(back.str_at("name") == "a \"quoted\"\nline");
+    CHECK(back.find("seed")->uint() == 18446744073709551615ull);
+    CHECK(back.num_at("dt") == 0.001);
+    CHECK(back.find("list")->items().size() == 1);
+    CHECK(Json::parse("\"\\u00e9\\ud83d\\ude00\"", "s").str() == "\xc3\xa9\xf0\x9f\x98\x80");
+    CHECK_THROWS_WITH(Json::parse("{\n\"a\": 1,\n}", "f.json"),
+                      "f.json:3: member name (a string) expected");
+    CHECK_THROWS_WITH(Json::parse("[1 2]", "f.json"), "f.json:1: ',' or ']' expected in an array");
+    CHECK_THROWS_WITH(Json::parse("{} x", "f.json"),
+                      "f.json:1: end of file expected after the JSON value");
+    CHECK_THROWS_WITH(Json::parse("\"abc", "f.json"), "f.json:1: unterminated string");
+}

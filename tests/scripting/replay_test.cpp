@@ -1,0 +1,211 @@
+// gaitlab replay (scripting/src/replay.cpp): a run recorded from a script, with changes from
+// outside it (a console's parameter change and reset, a controller file edited on disk), is
+// rerun from its folder and reproduces the data bit for bit; tampered runs do not.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+
+#include "gaitlab/controller.h"
+#include "gaitlab/run_data.h"
+#include "gaitlab/scripting/lua_host.h"
+#include "gaitlab/scripting/replay.h"
+#include "gaitlab/simulation.h"
+#include "temp_dir.h"
+
+using namespace gaitlab;
+using gaitlab::test::read_text;
+using gaitlab::test::TempDir;
+using gaitlab::test::write_text;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kController = R"(return gaitlab.controller{
+  name = "wave",
+  params = { amplitude = { 30, min = 0, max = 60, unit = "deg" } },
+  values = { "time" },
+  step = function(self, dt)
+    for m = 1, self.joints do
+      self.time[m] = self.time[m] + dt
+      self:set_angle(m, self.amplitude * math.sin(math.pi * self.time[m] + (m - 1) * 2.1))
+    end
+  end,
+}
+)";
+
+const char* kScript = R"(local Wave = gaitlab.controller.load("controllers/wave.lua")
+local robot = gaitlab.robot.chain{ name = "snake", modules = 5 }
+local world = gaitlab.world{ floor = { friction = 0.8 } }
+world:add(robot)
+local ctl = robot:group("pitch"):drive(Wave{ amplitude = 40 })
+local sim = gaitlab.simulation{ world = world }
+sim:run(0.5)
+ctl.amplitude = 35 + math.random(10)   -- the seed decides
+sim:run(1.0)
+print("done")
+)";
+
+// writes the script and its controller into DIR/src, runs it recorded into DIR/run; `outside`
+// acts before every tick, as a console would
+void record(const TempDir& tmp, const std::function<void(Simulation&)>& outside,
+            double reload_interval = 0.2) {
+    fs::create_directories(tmp.path / "src/controllers");
+    write_text(tmp / "src/controllers/wave.lua", kController);
+    write_text(tmp / "src/snake.lua", kScript);
+    scripting::LuaHost host;
+    scripting::RecordSettings s;
+    s.by_default = true;
+    s.dir = tmp / "run";
+    s.script = tmp / "src/snake.lua";
+    host.set_recording(s);
+    host.seed(5);
+    host.set_reload_interval(reload_interval);
+    host.set_print(false);
+    // configuration a host adds itself (the XML parts, later) goes into config/ too
+    s.files.push_back({"master", "snake.xml", "/somewhere/snake.xml", "<gaitlab/>\n", "", 0});
+    host.set_recording(s);
+    host.on_simulation([&](Simulation& sim, int) { sim.add_pre_tick(outside); });
+    host.run_file(s.script);
+    host.finish();
+}
+
+}  // namespace
+
+TEST_CASE("changes from a console replay at their ticks, bit for bit", "[replay]") {
+    TempDir tmp("replay_console");
+    record(tmp, [](Simulation& sim) {
+        if (sim.ticks() == 700) sim.controller(0).set_param("amplitude", 20, Origin::console);
+        if (sim.ticks() == 1100 && sim.time() > 1) sim.reset(Origin::console);
+    });
+    const RunData run(tmp / "run");
+    const std::vector<Event> events = run.events();
+    REQUIRE(events.size() == 3);
+    CHECK(events[0].origin == Origin::script);
+    CHECK(events[1].origin == Origin::console);
+    CHECK(events[2].kind == EventKind::reset);
+    CHECK(run.meta().script == "snake.lua");
+    CHECK(run.meta().script_seed == 5);
+    CHECK(read_text(tmp / "run/config/controllers/wave.lua") == kController);
+    CHECK(read_text(tmp / "run/config/snake.lua") == kScript);
+    CHECK(read_text(tmp / "run/config/snake.xml") == "<gaitlab/>\n");
+    CHECK(run.meta().files[1].role == "master");
+    CHECK_THAT(run.log(), Catch::Contains("\ndone\n"));
+
+    const scripting::ReplayResult r = scripting::replay(tmp / "run");
+    INFO(r.divergence);
+    CHECK(r.into == tmp / "run-replay");
+    CHECK(r.divergence.empty());
+    CHECK(r.script_error.empty());
+    CHECK(r.comparison.difference.empty());
+    CHECK(r.ok());
+    CHECK(r.applied == 2);
+    CHECK(r.comparison.rows == run.rows());
+    CHECK(r.comparison.rows > 40);
+
+    // without the console's change the replay goes elsewhere: the check can fail
+    fs::copy(tmp / "run", tmp / "edited", fs::copy_options::recursive);
+    std::string ev = read_text(tmp / "edited/events.csv");
+    const size_t console = ev.find("700,");
+    ev.erase(console, ev.find('\n', console) + 1 - console);
+    write_text(tmp / "edited/events.csv", ev);
+    const scripting::ReplayResult e = scripting::replay(tmp / "edited");
+    CHECK_FALSE(e.ok());
+    CHECK_THAT(e.comparison.difference, Catch::StartsWith("first difference at t = "));
+
+    // another seed makes the script change something else
+    fs::copy(tmp / "run", tmp / "seeded", fs::copy_options::recursive);
+    std::string meta = read_text(tmp / "seeded/run.json");
+    const size_t seed = meta.find("\"seed\": 5");
+    REQUIRE(seed != std::string::npos);
+    meta.replace(seed, 9, "\"seed\": 6");
+    write_text(tmp / "seeded/run.json", meta);
+    const scripting::ReplayResult s = scripting::replay(tmp / "seeded");
+    CHECK_FALSE(s.ok());
+    CHECK_THAT(s.divergence, Catch::StartsWith("the replay made wave.amplitude = "));
+}
+
+TEST_CASE("a controller file changed on disk during the run replays its new version", "[replay]") {
+    TempDir tmp("replay_reload");
+    std::string file;
+    record(
+        tmp,
+        [&](Simulation& sim) {
+            // an editor saves a new version half a second in
+            if (sim.ticks() == 500) {
+                std::string v2 = kController;
+                v2.replace(v2.find("+ (m - 1)"), 9, "- (m - 1)");
+                write_text(tmp / "src/controllers/wave.lua", v2);
+            }
+        },
+        0);
+    const RunData run(tmp / "run");
+    std::vector<Event> reloads;
+    for (const Event& e : run.events()) {
+        if (e.kind == EventKind::reload) reloads.push_back(e);
+    }
+    REQUIRE(reloads.size() == 1);
+    CHECK(reloads[0].origin == Origin::file);
+    CHECK(reloads[0].name == "controllers/wave.lua");
+    CHECK(reloads[0].tick == 510);  // the next control tick
+    CHECK(reloads[0].detail == "config/reloads/1-wave.v1.lua");
+    CHECK_THAT(read_text(tmp / "run/config/reloads/1-wave.v1.lua"), Catch::Contains("- (m - 1)"));
+
+    // the source folder goes back to version 1: the replay must use the run's copies
+    write_text(tmp / "src/controllers/wave.lua", kController);
+    const scripting::ReplayResult r = scripting::replay(tmp / "run", tmp / "again");
+    CHECK(r.divergence.empty());
+    CHECK(r.ok());
+    CHECK(r.applied == 1);
+}
+
+TEST_CASE("a controller file from outside the script's folder replays from the run's copy",
+          "[replay]") {
+    TempDir tmp("replay_external");
+    fs::create_directories(tmp.path / "lib");
+    fs::create_directories(tmp.path / "src");
+    write_text(tmp / "lib/wave.lua", kController);
+    std::string script = kScript;
+    script.replace(script.find("\"controllers/wave.lua\""), 22, "\"../lib/wave.lua\"");
+    write_text(tmp / "src/snake.lua", script);
+    {
+        scripting::LuaHost host;
+        scripting::RecordSettings s;
+        s.dir = tmp / "run";
+        s.by_default = true;
+        s.script = tmp / "src/snake.lua";
+        host.set_recording(s);
+        host.set_print(false);
+        host.run_file(s.script);
+        host.finish();
+    }
+    CHECK(read_text(tmp / "run/config/external/1-wave.lua") == kController);
+    // the original is gone: the replay runs the copy
+    fs::remove_all(tmp.path / "lib");
+    const scripting::ReplayResult r = scripting::replay(tmp / "run");
+    INFO(r.divergence << " / " << r.comparison.difference);
+    CHECK(r.script_error.empty());
+    CHECK(r.ok());
+}
+
+TEST_CASE("a run cut short replays up to its last row", "[replay]") {
+    TempDir tmp("replay_short");
+    record(tmp, [](Simulation&) {});
+    // as a process killed mid-run leaves it: status running, a partly written last line
+    std::string meta = read_text(tmp / "run/run.json");
+    meta.replace(meta.find("\"finished\""), 10, "\"running\"");
+    write_text(tmp / "run/run.json", meta);
+    const std::string data = read_text(tmp / "run/data.csv");
+    write_text(tmp / "run/data.csv", data.substr(0, data.size() * 2 / 3));
+    const RunData run(tmp / "run");
+    CHECK(run.truncated());
+    const scripting::ReplayResult r = scripting::replay(tmp / "run");
+    CHECK(r.ok());
+    CHECK(r.stopped_early);
+    CHECK(r.comparison.rows == run.rows());
+    CHECK(RunData(r.into).rows() == run.rows());
+
+    CHECK_THROWS_WITH(scripting::replay(tmp.str()),
+                      Catch::StartsWith(tmp.str() + " is not a run folder: it has no"));
+    CHECK_THROWS_WITH(scripting::replay(tmp / "run", tmp / "run"),
+                      "cannot replay a run into its own folder");
+}
