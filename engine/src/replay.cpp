@@ -93,11 +93,20 @@ void EventReplay::apply_due() {
                         apply_other_(sim_, e);
                     }
                     break;
-                case EventKind::sensor:
+                case EventKind::sensor: {
+                    const int i = sim_.find_sensor(e.name);
+                    if (i < 0) {
+                        diverge(fmt::format("cannot replay {}: the replay has no such sensor",
+                                            describe(e)));
+                    } else {
+                        sim_.set_sensor_enabled(i, e.value != 0, e.origin);
+                    }
+                    break;
+                }
                 case EventKind::drive:
                     diverge(
-                        fmt::format("cannot replay {}: only parameter changes, reloads and "
-                                    "resets made outside the script can be replayed",
+                        fmt::format("cannot replay {}: only parameter changes, sensor switches, "
+                                    "reloads and resets made outside the script can be replayed",
                                     describe(e)));
                     break;
             }

@@ -218,6 +218,48 @@ class ControllerSource final : public SeriesSource {
     std::uint64_t def_version_ = 0;
 };
 
+// the sensors of one robot that exist when the recording starts: one series per channel,
+// "<robot>.<sensor>.<channel>" in user units (degrees for angles); NaN while switched off
+class SensorSource final : public SeriesSource {
+  public:
+    SensorSource(const Simulation& sim, int robot) {
+        const std::string& label = sim.robot_label(robot);
+        for (int i = 0; i < sim.sensor_count(); ++i) {
+            if (sim.sensor_robot(i) != robot) continue;
+            const SensorSpec& spec = sim.sensor(i);
+            const std::string name = sensor_name(spec);
+            sensors_.push_back(i);
+            for (const SensorChannel& ch : sim.sensor_channels(i)) {
+                SeriesInfo s;
+                s.name = label + "." + name + "." + ch.name;
+                s.kind = SeriesKind::sensor;
+                s.source = label;
+                s.value = name + "." + ch.name;
+                s.joint = spec.kind == SensorKind::joint ? spec.joint + 1 : 0;
+                s.unit = user_unit(ch);
+                series_.push_back(std::move(s));
+            }
+        }
+    }
+    bool empty() const { return sensors_.empty(); }
+
+    const std::vector<SeriesInfo>& series() const override { return series_; }
+
+    void sample(const Simulation& sim, double* out) override {
+        for (int i : sensors_) {
+            const std::vector<SensorChannel>& channels = sim.sensor_channels(i);
+            const bool on = sim.sensor_enabled(i);
+            const std::vector<double>& values = sim.sensor_values(i);
+            for (size_t c = 0; c < channels.size(); ++c)
+                *out++ = on ? to_user_units(channels[c], values[c]) : kNaN;
+        }
+    }
+
+  private:
+    std::vector<int> sensors_;
+    std::vector<SeriesInfo> series_;
+};
+
 size_t edit_distance(std::string_view a, std::string_view b) {
     std::vector<size_t> row(b.size() + 1);
     for (size_t j = 0; j <= b.size(); ++j)
@@ -242,7 +284,10 @@ std::vector<std::unique_ptr<SeriesSource>> make_sources(const Simulation& sim) {
         sources.push_back(std::make_unique<RobotSource>(sim, r));
     for (int d = 0; d < sim.drive_count(); ++d)
         sources.push_back(std::make_unique<ControllerSource>(sim, d));
-    // sensor sources: see docs/data.md, "Adding a kind of series"
+    for (int r = 0; r < sim.robot_count(); ++r) {
+        auto sensors = std::make_unique<SensorSource>(sim, r);
+        if (!sensors->empty()) sources.push_back(std::move(sensors));
+    }
     return sources;
 }
 

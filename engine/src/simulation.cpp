@@ -479,12 +479,28 @@ bool Simulation::sensor_enabled(int i) const {
     return sensor(i).enabled;
 }
 
-void Simulation::set_sensor_enabled(int i, bool on) {
+void Simulation::set_sensor_enabled(int i, bool on, Origin origin) {
     check_sensor(i);
+    if (sensor_enabled(i) == on) return;  // no change, no event
     sensing_->set_enabled(i, on, *physics_);
     // the spec follows, so reset() and a copy of world() keep the switch
-    RobotSpec& robot = world_.robots[static_cast<size_t>(sensing_->robot(i))].robot;
-    robot.sensors[static_cast<size_t>(sensing_->local_index(i))].enabled = on;
+    const int r = sensing_->robot(i);
+    RobotSpec& robot = world_.robots[static_cast<size_t>(r)].robot;
+    SensorSpec& spec = robot.sensors[static_cast<size_t>(sensing_->local_index(i))];
+    spec.enabled = on;
+    Event e;
+    e.kind = EventKind::sensor;
+    e.origin = origin;
+    e.name = robot_label(r) + "." + sensor_name(spec);
+    e.value = on ? 1 : 0;
+    post_event(std::move(e));
+}
+
+int Simulation::find_sensor(std::string_view label) const {
+    for (int i = 0; i < sensor_count(); ++i) {
+        if (label == robot_label(sensor_robot(i)) + "." + sensor_name(sensor(i))) return i;
+    }
+    return -1;
 }
 
 int Simulation::add_sensor(int robot, SensorSpec sensor) {

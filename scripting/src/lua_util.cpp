@@ -15,6 +15,16 @@ std::string type_name(lua_State* L, int index) {
     return luaL_typename(L, index);
 }
 
+Origin opt_origin(lua_State* L, int arg) {
+    if (lua_isnoneornil(L, arg)) return Origin::script;
+    const std::string o = check_string(L, arg);
+    const auto parsed = parse_origin(o);
+    if (!parsed || *parsed == Origin::file) {
+        throw ArgError(arg, "'script', 'console' or 'viewer' expected, got '" + o + "'");
+    }
+    return *parsed;
+}
+
 std::string script_path(lua_State* L, const std::string& path) {
     std::filesystem::path p(path);
     if (p.is_relative()) p = caller_dir(L) / p;

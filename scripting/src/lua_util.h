@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "gaitlab/error.h"
+#include "gaitlab/event.h"
 #include "gaitlab/files.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/suggest.h"
@@ -128,6 +129,10 @@ inline int saturate_int(long long v) {
     return static_cast<int>(
         std::clamp<long long>(v, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
 }
+
+/// Who makes a change (argument `arg`): "script" (the default when absent), "console" or
+/// "viewer"; front ends pass theirs so that a replay can tell their changes apart.
+Origin opt_origin(lua_State* L, int arg);
 
 /// `path` as the calling script means it: relative paths are relative to the folder of the Lua
 /// file that called the current C function (the working directory if none, e.g. in a REPL).

@@ -38,8 +38,8 @@ int RobotBinding::attach(SensorSpec sensor) {
     return static_cast<int>(spec.sensors.size()) - 1;
 }
 
-void RobotBinding::set_sensor_enabled(int k, bool on) {
-    if (auto s = sim.lock()) s->set_sensor_enabled(s->sensor_index(index, k), on);
+void RobotBinding::set_sensor_enabled(int k, bool on, Origin origin) {
+    if (auto s = sim.lock()) s->set_sensor_enabled(s->sensor_index(index, k), on, origin);
     spec.sensors[static_cast<size_t>(k)].enabled = on;
 }
 

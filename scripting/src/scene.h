@@ -29,8 +29,9 @@ struct RobotBinding {
     /// Attaches a sensor (validated), now and in the running simulation if any; returns its
     /// index among the robot's sensors.
     int attach(SensorSpec sensor);
-    /// Switches the robot's sensor k on or off, in the spec and in the running simulation.
-    void set_sensor_enabled(int k, bool on);
+    /// Switches the robot's sensor k on or off, in the spec and in the running simulation
+    /// (where `origin` stamps the event).
+    void set_sensor_enabled(int k, bool on, Origin origin = Origin::script);
 };
 
 /// A world as Lua sees it: its spec without robots, and the robots added to it.

@@ -139,15 +139,7 @@ int controller_set(lua_State* L) {
         Controller& c = check_controller(L, 1);
         const std::string key = check_string(L, 2);
         const double v = check_number(L, 3);
-        Origin origin = Origin::script;
-        if (!lua_isnoneornil(L, 4)) {
-            const std::string o = check_string(L, 4);
-            const auto parsed = parse_origin(o);
-            if (!parsed || *parsed == Origin::file) {
-                throw ArgError(4, "'script', 'console' or 'viewer' expected, got '" + o + "'");
-            }
-            origin = *parsed;
-        }
+        const Origin origin = opt_origin(L, 4);
         const int i = c.find_param(key);
         if (i < 0) {
             throw ArgError(2, fmt::format("controller '{}' has no parameter '{}'{}", c.name(), key,

@@ -190,7 +190,7 @@ int sensor_read(lua_State* L) {
 int sensor_set(lua_State* L, bool on) {
     return protect(L, [&] {
         SensorHandle& h = check_sensor(L, 1);
-        h.robot->set_sensor_enabled(h.k, on);
+        h.robot->set_sensor_enabled(h.k, on, opt_origin(L, 2));
         lua_settop(L, 1);
         return 1;
     });

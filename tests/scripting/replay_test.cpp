@@ -3,6 +3,7 @@
 // rerun from its folder and reproduces the data bit for bit; tampered runs do not.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <filesystem>
 
 #include "gaitlab/controller.h"
@@ -208,4 +209,68 @@ TEST_CASE("a run cut short replays up to its last row", "[replay]") {
                       Catch::StartsWith(tmp.str() + " is not a run folder: it has no"));
     CHECK_THROWS_WITH(scripting::replay(tmp / "run", tmp / "run"),
                       "cannot replay a run into its own folder");
+}
+
+TEST_CASE("sensors are recorded and their switches from a console replay bit for bit", "[replay]") {
+    TempDir tmp("replay_sensors");
+    fs::create_directories(tmp.path / "src");
+    write_text(tmp / "src/sensing.lua",
+               R"(local robot = gaitlab.robot.chain{ name = "snake", modules = 4 }
+robot:sensor{ kind = "imu", module = 2 }
+robot:sensor{ kind = "contact", module = 4 }
+local world = gaitlab.world{ floor = { friction = 0.8 } }
+world:add(robot)
+robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 30, phase = 120 })
+local sim = gaitlab.simulation{ world = world }
+sim:run(1.5)
+)");
+    scripting::LuaHost host;
+    scripting::RecordSettings s;
+    s.by_default = true;
+    s.dir = tmp / "run";
+    s.script = tmp / "src/sensing.lua";
+    host.set_recording(s);
+    host.set_print(false);
+    host.on_simulation([&](Simulation& created, int) {
+        created.add_pre_tick([](Simulation& sim) {
+            const int imu = sim.find_sensor("snake.imu2");
+            if (sim.ticks() == 510) sim.set_sensor_enabled(imu, false, Origin::console);
+            if (sim.ticks() == 900) sim.set_sensor_enabled(imu, true, Origin::console);
+        });
+    });
+    host.run_file(s.script);
+    host.finish();
+
+    const RunData run(tmp / "run");
+    const SeriesData roll = run.get("snake.imu2.roll");
+    CHECK(run.find("snake.imu2.roll").kind == SeriesKind::sensor);
+    CHECK(run.find("snake.imu2.roll").unit == "deg");
+    CHECK(run.find("snake.contact4.force").unit == "N");
+    int off = 0, moving = 0;
+    for (size_t i = 0; i < roll.time.size(); ++i) {
+        const double t = roll.time[i];
+        if (t > 0.52 && t < 0.89) {
+            CHECK(std::isnan(roll.values[i]));  // switched off: no reading
+            ++off;
+        } else if (t > 0.91 || t < 0.5) {
+            CHECK_FALSE(std::isnan(roll.values[i]));
+            moving += roll.values[i] != 0;
+        }
+    }
+    CHECK(off > 10);
+    CHECK(moving > 10);
+    const std::vector<Event> events = run.events();
+    REQUIRE(events.size() == 2);
+    CHECK(events[0].kind == EventKind::sensor);
+    CHECK(events[0].name == "snake.imu2");
+    CHECK(events[0].value == 0);
+    CHECK(events[0].tick == 510);
+    CHECK(events[0].origin == Origin::console);
+    CHECK(events[1].value == 1);
+
+    const scripting::ReplayResult r = scripting::replay(tmp / "run");
+    INFO(r.divergence);
+    CHECK(r.ok());
+    CHECK(r.applied == 2);
+    CHECK(r.comparison.rows == run.rows());
 }

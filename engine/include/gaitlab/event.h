@@ -23,7 +23,7 @@ enum class EventKind {
     param,   ///< a controller parameter: name = its series name, value = the new value
     reload,  ///< new code for a controller file: name = the file, value = its new version
     reset,   ///< the simulation went back to time 0
-    sensor,  ///< a sensor channel was switched: name = the channel's series, value = 1 on, 0 off
+    sensor,  ///< a sensor was switched: name = "<robot label>.<sensor>", value = 1 on, 0 off
     drive    ///< a joint group got a controller while running: name = its label
 };
 

@@ -1,12 +1,12 @@
 // Series: the named, sampled quantities of a simulation that the recorder writes and the live
 // buffers keep. They come from sources: the robots (poses, centre of mass, joints, power and
-// energy), the controllers (parameters and per-joint values) and, once sensors exist, the
-// sensors. docs/data.md lists every name.
+// energy), the controllers (parameters and per-joint values) and the sensors (every channel).
+// docs/data.md lists every name.
 //
 // Naming: "<label>.<quantity>" with a 1-based joint in brackets for per-joint quantities:
 //   robot       snake.com.x  snake.com.vx  snake.head.qw  snake.angle[3]  snake.power
 //   snake.energy[2] controller  sine.amplitude  sine.angle[3]  hopf.x[3]   (joint numbers within
-//   the group)
+//   the group)   sensor  snake.imu3.roll  snake.contact1.force  snake.joint2.angle
 // Labels are the robot and controller names made unique within a simulation
 // (Simulation::robot_label, Simulation::drive_label): a second "sine" is "sine_2".
 #pragma once
@@ -54,8 +54,8 @@ class SeriesSource {
     virtual void restart() {}
 };
 
-/// The sources of every kind for `sim`: one per robot, one per drive. Extension point: the
-/// sensor sources go here too (docs/data.md, "Adding a kind of series").
+/// The sources of every kind for `sim`: one per robot, one per drive, one per robot with
+/// sensors (docs/data.md, "Adding a kind of series", says how to add a kind).
 std::vector<std::unique_ptr<SeriesSource>> make_sources(const Simulation& sim);
 
 /// Does `name` match `pattern`? '*' matches any run of characters, '?' one character; every

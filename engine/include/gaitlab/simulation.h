@@ -164,7 +164,10 @@ class Simulation {
     bool sensor_enabled(int i) const;
     /// Switches sensor i on (it reads at once, then every tick) or off (no more readings, no
     /// cost); kept by reset() and in world().
-    void set_sensor_enabled(int i, bool on);
+    /// Posts a sensor event ("<robot label>.<sensor>", 1 or 0) when the switch changes.
+    void set_sensor_enabled(int i, bool on, Origin origin = Origin::script);
+    /// Index of the sensor "<robot label>.<sensor name>" (as events name it), or -1.
+    int find_sensor(std::string_view label) const;
     /// Attaches a sensor to robot r while the simulation exists; returns its index. Throws
     /// SpecError (see validate_sensor).
     int add_sensor(int robot, SensorSpec sensor);
