@@ -1,5 +1,8 @@
 #include "gaitlab/files.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -7,26 +10,33 @@
 
 #include <fmt/format.h>
 
+#include "data/files.h"
+
 namespace gaitlab {
 
+using data::reason;
+using data::write_all;
+
 void write_file_atomic(const std::string& path, std::string_view text) {
-    // the temporary file sits next to the target so the rename stays within one file system
     const std::string tmp = path + ".tmp";
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) throw IoError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
-    const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    const int write_errno = errno;
-    const bool closed = std::fclose(f) == 0;
-    if (!written || !closed) {
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) throw IoError(fmt::format("cannot write {}: {}", path, reason(errno)));
+    try {
+        write_all(fd, text, path);
+    } catch (...) {
+        ::close(fd);
         std::remove(tmp.c_str());
-        throw IoError(
-            fmt::format("cannot write {}: {}", path, std::strerror(written ? errno : write_errno)));
+        throw;
     }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
+    if (::close(fd) != 0) {
+        const int e = errno;
         std::remove(tmp.c_str());
-        throw IoError(fmt::format("cannot write {}: {}", path, ec.message()));
+        throw IoError(fmt::format("cannot write {}: {}", path, reason(e)));
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int e = errno;
+        std::remove(tmp.c_str());
+        throw IoError(fmt::format("cannot write {}: {}", path, reason(e)));
     }
 }
 

@@ -9,6 +9,7 @@
 #include "gaitlab/error.h"
 #include "gaitlab/event.h"
 #include "gaitlab/simulation.h"
+#include "gaitlab/suggest.h"
 
 namespace gaitlab {
 

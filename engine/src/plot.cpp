@@ -11,6 +11,7 @@
 
 #include "data/files.h"
 #include "gaitlab/error.h"
+#include "gaitlab/files.h"
 #include "gaitlab/run_data.h"
 
 namespace gaitlab {
@@ -138,7 +139,7 @@ PlotFiles plot(const RunData& run, const PlotOptions& o) {
                           i + 2, gp_string(title));
     }
     gp += "\n";
-    data::write_atomically(files.script, gp);
+    write_file_atomic(files.script, gp);
 
     const fs::path dir = png.parent_path().empty() ? fs::path(".") : png.parent_path();
     const std::string error = run_gnuplot(dir, png.stem().string() + ".gp");

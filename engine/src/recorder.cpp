@@ -18,6 +18,7 @@
 #include "data/json.h"
 #include "gaitlab/controller.h"
 #include "gaitlab/error.h"
+#include "gaitlab/files.h"
 #include "gaitlab/event.h"
 #include "gaitlab/simulation.h"
 #include "gaitlab/version.h"
@@ -174,7 +175,7 @@ Recorder::Recorder(Simulation& sim, RecordOptions options, RunContext context)
         const fs::path target = dir / "config" / f.path;
         std::error_code ec;
         fs::create_directories(target.parent_path(), ec);
-        data::write_atomically(target.string(), f.content);
+        write_file_atomic(target.string(), f.content);
     }
     std::string list = "name,kind,source,value,joint,body,unit\n";
     for (const SeriesInfo& s : set_.series()) {
@@ -182,7 +183,7 @@ Recorder::Recorder(Simulation& sim, RecordOptions options, RunContext context)
                                 s.joint > 0 ? std::to_string(s.joint) : "", s.body, s.unit});
         list += '\n';
     }
-    data::write_atomically((dir / "series.csv").string(), list);
+    write_file_atomic((dir / "series.csv").string(), list);
     write_meta("running", "");
 
     data_ = std::make_unique<data::AppendFile>((dir / "data.csv").string());
@@ -294,7 +295,7 @@ void Recorder::write_meta(const std::string& status, const std::string& message)
     for (const auto& [k, v] : context_.provenance)
         prov.set(k, v);
 
-    data::write_atomically((fs::path(options_.dir) / "run.json").string(), j.dump());
+    write_file_atomic((fs::path(options_.dir) / "run.json").string(), j.dump());
 }
 
 void Recorder::log(std::string_view line) {
@@ -310,7 +311,7 @@ void Recorder::add_config_file(ConfigFile file) {
     std::error_code ec;
     fs::create_directories(target.parent_path(), ec);
     try {
-        data::write_atomically(target.string(), file.content);
+        write_file_atomic(target.string(), file.content);
     } catch (const std::exception& e) {
         fail(e);
     }

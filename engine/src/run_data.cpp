@@ -11,6 +11,8 @@
 #include "data/files.h"
 #include "data/json.h"
 #include "gaitlab/error.h"
+#include "gaitlab/files.h"
+#include "gaitlab/suggest.h"
 
 namespace gaitlab {
 
@@ -452,7 +454,7 @@ void RunData::write_csv(const std::string& path, const std::vector<std::string>&
         }
         text += '\n';
     }
-    data::write_atomically(path, text);
+    write_file_atomic(path, text);
 }
 
 Comparison compare(const RunData& run, const RunData& replay) {

@@ -30,7 +30,6 @@ namespace {
 
 const std::string kScripts = GAITLAB_SOURCE_DIR "/tests/cli/scripts";
 
-
 struct Run {
     int status = -1;  // exit status, or -1 if the process did not exit normally
     std::string out;

@@ -1,4 +1,4 @@
-// Run folder files (engine/src/data/files.cpp, csv.cpp, json.cpp): atomic writes, appends that
+// Files (engine/src/files.cpp, data/files.cpp, csv.cpp, json.cpp): atomic writes, appends that
 // report a full disk, CSV quoting and numbers that round-trip, JSON.
 #include <catch2/catch.hpp>
 
@@ -10,6 +10,7 @@
 #include "data/files.h"
 #include "data/json.h"
 #include "gaitlab/error.h"
+#include "gaitlab/files.h"
 #include "temp_dir.h"
 
 using namespace gaitlab;
@@ -21,12 +22,12 @@ TEST_CASE("a full disk is an error naming the file and the reason", "[files]") {
     CHECK_THROWS_AS(full.write("x\n"), IoError);
     CHECK_THROWS_WITH(full.write("x\n"), "cannot write /dev/full: No space left on device");
     TempDir tmp("files_atomic");
-    write_atomically(tmp / "a.txt", "one");
-    write_atomically(tmp / "a.txt", "two");
+    write_file_atomic(tmp / "a.txt", "one");
+    write_file_atomic(tmp / "a.txt", "two");
     CHECK(read_file(tmp / "a.txt") == "two");
     CHECK_FALSE(std::filesystem::exists(tmp / "a.txt.tmp"));
     CHECK_THROWS_WITH(
-        write_atomically(tmp / "no/such/dir/a.txt", "x"),
+        write_file_atomic(tmp / "no/such/dir/a.txt", "x"),
         "cannot write " + (tmp / "no/such/dir/a.txt") + ": No such file or directory");
     CHECK_THROWS_WITH(read_file(tmp / "none"),
                       "cannot read " + (tmp / "none") + ": No such file or directory");

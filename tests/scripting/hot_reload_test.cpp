@@ -21,7 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-
 // sets every joint to gain degrees and counts its steps
 const char* kProbeV1 = R"(return gaitlab.controller{
   name = "probe",

@@ -101,10 +101,4 @@ class SeriesSet {
     std::vector<double> scratch_;
 };
 
-/// The names in `candidates` closest to `word` (edit distance), best first, at most `n`.
-std::vector<std::string> closest_names(std::string_view word,
-                                       const std::vector<std::string>& candidates, size_t n = 3);
-/// " (did you mean 'a', 'b' or 'c'?)" for the closest names, or "".
-std::string suggest(std::string_view word, const std::vector<std::string>& candidates);
-
 }  // namespace gaitlab

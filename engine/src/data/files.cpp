@@ -17,8 +17,6 @@ std::string reason(int error_number) {
     return std::strerror(error_number);
 }
 
-namespace {
-
 void write_all(int fd, std::string_view bytes, const std::string& path) {
     const char* p = bytes.data();
     size_t left = bytes.size();
@@ -30,31 +28,6 @@ void write_all(int fd, std::string_view bytes, const std::string& path) {
         }
         p += n;
         left -= static_cast<size_t>(n);
-    }
-}
-
-}  // namespace
-
-void write_atomically(const std::string& path, std::string_view content) {
-    const std::string tmp = path + ".tmp";
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) throw IoError(fmt::format("cannot write {}: {}", path, reason(errno)));
-    try {
-        write_all(fd, content, path);
-    } catch (...) {
-        ::close(fd);
-        std::remove(tmp.c_str());
-        throw;
-    }
-    if (::close(fd) != 0) {
-        const int e = errno;
-        std::remove(tmp.c_str());
-        throw IoError(fmt::format("cannot write {}: {}", path, reason(e)));
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        const int e = errno;
-        std::remove(tmp.c_str());
-        throw IoError(fmt::format("cannot write {}: {}", path, reason(e)));
     }
 }
 

@@ -1,5 +1,5 @@
-// Files of run folders: whole files written atomically (temporary file + rename), files that
-// grow by appending, and reading. Every failure is an IoError naming the path and the reason.
+// Files of run folders: files that grow by appending, and reading (whole files are written
+// atomically with gaitlab/files.h). Every failure is an IoError naming the path and the reason.
 #pragma once
 
 #include <string>
@@ -10,9 +10,9 @@ namespace gaitlab::data {
 /// "No space left on device" for ENOSPC ...
 std::string reason(int error_number);
 
-/// Writes `content` to PATH.tmp, then renames it to `path`: readers see the old file or the
-/// new one, never a part.
-void write_atomically(const std::string& path, std::string_view content);
+/// Writes all of `bytes` to the file descriptor `fd` (retrying after signals); throws IoError
+/// naming `path`.
+void write_all(int fd, std::string_view bytes, const std::string& path);
 
 /// The whole file; throws IoError.
 std::string read_file(const std::string& path);

@@ -225,8 +225,9 @@ RobotSpec read_robot_element(const Element& root) {
     if (robot.chain) robot.chain->name = name;
     robot.self_collision = self_collision;
     // sensors name modules and joints, so they are checked once the robot is complete
-    for (auto& [element, sensor] : sensors) {
-        element->check([&] { validate_sensor(robot, sensor); });
+    for (auto& read : sensors) {
+        SensorSpec& sensor = read.second;
+        read.first->check([&] { validate_sensor(robot, sensor); });
         if (sensor.name.empty()) sensor.name = default_sensor_name(sensor);
         robot.sensors.push_back(sensor);
     }
