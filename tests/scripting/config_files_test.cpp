@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include "gaitlab/xml.h"
 #include "lua_fixture.h"
 #include "temp_dir.h"
 
@@ -37,6 +38,15 @@ const char* kScene = R"(
       return sim, { snake = snake, worm = worm }
     end
 )";
+
+// the value of the first attribute `name` in the file at `path` ("" if there is none)
+std::string attribute(const std::string& path, const std::string& name) {
+    const std::string text = gaitlab::test::read_text(path);
+    const size_t at = text.find(" " + name + "=\"");
+    if (at == std::string::npos) return "";
+    const size_t start = at + name.size() + 3;
+    return text.substr(start, text.find('"', start) - start);
+}
 
 }  // namespace
 
@@ -80,9 +90,11 @@ TEST_CASE("a saved simulation loads and runs the same trajectory to the bit", "[
     // the online change is saved: the loaded sine runs at 0.7 Hz
     CHECK(lua.number("setup.controllers.snake[2].frequency") == 0.7);
     CHECK(lua.string("setup.controllers.worm[1].name") == "my_cpg");
-    const std::string actuation = gaitlab::test::read_text(dir.file("walk.snake.actuation.xml"));
-    CHECK(actuation.find("file=\"" GAITLAB_SOURCE_DIR "/examples/controllers/my_sine.lua\"") !=
-          std::string::npos);
+    // the actuation file names the controller file relative to itself or absolutely, as their
+    // folders allow: either way it leads to the file
+    const std::string act = dir.file("walk.snake.actuation.xml");
+    CHECK(gaitlab::resolve_path(act, attribute(act, "file")) == GAITLAB_SOURCE_DIR
+          "/examples/controllers/my_sine.lua");
 }
 
 TEST_CASE("robots, worlds and actuations save and load on their own", "[config_files]") {
@@ -178,7 +190,9 @@ TEST_CASE("every object of the world library saves and loads exactly", "[config_
     CHECK(lua.boolean("same"));
     const std::string text = gaitlab::test::read_text(dir.file("library.xml"));
     CHECK(text.find("<ramp slope=\"12.5\"") != std::string::npos);
-    CHECK(text.find("image=\"" GAITLAB_SOURCE_DIR "/examples/terrain.png\"") != std::string::npos);
+    CHECK(gaitlab::resolve_path(dir.file("library.xml"),
+                                attribute(dir.file("library.xml"), "image")) == GAITLAB_SOURCE_DIR
+          "/examples/terrain.png");
 }
 
 TEST_CASE("bad files give nil and a message naming file and line", "[config_files]") {
