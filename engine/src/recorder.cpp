@@ -18,8 +18,8 @@
 #include "data/json.h"
 #include "gaitlab/controller.h"
 #include "gaitlab/error.h"
-#include "gaitlab/files.h"
 #include "gaitlab/event.h"
+#include "gaitlab/files.h"
 #include "gaitlab/simulation.h"
 #include "gaitlab/version.h"
 

@@ -113,6 +113,21 @@ void register_type(lua_State* L, const char* tname, const luaL_Reg* methods,
     lua_pop(L, 1);
 }
 
+/// Registers `tname` as register_type does, for objects with fields computed on access: `index`
+/// is __index, called with the methods table as its upvalue 1 (to fall back on), and
+/// `metamethods` (__newindex, __tostring, ...) may be null.
+template <class T>
+void register_type_with_fields(lua_State* L, const char* tname, const luaL_Reg* methods,
+                               lua_CFunction index, const luaL_Reg* metamethods) {
+    luaL_newmetatable(L, tname);
+    lua_newtable(L);
+    luaL_setfuncs(L, methods, 0);
+    lua_pushcclosure(L, index, 1);
+    lua_setfield(L, -2, "__index");
+    lua_pop(L, 1);
+    register_type<T>(L, tname, nullptr, metamethods);
+}
+
 /// Checks that the value at `index` is a table; throws ArgError otherwise.
 void check_table(lua_State* L, int index);
 double check_number(lua_State* L, int index);

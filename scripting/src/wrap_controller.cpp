@@ -489,17 +489,11 @@ void open_controller(lua_State* L) {
                                 {"values", controller_values},
                                 {"set", controller_set},
                                 {nullptr, nullptr}};
-    luaL_newmetatable(L, kControllerType);
-    lua_newtable(L);
-    luaL_setfuncs(L, methods, 0);
-    lua_pushcclosure(L, controller_index, 1);
-    lua_setfield(L, -2, "__index");
-    lua_pushcfunction(L, controller_newindex);
-    lua_setfield(L, -2, "__newindex");
-    lua_pushcfunction(L, controller_tostring);
-    lua_setfield(L, -2, "__tostring");
-    lua_pop(L, 1);
-    register_type<ControllerHandle>(L, kControllerType, nullptr);
+    const luaL_Reg meta[] = {{"__newindex", controller_newindex},
+                             {"__tostring", controller_tostring},
+                             {nullptr, nullptr}};
+    register_type_with_fields<ControllerHandle>(L, kControllerType, methods, controller_index,
+                                                meta);
 
     const luaL_Reg class_meta[] = {{"__call", class_call},
                                    {"__index", class_index},

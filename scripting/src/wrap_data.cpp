@@ -456,26 +456,12 @@ void open_data(lua_State* L) {
     const luaL_Reg run_methods[] = {
         {"series", run_series}, {"select", run_select}, {"get", run_get},   {"events", run_events},
         {"log", run_log},       {"export", run_export}, {"plot", run_plot}, {nullptr, nullptr}};
-    luaL_newmetatable(L, kRunType);
-    lua_newtable(L);
-    luaL_setfuncs(L, run_methods, 0);
-    lua_pushcclosure(L, run_index, 1);
-    lua_setfield(L, -2, "__index");
-    lua_pushcfunction(L, run_tostring);
-    lua_setfield(L, -2, "__tostring");
-    lua_pop(L, 1);
-    register_type<RunPtr>(L, kRunType, nullptr);
+    const luaL_Reg run_meta[] = {{"__tostring", run_tostring}, {nullptr, nullptr}};
+    register_type_with_fields<RunPtr>(L, kRunType, run_methods, run_index, run_meta);
 
     const luaL_Reg live_methods[] = {{"get", live_get}, {nullptr, nullptr}};
-    luaL_newmetatable(L, kLiveType);
-    lua_newtable(L);
-    luaL_setfuncs(L, live_methods, 0);
-    lua_pushcclosure(L, live_index, 1);
-    lua_setfield(L, -2, "__index");
-    lua_pushcfunction(L, live_newindex);
-    lua_setfield(L, -2, "__newindex");
-    lua_pop(L, 1);
-    register_type<LiveHandle>(L, kLiveType, nullptr);
+    const luaL_Reg live_meta[] = {{"__newindex", live_newindex}, {nullptr, nullptr}};
+    register_type_with_fields<LiveHandle>(L, kLiveType, live_methods, live_index, live_meta);
 
     lua_createtable(L, 0, 1);
     lua_pushcfunction(L, data_open);

@@ -342,16 +342,9 @@ void open_robot(lua_State* L) {
                                 {"sensor", robot_sensor},
                                 {"sensors", robot_sensors},
                                 {nullptr, nullptr}};
-    luaL_newmetatable(L, kRobotType);
-    lua_newtable(L);
-    luaL_setfuncs(L, methods, 0);
-    lua_pushcclosure(L, robot_index, 1);
-    lua_setfield(L, -2, "__index");
     const luaL_Reg meta[] = {
         {"__tostring", robot_tostring}, {"__len", robot_len}, {nullptr, nullptr}};
-    luaL_setfuncs(L, meta, 0);
-    lua_pop(L, 1);
-    register_type<RobotPtr>(L, kRobotType, nullptr);
+    register_type_with_fields<RobotPtr>(L, kRobotType, methods, robot_index, meta);
 
     const luaL_Reg group_methods[] = {
         {"drive", group_drive}, {"joints", group_joints}, {nullptr, nullptr}};

@@ -380,16 +380,9 @@ void open_sensor(lua_State* L) {
                                 {"off", sensor_off},
                                 {"channels", sensor_channels_method},
                                 {nullptr, nullptr}};
-    luaL_newmetatable(L, kSensorType);
-    lua_newtable(L);
-    luaL_setfuncs(L, methods, 0);
-    lua_pushcclosure(L, sensor_index, 1);
-    lua_setfield(L, -2, "__index");
     const luaL_Reg meta[] = {
         {"__newindex", sensor_newindex}, {"__tostring", sensor_tostring}, {nullptr, nullptr}};
-    luaL_setfuncs(L, meta, 0);
-    lua_pop(L, 1);
-    register_type<SensorHandle>(L, kSensorType, nullptr);
+    register_type_with_fields<SensorHandle>(L, kSensorType, methods, sensor_index, meta);
 
     // gaitlab.sensor = { kinds = {...}, channels = function(kind) }
     lua_newtable(L);

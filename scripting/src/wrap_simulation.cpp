@@ -392,15 +392,9 @@ void open_simulation(lua_State* L) {
                                 {"flush", simulation_flush},
                                 {"live", live_new},
                                 {nullptr, nullptr}};
-    luaL_newmetatable(L, kSimulationType);
-    lua_newtable(L);
-    luaL_setfuncs(L, methods, 0);
-    lua_pushcclosure(L, simulation_index, 1);
-    lua_setfield(L, -2, "__index");
-    lua_pushcfunction(L, simulation_tostring);
-    lua_setfield(L, -2, "__tostring");
-    lua_pop(L, 1);
-    register_type<SimulationHandle>(L, kSimulationType, nullptr);
+    const luaL_Reg meta[] = {{"__tostring", simulation_tostring}, {nullptr, nullptr}};
+    register_type_with_fields<SimulationHandle>(L, kSimulationType, methods, simulation_index,
+                                                meta);
     Recordings::install(L);
 
     lua_newtable(L);
