@@ -90,7 +90,8 @@ cg_table() {  # title impl_a impl_b seconds ce...
     done
 }
 # what each built-in controller costs on pp8 ce10: the instructions inside its step function
-# (inclusive, callgrind) as a share of the whole stepping loop. Comparing whole runs would
+# (inclusive, callgrind: the step function's own line, not those of lambdas inside it, which it
+# includes) as a share of the whole stepping loop. Comparing whole runs would
 # compare different physics (a gait lifts the body off the floor, an offset holds it down).
 controllers_table() {
     local secs=$1 names name out total own steps
@@ -110,7 +111,7 @@ controllers_table() {
             --controller "$name" >/dev/null 2>&1
         total=$(awk '/^totals:/ {print $2}' "$out")
         own=$(callgrind_annotate --inclusive=yes --threshold=100 "$out" 2>/dev/null |
-            grep -E 'gaitlab::controllers::[A-Za-z]+::step\(gaitlab::ControlIO&\)' |
+            grep -E 'gaitlab::controllers::[A-Za-z]+::step\(gaitlab::ControlIO&\) \[' |
             awk '{gsub(",", "", $1); s += $1} END {print s + 0}')
         awk -v n="$name" -v t="$total" -v o="$own" -v s="$steps" \
             'BEGIN { printf "| %s | %.0f | %.0f | **%.3f %%** |\n", n, o / s, t / s, 100 * o / t }'

@@ -296,7 +296,7 @@ void Simulation::fail(DriveSlot& d, const std::exception& e) {
 long Simulation::step(long ticks) {
     paused_ = false;
     for (long i = 0; i < ticks; ++i) {
-        if (!pre_ticks_.empty() || !added_pre_ticks_.empty()) run_pre_ticks();
+        if (!pre_ticks_.empty() || pre_ticks_changed_) run_pre_ticks();
         scheduler_.tick(*phases_);
         if (pause_pending_) {
             pause_pending_ = false;
@@ -308,13 +308,17 @@ long Simulation::step(long ticks) {
 }
 
 void Simulation::run_pre_ticks() {
-    // hooks added or removed by a hook take effect here, never while the list is walked
-    for (auto& h : added_pre_ticks_)
-        pre_ticks_.push_back(std::move(h));
-    added_pre_ticks_.clear();
-    pre_ticks_.erase(std::remove_if(pre_ticks_.begin(), pre_ticks_.end(),
-                                    [](const PreTick& h) { return !h.live; }),
-                     pre_ticks_.end());
+    // hooks added or removed by a hook take effect here, never while the list is walked (and
+    // the lists are only touched when something changed: this runs every tick)
+    if (pre_ticks_changed_) {
+        pre_ticks_changed_ = false;
+        for (auto& h : added_pre_ticks_)
+            pre_ticks_.push_back(std::move(h));
+        added_pre_ticks_.clear();
+        pre_ticks_.erase(std::remove_if(pre_ticks_.begin(), pre_ticks_.end(),
+                                        [](const PreTick& h) { return !h.live; }),
+                         pre_ticks_.end());
+    }
     in_pre_ticks_ = true;
     try {
         for (PreTick& h : pre_ticks_) {
@@ -526,6 +530,7 @@ void Simulation::remove_observer(int id) {
 int Simulation::add_pre_tick(std::function<void(Simulation&)> fn) {
     auto& list = in_pre_ticks_ ? added_pre_ticks_ : pre_ticks_;
     list.push_back(PreTick{next_observer_, true, std::move(fn)});
+    pre_ticks_changed_ = true;
     return next_observer_++;
 }
 
@@ -536,6 +541,7 @@ void Simulation::remove_pre_tick(int id) {
             if (h.id == id) h.live = false;
         }
     }
+    pre_ticks_changed_ = true;
 }
 
 int Simulation::add_event_listener(std::function<void(const Simulation&, const Event&)> fn) {

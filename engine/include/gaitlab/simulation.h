@@ -242,6 +242,7 @@ class Simulation {
     std::vector<PreTick> pre_ticks_;
     std::vector<PreTick> added_pre_ticks_;  // added while the hooks run
     bool in_pre_ticks_ = false;
+    bool pre_ticks_changed_ = false;  // added or removed since the lists were last tidied
     std::vector<std::pair<int, std::function<void(const Simulation&, const Event&)>>> listeners_;
     int next_observer_ = 1;
     std::set<std::string> labels_;
