@@ -185,6 +185,23 @@ LoadedSimulation load_simulation(lua_State* L, const std::string& path) {
     return out;
 }
 
+EnvironmentSpec environment_of(const WorldBinding& world) {
+    EnvironmentSpec env;
+    env.world = world.spec;
+    for (const WorldBinding::Entry& e : world.robots) {
+        const std::string& name = e.robot->spec.name;
+        for (const Placement& p : env.placements) {
+            if (p.robot == name) {
+                throw SpecError(fmt::format(
+                    "two robots are named '{}': give each its own name to save where they are",
+                    name));
+            }
+        }
+        env.placements.push_back({name, e.pose});
+    }
+    return env;
+}
+
 std::string normalized_config(const std::string& master, std::vector<ConfigFile>& parts) {
     SimulationFile file = read_simulation(master);
     const std::string stem = fs::path(master).stem().string();
@@ -223,21 +240,12 @@ void save_simulation(const std::string& path, const WorldBinding& world,
     file.options = options;
     file.duration = duration;
     file.environment = stem + ".environment.xml";
-    EnvironmentSpec env;
-    env.world = world.spec;
     // every part is built and checked before the first file is written
+    const EnvironmentSpec env = environment_of(world);
     std::vector<std::pair<std::string, RobotSpec>> robots;
     std::vector<std::pair<std::string, ActuationSpec>> actuations;
     for (const WorldBinding::Entry& e : world.robots) {
         const std::string& name = e.robot->spec.name;
-        for (const Placement& p : env.placements) {
-            if (p.robot == name) {
-                throw SpecError(fmt::format(
-                    "two robots are named '{}': give each its own name to save the simulation",
-                    name));
-            }
-        }
-        env.placements.push_back({name, e.pose});
         RobotEntry entry;
         entry.robot = stem + "." + name + ".robot.xml";
         robots.emplace_back(next_to(entry.robot), e.robot->spec);

@@ -46,6 +46,10 @@ struct LoadedSimulation {
 /// ScriptError or SpecError; builds nothing half-way.
 LoadedSimulation load_simulation(lua_State* L, const std::string& path);
 
+/// The environment file of a world: its objects and where each of its robots is (robots are
+/// placed by name, so two robots with one name are a SpecError).
+EnvironmentSpec environment_of(const WorldBinding& world);
+
 /// The configuration a run folder keeps of the simulation file `master`, normalized so it stands
 /// on its own: the master's text, naming its parts as `<stem>.environment.xml`,
 /// `<stem>.<robot>.robot.xml` and `<stem>.<robot>.actuation.xml` next to it, and those parts

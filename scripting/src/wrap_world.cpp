@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "config_files.h"
 #include "gaitlab/files.h"
 #include "gaitlab/geometry.h"
 #include "gaitlab/xml.h"
@@ -474,19 +475,7 @@ int world_save(lua_State* L) {
     return protect(L, [&] {
         WorldBinding& w = *check_object<WorldPtr>(L, 1, kWorldType);
         const std::string path = script_path(L, check_string(L, 2));
-        EnvironmentSpec env;
-        env.world = w.spec;
-        for (const WorldBinding::Entry& e : w.robots) {
-            for (const Placement& p : env.placements) {
-                if (p.robot == e.robot->spec.name) {
-                    throw Error(
-                        fmt::format("two robots are named '{}': give each its own name "
-                                    "to save where they are",
-                                    p.robot));
-                }
-            }
-            env.placements.push_back({e.robot->spec.name, e.pose});
-        }
+        const EnvironmentSpec env = environment_of(w);
         return file_written(L, path, [&] { write_environment(path, env); });
     });
 }

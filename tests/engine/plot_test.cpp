@@ -39,22 +39,11 @@ Image load_png(const std::string& path) {
     return out;
 }
 
-std::string record_run(const TempDir& tmp) {
-    Simulation sim(test::chain_world(4, Connection::pitch_pitch));
-    test::drive(sim, "pitch", test::sine(40, 0.5, 120));
-    RecordOptions o;
-    o.dir = tmp / "run";
-    Recorder rec(sim, o);
-    sim.run(2);
-    rec.close();
-    return o.dir;
-}
-
 }  // namespace
 
 TEST_CASE("a plot is a PNG of the asked size with curves on it", "[plot]") {
     TempDir tmp("plot_png");
-    const RunData run(record_run(tmp));
+    const RunData run(test::record_run(tmp / "run", 2));
     PlotOptions o;
     o.output = tmp / "out/angles.png";
     o.series = {"snake.angle[*]", "sine.angle[1]"};
@@ -89,7 +78,7 @@ TEST_CASE("a plot is a PNG of the asked size with curves on it", "[plot]") {
 
 TEST_CASE("plot options are checked", "[plot]") {
     TempDir tmp("plot_bad");
-    const RunData run(record_run(tmp));
+    const RunData run(test::record_run(tmp / "run", 2));
     PlotOptions o;
     o.series = {"snake.com.x"};
     o.output = tmp / "plot.jpg";

@@ -18,25 +18,9 @@ using gaitlab::test::TempDir;
 using gaitlab::test::write_text;
 namespace fs = std::filesystem;
 
-namespace {
-
-// a finished 1 s run of a 4-module snake with a sine on its pitch joints, in DIR/run
-std::string record_run(const TempDir& tmp) {
-    Simulation sim(test::chain_world(4, Connection::pitch_pitch));
-    test::drive(sim, "pitch", test::sine(40, 0.5, 120));
-    RecordOptions o;
-    o.dir = tmp / "run";
-    Recorder rec(sim, o);
-    sim.run(1);
-    rec.close();
-    return o.dir;
-}
-
-}  // namespace
-
 TEST_CASE("series by name, by kind + value + joint, and over a time range", "[run_data]") {
     TempDir tmp("run_data_get");
-    RunData run(record_run(tmp));
+    RunData run(test::record_run(tmp / "run", 1));
     CHECK(run.rows() == 34);
     const SeriesData a = run.get("sine.angle[2]");
     REQUIRE(a.time.size() == 34);
@@ -82,7 +66,7 @@ TEST_CASE("series by name, by kind + value + joint, and over a time range", "[ru
 
 TEST_CASE("a last line cut short is dropped, malformed lines name file and line", "[run_data]") {
     TempDir tmp("run_data_truncated");
-    const std::string dir = record_run(tmp);
+    const std::string dir = test::record_run(tmp / "run", 1);
     const std::string data = read_text(dir + "/data.csv");
     // a process killed while writing leaves part of a line
     write_text(dir + "/data.csv", data.substr(0, data.size() - 25));
@@ -133,7 +117,7 @@ TEST_CASE("a folder that is not a run says what it lacks", "[run_data]") {
 
 TEST_CASE("compare finds the first differing value", "[run_data]") {
     TempDir a("run_data_cmp_a"), b("run_data_cmp_b");
-    const std::string ra = record_run(a), rb = record_run(b);
+    const std::string ra = test::record_run(a / "run", 1), rb = test::record_run(b / "run", 1);
     Comparison same = compare(RunData(ra), RunData(rb));
     CHECK(same.identical);
     CHECK(same.rows == 34);

@@ -1,10 +1,13 @@
-// Helpers shared by the engine tests that run a simulation: chain worlds and sine drives.
+// Helpers shared by the engine tests that run a simulation: chain worlds, sine drives and a
+// recorded run.
 #pragma once
 
 #include <memory>
+#include <string>
 #include <string_view>
 
 #include "gaitlab/controllers/sine.h"
+#include "gaitlab/recorder.h"
 #include "gaitlab/robot.h"
 #include "gaitlab/simulation.h"
 #include "gaitlab/world.h"
@@ -60,6 +63,19 @@ inline void drive_pitch_pitch_gait(Simulation& sim, double phase) {
 inline void drive_pitch_yaw_gait(Simulation& sim) {
     drive(sim, "pitch", sine(40, 0.5, 120));
     drive(sim, "yaw", sine(30, 0.5, 120, 90));
+}
+
+/// Records `seconds` of a 4-module snake crawling with a sine on its pitch joints into the run
+/// folder `dir`, closed as finished; returns `dir`.
+inline std::string record_run(const std::string& dir, double seconds) {
+    Simulation sim(chain_world(4, Connection::pitch_pitch));
+    drive(sim, "pitch", sine(40, 0.5, 120));
+    RecordOptions o;
+    o.dir = dir;
+    Recorder rec(sim, o);
+    sim.run(seconds);
+    rec.close();
+    return dir;
 }
 
 }  // namespace gaitlab::test
