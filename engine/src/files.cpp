@@ -1,8 +1,10 @@
 #include "gaitlab/files.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -17,9 +19,58 @@ namespace gaitlab {
 using data::reason;
 using data::write_all;
 
+std::string describe_size(std::uintmax_t bytes) {
+    if (bytes >= (std::uintmax_t{1} << 30) && bytes % (std::uintmax_t{1} << 30) == 0)
+        return fmt::format("{} GiB", bytes >> 30);
+    if (bytes >= (std::uintmax_t{1} << 20) && bytes % (std::uintmax_t{1} << 20) == 0)
+        return fmt::format("{} MiB", bytes >> 20);
+    if (bytes >= 1024 && bytes % 1024 == 0) return fmt::format("{} KiB", bytes >> 10);
+    return fmt::format("{} bytes", bytes);
+}
+
+std::string read_file(const std::string& path, std::uintmax_t max_bytes) {
+    // O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused just below
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    if (fd < 0) throw ReadError(path, reason(errno));
+    struct FdCloser {
+        int fd;
+        ~FdCloser() { ::close(fd); }
+    } closer{fd};
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) throw ReadError(path, reason(errno));
+    if (S_ISDIR(st.st_mode)) throw ReadError(path, "is a directory");
+    if (!S_ISREG(st.st_mode)) {
+        throw ReadError(path, "not a regular file (a FIFO, device or socket)");
+    }
+    const auto too_large = [&] {
+        return ReadError(path, "larger than the " + describe_size(max_bytes) + " gaitlab reads");
+    };
+    if (static_cast<std::uintmax_t>(st.st_size) > max_bytes) throw too_large();
+    // a regular file may still grow while it is read (or lie about its size, as /proc does):
+    // read at most one byte past the limit
+    std::string out;
+    out.reserve(static_cast<size_t>(st.st_size));
+    char buf[1 << 16];
+    for (;;) {
+        const ssize_t n = ::read(fd, buf, sizeof buf);
+        if (n < 0) {
+            if (errno == EINTR || errno == EAGAIN) continue;
+            throw ReadError(path, reason(errno));
+        }
+        if (n == 0) break;
+        out.append(buf, static_cast<size_t>(n));
+        if (out.size() > max_bytes) throw too_large();
+    }
+    return out;
+}
+
 void write_file_atomic(const std::string& path, std::string_view text) {
-    const std::string tmp = path + ".tmp";
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    // a temporary name of this process and call: two writers of one path never share it, and
+    // O_EXCL never follows a link someone left at that name
+    static std::atomic<unsigned> counter{0};
+    const std::string tmp =
+        fmt::format("{}.tmp-{}-{}", path, static_cast<long>(::getpid()), counter++);
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
     if (fd < 0) throw IoError(fmt::format("cannot write {}: {}", path, reason(errno)));
     try {
         write_all(fd, text, path);

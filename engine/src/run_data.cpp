@@ -198,7 +198,7 @@ RunData::RunData(std::string dir) : dir_(std::move(dir)) {
             dir_, list));
     }
     const std::string meta_path = (p / "run.json").string();
-    meta_ = meta_from(Json::parse(data::read_file(meta_path), meta_path), meta_path);
+    meta_ = meta_from(Json::parse(read_file(meta_path), meta_path), meta_path);
 
     LineReader list((p / "series.csv").string());
     std::string_view line;
@@ -433,7 +433,7 @@ std::string RunData::log() const {
     const fs::path path = fs::path(dir_) / "log.txt";
     std::error_code ec;
     if (!fs::exists(path, ec)) return "";
-    return data::read_file(path.string());
+    return read_file(path.string());
 }
 
 void RunData::write_csv(const std::string& path, const std::vector<std::string>& names, double from,

@@ -2,6 +2,8 @@
 // report a full disk, CSV quoting and numbers that round-trip, JSON.
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
+
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -25,12 +27,40 @@ TEST_CASE("a full disk is an error naming the file and the reason", "[files]") {
     write_file_atomic(tmp / "a.txt", "one");
     write_file_atomic(tmp / "a.txt", "two");
     CHECK(read_file(tmp / "a.txt") == "two");
-    CHECK_FALSE(std::filesystem::exists(tmp / "a.txt.tmp"));
+    // no temporary file is left behind
+    CHECK(std::distance(std::filesystem::directory_iterator(tmp.path),
+                        std::filesystem::directory_iterator()) == 1);
     CHECK_THROWS_WITH(
         write_file_atomic(tmp / "no/such/dir/a.txt", "x"),
         "cannot write " + (tmp / "no/such/dir/a.txt") + ": No such file or directory");
     CHECK_THROWS_WITH(read_file(tmp / "none"),
                       "cannot read " + (tmp / "none") + ": No such file or directory");
+}
+
+TEST_CASE("reads refuse directories, FIFOs, devices and files above the limit", "[files]") {
+    TempDir tmp("files_read");
+    CHECK_THROWS_WITH(read_file(tmp.str()), "cannot read " + tmp.str() + ": is a directory");
+    const std::string fifo = tmp / "fifo";
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    // no writer: a blocking open would wait forever
+    CHECK_THROWS_WITH(read_file(fifo),
+                      "cannot read " + fifo + ": not a regular file (a FIFO, device or socket)");
+    const std::string zero = tmp / "zero.lua";
+    std::filesystem::create_symlink("/dev/zero", zero);
+    CHECK_THROWS_WITH(read_file(zero),
+                      "cannot read " + zero + ": not a regular file (a FIFO, device or socket)");
+    write_file_atomic(tmp / "big", std::string(2000, 'x'));
+    CHECK_THROWS_WITH(read_file(tmp / "big", 1024),
+                      "cannot read " + (tmp / "big") + ": larger than the 1 KiB gaitlab reads");
+    CHECK(read_file(tmp / "big", 2000).size() == 2000);
+    try {
+        read_file(tmp / "none");
+        FAIL("no error");
+    } catch (const ReadError& e) {
+        CHECK(e.reason() == "No such file or directory");
+    }
+    CHECK(describe_size(kMaxInputBytes) == "64 MiB");
+    CHECK(describe_size(100) == "100 bytes");
 }
 
 TEST_CASE("numbers are written in their shortest form and read back to the same bits", "[csv]") {

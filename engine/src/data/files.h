@@ -1,5 +1,5 @@
-// Files of run folders: files that grow by appending, and reading (whole files are written
-// atomically with gaitlab/files.h). Every failure is an IoError naming the path and the reason.
+// Files of run folders: files that grow by appending (whole files are read and written with
+// gaitlab/files.h). Every failure is an IoError naming the path and the reason.
 #pragma once
 
 #include <string>
@@ -13,9 +13,6 @@ std::string reason(int error_number);
 /// Writes all of `bytes` to the file descriptor `fd` (retrying after signals); throws IoError
 /// naming `path`.
 void write_all(int fd, std::string_view bytes, const std::string& path);
-
-/// The whole file; throws IoError.
-std::string read_file(const std::string& path);
 
 /// A file opened for appending (created or truncated on open). Writes go straight to the
 /// operating system (write(2), no fsync): once write() returns they survive the process, not

@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "gaitlab/files.h"
 #include "gaitlab/suggest.h"
 
 namespace gaitlab::xml {
@@ -32,14 +33,11 @@ std::string quoted_list(const std::vector<const char*>& names) {
 }  // namespace
 
 std::string read_text(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        throw FormatError(fmt::format("{}: cannot read the file: {}", path, std::strerror(errno)),
-                          path, 0);
+    try {
+        return read_file(path);
+    } catch (const ReadError& e) {
+        throw FormatError(fmt::format("{}: cannot read the file: {}", path, e.reason()), path, 0);
     }
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
 }
 
 Document::Document(std::string_view text, std::string file)
