@@ -5,6 +5,7 @@
 
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/version.h"
+#include "guard.h"
 #include "lua_util.h"
 #include "stdlib.h"
 #include "wrap.h"
@@ -12,6 +13,7 @@
 using namespace gaitlab::scripting;
 
 extern "C" int luaopen_gaitlab(lua_State* L) {
+    Guard::install(L);  // budgets and interrupts, before any code of gaitlab's runs
     lua_newtable(L);
     lua_pushstring(L, gaitlab::version());
     lua_setfield(L, -2, "version");

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "guard.h"
 #include "lua_util.h"
 #include "recording.h"
 #include "stdlib.h"
@@ -91,6 +92,8 @@ void run_controller_source(lua_State* L, const std::string& source, const std::s
         push_sandbox(L);
         if (!lua_setupvalue(L, -2, 1)) lua_pop(L, 1);  // the chunk's only upvalue is _ENV
     }
+    const std::string what = "controller file " + chunk;
+    const Budget limit(L, kLoadInstructionBudget, what, " while it loaded");
     protected_call(L, 0, 1);
 }
 

@@ -7,24 +7,23 @@
 #include "gaitlab/error.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/types.h"
+#include "guard.h"
 #include "hot_reload.h"
 #include "lua_util.h"
 
 namespace gaitlab::scripting {
 
-namespace {
-
-// the controller whose step runs on this thread (for the budget hook)
-thread_local const LuaController* t_stepping = nullptr;
-
-}  // namespace
-
 LuaController::LuaController(lua_State* L, std::shared_ptr<LuaControllerClass> cls)
-    : Controller(cls->def), L_(L), cls_(std::move(cls)), class_version_(cls_->version) {
+    : Controller(cls->def),
+      L_(main_thread(L)),
+      cls_(std::move(cls)),
+      label_(fmt::format("controller '{}'", cls_->def.name)),
+      class_version_(cls_->version) {
     cls_->instances.push_back(this);
 }
 
 LuaController::~LuaController() {
+    if (box_) *box_ = nullptr;
     auto& v = cls_->instances;
     v.erase(std::remove(v.begin(), v.end(), this), v.end());
     luaL_unref(L_, LUA_REGISTRYINDEX, self_ref_);
@@ -49,7 +48,7 @@ void LuaController::take_snapshot() {
     if (cls_->snapshot_ref == LUA_NOREF || self_ref_ == LUA_NOREF) return;
     lua_rawgeti(L_, LUA_REGISTRYINDEX, cls_->snapshot_ref);
     lua_rawgeti(L_, LUA_REGISTRYINDEX, self_ref_);
-    protected_call(L_, 1, 1);
+    call(1, 1, kLoadInstructionBudget, " in snapshot");
     snapshot_ref_ = luaL_ref(L_, LUA_REGISTRYINDEX);
 }
 
@@ -108,7 +107,8 @@ void LuaController::migrate() {
             lua_pushnil(L_);
         }
         drop_snapshot();
-        protected_call(L_, 2, 0);
+        call(2, 0, kLoadInstructionBudget, " in on_reload");
+        check_values();
     }
     drop_snapshot();
 }
@@ -139,7 +139,9 @@ void LuaController::on_bind() {
                                 {"sensor", l_sensor},
                                 {nullptr, nullptr}};
     lua_createtable(L, 0, 5);
-    lua_pushlightuserdata(L, this);
+    if (box_) *box_ = nullptr;  // the methods of an earlier self table reach nothing now
+    box_ = static_cast<LuaController**>(lua_newuserdatauv(L, sizeof(LuaController*), 0));
+    *box_ = this;
     luaL_setfuncs(L, methods, 1);
     lua_setfield(L, -2, "__index");
     lua_setmetatable(L, -2);
@@ -157,16 +159,26 @@ void LuaController::push_params() {
     pushed_version_ = param_version();
 }
 
-void LuaController::budget_hook(lua_State* L, lua_Debug* ar) {
-    const LuaController* c = t_stepping;
-    if (c == nullptr) return;
-    lua_getinfo(L, "Sl", ar);
-    lua_pushfstring(L,
-                    "controller '%s' exceeded its instruction budget of %I instructions in one "
-                    "step (%s:%d)",
-                    c->name().c_str(), static_cast<lua_Integer>(c->cls_->budget),
-                    ar->source[0] == '@' ? ar->source + 1 : ar->short_src, ar->currentline);
-    lua_error(L);
+void LuaController::call(int nargs, int nresults, long long budget, const char* suffix) {
+    const Budget limit(L_, budget, label_, suffix);
+    protected_call(L_, nargs, nresults);
+}
+
+void LuaController::check_values() {
+    if (def().values.empty()) return;
+    lua_rawgeti(L_, LUA_REGISTRYINDEX, self_ref_);
+    for (const std::string& v : def().values) {
+        if (lua_getfield(L_, -1, v.c_str()) != LUA_TTABLE) {
+            const std::string got = type_name(L_, -1);
+            lua_pop(L_, 2);
+            throw ScriptError(fmt::format("controller '{}': self.{} must stay a table of {} "
+                                          "numbers (one per joint), got {}",
+                                          name(), v, joints(), got),
+                              cls_->file, cls_->line, "");
+        }
+        lua_pop(L_, 1);
+    }
+    lua_pop(L_, 1);
 }
 
 void LuaController::step(ControlIO& io) {
@@ -175,35 +187,29 @@ void LuaController::step(ControlIO& io) {
     lua_rawgeti(L_, LUA_REGISTRYINDEX, cls_->step_ref);
     lua_rawgeti(L_, LUA_REGISTRYINDEX, self_ref_);
     lua_pushnumber(L_, io.dt());
+    struct Stepping {  // io_ is set only while step runs, whatever happens
+        ControlIO*& io;
+        ~Stepping() { io = nullptr; }
+    } stepping{io_};
     io_ = &io;
-    const LuaController* outer = t_stepping;
-    t_stepping = this;
-    // a count hook that fires once the step has run `budget` instructions
-    lua_sethook(L_, budget_hook, LUA_MASKCOUNT,
-                static_cast<int>(std::min<long long>(cls_->budget, 0x7fffffff)));
-    try {
-        protected_call(L_, 2, 0);
-    } catch (...) {
-        lua_sethook(L_, nullptr, 0, 0);
-        t_stepping = outer;
-        io_ = nullptr;
-        throw;
-    }
-    lua_sethook(L_, nullptr, 0, 0);
-    t_stepping = outer;
-    io_ = nullptr;
+    call(2, 0, cls_->budget, " in one step");
+    check_values();
 }
 
 void LuaController::sync_values() const {
     if (self_ref_ == LUA_NOREF) return;
     lua_rawgeti(L_, LUA_REGISTRYINDEX, self_ref_);
     for (size_t k = 0; k < def().values.size(); ++k) {
-        lua_getfield(L_, -1, def().values[k].c_str());
         std::vector<double>& out = values_[k];
-        for (int m = 0; m < joints(); ++m) {
-            lua_rawgeti(L_, -1, m + 1);
-            out[static_cast<size_t>(m)] = lua_tonumber(L_, -1);
-            lua_pop(L_, 1);
+        // whatever the code left there: what is not a table (check_values fails the
+        // controller after its step) keeps the last values read; entries that are not
+        // numbers read as 0
+        if (lua_getfield(L_, -1, def().values[k].c_str()) == LUA_TTABLE) {
+            for (int m = 0; m < joints(); ++m) {
+                lua_rawgeti(L_, -1, m + 1);
+                out[static_cast<size_t>(m)] = lua_tonumber(L_, -1);
+                lua_pop(L_, 1);
+            }
         }
         lua_pop(L_, 1);
     }
@@ -215,7 +221,9 @@ namespace {
 // the controller and its current step; these helpers use only lauxlib errors, so no C++
 // object is alive when they long-jump
 LuaController* self_of(lua_State* L) {
-    return static_cast<LuaController*>(lua_touserdata(L, lua_upvalueindex(1)));
+    auto* c = *static_cast<LuaController**>(lua_touserdata(L, lua_upvalueindex(1)));
+    if (!c) luaL_error(L, "this controller is gone (its simulation and handles were removed)");
+    return c;
 }
 
 // pushes why `name` names no sensor of the robot (C++ strings live only inside this call)

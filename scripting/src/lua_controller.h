@@ -67,15 +67,22 @@ class LuaController final : public Controller {
     void push_params();
     // adopts the current version of the class: parameters and values kept by name
     void migrate();
-    static void budget_hook(lua_State* L, lua_Debug* ar);
+    // calls the function below `nargs` arguments under `budget` instructions
+    void call(int nargs, int nresults, long long budget, const char* suffix);
+    // throws ScriptError if the code replaced one of self's value arrays by something else
+    void check_values();
     static int l_set_angle(lua_State* L);
     static int l_joint_angle(lua_State* L);
     static int l_joint_velocity(lua_State* L);
     static int l_joint_torque(lua_State* L);
     static int l_sensor(lua_State* L);
 
-    lua_State* L_;
+    lua_State* L_;  // the state's main thread
     std::shared_ptr<LuaControllerClass> cls_;
+    std::string label_;  // "controller 'name'", as budget errors say
+    // the instance's methods reach it through this box (a userdata), emptied when the instance
+    // goes, so a self table kept by Lua code never reaches a controller that is gone
+    LuaController** box_ = nullptr;
     int self_ref_ = LUA_NOREF;      // the instance table passed to step as self
     int snapshot_ref_ = LUA_NOREF;  // what snapshot(self) returned before a reload
     std::uint64_t pushed_version_ = ~std::uint64_t{0};

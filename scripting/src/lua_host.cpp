@@ -2,11 +2,13 @@
 
 #include <lua.hpp>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "config_files.h"
+#include "guard.h"
 #include "hot_reload.h"
 #include "lua_util.h"
 #include "recording.h"
@@ -114,11 +116,22 @@ void protected_call(lua_State* L, int nargs, int nresults) {
     throw ScriptError(message, file, line, traceback);
 }
 
-LuaHost::LuaHost() : L_(luaL_newstate()) {
+struct LuaHost::Memory : MemoryLimit {};
+
+LuaHost::LuaHost(std::size_t memory_limit)
+    : memory_(std::make_unique<Memory>(Memory{{memory_limit}})),
+      L_(lua_newstate(MemoryLimit::alloc, memory_.get())) {
     if (!L_) throw Error("cannot create a Lua state: out of memory");
+    // only a failure outside any protected call (a broken build) ends here, never a script
+    lua_atpanic(L_, [](lua_State* S) -> int {
+        const char* msg = lua_tostring(S, -1);
+        std::fprintf(stderr, "gaitlab: unprotected Lua error: %s\n", msg ? msg : "?");
+        return 0;
+    });
     luaL_openlibs(L_);
     luaL_requiref(L_, "gaitlab", luaopen_gaitlab, 1);
     lua_pop(L_, 1);
+    guard_ = &Guard::of(L_);
     // Lua 5.4 seeds math.random from the clock: seed 0 unless told otherwise, so every run is
     // reproducible and its recorded seed is true
     seed(0);
@@ -126,6 +139,18 @@ LuaHost::LuaHost() : L_(luaL_newstate()) {
 
 LuaHost::~LuaHost() {
     lua_close(L_);
+}
+
+void LuaHost::interrupt(int signal) {
+    guard_->interrupt(L_, signal);
+}
+
+int LuaHost::interrupted() const {
+    return guard_->interrupted();
+}
+
+void LuaHost::clear_interrupt() {
+    guard_->clear_interrupt(L_);
 }
 
 void LuaHost::seed(std::uint64_t seed) {

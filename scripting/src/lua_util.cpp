@@ -15,6 +15,13 @@ std::string type_name(lua_State* L, int index) {
     return luaL_typename(L, index);
 }
 
+lua_State* main_thread(lua_State* L) {
+    lua_rawgeti(L, LUA_REGISTRYINDEX, LUA_RIDX_MAINTHREAD);
+    lua_State* main = lua_tothread(L, -1);
+    lua_pop(L, 1);
+    return main;
+}
+
 Origin opt_origin(lua_State* L, int arg) {
     if (lua_isnoneornil(L, arg)) return Origin::script;
     const std::string o = check_string(L, arg);

@@ -35,6 +35,10 @@ class ArgError : public Error {
     int arg_;
 };
 
+/// The main thread of L's state. C++ objects that call into Lua later (controllers, hooks of a
+/// simulation) keep it, never the thread they were made on: a coroutine may be collected.
+lua_State* main_thread(lua_State* L);
+
 /// The type name Lua uses in its own messages (honours __name).
 std::string type_name(lua_State* L, int index);
 

@@ -197,7 +197,7 @@ void Recordings::begin_replay(lua_State* L, SimulationHandle& h, const std::stri
     p.sim = h.sim;
     p.recorder = h.recorder;
     // recorded reloads of controller code from disk run the recorded version again
-    auto apply = [L](Simulation&, const Event& e) {
+    auto apply = [L = main_thread(L)](Simulation&, const Event& e) {
         ReplayPlan& plan = *Recordings::of(L).replay;
         for (size_t k = 0; k < plan.controller_paths.size(); ++k) {
             if (plan.controller_paths[k] != e.name) continue;

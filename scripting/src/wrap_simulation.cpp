@@ -6,6 +6,7 @@
 #include "config_files.h"
 #include "gaitlab/controller.h"
 #include "gaitlab/files.h"
+#include "guard.h"
 #include "hot_reload.h"
 #include "lua_util.h"
 #include "recording.h"
@@ -90,20 +91,24 @@ RecordRequest to_request(lua_State* L, int index, int arg, const std::string& pr
 void push_new_simulation(lua_State* L, std::shared_ptr<WorldBinding> world,
                          const SimulationOptions& o, const RecordRequest& request) {
     SimulationHandle* h = nullptr;
+    lua_State* main = main_thread(L);
     try {
         validate(o);
         std::shared_ptr<Simulation> sim = world->compile(o);
         // the simulation lives in this Lua state: reporting through it is safe
-        sim->set_controller_error_handler([L](const Controller& c, const std::exception& e) {
+        sim->set_controller_error_handler([main](const Controller& c, const std::exception& e) {
             std::string message = fmt::format("controller '{}' failed: {}", c.name(), e.what());
             const auto* se = dynamic_cast<const ScriptError*>(&e);
             if (se && !se->traceback().empty()) message += "\n" + se->traceback();
-            report(L, message);
+            report(main, message);
         });
-        // controller files changed on disk are reloaded between ticks, at control ticks
+        // between ticks: an interrupt (Ctrl-C, a signal) stops the run; controller files
+        // changed on disk are reloaded, at control ticks
         Simulation* raw = sim.get();
-        sim->add_pre_tick([L, raw](Simulation&) {
-            if (raw->ticks() % raw->options().control_every == 0) Reloader::of(L).poll(L);
+        Guard* guard = &Guard::of(L);
+        sim->add_pre_tick([main, raw, guard](Simulation&) {
+            if (guard->interrupted() != 0) throw Error(guard->interrupt_message());
+            if (raw->ticks() % raw->options().control_every == 0) Reloader::of(main).poll(main);
         });
         h = new_object<SimulationHandle>(L, kSimulationType,
                                          SimulationHandle{sim, 0, {}, std::move(world)});

@@ -2,8 +2,10 @@
 // call into Lua goes through.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,8 @@ class Simulation;
 }
 
 namespace gaitlab::scripting {
+
+class Guard;
 
 /// How the simulations that scripts create are recorded (docs/data.md). `gaitlab run` records
 /// by default; a host made for embedding or tests records only what a script asks for.
@@ -63,8 +67,13 @@ void protected_call(lua_State* L, int nargs, int nresults);
 
 class LuaHost {
   public:
-    /// A new Lua state with the standard libraries and the `gaitlab` module as a global.
-    LuaHost();
+    /// The memory a host's Lua state may hold by default: 2 GiB.
+    static constexpr std::size_t kDefaultMemoryLimit = std::size_t{2} << 30;
+
+    /// A new Lua state with the standard libraries and the `gaitlab` module as a global, that
+    /// may hold at most `memory_limit` bytes (past it, allocations fail with "not enough
+    /// memory", a Lua error like any other).
+    explicit LuaHost(std::size_t memory_limit = kDefaultMemoryLimit);
     ~LuaHost();
     LuaHost(const LuaHost&) = delete;
     LuaHost& operator=(const LuaHost&) = delete;
@@ -97,6 +106,17 @@ class LuaHost {
     /// default) or nowhere (`false`, for replays).
     void set_print(bool to_stdout);
 
+    /// Asks the code the host runs to stop, as Ctrl-C does in lua.c: the Lua code at its next
+    /// instruction (no pcall can catch it) and the simulations at their next tick, so the call
+    /// running (run_file, run_simulation_file ...) throws ScriptError("interrupted (SIGINT)").
+    /// Async-signal-safe, and safe from another thread. Until clear_interrupt(), every call
+    /// into the host's Lua code stops the same way.
+    void interrupt(int signal);
+    /// The signal given to interrupt(), 0 if none.
+    int interrupted() const;
+    /// Forgets an interrupt, so the host runs code again (a console back at its prompt).
+    void clear_interrupt();
+
     /// Loads and runs a Lua file; throws ScriptError (syntax or runtime).
     void run_file(const std::string& path);
     /// Loads and runs a string; `name` is the chunk name shown in messages.
@@ -106,7 +126,10 @@ class LuaHost {
     void run_simulation_file(const std::string& path);
 
   private:
+    struct Memory;
+    std::unique_ptr<Memory> memory_;  // the allocator's state: outlives L_
     lua_State* L_;
+    Guard* guard_;  // L_'s limits, found once: interrupt() must not touch the Lua state
 };
 
 }  // namespace gaitlab::scripting
