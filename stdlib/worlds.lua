@@ -9,9 +9,11 @@ local G = _G
 
 local Preset = { __name = "gaitlab.WorldPreset" }
 
--- the type name Lua's own messages would use (honours __name)
+-- the type name Lua's own messages would use (honours __name; gaitlab's types protect their
+-- metatables, and getmetatable gives their name)
 local function typename(v)
   local mt = getmetatable(v)
+  if type(mt) == "string" then return mt end
   if type(mt) == "table" and type(mt.__name) == "string" then return mt.__name end
   return type(v)
 end

@@ -7,6 +7,7 @@
 #include "gaitlab/version.h"
 #include "guard.h"
 #include "lua_util.h"
+#include "sandbox.h"
 #include "stdlib.h"
 #include "wrap.h"
 
@@ -28,6 +29,7 @@ extern "C" int luaopen_gaitlab(lua_State* L) {
     open_sensor(L);      // gaitlab.sensor, robot:sensor{...}
     open_simulation(L);  // gaitlab.simulation (and the recordings)
     open_data(L);        // gaitlab.data
+    guard_patterns(L);   // what sandboxes copy (after open_simulation's print), guarded
 
     open_stdlib(L, lua_gettop(L));  // vec3.lua, worlds.lua (gaitlab.worlds) ...
     return 1;

@@ -81,7 +81,53 @@ int guarded_wrap(lua_State* L) {
     return 1;
 }
 
+// the message handler xpcall gets instead of the script's (upvalue 1): once the code must stop
+// (a spent budget, an interrupt), the error passes through untouched. The script's handler
+// would run with hooks off: the error was raised inside the hook, where Lua allows none.
+int guarded_handler(lua_State* L) {
+    if (Guard::of(L).stopping()) {
+        lua_settop(L, 1);
+        return 1;
+    }
+    lua_pushvalue(L, lua_upvalueindex(1));
+    lua_insert(L, 1);
+    lua_call(L, lua_gettop(L) - 1, 1);
+    return 1;
+}
+
+// what xpcall returns once its call ended (or resumed after a yield)
+int finish_xpcall(lua_State* L, int status, lua_KContext extra) {
+    if (status != LUA_OK && status != LUA_YIELD) {
+        lua_pushboolean(L, 0);
+        lua_pushvalue(L, -2);
+        return 2;
+    }
+    return lua_gettop(L) - static_cast<int>(extra);  // true and the call's results
+}
+
+// xpcall(f, handler, ...), with the handler guarded (yields inside f still work)
+int guarded_xpcall(lua_State* L) {
+    const int n = lua_gettop(L);
+    luaL_checktype(L, 2, LUA_TFUNCTION);
+    lua_pushvalue(L, 2);
+    lua_pushcclosure(L, guarded_handler, 1);
+    lua_replace(L, 2);
+    lua_pushboolean(L, 1);  // the first result when f succeeds
+    lua_pushvalue(L, 1);    // f
+    lua_rotate(L, 3, 2);    // true, f, then f's arguments
+    const int status = lua_pcallk(L, n - 2, LUA_MULTRET, 2, 2, finish_xpcall);
+    return finish_xpcall(L, status, 2);
+}
+
 }  // namespace
+
+bool Guard::stopping() const {
+    if (signal_.load() != 0) return true;
+    for (const Frame& f : frames_) {
+        if (f.exhausted) return true;
+    }
+    return false;
+}
 
 lua_State* Guard::set_running(lua_State* co) {
     return running_.exchange(co);
@@ -113,6 +159,8 @@ void Guard::install(lua_State* L) {
     luaL_setmetatable(L, kGuardType);
     lua_setfield(L, LUA_REGISTRYINDEX, kGuardKey);
 
+    lua_pushcfunction(L, guarded_xpcall);
+    lua_setglobal(L, "xpcall");
     if (lua_getglobal(L, "coroutine") == LUA_TTABLE) {
         lua_getfield(L, -1, "resume");
         if (lua_iscfunction(L, -1)) {

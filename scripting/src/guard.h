@@ -22,12 +22,15 @@ class Guard {
     /// The guard of L's state (created by luaopen_gaitlab).
     static Guard& of(lua_State* L);
     /// Creates it, keeps it in the registry and makes coroutines run under the budget and
-    /// interrupts of the code that resumes them.
+    /// interrupts of the code that resumes them, and xpcall's message handlers step aside
+    /// once the code must stop.
     static void install(lua_State* L);
 
     /// Asks the Lua code of this state to stop (see interrupt_message); async-signal-safe.
     /// `L` is the state's main thread.
     void interrupt(lua_State* L, int signal);
+    /// Whether the running code must stop: interrupted, or a budget is spent.
+    bool stopping() const;
     /// The signal given to interrupt() (SIGINT ...), 0 if none.
     int interrupted() const { return signal_.load(); }
     /// Forgets an interrupt (a console back at its prompt); `L` is the state's main thread.

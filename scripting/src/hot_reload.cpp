@@ -9,9 +9,11 @@
 
 #include <fmt/format.h>
 
+#include "gaitlab/files.h"
 #include "guard.h"
 #include "lua_util.h"
 #include "recording.h"
+#include "sandbox.h"
 #include "stdlib.h"
 #include "wrap.h"
 
@@ -38,58 +40,11 @@ void report(lua_State* L, const std::string& message) {
     std::fprintf(stderr, "gaitlab: %s\n", message.c_str());
 }
 
-void push_sandbox(lua_State* L) {
-    lua_newtable(L);
-    for (const char* name :
-         {"assert", "error", "getmetatable", "ipairs", "next", "pairs", "pcall", "print",
-          "rawequal", "rawget", "rawlen", "rawset", "select", "setmetatable", "tonumber",
-          "tostring", "type", "xpcall", "_VERSION"}) {
-        lua_getglobal(L, name);
-        lua_setfield(L, -2, name);
-    }
-    // copies, so a controller file cannot change the libraries everyone else uses
-    for (const char* lib : {"math", "string", "table", "utf8"}) {
-        lua_newtable(L);
-        if (lua_getglobal(L, lib) == LUA_TTABLE) {
-            lua_pushnil(L);
-            while (lua_next(L, -2) != 0) {
-                lua_pushvalue(L, -2);
-                lua_insert(L, -2);
-                lua_rawset(L, -5);
-            }
-        }
-        lua_pop(L, 1);
-        lua_setfield(L, -2, lib);
-    }
-    lua_createtable(L, 0, 1);
-    if (lua_getglobal(L, "gaitlab") == LUA_TTABLE)
-        lua_getfield(L, -1, "controller");
-    else
-        lua_pushnil(L);
-    lua_setfield(L, -3, "controller");
-    lua_pop(L, 1);
-    lua_setfield(L, -2, "gaitlab");
-    lua_pushvalue(L, -1);
-    lua_setfield(L, -2, "_G");
-}
-
 void run_controller_source(lua_State* L, const std::string& source, const std::string& chunk,
                            bool sandbox) {
-    // as luaL_loadfile does: a first line starting with '#' (a shebang) is skipped, keeping
-    // the line numbers
-    std::string code = source;
-    if (!code.empty() && code[0] == '#') {
-        const size_t eol = code.find('\n');
-        code = eol == std::string::npos ? std::string() : code.substr(eol);
-    }
-    const std::string name = "@" + chunk;
-    if (luaL_loadbufferx(L, code.data(), code.size(), name.c_str(), "t") != LUA_OK) {
-        std::string msg = lua_tostring(L, -1);
-        lua_pop(L, 1);
-        throw ScriptError(msg, chunk, 0, "");
-    }
+    load_source(L, source, chunk);
     if (sandbox) {
-        push_sandbox(L);
+        push_sandbox(L, chunk);
         if (!lua_setupvalue(L, -2, 1)) lua_pop(L, 1);  // the chunk's only upvalue is _ENV
     }
     const std::string what = "controller file " + chunk;
@@ -97,18 +52,7 @@ void run_controller_source(lua_State* L, const std::string& source, const std::s
     protected_call(L, 0, 1);
 }
 
-namespace {
-
-// the whole file, or nullopt if it cannot be read
-std::optional<std::string> read_source(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return std::nullopt;
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-}  // namespace
+namespace {}  // namespace
 
 void push_file_class(lua_State* L, const std::string& path, bool sandbox) {
     std::error_code ec;
@@ -158,8 +102,9 @@ void push_template_class(lua_State* L, std::string_view name) {
 
 Reloader& Reloader::of(lua_State* L) {
     lua_getfield(L, LUA_REGISTRYINDEX, kReloaderKey);
-    auto* r = static_cast<Reloader*>(lua_touserdata(L, -1));
+    auto* r = static_cast<Reloader*>(luaL_testudata(L, -1, kReloaderType));
     lua_pop(L, 1);
+    if (!r) throw Error("the controller files' reloader is gone (the Lua state is closing)");
     return *r;
 }
 
@@ -174,9 +119,7 @@ std::string Reloader::source_of(size_t index, std::uint64_t version,
     if (override_) {
         if (auto o = override_(index, version)) return *o;
     }
-    auto source = read_source(chunk);
-    if (!source) throw Error(fmt::format("cannot read {}", chunk));
-    return *source;
+    return read_file(chunk);  // bounded, and never a FIFO or a device
 }
 
 void Reloader::load(lua_State* L, const std::string& chunk, bool sandbox) {
@@ -245,9 +188,9 @@ std::string Reloader::reload_one(lua_State* L, size_t i, Origin origin) {
     std::string source;
     try {
         source = source_of(i, cls->version + 1, files_[i].chunk);
-    } catch (const Error&) {
-        error = fmt::format("{}: cannot read the file (deleted?); '{}' keeps its last good version",
-                            files_[i].chunk, cls->def.name);
+    } catch (const ReadError& e) {
+        error = fmt::format("{}: cannot read the file ({}); '{}' keeps its last good version",
+                            files_[i].chunk, e.reason(), cls->def.name);
     }
     if (error.empty()) {
         // reload() may load other files: copy what it needs, files_ may grow

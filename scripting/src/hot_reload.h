@@ -2,8 +2,8 @@
 // (modification time and size) at most every `interval` seconds of wall time, between the ticks
 // of the simulations (at control ticks); a changed file is run again and its class replaces the
 // old one in place. The reloader keeps the source of every version it ran, in load order, so a
-// recording can copy them and a replay can run them again. Also: the sandbox controller files
-// run in, and the host's reporting hook.
+// recording can copy them and a replay can run them again (controller files run in the sandbox
+// of sandbox.h). Also: the host's reporting hook.
 #pragma once
 
 #include <lua.hpp>
@@ -25,10 +25,6 @@ namespace gaitlab::scripting {
 /// Sends one message (no trailing newline) to the host's reporting hook (see
 /// LuaHost::set_reporter); without one, writes "gaitlab: MESSAGE" to stderr.
 void report(lua_State* L, const std::string& message);
-
-/// Pushes a fresh environment for a sandboxed controller file: the basic functions without
-/// file, module or debug access, copies of math, string, table and utf8, and gaitlab.controller.
-void push_sandbox(lua_State* L);
 
 /// Runs `source` as the Lua file `chunk` (text only), in a sandbox if asked; leaves its one
 /// result on the stack. Throws ScriptError (syntax or runtime).

@@ -171,9 +171,9 @@ void LuaController::check_values() {
         if (lua_getfield(L_, -1, v.c_str()) != LUA_TTABLE) {
             const std::string got = type_name(L_, -1);
             lua_pop(L_, 2);
-            throw ScriptError(fmt::format("controller '{}': self.{} must stay a table of {} "
+            throw ScriptError(fmt::format("{}:{}: controller '{}': self.{} must stay a table of {} "
                                           "numbers (one per joint), got {}",
-                                          name(), v, joints(), got),
+                                          cls_->file, cls_->line, name(), v, joints(), got),
                               cls_->file, cls_->line, "");
         }
         lua_pop(L_, 1);

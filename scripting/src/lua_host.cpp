@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "config_files.h"
+#include "gaitlab/files.h"
 #include "guard.h"
 #include "hot_reload.h"
 #include "lua_util.h"
@@ -186,21 +187,16 @@ void LuaHost::set_reload_interval(double seconds) {
 }
 
 void LuaHost::run_file(const std::string& path) {
+    std::string source;
+    try {
+        source = read_file(path);  // bounded, and never a FIFO or a device
+    } catch (const ReadError& e) {
+        throw ScriptError(e.what(), path, 0, "");
+    }
     Recordings& r = Recordings::of(L_);
-    if (!r.settings.script.empty() && path == r.settings.script) {
-        // the recorded script: keep the very code that runs for the run folders
-        std::ifstream in(path, std::ios::binary);
-        if (in) {
-            std::ostringstream text;
-            text << in.rdbuf();
-            r.script_source = text.str();
-        }
-    }
-    if (luaL_loadfilex(L_, path.c_str(), "t") != LUA_OK) {
-        std::string msg = lua_tostring(L_, -1);
-        lua_pop(L_, 1);
-        throw ScriptError(msg, path, 0, "");
-    }
+    // the recorded script: keep the very code that runs for the run folders
+    if (!r.settings.script.empty() && path == r.settings.script) r.script_source = source;
+    load_source(L_, source, path);
     protected_call(L_, 0, 0);
 }
 

@@ -22,6 +22,20 @@ lua_State* main_thread(lua_State* L) {
     return main;
 }
 
+void load_source(lua_State* L, std::string_view code, const std::string& chunk) {
+    if (code.substr(0, 3) == "\xEF\xBB\xBF") code.remove_prefix(3);
+    if (!code.empty() && code[0] == '#') {
+        const size_t eol = code.find('\n');
+        code.remove_prefix(eol == std::string_view::npos ? code.size() : eol);
+    }
+    const std::string name = "@" + chunk;
+    if (luaL_loadbufferx(L, code.data(), code.size(), name.c_str(), "t") != LUA_OK) {
+        std::string msg = lua_tostring(L, -1);
+        lua_pop(L, 1);
+        throw ScriptError(msg, chunk, 0, "");
+    }
+}
+
 Origin opt_origin(lua_State* L, int arg) {
     if (lua_isnoneornil(L, arg)) return Origin::script;
     const std::string o = check_string(L, arg);

@@ -39,6 +39,11 @@ class ArgError : public Error {
 /// simulation) keep it, never the thread they were made on: a coroutine may be collected.
 lua_State* main_thread(lua_State* L);
 
+/// Compiles `source` (text only) as the chunk "@`chunk`" and pushes it; a first line starting
+/// with '#' (a shebang) and a UTF-8 byte order mark are skipped, as luaL_loadfile does, keeping
+/// the line numbers. Throws ScriptError with the syntax error.
+void load_source(lua_State* L, std::string_view source, const std::string& chunk);
+
 /// The type name Lua uses in its own messages (honours __name).
 std::string type_name(lua_State* L, int index);
 
@@ -66,6 +71,10 @@ int protect(lua_State* L, F&& body) {
         lua_pushstring(L, e.what());
     } catch (const ScriptError& e) {
         push_script_error(L, e);  // already says where it happened
+    } catch (const std::bad_alloc&) {
+        luaL_where(L, 1);
+        lua_pushliteral(L, "not enough memory");
+        lua_concat(L, 2);
     } catch (const std::exception& e) {
         luaL_where(L, 1);
         lua_pushstring(L, e.what());
@@ -92,17 +101,30 @@ T& check_object(lua_State* L, int index, const char* tname) {
     return *static_cast<T*>(p);
 }
 
+/// __gc of a T in userdata of type `tname` (upvalue 1): destroys it once, whatever it is called
+/// with, then removes the metatable so nothing (not even a second __gc) reaches it again.
+template <class T>
+int destroy_object(lua_State* L) {
+    void* p = luaL_testudata(L, 1, lua_tostring(L, lua_upvalueindex(1)));
+    if (!p) return 0;
+    static_cast<T*>(p)->~T();
+    lua_pushnil(L);
+    lua_setmetatable(L, 1);
+    return 0;
+}
+
 /// Registers metatable `tname` with __gc destroying a T, __name, and the given methods as
-/// __index (unless the methods table holds its own __index).
+/// __index (unless the methods table holds its own __index). The metatable is protected:
+/// getmetatable(obj) gives `tname`, so scripts cannot call __gc or replace methods.
 template <class T>
 void register_type(lua_State* L, const char* tname, const luaL_Reg* methods,
                    const luaL_Reg* metamethods = nullptr) {
     luaL_newmetatable(L, tname);
-    lua_pushcfunction(L, [](lua_State* S) -> int {
-        static_cast<T*>(lua_touserdata(S, 1))->~T();
-        return 0;
-    });
+    lua_pushstring(L, tname);
+    lua_pushcclosure(L, destroy_object<T>, 1);
     lua_setfield(L, -2, "__gc");
+    lua_pushstring(L, tname);
+    lua_setfield(L, -2, "__metatable");
     if (metamethods) luaL_setfuncs(L, metamethods, 0);
     if (methods) {
         lua_getfield(L, -1, "__index");

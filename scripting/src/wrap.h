@@ -33,6 +33,10 @@ void open_robot(lua_State* L);
 void open_world(lua_State* L);
 void open_simulation(lua_State* L);
 void open_controller(lua_State* L);
+/// Pushes a gaitlab.controller table: callable (gaitlab.controller{...}), with load, reload,
+/// templates, template and write_template. For a sandbox, `sandbox_folder` is the folder of
+/// its file: loads stay sandboxed and writes stay inside that folder; nullptr for scripts.
+void push_controller_api(lua_State* L, const char* sandbox_folder);
 void open_actuation(lua_State* L);
 void open_sensor(lua_State* L);
 

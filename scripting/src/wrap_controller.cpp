@@ -387,6 +387,13 @@ int class_tostring(lua_State* L) {
     });
 }
 
+// the folder a sandboxed file's gaitlab.controller may write in (upvalue 1), or nullptr when a
+// script calls
+const char* sandbox_folder(lua_State* L) {
+    return lua_type(L, lua_upvalueindex(1)) == LUA_TSTRING ? lua_tostring(L, lua_upvalueindex(1))
+                                                           : nullptr;
+}
+
 // gaitlab.controller.load(path [, { sandbox = }]): runs a controller file once (in a sandbox
 // unless told otherwise), caches the class it returns and watches the file for changes
 int class_load(lua_State* L) {
@@ -396,6 +403,11 @@ int class_load(lua_State* L) {
         if (!lua_isnoneornil(L, 2)) {
             Fields opts(L, 2, 2, {"sandbox"});
             sandbox = opts.boolean("sandbox", true);
+            if (!sandbox && sandbox_folder(L)) {
+                opts.fail("sandbox",
+                          "a sandboxed controller file can only load files in a "
+                          "sandbox");
+            }
         }
         const std::filesystem::path path = script_path(L, arg);
         // a replay has the code even where the file is gone (a path outside the run folder)
@@ -403,7 +415,11 @@ int class_load(lua_State* L) {
             throw Error(
                 fmt::format("cannot load controller '{}': no file at {}", arg, path.string()));
         }
-        push_file_class(L, path.string(), sandbox);
+        try {
+            push_file_class(L, path.string(), sandbox);
+        } catch (const ReadError& e) {
+            throw Error(fmt::format("cannot load controller '{}': {}", arg, e.what()));
+        }
         return 1;
     });
 }
@@ -448,6 +464,23 @@ int class_write_template(lua_State* L) {
         const std::string file = script_path(L, check_string(L, 2));
         const std::filesystem::path path(file);
         std::error_code ec;
+        if (const char* folder = sandbox_folder(L)) {
+            // a sandboxed file writes only inside its own folder, links resolved
+            const auto inside =
+                std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec);
+            const auto root =
+                std::filesystem::weakly_canonical(std::filesystem::absolute(folder, ec), ec);
+            const std::filesystem::path rel = inside.lexically_relative(root);
+            if (ec || rel.empty() || *rel.begin() == ".." || rel == ".") {
+                lua_pushnil(L);
+                lua_pushstring(L, (file +
+                                   ": outside the folder of the sandboxed controller "
+                                   "file (" +
+                                   root.string() + "), where it may write")
+                                      .c_str());
+                return 2;
+            }
+        }
         if (std::filesystem::exists(path, ec)) {
             lua_pushnil(L);
             lua_pushstring(L, (file + ": file exists (templates never overwrite)").c_str());
@@ -484,6 +517,28 @@ void push_controller(lua_State* L, std::shared_ptr<Controller> controller, bool 
                                  ControllerHandle{std::move(controller), attached});
 }
 
+void push_controller_api(lua_State* L, const char* sandbox_folder) {
+    lua_newtable(L);
+    const auto add = [&](const char* name, lua_CFunction fn) {
+        if (sandbox_folder) {
+            lua_pushstring(L, sandbox_folder);
+            lua_pushcclosure(L, fn, 1);
+        } else {
+            lua_pushcfunction(L, fn);
+        }
+        lua_setfield(L, -2, name);
+    };
+    add("load", class_load);
+    if (!sandbox_folder) add("reload", class_reload);  // a controller file reloads nothing
+    add("templates", class_templates);
+    add("template", class_template);
+    add("write_template", class_write_template);
+    lua_createtable(L, 0, 1);
+    lua_pushcfunction(L, class_new);
+    lua_setfield(L, -2, "__call");
+    lua_setmetatable(L, -2);
+}
+
 void open_controller(lua_State* L) {
     const luaL_Reg methods[] = {{"params", controller_params},
                                 {"values", controller_values},
@@ -512,21 +567,7 @@ void open_controller(lua_State* L) {
     lua_setfield(L, -2, "controllers");
 
     // gaitlab.controller{...} and gaitlab.controller.load(path)
-    lua_newtable(L);
-    lua_pushcfunction(L, class_load);
-    lua_setfield(L, -2, "load");
-    lua_pushcfunction(L, class_reload);
-    lua_setfield(L, -2, "reload");
-    lua_pushcfunction(L, class_templates);
-    lua_setfield(L, -2, "templates");
-    lua_pushcfunction(L, class_template);
-    lua_setfield(L, -2, "template");
-    lua_pushcfunction(L, class_write_template);
-    lua_setfield(L, -2, "write_template");
-    lua_createtable(L, 0, 1);
-    lua_pushcfunction(L, class_new);
-    lua_setfield(L, -2, "__call");
-    lua_setmetatable(L, -2);
+    push_controller_api(L, nullptr);
     lua_setfield(L, -2, "controller");
 }
 

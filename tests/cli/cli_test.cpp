@@ -165,7 +165,7 @@ TEST_CASE("version and help options", "[cli]") {
 TEST_CASE("a missing script fails with one line naming it", "[cli]") {
     const Run r = cli({"run", "no_such_script.lua"});
     CHECK(r.status > 0);
-    CHECK_THAT(r.err, Catch::StartsWith("gaitlab: cannot open no_such_script.lua"));
+    CHECK_THAT(r.err, Catch::StartsWith("gaitlab: cannot read no_such_script.lua"));
     CHECK(r.err.find('\n') == r.err.size() - 1);
     check_failure(r, r.err.substr(0, r.err.size() - 1));
 

@@ -139,9 +139,10 @@ TEST_CASE("a changed controller file replaces the running version at the next co
     reports.clear();
     lua.run("sim:run(0.5)");
     REQUIRE(reports.size() == 1);
-    CHECK(reports[0] == "reload failed: " + file +
-                            ": cannot read the file (deleted?); 'probe' keeps its last good "
-                            "version");
+    CHECK(reports[0] ==
+          "reload failed: " + file +
+              ": cannot read the file (No such file or directory); 'probe' keeps its last good "
+              "version");
     CHECK(lua.number("robot:joints()[2].target") == Approx(-35));
 
     // back again: v1 runs, parameters still carried over

@@ -7,12 +7,15 @@
 #include "gaitlab/simulation.h"
 #include "lua_controller.h"
 #include "lua_fixture.h"
+#include "temp_dir.h"
 
 using gaitlab::scripting::LuaController;
 using gaitlab::scripting::LuaControllerClass;
 using gaitlab::scripting::ScriptError;
 using gaitlab::test::lua_dir;
 using gaitlab::test::LuaFixture;
+using gaitlab::test::TempDir;
+using gaitlab::test::write_text;
 
 namespace {
 
@@ -266,4 +269,111 @@ TEST_CASE("sensor feedback: the shuttle turns back before the wall", "[lua_contr
     // without, it reaches the wall and stays there
     CHECK(lua.number("without_gap") < 0.01);
     CHECK(lua.number("without_dx") < -0.1);
+}
+
+TEST_CASE("a controller that replaces its value arrays fails with a message", "[lua_controller]") {
+    // in step, after a hot reload (on_reload), in a controller a simulation file loads
+    for (const char* what : {"nil", "5", "'text'", "print"}) {
+        CAPTURE(what);
+        TempDir tmp("lua_swap");
+        LuaFixture lua;
+        lua.run(std::string("WHAT = ") + what + " OUT = '" + (tmp / "run") + "'");
+        lua.run(R"(
+            C = gaitlab.controller{ name = "swap", values = { "time", "angle" },
+              step = function(self, dt)
+                self.time[1] = self.time[1] + dt
+                if self.time[1] > 0.1 then self.time = WHAT end
+              end }
+            robot = gaitlab.robot.chain{ modules = 3 }
+            world = gaitlab.world()
+            world:add(robot)
+            ctl = robot:group("pitch"):drive(C{})
+            sim = gaitlab.simulation{ world = world, record = { dir = OUT, record_every = 1 } }
+        )");
+        CHECK(lua.error_of("sim:run(1)") ==
+              "test:2: controller 'swap': self.time must stay a table of 3 numbers (one per "
+              "joint), got " +
+                  lua.string("type(WHAT)"));
+        CHECK(lua.boolean("ctl.failed"));
+        // the last good values stay readable
+        CHECK(lua.number("ctl:values().time[1]") == Approx(0.09));
+        CHECK(lua.number("ctl:values().time[2]") == 0);
+        lua.run("sim:record(false)");  // the recording closes with every row readable
+        lua.run("run = gaitlab.data.open(OUT)");
+        CHECK(lua.number("run:get('swap.time[1]').values[#run:get('swap.time[1]').values]") ==
+              Approx(0.09));
+    }
+}
+
+TEST_CASE("a reload or a simulation file cannot slip a broken value array past the check",
+          "[lua_controller]") {
+    TempDir tmp("lua_values");
+    LuaFixture lua;
+    const std::string file = tmp / "c.lua";
+    write_text(file, R"(return gaitlab.controller{ name = "c", values = { "time" },
+  step = function(self, dt) self.time[1] = self.time[1] + dt end })");
+    lua.run("C = gaitlab.controller.load('" + file + "')");
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ modules = 2 }
+        world = gaitlab.world()
+        world:add(robot)
+        ctl = robot:group("pitch"):drive(C{})
+        sim = gaitlab.simulation{ world = world }
+        sim:run(0.1)
+    )");
+    write_text(file, R"(return gaitlab.controller{ name = "c", values = { "time" },
+  step = function(self, dt) self.time[1] = self.time[1] + dt end,
+  on_reload = function(self) self.time = 5 end })");
+    lua.run("assert(gaitlab.controller.reload())");
+    CHECK_THAT(lua.error_of("sim:run(0.1)"),
+               Catch::EndsWith("controller 'c': self.time must stay a table of 2 numbers (one "
+                               "per joint), got number"));
+    // the same controller file loaded by a simulation file
+    write_text(file, R"(return gaitlab.controller{ name = "c", values = { "time" },
+  step = function(self, dt) self.time = nil end })");
+    write_text(tmp / "robot.xml",
+               "<gaitlab version=\"1\"><robot name=\"snake\"><chain modules=\"2\"/></robot>"
+               "</gaitlab>");
+    write_text(tmp / "act.xml",
+               "<gaitlab version=\"1\"><actuation><group joints=\"pitch\"><controller "
+               "file=\"c.lua\"/></group></actuation></gaitlab>");
+    write_text(tmp / "env.xml",
+               "<gaitlab version=\"1\"><environment><floor/></environment></gaitlab>");
+    write_text(tmp / "sim.xml",
+               "<gaitlab version=\"1\"><simulation name=\"s\" duration=\"1\"><environment "
+               "file=\"env.xml\"/><robot file=\"robot.xml\" actuation=\"act.xml\"/>"
+               "</simulation></gaitlab>");
+    LuaFixture other;
+    CHECK_THAT(other.error_of("gaitlab.simulation.run_file('" + (tmp / "sim.xml") + "')"),
+               Catch::Contains("self.time must stay a table of 2 numbers"));
+}
+
+TEST_CASE("a self table kept after its controller is gone reaches nothing", "[lua_controller]") {
+    LuaFixture lua;
+    lua.run(R"(
+        C = gaitlab.controller{ name = "keep", step = function(self, dt) KEPT = self end }
+        do
+          local robot = gaitlab.robot.chain{ modules = 2 }
+          local world = gaitlab.world()
+          world:add(robot)
+          robot:group("pitch"):drive(C{})
+          local sim = gaitlab.simulation{ world = world, record = false }
+          sim:step(1)
+        end
+        collectgarbage() collectgarbage()
+    )");
+    CHECK(lua.error_of("KEPT:set_angle(1, 10)") ==
+          "test:1: this controller is gone (its simulation and handles were removed)");
+    CHECK_THAT(lua.error_of("KEPT:joint_angle(1)"), Catch::Contains("this controller is gone"));
+    // while it exists but does not step, it says so
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ modules = 2 }
+        world = gaitlab.world()
+        world:add(robot)
+        robot:group("pitch"):drive(C{})
+        sim = gaitlab.simulation{ world = world, record = false }
+        sim:step(1)
+    )");
+    CHECK(lua.error_of("KEPT:set_angle(1, 10)") ==
+          "test:1: set_angle can only be called while the controller steps");
 }

@@ -1,0 +1,100 @@
+// The userdata every binding makes (scripting/src/lua_util.h): protected metatables, and a __gc
+// that destroys its object once, whatever it is called with, so no script reaches freed memory.
+#include <catch2/catch.hpp>
+
+#include <string>
+
+#include "lua_fixture.h"
+
+using gaitlab::test::lua_dir;
+using gaitlab::test::LuaFixture;
+
+namespace {
+
+// one object of every gaitlab type a script can hold, in the global table `objects`
+const char* kObjects = R"(
+    objects = {}
+    objects.robot = gaitlab.robot.chain{ modules = 3 }
+    objects.group = objects.robot:group("pitch")
+    objects.controller = gaitlab.controllers.sine{}
+    objects.group:drive(objects.controller)
+    objects.world = gaitlab.world()
+    objects.world:add(objects.robot)
+    objects.simulation = gaitlab.simulation{ world = objects.world, record = false }
+    objects.class = gaitlab.controller{ name = "c", step = function() end }
+    objects.actuation = objects.robot:actuation()
+    objects.sensor = objects.robot:sensor{ kind = "joint", joint = 1 }
+    objects.module = gaitlab.modules.y1
+    objects.live = objects.simulation:live{ series = { "robot.com.x" } }
+)";
+
+}  // namespace
+
+TEST_CASE("gaitlab's metatables are protected: getmetatable gives the type name", "[lua_util]") {
+    LuaFixture lua;
+    lua.run(kObjects);
+    lua.run(R"(
+        for name, obj in pairs(objects) do
+          local mt = getmetatable(obj)
+          assert(type(mt) == "string" and mt:find("^gaitlab%."), name)
+          assert(not pcall(setmetatable, obj, {}), name)
+        end
+    )");
+    CHECK(lua.string("getmetatable(objects.simulation)") == "gaitlab.Simulation");
+    CHECK_THAT(lua.error_of("getmetatable(objects.robot).__gc(42)"),
+               Catch::Contains("attempt to call a nil value (field '__gc')"));
+}
+
+TEST_CASE("__gc called by hand, with anything, never crashes and never runs twice", "[lua_util]") {
+    LuaFixture lua;
+    lua.run(kObjects);
+    // through the debug library, which sees the real metatables: wrong arguments are ignored
+    lua.run(R"(
+        for name, obj in pairs(objects) do
+          local gc = debug.getmetatable(obj).__gc
+          gc(42)
+          gc(nil)
+          gc("robot")
+          gc({})
+          gc(io.stdout)
+          for other, o in pairs(objects) do
+            if other ~= name then gc(o) end  -- an object of another type: not this type's
+          end
+          assert(debug.getmetatable(obj) ~= nil, name .. " destroyed by a foreign __gc")
+        end
+    )");
+    CHECK(lua.integer("#objects.robot:joints()") == 3);
+    lua.run("objects.simulation:run(0.05)");
+    // the right object: destroyed once, then unusable with an error instead of freed memory
+    lua.run(R"(
+        for name, obj in pairs(objects) do
+          local gc = debug.getmetatable(obj).__gc
+          gc(obj)
+          gc(obj)
+          assert(debug.getmetatable(obj) == nil, name)
+        end
+    )");
+    CHECK_THAT(lua.error_of("objects.robot:joints()"),
+               Catch::Contains("attempt to index a userdata value"));
+    CHECK_THAT(lua.error_of("gaitlab.simulation{ world = objects.world }"),
+               Catch::Contains("gaitlab.World expected, got userdata"));
+    lua.run("collectgarbage() collectgarbage()");
+}
+
+TEST_CASE("a controller class collected while its instances run stays usable", "[lua_util]") {
+    LuaFixture lua;
+    lua.run(R"(
+        local C = gaitlab.controller{ name = "c", values = { "t" },
+          step = function(self, dt) self.t[1] = self.t[1] + dt end }
+        robot = gaitlab.robot.chain{ modules = 2 }
+        ctl = robot:group{ 1 }:drive(C())
+        world = gaitlab.world()
+        world:add(robot)
+        sim = gaitlab.simulation{ world = world, record = false }
+        debug.getmetatable(C).__gc(C)
+        C = nil
+        collectgarbage() collectgarbage()
+        sim:run(0.3)
+    )");
+    CHECK(lua.number("ctl:values().t[1]") == Approx(0.3).margin(0.031));
+}

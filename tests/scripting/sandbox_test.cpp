@@ -1,0 +1,127 @@
+// What a sandboxed controller file can and cannot do (scripting/src/sandbox.cpp): no escape to
+// an unsandboxed load, no reach into the script's string metatable or gaitlab's metatables, no
+// writes outside its folder, no finalizers, no pattern that matches for hours.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <string>
+
+#include "lua_fixture.h"
+#include "sandbox.h"
+#include "temp_dir.h"
+
+using gaitlab::scripting::pattern_cost;
+using gaitlab::test::LuaFixture;
+using gaitlab::test::TempDir;
+using gaitlab::test::write_text;
+
+namespace fs = std::filesystem;
+
+TEST_CASE("a sandboxed file cannot load an unsandboxed one", "[sandbox]") {
+    TempDir tmp("sandbox_load");
+    LuaFixture lua;
+    write_text(tmp / "evil.lua",
+               "os.execute('touch " + (tmp / "ran") +
+                   "')\nreturn gaitlab.controller{ name = 'evil', step = function() end }");
+    write_text(tmp / "loader.lua", R"(
+local Evil = gaitlab.controller.load("evil.lua", { sandbox = false })
+return Evil)");
+    CHECK_THAT(lua.error_of("gaitlab.controller.load('" + (tmp / "loader.lua") + "')"),
+               Catch::Contains("field 'sandbox': a sandboxed controller file can only load "
+                               "files in a sandbox"));
+    // loading it sandboxed is fine: os is simply not there
+    write_text(tmp / "loader.lua", "return gaitlab.controller.load('evil.lua')");
+    CHECK_THAT(lua.error_of("gaitlab.controller.load('" + (tmp / "loader.lua") + "')"),
+               Catch::Contains("evil.lua:1: attempt to index a nil value (global 'os')"));
+    CHECK_FALSE(fs::exists(tmp / "ran"));
+    // and a sandbox cannot reload the script's files either
+    write_text(tmp / "reloader.lua",
+               "assert(gaitlab.controller.reload == nil)\nreturn gaitlab.controller.load("
+               "'evil2.lua')");
+    write_text(tmp / "evil2.lua", "return gaitlab.controller{ name = 'e2', step = print }");
+    lua.run("gaitlab.controller.load('" + (tmp / "reloader.lua") + "')");
+}
+
+TEST_CASE("a sandboxed file cannot change what the script uses", "[sandbox]") {
+    TempDir tmp("sandbox_meta");
+    LuaFixture lua;
+    lua.run("robot = gaitlab.robot.chain{ modules = 2 }");
+    // the strings' metatable, gaitlab's metatables, the libraries and gaitlab.controller
+    write_text(tmp / "meddle.lua", R"(
+assert(getmetatable("") == nil, "string metatable visible")
+assert(getmetatable(gaitlab.controller) == nil, "controller table's metatable visible")
+string.upper = function() return "hacked" end
+math.pi = 3
+gaitlab.controller.load = nil
+local own = setmetatable({}, { __index = { x = 1 } })
+assert(getmetatable(own).__index.x == 1, "own metatable hidden")
+assert(not pcall(setmetatable, {}, { __gc = print }), "__gc allowed")
+return gaitlab.controller{ name = "meddle", step = function() end })");
+    lua.run("Meddle = gaitlab.controller.load('" + (tmp / "meddle.lua") + "')");
+    CHECK(lua.string("string.upper('a')") == "A");
+    CHECK(lua.string("('a'):upper()") == "A");
+    CHECK(lua.number("math.pi") == Approx(3.14159265));
+    CHECK(lua.boolean("type(gaitlab.controller.load) == 'function'"));
+    // gaitlab's objects show their type name, never their metatable, to anyone
+    CHECK(lua.string("getmetatable(robot)") == "gaitlab.Robot");
+    CHECK(lua.string("getmetatable(Meddle)") == "gaitlab.ControllerClass");
+    CHECK_THAT(lua.error_of("getmetatable(robot).__gc(42)"),
+               Catch::Contains("attempt to call a nil value (field '__gc')"));
+    CHECK(lua.integer("#robot:joints()") == 2);
+}
+
+TEST_CASE("a sandboxed file writes templates only inside its own folder", "[sandbox]") {
+    TempDir tmp("sandbox_write");
+    fs::create_directories(tmp.path / "ctl");
+    LuaFixture lua;
+    write_text(tmp / "ctl/writer.lua", R"(
+local outside = {}
+for _, p in ipairs({ "../escaped.lua", "/tmp/../" .. "escaped_abs.lua", "sub/../../up.lua", "." }) do
+  local ok, err = gaitlab.controller.write_template("sine", p)
+  assert(ok == nil and err:find("outside the folder of the sandboxed controller file"), p)
+end
+assert(gaitlab.controller.write_template("sine", "mine.lua"))
+return gaitlab.controller{ name = "writer", step = function() end })");
+    lua.run("gaitlab.controller.load('" + (tmp / "ctl/writer.lua") + "')");
+    CHECK(fs::exists(tmp.path / "ctl/mine.lua"));
+    CHECK_FALSE(fs::exists(tmp.path / "escaped.lua"));
+    CHECK_FALSE(fs::exists(tmp.path / "up.lua"));
+    // a link inside the folder that points out of it does not help
+    fs::create_directory_symlink(tmp.path, tmp.path / "ctl/out");
+    write_text(tmp / "ctl/linker.lua", R"(
+local ok, err = gaitlab.controller.write_template("sine", "out/linked.lua")
+assert(ok == nil, "wrote through a link")
+return gaitlab.controller{ name = "linker", step = function() end })");
+    lua.run("gaitlab.controller.load('" + (tmp / "ctl/linker.lua") + "')");
+    CHECK_FALSE(fs::exists(tmp.path / "linked.lua"));
+    // a script may write wherever it likes
+    lua.run("assert(gaitlab.controller.write_template('sine', '" + (tmp / "script.lua") + "'))");
+    CHECK(fs::exists(tmp.path / "script.lua"));
+}
+
+TEST_CASE("sandboxed code cannot match a pattern for hours", "[sandbox]") {
+    CHECK(pattern_cost("abc", 100) == Approx(101));
+    CHECK(pattern_cost("^abc", 100) == Approx(1));
+    CHECK(pattern_cost("a*b", 100) == Approx(101 * 101));
+    CHECK(pattern_cost("^%s*(.-)%s*$", 10) == Approx(11 * 11 * 11));
+    CHECK(pattern_cost("[%]*]+x?", 10) == Approx(11 * 11 * 2));
+    CHECK(pattern_cost("%bxy%f[%w]", 10) == Approx(11 * 11));
+    TempDir tmp("sandbox_pattern");
+    LuaFixture lua;
+    write_text(tmp / "bomb.lua", R"(
+local s = string.rep("a", 3000)
+local ok, err = pcall(string.find, s, "a*a*a*a*b")
+assert(not ok and err:find("pattern too costly for a sandboxed controller"), err)
+ok, err = pcall(function() return s:match(".-.-.-.-b") end)
+assert(not ok and err:find("pattern too costly"), err)
+ok, err = pcall(function() for _ in s:gmatch("^a*a*a*b") do end end)
+assert(not ok and err:find("pattern too costly"), err)
+-- everyday patterns on everyday strings work, and so does a plain search
+assert(("left = 12"):match("^(%w+)%s*=%s*(%d+)$") == "left")
+assert(s:find("a*b", 1, true) == nil)
+assert(select(2, ("a,b,c"):gsub(",", ";")) == 2)
+return gaitlab.controller{ name = "bomb", step = function() end })");
+    lua.run("gaitlab.controller.load('" + (tmp / "bomb.lua") + "')");
+    // the script's own patterns are its business
+    CHECK(lua.boolean("string.find(string.rep('a', 50), 'a*a*b') == nil"));
+}
