@@ -75,14 +75,14 @@ void LuaController::migrate() {
                                           [&](const ParamDef& q) { return q.name == p.name; });
             if (!kept) {
                 lua_pushnil(L);
-                lua_setfield(L, -2, p.name.c_str());
+                raw_setfield(L, -2, p.name.c_str());
             }
         }
         // values by name: kept arrays stay, removed ones go, new ones start at zero
         for (const std::string& v : old.values) {
             if (std::find(now.values.begin(), now.values.end(), v) == now.values.end()) {
                 lua_pushnil(L);
-                lua_setfield(L, -2, v.c_str());
+                raw_setfield(L, -2, v.c_str());
             }
         }
         for (const std::string& v : now.values) {
@@ -92,7 +92,7 @@ void LuaController::migrate() {
                 lua_pushnumber(L, 0);
                 lua_rawseti(L, -2, m);
             }
-            lua_setfield(L, -2, v.c_str());
+            raw_setfield(L, -2, v.c_str());
         }
         lua_pop(L, 1);
     }
@@ -153,7 +153,7 @@ void LuaController::push_params() {
     lua_rawgeti(L_, LUA_REGISTRYINDEX, self_ref_);
     for (size_t i = 0; i < def().params.size(); ++i) {
         lua_pushnumber(L_, param(static_cast<int>(i)));
-        lua_setfield(L_, -2, def().params[i].name.c_str());
+        raw_setfield(L_, -2, def().params[i].name.c_str());
     }
     lua_pop(L_, 1);
     pushed_version_ = param_version();
@@ -168,12 +168,12 @@ void LuaController::check_values() {
     if (def().values.empty()) return;
     lua_rawgeti(L_, LUA_REGISTRYINDEX, self_ref_);
     for (const std::string& v : def().values) {
-        if (lua_getfield(L_, -1, v.c_str()) != LUA_TTABLE) {
+        if (raw_getfield(L_, -1, v.c_str()) != LUA_TTABLE) {
             const std::string got = type_name(L_, -1);
             lua_pop(L_, 2);
-            throw ScriptError(fmt::format("{}:{}: controller '{}': self.{} must stay a table of {} "
-                                          "numbers (one per joint), got {}",
-                                          cls_->file, cls_->line, name(), v, joints(), got),
+            throw ScriptError(fmt::format("{}:{}: controller '{}': self.{} must stay a table (one "
+                                          "number per joint), got {}",
+                                          cls_->file, cls_->line, name(), v, got),
                               cls_->file, cls_->line, "");
         }
         lua_pop(L_, 1);
@@ -204,7 +204,7 @@ void LuaController::sync_values() const {
         // whatever the code left there: what is not a table (check_values fails the
         // controller after its step) keeps the last values read; entries that are not
         // numbers read as 0
-        if (lua_getfield(L_, -1, def().values[k].c_str()) == LUA_TTABLE) {
+        if (raw_getfield(L_, -1, def().values[k].c_str()) == LUA_TTABLE) {
             for (int m = 0; m < joints(); ++m) {
                 lua_rawgeti(L_, -1, m + 1);
                 out[static_cast<size_t>(m)] = lua_tonumber(L_, -1);

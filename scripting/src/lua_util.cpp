@@ -151,13 +151,13 @@ Fields::Fields(lua_State* L, int index, int arg, std::initializer_list<const cha
 }
 
 bool Fields::has(const char* key) const {
-    const bool present = lua_getfield(L_, index_, key) != LUA_TNIL;
+    const bool present = raw_getfield(L_, index_, key) != LUA_TNIL;
     lua_pop(L_, 1);
     return present;
 }
 
 int Fields::push(const char* key) const {
-    return lua_getfield(L_, index_, key);
+    return raw_getfield(L_, index_, key);
 }
 
 void Fields::fail(const char* key, const std::string& message) const {
@@ -238,7 +238,7 @@ Vec3 Fields::vec3(const char* key, const Vec3& fallback) const {
     double c[3];
     const char* names[3] = {"x", "y", "z"};
     for (int i = 0; i < 3; ++i) {
-        if (lua_getfield(L_, -1, names[i]) == LUA_TNIL) {
+        if (raw_getfield(L_, -1, names[i]) == LUA_TNIL) {
             lua_pop(L_, 1);
             lua_rawgeti(L_, -1, i + 1);
         }

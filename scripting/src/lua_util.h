@@ -44,6 +44,23 @@ lua_State* main_thread(lua_State* L);
 /// the line numbers. Throws ScriptError with the syntax error.
 void load_source(lua_State* L, std::string_view source, const std::string& chunk);
 
+/// t[key] without metamethods, for the table at `index`: pushes the value, returns its type.
+/// Bindings read and write tables that scripts give (or may have given a metatable) only
+/// this way, so no script code runs in the middle of a binding.
+inline int raw_getfield(lua_State* L, int index, const char* key) {
+    index = lua_absindex(L, index);
+    lua_pushstring(L, key);
+    return lua_rawget(L, index);
+}
+
+/// t[key] = value on top (popped), without metamethods.
+inline void raw_setfield(lua_State* L, int index, const char* key) {
+    index = lua_absindex(L, index);
+    lua_pushstring(L, key);
+    lua_insert(L, -2);
+    lua_rawset(L, index);
+}
+
 /// The type name Lua uses in its own messages (honours __name).
 std::string type_name(lua_State* L, int index);
 

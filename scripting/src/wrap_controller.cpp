@@ -281,7 +281,7 @@ int class_new(lua_State* L) {
             }
             std::sort(names.begin(), names.end());
             for (const std::string& n : names) {
-                lua_getfield(L, -1, n.c_str());
+                raw_getfield(L, -1, n.c_str());
                 cls->def.params.push_back(read_param(L, lua_gettop(L), n));
                 lua_pop(L, 1);
             }
@@ -290,7 +290,7 @@ int class_new(lua_State* L) {
         }
         lua_pop(L, 1);
         if (f.push("values") == LUA_TTABLE) {
-            const lua_Integer n = luaL_len(L, -1);
+            const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));
             for (lua_Integer i = 1; i <= n; ++i) {
                 lua_rawgeti(L, -1, i);
                 if (lua_type(L, -1) != LUA_TSTRING) f.fail("values", "list of names expected");

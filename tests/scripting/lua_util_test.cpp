@@ -98,3 +98,35 @@ TEST_CASE("a controller class collected while its instances run stays usable", "
     )");
     CHECK(lua.number("ctl:values().t[1]") == Approx(0.3).margin(0.031));
 }
+
+TEST_CASE("bindings read argument tables raw: no script code runs inside a binding",
+          "[lua_util]") {
+    LuaFixture lua;
+    lua.run(R"(
+        calls = 0
+        evil = { __index = function(t, k) calls = calls + 1 error("gotcha " .. k) end,
+                 __newindex = function() calls = calls + 1 error("set") end,
+                 __len = function() calls = calls + 1 error("len") end }
+    )");
+    CHECK(lua.error_of("gaitlab.robot.chain(setmetatable({}, evil))") ==
+          "test:1: bad argument #1 to 'chain' (field 'modules': number of modules expected, got "
+          "nil)");
+    CHECK_THAT(lua.error_of("gaitlab.controller(setmetatable({ name = 'x' }, evil))"),
+               Catch::Contains("field 'step': function expected, got nil"));
+    lua.run("C = gaitlab.controller{ name = 'x', step = print, values = setmetatable({}, evil) }");
+    // a controller that gives its own self a hostile metatable only breaks itself
+    lua.run(R"(
+        C = gaitlab.controller{ name = "y", values = { "t" }, params = { a = { 1, min = 0, max = 2 } },
+          step = function(self) setmetatable(self, evil) self.t[1] = 1 end }
+        robot = gaitlab.robot.chain{ modules = 2 }
+        world = gaitlab.world()
+        world:add(robot)
+        ctl = robot:group{ 1 }:drive(C{})
+        sim = gaitlab.simulation{ world = world, record = false }
+        sim:run(0.2)
+        ctl.a = 1.5
+        sim:run(0.2)
+    )");
+    CHECK(lua.number("ctl:values().t[1]") == 1);
+    CHECK(lua.integer("calls") == 0);
+}
