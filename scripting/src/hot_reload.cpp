@@ -222,9 +222,10 @@ std::string Reloader::reload(lua_State* L, const File& f, const std::string& sou
         }
         fresh = *static_cast<std::shared_ptr<LuaControllerClass>*>(lua_touserdata(L, -1));
         lua_settop(L, top);
-        // the old code takes its snapshots before it goes
-        for (LuaController* c : cls.instances)
-            c->take_snapshot();
+        // the old code takes its snapshots before it goes. By index: a snapshot is Lua code,
+        // which may make instances of the class or let the collector destroy some
+        for (size_t k = 0; k < cls.instances.size(); ++k)
+            cls.instances[k]->take_snapshot();
     } catch (const ScriptError& e) {
         lua_settop(L, top);
         for (LuaController* c : cls.instances)

@@ -300,3 +300,35 @@ TEST_CASE("controller files run in a sandbox unless the script opts out", "[hot_
     CHECK(lua.error_of("gaitlab.controller.load(DIR .. '/open.lua', { sandbx = false })") ==
           "test:1: bad argument #2 to 'load' (unknown key 'sandbx'; did you mean 'sandbox'?)");
 }
+
+TEST_CASE("a snapshot that makes or drops instances of its own class is safe", "[hot_reload]") {
+    TempDir tmp("reload_instances");
+    LuaFixture lua;
+    const std::string file = tmp / "c.lua";
+    const char* kBreeder = R"(return gaitlab.controller{ name = "c",
+  step = function(self, dt) end,
+  snapshot = function(self)
+    -- new instances of this very class, and garbage for the collector, while the reload
+    -- walks the class's instances
+    for i = 1, 50 do MADE[#MADE + 1] = CLASS{} end
+    for i = 1, 50 do CLASS{} end
+    collectgarbage()
+    return {}
+  end })";
+    write_text(file, kBreeder);
+    lua.run("MADE = {} CLASS = gaitlab.controller.load('" + file + "', { sandbox = false })");
+    lua.run(R"(
+        for i = 1, 20 do CLASS{} end
+        robot = gaitlab.robot.chain{ modules = 2 }
+        world = gaitlab.world()
+        world:add(robot)
+        ctl = robot:group{ 1 }:drive(CLASS{})
+        sim = gaitlab.simulation{ world = world, record = false }
+        sim:run(0.1)
+    )");
+    write_text(file, std::string(kBreeder) + "\n");
+    lua.run("assert(gaitlab.controller.reload())");
+    lua.run("sim:run(0.1)");
+    CHECK(lua.integer("CLASS.version") == 1);
+    CHECK(lua.integer("#MADE") >= 50);
+}
