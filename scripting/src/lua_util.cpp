@@ -47,6 +47,11 @@ Origin opt_origin(lua_State* L, int arg) {
 }
 
 std::string script_path(lua_State* L, const std::string& path) {
+    // the operating system would stop at the zero and open another file than the one checked
+    if (path.find('\0') != std::string::npos) {
+        throw Error("a path cannot contain a zero byte (got '" + path.substr(0, path.find('\0')) +
+                    "\\0...')");
+    }
     std::filesystem::path p(path);
     if (p.is_relative()) p = caller_dir(L) / p;
     return p.lexically_normal().string();
@@ -93,9 +98,7 @@ std::string check_string(lua_State* L, int index) {
     if (lua_type(L, index) != LUA_TSTRING) {
         throw ArgError(index, "string expected, got " + type_name(L, index));
     }
-    size_t len = 0;
-    const char* s = lua_tolstring(L, index, &len);
-    return std::string(s, len);
+    return to_string(L, index);
 }
 
 std::filesystem::path caller_dir(lua_State* L) {
@@ -142,7 +145,7 @@ Fields::Fields(lua_State* L, int index, int arg, std::initializer_list<const cha
             lua_pop(L, 1);
             throw ArgError(arg, "unexpected " + t + " key (fields are named)");
         }
-        const std::string key = lua_tostring(L, -1);
+        const std::string key = to_string(L, -1);
         if (std::find(names.begin(), names.end(), key) == names.end()) {
             lua_pop(L, 1);
             throw ArgError(arg, "unknown key '" + key + "'" + did_you_mean(key, names));
@@ -203,7 +206,7 @@ std::string Fields::string(const char* key, const std::string& fallback) const {
         lua_pop(L_, 1);
         fail(key, "string expected, got " + t);
     }
-    std::string s = lua_tostring(L_, -1);
+    std::string s = to_string(L_, -1);
     lua_pop(L_, 1);
     return s;
 }

@@ -44,6 +44,14 @@ lua_State* main_thread(lua_State* L);
 /// the line numbers. Throws ScriptError with the syntax error.
 void load_source(lua_State* L, std::string_view source, const std::string& chunk);
 
+/// The string at `index` (which must be a string), all of it: embedded zeros included, so a
+/// name never quietly loses its tail.
+inline std::string to_string(lua_State* L, int index) {
+    size_t len = 0;
+    const char* s = lua_tolstring(L, index, &len);
+    return std::string(s, len);
+}
+
 /// t[key] without metamethods, for the table at `index`: pushes the value, returns its type.
 /// Bindings read and write tables that scripts give (or may have given a metatable) only
 /// this way, so no script code runs in the middle of a binding.
@@ -194,6 +202,7 @@ Origin opt_origin(lua_State* L, int arg);
 
 /// `path` as the calling script means it: relative paths are relative to the folder of the Lua
 /// file that called the current C function (the working directory if none, e.g. in a REPL).
+/// Throws Error for a path with a zero byte (the system would open another file).
 std::string script_path(lua_State* L, const std::string& path);
 
 /// The result of every save(path) function: runs `write` (which writes `path`) and pushes the

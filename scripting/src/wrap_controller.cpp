@@ -41,7 +41,7 @@ void apply_params(lua_State* L, int index, int arg, Controller& c) {
         if (lua_type(L, -2) != LUA_TSTRING) {
             throw ArgError(arg, "unexpected " + type_name(L, -2) + " key (fields are named)");
         }
-        const std::string key = lua_tostring(L, -2);
+        const std::string key = to_string(L, -2);
         const int i = c.find_param(key);
         if (i < 0) {
             throw ArgError(arg,
@@ -214,12 +214,12 @@ ParamDef read_param(lua_State* L, int index, const std::string& name) {
     while (lua_next(L, index) != 0) {
         const bool positional = lua_type(L, -2) == LUA_TNUMBER && lua_tointeger(L, -2) == 1;
         const std::string key =
-            positional ? "1" : (lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "?");
+            positional ? "1" : (lua_type(L, -2) == LUA_TSTRING ? to_string(L, -2) : "?");
         if (key == "unit") {
             if (lua_type(L, -1) != LUA_TSTRING) {
                 throw ArgError(1, where + ".unit: string expected, got " + type_name(L, -1));
             }
-            p.unit = lua_tostring(L, -1);
+            p.unit = to_string(L, -1);
         } else if (key == "1" || key == "default" || key == "min" || key == "max") {
             int ok = 0;
             const double v = lua_tonumberx(L, -1, &ok);
@@ -277,7 +277,7 @@ int class_new(lua_State* L) {
             while (lua_next(L, -2) != 0) {
                 lua_pop(L, 1);
                 if (lua_type(L, -1) != LUA_TSTRING) f.fail("params", "parameter names expected");
-                names.emplace_back(lua_tostring(L, -1));
+                names.emplace_back(to_string(L, -1));
             }
             std::sort(names.begin(), names.end());
             for (const std::string& n : names) {
@@ -294,7 +294,7 @@ int class_new(lua_State* L) {
             for (lua_Integer i = 1; i <= n; ++i) {
                 lua_rawgeti(L, -1, i);
                 if (lua_type(L, -1) != LUA_TSTRING) f.fail("values", "list of names expected");
-                cls->def.values.emplace_back(lua_tostring(L, -1));
+                cls->def.values.emplace_back(to_string(L, -1));
                 lua_pop(L, 1);
             }
         } else if (!lua_isnil(L, -1)) {

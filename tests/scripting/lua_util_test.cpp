@@ -99,8 +99,7 @@ TEST_CASE("a controller class collected while its instances run stays usable", "
     CHECK(lua.number("ctl:values().t[1]") == Approx(0.3).margin(0.031));
 }
 
-TEST_CASE("bindings read argument tables raw: no script code runs inside a binding",
-          "[lua_util]") {
+TEST_CASE("bindings read argument tables raw: no script code runs inside a binding", "[lua_util]") {
     LuaFixture lua;
     lua.run(R"(
         calls = 0
@@ -129,4 +128,18 @@ TEST_CASE("bindings read argument tables raw: no script code runs inside a bindi
     )");
     CHECK(lua.number("ctl:values().t[1]") == 1);
     CHECK(lua.integer("calls") == 0);
+}
+
+TEST_CASE("strings keep their zero bytes; paths with one are refused", "[lua_util]") {
+    LuaFixture lua;
+    // a field keeps all of its string: "pitch-pitch\0x" is not "pitch-pitch"
+    CHECK_THAT(lua.error_of("gaitlab.robot.chain{ modules = 2, connection = 'pitch-pitch\\0x' }"),
+               Catch::Contains("unknown connection type"));
+    CHECK_THAT(lua.error_of("gaitlab.controllers.sine{ ['amplitude\\0x'] = 3 }"),
+               Catch::Contains("unknown key 'amplitude"));
+    // the system would stop at the zero and open another file than the one checked
+    CHECK(lua.error_of("gaitlab.robot.load('robot.xml\\0/../../x')") ==
+          "test:1: a path cannot contain a zero byte (got 'robot.xml\\0...')");
+    CHECK_THAT(lua.error_of("gaitlab.controller.write_template('sine', 'a\\0b.lua')"),
+               Catch::Contains("a path cannot contain a zero byte"));
 }
