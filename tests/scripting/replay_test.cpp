@@ -3,6 +3,8 @@
 // rerun from its folder and reproduces the data bit for bit; tampered runs do not.
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
+
 #include <cmath>
 #include <filesystem>
 
@@ -209,6 +211,79 @@ TEST_CASE("a run cut short replays up to its last row", "[replay]") {
                       Catch::StartsWith(tmp.str() + " is not a run folder: it has no"));
     CHECK_THROWS_WITH(scripting::replay(tmp / "run", tmp / "run"),
                       "cannot replay a run into its own folder");
+}
+
+TEST_CASE("a run stopped by a signal replays up to the tick where it stopped", "[replay]") {
+    TempDir tmp("replay_interrupted");
+    record(tmp, [](Simulation&) {});
+    // as `gaitlab run` closes it after SIGTERM: status interrupted, last_tick where it stopped
+    const RunData full(tmp / "run");
+    std::string meta = read_text(tmp / "run/run.json");
+    meta.replace(meta.find("\"finished\""), 10, "\"interrupted\", \"message\": \"SIGTERM\"");
+    const std::string last = "\"last_tick\": " + std::to_string(full.meta().last_tick);
+    meta.replace(meta.find(last), last.size(), "\"last_tick\": 600");
+    write_text(tmp / "run/run.json", meta);
+    const std::string data = read_text(tmp / "run/data.csv");
+    size_t end = 0;
+    for (int row = 0; row < 1 + 21; ++row)  // the header and the rows up to tick 600
+        end = data.find('\n', end) + 1;
+    write_text(tmp / "run/data.csv", data.substr(0, end));
+    const scripting::ReplayResult r = scripting::replay(tmp / "run");
+    INFO(r.divergence << " / " << r.comparison.difference);
+    CHECK(r.ok());
+    CHECK(r.stopped_early);
+    CHECK(r.comparison.rows == 21);
+    CHECK(RunData(r.into).rows() == 21);
+}
+
+TEST_CASE("a replay reads nothing outside the run's config/", "[replay]") {
+    TempDir tmp("replay_outside");
+    record(tmp, [](Simulation&) {});
+    write_text(tmp / "secret.lua", "error('read from outside')");
+    const auto tampered = [&](const std::string& name) {
+        fs::copy(tmp / "run", tmp / name, fs::copy_options::recursive);
+        return tmp / name;
+    };
+    // run.json naming a script or controller file outside config/
+    std::string dir = tampered("script");
+    std::string meta = read_text(dir + "/run.json");
+    meta.replace(meta.find("\"script\": \"snake.lua\""), 21, "\"script\": \"../../secret.lua\"");
+    write_text(dir + "/run.json", meta);
+    CHECK_THROWS_WITH(scripting::replay(dir),
+                      Catch::Contains("run.script: a path inside config/ expected, got "
+                                      "'../../secret.lua'"));
+    dir = tampered("absolute");
+    meta = read_text(dir + "/run.json");
+    const std::string wave = "\"path\": \"controllers/wave.lua\"";
+    meta.replace(meta.find(wave), wave.size(), "\"path\": \"" + tmp / "secret.lua" + "\"");
+    write_text(dir + "/run.json", meta);
+    CHECK_THROWS_WITH(scripting::replay(dir),
+                      Catch::Contains("config[].path: a path inside config/ expected, got '" +
+                                      tmp / "secret.lua'"));
+    // a link inside config/ that leads out of it
+    dir = tampered("link");
+    fs::remove(dir + "/config/controllers/wave.lua");
+    fs::create_symlink(tmp / "secret.lua", dir + "/config/controllers/wave.lua");
+    CHECK_THROWS_WITH(scripting::replay(dir),
+                      dir +
+                          "/run.json: configuration file 'controllers/wave.lua' leads out of "
+                          "config/ (through a link)");
+    // a reload event naming a file outside config/
+    dir = tampered("event");
+    write_text(dir + "/events.csv",
+               read_text(dir + "/events.csv") +
+                   "300,0.3,file,reload,controllers/wave.lua,1,config/../../../secret.lua\n");
+    CHECK_THROWS_WITH(scripting::replay(dir),
+                      dir +
+                          "/run.json: configuration file '../../../secret.lua' is not inside "
+                          "config/");
+    // a FIFO as the script: refused, never waited on
+    dir = tampered("fifo");
+    fs::remove(dir + "/config/snake.lua");
+    REQUIRE(::mkfifo((dir + "/config/snake.lua").c_str(), 0600) == 0);
+    CHECK_THROWS_WITH(
+        scripting::replay(dir),
+        "cannot read " + dir + "/config/snake.lua: not a regular file (a FIFO, device or socket)");
 }
 
 TEST_CASE("sensors are recorded and their switches from a console replay bit for bit", "[replay]") {
