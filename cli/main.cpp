@@ -369,8 +369,9 @@ int data_command(const DataArgs& a) {
         return 0;
     }
     if (a.events) {
+        const std::vector<gaitlab::Event> events = run.events();  // all read, or an error
         Stdout::write("tick,time,origin,kind,name,value,detail\n");
-        for (const gaitlab::Event& e : run.events()) {
+        for (const gaitlab::Event& e : events) {
             if (!Stdout::print("{},{},{},{},{},{},{}\n", e.tick,
                                static_cast<double>(e.tick) * run.meta().options.dt,
                                gaitlab::to_string(e.origin), gaitlab::to_string(e.kind),
@@ -435,13 +436,13 @@ int data_command(const DataArgs& a) {
 int replay_command(const std::string& dir, const std::string& into) {
     const gaitlab::scripting::ReplayResult r = gaitlab::scripting::replay(dir, into);
     if (!r.script_error.empty()) {
-        std::fprintf(stderr, "gaitlab: replay failed: %s\n", r.script_error.c_str());
+        std::fprintf(stderr, "gaitlab: replay failed: %s\n", printable(r.script_error).c_str());
         return 1;
     }
     if (!r.ok()) {
         std::fprintf(
             stderr, "gaitlab: replay differs: %s\n",
-            !r.divergence.empty() ? r.divergence.c_str() : r.comparison.difference.c_str());
+            printable(!r.divergence.empty() ? r.divergence : r.comparison.difference).c_str());
         return 1;
     }
     Stdout::print(
@@ -660,7 +661,8 @@ int main(int argc, char** argv) {
             status = argl.empty() ? 2 : 0;
         }
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        // messages may quote a run folder's content: no control characters to the terminal
+        std::fprintf(stderr, "gaitlab: %s\n", printable(e.what()).c_str());
         status = 1;
     }
     return Stdout::finish(status);

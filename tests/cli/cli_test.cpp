@@ -801,6 +801,16 @@ TEST_CASE("hostile names reach no shell or gnuplot command and no file outside -
     // the summary and the list show no control characters from the run folder
     const Run list = cli({"data", tmp / "run", "--list"});
     CHECK(list.out.find("?!touch nl.com.x") != std::string::npos);
+    // nor do messages quoting its content
+    std::string data = slurp(tmp / "run/data.csv");
+    const size_t row = data.find("\n0,") + 1;  // the first row, after the header's lines
+    const std::string line =
+        std::to_string(1 + std::count(data.begin(), data.begin() + static_cast<long>(row), '\n'));
+    data.insert(row, "\x1b[2J");
+    write_text(tmp / "run/data.csv", data);
+    check_failure(cli({"data", tmp / "run", "--series", "robot"}),
+                  "gaitlab: " + (tmp / "run/data.csv") + ":" + line +
+                      ": column 'time': number expected, got '?[2J0'");
 }
 
 TEST_CASE("a FIFO, a device or a folder is no script: refused at once", "[cli]") {

@@ -123,6 +123,11 @@ TEST_CASE("JSON round-trips and reports errors with the line", "[json]") {
     CHECK_THROWS_WITH(Json::parse("{} x", "f.json"),
                       "f.json:1: end of file expected after the JSON value");
     CHECK_THROWS_WITH(Json::parse("\"abc", "f.json"), "f.json:1: unterminated string");
+    // bytes that are not printable are named, not copied into the message
+    CHECK_THROWS_WITH(Json::parse("\x1b[31m", "f.json"),
+                      "f.json:1: JSON value expected, got byte 0x1b");
+    CHECK_THROWS_WITH(Json::parse("\"\\\x07\"", "f.json"),
+                      "f.json:1: unknown escape: '\\' and byte 0x07 in a string");
 }
 
 namespace {

@@ -324,3 +324,22 @@ TEST_CASE("a run closed by a signal says so", "[recorder]") {
     CHECK(run.state() == "interrupted by SIGTERM");
     CHECK_THAT(run.log(), Catch::EndsWith("recording interrupted at t = 0.1 s: 4 rows: SIGTERM\n"));
 }
+
+TEST_CASE("run.json is valid UTF-8 whatever bytes the names hold", "[recorder]") {
+    TempDir tmp("recorder_utf8");
+    WorldSpec world = test::chain_world(2, Connection::pitch_pitch);
+    world.robots[0].robot.name = "\xff\xfe-\xc3";
+    Simulation sim(world);
+    RecordOptions o;
+    o.dir = tmp / "run";
+    { Recorder rec(sim, o); }
+    const std::string meta = read_text(tmp / "run/run.json");
+    // each byte that is not UTF-8 is U+FFFD; no such byte is left in the file
+    CHECK(meta.find("\"name\": \"\\ufffd\\ufffd-\\ufffd\"") != std::string::npos);
+    for (const char c : {'\xff', '\xfe'})
+        CHECK(meta.find(c) == std::string::npos);
+    // the series keep their names as they are, and read back
+    const RunData run(tmp / "run");
+    CHECK(run.series()[0].name == "\xff\xfe-\xc3.com.x");
+    CHECK(run.get("\xff\xfe-\xc3.com.x").values.size() == 1);
+}

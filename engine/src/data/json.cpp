@@ -300,7 +300,10 @@ class Parser {
         if (word("false")) return Json(false);
         if (word("null")) return Json();
         if (c == '-' || (c >= '0' && c <= '9')) return number();
-        fail(fmt::format("JSON value expected, got '{}'", c));
+        const auto byte = static_cast<unsigned char>(c);
+        fail(byte > 0x20 && byte < 0x7f
+                 ? fmt::format("JSON value expected, got '{}'", c)
+                 : fmt::format("JSON value expected, got byte 0x{:02x}", byte));
     }
 
     Json object(int depth) {
@@ -418,8 +421,13 @@ class Parser {
                     utf8(out, cp);
                     break;
                 }
-                default:
-                    fail(fmt::format("unknown escape '\\{}' in a string", e));
+                default: {
+                    const auto byte = static_cast<unsigned char>(e);
+                    fail(byte > 0x20 && byte < 0x7f
+                             ? fmt::format("unknown escape '\\{}' in a string", e)
+                             : fmt::format("unknown escape: '\\' and byte 0x{:02x} in a string",
+                                           byte));
+                }
             }
         }
     }
