@@ -6,8 +6,8 @@
 // one), wherever it stands; the script's own arguments follow FILE, after "--" as soon as one
 // starts with '-'. Everything gaitlab writes to standard output goes through one checked
 // writer, and a write that failed makes the exit status non-zero. SIGINT, SIGTERM, SIGHUP and
-// SIGPIPE stop `gaitlab run` cleanly: its run folders are closed as "interrupted" and the exit
-// status is 128 + the signal.
+// SIGPIPE stop `gaitlab run` and `gaitlab replay` cleanly: their run folders are closed as
+// "interrupted" and the exit status is 128 + the signal.
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -148,6 +148,19 @@ extern "C" void on_signal(int sig) {
     }
     g_signal = sig;
     if (gaitlab::scripting::LuaHost* host = g_host.load()) host->interrupt(sig);
+}
+
+const char* strsignal_name(int sig) {
+    switch (sig) {
+        case SIGINT:
+            return "SIGINT";
+        case SIGTERM:
+            return "SIGTERM";
+        case SIGHUP:
+            return "SIGHUP";
+        default:
+            return "SIGPIPE";
+    }
 }
 
 // SIGINT, SIGTERM, SIGHUP and SIGPIPE interrupt the host; no SA_RESTART, so a script waiting
@@ -434,7 +447,17 @@ int data_command(const DataArgs& a) {
 // gaitlab replay
 
 int replay_command(const std::string& dir, const std::string& into) {
-    const gaitlab::scripting::ReplayResult r = gaitlab::scripting::replay(dir, into);
+    // a signal stops the replay as it stops `gaitlab run`: its folder closed as interrupted
+    const gaitlab::scripting::ReplayResult r =
+        gaitlab::scripting::replay(dir, into, [](gaitlab::scripting::LuaHost* host) {
+            g_host.store(host);
+            if (host && g_signal != 0) host->interrupt(g_signal);
+        });
+    if (g_signal != 0) {
+        if (g_signal != SIGPIPE)
+            std::fprintf(stderr, "gaitlab: interrupted (%s)\n", strsignal_name(g_signal));
+        return 128 + g_signal;
+    }
     if (!r.script_error.empty()) {
         std::fprintf(stderr, "gaitlab: replay failed: %s\n", printable(r.script_error).c_str());
         return 1;
@@ -652,6 +675,7 @@ int main(int argc, char** argv) {
         if (*data) {
             status = data_command(da);
         } else if (*replay) {
+            catch_signals();
             status = replay_command(replay_dir, replay_into);
         } else {
             Stdout::write(app.help());

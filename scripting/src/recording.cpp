@@ -100,6 +100,7 @@ bool same_options(const SimulationOptions& a, const SimulationOptions& b) {
 }  // namespace
 
 std::string signal_name(int signal) {
+    if (signal == kReplayEndSignal) return "the end of the replayed run";
     switch (signal) {
         case SIGINT:
             return "SIGINT";
@@ -275,6 +276,10 @@ void Recordings::begin_replay(lua_State* L, SimulationHandle& h, const std::stri
         throw Error(fmt::format("the run has no controller file '{}'", e.name));
     };
     p.replay = std::make_unique<EventReplay>(*h.sim, p.events, apply, p.stop_tick);
+    // where the run stopped, the script stops too, even if it catches errors (a run stopped by
+    // a signal inside `while true do pcall(...) end` would replay forever): the same interrupt
+    // a signal gives, which replay() clears once the script has stopped
+    p.replay->on_end([L = main_thread(L)] { Guard::of(L).interrupt(L, kReplayEndSignal); });
 }
 
 void Recordings::created(lua_State* L, SimulationHandle& h, const RecordRequest& request) {

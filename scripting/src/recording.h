@@ -34,6 +34,10 @@ std::string input_path(lua_State* L, const std::string& arg);
 /// "SIGTERM" for SIGTERM ...; "signal N" for a signal without a name here.
 std::string signal_name(int signal);
 
+/// The "signal" a replay interrupts its script with when it reaches the end of the run it
+/// replays (no real signal has this number).
+inline constexpr int kReplayEndSignal = 1 << 20;
+
 /// A simulation as Lua holds it (the gaitlab.Simulation userdata).
 struct SimulationHandle {
     std::shared_ptr<Simulation> sim;

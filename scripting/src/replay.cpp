@@ -27,7 +27,8 @@ std::string read_config(const RunData& run, const std::string& path) {
 
 }  // namespace
 
-ReplayResult replay(const std::string& run_dir, const std::string& into) {
+ReplayResult replay(const std::string& run_dir, const std::string& into,
+                    const std::function<void(LuaHost*)>& on_host) {
     const RunData run(run_dir);
     const RunMeta& m = run.meta();
     if (m.script.empty()) {
@@ -122,6 +123,16 @@ ReplayResult replay(const std::string& run_dir, const std::string& into) {
                 if (it != plan->reload_sources.end()) return it->second;
                 return std::nullopt;
             });
+        // the caller may interrupt the script from here until the host goes
+        struct Announce {
+            const std::function<void(LuaHost*)>& fn;
+            Announce(const std::function<void(LuaHost*)>& f, LuaHost* h) : fn(f) {
+                if (fn) fn(h);
+            }
+            ~Announce() {
+                if (fn) fn(nullptr);
+            }
+        } announce(on_host, &host);
         std::string error;
         try {
             if (script.size() > 4 && script.compare(script.size() - 4, 4, ".xml") == 0) {
@@ -158,6 +169,8 @@ ReplayResult replay(const std::string& run_dir, const std::string& into) {
         if (!error.empty() && !(m.status == "failed" && m.message == error)) {
             result.script_error = error;
         }
+        // the end of the run stopped the script (recording.cpp): no interrupt of the caller's
+        if (host.interrupted() == kReplayEndSignal) host.clear_interrupt();
         host.finish(error);
         plan->replay.reset();
         plan->recorder.reset();

@@ -690,6 +690,31 @@ TEST_CASE("a signal stops Lua code that swallows its errors, and keeps unflushed
     const gaitlab::RunData run(tmp / "run");
     CHECK(run.state() == "interrupted by SIGTERM");
     CHECK(run.rows() > 17);  // 0.5 s and more, though none of it had been flushed
+    // its replay stops where it stopped, though the script catches every error
+    const Run replay = cli({"replay", tmp / "run"});
+    CHECK(replay.status == 0);
+    CHECK_THAT(replay.out, Catch::Contains("bit for bit (up to where the run stopped)"));
+}
+
+TEST_CASE("a signal stops gaitlab replay and closes the replay's folder", "[cli][signal]") {
+    TempDir tmp("cli_signal_replay");
+    const std::string err = tmp / "err";
+    pid_t pid = spawn(
+        {GAITLAB_BINARY, "run", "--record", tmp / "run", kScripts + "/long_run.lua", "quiet"}, err);
+    usleep(1500000);
+    REQUIRE(kill(pid, SIGTERM) == 0);
+    REQUIRE(exit_status(pid) == 143);
+    // the replay takes about as long as the run: stopped well before its end
+    pid = spawn({GAITLAB_BINARY, "replay", tmp / "run"}, err);
+    const double start = now_seconds();
+    while (now_seconds() - start < 30 && !std::filesystem::exists(tmp / "run-replay/data.csv"))
+        usleep(1000);
+    REQUIRE(kill(pid, SIGINT) == 0);
+    CHECK(exit_status(pid) == 130);
+    CHECK(slurp(err) == "gaitlab: interrupted (SIGINT)\n");
+    const gaitlab::RunData replay(tmp / "run-replay");
+    CHECK(replay.state() == "interrupted by SIGINT");
+    CHECK(replay.rows() < gaitlab::RunData(tmp / "run").rows());
 }
 
 TEST_CASE("gaitlab data tells a run still being written from one whose process is gone",

@@ -199,7 +199,7 @@ TEST_CASE("JSON strings are valid UTF-8 whatever bytes they hold", "[json]") {
           "A");
 }
 
-TEST_CASE("JSON values know their line; numbers out of range are not integers", "[json]") {
+TEST_CASE("JSON values know their line, and numbers out of range are not integers", "[json]") {
     const Json j = Json::parse("{\n  \"a\": 1,\n\n  \"b\": [\n 2, \"x\"]\n}", "f.json");
     CHECK(j.line() == 1);
     CHECK(j.find("a")->line() == 2);

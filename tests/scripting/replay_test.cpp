@@ -5,8 +5,11 @@
 
 #include <sys/stat.h>
 
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
+#include <thread>
 
 #include "gaitlab/controller.h"
 #include "gaitlab/run_data.h"
@@ -234,6 +237,69 @@ TEST_CASE("a run stopped by a signal replays up to the tick where it stopped", "
     CHECK(r.stopped_early);
     CHECK(r.comparison.rows == 21);
     CHECK(RunData(r.into).rows() == 21);
+}
+
+TEST_CASE("a script that swallows errors stops where the interrupted run stopped", "[replay]") {
+    TempDir tmp("replay_swallow");
+    fs::create_directories(tmp.path / "src");
+    // stopped by a signal while it spun: a replay that only threw ReplayEnd would spin forever
+    write_text(tmp / "src/spin.lua",
+               R"(local robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
+local world = gaitlab.world()
+world:add(robot)
+local sim = gaitlab.simulation{ world = world }
+while true do
+  pcall(function() sim:run(0.01) end)
+end
+)");
+    {
+        scripting::LuaHost host;
+        scripting::RecordSettings s;
+        s.by_default = true;
+        s.dir = tmp / "run";
+        s.script = tmp / "src/spin.lua";
+        host.set_recording(s);
+        std::thread stopper([&host] {
+            std::this_thread::sleep_for(std::chrono::milliseconds(500));
+            host.interrupt(SIGTERM);
+        });
+        CHECK_THROWS_WITH(host.run_file(s.script), Catch::Contains("interrupted (SIGTERM)"));
+        stopper.join();
+        host.finish("interrupted (SIGTERM)");
+    }
+    const RunData run(tmp / "run");
+    REQUIRE(run.state() == "interrupted by SIGTERM");
+    REQUIRE(run.rows() > 1);
+    const scripting::ReplayResult r = scripting::replay(tmp / "run");
+    INFO(r.divergence << " / " << r.comparison.difference << " / " << r.script_error);
+    CHECK(r.ok());
+    CHECK(r.stopped_early);
+    CHECK(r.script_error.empty());
+    CHECK(r.comparison.rows == run.rows());
+    // the replay's own folder ends as a replay does, not as interrupted
+    CHECK(RunData(r.into).state() == "finished");
+
+    // a caller that interrupts the replay (gaitlab replay on a signal) stops it: interrupted
+    std::thread later;
+    const scripting::ReplayResult i =
+        scripting::replay(tmp / "run", tmp / "stopped", [&later, &tmp](scripting::LuaHost* host) {
+            if (host) {
+                // as soon as the replay records: well before it reaches the run's end
+                later = std::thread([host, &tmp] {
+                    const auto deadline =
+                        std::chrono::steady_clock::now() + std::chrono::seconds(30);
+                    while (!fs::exists(tmp / "stopped/data.csv") &&
+                           std::chrono::steady_clock::now() < deadline)
+                        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+                    host->interrupt(SIGINT);
+                });
+            } else {
+                later.join();  // before the host goes
+            }
+        });
+    CHECK(i.script_error == "interrupted (SIGINT)");
+    CHECK(RunData(tmp / "stopped").state() == "interrupted by SIGINT");
+    CHECK(RunData(tmp / "stopped").rows() < run.rows());
 }
 
 TEST_CASE("a replay reads nothing outside the run's config/", "[replay]") {
