@@ -1,10 +1,30 @@
 // The gaitlab executable: gaitlab run FILE.lua|FILE.xml (recorded to runs/ by default),
 // gaitlab FILE.lua, gaitlab data DIR (list, extract, export, plot recorded series), gaitlab
 // replay DIR, --help, --version.
+//
+// The command line is strict: an option gaitlab does not know is an error (with the closest
+// one), wherever it stands; the script's own arguments follow FILE, after "--" as soon as one
+// starts with '-'. Everything gaitlab writes to standard output goes through one checked
+// writer, and a write that failed makes the exit status non-zero. SIGINT, SIGTERM, SIGHUP and
+// SIGPIPE stop `gaitlab run` and `gaitlab replay` cleanly: their run folders are closed as
+// "interrupted" and the exit status is 128 + the signal.
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
@@ -15,6 +35,7 @@
 #include "gaitlab/run_data.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/scripting/replay.h"
+#include "gaitlab/suggest.h"
 #include "gaitlab/version.h"
 
 namespace {
@@ -26,14 +47,174 @@ bool ends_with(const std::string& s, const char* suffix) {
     return s.size() >= x.size() && s.compare(s.size() - x.size(), x.size(), x) == 0;
 }
 
+// ---------------------------------------------------------------------------------------------
+// standard output
+
+// Every byte gaitlab writes to stdout goes through here, and finish() checks what the script
+// wrote there too (print, io.write share the same FILE): a full disk, a closed stdout or a
+// broken pipe is never reported as success.
+class Stdout {
+  public:
+    // writes `text`; false once a write failed (later writes are skipped)
+    static bool write(std::string_view text) {
+        if (failed()) return false;
+        if (!text.empty() && std::fwrite(text.data(), 1, text.size(), stdout) != text.size()) {
+            error_ = errno != 0 ? errno : EIO;
+        }
+        return !failed();
+    }
+    template <typename... T>
+    static bool print(fmt::format_string<T...> format, T&&... args) {
+        return write(fmt::format(format, std::forward<T>(args)...));
+    }
+    static bool failed() { return error_ != 0 || std::ferror(stdout); }
+
+    // flushes stdout; returns `status` if everything reached it, else the status of the failure
+    // (1 with one line on stderr; 128 + SIGPIPE, quietly, for a reader that went away, as if
+    // the signal had ended the process; a non-zero `status` stays)
+    static int finish(int status) {
+        errno = 0;
+        if (std::fflush(stdout) != 0 && error_ == 0) error_ = errno != 0 ? errno : EIO;
+        if (!failed()) return status;
+        // a command that failed already said why
+        if (status != 0) return status;
+        if (error_ == EPIPE) return 128 + SIGPIPE;
+        if (error_ != 0) {
+            std::fprintf(stderr, "gaitlab: cannot write to standard output: %s\n",
+                         std::strerror(error_));
+        } else {
+            // the script's own writes failed (print, io.write): their reason is gone
+            std::fprintf(stderr,
+                         "gaitlab: cannot write to standard output: some of the output was "
+                         "lost\n");
+        }
+        return 1;
+    }
+
+  private:
+    static inline int error_ = 0;
+};
+
+// a closed stdin, stdout or stderr (`gaitlab ... >&-`) would be the next file gaitlab opens (a
+// run folder's data.csv would get what print writes): put /dev/null there, opened so that
+// writes fail (EBADF) and are reported instead of vanishing
+void keep_standard_streams() {
+    for (int fd = 0; fd <= 2; ++fd) {
+        if (::fcntl(fd, F_GETFD) >= 0 || errno != EBADF) continue;
+        const int null = ::open("/dev/null", O_RDONLY);
+        if (null >= 0 && null != fd) {
+            ::dup2(null, fd);
+            ::close(null);
+        }
+    }
+}
+
+// a run folder's text as the terminal shows it: control characters (escape sequences, line
+// ends a hostile run.json may hold) become '?'
+std::string printable(std::string_view s) {
+    std::string out(s);
+    for (char& c : out) {
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+    }
+    return out;
+}
+
+// one CSV field, quoted if it needs to be (RFC 4180), as the run folders write them
+std::string csv_field(std::string_view s) {
+    if (s.find_first_of(",\"\n\r") == std::string_view::npos) return std::string(s);
+    std::string out = "\"";
+    for (char c : s) {
+        if (c == '"') out += '"';
+        out += c;
+    }
+    return out + "\"";
+}
+
+// ---------------------------------------------------------------------------------------------
+// signals
+
+// the host `gaitlab run` runs, while it runs (the handler interrupts it)
+std::atomic<gaitlab::scripting::LuaHost*> g_host{nullptr};
+// the first signal received, 0 if none
+volatile std::sig_atomic_t g_signal = 0;
+static_assert(std::atomic<gaitlab::scripting::LuaHost*>::is_always_lock_free);
+
+extern "C" void on_signal(int sig) {
+    if (g_signal != 0) {
+        // a second signal while the run folders close: end now (what was flushed stays); a
+        // broken pipe again is no reason to give up closing
+        if (sig != SIGPIPE) _exit(128 + sig);
+        return;
+    }
+    g_signal = sig;
+    if (gaitlab::scripting::LuaHost* host = g_host.load()) host->interrupt(sig);
+}
+
+const char* strsignal_name(int sig) {
+    switch (sig) {
+        case SIGINT:
+            return "SIGINT";
+        case SIGTERM:
+            return "SIGTERM";
+        case SIGHUP:
+            return "SIGHUP";
+        default:
+            return "SIGPIPE";
+    }
+}
+
+// SIGINT, SIGTERM, SIGHUP and SIGPIPE interrupt the host; no SA_RESTART, so a script waiting
+// on input (io.read) sees the call fail and stops at its next instruction
+void catch_signals() {
+    struct sigaction sa {};
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = 0;
+    for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE})
+        sigaction(sig, &sa, nullptr);
+}
+
+// ---------------------------------------------------------------------------------------------
+// option values
+
+// a whole number in [0, 2^64 - 1]; SpecError naming the option otherwise
+std::uint64_t parse_seed(const std::string& text) {
+    std::uint64_t v = 0;
+    const char* end = text.data() + text.size();
+    const auto r = std::from_chars(text.data(), end, v);
+    if (text.empty() || r.ec != std::errc() || r.ptr != end) {
+        throw gaitlab::SpecError(
+            fmt::format("--seed: a whole number from 0 to 18446744073709551615 expected (got '{}')",
+                        printable(text)));
+    }
+    return v;
+}
+
+// a finite number of seconds; SpecError naming the option otherwise
+double parse_seconds(const char* option, std::string text) {
+    if (!text.empty() && text[0] == '+') text.erase(0, 1);
+    double v = 0;
+    const char* end = text.data() + text.size();
+    const auto r = std::from_chars(text.data(), end, v);
+    if (text.empty() || r.ec != std::errc() || r.ptr != end || !std::isfinite(v)) {
+        throw gaitlab::SpecError(
+            fmt::format("{}: a number of seconds expected (got '{}')", option, printable(text)));
+    }
+    return v;
+}
+
+// ---------------------------------------------------------------------------------------------
+// gaitlab run
+
 struct RunArgs {
     std::string file;
-    std::uint64_t seed = 0;
+    std::vector<std::string> args;  // the script's
+    std::string seed = "0";
     std::string record;
     bool no_record = false;
 };
 
-int run_script(const RunArgs& a, const std::vector<std::string>& args, const std::string& command) {
+int run_script(const RunArgs& a, const std::string& command) {
     const bool xml = ends_with(a.file, ".xml");
     if (!ends_with(a.file, ".lua") && !xml) {
         std::fprintf(stderr,
@@ -42,7 +223,24 @@ int run_script(const RunArgs& a, const std::vector<std::string>& args, const std
                      a.file.c_str());
         return 2;
     }
+    // a FIFO or a device would block or never end: only a regular file is a script (a missing
+    // one is reported by the host, naming it as Lua does)
+    struct stat st {};
+    if (::stat(a.file.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+        std::fprintf(stderr, "gaitlab: %s: %s\n", a.file.c_str(),
+                     S_ISDIR(st.st_mode) ? "is a directory"
+                                         : "not a regular file (a FIFO, device or socket)");
+        return 2;
+    }
+    std::uint64_t seed = 0;
+    try {
+        seed = parse_seed(a.seed);
+    } catch (const gaitlab::Error& e) {
+        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab run --help')\n", e.what());
+        return 2;
+    }
     std::vector<std::string> folders;
+    std::string error;
     try {
         gaitlab::scripting::LuaHost host;
         // failed reloads of controller files and controllers failing under
@@ -58,8 +256,15 @@ int run_script(const RunArgs& a, const std::vector<std::string>& args, const std
         rec.script = a.file;
         rec.command = command;
         host.set_recording(rec);
-        host.seed(a.seed);
-        host.set_args(a.file, args);
+        host.seed(seed);
+        host.set_args(a.file, a.args);
+        // from here a signal interrupts the host (one that came earlier does so now), until
+        // the host goes
+        struct Interruptible {
+            explicit Interruptible(gaitlab::scripting::LuaHost& h) { g_host.store(&h); }
+            ~Interruptible() { g_host.store(nullptr); }
+        } interruptible(host);
+        if (g_signal != 0) host.interrupt(g_signal);
         try {
             if (xml) {
                 host.run_simulation_file(a.file);
@@ -67,17 +272,28 @@ int run_script(const RunArgs& a, const std::vector<std::string>& args, const std
                 host.run_file(a.file);
             }
         } catch (const std::exception& e) {
-            // the run folders keep the reason; a failed close must not hide it
-            try {
-                host.finish(e.what());
-            } catch (const std::exception&) {
-            }
-            throw;
+            error = e.what();
         }
-        host.finish();
+        // the run folders keep the reason ("interrupted" with the signal, "failed" with the
+        // error); a failed close must not hide the error
+        try {
+            host.finish(error);
+        } catch (const std::exception& e) {
+            if (error.empty()) error = e.what();
+        }
         folders = host.run_folders();
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        if (error.empty()) error = e.what();
+    }
+    if (g_signal != 0) {
+        // a broken pipe ends quietly, as SIGPIPE would have
+        if (g_signal != SIGPIPE) {
+            std::fprintf(stderr, "gaitlab: %s\n", error.empty() ? "interrupted" : error.c_str());
+        }
+        return 128 + g_signal;
+    }
+    if (!error.empty()) {
+        std::fprintf(stderr, "gaitlab: %s\n", error.c_str());
         return 1;
     }
     // one line saying where the runs went
@@ -92,6 +308,9 @@ int run_script(const RunArgs& a, const std::vector<std::string>& args, const std
     return 0;
 }
 
+// ---------------------------------------------------------------------------------------------
+// gaitlab data
+
 struct DataArgs {
     std::string dir;
     bool list = false;
@@ -101,8 +320,8 @@ struct DataArgs {
     std::string split;
     std::string plot;
     std::string title;
-    double from = -gaitlab::RunData::kInf;
-    double to = gaitlab::RunData::kInf;
+    std::string from, to;
+    bool has_from = false, has_to = false;
 };
 
 // "a,b,c" and repeated --series options: one list
@@ -125,144 +344,197 @@ std::vector<std::string> split_names(const std::vector<std::string>& given) {
 void print_summary(const gaitlab::RunData& run) {
     const gaitlab::RunMeta& m = run.meta();
     const std::vector<double> t = run.times();
-    std::printf("run      %s\n", run.dir().c_str());
-    std::printf("status   %s%s%s\n",
-                m.status == "running" ? "incomplete (the process ended without closing it)"
-                                      : m.status.c_str(),
-                m.message.empty() ? "" : ": ", m.message.c_str());
+    Stdout::print("run      {}\n", printable(run.dir()));
+    Stdout::print("status   {}\n", printable(run.state()));
     if (!m.script.empty())
-        std::printf("script   %s (seed %llu)\n", m.script.c_str(),
-                    static_cast<unsigned long long>(m.script_seed));
-    std::printf("started  %s\n", m.started.c_str());
-    std::printf("rows     %zu%s, t = %s .. %s s, every %d ticks of %s s\n", t.size(),
-                run.truncated() ? " (last line cut short, dropped)" : "",
-                t.empty() ? "-" : fmt::format("{}", t.front()).c_str(),
-                t.empty() ? "-" : fmt::format("{}", t.back()).c_str(), m.record_every,
-                fmt::format("{}", m.options.dt).c_str());
-    std::printf("series   %zu (gaitlab data %s --list)\n", run.series().size(), run.dir().c_str());
-    std::printf("events   %zu\n", run.events().size());
+        Stdout::print("script   {} (seed {})\n", printable(m.script), m.script_seed);
+    Stdout::print("started  {}\n", printable(m.started));
+    Stdout::print("rows     {}{}, t = {} .. {} s, every {} ticks of {} s\n", t.size(),
+                  run.truncated() ? " (last line cut short, dropped)" : "",
+                  t.empty() ? "-" : fmt::format("{}", t.front()),
+                  t.empty() ? "-" : fmt::format("{}", t.back()), m.record_every, m.options.dt);
+    Stdout::print("series   {} (gaitlab data {} --list)\n", run.series().size(),
+                  printable(run.dir()));
+    Stdout::print("events   {}\n", run.events().size());
 }
 
 int data_command(const DataArgs& a) {
-    try {
-        const gaitlab::RunData run(a.dir);
-        const std::vector<std::string> wanted = split_names(a.series);
-        if (a.list) {
-            std::vector<std::string> names = wanted.empty() ? run.names() : run.select(wanted);
-            size_t width = 4;
-            for (const std::string& n : names)
-                width = std::max(width, n.size());
-            std::printf("%-*s  %-10s  %-5s  %s\n", static_cast<int>(width), "name", "kind", "joint",
-                        "unit");
-            for (const std::string& n : names) {
-                const gaitlab::SeriesInfo& s = run.find(n);
-                std::printf("%-*s  %-10s  %-5s  %s\n", static_cast<int>(width), s.name.c_str(),
-                            gaitlab::to_string(s.kind),
-                            s.joint > 0 ? std::to_string(s.joint).c_str() : "", s.unit.c_str());
-            }
-            return 0;
-        }
-        if (a.events) {
-            std::printf("tick,time,origin,kind,name,value,detail\n");
-            for (const gaitlab::Event& e : run.events()) {
-                std::printf(
-                    "%ld,%s,%s,%s,%s,%s,%s\n", e.tick,
-                    fmt::format("{}", static_cast<double>(e.tick) * run.meta().options.dt).c_str(),
-                    gaitlab::to_string(e.origin), gaitlab::to_string(e.kind), e.name.c_str(),
-                    fmt::format("{}", e.value).c_str(), e.detail.c_str());
-            }
-            return 0;
-        }
-        if (!a.plot.empty()) {
-            if (wanted.empty()) throw gaitlab::SpecError("--plot needs --series NAME[,NAME...]");
-            gaitlab::PlotOptions o;
-            o.output = a.plot;
-            o.series = wanted;
-            o.from = a.from;
-            o.to = a.to;
-            o.title = a.title;
-            const gaitlab::PlotFiles f = gaitlab::plot(run, o);
-            std::printf("wrote %s (gnuplot script %s, data %s)\n", f.png.c_str(), f.script.c_str(),
-                        f.data.c_str());
-            return 0;
-        }
-        if (!wanted.empty()) {
-            const std::vector<std::string> names = run.select(wanted);
-            if (!a.split.empty()) {
-                std::error_code ec;
-                fs::create_directories(a.split, ec);
-                for (const std::string& n : names) {
-                    std::string file = n;
-                    for (char& c : file) {
-                        if (c == '/' || c == '\\') c = '_';
-                    }
-                    const std::string path = (fs::path(a.split) / (file + ".csv")).string();
-                    run.write_csv(path, {n}, a.from, a.to);
-                    std::printf("wrote %s\n", path.c_str());
-                }
-                return 0;
-            }
-            if (!a.csv.empty()) {
-                run.write_csv(a.csv, names, a.from, a.to);
-                return 0;
-            }
-            // to stdout: the same CSV
-            const std::vector<gaitlab::SeriesData> d = run.get(names, a.from, a.to);
-            std::string out = "time";
-            for (const std::string& n : names)
-                out += "," + n;
-            out += "\n";
-            for (size_t i = 0; i < (d.empty() ? 0 : d[0].time.size()); ++i) {
-                out += fmt::format("{}", d[0].time[i]);
-                for (const gaitlab::SeriesData& s : d)
-                    out += fmt::format(",{}", s.values[i]);
-                out += "\n";
-            }
-            std::fwrite(out.data(), 1, out.size(), stdout);
-            return 0;
-        }
-        if (!a.csv.empty() || !a.split.empty()) {
-            throw gaitlab::SpecError("--csv and --split need --series NAME[,NAME...]");
-        }
-        print_summary(run);
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
-        return 1;
+    const double from = a.has_from ? parse_seconds("--from", a.from) : -gaitlab::RunData::kInf;
+    const double to = a.has_to ? parse_seconds("--to", a.to) : gaitlab::RunData::kInf;
+    const std::vector<std::string> wanted = split_names(a.series);
+    if (!a.series.empty() && wanted.empty()) {
+        throw gaitlab::SpecError("--series: at least one series name expected");
     }
+    const gaitlab::RunData run(a.dir);
+    if (a.list) {
+        std::vector<std::string> names = wanted.empty() ? run.names() : run.select(wanted);
+        size_t width = 4;
+        for (const std::string& n : names)
+            width = std::max(width, n.size());
+        Stdout::print("{:<{}}  {:<10}  {:<5}  {}\n", "name", width, "kind", "joint", "unit");
+        for (const std::string& n : names) {
+            const gaitlab::SeriesInfo& s = run.find(n);
+            if (!Stdout::print("{:<{}}  {:<10}  {:<5}  {}\n", printable(s.name), width,
+                               gaitlab::to_string(s.kind),
+                               s.joint > 0 ? std::to_string(s.joint) : "", printable(s.unit)))
+                break;
+        }
+        return 0;
+    }
+    if (a.events) {
+        const std::vector<gaitlab::Event> events = run.events();  // all read, or an error
+        Stdout::write("tick,time,origin,kind,name,value,detail\n");
+        for (const gaitlab::Event& e : events) {
+            if (!Stdout::print("{},{},{},{},{},{},{}\n", e.tick,
+                               static_cast<double>(e.tick) * run.meta().options.dt,
+                               gaitlab::to_string(e.origin), gaitlab::to_string(e.kind),
+                               csv_field(e.name), e.value, csv_field(e.detail)))
+                break;
+        }
+        return 0;
+    }
+    if (!a.plot.empty()) {
+        if (wanted.empty()) throw gaitlab::SpecError("--plot needs --series NAME[,NAME...]");
+        gaitlab::PlotOptions o;
+        o.output = a.plot;
+        o.series = wanted;
+        o.from = from;
+        o.to = to;
+        o.title = a.title;
+        const gaitlab::PlotFiles f = gaitlab::plot(run, o);
+        Stdout::print("wrote {} (gnuplot script {}, data {})\n", f.png, f.script, f.data);
+        return 0;
+    }
+    if (!wanted.empty()) {
+        const std::vector<std::string> names = run.select(wanted);
+        if (!a.split.empty()) {
+            for (const std::string& path : run.write_split(a.split, names, from, to)) {
+                if (!Stdout::print("wrote {}\n", printable(path))) break;
+            }
+            return 0;
+        }
+        if (!a.csv.empty()) {
+            run.write_csv(a.csv, names, from, to);
+            return 0;
+        }
+        // to stdout: the same CSV, written as it is made (a closed stdout stops it)
+        const std::vector<gaitlab::SeriesData> d = run.get(names, from, to);
+        std::string out = "time";
+        for (const std::string& n : names)
+            out += "," + csv_field(n);
+        out += "\n";
+        for (size_t i = 0; i < (d.empty() ? 0 : d[0].time.size()); ++i) {
+            out += fmt::format("{}", d[0].time[i]);
+            for (const gaitlab::SeriesData& s : d)
+                out += fmt::format(",{}", s.values[i]);
+            out += "\n";
+            if (out.size() >= (1 << 16)) {
+                if (!Stdout::write(out)) return 0;
+                out.clear();
+            }
+        }
+        Stdout::write(out);
+        return 0;
+    }
+    if (!a.csv.empty() || !a.split.empty()) {
+        throw gaitlab::SpecError("--csv and --split need --series NAME[,NAME...]");
+    }
+    print_summary(run);
     return 0;
 }
 
+// ---------------------------------------------------------------------------------------------
+// gaitlab replay
+
 int replay_command(const std::string& dir, const std::string& into) {
-    try {
-        const gaitlab::scripting::ReplayResult r = gaitlab::scripting::replay(dir, into);
-        if (!r.script_error.empty()) {
-            std::fprintf(stderr, "gaitlab: replay failed: %s\n", r.script_error.c_str());
-            return 1;
-        }
-        if (!r.ok()) {
-            std::fprintf(
-                stderr, "gaitlab: replay differs: %s\n",
-                !r.divergence.empty() ? r.divergence.c_str() : r.comparison.difference.c_str());
-            return 1;
-        }
-        std::printf(
-            "replay identical: %ld rows x %zu series, bit for bit%s; %d recorded %s "
-            "applied (into %s)\n",
-            r.comparison.rows, r.comparison.series,
-            r.stopped_early ? " (up to where the run stopped)" : "", r.applied,
-            r.applied == 1 ? "change" : "changes", r.into.c_str());
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+    // a signal stops the replay as it stops `gaitlab run`: its folder closed as interrupted
+    const gaitlab::scripting::ReplayResult r =
+        gaitlab::scripting::replay(dir, into, [](gaitlab::scripting::LuaHost* host) {
+            g_host.store(host);
+            if (host && g_signal != 0) host->interrupt(g_signal);
+        });
+    if (g_signal != 0) {
+        if (g_signal != SIGPIPE)
+            std::fprintf(stderr, "gaitlab: interrupted (%s)\n", strsignal_name(g_signal));
+        return 128 + g_signal;
+    }
+    if (!r.script_error.empty()) {
+        std::fprintf(stderr, "gaitlab: replay failed: %s\n", printable(r.script_error).c_str());
         return 1;
     }
+    if (!r.ok()) {
+        std::fprintf(
+            stderr, "gaitlab: replay differs: %s\n",
+            printable(!r.divergence.empty() ? r.divergence : r.comparison.difference).c_str());
+        return 1;
+    }
+    Stdout::print(
+        "replay identical: {} rows x {} series, bit for bit{}; {} recorded {} applied (into "
+        "{})\n",
+        r.comparison.rows, r.comparison.series,
+        r.stopped_early ? " (up to where the run stopped)" : "", r.applied,
+        r.applied == 1 ? "change" : "changes", r.into);
     return 0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// the command line
+
+// what the user typed that no part of the command line took, as one line: unknown options
+// (with the closest option of the command they were given to) and arguments no command takes
+std::string leftover_error(CLI::App& app) {
+    std::vector<const CLI::App*> apps{&app};
+    for (const CLI::App* sub : app.get_subcommands())
+        apps.push_back(sub);
+    for (const CLI::App* a : apps) {
+        const bool top = a == &app;
+        const std::string command = top ? "gaitlab" : "gaitlab " + a->get_name();
+        const std::string see = fmt::format("see '{} --help'", command);
+        for (const std::string& arg : a->remaining()) {
+            if (arg == "--") continue;
+            if (arg.size() < 2 || arg[0] != '-') {
+                if (top) {
+                    std::vector<std::string> commands;
+                    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+                        commands.push_back(sub->get_name());
+                    return fmt::format("unknown command '{}'{} ({})", printable(arg),
+                                       gaitlab::did_you_mean(arg, commands), see);
+                }
+                return fmt::format("unexpected argument '{}' for '{}' ({})", printable(arg),
+                                   command, see);
+            }
+            // the option as typed, without "=VALUE"
+            const std::string name = arg.substr(0, arg.find('='));
+            std::vector<std::string> options{"--help"};
+            if (top) options.emplace_back("--version");
+            for (const CLI::Option* o : a->get_options()) {
+                for (const std::string& l : o->get_lnames())
+                    options.push_back("--" + l);
+            }
+            const std::string suggestion = gaitlab::did_you_mean(name, options);
+            const std::string where = top ? "" : fmt::format(" for '{}'", command);
+            if (suggestion.empty() && a->get_name() == "run") {
+                return fmt::format(
+                    "unknown option '{}'{} (the script's arguments go after FILE, and after '--' "
+                    "when one starts with '-'; {})",
+                    printable(name), where, see);
+            }
+            return fmt::format("unknown option '{}'{}{} ({})", printable(name), where, suggestion,
+                               see);
+        }
+    }
+    return "";
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+    keep_standard_streams();
     // a file size limit ends a write with an error (reported, data kept), not the process
     std::signal(SIGXFSZ, SIG_IGN);
+    // a reader that went away makes writes fail (EPIPE), checked like any other failure;
+    // `gaitlab run` handles the signal below, so its run folders close first
+    std::signal(SIGPIPE, SIG_IGN);
     std::vector<std::string> argl(argv + 1, argv + argc);
     // "gaitlab FILE.lua ..." is "gaitlab run FILE.lua ..." (and FILE.xml)
     if (!argl.empty() && (ends_with(argl[0], ".lua") || ends_with(argl[0], ".xml"))) {
@@ -271,17 +543,35 @@ int main(int argc, char** argv) {
     std::string command = "gaitlab";
     for (const std::string& a : argl)
         command += " " + a;
+    // everything after the first "--" of `gaitlab run` is the script's, as it is
+    std::vector<std::string> script_tail;
+    if (!argl.empty() && argl[0] == "run") {
+        const auto dash = std::find(argl.begin(), argl.end(), "--");
+        if (dash != argl.end()) {
+            script_tail.assign(dash + 1, argl.end());
+            argl.erase(dash, argl.end());
+        }
+    }
 
     CLI::App app{"gaitlab: simulate modular robots and their locomotion controllers", "gaitlab"};
     app.set_version_flag("--version", std::string("gaitlab ") + gaitlab::version());
     app.require_subcommand(0, 1);
+    // what CLI11 does not take is checked below, with suggestions
+    app.allow_extras();
 
     RunArgs ra;
     CLI::App* run = app.add_subcommand(
         "run", "Run a Lua script, or a simulation file, headless (recorded to runs/)");
-    run->add_option("file", ra.file, "The script (FILE.lua) or simulation file (FILE.xml)")
-        ->required();
-    run->add_option("--seed", ra.seed, "Seed for everything random (math.random too)")
+    run->allow_extras();
+    // FILE may also be the first argument after "--" (checked below)
+    run->add_option("file", ra.file, "The script (FILE.lua) or simulation file (FILE.xml)");
+    run->add_option("args", ra.args,
+                    "Arguments for the script: arg[1], arg[2], ... (after '--' when one starts "
+                    "with '-')")
+        ->type_name("ARGS");
+    run->add_option("--seed", ra.seed,
+                    "Seed for everything random (math.random too): 0 to 2^64 - 1")
+        ->type_name("N")
         ->capture_default_str();
     auto* record = run->add_option("--record", ra.record,
                                    "Record into DIR (default: runs/NAME-DATE-TIME; more "
@@ -290,34 +580,42 @@ int main(int argc, char** argv) {
     auto* no_record =
         run->add_flag("--no-record", ra.no_record, "Record nothing, whatever the script asks");
     record->excludes(no_record);
-    // from the first argument after FILE that gaitlab does not know, everything goes to the
-    // script, in order (CLI11 leaves it in remaining())
-    run->prefix_command();
     run->footer(
-        "Arguments after FILE go to the script as arg[1], arg[2], ...\n"
-        "Each simulation the script creates is recorded into a run folder (data.csv, "
-        "series.csv,\nevents.csv, log.txt, run.json, config/), written every 2 s of wall time; "
-        "see docs/data.md.");
+        "Arguments after FILE go to the script as arg[1], arg[2], ...; gaitlab's own options may\n"
+        "stand anywhere, any other option is an error: put '--' before the script's arguments\n"
+        "when one starts with '-' (gaitlab run walk.lua -- --speed 2).\n"
+        "Each simulation the script creates is recorded into a run folder of its own (data.csv,\n"
+        "series.csv, events.csv, log.txt, run.json, config/), written every 2 s of wall time;\n"
+        "SIGINT, SIGTERM or SIGHUP close the folders as interrupted (exit status 128 + the\n"
+        "signal). See docs/data.md.");
 
     DataArgs da;
     CLI::App* data = app.add_subcommand("data", "List, extract, export or plot recorded series");
+    data->allow_extras();
     data->add_option("dir", da.dir, "A run folder")->required()->type_name("DIR");
-    data->add_flag("--list", da.list, "List the series (name, kind, joint, unit)");
-    data->add_flag("--events", da.events, "Print the recorded changes as CSV");
-    data->add_option("--series", da.series,
-                     "Series to extract, export or plot: names, kinds (robot, controller, "
-                     "sensor) or patterns with *, comma-separated")
-        ->type_name("NAME[,NAME...]");
-    data->add_option("--csv", da.csv, "Write time and the series to this CSV file")
-        ->type_name("OUT.csv");
-    data->add_option("--split", da.split, "Write each series to its own DIR/NAME.csv")
-        ->type_name("DIR");
-    data->add_option("--plot", da.plot,
-                     "Plot the series into a PNG (gnuplot); OUT.gp and OUT.csv stay next to it")
-        ->type_name("OUT.png");
+    auto* list = data->add_flag("--list", da.list, "List the series (name, kind, joint, unit)");
+    auto* events = data->add_flag("--events", da.events, "Print the recorded changes as CSV");
+    auto* series =
+        data->add_option("--series", da.series,
+                         "Series to extract, export or plot: names, kinds (robot, controller, "
+                         "sensor) or patterns with *, comma-separated")
+            ->type_name("NAME[,NAME...]");
+    auto* csv = data->add_option("--csv", da.csv, "Write time and the series to this CSV file")
+                    ->type_name("OUT.csv");
+    auto* split = data->add_option("--split", da.split, "Write each series to its own DIR/NAME.csv")
+                      ->type_name("DIR");
+    auto* plot =
+        data->add_option("--plot", da.plot,
+                         "Plot the series into a PNG (gnuplot); OUT.gp and OUT.csv stay next to it")
+            ->type_name("OUT.png");
     data->add_option("--title", da.title, "Title of the plot (default: the run's name)");
-    data->add_option("--from", da.from, "Only rows at or after this time, s")->type_name("T");
-    data->add_option("--to", da.to, "Only rows at or before this time, s")->type_name("T");
+    auto* from =
+        data->add_option("--from", da.from, "Only rows at or after this time, s")->type_name("T");
+    auto* to =
+        data->add_option("--to", da.to, "Only rows at or before this time, s")->type_name("T");
+    events->excludes(list)->excludes(series);
+    csv->excludes(split)->excludes(plot);
+    split->excludes(plot);
     data->footer(
         "Without an option: a summary of the run. With --series only: the series as CSV on "
         "stdout.\nA last line cut short (a killed run) is ignored.");
@@ -327,13 +625,15 @@ int main(int argc, char** argv) {
         "replay",
         "Rerun a recorded run headless and check that it reproduces the data bit for "
         "bit");
+    replay->allow_extras();
     replay->add_option("dir", replay_dir, "The run folder")->required()->type_name("DIR");
     replay->add_option("--into", replay_into, "Record the replay here (default: DIR-replay)")
         ->type_name("DIR");
     replay->footer(
         "The replay runs the script and controller files copied into DIR/config with the "
         "run's\nseed and arguments, and applies the changes the run recorded from the console, "
-        "the viewer\nor reloads from disk at their ticks. Exit status 0: identical.");
+        "the viewer\nor reloads from disk at their ticks. Exit status 0: identical. It runs "
+        "the run's script:\nreplay only runs you trust.");
 
     std::vector<const char*> args{argv[0]};
     for (const std::string& a : argl)
@@ -341,19 +641,53 @@ int main(int argc, char** argv) {
     try {
         app.parse(static_cast<int>(args.size()), args.data());
     } catch (const CLI::ParseError& e) {
-        if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+        if (e.get_exit_code() == 0) {  // --help, --version: to stdout, checked
+            std::ostringstream out, err;
+            const int status = app.exit(e, out, err);
+            Stdout::write(out.str());
+            return Stdout::finish(status);
+        }
         // a failure is one line on stderr, like every other failure of gaitlab
         std::fprintf(stderr, "gaitlab: %s (see 'gaitlab --help')\n", e.what());
         return e.get_exit_code();
     }
-    if (*run) return run_script(ra, run->remaining(), command);
-    if (*data) return data_command(da);
-    if (*replay) return replay_command(replay_dir, replay_into);
-
-    std::fputs(app.help().c_str(), stdout);
-    std::fputs(
-        "\nThe interactive console is not part of this version yet: run a script with\n"
-        "'gaitlab run FILE.lua'.\n",
-        stdout);
-    return argl.empty() ? 2 : 0;
+    if (const std::string error = leftover_error(app); !error.empty()) {
+        std::fprintf(stderr, "gaitlab: %s\n", error.c_str());
+        return 2;
+    }
+    if (*run) {
+        if (ra.file.empty() && !script_tail.empty()) {
+            ra.file = script_tail.front();
+            script_tail.erase(script_tail.begin());
+        }
+        if (ra.file.empty()) {
+            std::fprintf(stderr, "gaitlab: file is required (see 'gaitlab run --help')\n");
+            return 2;
+        }
+        ra.args.insert(ra.args.end(), script_tail.begin(), script_tail.end());
+        catch_signals();
+        return Stdout::finish(run_script(ra, command));
+    }
+    da.has_from = from->count() > 0;
+    da.has_to = to->count() > 0;
+    int status = 0;
+    try {
+        if (*data) {
+            status = data_command(da);
+        } else if (*replay) {
+            catch_signals();
+            status = replay_command(replay_dir, replay_into);
+        } else {
+            Stdout::write(app.help());
+            Stdout::write(
+                "\nThe interactive console is not part of this version yet: run a script with\n"
+                "'gaitlab run FILE.lua'.\n");
+            status = argl.empty() ? 2 : 0;
+        }
+    } catch (const std::exception& e) {
+        // messages may quote a run folder's content: no control characters to the terminal
+        std::fprintf(stderr, "gaitlab: %s\n", printable(e.what()).c_str());
+        status = 1;
+    }
+    return Stdout::finish(status);
 }

@@ -5,10 +5,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <filesystem>
+#include <string_view>
 
 #include <fmt/format.h>
 
+#include "data/csv.h"
 #include "data/files.h"
 #include "gaitlab/error.h"
 #include "gaitlab/files.h"
@@ -20,20 +23,37 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// a gnuplot double-quoted string
-std::string gp_string(const std::string& s) {
+// more curves than this make no readable plot, and would keep gnuplot busy for long
+constexpr size_t kMaxPlotSeries = 1000;
+
+// a gnuplot string literal holding `s` as data, whatever its bytes: only letters, digits and a
+// few punctuation marks appear as themselves; every other byte is an octal escape, so the
+// script never holds a quote, backslash, backquote (command substitution), '@' (macros), '$',
+// line end or any other character gnuplot could read as anything but part of the string
+std::string gp_string(std::string_view s) {
     std::string out = "\"";
-    for (char c : s) {
-        if (c == '"' || c == '\\') out += '\\';
-        out += c;
+    for (const char ch : s) {
+        const auto c = static_cast<unsigned char>(ch);
+        const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') ||
+                           (c >= '0' && c <= '9') ||
+                           std::string_view(" ._-+,:()[]/=*").find(ch) != std::string_view::npos;
+        if (plain) {
+            out += ch;
+        } else {
+            out += fmt::format("\\{:03o}", c);
+        }
     }
     return out + "\"";
 }
 
-// runs `gnuplot SCRIPT` in `dir`; returns "" or what went wrong
+// runs `gnuplot SCRIPT` in `dir`, without a shell (fork and exec, the script's name as its only
+// argument); returns "" or what went wrong
 std::string run_gnuplot(const fs::path& dir, const std::string& script) {
+    // "./" keeps a name starting with '-' from reading as an option
+    const std::string arg = "./" + script;
     int err[2];
-    if (pipe(err) != 0) return fmt::format("cannot start gnuplot: {}", data::reason(errno));
+    if (pipe2(err, O_CLOEXEC) != 0)
+        return fmt::format("cannot start gnuplot: {}", data::reason(errno));
     const pid_t pid = fork();
     if (pid < 0) {
         close(err[0]);
@@ -41,6 +61,9 @@ std::string run_gnuplot(const fs::path& dir, const std::string& script) {
         return fmt::format("cannot start gnuplot: {}", data::reason(errno));
     }
     if (pid == 0) {
+        // no gaitlab handler or ignored signal carries over to gnuplot
+        for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE})
+            signal(sig, SIG_DFL);
         dup2(err[1], STDERR_FILENO);
         const int null = open("/dev/null", O_RDWR);
         if (null >= 0) {
@@ -50,7 +73,7 @@ std::string run_gnuplot(const fs::path& dir, const std::string& script) {
         close(err[0]);
         close(err[1]);
         if (chdir(dir.c_str()) != 0) _exit(126);
-        execlp("gnuplot", "gnuplot", script.c_str(), static_cast<char*>(nullptr));
+        execlp("gnuplot", "gnuplot", arg.c_str(), static_cast<char*>(nullptr));
         _exit(127);
     }
     close(err[1]);
@@ -80,7 +103,8 @@ std::string run_gnuplot(const fs::path& dir, const std::string& script) {
                 first.clear();
                 continue;
             }
-            first += c;
+            // gnuplot may echo the script's text: no control characters reach the terminal
+            first += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? '?' : c;
         }
         return fmt::format("gnuplot failed{}{}", first.empty() ? "" : ": ", first);
     }
@@ -100,6 +124,10 @@ PlotFiles plot(const RunData& run, const PlotOptions& o) {
                                     o.width, o.height));
     }
     const std::vector<std::string> names = run.select(o.series);
+    if (names.size() > kMaxPlotSeries) {
+        throw SpecError(fmt::format("a plot shows at most {} series (got {}): select fewer",
+                                    kMaxPlotSeries, names.size()));
+    }
     PlotFiles files;
     files.png = o.output;
     files.script = (png.parent_path() / (png.stem().string() + ".gp")).string();
@@ -107,6 +135,13 @@ PlotFiles plot(const RunData& run, const PlotOptions& o) {
     std::error_code ec;
     if (!png.parent_path().empty()) fs::create_directories(png.parent_path(), ec);
     run.write_csv(files.data, names, o.from, o.to);
+    // the header is one line unless a name holds a line end (quoted, as CSV does)
+    std::string header = "time";
+    for (const std::string& n : names) {
+        header += ',';
+        data::append_field(header, n);
+    }
+    const auto header_lines = 1 + std::count(header.begin(), header.end(), '\n');
 
     std::vector<std::string> units;
     for (const std::string& n : names) {
@@ -114,16 +149,16 @@ PlotFiles plot(const RunData& run, const PlotOptions& o) {
         if (!u.empty() && std::find(units.begin(), units.end(), u) == units.end())
             units.push_back(u);
     }
-    std::string gp = fmt::format(
-        "# gaitlab plot of run {}: edit this file, then run 'gnuplot {}' in this folder to\n"
-        "# redraw {} from {} (time in column 1, then one column per series)\n",
-        run.meta().name, png.stem().string() + ".gp", png.filename().string(),
-        png.stem().string() + ".csv");
+    // every text that comes from the user or the run folder (file names, title, series names,
+    // units) goes through gp_string; comments hold none of it
+    std::string gp =
+        "# gaitlab plot: edit this file, then run gnuplot on it in this folder to redraw the PNG\n"
+        "# from the CSV file next to it (time in column 1, then one column per series)\n";
     gp += fmt::format("set terminal pngcairo size {},{} noenhanced font \"sans,10\"\n", o.width,
                       o.height);
     gp += "set output " + gp_string(png.filename().string()) + "\n";
     gp += "set datafile separator \",\"\n";
-    gp += "set key outside right top\nset grid\n";
+    gp += "set key outside right top noenhanced\nset grid\n";
     gp += "set title " + gp_string(o.title.empty() ? run.meta().name : o.title) + "\n";
     gp += "set xlabel \"time (s)\"\n";
     std::string ylabel;
@@ -135,8 +170,8 @@ PlotFiles plot(const RunData& run, const PlotOptions& o) {
         const std::string& u = run.find(names[i]).unit;
         const std::string title = u.empty() ? names[i] : names[i] + " (" + u + ")";
         gp += i == 0 ? "plot " : ", \\\n     ";
-        gp += fmt::format("{} using 1:{} skip 1 with lines title {}", i == 0 ? data_name : "\"\"",
-                          i + 2, gp_string(title));
+        gp += fmt::format("{} using 1:{} skip {} with lines title {}", i == 0 ? data_name : "\"\"",
+                          i + 2, header_lines, gp_string(title));
     }
     gp += "\n";
     write_file_atomic(files.script, gp);

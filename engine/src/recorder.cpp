@@ -1,5 +1,7 @@
 #include "gaitlab/recorder.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/utsname.h>
 #include <unistd.h>
 
@@ -20,6 +22,7 @@
 #include "gaitlab/error.h"
 #include "gaitlab/event.h"
 #include "gaitlab/files.h"
+#include "gaitlab/run_data.h"
 #include "gaitlab/simulation.h"
 #include "gaitlab/version.h"
 
@@ -70,30 +73,67 @@ std::string compiler() {
 #endif
 }
 
-// creates the folder, or empties an earlier run folder; anything else is refused
-void prepare_dir(const std::string& dir) {
+// " (process N)" when the folder's run.json names the process that writes it
+std::string writer_of(const fs::path& dir) {
+    try {
+        const std::string path = (dir / "run.json").string();
+        const Json j = Json::parse(read_file(path), path);
+        if (const Json* p = j.find("process")) {
+            const long long pid = p->int_at("pid", 0);
+            if (pid > 0) return fmt::format(" (process {})", pid);
+        }
+    } catch (const std::exception&) {
+        // a folder being written may be read between two of its writes: say less
+    }
+    return "";
+}
+
+// creates the folder (or finds it), locks it against every other recorder, in this process
+// or another, then empties it if it is an earlier run folder; anything else is refused.
+// Returns the locked folder's descriptor.
+int lock_run_dir(const std::string& dir) {
     std::error_code ec;
     const fs::path p(dir);
     if (!fs::exists(p, ec)) {
         fs::create_directories(p, ec);
         if (ec) throw IoError(fmt::format("cannot create run folder {}: {}", dir, ec.message()));
-        return;
-    }
-    if (!fs::is_directory(p, ec)) {
+    } else if (!fs::is_directory(p, ec)) {
         throw IoError(fmt::format("cannot record into {}: it exists and is not a folder", dir));
     }
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) throw IoError(fmt::format("cannot record into {}: {}", dir, data::reason(errno)));
+    const auto busy = [&] {
+        ::close(fd);
+        return IoError(
+            fmt::format("cannot record into {}: another recording is writing into it{}; record "
+                        "into another folder",
+                        dir, writer_of(p)));
+    };
+    // a lock held by an open recorder; a file system without locks (ENOLCK ...) falls back on
+    // the process run.json names
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK) throw busy();
     if (fs::exists(p / "run.json", ec)) {
+        bool alive = false;
+        try {
+            const RunMeta m = RunData::read_meta((p / "run.json").string());
+            alive = m.status == "running" && liveness(m.process) == Liveness::alive;
+        } catch (const Error&) {
+            // not readable as a run: emptied like any earlier run folder
+        }
+        if (alive) throw busy();
         for (const char* f : kRunFiles)
             fs::remove(p / f, ec);
         fs::remove_all(p / "config", ec);
-        return;
+        return fd;
     }
     if (!fs::is_empty(p, ec)) {
+        ::close(fd);
         throw IoError(fmt::format(
             "cannot record into {}: the folder is not empty and holds no earlier run (record "
             "into a new or empty folder)",
             dir));
     }
+    return fd;
 }
 
 // "config/a/../b.lua" and absolute paths cannot leave config/
@@ -140,6 +180,16 @@ std::string default_run_dir(const std::string& root, const std::string& name) {
     return dir;
 }
 
+RunProcess this_process() {
+    RunProcess p;
+    p.pid = static_cast<long>(::getpid());
+    char host[256] = {};
+    if (gethostname(host, sizeof host - 1) == 0) p.host = host;
+    p.boot_id = data::boot_id();
+    p.start_time = data::process_start_time(p.pid);
+    return p;
+}
+
 std::vector<std::pair<std::string, std::string>> provenance() {
     std::vector<std::pair<std::string, std::string>> p;
     p.emplace_back("gaitlab", version());
@@ -166,47 +216,59 @@ Recorder::Recorder(Simulation& sim, RecordOptions options, RunContext context)
     if (options_.record_every == 0) options_.record_every = sim.options().control_every;
     for (ConfigFile& f : context_.files)
         f.path = safe_config_path(f.path);
-    prepare_dir(options_.dir);
-    const fs::path dir(options_.dir);
-    started_ = utc_now();
-    first_tick_ = sim.ticks();
+    lock_ = lock_run_dir(options_.dir);
+    try {
+        const fs::path dir(options_.dir);
+        started_ = utc_now();
+        first_tick_ = sim.ticks();
+        process_ = this_process();
 
-    for (const ConfigFile& f : context_.files) {
-        const fs::path target = dir / "config" / f.path;
-        std::error_code ec;
-        fs::create_directories(target.parent_path(), ec);
-        write_file_atomic(target.string(), f.content);
-    }
-    std::string list = "name,kind,source,value,joint,body,unit\n";
-    for (const SeriesInfo& s : set_.series()) {
-        list += data::csv_line({s.name, to_string(s.kind), s.source, s.value,
-                                s.joint > 0 ? std::to_string(s.joint) : "", s.body, s.unit});
-        list += '\n';
-    }
-    write_file_atomic((dir / "series.csv").string(), list);
-    write_meta("running", "");
+        for (const ConfigFile& f : context_.files) {
+            const fs::path target = dir / "config" / f.path;
+            std::error_code ec;
+            fs::create_directories(target.parent_path(), ec);
+            write_file_atomic(target.string(), f.content);
+        }
+        std::string list = "name,kind,source,value,joint,body,unit\n";
+        for (const SeriesInfo& s : set_.series()) {
+            list += data::csv_line({s.name, to_string(s.kind), s.source, s.value,
+                                    s.joint > 0 ? std::to_string(s.joint) : "", s.body, s.unit});
+            list += '\n';
+        }
+        write_file_atomic((dir / "series.csv").string(), list);
+        write_meta("running", "");
 
-    data_ = std::make_unique<data::AppendFile>((dir / "data.csv").string());
-    events_ = std::make_unique<data::AppendFile>((dir / "events.csv").string());
-    log_ = std::make_unique<data::AppendFile>((dir / "log.txt").string());
-    data_buf_ = "time";
-    for (const SeriesInfo& s : set_.series()) {
-        data_buf_ += ',';
-        data::append_field(data_buf_, s.name);
-    }
-    data_buf_ += '\n';
-    events_buf_ = "tick,time,origin,kind,name,value,detail\n";
-    log(fmt::format("recording {} series every {} ticks from t = {} s into {}", set_.size(),
-                    options_.record_every, sim.time(), options_.dir));
+        data_ = std::make_unique<data::AppendFile>((dir / "data.csv").string());
+        events_ = std::make_unique<data::AppendFile>((dir / "events.csv").string());
+        log_ = std::make_unique<data::AppendFile>((dir / "log.txt").string());
+        data_buf_ = "time";
+        for (const SeriesInfo& s : set_.series()) {
+            data_buf_ += ',';
+            data::append_field(data_buf_, s.name);
+        }
+        data_buf_ += '\n';
+        events_buf_ = "tick,time,origin,kind,name,value,detail\n";
+        log(fmt::format("recording {} series every {} ticks from t = {} s into {}", set_.size(),
+                        options_.record_every, sim.time(), options_.dir));
 
-    values_.assign(set_.size(), 0.0);
-    flush_period_ = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-        std::chrono::duration<double>(options_.flush_seconds));
-    write_row(sim);
-    flush();  // the header and the first row are on disk from the start
-    observer_ = sim.add_observer([this](const Simulation& s) { on_tick(s); });
-    listener_ =
-        sim.add_event_listener([this](const Simulation& s, const Event& e) { on_event(s, e); });
+        values_.assign(set_.size(), 0.0);
+        flush_period_ = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::duration<double>(options_.flush_seconds));
+        write_row(sim);
+        flush();  // the header and the first row are on disk from the start
+        observer_ = sim.add_observer([this](const Simulation& s) { on_tick(s); });
+        listener_ =
+            sim.add_event_listener([this](const Simulation& s, const Event& e) { on_event(s, e); });
+    } catch (const std::exception& e) {
+        // a recorder that never started says why, and leaves the folder to others (an
+        // earlier run folder, which the next recorder replaces)
+        try {
+            write_meta("failed", e.what());
+        } catch (const std::exception&) {
+        }
+        unlock();
+        throw;
+    }
 }
 
 Recorder::~Recorder() {
@@ -214,6 +276,14 @@ Recorder::~Recorder() {
         close();
     } catch (const std::exception&) {
         // nowhere to report it from a destructor; close() explicitly to see it
+    }
+    unlock();
+}
+
+void Recorder::unlock() {
+    if (lock_ >= 0) {
+        ::close(lock_);  // releases the flock
+        lock_ = -1;
     }
 }
 
@@ -228,6 +298,11 @@ void Recorder::write_meta(const std::string& status, const std::string& message)
     j.set("started", started_);
     if (status != "running") j.set("ended", utc_now());
     j.set("first_tick", first_tick_);
+    Json& proc = j.set("process", Json::object());
+    proc.set("pid", process_.pid);
+    proc.set("host", process_.host);
+    proc.set("boot_id", process_.boot_id);
+    proc.set("start_time", process_.start_time);
     if (status != "running") {
         j.set("last_tick", sim.ticks());
         j.set("rows", rows_);
@@ -410,6 +485,7 @@ void Recorder::fail(const std::exception& e) {
         data_->close();
         events_->close();
         log_->close();
+        unlock();
     }
     throw IoError(message + " (recording stopped; what was written before is kept)");
 }
@@ -432,6 +508,7 @@ void Recorder::close(const std::string& status, const std::string& message) {
     data_->close();
     events_->close();
     log_->close();
+    unlock();
 }
 
 }  // namespace gaitlab

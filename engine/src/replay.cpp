@@ -17,6 +17,7 @@ EventReplay::EventReplay(Simulation& sim, std::vector<Event> events, Apply apply
         apply_due();
         // past the last recorded row, once every recorded event has been seen
         if (stop_tick_ >= 0 && next_ >= events_.size() && s.ticks() >= stop_tick_) {
+            if (!ended_ && on_end_) on_end_();
             ended_ = true;
             throw ReplayEnd(
                 fmt::format("the replay reached the end of the recording (tick {})", stop_tick_));

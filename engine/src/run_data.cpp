@@ -1,9 +1,18 @@
 #include "gaitlab/run_data.h"
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -21,46 +30,128 @@ using data::Json;
 
 namespace {
 
-// complete lines of a file, one at a time; a last line without its line end is dropped and
-// remembered as truncated
+// "cannot read PATH: REASON"
+[[noreturn]] void cannot_read(const std::string& path, const std::string& reason) {
+    throw IoError(fmt::format("cannot read {}: {}", path, reason));
+}
+
+// a file of the run folder itself: not a link (which could lead anywhere), a FIFO or a device
+void check_own_file(const std::string& path) {
+    struct stat st {};
+    if (::lstat(path.c_str(), &st) != 0) cannot_read(path, data::reason(errno));
+    if (S_ISLNK(st.st_mode)) {
+        cannot_read(path, "a symbolic link (the files of a run folder must be its own)");
+    }
+    if (S_ISDIR(st.st_mode)) cannot_read(path, "is a directory");
+    if (!S_ISREG(st.st_mode)) cannot_read(path, "not a regular file (a FIFO, device or socket)");
+}
+
+// a whole file of the run folder (run.json, log.txt), at most kMaxInputBytes
+std::string read_own_file(const std::string& path) {
+    check_own_file(path);
+    return read_file(path);
+}
+
+// complete lines of a file of the run folder, one at a time, each at most kMaxLineBytes long;
+// a last line without its line end is dropped and remembered as truncated. The file is opened
+// without following a link and without waiting for a FIFO's writer, and must be a regular file
 class LineReader {
   public:
     explicit LineReader(const std::string& path) : path_(path) {
-        file_ = std::fopen(path.c_str(), "rb");
-        if (!file_) {
-            throw IoError(fmt::format("cannot read {}: {}", path, data::reason(errno)));
+        fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOFOLLOW);
+        if (fd_ < 0) {
+            const int e = errno;
+            if (e == ELOOP) check_own_file(path);  // says it is a link
+            cannot_read(path, data::reason(e));
         }
+        struct stat st {};
+        if (::fstat(fd_, &st) != 0) fail_read(errno);
+        if (S_ISDIR(st.st_mode)) fail_read("is a directory");
+        if (!S_ISREG(st.st_mode)) fail_read("not a regular file (a FIFO, device or socket)");
+        const int flags = ::fcntl(fd_, F_GETFL);
+        if (flags >= 0) ::fcntl(fd_, F_SETFL, flags & ~O_NONBLOCK);
     }
     ~LineReader() {
-        std::free(buf_);
-        if (file_) std::fclose(file_);
+        if (fd_ >= 0) ::close(fd_);
     }
     LineReader(const LineReader&) = delete;
     LineReader& operator=(const LineReader&) = delete;
 
+    // the next complete line, without its line end; valid until the next call
     bool next(std::string_view& line) {
-        const ssize_t n = ::getline(&buf_, &cap_, file_);
-        if (n <= 0) return false;
-        if (buf_[n - 1] != '\n') {
-            truncated_ = true;
-            return false;
+        for (;;) {
+            const char* start = buf_.data() + pos_;
+            const size_t avail = buf_.size() - pos_;
+            if (const void* nl = std::memchr(start, '\n', avail)) {
+                size_t len = static_cast<size_t>(static_cast<const char*>(nl) - start);
+                pos_ += len + 1;
+                ++number_;
+                if (len > kMaxLineBytes) too_long();
+                if (len > 0 && start[len - 1] == '\r') --len;
+                line = std::string_view(start, len);
+                return true;
+            }
+            if (avail > kMaxLineBytes) {
+                ++number_;
+                too_long();
+            }
+            if (eof_) {
+                truncated_ = avail > 0;
+                return false;
+            }
+            buf_.erase(0, pos_);
+            pos_ = 0;
+            const size_t old = buf_.size();
+            buf_.resize(old + kChunk);
+            ssize_t n = 0;
+            do {
+                n = ::read(fd_, buf_.data() + old, kChunk);
+            } while (n < 0 && errno == EINTR);
+            if (n < 0) {
+                buf_.resize(old);
+                fail_read(errno);
+            }
+            buf_.resize(old + static_cast<size_t>(n));
+            eof_ = n == 0;
         }
-        ++number_;
-        size_t len = static_cast<size_t>(n - 1);
-        if (len > 0 && buf_[len - 1] == '\r') --len;
-        line = std::string_view(buf_, len);
+    }
+    // the next CSV record: a line, or several when a quoted field holds line ends (RFC 4180:
+    // a record goes on while its quotes are open); its first line is record_line()
+    bool next_record(std::string& record) {
+        std::string_view line;
+        if (!next(line)) return false;
+        record_line_ = number_;
+        record.assign(line);
+        while (std::count(record.begin(), record.end(), '"') % 2 != 0) {
+            if (!next(line)) return false;  // cut short inside a quoted field
+            if (record.size() + line.size() > kMaxLineBytes) too_long();
+            record += '\n';
+            record.append(line);
+        }
         return true;
     }
     long number() const { return number_; }
+    long record_line() const { return record_line_; }
     bool truncated() const { return truncated_; }
     const std::string& path() const { return path_; }
 
   private:
+    static constexpr size_t kChunk = size_t{1} << 16;
+    [[noreturn]] void fail_read(int e) const { cannot_read(path_, data::reason(e)); }
+    [[noreturn]] void fail_read(const char* why) const { cannot_read(path_, why); }
+    [[noreturn]] void too_long() const {
+        throw FormatError(fmt::format("{}:{}: line longer than the {} gaitlab reads", path_,
+                                      number_, describe_size(kMaxLineBytes)),
+                          path_, static_cast<int>(number_));
+    }
+
     std::string path_;
-    std::FILE* file_ = nullptr;
-    char* buf_ = nullptr;
-    size_t cap_ = 0;
+    int fd_ = -1;
+    std::string buf_;
+    size_t pos_ = 0;
     long number_ = 0;
+    long record_line_ = 0;
+    bool eof_ = false;
     bool truncated_ = false;
 };
 
@@ -113,6 +204,57 @@ SeriesInfo series_from(const std::vector<std::string>& f, const std::string& whe
     return s;
 }
 
+// "a/b.lua" inside config/: not empty, not absolute, no ".." that leaves it
+bool inside_config(const std::string& path) {
+    if (path.empty() || path.find('\0') != std::string::npos) return false;
+    const fs::path p = fs::path(path).lexically_normal();
+    return !p.empty() && !p.is_absolute() && *p.begin() != ".." && *p.begin() != ".";
+}
+
+// what run.json says, each value checked: a folder from elsewhere may say anything
+class MetaReader {
+  public:
+    explicit MetaReader(const std::string& file) : file_(file) {}
+
+    [[noreturn]] void fail(const Json& at, const std::string& what) const {
+        throw FormatError(fmt::format("{}:{}: {}", file_, at.line(), what), file_, at.line());
+    }
+    // a number member (or `fallback` when it is absent)
+    double number(const Json& o, const char* key, const char* name, double fallback) const {
+        const Json* v = o.find(key);
+        if (!v) return fallback;
+        if (v->type() != Json::Type::number) fail(*v, fmt::format("{}: a number expected", name));
+        return v->num();
+    }
+    // a whole number member in [lo, hi]
+    long long integer(const Json& o, const char* key, const char* name, long long fallback,
+                      long long lo, long long hi) const {
+        const Json* v = o.find(key);
+        if (!v) return fallback;
+        const long long x = v->integer(lo - 1);
+        if (v->type() != Json::Type::number || x < lo || x > hi ||
+            v->num() != std::trunc(v->num())) {
+            fail(*v, fmt::format("{}: a whole number from {} to {} expected", name, lo, hi));
+        }
+        return x;
+    }
+    // a config path member, which must stay inside config/ ("" only if `may_be_empty`)
+    std::string config_path(const Json& o, const char* key, const char* name,
+                            bool may_be_empty = false) const {
+        const Json* v = o.find(key);
+        if (!v) return "";
+        const std::string p = v->str();
+        if (p.empty() && may_be_empty && v->type() == Json::Type::string) return p;
+        if (!inside_config(p)) {
+            fail(*v, fmt::format("{}: a path inside config/ expected, got '{}'", name, p));
+        }
+        return p;
+    }
+
+  private:
+    const std::string& file_;
+};
+
 RunMeta meta_from(const Json& j, const std::string& file) {
     if (j.type() != Json::Type::object || j.str_at("format") != "gaitlab run") {
         throw FormatError(fmt::format(
@@ -120,46 +262,65 @@ RunMeta meta_from(const Json& j, const std::string& file) {
             "expected)",
             file));
     }
+    constexpr long long kMaxInt = 2147483647;
+    constexpr long long kMaxTick = 9000000000000000000;
+    const MetaReader r(file);
     RunMeta m;
     m.name = j.str_at("name");
     m.status = j.str_at("status");
     m.message = j.str_at("message");
     m.started = j.str_at("started");
     m.ended = j.str_at("ended");
-    m.first_tick = static_cast<long>(j.int_at("first_tick", 0));
-    m.last_tick = static_cast<long>(j.int_at("last_tick", -1));
+    m.first_tick = static_cast<long>(r.integer(j, "first_tick", "first_tick", 0, 0, kMaxTick));
+    m.last_tick = static_cast<long>(r.integer(j, "last_tick", "last_tick", -1, -1, kMaxTick));
+    if (const Json* p = j.find("process")) {
+        m.process.pid = static_cast<long>(r.integer(*p, "pid", "process.pid", 0, 0, kMaxInt));
+        m.process.host = p->str_at("host");
+        m.process.boot_id = p->str_at("boot_id");
+        if (const Json* t = p->find("start_time")) m.process.start_time = t->uint(0);
+    }
     if (const Json* s = j.find("simulation")) {
-        m.simulation = static_cast<int>(s->int_at("index", 1));
-        m.options.dt = s->num_at("dt", m.options.dt);
-        m.options.control_every = static_cast<int>(s->int_at("control_every", 30));
-        m.options.solver_iterations = static_cast<int>(s->int_at("solver_iterations", 20));
+        m.simulation = static_cast<int>(r.integer(*s, "index", "simulation.index", 1, 1, kMaxInt));
+        m.options.dt = r.number(*s, "dt", "simulation.dt", m.options.dt);
+        if (!(std::isfinite(m.options.dt) && m.options.dt > 0)) {
+            r.fail(*s->find("dt"), "simulation.dt: a positive number of seconds expected");
+        }
+        m.options.control_every = static_cast<int>(
+            r.integer(*s, "control_every", "simulation.control_every", 30, 1, kMaxInt));
+        m.options.solver_iterations = static_cast<int>(
+            r.integer(*s, "solver_iterations", "simulation.solver_iterations", 20, 1, kMaxInt));
         if (const Json* seed = s->find("seed")) m.options.seed = seed->uint(0);
         if (s->str_at("on_controller_error") == "continue") {
             m.options.on_controller_error = ControllerErrorPolicy::continue_;
         }
     }
-    if (const Json* r = j.find("recording")) {
-        m.record_every = static_cast<int>(r->int_at("record_every", 0));
-        m.flush_seconds = r->num_at("flush_seconds", 2);
-        if (const Json* sel = r->find("select")) {
+    if (const Json* rec = j.find("recording")) {
+        m.record_every = static_cast<int>(
+            r.integer(*rec, "record_every", "recording.record_every", 0, 0, kMaxInt));
+        m.flush_seconds = r.number(*rec, "flush_seconds", "recording.flush_seconds", 2);
+        if (!(std::isfinite(m.flush_seconds) && m.flush_seconds >= 0)) {
+            r.fail(*rec->find("flush_seconds"),
+                   "recording.flush_seconds: a non-negative number of seconds expected");
+        }
+        if (const Json* sel = rec->find("select")) {
             for (const Json& p : sel->items())
                 m.select.push_back(p.str());
         }
     }
-    if (const Json* r = j.find("run")) {
-        m.script = r->str_at("script");
-        if (const Json* args = r->find("args")) {
+    if (const Json* run = j.find("run")) {
+        m.script = r.config_path(*run, "script", "run.script", true);
+        if (const Json* args = run->find("args")) {
             for (const Json& a : args->items())
                 m.args.push_back(a.str());
         }
-        if (const Json* seed = r->find("seed")) m.script_seed = seed->uint(0);
-        if (const Json* by = r->find("started_by")) m.started_by = by->str("simulation");
+        if (const Json* seed = run->find("seed")) m.script_seed = seed->uint(0);
+        if (const Json* by = run->find("started_by")) m.started_by = by->str("simulation");
     }
     if (const Json* files = j.find("config")) {
         for (const Json& f : files->items()) {
             ConfigFile c;
             c.role = f.str_at("role");
-            c.path = f.str_at("path");
+            c.path = r.config_path(f, "path", "config[].path");
             c.origin = f.str_at("origin");
             c.of = f.str_at("of");
             if (const Json* v = f.find("version")) c.version = v->uint(0);
@@ -175,6 +336,10 @@ RunMeta meta_from(const Json& j, const std::string& file) {
 
 }  // namespace
 
+RunMeta RunData::read_meta(const std::string& path) {
+    return meta_from(Json::parse(read_own_file(path), path), path);
+}
+
 RunData::RunData(std::string dir) : dir_(std::move(dir)) {
     std::error_code ec;
     const fs::path p(dir_);
@@ -184,7 +349,7 @@ RunData::RunData(std::string dir) : dir_(std::move(dir)) {
     }
     std::vector<std::string> missing;
     for (const char* f : {"run.json", "series.csv", "data.csv"}) {
-        if (!fs::exists(p / f, ec)) missing.emplace_back(f);
+        if (!fs::exists(fs::symlink_status(p / f, ec))) missing.emplace_back(f);
     }
     if (!missing.empty()) {
         std::string list;
@@ -197,28 +362,33 @@ RunData::RunData(std::string dir) : dir_(std::move(dir)) {
             "data.csv, events.csv, log.txt and config/)",
             dir_, list));
     }
-    const std::string meta_path = (p / "run.json").string();
-    meta_ = meta_from(Json::parse(read_file(meta_path), meta_path), meta_path);
+    meta_ = read_meta((p / "run.json").string());
 
     LineReader list((p / "series.csv").string());
-    std::string_view line;
+    std::string record;
     std::vector<std::string> f;
-    if (!list.next(line) || !data::split_line(line, f) || f.size() != 7 || f[0] != "name") {
+    if (!list.next_record(record) || !data::split_line(record, f) || f.size() != 7 ||
+        f[0] != "name") {
         throw FormatError(fmt::format(
             "{}:1: header 'name,kind,source,value,joint,body,unit' expected", list.path()));
     }
-    while (list.next(line)) {
-        if (!data::split_line(line, f) || f.size() != 7) {
+    while (list.next_record(record)) {
+        if (!data::split_line(record, f) || f.size() != 7) {
             throw FormatError(
                 fmt::format("{}:{}: 7 fields expected (name,kind,source,value,"
                             "joint,body,unit)",
-                            list.path(), list.number()));
+                            list.path(), list.record_line()));
         }
-        series_.push_back(series_from(f, fmt::format("{}:{}", list.path(), list.number())));
+        if (series_.size() == kMaxSeries) {
+            throw FormatError(fmt::format("{}:{}: more than the {} series gaitlab reads",
+                                          list.path(), list.record_line(), kMaxSeries));
+        }
+        series_.push_back(series_from(f, fmt::format("{}:{}", list.path(), list.record_line())));
+        index_.emplace(series_.back().name, series_.size() - 1);  // the first of a name
     }
 
     LineReader rows((p / "data.csv").string());
-    if (!rows.next(line) || !data::split_line(line, f) || f.empty() || f[0] != "time") {
+    if (!rows.next_record(record) || !data::split_line(record, f) || f.empty() || f[0] != "time") {
         throw FormatError(fmt::format("{}:1: header 'time,<series names>' expected", rows.path()));
     }
     if (f.size() != series_.size() + 1) {
@@ -235,6 +405,51 @@ RunData::RunData(std::string dir) : dir_(std::move(dir)) {
     }
 }
 
+std::string RunData::state() const {
+    const RunMeta& m = meta_;
+    if (m.status == "running") {
+        switch (liveness(m.process)) {
+            case Liveness::alive:
+                return fmt::format("running (still being written by process {})", m.process.pid);
+            case Liveness::gone:
+                return "incomplete (the process ended without closing it)";
+            case Liveness::unknown:
+                break;
+        }
+        if (m.process.pid > 0) {
+            return fmt::format(
+                "running on {} as process {}, or ended there without closing it (it cannot be "
+                "checked from here)",
+                m.process.host.empty() ? "another host" : m.process.host, m.process.pid);
+        }
+        return "incomplete or still running (run.json names no process)";
+    }
+    if (m.status == "interrupted") {
+        return m.message.empty() ? "interrupted" : "interrupted by " + m.message;
+    }
+    return m.message.empty() ? m.status : m.status + ": " + m.message;
+}
+
+std::string RunData::config_file(const std::string& path) const {
+    const std::string where = (fs::path(dir_) / "run.json").string();
+    if (!inside_config(path)) {
+        throw FormatError(
+            fmt::format("{}: configuration file '{}' is not inside config/", where, path));
+    }
+    const fs::path config = fs::path(dir_) / "config";
+    const fs::path file = config / fs::path(path).lexically_normal();
+    // links inside config/ must not lead out of it either
+    std::error_code ec1, ec2;
+    const fs::path real_config = fs::weakly_canonical(config, ec1);
+    const fs::path real_file = fs::weakly_canonical(file, ec2);
+    const fs::path rel = real_file.lexically_relative(real_config);
+    if (ec1 || ec2 || rel.empty() || *rel.begin() == "..") {
+        throw FormatError(fmt::format(
+            "{}: configuration file '{}' leads out of config/ (through a link)", where, path));
+    }
+    return file.string();
+}
+
 std::vector<std::string> RunData::names() const {
     std::vector<std::string> n;
     for (const SeriesInfo& s : series_)
@@ -243,9 +458,8 @@ std::vector<std::string> RunData::names() const {
 }
 
 const SeriesInfo& RunData::find(std::string_view name) const {
-    for (const SeriesInfo& s : series_) {
-        if (s.name == name) return s;
-    }
+    const auto it = index_.find(std::string(name));
+    if (it != index_.end()) return series_[it->second];
     throw SpecError(fmt::format("unknown series '{}'{}", name, suggest(name, names())));
 }
 
@@ -310,6 +524,9 @@ SeriesData RunData::get(std::string_view name, double from, double to) const {
 
 std::vector<SeriesData> RunData::get(const std::vector<std::string>& names, double from,
                                      double to) const {
+    if (std::isnan(from) || std::isnan(to)) {
+        throw SpecError(fmt::format("the time range must be numbers (got {} to {})", from, to));
+    }
     // columns to read, ascending, and where each requested name goes
     std::vector<size_t> columns{0};
     std::vector<SeriesData> out;
@@ -324,7 +541,7 @@ std::vector<SeriesData> RunData::get(const std::vector<std::string>& names, doub
         if (it == columns.end() || *it != column) columns.insert(it, column);
     }
     for (const std::string& n : names) {
-        const size_t column = static_cast<size_t>(&find(n) - series_.data()) + 1;
+        const size_t column = index_.at(n) + 1;
         slot.push_back(static_cast<size_t>(
             std::lower_bound(columns.begin(), columns.end(), column) - columns.begin()));
     }
@@ -333,7 +550,8 @@ std::vector<SeriesData> RunData::get(const std::vector<std::string>& names, doub
         header.push_back(s.name);
     LineReader r((fs::path(dir_) / "data.csv").string());
     std::string_view line;
-    r.next(line);  // the header, checked when the folder was opened
+    std::string header_record;
+    r.next_record(header_record);  // checked when the folder was opened
     std::vector<double> row(columns.size());
     while (r.next(line)) {
         parse_row(r, line, header.size(), columns, row.data(), header);
@@ -350,7 +568,8 @@ std::vector<SeriesData> RunData::get(const std::vector<std::string>& names, doub
 std::vector<double> RunData::times() const {
     LineReader r((fs::path(dir_) / "data.csv").string());
     std::string_view line;
-    r.next(line);
+    std::string header_record;
+    r.next_record(header_record);
     std::vector<double> t;
     const std::vector<size_t> first{0};
     std::vector<std::string> header{"time"};
@@ -367,10 +586,12 @@ std::vector<double> RunData::times() const {
 long RunData::rows() const {
     LineReader r((fs::path(dir_) / "data.csv").string());
     std::string_view line;
-    long n = -1;  // the header
+    std::string header_record;
+    if (!r.next_record(header_record)) return 0;
+    long n = 0;
     while (r.next(line))
         ++n;
-    return n < 0 ? 0 : n;
+    return n;
 }
 
 bool RunData::truncated() const {
@@ -385,21 +606,22 @@ std::vector<Event> RunData::events() const {
     std::vector<Event> out;
     const fs::path path = fs::path(dir_) / "events.csv";
     std::error_code ec;
-    if (!fs::exists(path, ec)) return out;
+    if (!fs::exists(fs::symlink_status(path, ec))) return out;
     LineReader r(path.string());
-    std::string_view line;
+    std::string record;
     std::vector<std::string> f;
-    if (!r.next(line)) return out;  // empty, or a header cut short
-    while (r.next(line)) {
-        const std::string where = fmt::format("{}:{}", r.path(), r.number());
-        if (!data::split_line(line, f) || f.size() != 7) {
+    if (!r.next_record(record)) return out;  // empty, or a header cut short
+    while (r.next_record(record)) {
+        const std::string where = fmt::format("{}:{}", r.path(), r.record_line());
+        if (!data::split_line(record, f) || f.size() != 7) {
             throw FormatError(where +
                               ": 7 fields expected (tick,time,origin,kind,name,value,detail)");
         }
         Event e;
         char* end = nullptr;
+        errno = 0;
         e.tick = std::strtol(f[0].c_str(), &end, 10);
-        if (f[0].empty() || *end != '\0' || e.tick < 0) {
+        if (f[0].empty() || *end != '\0' || e.tick < 0 || errno == ERANGE) {
             throw FormatError(where + ": tick (a non-negative integer) expected, got '" + f[0] +
                               "'");
         }
@@ -432,29 +654,144 @@ std::vector<Event> RunData::events() const {
 std::string RunData::log() const {
     const fs::path path = fs::path(dir_) / "log.txt";
     std::error_code ec;
-    if (!fs::exists(path, ec)) return "";
-    return read_file(path.string());
+    if (!fs::exists(fs::symlink_status(path, ec))) return "";
+    return read_own_file(path.string());
 }
 
-void RunData::write_csv(const std::string& path, const std::vector<std::string>& names, double from,
-                        double to) const {
-    const std::vector<SeriesData> d = get(names, from, to);
+namespace {
+
+// "time,<names>" and the rows of `d` as CSV
+std::string csv_text(const std::vector<std::string>& names, const SeriesData* d, size_t count) {
     std::string text = "time";
     for (const std::string& n : names) {
         text += ',';
         data::append_field(text, n);
     }
     text += '\n';
-    const size_t n = d.empty() ? 0 : d[0].time.size();
-    for (size_t i = 0; i < n; ++i) {
+    const size_t rows = count == 0 ? 0 : d[0].time.size();
+    for (size_t i = 0; i < rows; ++i) {
         data::append_number(text, d[0].time[i]);
-        for (const SeriesData& s : d) {
+        for (size_t k = 0; k < count; ++k) {
             text += ',';
-            data::append_number(text, s.values[i]);
+            data::append_number(text, d[k].values[i]);
         }
         text += '\n';
     }
-    write_file_atomic(path, text);
+    return text;
+}
+
+}  // namespace
+
+void RunData::write_csv(const std::string& path, const std::vector<std::string>& names, double from,
+                        double to) const {
+    const std::vector<SeriesData> d = get(names, from, to);
+    write_file_atomic(path, csv_text(names, d.data(), d.size()));
+}
+
+std::vector<std::string> RunData::write_split(const std::string& dir,
+                                              const std::vector<std::string>& names, double from,
+                                              double to) const {
+    for (const std::string& n : names)
+        find(n);  // unknown names fail before anything is written
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw IoError(fmt::format("cannot create folder {}: {}", dir, ec.message()));
+    const std::vector<std::string> files = series_file_names(names);
+    std::vector<std::string> written;
+    // a few hundred series per pass over data.csv: few passes, bounded memory
+    constexpr size_t kBatch = 256;
+    for (size_t first = 0; first < names.size(); first += kBatch) {
+        const size_t end = std::min(names.size(), first + kBatch);
+        const std::vector<std::string> batch(names.begin() + static_cast<long>(first),
+                                             names.begin() + static_cast<long>(end));
+        const std::vector<SeriesData> d = get(batch, from, to);
+        for (size_t k = 0; k < batch.size(); ++k) {
+            const std::string path = (fs::path(dir) / files[first + k]).string();
+            write_file_atomic(path, csv_text({batch[k]}, &d[k], 1));
+            written.push_back(path);
+        }
+    }
+    return written;
+}
+
+Liveness liveness(const RunProcess& p) {
+    if (p.pid <= 0) return Liveness::unknown;
+    const RunProcess me = this_process();
+    if (p.host != me.host) return Liveness::unknown;
+    // a boot id that differs: the machine restarted since (every process of then is gone)
+    if (!p.boot_id.empty() && !me.boot_id.empty() && p.boot_id != me.boot_id) {
+        return Liveness::gone;
+    }
+    const std::uint64_t started = data::process_start_time(p.pid);
+    if (started == 0) {
+        // /proc does not say (no such process, or /proc hides it): ask the kernel whether the
+        // pid exists at all
+        if (::kill(static_cast<pid_t>(p.pid), 0) != 0 && errno == ESRCH) return Liveness::gone;
+        return Liveness::alive;
+    }
+    // the same pid, started at another time, is another process
+    if (p.start_time != 0 && started != p.start_time) return Liveness::gone;
+    return Liveness::alive;
+}
+
+namespace {
+
+// the UTF-8 sequence at s[i], if well-formed: its length, else 0
+size_t utf8_at(const std::string& s, size_t i) {
+    const auto b = [&](size_t k) { return static_cast<unsigned char>(s[k]); };
+    const unsigned char c = b(i);
+    size_t n = 0;
+    unsigned char lo = 0x80, hi = 0xBF;
+    if (c < 0x80) return 1;
+    if (c >= 0xC2 && c <= 0xDF) {
+        n = 2;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+        n = 3;
+        lo = c == 0xE0 ? 0xA0 : 0x80;
+        hi = c == 0xED ? 0x9F : 0xBF;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+        n = 4;
+        lo = c == 0xF0 ? 0x90 : 0x80;
+        hi = c == 0xF4 ? 0x8F : 0xBF;
+    } else {
+        return 0;
+    }
+    if (i + n > s.size() || b(i + 1) < lo || b(i + 1) > hi) return 0;
+    for (size_t k = 2; k < n; ++k) {
+        if (b(i + k) < 0x80 || b(i + k) > 0xBF) return 0;
+    }
+    return n;
+}
+
+}  // namespace
+
+std::vector<std::string> series_file_names(const std::vector<std::string>& names) {
+    // 255 bytes is the longest file name of the usual file systems; room for ".csv" and "~N"
+    constexpr size_t kMaxStem = 240;
+    std::vector<std::string> out;
+    std::set<std::string> taken;
+    for (const std::string& name : names) {
+        std::string stem;
+        for (size_t i = 0; i < name.size();) {
+            const auto c = static_cast<unsigned char>(name[i]);
+            const size_t n = utf8_at(name, i);
+            if (n == 0 || c < 0x20 || c == 0x7f || c == '/' || c == '\\') {
+                stem += '_';
+                i += n == 0 ? 1 : n;
+                continue;
+            }
+            if (stem.size() + n > kMaxStem) break;  // whole characters only
+            stem.append(name, i, n);
+            i += n;
+        }
+        if (stem.empty() || stem[0] == '.' || stem[0] == '-') stem.insert(0, "_");
+        std::string file = stem + ".csv";
+        for (int k = 2; taken.count(file) > 0; ++k)
+            file = fmt::format("{}~{}.csv", stem, k);
+        taken.insert(file);
+        out.push_back(file);
+    }
+    return out;
 }
 
 Comparison compare(const RunData& run, const RunData& replay) {
@@ -477,8 +814,9 @@ Comparison compare(const RunData& run, const RunData& replay) {
     LineReader ra((fs::path(run.dir()) / "data.csv").string());
     LineReader rb((fs::path(replay.dir()) / "data.csv").string());
     std::string_view la, lb;
-    ra.next(la);
-    rb.next(lb);
+    std::string header;
+    ra.next_record(header);
+    rb.next_record(header);
     std::vector<std::string> fa, fb;
     while (ra.next(la)) {
         if (!rb.next(lb)) {
@@ -505,8 +843,10 @@ Comparison compare(const RunData& run, const RunData& replay) {
         }
         ++c.rows;
     }
-    // a run that finished must not be shorter than its replay
-    if (run.meta().status != "running" && rb.next(lb)) {
+    // a run that ran to its end must not be shorter than its replay (one that was killed or
+    // interrupted stops earlier)
+    const std::string& status = run.meta().status;
+    if ((status == "finished" || status == "failed") && rb.next(lb)) {
         c.difference = fmt::format("the replay has more rows than the run ({})", c.rows);
         return c;
     }

@@ -1,14 +1,17 @@
 #include "recording.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <fmt/format.h>
 
 #include "gaitlab/error.h"
+#include "gaitlab/files.h"
+#include "guard.h"
 #include "hot_reload.h"
 #include "lua_util.h"
 
@@ -63,7 +66,25 @@ int l_exit(lua_State* L) {
         }
         return 0;
     });
-    std::fflush(stdout);
+    // what the script printed must have reached stdout: if it did not, the exit status says so
+    errno = 0;
+    const bool flushed = std::fflush(stdout) == 0;
+    const int error = errno;
+    if (!flushed || std::ferror(stdout)) {
+        if (!flushed && error != EPIPE && error != 0) {
+            std::fprintf(stderr, "gaitlab: cannot write to standard output: %s\n",
+                         std::strerror(error));
+        } else if (flushed) {
+            std::fprintf(stderr,
+                         "gaitlab: cannot write to standard output: some of the output was "
+                         "lost\n");
+        }
+        if (ok) {
+            lua_settop(L, std::max(lua_gettop(L), 1));
+            lua_pushinteger(L, !flushed && error == EPIPE ? 128 + SIGPIPE : 1);
+            lua_replace(L, 1);
+        }
+    }
     lua_pushvalue(L, lua_upvalueindex(1));
     lua_insert(L, 1);
     lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
@@ -77,6 +98,24 @@ bool same_options(const SimulationOptions& a, const SimulationOptions& b) {
 }
 
 }  // namespace
+
+std::string signal_name(int signal) {
+    if (signal == kReplayEndSignal) return "the end of the replayed run";
+    switch (signal) {
+        case SIGINT:
+            return "SIGINT";
+        case SIGTERM:
+            return "SIGTERM";
+        case SIGHUP:
+            return "SIGHUP";
+        case SIGPIPE:
+            return "SIGPIPE";
+        case SIGQUIT:
+            return "SIGQUIT";
+        default:
+            return fmt::format("signal {}", signal);
+    }
+}
 
 void log_to_recordings(lua_State* L, const std::string& line) {
     if (lua_getfield(L, LUA_REGISTRYINDEX, kRecordingsKey) == LUA_TUSERDATA) {
@@ -94,7 +133,7 @@ Recordings& Recordings::of(lua_State* L) {
 
 void Recordings::install(lua_State* L) {
     register_type<Recordings>(L, kRecordingsType, nullptr);
-    new_object<Recordings>(L, kRecordingsType, Recordings{});
+    new_object<Recordings>(L, kRecordingsType, Recordings{})->guard_ = &Guard::of(L);
     lua_setfield(L, LUA_REGISTRYINDEX, kRecordingsKey);
     lua_pushcfunction(L, l_print);
     lua_setglobal(L, "print");
@@ -160,16 +199,45 @@ RunContext Recordings::context(lua_State* L, int index, const std::string& start
 }
 
 std::string Recordings::next_dir() {
-    ++dirs_;
     if (settings.dir.empty()) return default_run_dir(settings.root, settings.name);
-    return dirs_ == 1 ? settings.dir : fmt::format("{}-{}", settings.dir, dirs_);
+    // DIR, DIR-2, DIR-3 ...: the next one no simulation of this state has taken
+    for (;;) {
+        ++dirs_;
+        const std::string dir =
+            dirs_ == 1 ? settings.dir : fmt::format("{}-{}", settings.dir, dirs_);
+        const std::string abs = fs::absolute(dir).lexically_normal().string();
+        const bool taken = std::any_of(claimed_.begin(), claimed_.end(),
+                                       [&](const auto& c) { return c.first == abs; });
+        if (!taken) return dir;
+    }
+}
+
+std::string Recordings::claim(const std::string& dir, int index) const {
+    // the same folder under another name is the same folder: links and ".." resolved
+    std::error_code ec;
+    fs::path abs = fs::weakly_canonical(fs::absolute(dir), ec);
+    if (ec) abs = fs::absolute(dir).lexically_normal();
+    std::string path = abs.string();
+    while (path.size() > 1 && path.back() == '/')
+        path.pop_back();
+    for (const auto& [other, k] : claimed_) {
+        if (other != path) continue;
+        throw IoError(fmt::format(
+            "cannot record into {}: simulation {} of this script recorded into it{} (give "
+            "each simulation its own folder)",
+            dir, k, k == index ? " already" : ""));
+    }
+    return path;
 }
 
 std::string Recordings::begin(lua_State* L, SimulationHandle& h, const RecordRequest& request,
                               const std::string& started_by) {
     RecordOptions o = request.options;
     o.dir = request.dir.empty() ? next_dir() : request.dir;
+    // two simulations of one script never share a folder (the second would empty the first's)
+    std::string claimed = claim(o.dir, h.index);
     auto rec = std::make_shared<Recorder>(*h.sim, o, context(L, h.index, started_by));
+    claimed_.emplace_back(std::move(claimed), h.index);
     h.recorder = rec;
     recorders_.push_back(rec);
     folders_.push_back(o.dir);
@@ -208,6 +276,10 @@ void Recordings::begin_replay(lua_State* L, SimulationHandle& h, const std::stri
         throw Error(fmt::format("the run has no controller file '{}'", e.name));
     };
     p.replay = std::make_unique<EventReplay>(*h.sim, p.events, apply, p.stop_tick);
+    // where the run stopped, the script stops too, even if it catches errors (a run stopped by
+    // a signal inside `while true do pcall(...) end` would replay forever): the same interrupt
+    // a signal gives, which replay() clears once the script has stopped
+    p.replay->on_end([L = main_thread(L)] { Guard::of(L).interrupt(L, kReplayEndSignal); });
 }
 
 void Recordings::created(lua_State* L, SimulationHandle& h, const RecordRequest& request) {
@@ -256,11 +328,16 @@ void Recordings::stop(SimulationHandle& h) {
 
 void Recordings::finish(const std::string& error) {
     std::string first;
+    const int signal = guard_ ? guard_->interrupted() : 0;
     for (const auto& w : recorders_) {
         auto rec = w.lock();
         if (!rec || rec->closed()) continue;
         try {
-            rec->close(error.empty() ? "finished" : "failed", error);
+            if (signal != 0) {
+                rec->close("interrupted", signal_name(signal));
+            } else {
+                rec->close(error.empty() ? "finished" : "failed", error);
+            }
         } catch (const std::exception& e) {
             if (first.empty()) first = e.what();
         }
@@ -281,14 +358,15 @@ void Recordings::on_input(const std::string& path) {
     for (const ConfigFile& f : inputs_) {
         if (f.origin == origin) return;
     }
-    std::ifstream in(origin, std::ios::binary);
-    if (!in) return;
-    std::ostringstream content;
-    content << in.rdbuf();
     ConfigFile f;
+    try {
+        // bounded, and never waiting on a FIFO: the same reader the bindings use
+        f.content = read_file(origin);
+    } catch (const Error&) {
+        return;  // the reader of the file reports it
+    }
     f.role = "input";
     f.origin = origin;
-    f.content = content.str();
     // inside the script's folder a copy at the same place is found by the same relative path;
     // outside, under external/ + its absolute path, so files that name each other by relative
     // paths (a simulation file and its parts) still find each other

@@ -21,6 +21,7 @@
 
 namespace gaitlab::scripting {
 
+class Guard;
 struct WorldBinding;
 
 /// Adds a line to the logs of the open recordings of L (nothing if there are none).
@@ -29,6 +30,13 @@ void log_to_recordings(lua_State* L, const std::string& line);
 /// The path a binding reads for the file `arg` that a script names (relative to the script's
 /// folder): noted as an input of the run folders, and in a replay the run folder's copy.
 std::string input_path(lua_State* L, const std::string& arg);
+
+/// "SIGTERM" for SIGTERM ...; "signal N" for a signal without a name here.
+std::string signal_name(int signal);
+
+/// The "signal" a replay interrupts its script with when it reaches the end of the run it
+/// replays (no real signal has this number).
+inline constexpr int kReplayEndSignal = 1 << 20;
 
 /// A simulation as Lua holds it (the gaitlab.Simulation userdata).
 struct SimulationHandle {
@@ -99,7 +107,9 @@ class Recordings {
     std::string input_path(const std::string& path) const;
 
     std::vector<std::string> folders() const { return folders_; }
-    /// Closes every open recording ("failed" with `error` if it is not empty).
+    /// Closes every open recording: "interrupted" (naming the signal) if the Lua state was
+    /// interrupted (LuaHost::interrupt), else "failed" with `error` if it is not empty, else
+    /// "finished".
     void finish(const std::string& error);
     /// Adds a line to the log of every open recording.
     void log_line(const std::string& line);
@@ -120,12 +130,19 @@ class Recordings {
     void on_file(size_t index, const std::string& chunk, const std::string& source,
                  std::uint64_t version, Origin origin);
 
+    // the folder `dir` (absolute and normalized), if no simulation of this state recorded
+    // into it yet; else IoError
+    std::string claim(const std::string& dir, int index) const;
+
     // the inputs read so far, in order (config file role "input")
     std::vector<ConfigFile> inputs_;
     int created_ = 0;
     int dirs_ = 0;
     std::vector<std::string> folders_;
+    // every folder a simulation of this state recorded into: (absolute path, simulation)
+    std::vector<std::pair<std::string, int>> claimed_;
     std::vector<std::weak_ptr<Recorder>> recorders_;
+    Guard* guard_ = nullptr;  // the state's interrupts
     std::vector<std::weak_ptr<Simulation>> sims_;
 };
 

@@ -2,11 +2,10 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <fmt/format.h>
 
+#include "gaitlab/files.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "hot_reload.h"
 #include "recording.h"
@@ -17,18 +16,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string read_config(const fs::path& run, const std::string& path) {
-    const fs::path file = run / "config" / path;
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw Error(fmt::format("cannot replay: {} is missing", file.string()));
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
+// a file of the run's config/, as run.json or events.csv names it: never outside config/,
+// never a FIFO or device, bounded (gaitlab::read_file)
+std::string read_config(const RunData& run, const std::string& path) {
+    const std::string file = run.config_file(path);
+    std::error_code ec;
+    if (!fs::exists(file, ec)) throw Error(fmt::format("cannot replay: {} is missing", file));
+    return read_file(file);
 }
 
 }  // namespace
 
-ReplayResult replay(const std::string& run_dir, const std::string& into) {
+ReplayResult replay(const std::string& run_dir, const std::string& into,
+                    const std::function<void(LuaHost*)>& on_host) {
     const RunData run(run_dir);
     const RunMeta& m = run.meta();
     if (m.script.empty()) {
@@ -56,15 +56,19 @@ ReplayResult replay(const std::string& run_dir, const std::string& into) {
     plan->options.series = m.select;
     plan->expect = m.options;
     plan->events = run.events();
-    if (m.status == "running") {
+    if (m.status == "interrupted" && m.last_tick >= 0) {
+        // a signal stopped the run: replay up to the tick where it stopped
+        plan->stop_tick = m.last_tick;
+    } else if (m.status == "running") {
         // the process ended without closing the run: replay up to its last complete row
         const std::vector<double> t = run.times();
-        plan->stop_tick = t.empty() ? 0 : std::lround(t.back() / m.options.dt);
+        const double ticks = t.empty() ? 0 : std::round(t.back() / m.options.dt);
+        plan->stop_tick = ticks >= 0 && ticks < 9e18 ? static_cast<long>(ticks) : 0;
     }
     for (const ConfigFile& f : m.files) {
         if (f.role == "controller") {
             plan->controller_paths.push_back(f.path);
-            plan->controller_sources.push_back(read_config(dir, f.path));
+            plan->controller_sources.push_back(read_config(run, f.path));
         }
     }
     // every saved version of a controller file: those listed in run.json, and those the
@@ -72,7 +76,7 @@ ReplayResult replay(const std::string& run_dir, const std::string& into) {
     auto add_version = [&](const std::string& of, std::uint64_t version, const std::string& path) {
         for (size_t k = 0; k < plan->controller_paths.size(); ++k) {
             if (plan->controller_paths[k] == of) {
-                plan->reload_sources[{k, version}] = read_config(dir, path);
+                plan->reload_sources[{k, version}] = read_config(run, path);
             }
         }
     };
@@ -81,7 +85,7 @@ ReplayResult replay(const std::string& run_dir, const std::string& into) {
     }
     // files the run read: a replay reads the run folder's copies
     for (const ConfigFile& f : m.files) {
-        if (f.role == "input") plan->inputs[f.origin] = (dir / "config" / f.path).string();
+        if (f.role == "input") plan->inputs[f.origin] = run.config_file(f.path);
     }
     for (const Event& e : plan->events) {
         if (e.kind == EventKind::reload && e.detail.rfind("config/", 0) == 0) {
@@ -89,7 +93,8 @@ ReplayResult replay(const std::string& run_dir, const std::string& into) {
         }
     }
 
-    const std::string script = (dir / "config" / m.script).string();
+    const std::string script = run.config_file(m.script);
+    read_config(run, m.script);  // a regular file of config/ (a FIFO there would block the load)
     {
         LuaHost host;
         lua_State* L = host.state();
@@ -118,6 +123,16 @@ ReplayResult replay(const std::string& run_dir, const std::string& into) {
                 if (it != plan->reload_sources.end()) return it->second;
                 return std::nullopt;
             });
+        // the caller may interrupt the script from here until the host goes
+        struct Announce {
+            const std::function<void(LuaHost*)>& fn;
+            Announce(const std::function<void(LuaHost*)>& f, LuaHost* h) : fn(f) {
+                if (fn) fn(h);
+            }
+            ~Announce() {
+                if (fn) fn(nullptr);
+            }
+        } announce(on_host, &host);
         std::string error;
         try {
             if (script.size() > 4 && script.compare(script.size() - 4, 4, ".xml") == 0) {
@@ -154,6 +169,8 @@ ReplayResult replay(const std::string& run_dir, const std::string& into) {
         if (!error.empty() && !(m.status == "failed" && m.message == error)) {
             result.script_error = error;
         }
+        // the end of the run stopped the script (recording.cpp): no interrupt of the caller's
+        if (host.interrupted() == kReplayEndSignal) host.clear_interrupt();
         host.finish(error);
         plan->replay.reset();
         plan->recorder.reset();

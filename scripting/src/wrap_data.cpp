@@ -222,15 +222,6 @@ int run_log(lua_State* L) {
     });
 }
 
-// a file name for a series: what the name says, without path separators
-std::string file_name(const std::string& series) {
-    std::string s = series;
-    for (char& c : s) {
-        if (c == '/' || c == '\\' || c == '\0') c = '_';
-    }
-    return s + ".csv";
-}
-
 // run:export{ series = , file = | dir = , from = , to = }: one CSV with every series, or one
 // file per series in a folder; returns the list of files written
 int run_export(lua_State* L) {
@@ -254,17 +245,7 @@ int run_export(lua_State* L) {
             run.write_csv(file, names, from, to);
             written.push_back(file);
         } else {
-            const std::string dir = f.string("dir", "");
-            std::error_code ec;
-            fs::create_directories(dir, ec);
-            if (ec) {
-                throw IoError(fmt::format("cannot create folder {}: {}", dir, ec.message()));
-            }
-            for (const std::string& n : names) {
-                const std::string file = (fs::path(dir) / file_name(n)).string();
-                run.write_csv(file, {n}, from, to);
-                written.push_back(file);
-            }
+            written = run.write_split(f.string("dir", ""), names, from, to);
         }
         push_strings(L, written);
         return 1;
@@ -314,6 +295,8 @@ int run_index(lua_State* L) {
             lua_pushstring(L, m.status.c_str());
         } else if (key == "message") {
             lua_pushstring(L, m.message.c_str());
+        } else if (key == "state") {
+            lua_pushstring(L, run.state().c_str());
         } else if (key == "rows") {
             lua_pushinteger(L, run.rows());
         } else if (key == "truncated") {

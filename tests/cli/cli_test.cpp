@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -25,6 +26,7 @@
 extern char** environ;
 
 using gaitlab::test::TempDir;
+using gaitlab::test::write_text;
 
 namespace {
 
@@ -43,10 +45,18 @@ std::string slurp(const std::string& path) {
     return s.str();
 }
 
+// where the standard output of a command goes
+enum class Out {
+    file,         // captured (Run::out)
+    full,         // /dev/full: every write fails with ENOSPC
+    closed,       // no standard output at all (`>&-`)
+    broken_pipe,  // a pipe whose reader has gone (`| head` after head exited)
+};
+
 // runs the gaitlab executable (`gaitlab ARGS...`) in directory `cwd`, capturing stdout and stderr.
 // `gaitlab run` records by default: the tests record only where they say (--record DIR), so
 // the source tree stays clean
-Run cli(std::vector<std::string> args, const std::string& cwd = kScripts) {
+Run cli(std::vector<std::string> args, const std::string& cwd = kScripts, Out out = Out::file) {
     if (!args.empty() && args[0] == "run" &&
         std::find(args.begin(), args.end(), "--record") == args.end()) {
         args.insert(args.begin() + 1, "--no-record");
@@ -66,8 +76,25 @@ Run cli(std::vector<std::string> args, const std::string& cwd = kScripts) {
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out_path.c_str(),
-                                     O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    int pipe_fds[2] = {-1, -1};
+    switch (out) {
+        case Out::file:
+            posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out_path.c_str(),
+                                             O_WRONLY | O_CREAT | O_TRUNC, 0600);
+            break;
+        case Out::full:
+            posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/full", O_WRONLY, 0);
+            break;
+        case Out::closed:
+            posix_spawn_file_actions_addclose(&actions, STDOUT_FILENO);
+            break;
+        case Out::broken_pipe:
+            REQUIRE(pipe(pipe_fds) == 0);
+            close(pipe_fds[0]);  // the reader is gone before the first write
+            posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
+            posix_spawn_file_actions_addclose(&actions, pipe_fds[1]);
+            break;
+    }
     posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(),
                                      O_WRONLY | O_CREAT | O_TRUNC, 0600);
     // the child runs in `cwd`: posix_spawn has no chdir action before glibc 2.29's extension,
@@ -79,6 +106,7 @@ Run cli(std::vector<std::string> args, const std::string& cwd = kScripts) {
     const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
     REQUIRE(chdir(here) == 0);
     posix_spawn_file_actions_destroy(&actions);
+    if (pipe_fds[1] >= 0) close(pipe_fds[1]);
     REQUIRE(rc == 0);
 
     int wstatus = 0;
@@ -210,20 +238,88 @@ TEST_CASE("a controller error names the controller file and line", "[cli]") {
 }
 
 TEST_CASE("scripts get their arguments in arg", "[cli]") {
-    const Run r = cli({"args.lua", "one", "two words", "--three", "-4"});
+    const Run r = cli({"args.lua", "one", "two words", "-4"});
     CHECK(r.status == 0);
     CHECK(r.err.empty());
-    CHECK(r.out == "args.lua\n1\tone\n2\ttwo words\n3\t--three\n4\t-4\n");
+    CHECK(r.out == "args.lua\n1\tone\n2\ttwo words\n3\t-4\n");
 
     const Run none = cli({"run", "args.lua"});
     CHECK(none.out == "args.lua\n");
 
-    // gaitlab's own options may come before or right after FILE; the rest is the script's
+    // gaitlab's own options may stand anywhere; the script's come after FILE
     const Run seeded = cli({"run", "args.lua", "--seed", "3", "x"});
     CHECK(seeded.status == 0);
     CHECK(seeded.out == "args.lua\n1\tx\n");
     const Run after = cli({"run", "args.lua", "x", "--seed", "3"});
-    CHECK(after.out == "args.lua\n1\tx\n2\t--seed\n3\t3\n");
+    CHECK(after.out == "args.lua\n1\tx\n");
+    // after "--" everything is the script's, options and "--" too
+    const Run dashed = cli({"run", "args.lua", "x", "--", "--foo", "1", "--seed", "--", "-4"});
+    CHECK(dashed.status == 0);
+    CHECK(dashed.err.empty());
+    CHECK(dashed.out == "args.lua\n1\tx\n2\t--foo\n3\t1\n4\t--seed\n5\t--\n6\t-4\n");
+    const Run bare = cli({"args.lua", "--", "--three"});
+    CHECK(bare.out == "args.lua\n1\t--three\n");
+    const Run file_after = cli({"run", "--", "args.lua", "--x"});
+    CHECK(file_after.out == "args.lua\n1\t--x\n");
+}
+
+TEST_CASE("an option gaitlab does not know is an error wherever it stands", "[cli]") {
+    check_failure(cli({"run", "--no-recrod", "args.lua"}),
+                  "gaitlab: unknown option '--no-recrod' for 'gaitlab run'; did you mean "
+                  "'--no-record'? (see 'gaitlab run --help')");
+    // after FILE too: it no longer goes to the script unnoticed
+    check_failure(cli({"run", "args.lua", "--sed", "3"}),
+                  "gaitlab: unknown option '--sed' for 'gaitlab run'; did you mean '--seed'? "
+                  "(see 'gaitlab run --help')");
+    check_failure(cli({"args.lua", "one", "--foo"}),
+                  "gaitlab: unknown option '--foo' for 'gaitlab run' (the script's arguments "
+                  "go after FILE, and after '--' when one starts with '-'; see 'gaitlab run "
+                  "--help')");
+    check_failure(cli({"run", "args.lua", "x", "--no-recod=1"}),
+                  "gaitlab: unknown option '--no-recod' for 'gaitlab run'; did you mean "
+                  "'--no-record'? (see 'gaitlab run --help')");
+    check_failure(cli({"data", "somewhere", "--lsit"}),
+                  "gaitlab: unknown option '--lsit' for 'gaitlab data'; did you mean '--list'? "
+                  "(see 'gaitlab data --help')");
+    check_failure(cli({"data", "--evnts=1", "somewhere"}),
+                  "gaitlab: unknown option '--evnts' for 'gaitlab data'; did you mean "
+                  "'--events'? (see 'gaitlab data --help')");
+    check_failure(cli({"data", "somewhere", "other"}),
+                  "gaitlab: unexpected argument 'other' for 'gaitlab data' (see 'gaitlab data "
+                  "--help')");
+    check_failure(cli({"replay", "somewhere", "--int", "x"}),
+                  "gaitlab: unknown option '--int' for 'gaitlab replay'; did you mean '--into'? "
+                  "(see 'gaitlab replay --help')");
+    check_failure(cli({"--verison"}),
+                  "gaitlab: unknown option '--verison'; did you mean '--version'? (see 'gaitlab "
+                  "--help')");
+    check_failure(cli({"dtaa", "x"}),
+                  "gaitlab: unknown command 'dtaa'; did you mean 'data'? (see 'gaitlab --help')");
+    // nothing ran: no output, no run folder
+    TempDir tmp("cli_unknown");
+    const Run r = cli({"run", "--record", tmp / "run", "args.lua", "--fast"});
+    CHECK(r.status == 2);
+    CHECK(r.out.empty());
+    CHECK_FALSE(std::filesystem::exists(tmp / "run"));
+}
+
+TEST_CASE("numeric options take numbers in their range, nothing else", "[cli]") {
+    for (const std::string seed : {"-1", "99999999999999999999999", "18446744073709551616", "1.5",
+                                   "0x10", "", "nan", "3 "}) {
+        check_failure(cli({"run", "--seed", seed, "random.lua"}),
+                      "gaitlab: --seed: a whole number from 0 to 18446744073709551615 expected "
+                      "(got '" +
+                          seed + "') (see 'gaitlab run --help')");
+    }
+    const Run max = cli({"run", "--seed", "18446744073709551615", "random.lua"});
+    CHECK(max.status == 0);
+    CHECK(max.err.empty());
+    for (const std::string t : {"nan", "-nan", "inf", "-inf", "1x", "", "1e999", "0x1p3"}) {
+        check_failure(cli({"data", "somewhere", "--from", t}),
+                      "gaitlab: --from: a number of seconds expected (got '" + t + "')");
+        check_failure(cli({"data", "somewhere", "--to", t}),
+                      "gaitlab: --to: a number of seconds expected (got '" + t + "')");
+    }
 }
 
 TEST_CASE("the seed option makes math.random reproducible", "[cli]") {
@@ -245,11 +341,10 @@ TEST_CASE("the seed option makes math.random reproducible", "[cli]") {
 
     // command-line mistakes are one line too
     check_failure(cli({"run", "--seed", "many", "random.lua"}),
-                  "gaitlab: Could not convert: --seed = many (see 'gaitlab --help')");
-    check_failure(cli({"run"}), "gaitlab: file is required (see 'gaitlab --help')");
-    check_failure(cli({"launch"}),
-                  "gaitlab: The following argument was not expected: launch (see 'gaitlab "
-                  "--help')");
+                  "gaitlab: --seed: a whole number from 0 to 18446744073709551615 expected (got "
+                  "'many') (see 'gaitlab run --help')");
+    check_failure(cli({"run"}), "gaitlab: file is required (see 'gaitlab run --help')");
+    check_failure(cli({"launch"}), "gaitlab: unknown command 'launch' (see 'gaitlab --help')");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -505,4 +600,252 @@ TEST_CASE("a full disk stops the run with one clear line and keeps what was writ
     CHECK(run.rows() > 10);
     CHECK(run.meta().status == "failed");
     CHECK_THAT(run.log(), Catch::Contains("recording stopped at t = "));
+}
+
+namespace {
+
+// waits until the file at `path` holds `text` (a spawned run's stderr), at most `seconds`
+bool wait_for(const std::string& path, const std::string& text, double seconds = 30) {
+    const double start = now_seconds();
+    while (now_seconds() - start < seconds) {
+        if (slurp(path).find(text) != std::string::npos) return true;
+        usleep(10000);
+    }
+    return false;
+}
+
+// waits for a spawned process; its exit status, or -1 if it did not exit normally
+int exit_status(pid_t pid) {
+    int wstatus = 0;
+    REQUIRE(waitpid(pid, &wstatus, 0) == pid);
+    return WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : -1;
+}
+
+const char* signal_name(int sig) {
+    return sig == SIGTERM ? "SIGTERM" : sig == SIGINT ? "SIGINT" : "SIGHUP";
+}
+
+}  // namespace
+
+TEST_CASE("SIGTERM, SIGINT and SIGHUP close the run folder, which reads and replays",
+          "[cli][data][signal]") {
+    for (int sig : {SIGTERM, SIGINT, SIGHUP}) {
+        const std::string name = signal_name(sig);
+        INFO(name);
+        TempDir tmp(std::string("cli_signal_") + name);
+        const std::string progress = tmp / "progress";
+        const pid_t pid = spawn(
+            {GAITLAB_BINARY, "run", "--record", tmp / "run", kScripts + "/long_run.lua"}, progress);
+        // well into the run: past a flush or two
+        double at = -1;
+        const double start = now_seconds();
+        while (now_seconds() - start < 30 && (at = last_progress(progress)) < 1.2)
+            usleep(10000);
+        REQUIRE(at >= 1.2);
+        REQUIRE(kill(pid, sig) == 0);
+        CHECK(exit_status(pid) == 128 + sig);
+        // the last time the run reported before its message
+        const std::string text = slurp(progress);
+        const size_t message = text.find("gaitlab: ");
+        REQUIRE(message != std::string::npos);
+        write_text(tmp / "before", text.substr(0, message));
+        const double sim_at_signal = last_progress(tmp / "before");
+        CHECK_THAT(slurp(progress), Catch::EndsWith("gaitlab: interrupted (" + name + ")\n"));
+
+        // closed: the data up to where it stopped, nothing cut short, run.json says how
+        const gaitlab::RunData run(tmp / "run");
+        CHECK(run.meta().status == "interrupted");
+        CHECK(run.meta().message == name);
+        CHECK(run.state() == "interrupted by " + name);
+        CHECK_FALSE(run.truncated());
+        const std::vector<double> t = run.times();
+        REQUIRE(!t.empty());
+        CHECK(t.back() >= sim_at_signal);  // every row the simulation made before it stopped
+        CHECK(t.back() <= sim_at_signal + 0.3);
+        CHECK(run.meta().last_tick >= std::lround(t.back() / 0.001));
+        CHECK_THAT(run.log(), Catch::Contains("recording interrupted at t = "));
+
+        const Run summary = cli({"data", tmp / "run"});
+        CHECK(summary.status == 0);
+        CHECK_THAT(summary.out, Catch::Contains("status   interrupted by " + name + "\n"));
+        const Run replay = cli({"replay", tmp / "run"});
+        CHECK(replay.status == 0);
+        CHECK_THAT(replay.out,
+                   Catch::StartsWith("replay identical: " + std::to_string(t.size()) + " rows x "));
+        CHECK_THAT(replay.out, Catch::Contains("bit for bit (up to where the run stopped)"));
+    }
+}
+
+TEST_CASE("a signal stops Lua code that swallows its errors, and keeps unflushed rows",
+          "[cli][data][signal]") {
+    TempDir tmp("cli_signal_busy");
+    const std::string err = tmp / "err";
+    // the flush period is a minute: everything after the first row is still in memory
+    const pid_t pid =
+        spawn({GAITLAB_BINARY, "run", "--record", tmp / "run", kScripts + "/busy.lua"}, err);
+    REQUIRE(wait_for(err, "busy\n"));
+    usleep(200000);
+    REQUIRE(kill(pid, SIGTERM) == 0);
+    CHECK(exit_status(pid) == 143);
+    const gaitlab::RunData run(tmp / "run");
+    CHECK(run.state() == "interrupted by SIGTERM");
+    CHECK(run.rows() > 17);  // 0.5 s and more, though none of it had been flushed
+    // its replay stops where it stopped, though the script catches every error
+    const Run replay = cli({"replay", tmp / "run"});
+    CHECK(replay.status == 0);
+    CHECK_THAT(replay.out, Catch::Contains("bit for bit (up to where the run stopped)"));
+}
+
+TEST_CASE("a signal stops gaitlab replay and closes the replay's folder", "[cli][signal]") {
+    TempDir tmp("cli_signal_replay");
+    const std::string err = tmp / "err";
+    pid_t pid = spawn(
+        {GAITLAB_BINARY, "run", "--record", tmp / "run", kScripts + "/long_run.lua", "quiet"}, err);
+    usleep(1500000);
+    REQUIRE(kill(pid, SIGTERM) == 0);
+    REQUIRE(exit_status(pid) == 143);
+    // the replay takes about as long as the run: stopped well before its end
+    pid = spawn({GAITLAB_BINARY, "replay", tmp / "run"}, err);
+    const double start = now_seconds();
+    while (now_seconds() - start < 30 && !std::filesystem::exists(tmp / "run-replay/data.csv"))
+        usleep(1000);
+    REQUIRE(kill(pid, SIGINT) == 0);
+    CHECK(exit_status(pid) == 130);
+    CHECK(slurp(err) == "gaitlab: interrupted (SIGINT)\n");
+    const gaitlab::RunData replay(tmp / "run-replay");
+    CHECK(replay.state() == "interrupted by SIGINT");
+    CHECK(replay.rows() < gaitlab::RunData(tmp / "run").rows());
+}
+
+TEST_CASE("gaitlab data tells a run still being written from one whose process is gone",
+          "[cli][data][signal]") {
+    TempDir tmp("cli_alive");
+    const std::string err = tmp / "err";
+    const pid_t pid =
+        spawn({GAITLAB_BINARY, "run", "--record", tmp / "run", kScripts + "/long_run.lua"}, err);
+    REQUIRE(wait_for(err, "0.300\n"));
+    const Run alive = cli({"data", tmp / "run"});
+    CHECK(alive.status == 0);
+    CHECK_THAT(alive.out, Catch::Contains("status   running (still being written by process " +
+                                          std::to_string(pid) + ")\n"));
+    // a second process recording into the same folder is refused; the first goes on
+    const Run second = cli({"run", "--record", tmp / "run", kFirstSnake}, tmp.str());
+    CHECK(second.status == 1);
+    CHECK(second.err == "gaitlab: " + kFirstSnake + ":6: cannot record into " + (tmp / "run") +
+                            ": another recording is writing into it (process " +
+                            std::to_string(pid) + "); record into another folder\n");
+    REQUIRE(kill(pid, SIGKILL) == 0);
+    CHECK(exit_status(pid) == -1);
+    const Run gone = cli({"data", tmp / "run"});
+    CHECK_THAT(gone.out,
+               Catch::Contains("status   incomplete (the process ended without closing it)\n"));
+    CHECK(gaitlab::RunData(tmp / "run").series()[0].name == "snake.com.x");
+}
+
+TEST_CASE("output that cannot be written is an error, never a success", "[cli][data]") {
+    TempDir tmp("cli_stdout");
+    // (a machine where /dev/full was replaced by a regular file cannot run this test)
+    struct stat dev_full {};
+    REQUIRE(stat("/dev/full", &dev_full) == 0);
+    REQUIRE(S_ISCHR(dev_full.st_mode));
+    REQUIRE(cli({"run", "--record", tmp / "run", kFirstSnake}, tmp.str()).status == 0);
+    const std::string dir = tmp / "run";
+    for (const std::vector<std::string>& args :
+         std::vector<std::vector<std::string>>{{"data", dir, "--series", "snake.com.x"},
+                                               {"data", dir, "--series", "robot"},
+                                               {"data", dir},
+                                               {"data", dir, "--list"},
+                                               {"data", dir, "--events"},
+                                               {"--version"},
+                                               {"--help"},
+                                               {"run", "args.lua", "x"},
+                                               {"run", "--record", tmp / "exits", "exits.lua"}}) {
+        INFO(args[0] << " " << (args.size() > 1 ? args.back() : ""));
+        const Run full = cli(args, kScripts, Out::full);
+        CHECK(full.status == 1);
+        CHECK_THAT(full.err, Catch::StartsWith("gaitlab: cannot write to standard output: "));
+        CHECK(full.err.find('\n') == full.err.size() - 1);
+        const Run closed = cli(args, kScripts, Out::closed);
+        CHECK(closed.status == 1);
+        CHECK_THAT(closed.err, Catch::StartsWith("gaitlab: cannot write to standard output: "));
+        // a reader that went away: the quiet end SIGPIPE would give, not a success
+        const Run pipe = cli(args, kScripts, Out::broken_pipe);
+        CHECK(pipe.status == 128 + SIGPIPE);
+        CHECK(pipe.err.empty());
+    }
+    // nothing that the run folder got went to the closed stdout instead
+    const Run closed = cli({"run", "--record", tmp / "exits", "exits.lua"}, kScripts, Out::closed);
+    CHECK(closed.status == 1);
+    CHECK(gaitlab::RunData(tmp / "exits").meta().status == "finished");
+    CHECK_THAT(gaitlab::RunData(tmp / "exits").log(), Catch::Contains("\nleaving\n"));
+}
+
+TEST_CASE("a broken pipe stops a printing run and closes its folder", "[cli][data][signal]") {
+    TempDir tmp("cli_pipe");
+    const Run r = cli({"run", "--record", tmp / "run", "printer.lua"}, kScripts, Out::broken_pipe);
+    CHECK(r.status == 128 + SIGPIPE);
+    CHECK(r.err.empty());
+    const gaitlab::RunData run(tmp / "run");
+    CHECK(run.state() == "interrupted by SIGPIPE");
+    CHECK(run.rows() >= 2);
+}
+
+TEST_CASE("hostile names reach no shell or gnuplot command and no file outside --split DIR",
+          "[cli][data]") {
+    TempDir tmp("cli_hostile");
+    const std::string name = "s`touch bq`$(touch dollar)\"; system(\"touch sys\"); \"'\n!touch nl";
+    const Run r =
+        cli({"run", "--record", tmp / "run", kScripts + "/hostile_names.lua", name}, tmp.str());
+    REQUIRE(r.status == 0);
+    const Run plot = cli({"data", tmp / "run", "--series", "robot", "--title", name, "--plot",
+                          tmp / "out/p`touch fn`.png"},
+                         tmp.str());
+    CHECK(plot.status == 0);
+    CHECK(std::filesystem::file_size(tmp / "out/p`touch fn`.png") > 5000);
+    const Run split =
+        cli({"data", tmp / "run", "--series", "robot", "--split", tmp / "out/each"}, tmp.str());
+    CHECK(split.status == 0);
+    // what is there: the run, the plot's three files, the split folder; no file a command made
+    std::vector<std::string> top;
+    for (const auto& e : std::filesystem::directory_iterator(tmp.path))
+        top.push_back(e.path().filename().string());
+    std::sort(top.begin(), top.end());
+    CHECK(top == std::vector<std::string>{"out", "run"});
+    std::vector<std::string> out;
+    for (const auto& e : std::filesystem::directory_iterator(tmp / "out"))
+        out.push_back(e.path().filename().string());
+    std::sort(out.begin(), out.end());
+    CHECK(out ==
+          std::vector<std::string>{"each", "p`touch fn`.csv", "p`touch fn`.gp", "p`touch fn`.png"});
+    size_t files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(tmp / "out/each")) {
+        CHECK(e.is_regular_file());
+        ++files;
+    }
+    CHECK(files == gaitlab::RunData(tmp / "run").names().size());
+    // the summary and the list show no control characters from the run folder
+    const Run list = cli({"data", tmp / "run", "--list"});
+    CHECK(list.out.find("?!touch nl.com.x") != std::string::npos);
+    // nor do messages quoting its content
+    std::string data = slurp(tmp / "run/data.csv");
+    const size_t row = data.find("\n0,") + 1;  // the first row, after the header's lines
+    const std::string line =
+        std::to_string(1 + std::count(data.begin(), data.begin() + static_cast<long>(row), '\n'));
+    data.insert(row, "\x1b[2J");
+    write_text(tmp / "run/data.csv", data);
+    check_failure(cli({"data", tmp / "run", "--series", "robot"}),
+                  "gaitlab: " + (tmp / "run/data.csv") + ":" + line +
+                      ": column 'time': number expected, got '?[2J0'");
+}
+
+TEST_CASE("a FIFO, a device or a folder is no script: refused at once", "[cli]") {
+    TempDir tmp("cli_not_file");
+    REQUIRE(mkfifo((tmp / "fifo.lua").c_str(), 0600) == 0);
+    std::filesystem::create_symlink("/dev/zero", tmp / "zero.lua");
+    std::filesystem::create_directory(tmp / "dir.lua");
+    check_failure(cli({"run", "fifo.lua"}, tmp.str()),
+                  "gaitlab: fifo.lua: not a regular file (a FIFO, device or socket)");
+    check_failure(cli({"zero.lua"}, tmp.str()),
+                  "gaitlab: zero.lua: not a regular file (a FIFO, device or socket)");
+    check_failure(cli({"run", "dir.lua"}, tmp.str()), "gaitlab: dir.lua: is a directory");
 }

@@ -123,4 +123,98 @@ TEST_CASE("JSON round-trips and reports errors with the line", "[json]") {
     CHECK_THROWS_WITH(Json::parse("{} x", "f.json"),
                       "f.json:1: end of file expected after the JSON value");
     CHECK_THROWS_WITH(Json::parse("\"abc", "f.json"), "f.json:1: unterminated string");
+    // bytes that are not printable are named, not copied into the message
+    CHECK_THROWS_WITH(Json::parse("\x1b[31m", "f.json"),
+                      "f.json:1: JSON value expected, got byte 0x1b");
+    CHECK_THROWS_WITH(Json::parse("\"\\\x07\"", "f.json"),
+                      "f.json:1: unknown escape: '\\' and byte 0x07 in a string");
+}
+
+namespace {
+
+// whether `s` is well-formed UTF-8 (RFC 3629), as a JSON file must be
+bool valid_utf8(const std::string& s) {
+    for (size_t i = 0; i < s.size();) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        size_t n = c < 0x80                 ? 1
+                   : c >= 0xC2 && c <= 0xDF ? 2
+                   : c >= 0xE0 && c <= 0xEF ? 3
+                   : c >= 0xF0 && c <= 0xF4 ? 4
+                                            : 0;
+        if (n == 0 || i + n > s.size()) return false;
+        std::uint32_t cp = n == 1 ? c : n == 2 ? c & 0x1F : n == 3 ? c & 0x0F : c & 0x07;
+        for (size_t k = 1; k < n; ++k) {
+            const auto b = static_cast<unsigned char>(s[i + k]);
+            if ((b & 0xC0) != 0x80) return false;
+            cp = (cp << 6) | (b & 0x3F);
+        }
+        const std::uint32_t least[] = {0, 0, 0x80, 0x800, 0x10000};
+        if (cp < least[n] || cp > 0x10FFFF || (cp >= 0xD800 && cp < 0xE000)) return false;
+        i += n;
+    }
+    return true;
+}
+
+}  // namespace
+
+TEST_CASE("JSON strings are valid UTF-8 whatever bytes they hold", "[json]") {
+    // names come from scripts and may be any bytes: lone continuation bytes, cut sequences,
+    // overlong forms, surrogates, code points past U+10FFFF, control characters
+    const std::string bytes[] = {"\xff\xfe",
+                                 "a\x80z",
+                                 "cut \xc3",
+                                 "over\xc0\xaf",
+                                 "sur\xed\xa0\x80",
+                                 "big\xf4\x90\x80\x80",
+                                 "ctl\x01\x1f\x7f",
+                                 "ok \xc3\xa9\xf0\x9f\x98\x80",
+                                 std::string("nul\0in", 6)};
+    for (const std::string& b : bytes) {
+        INFO(b);
+        Json j = Json::object();
+        j.set("name", b);
+        j.set(b, 1);  // as a member name too
+        const std::string text = j.dump();
+        CHECK(valid_utf8(text));
+        const Json back = Json::parse(text, "x.json");
+        const std::string name = back.str_at("name");
+        CHECK(valid_utf8(name));
+        // valid UTF-8 comes back as it was; each bad byte as U+FFFD
+        if (valid_utf8(b)) CHECK(name == b);
+        CHECK(back.members()[1].first == name);
+    }
+    CHECK(Json::parse(Json("\xff"
+                           "a")
+                          .dump(),
+                      "x")
+              .str() ==
+          "\xef\xbf\xbd"
+          "a");
+    CHECK(Json::parse(Json("\xe2\x82").dump(), "x").str() == "\xef\xbf\xbd\xef\xbf\xbd");
+    // lone or mismatched surrogate escapes read as U+FFFD too, never as broken UTF-8
+    CHECK(Json::parse("\"\\ud800x\"", "s").str() == "\xef\xbf\xbdx");
+    CHECK(Json::parse("\"\\udc00\"", "s").str() == "\xef\xbf\xbd");
+    CHECK(Json::parse("\"\\ud800\\u0041\"", "s").str() ==
+          "\xef\xbf\xbd"
+          "A");
+}
+
+TEST_CASE("JSON values know their line, and numbers out of range are not integers", "[json]") {
+    const Json j = Json::parse("{\n  \"a\": 1,\n\n  \"b\": [\n 2, \"x\"]\n}", "f.json");
+    CHECK(j.line() == 1);
+    CHECK(j.find("a")->line() == 2);
+    CHECK(j.find("b")->line() == 4);
+    CHECK(j.find("b")->items()[1].line() == 5);
+    const Json n = Json::parse("[1e300, -1e300, 0.5, 1e3, 18446744073709551616]", "n.json");
+    CHECK(n.items()[0].integer(-7) == -7);
+    CHECK(n.items()[1].integer(-7) == -7);
+    CHECK(n.items()[2].integer(-7) == -7);
+    CHECK(n.items()[3].integer(-7) == 1000);
+    CHECK(n.items()[4].uint(3) == 3);
+    // an object with a great many members parses in linear time
+    std::string big = "{";
+    for (int i = 0; i < 200000; ++i)
+        big += (i > 0 ? ",\"" : "\"") + std::to_string(i) + "\":1";
+    big += "}";
+    CHECK(Json::parse(big, "big.json").members().size() == 200000);
 }

@@ -94,3 +94,82 @@ TEST_CASE("plot options are checked", "[plot]") {
     o.width = 5;
     CHECK_THROWS_WITH(plot(run, o), "plot size must be 100 to 10000 pixels each way (got 5x600)");
 }
+
+namespace {
+
+// the files in `dir` and below, relative to it
+std::set<std::string> files_in(const std::string& dir) {
+    std::set<std::string> out;
+    for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+        out.insert(std::filesystem::relative(e.path(), dir).string());
+    return out;
+}
+
+// a recorded run whose robot has the name `name`
+std::string record_named(const std::string& dir, const std::string& name) {
+    WorldSpec world = test::chain_world(2, Connection::pitch_pitch);
+    world.robots[0].robot.name = name;
+    Simulation sim(world);
+    RecordOptions o;
+    o.dir = dir;
+    Recorder rec(sim, o);
+    sim.run(0.1);
+    rec.close();
+    return dir;
+}
+
+}  // namespace
+
+TEST_CASE("names in a plot are data: no name runs a command", "[plot]") {
+    TempDir tmp("plot_hostile");
+    // each of these would run `touch` through gnuplot if it reached the script as text:
+    // backquotes, system(), quotes that end the string, line ends, macros, $ and backslashes
+    const std::vector<std::string> hostile = {
+        "s`touch bq1`",
+        "a\" . system(\"touch sys1\") . \"",
+        "a' . system('touch sys2') . '",
+        "x\nset output \"/dev/null\"\n!touch nl1\n",
+        "@mac `touch mac1` $0 \\\" \\",
+        "\xff\xfe bad \xc3",
+    };
+    for (size_t k = 0; k < hostile.size(); ++k) {
+        INFO("name " << k);
+        const std::string work = tmp / ("w" + std::to_string(k));
+        std::filesystem::create_directories(work);
+        const RunData run(record_named(work + "/run", hostile[k]));
+        PlotOptions o;
+        // the title, the file names and the series names all hold the hostile text
+        o.title = hostile[k];
+        o.series = {hostile[k] + ".com.*", hostile[k] + ".angle[1]"};
+        const std::string stem = "-p`touch fn1`$(touch fn2)'\"";
+        o.output = work + "/out/" + stem + ".png";
+        const PlotFiles f = plot(run, o);
+        CHECK(load_png(f.png).width == 1000);
+        // nothing but what gaitlab wrote: no file a command made, in the folder or the cwd
+        std::set<std::string> files = files_in(work + "/out");
+        CHECK(files == std::set<std::string>{stem + ".png", stem + ".gp", stem + ".csv"});
+        for (const char* made : {"bq1", "sys1", "sys2", "nl1", "mac1", "fn1", "fn2"}) {
+            CHECK_FALSE(std::filesystem::exists(work + "/out/" + made));
+            CHECK_FALSE(std::filesystem::exists(made));
+        }
+        // the script holds no character gnuplot treats specially outside a string's escapes
+        const std::string gp = read_text(f.script);
+        for (char c : {'`', '$', '@', '\'', '!'})
+            CHECK(gp.find(c) == std::string::npos);
+        size_t lines = 0;
+        for (char c : gp)
+            lines += c == '\n';
+        CHECK(lines == 10 + 7);  // comments, settings and one line per curve (7)
+    }
+}
+
+TEST_CASE("a plot of a name with a line end still skips the whole header", "[plot]") {
+    TempDir tmp("plot_newline");
+    const RunData run(record_named(tmp / "run", "two\nlines"));
+    PlotOptions o;
+    o.series = {"two\nlines.com.x"};
+    o.output = tmp / "p.png";
+    const PlotFiles f = plot(run, o);
+    CHECK_THAT(read_text(f.script), Catch::Contains("using 1:2 skip 2 with lines"));
+    CHECK(load_png(f.png).height == 600);
+}

@@ -3,11 +3,13 @@
 #include <catch2/catch.hpp>
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 
 #include <fmt/format.h>
 
@@ -256,4 +258,88 @@ TEST_CASE("a write failure stops the run with a clear message and keeps what was
     CHECK_THAT(run.meta().message, Catch::Contains("File too large"));
     CHECK_THAT(run.log(), Catch::Contains("recording stopped at t = "));
     rec.close();  // nothing more to do, no second error
+}
+
+TEST_CASE("two recorders never share a folder: the second is refused, the first goes on",
+          "[recorder]") {
+    TempDir tmp("recorder_two");
+    Simulation a = snake_sim(2), b = snake_sim(3);
+    RecordOptions o;
+    o.dir = tmp / "run";
+    o.flush_seconds = 0;
+    auto first = std::make_unique<Recorder>(a, o);
+    a.run(0.3);
+    const std::string pid = std::to_string(getpid());
+    CHECK_THROWS_WITH(Recorder(b, o), "cannot record into " + o.dir +
+                                          ": another recording is writing into it (process " + pid +
+                                          "); record into another folder");
+    a.run(0.3);
+    first->close();
+    // nothing of the first was lost
+    const RunData run(o.dir);
+    CHECK(run.rows() == 21);
+    CHECK(run.series()[0].name == "snake.com.x");
+    CHECK(run.meta().process.pid == getpid());
+    // once it is closed, the folder is an earlier run: replaced
+    { Recorder again(b, o); }
+    CHECK(RunData(o.dir).rows() == 1);
+    // a recorder that failed to start (here: config/a is a folder and a file) leaves the
+    // folder to others
+    RunContext clash;
+    clash.files.push_back({"script", "a/b.lua", "/x/a/b.lua", "1", "", 0});
+    clash.files.push_back({"input", "a", "/x/a", "2", "", 0});
+    CHECK_THROWS_AS(Recorder(b, o, clash), IoError);
+    { Recorder third(b, o); }
+    CHECK(RunData(o.dir).rows() == 1);
+}
+
+TEST_CASE("a folder whose run.json names a process still writing it is refused", "[recorder]") {
+    // a file system without locks still has run.json: it names this very process here
+    TempDir tmp("recorder_alive");
+    Simulation sim = snake_sim(2);
+    RecordOptions o;
+    o.dir = tmp / "run";
+    { Recorder rec(sim, o); }
+    std::string meta = read_text(tmp / "run/run.json");
+    meta.replace(meta.find("\"status\": \"finished\""), 20, "\"status\": \"running\"");
+    test::write_text(tmp / "run/run.json", meta);
+    CHECK_THROWS_WITH(Recorder(sim, o), Catch::StartsWith("cannot record into " + o.dir +
+                                                          ": another recording is writing "
+                                                          "into it (process "));
+    CHECK(fs::exists(tmp / "run/data.csv"));
+}
+
+TEST_CASE("a run closed by a signal says so", "[recorder]") {
+    TempDir tmp("recorder_signal");
+    Simulation sim = snake_sim(2);
+    RecordOptions o;
+    o.dir = tmp / "run";
+    Recorder rec(sim, o);
+    sim.run(0.1);
+    rec.close("interrupted", "SIGTERM");
+    const RunData run(o.dir);
+    CHECK(run.meta().status == "interrupted");
+    CHECK(run.meta().message == "SIGTERM");
+    CHECK(run.meta().last_tick == 100);
+    CHECK(run.state() == "interrupted by SIGTERM");
+    CHECK_THAT(run.log(), Catch::EndsWith("recording interrupted at t = 0.1 s: 4 rows: SIGTERM\n"));
+}
+
+TEST_CASE("run.json is valid UTF-8 whatever bytes the names hold", "[recorder]") {
+    TempDir tmp("recorder_utf8");
+    WorldSpec world = test::chain_world(2, Connection::pitch_pitch);
+    world.robots[0].robot.name = "\xff\xfe-\xc3";
+    Simulation sim(world);
+    RecordOptions o;
+    o.dir = tmp / "run";
+    { Recorder rec(sim, o); }
+    const std::string meta = read_text(tmp / "run/run.json");
+    // each byte that is not UTF-8 is U+FFFD; no such byte is left in the file
+    CHECK(meta.find("\"name\": \"\\ufffd\\ufffd-\\ufffd\"") != std::string::npos);
+    for (const char c : {'\xff', '\xfe'})
+        CHECK(meta.find(c) == std::string::npos);
+    // the series keep their names as they are, and read back
+    const RunData run(tmp / "run");
+    CHECK(run.series()[0].name == "\xff\xfe-\xc3.com.x");
+    CHECK(run.get("\xff\xfe-\xc3.com.x").values.size() == 1);
 }

@@ -92,3 +92,21 @@ TEST_CASE("a replay of a run cut short stops at its last row", "[replay]") {
     CHECK(short_run.get("snake.com.x").time.back() == Approx(0.9));
     CHECK(compare(short_run, run).difference == "the replay has more rows than the run (31)");
 }
+
+TEST_CASE("a replay that reaches its last tick says so once, before it stops the run", "[replay]") {
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    EventReplay replay(sim, {}, nullptr, 100);
+    int ended = 0;
+    long at = -1;
+    replay.on_end([&] {
+        ++ended;
+        at = sim.ticks();
+    });
+    CHECK_THROWS_AS(sim.run(1), ReplayEnd);
+    CHECK(at == 100);
+    CHECK(replay.ended());
+    // code that catches ReplayEnd and steps again is stopped again, but told only once
+    CHECK_THROWS_AS(sim.step(1), ReplayEnd);
+    CHECK(ended == 1);
+    CHECK(sim.ticks() == 100);
+}

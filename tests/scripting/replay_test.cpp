@@ -3,8 +3,13 @@
 // rerun from its folder and reproduces the data bit for bit; tampered runs do not.
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
+
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
+#include <thread>
 
 #include "gaitlab/controller.h"
 #include "gaitlab/run_data.h"
@@ -209,6 +214,142 @@ TEST_CASE("a run cut short replays up to its last row", "[replay]") {
                       Catch::StartsWith(tmp.str() + " is not a run folder: it has no"));
     CHECK_THROWS_WITH(scripting::replay(tmp / "run", tmp / "run"),
                       "cannot replay a run into its own folder");
+}
+
+TEST_CASE("a run stopped by a signal replays up to the tick where it stopped", "[replay]") {
+    TempDir tmp("replay_interrupted");
+    record(tmp, [](Simulation&) {});
+    // as `gaitlab run` closes it after SIGTERM: status interrupted, last_tick where it stopped
+    const RunData full(tmp / "run");
+    std::string meta = read_text(tmp / "run/run.json");
+    meta.replace(meta.find("\"finished\""), 10, "\"interrupted\", \"message\": \"SIGTERM\"");
+    const std::string last = "\"last_tick\": " + std::to_string(full.meta().last_tick);
+    meta.replace(meta.find(last), last.size(), "\"last_tick\": 600");
+    write_text(tmp / "run/run.json", meta);
+    const std::string data = read_text(tmp / "run/data.csv");
+    size_t end = 0;
+    for (int row = 0; row < 1 + 21; ++row)  // the header and the rows up to tick 600
+        end = data.find('\n', end) + 1;
+    write_text(tmp / "run/data.csv", data.substr(0, end));
+    const scripting::ReplayResult r = scripting::replay(tmp / "run");
+    INFO(r.divergence << " / " << r.comparison.difference);
+    CHECK(r.ok());
+    CHECK(r.stopped_early);
+    CHECK(r.comparison.rows == 21);
+    CHECK(RunData(r.into).rows() == 21);
+}
+
+TEST_CASE("a script that swallows errors stops where the interrupted run stopped", "[replay]") {
+    TempDir tmp("replay_swallow");
+    fs::create_directories(tmp.path / "src");
+    // stopped by a signal while it spun: a replay that only threw ReplayEnd would spin forever
+    write_text(tmp / "src/spin.lua",
+               R"(local robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
+local world = gaitlab.world()
+world:add(robot)
+local sim = gaitlab.simulation{ world = world }
+while true do
+  pcall(function() sim:run(0.01) end)
+end
+)");
+    {
+        scripting::LuaHost host;
+        scripting::RecordSettings s;
+        s.by_default = true;
+        s.dir = tmp / "run";
+        s.script = tmp / "src/spin.lua";
+        host.set_recording(s);
+        std::thread stopper([&host] {
+            std::this_thread::sleep_for(std::chrono::milliseconds(500));
+            host.interrupt(SIGTERM);
+        });
+        CHECK_THROWS_WITH(host.run_file(s.script), Catch::Contains("interrupted (SIGTERM)"));
+        stopper.join();
+        host.finish("interrupted (SIGTERM)");
+    }
+    const RunData run(tmp / "run");
+    REQUIRE(run.state() == "interrupted by SIGTERM");
+    REQUIRE(run.rows() > 1);
+    const scripting::ReplayResult r = scripting::replay(tmp / "run");
+    INFO(r.divergence << " / " << r.comparison.difference << " / " << r.script_error);
+    CHECK(r.ok());
+    CHECK(r.stopped_early);
+    CHECK(r.script_error.empty());
+    CHECK(r.comparison.rows == run.rows());
+    // the replay's own folder ends as a replay does, not as interrupted
+    CHECK(RunData(r.into).state() == "finished");
+
+    // a caller that interrupts the replay (gaitlab replay on a signal) stops it: interrupted
+    std::thread later;
+    const scripting::ReplayResult i =
+        scripting::replay(tmp / "run", tmp / "stopped", [&later, &tmp](scripting::LuaHost* host) {
+            if (host) {
+                // as soon as the replay records: well before it reaches the run's end
+                later = std::thread([host, &tmp] {
+                    const auto deadline =
+                        std::chrono::steady_clock::now() + std::chrono::seconds(30);
+                    while (!fs::exists(tmp / "stopped/data.csv") &&
+                           std::chrono::steady_clock::now() < deadline)
+                        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+                    host->interrupt(SIGINT);
+                });
+            } else {
+                later.join();  // before the host goes
+            }
+        });
+    CHECK(i.script_error == "interrupted (SIGINT)");
+    CHECK(RunData(tmp / "stopped").state() == "interrupted by SIGINT");
+    CHECK(RunData(tmp / "stopped").rows() < run.rows());
+}
+
+TEST_CASE("a replay reads nothing outside the run's config/", "[replay]") {
+    TempDir tmp("replay_outside");
+    record(tmp, [](Simulation&) {});
+    write_text(tmp / "secret.lua", "error('read from outside')");
+    const auto tampered = [&](const std::string& name) {
+        fs::copy(tmp / "run", tmp / name, fs::copy_options::recursive);
+        return tmp / name;
+    };
+    // run.json naming a script or controller file outside config/
+    std::string dir = tampered("script");
+    std::string meta = read_text(dir + "/run.json");
+    meta.replace(meta.find("\"script\": \"snake.lua\""), 21, "\"script\": \"../../secret.lua\"");
+    write_text(dir + "/run.json", meta);
+    CHECK_THROWS_WITH(scripting::replay(dir),
+                      Catch::Contains("run.script: a path inside config/ expected, got "
+                                      "'../../secret.lua'"));
+    dir = tampered("absolute");
+    meta = read_text(dir + "/run.json");
+    const std::string wave = "\"path\": \"controllers/wave.lua\"";
+    meta.replace(meta.find(wave), wave.size(), "\"path\": \"" + tmp / "secret.lua" + "\"");
+    write_text(dir + "/run.json", meta);
+    CHECK_THROWS_WITH(scripting::replay(dir),
+                      Catch::Contains("config[].path: a path inside config/ expected, got '" +
+                                      tmp / "secret.lua'"));
+    // a link inside config/ that leads out of it
+    dir = tampered("link");
+    fs::remove(dir + "/config/controllers/wave.lua");
+    fs::create_symlink(tmp / "secret.lua", dir + "/config/controllers/wave.lua");
+    CHECK_THROWS_WITH(scripting::replay(dir),
+                      dir +
+                          "/run.json: configuration file 'controllers/wave.lua' leads out of "
+                          "config/ (through a link)");
+    // a reload event naming a file outside config/
+    dir = tampered("event");
+    write_text(dir + "/events.csv",
+               read_text(dir + "/events.csv") +
+                   "300,0.3,file,reload,controllers/wave.lua,1,config/../../../secret.lua\n");
+    CHECK_THROWS_WITH(scripting::replay(dir),
+                      dir +
+                          "/run.json: configuration file '../../../secret.lua' is not inside "
+                          "config/");
+    // a FIFO as the script: refused, never waited on
+    dir = tampered("fifo");
+    fs::remove(dir + "/config/snake.lua");
+    REQUIRE(::mkfifo((dir + "/config/snake.lua").c_str(), 0600) == 0);
+    CHECK_THROWS_WITH(
+        scripting::replay(dir),
+        "cannot read " + dir + "/config/snake.lua: not a regular file (a FIFO, device or socket)");
 }
 
 TEST_CASE("sensors are recorded and their switches from a console replay bit for bit", "[replay]") {

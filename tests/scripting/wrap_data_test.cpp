@@ -4,6 +4,8 @@
 
 #include <filesystem>
 
+#include <fmt/format.h>
+
 #include "lua_fixture.h"
 #include "temp_dir.h"
 
@@ -170,6 +172,94 @@ TEST_CASE("recording options: folder, rows, series, a late start and a stop", "[
     CHECK(lua.error_of("ctl:set('amplitud', 3)") ==
           "test:1: bad argument #1 to 'set' (controller 'sine' has no parameter 'amplitud'; did "
           "you mean 'amplitude'?)");
+}
+
+TEST_CASE("two simulations of a script never share a run folder", "[wrap_data]") {
+    TempDir tmp("wrap_data_shared");
+    LuaFixture lua;
+    lua.run("OUT = '" + tmp.str() + "'");
+    lua.run(R"(
+        function sim(n, record)
+          local w = gaitlab.world()
+          w:add(gaitlab.robot.chain{ name = "worm" .. n, modules = 2 })
+          return gaitlab.simulation{ world = w, record = record }
+        end
+        a = sim(1, OUT .. "/run")
+        a:run(0.3)
+    )");
+    const std::string refused =
+        "cannot record into {}: simulation 1 of this script recorded "
+        "into it (give each simulation its own folder)";
+    // the same folder, by the same or another name, at creation or with sim:record
+    // (test:5 is the line of gaitlab.simulation in sim)
+    CHECK(lua.error_of("b = sim(2, OUT .. '/run')") ==
+          "test:5: " + fmt::format(refused, tmp / "run"));
+    CHECK(lua.error_of("b = sim(2, OUT .. '/x/../run/')") ==
+          "test:5: " + fmt::format(refused, tmp / "x/../run/"));
+    lua.run("b = sim(2, false)");
+    CHECK(lua.error_of("b:record(OUT .. '/run')") ==
+          "test:1: " + fmt::format(refused, tmp / "run"));
+    // also once the first has stopped, and the simulation itself a second time
+    lua.run("a:record(false)");
+    CHECK(lua.error_of("b:record(OUT .. '/run')") ==
+          "test:1: " + fmt::format(refused, tmp / "run"));
+    CHECK(lua.error_of("a:record(OUT .. '/run')") ==
+          "test:1: cannot record into " + (tmp / "run") +
+              ": simulation 1 of this script recorded into it already (give each simulation its "
+              "own folder)");
+    lua.run("b:record(OUT .. '/run-b') b:run(0.1)");
+    // the first run is whole
+    lua.run("r = gaitlab.data.open(OUT .. '/run')");
+    CHECK(lua.string("r.status") == "finished");
+    CHECK(lua.string("r.state") == "finished");
+    CHECK(lua.integer("r.rows") == 11);
+    CHECK(lua.string("r:series()[1].name") == "worm1.com.x");
+}
+
+TEST_CASE("the host's run folders skip the ones a script took", "[wrap_data]") {
+    TempDir tmp("wrap_data_host_dirs");
+    LuaFixture lua;
+    gaitlab::scripting::RecordSettings s;
+    s.by_default = true;
+    s.dir = tmp / "run";
+    lua.host.set_recording(s);
+    lua.run("OUT = '" + tmp.str() + "'");
+    lua.run(R"(
+        local function world(n)
+          local w = gaitlab.world()
+          w:add(gaitlab.robot.chain{ name = "worm" .. n, modules = 2 })
+          return w
+        end
+        gaitlab.simulation{ world = world(1), record = OUT .. "/run-2" }:run(0.1)
+        gaitlab.simulation{ world = world(2) }:run(0.1)
+        gaitlab.simulation{ world = world(3) }:run(0.1)
+    )");
+    lua.host.finish();
+    const std::vector<std::string> folders = lua.host.run_folders();
+    CHECK(folders == std::vector<std::string>{tmp / "run-2", tmp / "run", tmp / "run-3"});
+    lua.run("r = gaitlab.data.open(OUT .. '/run-2')");
+    CHECK(lua.string("r:series()[1].name") == "worm1.com.x");
+}
+
+TEST_CASE("a split export of hostile series names stays inside its folder", "[wrap_data]") {
+    TempDir tmp("wrap_data_hostile");
+    LuaFixture lua;
+    lua.run("OUT = '" + tmp.str() + "'");
+    lua.run(R"(
+        local w = gaitlab.world()
+        w:add(gaitlab.robot.chain{ name = "../../-x", modules = 2 })
+        gaitlab.simulation{ world = w, record = { dir = OUT .. "/run", series = { "robot" } } }:run(0.1)
+        run = gaitlab.data.open(OUT .. "/run")
+        files = run:export{ series = "robot", dir = OUT .. "/each" }
+    )");
+    CHECK(lua.string("files[1]") == tmp / "each/_.._.._-x.com.x.csv");
+    for (const auto& e : fs::directory_iterator(tmp.path)) {
+        const std::string name = e.path().filename().string();
+        CHECK((name == "run" || name == "each"));
+    }
+    CHECK(lua.integer("#files") ==
+          static_cast<long long>(
+              std::distance(fs::directory_iterator(tmp / "each"), fs::directory_iterator())));
 }
 
 TEST_CASE("live buffers keep the latest samples of chosen series", "[wrap_data]") {

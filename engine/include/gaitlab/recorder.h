@@ -12,7 +12,9 @@
 // data.csv, events.csv and log.txt grow by appending, written to the operating system every
 // `flush_seconds` of wall time: a process killed with SIGKILL leaves a readable folder that
 // lacks at most the last flush period (and may end in a partly written line, which readers
-// drop). run.json and series.csv are replaced atomically.
+// drop). run.json and series.csv are replaced atomically. run.json names the process that
+// writes the folder (RunProcess), and a recorder holds a lock on the folder while it is open,
+// so no second recorder (in this process or another) can empty a folder being written.
 #pragma once
 
 #include <chrono>
@@ -37,7 +39,7 @@ class AppendFile;
 /// How a simulation is recorded.
 struct RecordOptions {
     /// The run folder: created if missing; an existing one must be empty or an earlier run
-    /// folder (which is replaced).
+    /// folder (which is replaced) that no recorder has open.
     std::string dir;
     int record_every = 0;             ///< ticks between rows, >= 1; 0: the control period
     double flush_seconds = 2;         ///< wall time between writes to disk, s, >= 0
@@ -73,6 +75,18 @@ struct RunContext {
     std::vector<std::pair<std::string, std::string>> provenance;
 };
 
+/// The process that writes a run folder, as run.json records it: enough to tell later whether
+/// that very process still runs (a pid alone may have been reused).
+struct RunProcess {
+    long pid = 0;                  ///< 0: not recorded (folders from before it was)
+    std::string host;              ///< the host name
+    std::string boot_id;           ///< the kernel's boot id (/proc/sys/kernel/random/boot_id)
+    std::uint64_t start_time = 0;  ///< when it started, clock ticks after boot (/proc/PID/stat)
+};
+
+/// This process.
+RunProcess this_process();
+
 /// Makes and returns "<root>/<name>-<YYYYmmdd-HHMMSS>" (local time), with "-2", "-3", ... when
 /// that exists (made here, so concurrent runs never get the same folder).
 std::string default_run_dir(const std::string& root, const std::string& name);
@@ -82,9 +96,10 @@ std::vector<std::pair<std::string, std::string>> provenance();
 
 class Recorder {
   public:
-    /// Prepares the folder, writes run.json, series.csv and the configuration, records the
-    /// state now as the first row and attaches to `sim`, which must outlive the recorder or
-    /// see it closed first. Throws IoError (the folder) or SpecError (options, selection).
+    /// Locks and prepares the folder, writes run.json, series.csv and the configuration,
+    /// records the state now as the first row and attaches to `sim`, which must outlive the
+    /// recorder or see it closed first. Throws IoError (the folder, or a folder that another
+    /// recorder has open) or SpecError (options, selection).
     Recorder(Simulation& sim, RecordOptions options, RunContext context = {});
     /// Closes as "finished" if still open (errors are dropped: call close() to see them).
     ~Recorder();
@@ -106,8 +121,9 @@ class Recorder {
     /// throws IoError.
     void add_config_file(ConfigFile file);
 
-    /// Stops recording: detaches, flushes and marks run.json "finished" or "failed" (with
-    /// `message`). Safe to call again; throws IoError if the last writes fail.
+    /// Stops recording: detaches, flushes, marks run.json with `status` ("finished", "failed"
+    /// with `message` saying why, "interrupted" with `message` naming the signal) and unlocks
+    /// the folder. Safe to call again; throws IoError if the last writes fail.
     void close(const std::string& status = "finished", const std::string& message = {});
 
   private:
@@ -118,6 +134,7 @@ class Recorder {
     // a write failed: stop recording, keep what was written, say so in the exception
     [[noreturn]] void fail(const std::exception& e);
     void write_meta(const std::string& status, const std::string& message);
+    void unlock();
 
     Simulation* sim_;
     RecordOptions options_;
@@ -125,6 +142,7 @@ class Recorder {
     SeriesSet set_;
     std::vector<double> values_;
     std::unique_ptr<data::AppendFile> data_, events_, log_;
+    int lock_ = -1;  // the folder, opened and locked (flock) while recording
     std::string data_buf_, events_buf_, log_buf_;
     long rows_ = 0;
     long first_tick_ = 0;
@@ -132,6 +150,7 @@ class Recorder {
     int observer_ = 0;
     int listener_ = 0;
     std::string started_;
+    RunProcess process_;
     std::chrono::steady_clock::time_point next_flush_;
     std::chrono::steady_clock::duration flush_period_;
 };

@@ -47,6 +47,9 @@ class EventReplay {
     size_t matched() const { return next_; }
     /// Whether the replay stopped at stop_tick.
     bool ended() const { return ended_; }
+    /// Calls `fn` when the replay reaches stop_tick, just before ReplayEnd is thrown: a host
+    /// whose code could catch ReplayEnd (a script's pcall around sim:run) stops that code here.
+    void on_end(std::function<void()> fn) { on_end_ = std::move(fn); }
     /// Stops following the simulation (its recording stopped); the results stay.
     void detach();
 
@@ -58,6 +61,7 @@ class EventReplay {
     Simulation& sim_;
     std::vector<Event> events_;
     Apply apply_other_;
+    std::function<void()> on_end_;
     long stop_tick_;
     size_t next_ = 0;
     int applied_ = 0;

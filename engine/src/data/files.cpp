@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <cstring>
 
@@ -29,6 +30,57 @@ void write_all(int fd, std::string_view bytes, const std::string& path) {
         p += n;
         left -= static_cast<size_t>(n);
     }
+}
+
+namespace {
+
+// a small file of /proc, "" if it cannot be read (they are regular files that say they are
+// empty: read until the end, never more than `limit` bytes)
+std::string read_proc(const std::string& path, size_t limit = 4096) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return "";
+    std::string out;
+    char buf[1024];
+    while (out.size() < limit) {
+        const ssize_t n = ::read(fd, buf, sizeof buf);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        out.append(buf, static_cast<size_t>(n));
+    }
+    ::close(fd);
+    return out;
+}
+
+}  // namespace
+
+std::string boot_id() {
+    std::string id = read_proc("/proc/sys/kernel/random/boot_id", 64);
+    while (!id.empty() && (id.back() == '\n' || id.back() == ' '))
+        id.pop_back();
+    return id;
+}
+
+std::uint64_t process_start_time(long pid) {
+    if (pid <= 0) return 0;
+    const std::string stat = read_proc(fmt::format("/proc/{}/stat", pid));
+    // "PID (COMM) STATE PPID ...": COMM may hold spaces and parentheses, so fields are counted
+    // from the last ')'; the start time is field 22, the 20th after it
+    const size_t paren = stat.rfind(')');
+    if (paren == std::string::npos) return 0;
+    size_t i = paren + 1;
+    for (int field = 3; field <= 22; ++field) {
+        while (i < stat.size() && stat[i] == ' ')
+            ++i;
+        const size_t start = i;
+        while (i < stat.size() && stat[i] != ' ')
+            ++i;
+        if (field == 22) {
+            std::uint64_t v = 0;
+            const auto r = std::from_chars(stat.data() + start, stat.data() + i, v);
+            return r.ec == std::errc() ? v : 0;
+        }
+    }
+    return 0;
 }
 
 AppendFile::AppendFile(std::string path) : path_(std::move(path)) {

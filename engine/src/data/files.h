@@ -2,6 +2,7 @@
 // gaitlab/files.h). Every failure is an IoError naming the path and the reason.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -13,6 +14,13 @@ std::string reason(int error_number);
 /// Writes all of `bytes` to the file descriptor `fd` (retrying after signals); throws IoError
 /// naming `path`.
 void write_all(int fd, std::string_view bytes, const std::string& path);
+
+/// The kernel's id of this boot (/proc/sys/kernel/random/boot_id), "" if unknown.
+std::string boot_id();
+
+/// When process `pid` started, in clock ticks after boot (field 22 of /proc/PID/stat); 0 if
+/// there is no such process or it cannot be told.
+std::uint64_t process_start_time(long pid);
 
 /// A file opened for appending (created or truncated on open). Writes go straight to the
 /// operating system (write(2), no fsync): once write() returns they survive the process, not

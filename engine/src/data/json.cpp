@@ -40,6 +40,11 @@ Json& Json::set(const std::string& key, Json v) {
     return members_.back().second;
 }
 
+Json& Json::add(std::string key, Json v) {
+    members_.emplace_back(std::move(key), std::move(v));
+    return members_.back().second;
+}
+
 const Json* Json::find(std::string_view key) const {
     for (const auto& m : members_) {
         if (m.first == key) return &m.second;
@@ -60,7 +65,10 @@ long long Json::integer(long long fallback) const {
     long long v = 0;
     const auto r = std::from_chars(text_.data(), text_.data() + text_.size(), v);
     if (r.ec == std::errc() && r.ptr == text_.data() + text_.size()) return v;
-    return static_cast<long long>(number_);
+    // 1e3 is an integer too; 1e300 and 0.5 are not
+    if (number_ >= -9.2e18 && number_ <= 9.2e18 && number_ == std::trunc(number_))
+        return static_cast<long long>(number_);
+    return fallback;
 }
 
 std::uint64_t Json::uint(std::uint64_t fallback) const {
@@ -92,9 +100,41 @@ long long Json::int_at(std::string_view key, long long fallback) const {
 
 namespace {
 
+// the length of the well-formed UTF-8 sequence at s[i] (RFC 3629: no overlong forms, no
+// surrogates, nothing above U+10FFFF), 0 if there is none
+size_t utf8_length(const std::string& s, size_t i) {
+    const auto b = [&](size_t k) { return static_cast<unsigned char>(s[k]); };
+    const unsigned char c = b(i);
+    if (c < 0x80) return 1;
+    size_t n = 0;
+    unsigned char lo = 0x80, hi = 0xBF;  // the allowed range of the second byte
+    if (c >= 0xC2 && c <= 0xDF) {
+        n = 2;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+        n = 3;
+        if (c == 0xE0) lo = 0xA0;
+        if (c == 0xED) hi = 0x9F;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+        n = 4;
+        if (c == 0xF0) lo = 0x90;
+        if (c == 0xF4) hi = 0x8F;
+    } else {
+        return 0;
+    }
+    if (i + n > s.size()) return 0;
+    if (b(i + 1) < lo || b(i + 1) > hi) return 0;
+    for (size_t k = 2; k < n; ++k) {
+        if (b(i + k) < 0x80 || b(i + k) > 0xBF) return 0;
+    }
+    return n;
+}
+
+// a JSON string: control characters escaped, and every byte that is not part of well-formed
+// UTF-8 (a name made of arbitrary bytes) written as U+FFFD, so the file is always valid JSON
 void dump_string(std::string& out, const std::string& s) {
     out.push_back('"');
-    for (unsigned char c : s) {
+    for (size_t i = 0; i < s.size();) {
+        const auto c = static_cast<unsigned char>(s[i]);
         switch (c) {
             case '"':
                 out += "\\\"";
@@ -112,12 +152,22 @@ void dump_string(std::string& out, const std::string& s) {
                 out += "\\t";
                 break;
             default:
-                if (c < 0x20) {
+                if (c < 0x20 || c == 0x7f) {
                     out += fmt::format("\\u{:04x}", c);
-                } else {
+                } else if (c < 0x80) {
                     out.push_back(static_cast<char>(c));
+                } else {
+                    const size_t n = utf8_length(s, i);
+                    if (n == 0) {
+                        out += "\\ufffd";
+                    } else {
+                        out.append(s, i, n);
+                        i += n;
+                        continue;
+                    }
                 }
         }
+        ++i;
     }
     out.push_back('"');
 }
@@ -205,10 +255,13 @@ class Parser {
         throw FormatError(fmt::format("{}:{}: {}", file_, line, what));
     }
 
+    // line ends occur only here: strings hold no raw control characters
     void skip_space() {
         while (i_ < s_.size() &&
-               (s_[i_] == ' ' || s_[i_] == '\t' || s_[i_] == '\n' || s_[i_] == '\r'))
+               (s_[i_] == ' ' || s_[i_] == '\t' || s_[i_] == '\n' || s_[i_] == '\r')) {
+            line_ += s_[i_] == '\n';
             ++i_;
+        }
     }
 
     bool take(char c) {
@@ -229,8 +282,15 @@ class Parser {
     }
 
     Json value(int depth) {
-        if (depth > 64) fail("JSON nested too deeply");
         skip_space();
+        const int line = line_;
+        Json v = bare_value(depth);
+        v.set_line(line);
+        return v;
+    }
+
+    Json bare_value(int depth) {
+        if (depth > 64) fail("JSON nested too deeply");
         if (i_ >= s_.size()) fail("JSON value expected, got the end of the file");
         const char c = s_[i_];
         if (c == '{') return object(depth);
@@ -240,7 +300,10 @@ class Parser {
         if (word("false")) return Json(false);
         if (word("null")) return Json();
         if (c == '-' || (c >= '0' && c <= '9')) return number();
-        fail(fmt::format("JSON value expected, got '{}'", c));
+        const auto byte = static_cast<unsigned char>(c);
+        fail(byte > 0x20 && byte < 0x7f
+                 ? fmt::format("JSON value expected, got '{}'", c)
+                 : fmt::format("JSON value expected, got byte 0x{:02x}", byte));
     }
 
     Json object(int depth) {
@@ -252,7 +315,7 @@ class Parser {
             if (i_ >= s_.size() || s_[i_] != '"') fail("member name (a string) expected");
             std::string key = string();
             if (!take(':')) fail("':' expected after a member name");
-            o.set(key, value(depth + 1));
+            o.add(std::move(key), value(depth + 1));
         } while (take(','));
         if (!take('}')) fail("',' or '}' expected in an object");
         return o;
@@ -344,15 +407,27 @@ class Parser {
                 case 'u': {
                     unsigned cp = hex4();
                     if (cp >= 0xD800 && cp < 0xDC00 && s_.substr(i_, 2) == "\\u") {
+                        const size_t at = i_;
                         i_ += 2;
                         const unsigned lo = hex4();
-                        cp = 0x10000 + ((cp - 0xD800) << 10) + (lo - 0xDC00);
+                        if (lo >= 0xDC00 && lo < 0xE000) {
+                            cp = 0x10000 + ((cp - 0xD800) << 10) + (lo - 0xDC00);
+                        } else {
+                            i_ = at;  // not a pair: the second escape stands alone
+                        }
                     }
+                    // a lone surrogate is no character: U+FFFD, as in every string gaitlab writes
+                    if (cp >= 0xD800 && cp < 0xE000) cp = 0xFFFD;
                     utf8(out, cp);
                     break;
                 }
-                default:
-                    fail(fmt::format("unknown escape '\\{}' in a string", e));
+                default: {
+                    const auto byte = static_cast<unsigned char>(e);
+                    fail(byte > 0x20 && byte < 0x7f
+                             ? fmt::format("unknown escape '\\{}' in a string", e)
+                             : fmt::format("unknown escape: '\\' and byte 0x{:02x} in a string",
+                                           byte));
+                }
             }
         }
     }
@@ -375,6 +450,7 @@ class Parser {
     std::string_view s_;
     const std::string& file_;
     size_t i_ = 0;
+    int line_ = 1;
 };
 
 }  // namespace

@@ -34,12 +34,18 @@ class Json {
     static Json object() { return Json(Type::object); }
 
     Type type() const { return type_; }
+    /// The line the value starts on in the text it was parsed from (0: not parsed).
+    int line() const { return line_; }
+    void set_line(int line) { line_ = line; }
     bool is_null() const { return type_ == Type::null; }
 
     /// Appends to an array.
     Json& push(Json v);
     /// Sets an object member (replacing one of the same name).
     Json& set(const std::string& key, Json v);
+    /// Appends an object member without looking for one of the same name (find() gives the
+    /// first): what the parser does, in constant time.
+    Json& add(std::string key, Json v);
     /// An object member or nullptr.
     const Json* find(std::string_view key) const;
     const std::vector<Json>& items() const { return items_; }
@@ -68,6 +74,7 @@ class Json {
     void dump(std::string& out, int indent) const;
 
     Type type_ = Type::null;
+    int line_ = 0;
     bool bool_ = false;
     double number_ = 0;
     std::string text_;  // string value, or the number as written

@@ -4,11 +4,14 @@
 // same series into a new folder and compares the data bit for bit.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "gaitlab/run_data.h"
 
 namespace gaitlab::scripting {
+
+class LuaHost;
 
 struct ReplayResult {
     std::string into;            ///< the replay's run folder
@@ -23,7 +26,11 @@ struct ReplayResult {
 
 /// Replays the run in `run_dir` into `into` ("" : RUN_DIR-replay). Throws IoError or
 /// FormatError for a folder that is not a run, Error for a run that cannot be replayed (no
-/// script). What the script prints goes to the replay's log only.
-ReplayResult replay(const std::string& run_dir, const std::string& into = {});
+/// script). What the script prints goes to the replay's log only. `on_host`, if given, is
+/// called with the host that runs the script once it exists and with nullptr before it goes,
+/// so a caller can interrupt it (LuaHost::interrupt, e.g. from a signal handler): the replay
+/// then stops, its folder is closed as "interrupted" and `script_error` says so.
+ReplayResult replay(const std::string& run_dir, const std::string& into = {},
+                    const std::function<void(LuaHost*)>& on_host = {});
 
 }  // namespace gaitlab::scripting
