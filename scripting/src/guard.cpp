@@ -26,6 +26,10 @@ const char* signal_name(int s) {
             return "SIGTERM";
         case SIGHUP:
             return "SIGHUP";
+        case SIGPIPE:
+            return "SIGPIPE";
+        case SIGALRM:
+            return "SIGALRM";
         default:
             return nullptr;
     }
