@@ -22,8 +22,15 @@ LuaController::LuaController(lua_State* L, std::shared_ptr<LuaControllerClass> c
     cls_->instances.push_back(this);
 }
 
+void LuaController::release_box() {
+    if (box_) *box_ = nullptr;  // the methods of an earlier self table reach nothing now
+    box_ = nullptr;
+    luaL_unref(L_, LUA_REGISTRYINDEX, box_ref_);
+    box_ref_ = LUA_NOREF;
+}
+
 LuaController::~LuaController() {
-    if (box_) *box_ = nullptr;
+    release_box();
     auto& v = cls_->instances;
     v.erase(std::remove(v.begin(), v.end(), this), v.end());
     luaL_unref(L_, LUA_REGISTRYINDEX, self_ref_);
@@ -117,6 +124,7 @@ void LuaController::on_bind() {
     // a fresh instance table: parameters, the per-joint value arrays (zeros), joints, and the
     // methods that reach this controller through an upvalue
     lua_State* L = L_;
+    release_box();
     luaL_unref(L, LUA_REGISTRYINDEX, self_ref_);
     lua_createtable(L, 0, static_cast<int>(def().params.size() + def().values.size() + 1));
     for (size_t k = 0; k < def().values.size(); ++k) {
@@ -139,9 +147,10 @@ void LuaController::on_bind() {
                                 {"sensor", l_sensor},
                                 {nullptr, nullptr}};
     lua_createtable(L, 0, 5);
-    if (box_) *box_ = nullptr;  // the methods of an earlier self table reach nothing now
     box_ = static_cast<LuaController**>(lua_newuserdatauv(L, sizeof(LuaController*), 0));
     *box_ = this;
+    lua_pushvalue(L, -1);
+    box_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
     luaL_setfuncs(L, methods, 1);
     lua_setfield(L, -2, "__index");
     lua_setmetatable(L, -2);

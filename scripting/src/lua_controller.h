@@ -81,8 +81,13 @@ class LuaController final : public Controller {
     std::shared_ptr<LuaControllerClass> cls_;
     std::string label_;  // "controller 'name'", as budget errors say
     // the instance's methods reach it through this box (a userdata), emptied when the instance
-    // goes, so a self table kept by Lua code never reaches a controller that is gone
+    // goes, so a self table kept by Lua code never reaches a controller that is gone. The box
+    // has a registry reference of its own: the methods may become garbage (a step can replace
+    // self's metatable) while the box must stay writable
     LuaController** box_ = nullptr;
+    int box_ref_ = LUA_NOREF;
+    // empties the box and lets it go
+    void release_box();
     int self_ref_ = LUA_NOREF;      // the instance table passed to step as self
     int snapshot_ref_ = LUA_NOREF;  // what snapshot(self) returned before a reload
     std::uint64_t pushed_version_ = ~std::uint64_t{0};

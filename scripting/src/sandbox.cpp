@@ -72,32 +72,39 @@ int sandbox_setmetatable(lua_State* L) {
 // which pattern function a guard wraps
 enum PatternFunction { kFind, kMatch, kGmatch };
 
+// the worst-case cost of the pattern call on the stack, for sandboxed callers (0 otherwise)
+double call_cost(lua_State* L) {
+    if (lua_type(L, 1) != LUA_TSTRING || lua_type(L, 2) != LUA_TSTRING) return 0;
+    if (!called_from_sandbox(L)) return 0;
+    const auto fn = static_cast<PatternFunction>(lua_tointeger(L, lua_upvalueindex(2)));
+    if (fn == kFind && lua_toboolean(L, 4)) return 0;  // string.find(s, p, init, plain)
+    size_t n = 0, np = 0;
+    lua_tolstring(L, 1, &n);
+    const char* p = lua_tolstring(L, 2, &np);
+    std::string pattern(p, np);
+    if (fn == kGmatch && !pattern.empty() && pattern[0] == '^') {
+        pattern.insert(pattern.begin(), '%');  // no anchor: gmatch matches everywhere
+    }
+    return pattern_cost(pattern, static_cast<double>(n));
+}
+
 // the pattern functions of the string library, for sandboxed callers: upvalue 1 is the
 // original, upvalue 2 which one it is
 int guarded_pattern(lua_State* L) {
-    if (lua_type(L, 1) == LUA_TSTRING && lua_type(L, 2) == LUA_TSTRING && called_from_sandbox(L)) {
-        const auto fn = static_cast<PatternFunction>(lua_tointeger(L, lua_upvalueindex(2)));
-        size_t n = 0, np = 0;
+    const double cost = call_cost(L);
+    if (cost > kMaxPatternSteps) {
+        // no C++ object may be alive here: lua_error jumps over this frame
+        size_t n = 0;
         lua_tolstring(L, 1, &n);
-        const char* p = lua_tolstring(L, 2, &np);
-        // string.find(s, p, init, plain): a plain search is linear
-        const bool plain = fn == kFind && lua_toboolean(L, 4);
-        std::string pattern(p, np);
-        if (fn == kGmatch && !pattern.empty() && pattern[0] == '^') {
-            pattern.insert(pattern.begin(), '%');  // no anchor: gmatch matches everywhere
-        }
-        const double cost = pattern_cost(pattern, static_cast<double>(n));
-        if (!plain && cost > kMaxPatternSteps) {
-            luaL_where(L, 1);
-            lua_pushstring(
-                L, fmt::format("pattern too costly for a sandboxed controller: matching it "
-                               "against {} characters may take about {:.0e} steps (at most "
-                               "{:.0e}); use fewer repetitions (*, +, -) or a shorter string",
-                               n, cost, kMaxPatternSteps)
-                       .c_str());
-            lua_concat(L, 2);
-            return lua_error(L);
-        }
+        luaL_where(L, 1);
+        lua_pushfstring(L,
+                        "pattern too costly for a sandboxed controller: matching it against %I "
+                        "characters may take about %s steps (at most %s); use fewer repetitions "
+                        "(*, +, -) or a shorter string",
+                        static_cast<lua_Integer>(n), fmt::format("{:.0e}", cost).c_str(),
+                        fmt::format("{:.0e}", kMaxPatternSteps).c_str());
+        lua_concat(L, 2);
+        return lua_error(L);
     }
     lua_pushvalue(L, lua_upvalueindex(1));
     lua_insert(L, 1);

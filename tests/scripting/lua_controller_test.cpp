@@ -377,3 +377,28 @@ TEST_CASE("a self table kept after its controller is gone reaches nothing", "[lu
     CHECK(lua.error_of("KEPT:set_angle(1, 10)") ==
           "test:1: set_angle can only be called while the controller steps");
 }
+
+TEST_CASE("a controller rebinds safely after the collector took its old methods",
+          "[lua_controller]") {
+    // sim:reset binds every controller again, while an eager collector runs; a step that
+    // drops its self table's metatable leaves the old methods to the collector
+    LuaFixture lua;
+    lua.run(R"(
+        collectgarbage("incremental", 1, 1000)
+        Wave = gaitlab.controller{ name = "wave", values = { "time" }, step = function(self) end }
+        Drop = gaitlab.controller{ name = "drop", step = function(self) setmetatable(self, nil) end }
+        robot = gaitlab.robot.chain{ modules = 3 }
+        world = gaitlab.world{}
+        world:add(robot)
+        robot:group{ 1, 2 }:drive(Wave())
+        robot:group{ 3 }:drive(Drop())
+        sim = gaitlab.simulation{ world = world, record = false }
+        for _ = 1, 100 do
+          sim:step(30)
+          collectgarbage()
+          sim:reset()
+        end
+        collectgarbage("generational")
+    )");
+    CHECK(lua.integer("sim.ticks") == 0);
+}
