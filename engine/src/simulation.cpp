@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string_view>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -40,6 +42,30 @@ const char* to_string(ControllerErrorPolicy policy) {
 Scheduler::Scheduler(double dt, int control_every)
     : dt_(dt), control_every_(control_every), control_dt_(dt * control_every) {}
 
+namespace {
+
+// what a simulation may be busy running (Simulation::busy_)
+constexpr const char* kController = "a controller's step";
+constexpr const char* kObserver = "an observer";
+constexpr const char* kPreTick = "a pre-tick hook";
+constexpr const char* kListener = "an event listener";
+
+}  // namespace
+
+// marks the simulation busy running `what` for the lifetime of the guard (nested guards give
+// back the outer mark)
+class Simulation::Busy {
+  public:
+    Busy(Simulation& sim, const char* what) : sim_(sim), outer_(sim.busy_) { sim.busy_ = what; }
+    ~Busy() { sim_.busy_ = outer_; }
+    Busy(const Busy&) = delete;
+    Busy& operator=(const Busy&) = delete;
+
+  private:
+    Simulation& sim_;
+    const char* outer_;
+};
+
 // the tick phases of a simulation (see scheduler.h for their order)
 class Simulation::Phases final : public TickPhases, public JointReader {
   public:
@@ -50,7 +76,11 @@ class Simulation::Phases final : public TickPhases, public JointReader {
     void think(double time, double control_dt) override {
         check_divergence(time);
         std::fill(sim_.targets_.begin(), sim_.targets_.end(), 0.0);
-        for (DriveSlot& d : sim_.drives_) {
+        // the drives there were when the tick began: one that a controller adds now acts from
+        // the next control tick
+        const Busy busy(sim_, kController);
+        for (size_t i = 0, n = sim_.drives_.size(); i < n; ++i) {
+            DriveSlot& d = sim_.drives_[i];
             Controller& c = *d.drive.controller;
             if (!c.failed()) {  // a failed controller's targets stay frozen
                 ControlIO io(control_dt, time, d.global_joints, *this, d.targets.data(),
@@ -85,8 +115,9 @@ class Simulation::Phases final : public TickPhases, public JointReader {
         // the sensors read the state the step reached: the next tick's think sees it, and so
         // do the observers
         sim_.sensing_->update(*sim_.physics_);
-        for (auto& o : sim_.observers_)
-            o.second(sim_);
+        if (sim_.observers_.idle()) return;
+        const Busy busy(sim_, kObserver);
+        sim_.observers_.call(std::as_const(sim_));
     }
 
     double angle(int joint) const override { return sim_.angles_[static_cast<size_t>(joint)]; }
@@ -293,10 +324,26 @@ void Simulation::fail(DriveSlot& d, const std::exception& e) {
     if (on_error_) on_error_(*d.drive.controller, e);
 }
 
+void Simulation::check_idle(const char* what) const {
+    // a pre-tick hook runs between ticks: it may reset (a replay applies a console's reset
+    // there), but stepping from it would nest ticks
+    const bool allowed = busy_ == kPreTick && std::string_view(what) == "reset";
+    if (busy_ && !allowed) {
+        throw SpecError(fmt::format(
+            "cannot step the simulation from inside its own tick ({} called from {}: step, run "
+            "and reset belong between ticks)",
+            what, busy_));
+    }
+}
+
 long Simulation::step(long ticks) {
+    check_idle("step");
     paused_ = false;
     for (long i = 0; i < ticks; ++i) {
-        if (!pre_ticks_.empty() || pre_ticks_changed_) run_pre_ticks();
+        if (!pre_ticks_.idle()) {
+            const Busy busy(*this, kPreTick);
+            pre_ticks_.call(*this);
+        }
         scheduler_.tick(*phases_);
         if (pause_pending_) {
             pause_pending_ = false;
@@ -307,31 +354,8 @@ long Simulation::step(long ticks) {
     return ticks;
 }
 
-void Simulation::run_pre_ticks() {
-    // hooks added or removed by a hook take effect here, never while the list is walked (and
-    // the lists are only touched when something changed: this runs every tick)
-    if (pre_ticks_changed_) {
-        pre_ticks_changed_ = false;
-        for (auto& h : added_pre_ticks_)
-            pre_ticks_.push_back(std::move(h));
-        added_pre_ticks_.clear();
-        pre_ticks_.erase(std::remove_if(pre_ticks_.begin(), pre_ticks_.end(),
-                                        [](const PreTick& h) { return !h.live; }),
-                         pre_ticks_.end());
-    }
-    in_pre_ticks_ = true;
-    try {
-        for (PreTick& h : pre_ticks_) {
-            if (h.live) h.fn(*this);
-        }
-    } catch (...) {
-        in_pre_ticks_ = false;
-        throw;
-    }
-    in_pre_ticks_ = false;
-}
-
 long Simulation::run(double seconds) {
+    check_idle("run");
     if (!(std::isfinite(seconds) && seconds >= 0)) {
         throw SpecError(
             fmt::format("run time must be a non-negative number of seconds (got {})", seconds));
@@ -340,6 +364,7 @@ long Simulation::run(double seconds) {
 }
 
 void Simulation::reset(Origin origin) {
+    check_idle("reset");
     const long at = ticks();
     scheduler_.reset();
     pause_pending_ = paused_ = false;
@@ -517,42 +542,30 @@ int Simulation::add_sensor(int robot, SensorSpec sensor) {
 }
 
 int Simulation::add_observer(std::function<void(const Simulation&)> fn) {
-    observers_.emplace_back(next_observer_, std::move(fn));
+    observers_.add(next_observer_, std::move(fn));
     return next_observer_++;
 }
 
 void Simulation::remove_observer(int id) {
-    observers_.erase(std::remove_if(observers_.begin(), observers_.end(),
-                                    [id](const auto& o) { return o.first == id; }),
-                     observers_.end());
+    observers_.remove(id);
 }
 
 int Simulation::add_pre_tick(std::function<void(Simulation&)> fn) {
-    auto& list = in_pre_ticks_ ? added_pre_ticks_ : pre_ticks_;
-    list.push_back(PreTick{next_observer_, true, std::move(fn)});
-    pre_ticks_changed_ = true;
+    pre_ticks_.add(next_observer_, std::move(fn));
     return next_observer_++;
 }
 
 void Simulation::remove_pre_tick(int id) {
-    // only marked: a hook may be running (it is dropped at the next step)
-    for (auto* list : {&pre_ticks_, &added_pre_ticks_}) {
-        for (PreTick& h : *list) {
-            if (h.id == id) h.live = false;
-        }
-    }
-    pre_ticks_changed_ = true;
+    pre_ticks_.remove(id);
 }
 
 int Simulation::add_event_listener(std::function<void(const Simulation&, const Event&)> fn) {
-    listeners_.emplace_back(next_observer_, std::move(fn));
+    listeners_.add(next_observer_, std::move(fn));
     return next_observer_++;
 }
 
 void Simulation::remove_event_listener(int id) {
-    listeners_.erase(std::remove_if(listeners_.begin(), listeners_.end(),
-                                    [id](const auto& l) { return l.first == id; }),
-                     listeners_.end());
+    listeners_.remove(id);
 }
 
 void Simulation::post_event(Event event) {
@@ -561,10 +574,8 @@ void Simulation::post_event(Event event) {
 }
 
 void Simulation::dispatch(const Event& event) {
-    // a copy: a listener may add or remove listeners (events are rare, copying is cheap)
-    const auto listeners = listeners_;
-    for (const auto& l : listeners)
-        l.second(*this, event);
+    const Busy busy(*this, kListener);
+    listeners_.call(std::as_const(*this), event);
 }
 
 }  // namespace gaitlab

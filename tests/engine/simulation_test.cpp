@@ -5,7 +5,10 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "gaitlab/error.h"
@@ -380,4 +383,164 @@ TEST_CASE("a controller that outlives its simulation stops telling it", "[simula
     }
     sine->set_param("amplitude", 10);  // no listener left to call
     CHECK(sine->param("amplitude") == 10);
+}
+
+namespace {
+
+// a controller that runs `act` (once, or at every step) with the simulation driving it, then
+// holds its joints at 0
+class Reentrant final : public Controller {
+  public:
+    Reentrant(Simulation& sim, std::function<void(Simulation&)> act)
+        : Controller(ControllerDef{"reentrant", {}, {}}), sim_(sim), act_(std::move(act)) {}
+    void step(ControlIO& io) override {
+        ++steps;
+        if (act_) act_(sim_);
+        for (int m = 0; m < io.joints(); ++m)
+            io.set_target(m, 0);
+    }
+    int steps = 0;
+
+  private:
+    Simulation& sim_;
+    std::function<void(Simulation&)> act_;
+};
+
+const char* const kInsideTick = "cannot step the simulation from inside its own tick";
+
+}  // namespace
+
+TEST_CASE(
+    "a controller may add drives while the drives step: they act from the next control "
+    "tick",
+    "[simulation][reentrancy]") {
+    Simulation sim(test::chain_world(4, Connection::pitch_pitch));
+    std::vector<std::shared_ptr<Controller>> added;
+    // each step adds one more drive (more than enough to reallocate any vector of drives)
+    auto adder = std::make_shared<Reentrant>(sim, [&](Simulation& s) {
+        if (added.size() >= 40) return;
+        added.push_back(test::sine(10, 1, 0));
+        s.add_drive(0, drive_of({static_cast<int>(added.size() % 4)}, added.back()));
+    });
+    sim.add_drive(0, drive_of({0, 1, 2, 3}, adder));
+    sim.step(1);  // one control tick: the drive added in it has not stepped yet
+    REQUIRE(sim.drive_count() == 2);
+    CHECK(sim.controller(1).values(controllers::Sine::time)[0] == 0);
+    sim.run(1.5);  // 50 more control ticks
+    CHECK(sim.drive_count() == 41);
+    CHECK(adder->steps == 51);
+    // the first added drive stepped at every control tick after the one that added it
+    CHECK(added[0]->values(controllers::Sine::time)[0] == Approx(50 * 0.03));
+    // its targets count: a 10 deg sine on joint 1 (plus the adder's 0)
+    const double theta = sim.joint(0, 1).target;
+    CHECK(std::abs(theta) > 0);
+    CHECK(std::abs(theta) <= deg_to_rad(10) * 11);
+}
+
+TEST_CASE("step, run and reset from inside the simulation's own tick are errors",
+          "[simulation][reentrancy]") {
+    using Catch::Matchers::Contains;
+    using Catch::Matchers::StartsWith;
+    SECTION("from a controller's step") {
+        for (const char* what : {"step", "run", "reset"}) {
+            Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+            const std::string w = what;
+            auto once = std::make_shared<bool>(true);
+            auto c = std::make_shared<Reentrant>(sim, [w, once](Simulation& s) {
+                if (!*once) return;
+                *once = false;
+                if (w == "step") s.step(1);
+                if (w == "run") s.run(1);
+                if (w == "reset") s.reset();
+            });
+            sim.add_drive(0, drive_of({0, 1, 2}, c));
+            CHECK_THROWS_WITH(
+                sim.step(5),
+                Equals(std::string(kInsideTick) + " (" + w +
+                       " called from a controller's step: step, run and reset belong between "
+                       "ticks)"));
+            CHECK(sim.ticks() == 0);  // the first tick stopped at its think phase
+            CHECK(c->failed());
+            // the simulation is usable again between ticks
+            sim.reset();
+            CHECK_NOTHROW(sim.step(40));
+            CHECK(c->steps == 3);
+        }
+    }
+    SECTION("from an observer") {
+        Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+        sim.add_observer([](const Simulation& s) {
+            // observers get a const simulation; one that kept a mutable reference must still
+            // not get through
+            const_cast<Simulation&>(s).run(0.5);
+        });
+        CHECK_THROWS_WITH(sim.step(3), StartsWith(kInsideTick) && Contains("from an observer"));
+        CHECK(sim.ticks() == 1);
+    }
+    SECTION("from an event listener: a reset that resets again does not recurse") {
+        Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+        int calls = 0;
+        sim.add_event_listener([&calls, &sim](const Simulation&, const Event& e) {
+            ++calls;
+            if (e.kind == EventKind::reset) sim.reset();
+        });
+        sim.step(2);
+        CHECK_THROWS_WITH(sim.reset(), StartsWith(kInsideTick) &&
+                                           Contains("reset called from an event listener"));
+        CHECK(calls == 1);
+        CHECK(sim.ticks() == 0);
+    }
+    SECTION("a pre-tick hook may reset between ticks but not step") {
+        Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+        bool reset_done = false;
+        sim.add_pre_tick([&](Simulation& s) {
+            if (s.ticks() == 5 && !reset_done) {
+                reset_done = true;
+                s.reset();
+            }
+        });
+        sim.step(10);
+        CHECK(reset_done);
+        CHECK(sim.ticks() == 5);  // ticks 0-4, a reset, then ticks 0-4 again
+        sim.add_pre_tick([](Simulation& s) { s.step(1); });
+        CHECK_THROWS_WITH(sim.step(1),
+                          StartsWith(kInsideTick) && Contains("step called from a pre-tick hook"));
+    }
+}
+
+TEST_CASE("observers and event listeners may add and remove callbacks while they run",
+          "[simulation][reentrancy]") {
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    std::vector<std::string> calls;
+    int self = 0, victim = 0;
+    self = sim.add_observer([&](const Simulation& s) {
+        calls.push_back("self@" + std::to_string(s.ticks()));
+        if (s.ticks() == 1) {
+            // adding many (reallocating any vector they live in), removing another and itself
+            for (int k = 0; k < 50; ++k)
+                sim.add_observer([&calls, k](const Simulation&) {
+                    if (k == 49) calls.push_back("added");
+                });
+            sim.remove_observer(victim);
+            sim.remove_observer(self);
+        }
+    });
+    victim = sim.add_observer([&](const Simulation&) { calls.push_back("victim"); });
+    sim.step(3);
+    CHECK(calls == std::vector<std::string>{"self@1", "added", "added"});
+
+    // listeners: one that adds a listener and removes itself when an event comes
+    std::vector<std::string> heard;
+    int first = 0;
+    first = sim.add_event_listener([&](const Simulation&, const Event&) {
+        heard.push_back("first");
+        for (int k = 0; k < 20; ++k)
+            sim.add_event_listener([&heard, k](const Simulation&, const Event&) {
+                if (k == 0) heard.push_back("second");
+            });
+        sim.remove_event_listener(first);
+    });
+    sim.reset();
+    sim.reset();
+    CHECK(heard == std::vector<std::string>{"first", "second"});
 }

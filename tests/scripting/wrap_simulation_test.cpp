@@ -126,3 +126,49 @@ TEST_CASE("sim:objects reports the dynamic objects of the world", "[wrap_simulat
     CHECK(lua.number("before[1].position.z - after[1].position.z") == Approx(1.226).margin(0.01));
     CHECK(lua.number("after[2].velocity.z") == Approx(-4.905).margin(0.01));
 }
+
+TEST_CASE("a Lua controller may drive new groups from its step but not step its simulation",
+          "[wrap_simulation][reentrancy]") {
+    LuaFixture lua;
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ name = "snake", modules = 4 }
+        world = gaitlab.world()
+        world:add(robot)
+        added = {}
+        Grower = gaitlab.controller{ name = "grower", step = function(self)
+          if #added < 30 then
+            local s = gaitlab.controllers.sine{ amplitude = 10 }
+            added[#added + 1] = s
+            robot:group{ #added % 4 + 1 }:drive(s)
+          end
+          for m = 1, self.joints do self:set_angle(m, 0) end
+        end }
+        robot:group("all"):drive(Grower())
+        sim = gaitlab.simulation{ world = world }
+        sim:run(1)
+    )");
+    CHECK(lua.integer("#added") == 30);
+    CHECK(lua.integer("sim.ticks") == 1000);
+    // the first group added stepped from the control tick after the one that added it
+    CHECK(lua.number("added[1]:values().time[1]") == Approx(33 * 0.03));
+
+    for (const char* call : {"sim:run(1)", "sim:step(5)", "sim:reset()"}) {
+        LuaFixture inner;
+        inner.run(std::string(R"(
+            robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
+            world = gaitlab.world()
+            world:add(robot)
+            Nested = gaitlab.controller{ name = "nested", step = function(self)
+              )") +
+                  call + R"(
+            end }
+            robot:group("all"):drive(Nested())
+            sim = gaitlab.simulation{ world = world }
+        )");
+        const std::string verb = std::string(call).substr(4, std::string(call).find('(') - 4);
+        CHECK(inner.error_of("sim:run(1)") ==
+              "test:6: cannot step the simulation from inside its own tick (" + verb +
+                  " called from a controller's step: step, run and reset belong between ticks)");
+        CHECK(inner.integer("sim.ticks") == 0);
+    }
+}

@@ -2,7 +2,9 @@
 // steps them. Compiling validates the spec; reset() rebuilds the physics from it.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <deque>
 #include <exception>
 #include <functional>
 #include <memory>
@@ -87,7 +89,9 @@ class Simulation {
     double time() const { return scheduler_.time(); }
 
     /// Advances `ticks` ticks (see scheduler.h for the order inside one tick); the pre-tick
-    /// hooks run before each of them. Under ControllerErrorPolicy::pause it returns early, at
+    /// hooks run before each of them. Between ticks only: from inside a tick (a controller, an
+    /// observer, a hook or an event listener) it throws SpecError. Under
+    /// ControllerErrorPolicy::pause it returns early, at
     /// the end of the tick in which a controller failed; returns the number of ticks run.
     long step(long ticks = 1);
     /// Advances round(seconds / dt) ticks (fewer if paused); returns the ticks run.
@@ -96,7 +100,8 @@ class Simulation {
     /// ControllerErrorPolicy::pause; the next step/run clears it.
     bool paused() const { return paused_; }
     /// Rebuilds the physics from the spec, time 0, controllers reset (parameters kept); posts
-    /// a reset event stamped with the tick it happened at.
+    /// a reset event stamped with the tick it happened at. Between ticks or from a pre-tick
+    /// hook only (SpecError otherwise).
     void reset(Origin origin = Origin::script);
 
     /// Adds a drive to robot r while the simulation exists; throws SpecError. After time 0 it
@@ -177,15 +182,21 @@ class Simulation {
     using ControllerErrorHandler = std::function<void(const Controller&, const std::exception&)>;
     void set_controller_error_handler(ControllerErrorHandler fn) { on_error_ = std::move(fn); }
 
+    // Callbacks (observers, pre-tick hooks, event listeners, controllers) may add and remove
+    // callbacks and drives, and attach sensors, while the simulation runs them: what they add
+    // acts from the next time its list is walked (a drive from the next control tick), what
+    // they remove is not called again. They must not step or run the simulation that calls
+    // them, nor reset it except from a pre-tick hook (SpecError "cannot step the simulation
+    // from inside its own tick (...)").
+
     /// Calls `fn` in the record phase of every tick; returns an id for remove_observer.
     int add_observer(std::function<void(const Simulation&)> fn);
     void remove_observer(int id);
 
     /// Calls `fn` before every tick, between ticks: the place where changes from outside the
     /// script (console, viewer, replay) are applied, so they act from that tick on. Returns an
-    /// id for remove_pre_tick. A hook must not step the simulation.
+    /// id for remove_pre_tick.
     int add_pre_tick(std::function<void(Simulation&)> fn);
-    /// Safe to call from inside a hook.
     void remove_pre_tick(int id);
 
     /// Calls `fn` for every event (parameter changes of its controllers, resets, ...), in the
@@ -228,22 +239,73 @@ class Simulation {
     std::unique_ptr<Phases> phases_;
     std::vector<RobotSlot> robots_;
     int first_object_ = 0;  // index of the first dynamic object among the physics' bodies
-    std::vector<DriveSlot> drives_;
+    // a deque: a controller may add a drive while its own slot is in use (think walks the
+    // drives by index and keeps references), and a deque keeps existing elements in place
+    std::deque<DriveSlot> drives_;
     std::vector<double> angles_;    // per global joint, rad, read in sense
     std::vector<double> targets_;   // per global joint, rad, summed in think
     std::vector<double> commands_;  // per global joint, rad/s, computed in act
-    std::vector<std::pair<int, std::function<void(const Simulation&)>>> observers_;
-    struct PreTick {
-        int id;
-        bool live;  // false once removed; dropped at the next step()
-        std::function<void(Simulation&)> fn;
+    // A list of callbacks that the callbacks themselves may change while it is walked: those
+    // added during a walk wait in `added_` and removed ones are only marked, until the next
+    // walk that starts outside any other (walks nest when a listener posts an event).
+    template <class Fn>
+    class Callbacks {
+      public:
+        void add(int id, Fn fn) {
+            (walking_ > 0 ? added_ : list_).push_back({id, true, std::move(fn)});
+            changed_ = true;
+        }
+        void remove(int id) {
+            for (auto* list : {&list_, &added_}) {
+                for (Entry& e : *list) {
+                    if (e.id == id) e.live = false;
+                }
+            }
+            changed_ = true;
+        }
+        bool idle() const { return list_.empty() && !changed_; }
+        template <class... Args>
+        void call(Args&... args) {
+            if (changed_ && walking_ == 0) tidy();
+            ++walking_;
+            struct Leave {
+                int& walking;
+                ~Leave() { --walking; }
+            } leave{walking_};
+            // by index: nothing is added to list_ during the walk, but stay safe if it were
+            for (size_t i = 0; i < list_.size(); ++i) {
+                if (list_[i].live) list_[i].fn(args...);
+            }
+        }
+
+      private:
+        struct Entry {
+            int id;
+            bool live;
+            Fn fn;
+        };
+        void tidy() {
+            changed_ = false;
+            for (Entry& e : added_)
+                list_.push_back(std::move(e));
+            added_.clear();
+            list_.erase(
+                std::remove_if(list_.begin(), list_.end(), [](const Entry& e) { return !e.live; }),
+                list_.end());
+        }
+        std::vector<Entry> list_, added_;
+        int walking_ = 0;
+        bool changed_ = false;
     };
-    void run_pre_ticks();
-    std::vector<PreTick> pre_ticks_;
-    std::vector<PreTick> added_pre_ticks_;  // added while the hooks run
-    bool in_pre_ticks_ = false;
-    bool pre_ticks_changed_ = false;  // added or removed since the lists were last tidied
-    std::vector<std::pair<int, std::function<void(const Simulation&, const Event&)>>> listeners_;
+    // what the simulation is running now (a controller's step, an observer, ...), or null
+    // between ticks: step, run and reset refuse to start while it is set
+    class Busy;
+    void check_idle(const char* what) const;
+    const char* busy_ = nullptr;
+
+    Callbacks<std::function<void(const Simulation&)>> observers_;
+    Callbacks<std::function<void(Simulation&)>> pre_ticks_;
+    Callbacks<std::function<void(const Simulation&, const Event&)>> listeners_;
     int next_observer_ = 1;
     std::set<std::string> labels_;
     ControllerErrorHandler on_error_;
