@@ -50,6 +50,15 @@ constexpr const char* kObserver = "an observer";
 constexpr const char* kPreTick = "a pre-tick hook";
 constexpr const char* kListener = "an event listener";
 
+// beyond these a body has left any scene gaitlab simulates: the step diverged
+constexpr double kMaxDistance = 1e5;  // m from the origin
+constexpr double kMaxSpeed = 1e4;     // m/s
+
+// a robot that starts deeper than this inside something gets a warning: the contact solver
+// resolves deep overlaps with large impulses (a robot inside a box flies metres away). Deeper
+// than the 1 mm margin convex hulls (ramps) add to a surface a robot rests on.
+constexpr double kMaxStartOverlap = 0.005;  // m
+
 }  // namespace
 
 // marks the simulation busy running `what` for the lifetime of the guard (nested guards give
@@ -74,7 +83,6 @@ class Simulation::Phases final : public TickPhases, public JointReader {
     void sense() override { sim_.physics_->read_angles(sim_.angles_.data()); }
 
     void think(double time, double control_dt) override {
-        check_divergence(time);
         std::fill(sim_.targets_.begin(), sim_.targets_.end(), 0.0);
         // the drives there were when the tick began: one that a controller adds now acts from
         // the next control tick
@@ -109,7 +117,13 @@ class Simulation::Phases final : public TickPhases, public JointReader {
         sim_.physics_->set_motor_velocities(sim_.commands_.data());
     }
 
-    void physics(double dt) override { sim_.physics_->step(dt); }
+    void physics(double dt) override {
+        sim_.physics_->step(dt);
+        // every step, before the record phase: no observer (a recorder) ever sees the state
+        // of a diverged step
+        const int bad = sim_.physics_->first_diverged(kMaxDistance, kMaxSpeed);
+        if (bad >= 0) sim_.diverged(bad, sim_.scheduler_.time() + dt);
+    }
 
     void record(long /*tick*/, double /*time*/) override {
         // the sensors read the state the step reached: the next tick's think sees it, and so
@@ -129,26 +143,6 @@ class Simulation::Phases final : public TickPhases, public JointReader {
     std::vector<double> min_, max_;
 
   private:
-    void check_divergence(double time) const {
-        const PhysicsWorld& p = *sim_.physics_;
-        for (size_t r = 0; r < sim_.robots_.size(); ++r) {
-            const RobotSpec& robot = sim_.world_.robots[r].robot;
-            for (size_t b = 0; b < robot.bodies.size(); ++b) {
-                const int index = sim_.robots_[r].first_body + static_cast<int>(b);
-                const Vec3 x = p.position(index);
-                const double speed = p.speed(index);
-                if (!(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z) &&
-                      x.norm() < 1e5 && speed < 1e4)) {
-                    throw DivergenceError(fmt::format(
-                        "simulation diverged at t = {:.3f} s: body '{}' of robot '{}' is at "
-                        "({}, {}, {}) m moving at {} m/s (try a smaller dt or more solver "
-                        "iterations)",
-                        time, robot.bodies[b].name, robot.name, x.x, x.y, x.z, speed));
-                }
-            }
-        }
-    }
-
     Simulation& sim_;
 };
 
@@ -199,6 +193,17 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
             add_drive(static_cast<int>(r), std::move(d));
     }
     build();
+    check_start_overlaps();
+}
+
+void Simulation::check_start_overlaps() {
+    const auto o = physics_->deepest_robot_overlap(kMaxStartOverlap);
+    if (!o) return;
+    const std::string other = o->other_body >= 0 ? body_name(o->other_body) : o->other;
+    warnings_.push_back(fmt::format(
+        "{} starts {:.1f} mm deep inside {}: the contact solver will throw it out (place the "
+        "robot clear of it, e.g. higher)",
+        body_name(o->body), o->depth * 1000, other));
 }
 
 Simulation::~Simulation() {
@@ -312,6 +317,38 @@ const std::vector<int>& Simulation::drive_joints(int drive) const {
 const std::string& Simulation::drive_label(int drive) const {
     check_drive(drive);
     return drives_[static_cast<size_t>(drive)].label;
+}
+
+std::string Simulation::body_name(int body) const {
+    // robot bodies come first, then the dynamic objects (boxes, cylinders)
+    if (body < first_object_) {
+        size_t r = 0;
+        while (r + 1 < robots_.size() && robots_[r + 1].first_body <= body)
+            ++r;
+        const RobotSpec& robot = world_.robots[r].robot;
+        return fmt::format("body '{}' of robot '{}'",
+                           robot.bodies[static_cast<size_t>(body - robots_[r].first_body)].name,
+                           robots_[r].label);
+    }
+    int k = body - first_object_;
+    for (size_t i = 0; i < world_.boxes.size(); ++i) {
+        if (world_.boxes[i].mass > 0 && k-- == 0) return fmt::format("box {}", i + 1);
+    }
+    for (size_t i = 0; i < world_.cylinders.size(); ++i) {
+        if (world_.cylinders[i].mass > 0 && k-- == 0) return fmt::format("cylinder {}", i + 1);
+    }
+    return fmt::format("body {}", body);
+}
+
+void Simulation::diverged(int body, double time) const {
+    const std::string name = body_name(body);
+    const BodyState s = physics_->body(body);
+    const Vec3& x = s.pose.position;
+    using detail::shown;
+    throw DivergenceError(fmt::format(
+        "simulation diverged at t = {:.3f} s: {} is at ({}, {}, {}) m moving at {} m/s (try a "
+        "smaller dt or more solver iterations)",
+        time, name, shown(x.x), shown(x.y), shown(x.z), shown(s.linear_velocity.norm())));
 }
 
 void Simulation::fail(DriveSlot& d, const std::exception& e) {

@@ -5,10 +5,12 @@
 #include <fmt/format.h>
 
 #include "gaitlab/controllers/registry.h"
+#include "gaitlab/files.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/suggest.h"
 #include "hot_reload.h"
 #include "lua_controller.h"
+#include "lua_util.h"
 #include "recording.h"
 #include "wrap.h"
 
@@ -33,6 +35,17 @@ std::shared_ptr<LuaControllerClass> class_on_top(lua_State* L) {
 }
 
 }  // namespace
+
+std::string checked_input_path(lua_State* L, const std::string& arg) {
+    // input_path copies the file for the run folders as it names it: check what it would copy
+    const std::string path = Recordings::of(L).input_path(script_path(L, arg));
+    try {
+        check_file(path);
+    } catch (const ReadError& e) {
+        throw FormatError(fmt::format("{}: cannot read the file: {}", path, e.reason()), path, 0);
+    }
+    return input_path(L, arg);
+}
 
 std::shared_ptr<Controller> make_controller(lua_State* L, const ControllerRef& ref) {
     std::shared_ptr<Controller> c;
@@ -144,15 +157,15 @@ ActuationSpec relative_to(ActuationSpec spec, const std::string& file) {
 LoadedSimulation load_simulation(lua_State* L, const std::string& path) {
     LoadedSimulation out;
     // every file goes through input_path: noted for the run folders, a replay reads its copies
-    out.file = read_simulation(input_path(L, path));
+    out.file = read_simulation(checked_input_path(L, path));
     const EnvironmentSpec env =
-        read_environment(input_path(L, resolve_path(path, out.file.environment)));
+        read_environment(checked_input_path(L, resolve_path(path, out.file.environment)));
     out.world = std::make_shared<WorldBinding>();
     out.world->spec = env.world;
     out.world->placements = env.placements;
     for (const RobotEntry& entry : out.file.robots) {
         auto robot = std::make_shared<RobotBinding>();
-        robot->spec = read_robot(input_path(L, resolve_path(path, entry.robot)));
+        robot->spec = read_robot(checked_input_path(L, resolve_path(path, entry.robot)));
         for (const auto& other : out.robots) {
             if (other->spec.name == robot->spec.name) {
                 throw FormatError(fmt::format("{}: two robots named '{}' (placements name robots: "
@@ -163,8 +176,9 @@ LoadedSimulation load_simulation(lua_State* L, const std::string& path) {
         }
         std::vector<std::shared_ptr<Controller>> controllers;
         if (!entry.actuation.empty()) {
-            controllers = actuate(
-                L, *robot, read_actuation(input_path(L, resolve_path(path, entry.actuation))));
+            controllers =
+                actuate(L, *robot,
+                        read_actuation(checked_input_path(L, resolve_path(path, entry.actuation))));
         }
         out.world->add(robot, std::nullopt);
         out.robots.push_back(robot);

@@ -15,6 +15,12 @@
 
 namespace gaitlab::scripting {
 
+/// The file a script's `arg` names as input_path gives it (relative to the calling script, or
+/// the replay's copy of it), once check_file says it can be read: a directory, a device, a
+/// FIFO or a huge file is refused before anything opens it. Throws FormatError "PATH: cannot
+/// read the file: REASON", as the XML readers do.
+std::string checked_input_path(lua_State* L, const std::string& arg);
+
 /// The controller `ref` names, with its parameters set. Lua controller files (relative to the
 /// file the reference was read from) load through the controller-file cache, so they hot
 /// reload. Errors (an unknown controller or parameter, a value out of range, a broken Lua

@@ -212,8 +212,9 @@ int robot_len(lua_State* L) {
 // gaitlab.robot.load(path): a robot from a robot file, or nil and a message
 int robot_load(lua_State* L) {
     return protect(L, [&] {
-        const std::string path = input_path(L, check_string(L, 1));
+        const std::string arg = check_string(L, 1);
         return file_read(L, [&] {
+            const std::string path = checked_input_path(L, arg);
             auto robot = std::make_shared<RobotBinding>();
             robot->spec = read_robot(path);
             push_robot(L, std::move(robot));
@@ -233,8 +234,9 @@ int robot_save(lua_State* L) {
 // gaitlab.robot.load_urdf(path): a robot from a URDF serial chain, or nil and a message
 int robot_load_urdf(lua_State* L) {
     return protect(L, [&] {
-        const std::string path = input_path(L, check_string(L, 1));
+        const std::string arg = check_string(L, 1);
         return file_read(L, [&] {
+            const std::string path = checked_input_path(L, arg);
             auto robot = std::make_shared<RobotBinding>();
             robot->spec = read_urdf(path);
             push_robot(L, std::move(robot));

@@ -95,6 +95,8 @@ void push_new_simulation(lua_State* L, std::shared_ptr<WorldBinding> world,
     try {
         validate(o);
         std::shared_ptr<Simulation> sim = world->compile(o);
+        for (const std::string& w : sim->warnings())
+            report(main, "warning: " + w);
         // the simulation lives in this Lua state: reporting through it is safe
         sim->set_controller_error_handler([main](const Controller& c, const std::exception& e) {
             std::string message = fmt::format("controller '{}' failed: {}", c.name(), e.what());
@@ -358,6 +360,13 @@ int simulation_index(lua_State* L) {
             lua_pushinteger(L, sim.options().solver_iterations);
         } else if (k == "on_controller_error") {
             lua_pushstring(L, to_string(sim.options().on_controller_error));
+        } else if (k == "warnings") {
+            const std::vector<std::string>& w = sim.warnings();
+            lua_createtable(L, static_cast<int>(w.size()), 0);
+            for (size_t i = 0; i < w.size(); ++i) {
+                lua_pushstring(L, w[i].c_str());
+                lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+            }
         } else if (k == "paused") {
             lua_pushboolean(L, sim.paused());
         } else if (k == "seed") {

@@ -389,8 +389,18 @@ int world_heightfield(lua_State* L) {
         } else if (ht != LUA_TNIL) {
             f.fail("heights", "function or table of rows expected, got " + type_name(L, -1));
         } else {
-            // relative to the script that names it; read now, so a bad image fails here
-            s.image = input_path(L, f.string("image", ""));
+            // relative to the script that names it; read now, so a bad image fails here. What
+            // input_path copies for the run folders is checked first: a directory or a device
+            // is left to height_grid to refuse, with the path named as it names it
+            const std::string image = f.string("image", "");
+            s.image = Recordings::of(L).input_path(script_path(L, image));
+            bool readable = true;
+            try {
+                check_file(s.image);
+            } catch (const ReadError&) {
+                readable = false;
+            }
+            if (readable) s.image = input_path(L, image);
             s.max_height = f.number("max_height", s.max_height);
             try {
                 validate(s, number);
@@ -458,8 +468,9 @@ int world_triangles(lua_State* L) {
 // the names it places go when added), or nil and a message
 int world_load(lua_State* L) {
     return protect(L, [&] {
-        const std::string path = input_path(L, check_string(L, 1));
+        const std::string arg = check_string(L, 1);
         return file_read(L, [&] {
+            const std::string path = checked_input_path(L, arg);
             EnvironmentSpec env = read_environment(path);
             auto world = std::make_shared<WorldBinding>();
             world->spec = std::move(env.world);

@@ -544,3 +544,66 @@ TEST_CASE("observers and event listeners may add and remove callbacks while they
     sim.reset();
     CHECK(heard == std::vector<std::string>{"first", "second"});
 }
+
+TEST_CASE("a robot that starts inside an object, the floor or another robot gets a warning",
+          "[simulation][overlap]") {
+    using Catch::Matchers::Contains;
+    SECTION("resting on the floor, on stairs or next to a wall: no warning") {
+        WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+        WallSpec wall;
+        wall.position = {0.15, 0.036, 0};  // 20 mm thick, touching the robot's side
+        w.walls.push_back(wall);
+        StairsSpec stairs;
+        stairs.position = {1, 0, 0};
+        w.stairs.push_back(stairs);
+        PlacedRobot on_stairs = w.robots[0];
+        on_stairs.robot.name = "climber";
+        on_stairs.pose.position = {1.205, 0, 0.04};  // on the second step (0.2 m deep)
+        on_stairs.robot = make_chain([] {
+            ChainSpec c;
+            c.name = "climber";
+            c.modules = 2;
+            return c;
+        }());
+        w.robots.push_back(on_stairs);
+        Simulation sim(w);
+        CHECK(sim.warnings() == std::vector<std::string>{});
+    }
+    SECTION("inside a box: the warning names the body, the box and the depth") {
+        WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+        BoxSpec box;
+        box.size = {0.2, 0.2, 0.2};
+        box.pose.position = {0.29, 0, 0.1};  // around the head and the last segment
+        w.boxes.push_back(box);
+        Simulation sim(w);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0],
+                   Catch::Matchers::StartsWith("body 'segment3' of robot 'snake' starts 52.0 ") &&
+                       Contains("mm deep inside box 1: the contact solver will throw it out "
+                                "(place the robot clear of it, e.g. higher)"));
+        // warned, not refused: the scene still runs (and the solver pushes the head out)
+        CHECK_NOTHROW(sim.run(0.1));
+    }
+    SECTION("below the floor") {
+        WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+        w.robots[0].pose.position.z = -0.1;
+        Simulation sim(w);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0], Contains("deep inside the floor"));
+    }
+    SECTION("inside another robot") {
+        WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+        w.robots.push_back(w.robots[0]);
+        w.robots[1].pose.position.x = 0.01;
+        Simulation sim(w);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0],
+                   Contains("of robot 'snake_2'") && Contains("of robot 'snake'"));
+    }
+    SECTION("a shallow overlap (under 5 mm) is left to the solver") {
+        WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+        w.robots[0].pose.position.z = -0.003;
+        Simulation sim(w);
+        CHECK(sim.warnings().empty());
+    }
+}

@@ -351,6 +351,23 @@ TEST_CASE("environment files reject values out of range before anything runs") {
                       "'friction')"));
 }
 
+TEST_CASE("environment files range-check gravity and heightfield heights", "[limits]") {
+    CHECK_THAT(environment_error("<environment gravity=\"0 0 -1e30\">\n<floor/></environment>"),
+               Equals("env.xml:3: environment: gravity z must be in [-1000, 1000] m/s² (got "
+                      "-1e+30)"));
+    CHECK_THAT(environment_error("<environment>\n<floor/>\n<heightfield samples=\"2 2\">\n"
+                                 "<heights>0 0 0 2000</heights></heightfield></environment>"),
+               Equals("env.xml:5: environment/heightfield[1]: heightfield 1 height at grid "
+                      "point (2, 2) must be in [-1000, 1000] m (got 2000)"));
+    CHECK_THAT(environment_error("<environment>\n<heightfield image=\"t.png\" "
+                                 "max_height=\"1e9\"/></environment>"),
+               Equals("env.xml:4: environment/heightfield[1]: heightfield 1 max_height must be "
+                      "at most 1000 m (got 1000000000 m)"));
+    CHECK_THAT(environment_error("<environment>\n<box position=\"1e30 0 0\"/></environment>"),
+               Equals("env.xml:4: environment/box[1]: box 1 position x must be in [-10000, "
+                      "10000] m (got 1e+30)"));
+}
+
 TEST_CASE("simulation files round-trip and name missing parts by their resolved path") {
     TempDir dir("xml_sim");
     test::write_text(dir.file("env.xml"), doc("<environment/>"));

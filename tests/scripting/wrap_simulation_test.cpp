@@ -172,3 +172,23 @@ TEST_CASE("a Lua controller may drive new groups from its step but not step its 
         CHECK(inner.integer("sim.ticks") == 0);
     }
 }
+
+TEST_CASE("a Lua controller setting a non-finite angle fails", "[wrap_simulation][divergence]") {
+    for (const char* value : {"0/0", "1/0", "-math.huge"}) {
+        LuaFixture lua;
+        lua.run(std::string(R"(
+            robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
+            world = gaitlab.world()
+            world:add(robot)
+            Bad = gaitlab.controller{ name = "bad", step = function(self)
+              self:set_angle(2, )") +
+                value + R"()
+            end }
+            robot:group("all"):drive(Bad())
+            sim = gaitlab.simulation{ world = world }
+        )");
+        CHECK(lua.error_of("sim:run(1)") ==
+              "test:6: bad argument #2 to 'set_angle' (finite number of degrees expected)");
+        CHECK(lua.boolean("robot:joints()[2].target == robot:joints()[2].target"));
+    }
+}

@@ -84,6 +84,10 @@ class Simulation {
     Simulation& operator=(const Simulation&) = delete;
 
     const WorldSpec& world() const { return world_; }
+    /// What compiling found suspect but not wrong, for the host to show: a robot that starts
+    /// more than 5 mm deep inside the floor, an object or another robot (the contact solver
+    /// throws it out, often metres away).
+    const std::vector<std::string>& warnings() const { return warnings_; }
     const SimulationOptions& options() const { return options_; }
     long ticks() const { return scheduler_.ticks(); }
     double time() const { return scheduler_.time(); }
@@ -228,6 +232,13 @@ class Simulation {
     void check_drive(int drive) const;
     void dispatch(const Event& event);
     std::string unique_label(const std::string& base);
+    // "body 'tail' of robot 'snake'", "box 2": how messages name physics body `body`
+    std::string body_name(int body) const;
+    // warns if a robot starts deep inside the floor, an object or another robot
+    void check_start_overlaps();
+    std::vector<std::string> warnings_;
+    // throws DivergenceError naming physics body `body` (it diverged in the step to `time`)
+    [[noreturn]] void diverged(int body, double time) const;
     // marks the drive's controller failed and freezes its targets at the measured angles
     void fail(DriveSlot& d, const std::exception& e);
 

@@ -110,6 +110,7 @@ struct PhysicsWorld::Impl {
     std::vector<std::unique_ptr<btCollisionShape>> shapes;
     std::vector<std::unique_ptr<btRigidBody>> bodies;  // robots' bodies, then dynamic boxes
     std::vector<std::unique_ptr<btRigidBody>> fixed;   // floor and static boxes
+    std::vector<std::string> fixed_names;              // "the floor", "wall 1" ...
     std::vector<std::unique_ptr<btHingeConstraint>> hinges;
     std::vector<Joint> joints;
 
@@ -142,11 +143,16 @@ struct PhysicsWorld::Impl {
         info.m_restitution = 0;
         auto body = std::make_unique<btRigidBody>(info);
         btRigidBody* raw = body.get();
+        // the first user index numbers the bodies: dynamic ones from 0 (as body() does),
+        // fixed ones from -2 down (fixed[k] is -2 - k), for overlap reports
         if (mass > 0) {
             raw->setActivationState(DISABLE_DEACTIVATION);
+            raw->setUserIndex(static_cast<int>(bodies.size()));
             bodies.push_back(std::move(body));
         } else {
+            raw->setUserIndex(-2 - static_cast<int>(fixed.size()));
             fixed.push_back(std::move(body));
+            fixed_names.push_back(solid.object);
         }
         shapes.push_back(std::move(shape));
         world.addRigidBody(raw, group, mask);
@@ -169,9 +175,11 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
         btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, plane.get());
         info.m_friction = btScalar(spec.floor.friction);
         auto floor = std::make_unique<btRigidBody>(info);
+        floor->setUserIndex(-2);
         s.world.addRigidBody(floor.get(), btBroadphaseProxy::StaticFilter,
                              btBroadphaseProxy::AllFilter);
         s.fixed.push_back(std::move(floor));
+        s.fixed_names.emplace_back("the floor");
         s.shapes.push_back(std::move(plane));
     }
 
@@ -226,6 +234,7 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
         j.hinge->enableFeedback(true);
     }
 
+    first_object_body_ = static_cast<int>(s.bodies.size());
     // the world's objects, expanded into solids only now (a heightfield reads its image here)
     for (const Solid& solid : world_solids(spec)) {
         const bool dynamic = solid.mass > 0;
@@ -298,6 +307,69 @@ Vec3 PhysicsWorld::position(int index) const {
 
 double PhysicsWorld::speed(int index) const {
     return impl_->bodies[static_cast<size_t>(index)]->getLinearVelocity().length();
+}
+
+int PhysicsWorld::first_diverged(double max_distance, double max_speed) const {
+    const btScalar d2 = btScalar(max_distance * max_distance);
+    const btScalar v2 = btScalar(max_speed * max_speed);
+    const auto& bodies = impl_->bodies;
+    for (size_t i = 0; i < bodies.size(); ++i) {
+        const btRigidBody& b = *bodies[i];
+        const btTransform& t = b.getWorldTransform();
+        const btVector3& p = t.getOrigin();
+        const btVector3& v = b.getLinearVelocity();
+        const btVector3& w = b.getAngularVelocity();
+        const btMatrix3x3& r = t.getBasis();
+        // one sum is not finite if any term is NaN or infinite
+        const btScalar all = w.x() + w.y() + w.z() + r[0].x() + r[0].y() + r[0].z() + r[1].x() +
+                             r[1].y() + r[1].z() + r[2].x() + r[2].y() + r[2].z();
+        // comparisons with NaN are false: a NaN position or velocity fails them too
+        if (!(p.length2() < d2 && v.length2() < v2 && std::isfinite(all))) {
+            return static_cast<int>(i);
+        }
+    }
+    return -1;
+}
+
+std::optional<PhysicsWorld::Overlap> PhysicsWorld::deepest_robot_overlap(double tolerance) const {
+    // contact tests use each body's collision filter, so a robot's own bodies (which do not
+    // collide unless self_collision is on, and never across a joint) are not reported
+    struct Deepest : btCollisionWorld::ContactResultCallback {
+        int self = -1;
+        int other = 0;  // user index of the other body
+        btScalar depth = 0;
+        btScalar addSingleResult(btManifoldPoint& cp, const btCollisionObjectWrapper* a, int, int,
+                                 const btCollisionObjectWrapper* b, int, int) override {
+            const btCollisionObject* o = a->getCollisionObject()->getUserIndex() == self
+                                             ? b->getCollisionObject()
+                                             : a->getCollisionObject();
+            if (-cp.getDistance() > depth) {
+                depth = -cp.getDistance();
+                other = o->getUserIndex();
+            }
+            return 0;
+        }
+    };
+    std::optional<Overlap> out;
+    const int robot_bodies = first_object_body_;
+    for (int b = 0; b < robot_bodies; ++b) {
+        Deepest cb;
+        cb.self = b;
+        cb.depth = btScalar(tolerance);
+        impl_->world.contactTest(impl_->bodies[static_cast<size_t>(b)].get(), cb);
+        if (cb.depth > btScalar(tolerance) && (!out || cb.depth > out->depth)) {
+            Overlap o;
+            o.body = b;
+            o.depth = cb.depth;
+            if (cb.other >= 0) {
+                o.other_body = cb.other;
+            } else {
+                o.other = impl_->fixed_names[static_cast<size_t>(-2 - cb.other)];
+            }
+            out = o;
+        }
+    }
+    return out;
 }
 
 JointError PhysicsWorld::joint_error(int joint) const {
