@@ -9,6 +9,7 @@
 
 #include "bullet/physics_world.h"
 #include "check.h"
+#include "gaitlab/checked.h"
 #include "gaitlab/controller.h"
 #include "gaitlab/error.h"
 #include "gaitlab/servo.h"
@@ -18,13 +19,8 @@ namespace gaitlab {
 
 void validate(const SimulationOptions& o) {
     detail::check_range("dt", o.dt, 1e-6, 0.1, "s");
-    if (o.control_every < 1) {
-        throw SpecError(fmt::format("control_every must be at least 1 (got {})", o.control_every));
-    }
-    if (o.solver_iterations < 1 || o.solver_iterations > 10000) {
-        throw SpecError(
-            fmt::format("solver_iterations must be in [1, 10000] (got {})", o.solver_iterations));
-    }
+    checked_int("control_every", o.control_every, 1, kMaxControlEvery);
+    checked_int("solver_iterations", o.solver_iterations, 1, kMaxSolverIterations);
 }
 
 const char* to_string(ControllerErrorPolicy policy) {
@@ -375,6 +371,8 @@ void Simulation::check_idle(const char* what) const {
 
 long Simulation::step(long ticks) {
     check_idle("step");
+    // within kMaxTicks in all: the tick counter never wraps and time stays exact
+    checked_integer("ticks", ticks, 0, kMaxTicks - this->ticks());
     paused_ = false;
     for (long i = 0; i < ticks; ++i) {
         if (!pre_ticks_.idle()) {
@@ -391,13 +389,28 @@ long Simulation::step(long ticks) {
     return ticks;
 }
 
+long checked_ticks(std::string_view what, double seconds, double dt, long done) {
+    if (!(std::isfinite(seconds) && seconds >= 0)) {
+        throw SpecError(fmt::format("{} must be a non-negative number of seconds (got {})", what,
+                                    detail::shown(seconds)));
+    }
+    // compared as doubles first: seconds / dt may be far beyond what a long holds
+    const long left = kMaxTicks - done;
+    const double n = std::round(seconds / dt);
+    if (!(n <= static_cast<double>(left))) {
+        throw SpecError(fmt::format("{} must be in [0, {:g}] s at dt = {:g} s (got {:g} s)", what,
+                                    static_cast<double>(left) * dt, dt, seconds));
+    }
+    return static_cast<long>(n);
+}
+
+long Simulation::ticks_for(double seconds) const {
+    return checked_ticks("run time", seconds, options_.dt, ticks());
+}
+
 long Simulation::run(double seconds) {
     check_idle("run");
-    if (!(std::isfinite(seconds) && seconds >= 0)) {
-        throw SpecError(
-            fmt::format("run time must be a non-negative number of seconds (got {})", seconds));
-    }
-    return step(std::lround(seconds / options_.dt));
+    return step(ticks_for(seconds));
 }
 
 void Simulation::reset(Origin origin) {

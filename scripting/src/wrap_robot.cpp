@@ -25,7 +25,17 @@ int robot_chain(lua_State* L) {
         ChainSpec spec;
         spec.name = f.string("name", "robot");
         if (!f.has("modules")) f.fail("modules", "number of modules expected, got nil");
-        spec.modules = saturate_int(f.integer("modules", 0));
+        // checked before it becomes an int (make_chain's words for make_chain's range), so a
+        // count beyond int never wraps into a valid one
+        const long long modules = f.integer("modules", 0);
+        if (modules < 1) {
+            throw ArgError(1, fmt::format("modules must be at least 1 (got {})", modules));
+        }
+        if (modules > kMaxModules) {
+            throw ArgError(
+                1, fmt::format("modules must be at most {} (got {})", kMaxModules, modules));
+        }
+        spec.modules = static_cast<int>(modules);
         if (f.push("module") != LUA_TNIL) {
             try {
                 spec.module = to_module(L, -1);

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "config_files.h"
+#include "gaitlab/checked.h"
 #include "gaitlab/controller.h"
 #include "gaitlab/files.h"
 #include "guard.h"
@@ -48,11 +49,14 @@ RecordRequest to_request(lua_State* L, int index, int arg, const std::string& pr
     try {
         Fields f(L, index, arg, {"dir", "record_every", "flush_seconds", "series"});
         r.dir = f.string("dir", "");
-        const long long every = f.integer("record_every", 0);
-        if (f.has("record_every") && every < 1) {
-            fail(fmt::format("record_every must be at least 1 (got {})", every));
+        if (f.has("record_every")) {
+            try {
+                r.options.record_every =
+                    checked_int("record_every", f.integer("record_every", 0), 1, kMaxControlEvery);
+            } catch (const SpecError& e) {
+                fail(e.what());
+            }
         }
-        r.options.record_every = static_cast<int>(every);
         r.options.flush_seconds = f.number("flush_seconds", r.options.flush_seconds);
         if (!(std::isfinite(r.options.flush_seconds) && r.options.flush_seconds >= 0)) {
             fail("flush_seconds must be a non-negative number of seconds");
@@ -137,8 +141,16 @@ int simulation_new(lua_State* L) {
         lua_pop(L, 1);
         SimulationOptions o;
         o.dt = f.number("dt", o.dt);
-        o.control_every = static_cast<int>(f.integer("control_every", o.control_every));
-        o.solver_iterations = static_cast<int>(f.integer("solver_iterations", o.solver_iterations));
+        // counts are checked before they become ints: 2^32 + 30 must not become 30
+        const long long every = f.integer("control_every", o.control_every);
+        const long long iterations = f.integer("solver_iterations", o.solver_iterations);
+        try {
+            o.control_every = checked_int("control_every", every, 1, kMaxControlEvery);
+            o.solver_iterations =
+                checked_int("solver_iterations", iterations, 1, kMaxSolverIterations);
+        } catch (const SpecError& e) {
+            throw ArgError(1, e.what());
+        }
         const long long seed = f.integer("seed", 0);
         if (seed < 0) f.fail("seed", "non-negative integer expected");
         o.seed = static_cast<std::uint64_t>(seed);
@@ -167,6 +179,11 @@ int simulation_run(lua_State* L) {
         if (!(std::isfinite(seconds) && seconds >= 0)) {
             throw ArgError(2, "non-negative number of seconds expected");
         }
+        try {
+            sim.ticks_for(seconds);  // a run that would not fit is a bad argument
+        } catch (const SpecError& e) {
+            throw ArgError(2, e.what());
+        }
         sim.run(seconds);
         return 0;
     });
@@ -177,6 +194,11 @@ int simulation_step(lua_State* L) {
         Simulation& sim = check_sim(L, 1);
         const long long n = lua_isnoneornil(L, 2) ? 1 : check_integer(L, 2);
         if (n < 0) throw ArgError(2, "non-negative number of ticks expected");
+        try {
+            checked_integer("ticks", n, 0, kMaxTicks - sim.ticks());
+        } catch (const SpecError& e) {
+            throw ArgError(2, e.what());
+        }
         sim.step(static_cast<long>(n));
         return 0;
     });

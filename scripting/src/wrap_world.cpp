@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "config_files.h"
+#include "gaitlab/checked.h"
 #include "gaitlab/files.h"
 #include "gaitlab/geometry.h"
 #include "gaitlab/xml.h"
@@ -106,6 +107,18 @@ int add_object(lua_State* L, std::vector<Spec>& objects, Spec spec) {
     return 1;
 }
 
+// integer field `key` of the next object of `kind` (`existing` of them so far), checked
+// against [lo, hi] before it becomes an int, worded as the object's own check words it
+int count_field(const Fields& f, const char* key, int fallback, size_t existing, const char* kind,
+                int lo, int hi) {
+    const long long v = f.integer(key, fallback);
+    try {
+        return checked_int(fmt::format("{} {} {}", kind, existing + 1, key), v, lo, hi);
+    } catch (const SpecError& e) {
+        throw ArgError(2, e.what());
+    }
+}
+
 // the position, yaw (deg) and friction every object takes
 template <class Spec>
 void read_placement(const Fields& f, Spec& s, const Vec3& default_position) {
@@ -167,8 +180,8 @@ int world_stairs(lua_State* L) {
                  {"steps", "step_height", "step_depth", "width", "landing", "position", "yaw",
                   "friction"});
         StairsSpec s;
-        const long long steps = f.integer("steps", s.steps);
-        s.steps = saturate_int(steps);
+        s.steps =
+            count_field(f, "steps", s.steps, w.spec.stairs.size(), "stairs", 1, kMaxStairsSteps);
         s.step_height = f.number("step_height", s.step_height);
         s.step_depth = f.number("step_depth", s.step_depth);
         s.width = f.number("width", s.width);
@@ -202,7 +215,7 @@ int world_pipe(lua_State* L) {
         s.radius = f.number("radius", s.radius);
         s.thickness = f.number("thickness", s.thickness);
         s.length = f.number("length", s.length);
-        s.sides = saturate_int(f.integer("sides", s.sides));
+        s.sides = count_field(f, "sides", s.sides, w.spec.pipes.size(), "pipe", 3, kMaxPipeSides);
         // lying on the floor unless told otherwise
         read_placement(f, s, {0, 0, s.radius + s.thickness});
         return add_object(L, w.spec.pipes, s);
@@ -218,7 +231,8 @@ int world_rubble(lua_State* L) {
         RubbleSpec s;
         s.length = f.number("length", s.length);
         s.width = f.number("width", s.width);
-        s.count = saturate_int(f.integer("count", s.count));
+        s.count =
+            count_field(f, "count", s.count, w.spec.rubble.size(), "rubble", 0, kMaxRubbleCount);
         s.min_size = f.number("min_size", s.min_size);
         s.max_size = f.number("max_size", s.max_size);
         s.min_height = f.number("min_height", s.min_height);

@@ -78,9 +78,11 @@ TEST_CASE("bad simulation options are rejected with the expected range") {
     }
     SECTION("control_every below 1") {
         REQUIRE_THROWS_WITH(Simulation(w, options_with(0.001, 0, 10)),
-                            Equals("control_every must be at least 1 (got 0)"));
+                            Equals("control_every must be in [1, 1000000] (got 0)"));
         REQUIRE_THROWS_WITH(validate(options_with(0.001, -5, 10)),
-                            Equals("control_every must be at least 1 (got -5)"));
+                            Equals("control_every must be in [1, 1000000] (got -5)"));
+        REQUIRE_THROWS_WITH(validate(options_with(0.001, 1000001, 10)),
+                            Equals("control_every must be in [1, 1000000] (got 1000001)"));
     }
     SECTION("solver_iterations outside [1, 10000]") {
         REQUIRE_THROWS_WITH(Simulation(w, options_with(0.001, 30, 0)),
@@ -181,6 +183,28 @@ TEST_CASE("run and step advance time in whole ticks") {
     CHECK(sim.ticks() == 62);
     REQUIRE_THROWS_WITH(sim.run(-1),
                         Equals("run time must be a non-negative number of seconds (got -1)"));
+}
+
+TEST_CASE("run and step never wrap: a run too long for the tick counter is refused",
+          "[simulation][limits]") {
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    sim.step(3);
+    // 1e17 s is 1e20 ticks: std::lround overflowed and the run did nothing
+    REQUIRE_THROWS_WITH(sim.run(1e17), Equals("run time must be in [0, 9.0072e+12] s at dt = "
+                                              "0.001 s (got 1e+17 s)"));
+    REQUIRE_THROWS_WITH(sim.run(std::numeric_limits<double>::infinity()),
+                        Equals("run time must be a non-negative number of seconds (got inf)"));
+    REQUIRE_THROWS_WITH(sim.run(std::nan("")),
+                        Equals("run time must be a non-negative number of seconds (got nan)"));
+    REQUIRE_THROWS_WITH(sim.step(1L << 62), Equals("ticks must be in [0, 9007199254740989] (got "
+                                                   "4611686018427387904)"));
+    REQUIRE_THROWS_WITH(sim.step(-1), Equals("ticks must be in [0, 9007199254740989] (got -1)"));
+    CHECK(sim.ticks() == 3);
+    CHECK(sim.ticks_for(1.5) == 1500);
+    CHECK(checked_ticks("duration", 10, 0.001) == 10000);
+    REQUIRE_THROWS_WITH(checked_ticks("duration", 1e16, 0.001),
+                        Equals("duration must be in [0, 9.0072e+12] s at dt = 0.001 s (got 1e+16 "
+                               "s)"));
 }
 
 TEST_CASE("world placement: the tail at the origin, bodies along +x at z = 0.026") {

@@ -243,8 +243,8 @@ TEST_CASE("bad files give nil and a message naming file and line", "[config_file
                               "</simulation>\n</gaitlab>\n");
     lua.run("s, err = gaitlab.simulation.load(DIR .. '/sim.xml')");
     CHECK(lua.string("err") == dir.file("sim.xml") +
-                                   ":4: simulation/robot[1]: attribute 'file': no file at " +
-                                   dir.file("robots/r.xml"));
+                                   ":4: simulation/robot[1]: attribute 'file': cannot read " +
+                                   dir.file("robots/r.xml") + ": No such file or directory");
 }
 
 TEST_CASE("a controller defined inside a script cannot be saved, and says why", "[config_files]") {

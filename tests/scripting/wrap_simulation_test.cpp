@@ -18,7 +18,7 @@ TEST_CASE("simulation rejects bad options with Lua-worded messages", "[wrap_simu
     CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { every = 3 } }") ==
           bad + "field 'record': unknown key 'every')");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { record_every = 0 } }") ==
-          bad + "field 'record': record_every must be at least 1 (got 0))");
+          bad + "field 'record': record_every must be in [1, 1000000] (got 0))");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { flush_seconds = -1 } }") ==
           bad + "field 'record': flush_seconds must be a non-negative number of seconds)");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { series = 'x' } }") ==
@@ -32,7 +32,7 @@ TEST_CASE("simulation rejects bad options with Lua-worded messages", "[wrap_simu
     CHECK(lua.error_of("gaitlab.simulation{ world = w, dt = 0 }") ==
           bad + "dt must be in [1e-06, 0.1] s (got 0))");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, control_every = 0 }") ==
-          bad + "control_every must be at least 1 (got 0))");
+          bad + "control_every must be in [1, 1000000] (got 0))");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, control_every = 2.5 }") ==
           bad + "field 'control_every': integer expected, got a fractional number)");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, seed = -1 }") ==
@@ -191,4 +191,45 @@ TEST_CASE("a Lua controller setting a non-finite angle fails", "[wrap_simulation
               "test:6: bad argument #2 to 'set_angle' (finite number of degrees expected)");
         CHECK(lua.boolean("robot:joints()[2].target == robot:joints()[2].target"));
     }
+}
+
+TEST_CASE("counts and run lengths never wrap into other numbers", "[wrap_simulation][limits]") {
+    LuaFixture lua;
+    lua.run(R"(
+        w = gaitlab.world()
+        w:add(gaitlab.robot.chain{ modules = 2 })
+    )");
+    const std::string bad = "test:1: bad argument #1 to 'simulation' (";
+    // 2^32 + 30 used to become 30
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, control_every = 2^32 + 30 }") ==
+          bad + "control_every must be in [1, 1000000] (got 4294967326))");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, solver_iterations = 2^32 + 20 }") ==
+          bad + "solver_iterations must be in [1, 10000] (got 4294967316))");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { record_every = 4294967297 } }") ==
+          bad + "field 'record': record_every must be in [1, 1000000] (got 4294967297))");
+    lua.run("sim = gaitlab.simulation{ world = w }");
+    CHECK(lua.error_of("sim:run(1e17)") ==
+          "test:1: bad argument #1 to 'run' (run time must be in [0, 9.0072e+12] s at dt = 0.001 "
+          "s (got 1e+17 s))");
+    CHECK(lua.error_of("sim:step(2^62)") ==
+          "test:1: bad argument #1 to 'step' (ticks must be in [0, 9007199254740992] (got "
+          "4611686018427387904))");
+    CHECK(lua.integer("sim.ticks") == 0);
+    lua.run("sim:step(2^4)");  // a float with an integer value is a count
+    CHECK(lua.integer("sim.ticks") == 16);
+
+    const std::string chain = "test:1: bad argument #1 to 'chain' (";
+    CHECK(lua.error_of("gaitlab.robot.chain{ modules = 2^32 + 8 }") ==
+          chain + "modules must be at most 1000 (got 4294967304))");
+    CHECK(lua.error_of("gaitlab.robot.chain{ modules = -2^40 }") ==
+          chain + "modules must be at least 1 (got -1099511627776))");
+    CHECK(lua.error_of("w:stairs{ steps = 2^32 + 3 }") ==
+          "test:1: bad argument #1 to 'stairs' (stairs 1 steps must be in [1, 1000] (got "
+          "4294967299))");
+    CHECK(lua.error_of("w:pipe{ sides = 2^32 + 8 }") ==
+          "test:1: bad argument #1 to 'pipe' (pipe 1 sides must be in [3, 256] (got "
+          "4294967304))");
+    CHECK(lua.error_of("w:rubble{ count = 2^40 }") ==
+          "test:1: bad argument #1 to 'rubble' (rubble 1 count must be in [0, 100000] (got "
+          "1099511627776))");
 }

@@ -32,11 +32,25 @@ const char* to_string(ControllerErrorPolicy policy);
 
 class Controller;
 
+/// Limits of simulation options and run lengths (docs/formats.md).
+inline constexpr int kMaxControlEvery = 1000000;  ///< also the limit of a recording's every
+inline constexpr int kMaxSolverIterations = 10000;
+/// ticks a simulation runs in all (2^53: time = ticks · dt stays exact, and a tick count is a
+/// Lua integer and a double alike)
+inline constexpr long kMaxTicks = 9007199254740992L;
+
+/// The ticks `seconds` make at step `dt` (round(seconds / dt)), when they keep a run that has
+/// done `done` ticks within kMaxTicks; otherwise SpecError "WHAT must be in [0, MAX] s at dt =
+/// DT s (got SECONDS s)" (and for a negative or non-finite number). Never converts a value that
+/// does not fit.
+long checked_ticks(std::string_view what, double seconds, double dt, long done = 0);
+
 /// Global options of a simulation.
 struct SimulationOptions {
-    double dt = 0.001;       ///< physics step, s, in (0, 0.1]
-    int control_every = 30;  ///< ticks between controller steps, >= 1
-    /// constraint solver iterations per step, >= 1; 20 keeps standard gaits within about 1% of
+    double dt = 0.001;       ///< physics step, s, in [1e-6, 0.1]
+    int control_every = 30;  ///< ticks between controller steps, in [1, kMaxControlEvery]
+    /// constraint solver iterations per step, in [1, kMaxSolverIterations]; 20 keeps standard
+    /// gaits within about 1% of
     /// a converged solution and resting robots still (see docs/performance.md)
     int solver_iterations = 20;
     std::uint64_t seed = 0;  ///< seeds everything random in the run
@@ -92,14 +106,18 @@ class Simulation {
     long ticks() const { return scheduler_.ticks(); }
     double time() const { return scheduler_.time(); }
 
-    /// Advances `ticks` ticks (see scheduler.h for the order inside one tick); the pre-tick
+    /// Advances `ticks` ticks, in [0, kMaxTicks - ticks()] (SpecError otherwise; see
+    /// scheduler.h for the order inside one tick); the pre-tick
     /// hooks run before each of them. Between ticks only: from inside a tick (a controller, an
     /// observer, a hook or an event listener) it throws SpecError. Under
     /// ControllerErrorPolicy::pause it returns early, at
     /// the end of the tick in which a controller failed; returns the number of ticks run.
     long step(long ticks = 1);
-    /// Advances round(seconds / dt) ticks (fewer if paused); returns the ticks run.
+    /// Advances round(seconds / dt) ticks (fewer if paused); returns the ticks run. `seconds`
+    /// must be such that the run stays within kMaxTicks in all (SpecError naming the range).
     long run(double seconds);
+    /// The ticks run(seconds) would advance: round(seconds / dt), checked as run checks it.
+    long ticks_for(double seconds) const;
     /// Whether the last step/run returned early because a controller failed under
     /// ControllerErrorPolicy::pause; the next step/run clears it.
     bool paused() const { return paused_; }
