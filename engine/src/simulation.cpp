@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
 #include <string_view>
 #include <utility>
 
@@ -156,6 +157,24 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
       options_(checked(options)),
       scheduler_(options_.dt, options_.control_every) {
     validate(world_);
+    try {
+        compile();
+    } catch (const std::bad_alloc&) {
+        throw out_of_memory();
+    }
+}
+
+Error Simulation::out_of_memory() const {
+    size_t bodies = 0;
+    for (const PlacedRobot& r : world_.robots)
+        bodies += r.robot.bodies.size();
+    return Error(
+        fmt::format("not enough memory to build the simulation ({} robots with {} "
+                    "bodies, {} bodies of world objects)",
+                    world_.robots.size(), bodies, solid_count(world_)));
+}
+
+void Simulation::compile() {
     phases_ = std::make_unique<Phases>(*this);
     int first_joint = 0;
     for (const PlacedRobot& r : world_.robots) {
@@ -425,7 +444,11 @@ void Simulation::reset(Origin origin) {
     }
     std::fill(targets_.begin(), targets_.end(), 0.0);
     std::fill(commands_.begin(), commands_.end(), 0.0);
-    build();
+    try {
+        build();
+    } catch (const std::bad_alloc&) {
+        throw out_of_memory();
+    }
     // stamped with the tick it happened at, like every other event (a replay applies it there)
     Event e;
     e.kind = EventKind::reset;

@@ -168,10 +168,10 @@ LoadedSimulation load_simulation(lua_State* L, const std::string& path) {
         robot->spec = read_robot(checked_input_path(L, resolve_path(path, entry.robot)));
         for (const auto& other : out.robots) {
             if (other->spec.name == robot->spec.name) {
-                throw FormatError(fmt::format("{}: two robots named '{}' (placements name robots: "
-                                              "give each its own name)",
-                                              path, robot->spec.name),
-                                  path, 0);
+                throw FormatError(fmt::format("{}:{}: two robots named '{}' (placements name "
+                                              "robots: give each its own name)",
+                                              path, entry.line, robot->spec.name),
+                                  path, entry.line);
             }
         }
         std::vector<std::shared_ptr<Controller>> controllers;
@@ -190,10 +190,10 @@ LoadedSimulation load_simulation(lua_State* L, const std::string& path) {
             found = found || r->spec.name == p.robot;
         if (!found) {
             const std::string env_file = resolve_path(path, out.file.environment);
-            throw FormatError(fmt::format("{}: robot '{}' is placed but the simulation has no "
+            throw FormatError(fmt::format("{}:{}: robot '{}' is placed but the simulation has no "
                                           "robot of that name",
-                                          env_file, p.robot),
-                              env_file, 0);
+                                          env_file, p.line, p.robot),
+                              env_file, p.line);
         }
     }
     return out;

@@ -1,5 +1,6 @@
 // gaitlab.simulation: compile a world, step it, read its time, record it.
 #include <cmath>
+#include <new>
 
 #include <fmt/format.h>
 
@@ -120,6 +121,9 @@ void push_new_simulation(lua_State* L, std::shared_ptr<WorldBinding> world,
                                          SimulationHandle{sim, 0, {}, std::move(world)});
     } catch (const SpecError& e) {
         throw ArgError(1, e.what());
+    } catch (const std::bad_alloc&) {
+        // the world's spec is copied before the simulation builds (which says so itself)
+        throw Error("not enough memory to build the simulation");
     }
     try {
         Recordings::of(L).created(L, *h, request);
@@ -250,12 +254,25 @@ int simulation_load(lua_State* L) {
         request.dir = rec.dir.empty() ? "" : resolve_path(path, rec.dir);
         request.options.record_every = rec.every;
         request.options.flush_seconds = rec.flush_seconds;
+        // what goes wrong while the file's simulation is built is the file's: named at its
+        // <simulation> line, as nil and a message like any other problem of the file
+        std::string failed;
         try {
             push_new_simulation(L, loaded.world, loaded.file.options, request);
-        } catch (const ArgError& e) {
-            throw Error(fmt::format("{}: {}", path, e.what()));
+        } catch (const ScriptError&) {
+            throw;  // names its own Lua file and line
+        } catch (const std::exception& e) {
+            failed = fmt::format("{}:{}: {}", path, loaded.file.line, e.what());
         }
-        lua_createtable(L, 0, 6);
+        if (!failed.empty()) {
+            lua_settop(L, world - 1);
+            lua_pushnil(L);
+            lua_pushstring(L, failed.c_str());
+            return 2;
+        }
+        lua_createtable(L, 0, 7);
+        lua_pushinteger(L, loaded.file.line);
+        lua_setfield(L, -2, "line");
         lua_pushstring(L, loaded.file.name.c_str());
         lua_setfield(L, -2, "name");
         lua_pushnumber(L, loaded.file.duration);

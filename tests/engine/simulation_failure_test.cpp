@@ -3,8 +3,11 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -14,6 +17,30 @@
 #include "sim_support.h"
 
 using namespace gaitlab;
+
+// Allocations through operator new larger than `g_refuse_above` bytes fail while it is not 0,
+// as they would on a machine without that much memory (this test executable only).
+namespace {
+std::atomic<std::size_t> g_refuse_above{0};
+}  // namespace
+
+// GCC cannot see that these replace the global pair and warns about free() after new
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpragmas"
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+void* operator new(std::size_t n) {
+    const std::size_t limit = g_refuse_above.load(std::memory_order_relaxed);
+    if (limit != 0 && n > limit) throw std::bad_alloc();
+    if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
+    throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept {
+    std::free(p);
+}
+void operator delete(void* p, std::size_t) noexcept {
+    std::free(p);
+}
+#pragma GCC diagnostic pop
 
 namespace {
 
@@ -209,4 +236,28 @@ TEST_CASE("a target that is not a finite number fails the controller, whatever i
     REQUIRE_NOTHROW(sim.run(1));
     CHECK(c->failed());
     CHECK(std::isfinite(sim.joint(0, 1).target));
+}
+
+TEST_CASE("running out of memory while building says so, not std::bad_alloc", "[memory]") {
+    WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+    HeightfieldSpec h;
+    h.samples_x = h.samples_y = 512;  // 2 MiB of heights, copied when the world is built
+    h.heights.assign(512 * 512, 0.0);
+    h.position = {5, 0, 0};
+    w.heightfields.push_back(h);
+    WorldSpec copy = w;  // copied while memory lasts: the constructor takes it by value
+    g_refuse_above = 1 << 20;
+    std::string message;
+    try {
+        Simulation sim(std::move(copy));
+    } catch (const Error& e) {
+        message = e.what();
+    } catch (const std::bad_alloc&) {
+        message = "std::bad_alloc";
+    }
+    g_refuse_above = 0;
+    CHECK(message ==
+          "not enough memory to build the simulation (1 robots with 3 bodies, 1 bodies "
+          "of world objects)");
+    CHECK_NOTHROW(Simulation(w));  // with the memory back, it builds
 }

@@ -484,6 +484,29 @@ TEST_CASE("environment, robot and actuation files refuse counts that would wrap"
                Catch::Matchers::Contains("joint numbers (from 1) expected"));
 }
 
+TEST_CASE("errors name the line of what is wrong: an empty file is line 1", "[lines]") {
+    for (const auto& read : {+[](std::string_view t) { parse_robot(t, "f.xml"); },
+                             +[](std::string_view t) { parse_actuation(t, "f.xml"); },
+                             +[](std::string_view t) { parse_environment(t, "f.xml"); },
+                             +[](std::string_view t) { parse_simulation(t, "f.xml"); }}) {
+        CHECK_THROWS_WITH(read(""), "f.xml:1: malformed XML: XML_ERROR_EMPTY_DOCUMENT");
+        CHECK_THROWS_WITH(read("\n\n  \n"), "f.xml:1: malformed XML: XML_ERROR_EMPTY_DOCUMENT");
+    }
+    // a body's error names the body, not the robot
+    CHECK_THAT(robot_error("<robot name=\"s\">\n<body name=\"a\" size=\"1 1 1\" mass=\"1\"/>\n"
+                           "<body name=\"b\" size=\"1 1 1\" mass=\"0\"/>\n</robot>"),
+               Equals("robot.xml:5: robot/body[2]: robot 's' body 'b' mass must be positive (got "
+                      "0 kg)"));
+    CHECK_THAT(robot_error("<robot name=\"s\">\n<body name=\"a\" size=\"1 1 1\" mass=\"1\"/>\n"
+                           "<body name=\"b\" size=\"1 1 1\" mass=\"1\"/>\n<joint name=\"j\" "
+                           "parent=\"a\" child=\"b\" pivot=\"0 0 0\" axis=\"0 0 2\"/>\n</robot>"),
+               Equals("robot.xml:6: robot/joint[1]: robot 's' joint 'j' axis must be a unit "
+                      "vector"));
+    CHECK_THAT(robot_error("<robot name=\"s\x01\">\n<chain modules=\"2\"/>\n</robot>"),
+               Equals("robot.xml:4: robot/chain[1]: robot name must be valid UTF-8 without "
+                      "control characters (got \"s\\x01\")"));
+}
+
 TEST_CASE("writers check before writing and replace files atomically") {
     TempDir dir("xml_write");
     const std::string path = dir.file("robot.xml");

@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gaitlab/error.h"
 #include "gaitlab/event.h"
 #include "gaitlab/scheduler.h"
 #include "gaitlab/sensor.h"
@@ -244,7 +245,12 @@ class Simulation {
         std::string label;
     };
 
+    // what the constructor does once the spec is valid
+    void compile();
+    // (re)builds the physics from the spec
     void build();
+    // "not enough memory to build the simulation (...)", for a std::bad_alloc while building
+    Error out_of_memory() const;
     void check_robot(int robot) const;
     void check_sensor(int sensor) const;
     void check_drive(int drive) const;

@@ -316,6 +316,7 @@ EnvironmentSpec read_environment_element(const Element& root) {
             k.children({});
             k.allow({"robot", "position", "yaw", "orientation"});
             Placement p;
+            p.line = k.line();
             p.robot = k.required_string("robot");
             for (const Placement& other : env.placements) {
                 if (other.robot == p.robot) {

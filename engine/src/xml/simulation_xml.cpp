@@ -43,6 +43,7 @@ SimulationFile read_simulation_element(const Element& root) {
     root.allow({"name", "duration", "dt", "control_every", "solver_iterations", "seed",
                 "on_controller_error"});
     SimulationFile s;
+    s.line = root.line();
     s.name = root.string("name", s.name);
     s.duration = root.number("duration", s.duration);
     SimulationOptions& o = s.options;
@@ -74,6 +75,7 @@ SimulationFile read_simulation_element(const Element& root) {
         } else if (kind == "robot") {
             k.allow({"file", "actuation"});
             RobotEntry r;
+            r.line = k.line();
             r.robot = read_ref(k, "file", true);
             r.actuation = read_ref(k, "actuation", false);
             s.robots.push_back(r);
