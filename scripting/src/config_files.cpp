@@ -1,6 +1,8 @@
 #include "config_files.h"
 
+#include <cctype>
 #include <filesystem>
+#include <set>
 
 #include <fmt/format.h>
 
@@ -32,6 +34,30 @@ std::shared_ptr<LuaControllerClass> class_on_top(lua_State* L) {
         luaL_checkudata(L, -1, kControllerClassType));
     lua_pop(L, 1);
     return cls;
+}
+
+// `name` as part of a file name: ASCII letters, digits, '-', '_' and non-ASCII UTF-8 (names are
+// valid UTF-8) kept, anything else ('/', '.', '\\', spaces, quotes ...) as '_', at most 64
+// bytes (cut between characters), never empty, unique among `taken` (adds '_2', ...): whatever
+// a robot is called, its parts stay inside the folder they are saved to, one file each
+std::string file_name_part(const std::string& name, std::set<std::string>& taken) {
+    std::string out;
+    for (const char ch : name) {
+        const auto c = static_cast<unsigned char>(ch);
+        const bool keep = std::isalnum(c) || c == '-' || c == '_' || c >= 0x80;
+        out += keep ? ch : '_';
+    }
+    if (out.size() > 64) {
+        size_t cut = 64;
+        while (cut > 0 && (static_cast<unsigned char>(out[cut]) & 0xc0) == 0x80)
+            --cut;  // not inside a UTF-8 sequence
+        out.resize(cut);
+    }
+    if (out.empty()) out = "robot";
+    std::string unique = out;
+    for (int k = 2; !taken.insert(unique).second; ++k)
+        unique = fmt::format("{}_{}", out, k);
+    return unique;
 }
 
 }  // namespace
@@ -223,10 +249,12 @@ std::string normalized_config(const std::string& master, std::vector<ConfigFile>
     file.environment = stem + ".environment.xml";
     parts.push_back({"environment", file.environment, env_path,
                      format_environment(read_environment(env_path)), "", 0});
+    std::set<std::string> taken;
     for (RobotEntry& entry : file.robots) {
         const std::string robot_path = resolve_path(master, entry.robot);
         const RobotSpec robot = read_robot(robot_path);
-        entry.robot = stem + "." + robot.name + ".robot.xml";
+        const std::string part = file_name_part(robot.name, taken);
+        entry.robot = stem + "." + part + ".robot.xml";
         parts.push_back({"robot", entry.robot, robot_path, format_robot(robot), "", 0});
         if (entry.actuation.empty()) continue;
         const std::string act_path = resolve_path(master, entry.actuation);
@@ -236,7 +264,7 @@ std::string normalized_config(const std::string& master, std::vector<ConfigFile>
                 g.controller.name = resolve_path(act_path, g.controller.name);
             }
         }
-        entry.actuation = stem + "." + robot.name + ".actuation.xml";
+        entry.actuation = stem + "." + part + ".actuation.xml";
         parts.push_back({"actuation", entry.actuation, act_path, format_actuation(act), "", 0});
     }
     return format_simulation(file);
@@ -258,8 +286,10 @@ void save_simulation(const std::string& path, const WorldBinding& world,
     const EnvironmentSpec env = environment_of(world);
     std::vector<std::pair<std::string, RobotSpec>> robots;
     std::vector<std::pair<std::string, ActuationSpec>> actuations;
+    std::set<std::string> taken;
     for (const WorldBinding::Entry& e : world.robots) {
-        const std::string& name = e.robot->spec.name;
+        // the robot's name names its files only once it cannot leave the folder
+        const std::string name = file_name_part(e.robot->spec.name, taken);
         RobotEntry entry;
         entry.robot = stem + "." + name + ".robot.xml";
         robots.emplace_back(next_to(entry.robot), e.robot->spec);

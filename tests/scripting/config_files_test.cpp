@@ -4,9 +4,11 @@
 // give nil and "FILE:LINE: ..." messages; controllers defined inside a script cannot be saved.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "gaitlab/xml.h"
 #include "lua_fixture.h"
@@ -331,4 +333,57 @@ TEST_CASE("errors while a simulation file is built or run name the file and its 
           "/dev/zero: cannot read the file: not a regular file (a FIFO, device or socket)");
     lua.run("s, err = gaitlab.actuation.load(DIR)");
     CHECK(lua.string("err") == dir.path.string() + ": cannot read the file: is a directory");
+}
+
+TEST_CASE("sim:save never writes outside its folder, whatever the robots are called",
+          "[config_files][save]") {
+    TempDir dir("save_names");
+    std::filesystem::create_directory(dir.file("out"));
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.path.string() + "'");
+    lua.run(R"(
+        world = gaitlab.world()
+        names = { "../../evil", "/etc/gaitlab_x", "a/b", "a_b", ".hidden", "serpent à sonnettes",
+                  string.rep("é", 100), "back\\slash", "ok" }
+        for i, name in ipairs(names) do
+          local r = gaitlab.robot.chain{ name = name, modules = 2 }
+          world:add(r, { y = i })
+          r:group("all"):drive(gaitlab.controllers.sine{})
+        end
+        sim = gaitlab.simulation{ world = world }
+        saved = assert(sim:save(DIR .. "/out/s.xml"))
+        loaded, setup = assert(gaitlab.simulation.load(DIR .. "/out/s.xml"))
+    )");
+    // the folder holds everything; nothing was written next to it or above it
+    std::vector<std::string> files, outside;
+    for (const auto& e : std::filesystem::directory_iterator(dir.file("out")))
+        files.push_back(e.path().filename().string());
+    for (const auto& e : std::filesystem::recursive_directory_iterator(dir.path)) {
+        if (e.path().parent_path() != dir.path / "out" && e.path() != dir.path / "out") {
+            outside.push_back(e.path().string());
+        }
+    }
+    CHECK(outside.empty());
+    CHECK_FALSE(std::filesystem::exists("/etc/gaitlab_x.robot.xml"));
+    std::sort(files.begin(), files.end());
+    CHECK(files.size() == 2 + 2 * 9);
+    for (const char* f :
+         {"s.______evil.robot.xml", "s._etc_gaitlab_x.robot.xml", "s.a_b.robot.xml",
+          "s.a_b_2.robot.xml", "s._hidden.robot.xml", "s.serpent_à_sonnettes.robot.xml",
+          "s.back_slash.actuation.xml", "s.ok.robot.xml"}) {
+        CHECK(std::find(files.begin(), files.end(), f) != files.end());
+    }
+    // 100 two-byte characters cut to 64 bytes, between characters
+    const std::string e32 = [] {
+        std::string s;
+        for (int i = 0; i < 32; ++i)
+            s += "é";
+        return s;
+    }();
+    CHECK(std::find(files.begin(), files.end(), "s." + e32 + ".robot.xml") != files.end());
+    // and the robots come back under their own names
+    CHECK(lua.boolean("setup.robots['../../evil'] ~= nil"));
+    CHECK(lua.boolean("setup.robots['/etc/gaitlab_x'] ~= nil"));
+    CHECK(lua.boolean("setup.robots['a/b'] ~= nil and setup.robots['a_b'] ~= nil"));
+    CHECK(lua.integer("#setup.controllers['a/b']") == 1);
 }
