@@ -152,6 +152,28 @@ TEST_CASE("a Lua controller may drive new groups from its step but not step its 
     // the first group added stepped from the control tick after the one that added it
     CHECK(lua.number("added[1]:values().time[1]") == Approx(33 * 0.03));
 
+    // sensors attached from a step read from then on, and the step sees them at once
+    lua.run(R"(
+        robot2 = gaitlab.robot.chain{ name = "worm", modules = 3 }
+        world2 = gaitlab.world()
+        world2:add(robot2)
+        seen = {}
+        Watcher = gaitlab.controller{ name = "watcher", step = function(self)
+          local n = #seen + 1
+          if n <= 20 then
+            robot2:sensor{ kind = "imu", module = 1 + n % 3, name = "imu_" .. n }
+            seen[n] = self:sensor("imu_" .. n, "qw")
+          end
+          for m = 1, self.joints do self:set_angle(m, 0) end
+        end }
+        robot2:group("all"):drive(Watcher())
+        sim2 = gaitlab.simulation{ world = world2 }
+        sim2:run(1)
+    )");
+    CHECK(lua.integer("#robot2:sensors()") == 20);
+    CHECK(lua.number("seen[20]") == Approx(1).margin(1e-3));
+    CHECK(lua.number("robot2:sensor('imu_20'):read().qw") == Approx(1).margin(1e-3));
+
     for (const char* call : {"sim:run(1)", "sim:step(5)", "sim:reset()"}) {
         LuaFixture inner;
         inner.run(std::string(R"(
