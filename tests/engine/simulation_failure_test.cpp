@@ -34,7 +34,17 @@ void* operator new(std::size_t n) {
     if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
     throw std::bad_alloc();
 }
+// the nothrow form too (Catch uses it), so every scalar new that the deletes below free comes
+// from malloc (sanitizers check that the pairs match)
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+    const std::size_t limit = g_refuse_above.load(std::memory_order_relaxed);
+    if (limit != 0 && n > limit) return nullptr;
+    return std::malloc(n == 0 ? 1 : n);
+}
 void operator delete(void* p) noexcept {
+    std::free(p);
+}
+void operator delete(void* p, const std::nothrow_t&) noexcept {
     std::free(p);
 }
 void operator delete(void* p, std::size_t) noexcept {
