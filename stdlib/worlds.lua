@@ -4,7 +4,9 @@
 local gaitlab, registry = ...
 local closest = registry["gaitlab.closest"]
 local sources = registry["gaitlab.world_sources"]
-local getinfo, io_open, loadfile, load = debug.getinfo, io.open, loadfile, load
+-- the bounded reader: a directory, a FIFO, a device or a huge file is refused, never read
+local read_source = registry["gaitlab.read_source"]
+local getinfo, load = debug.getinfo, load
 local G = _G
 
 local Preset = { __name = "gaitlab.WorldPreset" }
@@ -156,12 +158,9 @@ function gaitlab.world.load(path)
     local dir = caller_dir(2)
     if dir ~= "" then resolved = dir .. "/" .. path end
   end
-  local f = io_open(resolved, "r")
-  if not f then
-    error(string.format("cannot load world '%s': no file at %s", path, resolved), 2)
-  end
-  f:close()
-  local chunk, message = loadfile(resolved, "t", env)
+  local text, why = read_source(resolved)
+  if not text then error(string.format("cannot load world '%s': %s", path, why), 2) end
+  local chunk, message = load(text, "@" .. resolved, "t", env)
   if not chunk then error(message, 2) end
   local preset = chunk()
   if getmetatable(preset) ~= Preset then

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <string>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -42,6 +43,97 @@ inline void check_non_negative(const std::string& what, double v, const char* un
 
 inline void check_finite(const std::string& what, double v) {
     if (!std::isfinite(v)) throw SpecError(fmt::format("{} must be a finite number", what));
+}
+
+/// `what` must be a finite number in [-limit, limit] (non-finite: check_finite's message).
+inline void check_within(const std::string& what, double v, double limit, const char* unit = "") {
+    check_finite(what, v);
+    if (std::abs(v) > limit) {
+        throw SpecError(fmt::format("{} must be in [{}, {}]{}{} (got {})", what, -limit, limit,
+                                    *unit ? " " : "", unit, v));
+    }
+}
+
+/// `what`, already known to be a number, must not exceed `hi`.
+inline void check_at_most(const std::string& what, double v, double hi, const char* unit = "") {
+    if (v > hi) {
+        throw SpecError(fmt::format("{} must be at most {}{}{} (got {}{}{})", what, hi,
+                                    *unit ? " " : "", unit, v, *unit ? " " : "", unit));
+    }
+}
+
+/// A size: positive, at most `hi`.
+inline void check_size(const std::string& what, double v, double hi, const char* unit = "m") {
+    check_positive(what, v, unit);
+    check_at_most(what, v, hi, unit);
+}
+
+/// The longest name gaitlab accepts (robots, bodies, joints, modules, controllers), bytes.
+inline constexpr size_t kMaxNameBytes = 256;
+
+/// `name` as messages can show it whatever it holds: bytes outside printable ASCII as \xNN.
+inline std::string escaped(std::string_view name) {
+    std::string out;
+    for (unsigned char c : name) {
+        if (c >= 0x20 && c < 0x7f && c != '\\') {
+            out += static_cast<char>(c);
+        } else {
+            out += fmt::format("\\x{:02x}", c);
+        }
+    }
+    return out;
+}
+
+/// Whether `s` is valid UTF-8 (no overlong forms, no surrogates, nothing above U+10FFFF) without
+/// control characters (U+0000-U+001F, U+007F-U+009F).
+inline bool printable_utf8(std::string_view s) {
+    size_t i = 0;
+    while (i < s.size()) {
+        const auto byte = [&](size_t k) { return static_cast<unsigned char>(s[k]); };
+        const unsigned char c = byte(i);
+        if (c < 0x80) {
+            if (c < 0x20 || c == 0x7f) return false;
+            ++i;
+            continue;
+        }
+        size_t n = 0;
+        char32_t cp = 0;
+        if ((c & 0xe0) == 0xc0) {
+            n = 1;
+            cp = c & 0x1fu;
+        } else if ((c & 0xf0) == 0xe0) {
+            n = 2;
+            cp = c & 0x0fu;
+        } else if ((c & 0xf8) == 0xf0) {
+            n = 3;
+            cp = c & 0x07u;
+        } else {
+            return false;
+        }
+        if (i + n >= s.size()) return false;  // truncated sequence
+        for (size_t k = 1; k <= n; ++k) {
+            if ((byte(i + k) & 0xc0) != 0x80) return false;
+            cp = (cp << 6) | (byte(i + k) & 0x3fu);
+        }
+        const char32_t min[] = {0, 0x80, 0x800, 0x10000};
+        if (cp < min[n] || cp > 0x10ffff || (cp >= 0xd800 && cp <= 0xdfff)) return false;
+        if (cp >= 0x80 && cp <= 0x9f) return false;  // C1 controls
+        i += n + 1;
+    }
+    return true;
+}
+
+/// `what` (e.g. "robot name") must be valid UTF-8 without control characters, at most
+/// kMaxNameBytes long: names become series names, file names and JSON strings.
+inline void check_name(const std::string& what, std::string_view name) {
+    if (name.size() > kMaxNameBytes) {
+        throw SpecError(fmt::format("{} must be at most {} bytes long (got {} bytes)", what,
+                                    kMaxNameBytes, name.size()));
+    }
+    if (!printable_utf8(name)) {
+        throw SpecError(fmt::format(
+            "{} must be valid UTF-8 without control characters (got \"{}\")", what, escaped(name)));
+    }
 }
 
 }  // namespace gaitlab::detail

@@ -5,17 +5,22 @@
 
 #include <fmt/format.h>
 
+#include "check.h"
 #include "gaitlab/error.h"
 
 namespace gaitlab {
 
 void validate(const ControllerDef& def) {
     if (def.name.empty()) throw SpecError("controller name must not be empty");
+    // names become series names, labels in files and JSON strings
+    detail::check_name("controller name", def.name);
     std::set<std::string> seen;
     for (const ParamDef& p : def.params) {
         const std::string where =
             fmt::format("parameter '{}' of controller '{}'", p.name, def.name);
         if (p.name.empty()) throw SpecError("parameter names must not be empty");
+        detail::check_name(where + " name", p.name);
+        detail::check_name(where + " unit", p.unit);
         if (!seen.insert(p.name).second) throw SpecError(where + " is declared twice");
         if (!(std::isfinite(p.min) && std::isfinite(p.max) && p.min <= p.max)) {
             throw SpecError(where + " needs a finite range with min <= max");
@@ -27,6 +32,7 @@ void validate(const ControllerDef& def) {
     }
     for (const std::string& v : def.values) {
         if (v.empty()) throw SpecError("value names must not be empty");
+        detail::check_name(fmt::format("value '{}' of controller '{}' name", v, def.name), v);
         if (!seen.insert(v).second) {
             throw SpecError(
                 fmt::format("value '{}' of controller '{}' repeats a parameter or value "
@@ -42,6 +48,11 @@ Controller::Controller(ControllerDef def) : def_(std::move(def)) {
     for (const ParamDef& p : def_.params)
         params_.push_back(p.default_value);
     values_.resize(def_.values.size());
+}
+
+void ControlIO::bad_target(int m, double rad) const {
+    throw SpecError(fmt::format("joint {} of the group: target must be a finite number (got {})",
+                                m + 1, std::isnan(rad) ? "nan" : fmt::format("{} rad", rad)));
 }
 
 int ControlIO::find_sensor(std::string_view name) const {

@@ -28,6 +28,29 @@ std::string describe_size(std::uintmax_t bytes) {
     return fmt::format("{} bytes", bytes);
 }
 
+namespace {
+
+ReadError too_large(const std::string& path, std::uintmax_t max_bytes) {
+    return ReadError(path, "larger than the " + describe_size(max_bytes) + " gaitlab reads");
+}
+
+// what read_file and check_file refuse, from the file's status
+void refuse(const std::string& path, const struct stat& st, std::uintmax_t max_bytes) {
+    if (S_ISDIR(st.st_mode)) throw ReadError(path, "is a directory");
+    if (!S_ISREG(st.st_mode)) {
+        throw ReadError(path, "not a regular file (a FIFO, device or socket)");
+    }
+    if (static_cast<std::uintmax_t>(st.st_size) > max_bytes) throw too_large(path, max_bytes);
+}
+
+}  // namespace
+
+void check_file(const std::string& path, std::uintmax_t max_bytes) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) throw ReadError(path, reason(errno));
+    refuse(path, st, max_bytes);
+}
+
 std::string read_file(const std::string& path, std::uintmax_t max_bytes) {
     // O_NONBLOCK: opening a FIFO must not wait for a writer; it is refused just below
     const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
@@ -38,14 +61,7 @@ std::string read_file(const std::string& path, std::uintmax_t max_bytes) {
     } closer{fd};
     struct stat st {};
     if (::fstat(fd, &st) != 0) throw ReadError(path, reason(errno));
-    if (S_ISDIR(st.st_mode)) throw ReadError(path, "is a directory");
-    if (!S_ISREG(st.st_mode)) {
-        throw ReadError(path, "not a regular file (a FIFO, device or socket)");
-    }
-    const auto too_large = [&] {
-        return ReadError(path, "larger than the " + describe_size(max_bytes) + " gaitlab reads");
-    };
-    if (static_cast<std::uintmax_t>(st.st_size) > max_bytes) throw too_large();
+    refuse(path, st, max_bytes);
     // a regular file may still grow while it is read (or lie about its size, as /proc does):
     // read at most one byte past the limit
     std::string out;
@@ -59,7 +75,7 @@ std::string read_file(const std::string& path, std::uintmax_t max_bytes) {
         }
         if (n == 0) break;
         out.append(buf, static_cast<size_t>(n));
-        if (out.size() > max_bytes) throw too_large();
+        if (out.size() > max_bytes) throw too_large(path, max_bytes);
     }
     return out;
 }

@@ -1,5 +1,6 @@
 #include "gaitlab/geometry.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -163,6 +164,7 @@ HeightGrid height_grid(const HeightfieldSpec& h, int number) {
 
 std::vector<Solid> world_solids(const WorldSpec& world) {
     std::vector<Solid> out;
+    out.reserve(static_cast<size_t>(std::min(solid_count(world), kMaxWorldSolids)));
     for (size_t i = 0; i < world.boxes.size(); ++i) {
         const BoxSpec& b = world.boxes[i];
         out.push_back(box_solid(fmt::format("box {}", i + 1), b.pose, b.size, b.mass, b.friction));
@@ -178,6 +180,15 @@ std::vector<Solid> world_solids(const WorldSpec& world) {
     each(world.pipes, add_pipe);
     each(world.rubble, add_rubble);
     each(world.heightfields, add_heightfield);
+    // images are only read here: their samples count against the world's limit now
+    long long samples = 0;
+    for (const Solid& s : out)
+        samples += static_cast<long long>(s.grid.heights.size());
+    if (samples > kMaxHeightSamples) {
+        throw SpecError(
+            fmt::format("the world's heightfields have {} samples together (at most {})", samples,
+                        kMaxHeightSamples));
+    }
     return out;
 }
 

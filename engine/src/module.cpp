@@ -4,6 +4,7 @@
 
 #include "check.h"
 #include "gaitlab/error.h"
+#include "gaitlab/robot.h"
 
 namespace gaitlab {
 
@@ -42,14 +43,17 @@ ModuleDef builtin_module(std::string_view name) {
 void validate(const ModuleDef& m) {
     const std::string p = "module '" + m.name + "' ";
     if (m.name.empty()) throw SpecError("a module type needs a name");
-    detail::check_positive(p + "length", m.length, "m");
+    detail::check_name("module name", m.name);
+    // the limits of the bodies a chain makes of it (robot.h)
+    detail::check_size(p + "length", m.length, kMaxBodyExtent);
     if (m.shape == Shape::box) {
-        detail::check_positive(p + "width", m.width, "m");
-        detail::check_positive(p + "height", m.height, "m");
+        detail::check_size(p + "width", m.width, kMaxBodyExtent);
+        detail::check_size(p + "height", m.height, kMaxBodyExtent);
     } else {
-        detail::check_positive(p + "radius", m.radius, "m");
+        detail::check_size(p + "radius", m.radius, kMaxBodyExtent / 2);
     }
     detail::check_positive(p + "mass", m.mass, "kg");
+    detail::check_at_most(p + "mass", m.mass, kMaxBodyMass, "kg");
     detail::check_range(p + "friction", m.friction, 0, 1);
     detail::check_positive(p + "servo kp", m.servo.kp, "1/s");
     detail::check_positive(p + "servo max_speed", m.servo.max_speed, "rad/s");

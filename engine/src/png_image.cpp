@@ -2,10 +2,11 @@
 
 #include <png.h>
 
+#include <cctype>
 #include <cstring>
-#include <filesystem>
 
 #include "gaitlab/error.h"
+#include "gaitlab/files.h"
 
 namespace gaitlab::detail {
 
@@ -20,16 +21,23 @@ constexpr int kMaxSide = 4096;
 }  // namespace
 
 GreyImage read_png_grey(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) fail(path, "no such file");
-    if (std::filesystem::is_directory(path, ec)) fail(path, "it is a directory");
+    // the one bounded reader: a directory, a FIFO, a device or a huge file is refused up front
+    std::string bytes;
+    try {
+        bytes = read_file(path);
+    } catch (const ReadError& e) {
+        std::string why = e.reason();
+        if (!why.empty())
+            why[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(why[0])));
+        fail(path, why);
+    }
 
     // libpng's simplified API reports errors through image.message instead of longjmp, so no
     // C++ frame is ever skipped
     png_image image;
     std::memset(&image, 0, sizeof image);
     image.version = PNG_IMAGE_VERSION;
-    if (!png_image_begin_read_from_file(&image, path.c_str())) {
+    if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size())) {
         fail(path, std::string("not a readable PNG file (libpng: ") + image.message + ")");
     }
     if (image.width < 2 || image.height < 2 || image.width > kMaxSide || image.height > kMaxSide) {

@@ -1,5 +1,9 @@
 #include "gaitlab/robot.h"
 
+#include <cmath>
+#include <set>
+#include <string_view>
+
 #include <fmt/format.h>
 
 #include "check.h"
@@ -60,9 +64,11 @@ RobotSpec make_chain(const ChainSpec& spec) {
     if (spec.modules < 1) {
         throw SpecError(fmt::format("modules must be at least 1 (got {})", spec.modules));
     }
-    if (spec.modules > 1000) {
-        throw SpecError(fmt::format("modules must be at most 1000 (got {})", spec.modules));
+    if (spec.modules > kMaxModules) {
+        throw SpecError(
+            fmt::format("modules must be at most {} (got {})", kMaxModules, spec.modules));
     }
+    detail::check_name("robot name", spec.name);
     validate(spec.module);
     const ModuleDef& m = spec.module;
     const bool box = m.shape == Shape::box;
@@ -119,46 +125,69 @@ RobotSpec make_chain(const ChainSpec& spec) {
     return robot;
 }
 
+void validate_body(const std::string& robot_name, const BodySpec& b) {
+    const std::string q = "robot '" + robot_name + "' body '" + b.name + "' ";
+    detail::check_name(q + "name", b.name);
+    detail::check_positive(q + "mass", b.mass, "kg");
+    detail::check_at_most(q + "mass", b.mass, kMaxBodyMass, "kg");
+    detail::check_size(q + "size x", b.size.x, kMaxBodyExtent);
+    detail::check_size(q + "size y", b.size.y, kMaxBodyExtent);
+    detail::check_size(q + "size z", b.size.z, kMaxBodyExtent);
+    detail::check_range(q + "friction", b.friction, 0, 1);
+    if (b.shape == Shape::cylinder && b.size.y != b.size.z) {
+        throw SpecError(q + "is a cylinder: size y and z (its diameter) must be equal");
+    }
+    const Vec3& x = b.pose.position;
+    for (double c : {x.x, x.y, x.z})
+        detail::check_within(q + "position", c, kMaxBodyExtent * kMaxRobotBodies, "m");
+    const Quat& o = b.pose.orientation;
+    if (!(std::abs(o.w * o.w + o.x * o.x + o.y * o.y + o.z * o.z - 1) < 1e-6)) {
+        throw SpecError(q + "orientation must be a unit quaternion");
+    }
+}
+
+void validate_joint(const RobotSpec& robot, const JointSpec& j) {
+    const std::string q = "robot '" + robot.name + "' joint '" + j.name + "' ";
+    detail::check_name(q + "name", j.name);
+    const int nb = static_cast<int>(robot.bodies.size());
+    if (j.parent < 0 || j.parent >= nb || j.child < 0 || j.child >= nb || j.parent == j.child) {
+        throw SpecError(q + "must join two different bodies of the robot");
+    }
+    if (!(std::abs(j.axis.norm() - 1) <= 1e-6)) throw SpecError(q + "axis must be a unit vector");
+    for (double c : {j.pivot.x, j.pivot.y, j.pivot.z})
+        detail::check_within(q + "pivot", c, kMaxBodyExtent * kMaxRobotBodies, "m");
+    if (!(j.min_angle < j.max_angle)) throw SpecError(q + "range must have min < max");
+    detail::check_finite(q + "range min", j.min_angle);
+    detail::check_finite(q + "range max", j.max_angle);
+    detail::check_positive(q + "servo kp", j.servo.kp, "1/s");
+    detail::check_positive(q + "servo max_speed", j.servo.max_speed, "rad/s");
+    detail::check_positive(q + "servo max_torque", j.servo.max_torque, "N·m");
+}
+
 void validate(const RobotSpec& robot) {
     const std::string p = "robot '" + robot.name + "' ";
+    if (robot.name.empty()) throw SpecError("a robot needs a name");
+    detail::check_name("robot name", robot.name);
     if (robot.bodies.empty()) throw SpecError(p + "has no bodies");
+    if (robot.bodies.size() > static_cast<size_t>(kMaxRobotBodies) ||
+        robot.joints.size() > static_cast<size_t>(kMaxRobotBodies)) {
+        throw SpecError(fmt::format("{}has {} bodies and {} joints (at most {} of each)", p,
+                                    robot.bodies.size(), robot.joints.size(), kMaxRobotBodies));
+    }
+    // files refer to bodies by name: they must be unique (a set keeps this linear-log)
+    std::set<std::string_view> names;
     for (const BodySpec& b : robot.bodies) {
-        const std::string q = p + "body '" + b.name + "' ";
-        detail::check_positive(q + "mass", b.mass, "kg");
-        detail::check_positive(q + "size x", b.size.x, "m");
-        detail::check_positive(q + "size y", b.size.y, "m");
-        detail::check_positive(q + "size z", b.size.z, "m");
-        detail::check_range(q + "friction", b.friction, 0, 1);
-        if (b.shape == Shape::cylinder && b.size.y != b.size.z) {
-            throw SpecError(q + "is a cylinder: size y and z (its diameter) must be equal");
+        validate_body(robot.name, b);
+        if (!names.insert(b.name).second) {
+            throw SpecError(p + "has two bodies named '" + b.name + "'");
         }
     }
-    // files refer to bodies by name
-    for (size_t b = 0; b < robot.bodies.size(); ++b) {
-        for (size_t c = 0; c < b; ++c) {
-            if (robot.bodies[b].name == robot.bodies[c].name) {
-                throw SpecError(p + "has two bodies named '" + robot.bodies[b].name + "'");
-            }
-        }
-    }
-    for (size_t j = 0; j < robot.joints.size(); ++j) {
-        for (size_t k = 0; k < j; ++k) {
-            if (robot.joints[j].name == robot.joints[k].name) {
-                throw SpecError(p + "has two joints named '" + robot.joints[j].name + "'");
-            }
-        }
-    }
-    const int nb = static_cast<int>(robot.bodies.size());
+    names.clear();
     for (const JointSpec& j : robot.joints) {
-        const std::string q = p + "joint '" + j.name + "' ";
-        if (j.parent < 0 || j.parent >= nb || j.child < 0 || j.child >= nb || j.parent == j.child) {
-            throw SpecError(q + "must join two different bodies of the robot");
+        if (!names.insert(j.name).second) {
+            throw SpecError(p + "has two joints named '" + j.name + "'");
         }
-        if (std::abs(j.axis.norm() - 1) > 1e-6) throw SpecError(q + "axis must be a unit vector");
-        if (!(j.min_angle < j.max_angle)) throw SpecError(q + "range must have min < max");
-        detail::check_positive(q + "servo kp", j.servo.kp, "1/s");
-        detail::check_positive(q + "servo max_speed", j.servo.max_speed, "rad/s");
-        detail::check_positive(q + "servo max_torque", j.servo.max_torque, "N·m");
+        validate_joint(robot, j);
     }
     validate_sensors(robot);
 }

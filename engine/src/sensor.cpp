@@ -22,6 +22,7 @@ bool valid_name_char(char c) {
 
 // the checks of one sensor that do not depend on the robot's other sensors
 void check_sensor(const RobotSpec& robot, const SensorSpec& s, const std::string& name) {
+    detail::check_name("sensor name", name);
     for (char c : name) {
         if (!valid_name_char(c)) {
             throw SpecError(
@@ -137,6 +138,10 @@ std::string sensor_name(const SensorSpec& s) {
 }
 
 void validate_sensor(const RobotSpec& robot, const SensorSpec& sensor) {
+    if (robot.sensors.size() >= static_cast<size_t>(kMaxSensors)) {
+        throw SpecError(fmt::format("robot '{}' has {} sensors already (at most {})", robot.name,
+                                    robot.sensors.size(), kMaxSensors));
+    }
     const std::string name = sensor_name(sensor);
     check_sensor(robot, sensor, name);
     for (const SensorSpec& other : robot.sensors) {
@@ -149,6 +154,10 @@ void validate_sensor(const RobotSpec& robot, const SensorSpec& sensor) {
 }
 
 void validate_sensors(const RobotSpec& robot) {
+    if (robot.sensors.size() > static_cast<size_t>(kMaxSensors)) {
+        throw SpecError(fmt::format("robot '{}' has {} sensors (at most {})", robot.name,
+                                    robot.sensors.size(), kMaxSensors));
+    }
     std::set<std::string> seen;
     for (const SensorSpec& s : robot.sensors) {
         const std::string name = sensor_name(s);

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
+#include <string_view>
+#include <utility>
 
 #include <fmt/format.h>
 
 #include "bullet/physics_world.h"
 #include "check.h"
+#include "gaitlab/checked.h"
 #include "gaitlab/controller.h"
 #include "gaitlab/error.h"
 #include "gaitlab/servo.h"
@@ -16,13 +20,8 @@ namespace gaitlab {
 
 void validate(const SimulationOptions& o) {
     detail::check_range("dt", o.dt, 1e-6, 0.1, "s");
-    if (o.control_every < 1) {
-        throw SpecError(fmt::format("control_every must be at least 1 (got {})", o.control_every));
-    }
-    if (o.solver_iterations < 1 || o.solver_iterations > 10000) {
-        throw SpecError(
-            fmt::format("solver_iterations must be in [1, 10000] (got {})", o.solver_iterations));
-    }
+    checked_int("control_every", o.control_every, 1, kMaxControlEvery);
+    checked_int("solver_iterations", o.solver_iterations, 1, kMaxSolverIterations);
 }
 
 const char* to_string(ControllerErrorPolicy policy) {
@@ -40,6 +39,39 @@ const char* to_string(ControllerErrorPolicy policy) {
 Scheduler::Scheduler(double dt, int control_every)
     : dt_(dt), control_every_(control_every), control_dt_(dt * control_every) {}
 
+namespace {
+
+// what a simulation may be busy running (Simulation::busy_)
+constexpr const char* kController = "a controller's step";
+constexpr const char* kObserver = "an observer";
+constexpr const char* kPreTick = "a pre-tick hook";
+constexpr const char* kListener = "an event listener";
+
+// beyond these a body has left any scene gaitlab simulates: the step diverged
+constexpr double kMaxDistance = 1e5;  // m from the origin
+constexpr double kMaxSpeed = 1e4;     // m/s
+
+// a robot that starts deeper than this inside something gets a warning: the contact solver
+// resolves deep overlaps with large impulses (a robot inside a box flies metres away). Deeper
+// than the 1 mm margin convex hulls (ramps) add to a surface a robot rests on.
+constexpr double kMaxStartOverlap = 0.005;  // m
+
+}  // namespace
+
+// marks the simulation busy running `what` for the lifetime of the guard (nested guards give
+// back the outer mark)
+class Simulation::Busy {
+  public:
+    Busy(Simulation& sim, const char* what) : sim_(sim), outer_(sim.busy_) { sim.busy_ = what; }
+    ~Busy() { sim_.busy_ = outer_; }
+    Busy(const Busy&) = delete;
+    Busy& operator=(const Busy&) = delete;
+
+  private:
+    Simulation& sim_;
+    const char* outer_;
+};
+
 // the tick phases of a simulation (see scheduler.h for their order)
 class Simulation::Phases final : public TickPhases, public JointReader {
   public:
@@ -48,9 +80,12 @@ class Simulation::Phases final : public TickPhases, public JointReader {
     void sense() override { sim_.physics_->read_angles(sim_.angles_.data()); }
 
     void think(double time, double control_dt) override {
-        check_divergence(time);
         std::fill(sim_.targets_.begin(), sim_.targets_.end(), 0.0);
-        for (DriveSlot& d : sim_.drives_) {
+        // the drives there were when the tick began: one that a controller adds now acts from
+        // the next control tick
+        const Busy busy(sim_, kController);
+        for (size_t i = 0, n = sim_.drives_.size(); i < n; ++i) {
+            DriveSlot& d = sim_.drives_[i];
             Controller& c = *d.drive.controller;
             if (!c.failed()) {  // a failed controller's targets stay frozen
                 ControlIO io(control_dt, time, d.global_joints, *this, d.targets.data(),
@@ -79,14 +114,21 @@ class Simulation::Phases final : public TickPhases, public JointReader {
         sim_.physics_->set_motor_velocities(sim_.commands_.data());
     }
 
-    void physics(double dt) override { sim_.physics_->step(dt); }
+    void physics(double dt) override {
+        sim_.physics_->step(dt);
+        // every step, before the record phase: no observer (a recorder) ever sees the state
+        // of a diverged step
+        const int bad = sim_.physics_->first_diverged(kMaxDistance, kMaxSpeed);
+        if (bad >= 0) sim_.diverged(bad, sim_.scheduler_.time() + dt);
+    }
 
     void record(long /*tick*/, double /*time*/) override {
         // the sensors read the state the step reached: the next tick's think sees it, and so
         // do the observers
         sim_.sensing_->update(*sim_.physics_);
-        for (auto& o : sim_.observers_)
-            o.second(sim_);
+        if (sim_.observers_.idle()) return;
+        const Busy busy(sim_, kObserver);
+        sim_.observers_.call(std::as_const(sim_));
     }
 
     double angle(int joint) const override { return sim_.angles_[static_cast<size_t>(joint)]; }
@@ -98,26 +140,6 @@ class Simulation::Phases final : public TickPhases, public JointReader {
     std::vector<double> min_, max_;
 
   private:
-    void check_divergence(double time) const {
-        const PhysicsWorld& p = *sim_.physics_;
-        for (size_t r = 0; r < sim_.robots_.size(); ++r) {
-            const RobotSpec& robot = sim_.world_.robots[r].robot;
-            for (size_t b = 0; b < robot.bodies.size(); ++b) {
-                const int index = sim_.robots_[r].first_body + static_cast<int>(b);
-                const Vec3 x = p.position(index);
-                const double speed = p.speed(index);
-                if (!(std::isfinite(x.x) && std::isfinite(x.y) && std::isfinite(x.z) &&
-                      x.norm() < 1e5 && speed < 1e4)) {
-                    throw DivergenceError(fmt::format(
-                        "simulation diverged at t = {:.3f} s: body '{}' of robot '{}' is at "
-                        "({}, {}, {}) m moving at {} m/s (try a smaller dt or more solver "
-                        "iterations)",
-                        time, robot.bodies[b].name, robot.name, x.x, x.y, x.z, speed));
-                }
-            }
-        }
-    }
-
     Simulation& sim_;
 };
 
@@ -135,6 +157,24 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
       options_(checked(options)),
       scheduler_(options_.dt, options_.control_every) {
     validate(world_);
+    try {
+        compile();
+    } catch (const std::bad_alloc&) {
+        throw out_of_memory();
+    }
+}
+
+Error Simulation::out_of_memory() const {
+    size_t bodies = 0;
+    for (const PlacedRobot& r : world_.robots)
+        bodies += r.robot.bodies.size();
+    return Error(
+        fmt::format("not enough memory to build the simulation ({} robots with {} "
+                    "bodies, {} bodies of world objects)",
+                    world_.robots.size(), bodies, solid_count(world_)));
+}
+
+void Simulation::compile() {
     phases_ = std::make_unique<Phases>(*this);
     int first_joint = 0;
     for (const PlacedRobot& r : world_.robots) {
@@ -168,6 +208,17 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
             add_drive(static_cast<int>(r), std::move(d));
     }
     build();
+    check_start_overlaps();
+}
+
+void Simulation::check_start_overlaps() {
+    const auto o = physics_->deepest_robot_overlap(kMaxStartOverlap);
+    if (!o) return;
+    const std::string other = o->other_body >= 0 ? body_name(o->other_body) : o->other;
+    warnings_.push_back(fmt::format(
+        "{} starts {:.1f} mm deep inside {}: the contact solver will throw it out (place the "
+        "robot clear of it, e.g. higher)",
+        body_name(o->body), o->depth * 1000, other));
 }
 
 Simulation::~Simulation() {
@@ -283,6 +334,38 @@ const std::string& Simulation::drive_label(int drive) const {
     return drives_[static_cast<size_t>(drive)].label;
 }
 
+std::string Simulation::body_name(int body) const {
+    // robot bodies come first, then the dynamic objects (boxes, cylinders)
+    if (body < first_object_) {
+        size_t r = 0;
+        while (r + 1 < robots_.size() && robots_[r + 1].first_body <= body)
+            ++r;
+        const RobotSpec& robot = world_.robots[r].robot;
+        return fmt::format("body '{}' of robot '{}'",
+                           robot.bodies[static_cast<size_t>(body - robots_[r].first_body)].name,
+                           robots_[r].label);
+    }
+    int k = body - first_object_;
+    for (size_t i = 0; i < world_.boxes.size(); ++i) {
+        if (world_.boxes[i].mass > 0 && k-- == 0) return fmt::format("box {}", i + 1);
+    }
+    for (size_t i = 0; i < world_.cylinders.size(); ++i) {
+        if (world_.cylinders[i].mass > 0 && k-- == 0) return fmt::format("cylinder {}", i + 1);
+    }
+    return fmt::format("body {}", body);
+}
+
+void Simulation::diverged(int body, double time) const {
+    const std::string name = body_name(body);
+    const BodyState s = physics_->body(body);
+    const Vec3& x = s.pose.position;
+    using detail::shown;
+    throw DivergenceError(fmt::format(
+        "simulation diverged at t = {:.3f} s: {} is at ({}, {}, {}) m moving at {} m/s (try a "
+        "smaller dt or more solver iterations)",
+        time, name, shown(x.x), shown(x.y), shown(x.z), shown(s.linear_velocity.norm())));
+}
+
 void Simulation::fail(DriveSlot& d, const std::exception& e) {
     for (size_t m = 0; m < d.global_joints.size(); ++m) {
         d.targets[m] = angles_[static_cast<size_t>(d.global_joints[m])];
@@ -293,10 +376,28 @@ void Simulation::fail(DriveSlot& d, const std::exception& e) {
     if (on_error_) on_error_(*d.drive.controller, e);
 }
 
+void Simulation::check_idle(const char* what) const {
+    // a pre-tick hook runs between ticks: it may reset (a replay applies a console's reset
+    // there), but stepping from it would nest ticks
+    const bool allowed = busy_ == kPreTick && std::string_view(what) == "reset";
+    if (busy_ && !allowed) {
+        throw SpecError(fmt::format(
+            "cannot step the simulation from inside its own tick ({} called from {}: step, run "
+            "and reset belong between ticks)",
+            what, busy_));
+    }
+}
+
 long Simulation::step(long ticks) {
+    check_idle("step");
+    // within kMaxTicks in all: the tick counter never wraps and time stays exact
+    checked_integer("ticks", ticks, 0, kMaxTicks - this->ticks());
     paused_ = false;
     for (long i = 0; i < ticks; ++i) {
-        if (!pre_ticks_.empty() || pre_ticks_changed_) run_pre_ticks();
+        if (!pre_ticks_.idle()) {
+            const Busy busy(*this, kPreTick);
+            pre_ticks_.call(*this);
+        }
         scheduler_.tick(*phases_);
         if (pause_pending_) {
             pause_pending_ = false;
@@ -307,39 +408,32 @@ long Simulation::step(long ticks) {
     return ticks;
 }
 
-void Simulation::run_pre_ticks() {
-    // hooks added or removed by a hook take effect here, never while the list is walked (and
-    // the lists are only touched when something changed: this runs every tick)
-    if (pre_ticks_changed_) {
-        pre_ticks_changed_ = false;
-        for (auto& h : added_pre_ticks_)
-            pre_ticks_.push_back(std::move(h));
-        added_pre_ticks_.clear();
-        pre_ticks_.erase(std::remove_if(pre_ticks_.begin(), pre_ticks_.end(),
-                                        [](const PreTick& h) { return !h.live; }),
-                         pre_ticks_.end());
+long checked_ticks(std::string_view what, double seconds, double dt, long done) {
+    if (!(std::isfinite(seconds) && seconds >= 0)) {
+        throw SpecError(fmt::format("{} must be a non-negative number of seconds (got {})", what,
+                                    detail::shown(seconds)));
     }
-    in_pre_ticks_ = true;
-    try {
-        for (PreTick& h : pre_ticks_) {
-            if (h.live) h.fn(*this);
-        }
-    } catch (...) {
-        in_pre_ticks_ = false;
-        throw;
+    // compared as doubles first: seconds / dt may be far beyond what a long holds
+    const long left = kMaxTicks - done;
+    const double n = std::round(seconds / dt);
+    if (!(n <= static_cast<double>(left))) {
+        throw SpecError(fmt::format("{} must be in [0, {:g}] s at dt = {:g} s (got {:g} s)", what,
+                                    static_cast<double>(left) * dt, dt, seconds));
     }
-    in_pre_ticks_ = false;
+    return static_cast<long>(n);
+}
+
+long Simulation::ticks_for(double seconds) const {
+    return checked_ticks("run time", seconds, options_.dt, ticks());
 }
 
 long Simulation::run(double seconds) {
-    if (!(std::isfinite(seconds) && seconds >= 0)) {
-        throw SpecError(
-            fmt::format("run time must be a non-negative number of seconds (got {})", seconds));
-    }
-    return step(std::lround(seconds / options_.dt));
+    check_idle("run");
+    return step(ticks_for(seconds));
 }
 
 void Simulation::reset(Origin origin) {
+    check_idle("reset");
     const long at = ticks();
     scheduler_.reset();
     pause_pending_ = paused_ = false;
@@ -350,7 +444,11 @@ void Simulation::reset(Origin origin) {
     }
     std::fill(targets_.begin(), targets_.end(), 0.0);
     std::fill(commands_.begin(), commands_.end(), 0.0);
-    build();
+    try {
+        build();
+    } catch (const std::bad_alloc&) {
+        throw out_of_memory();
+    }
     // stamped with the tick it happened at, like every other event (a replay applies it there)
     Event e;
     e.kind = EventKind::reset;
@@ -517,42 +615,30 @@ int Simulation::add_sensor(int robot, SensorSpec sensor) {
 }
 
 int Simulation::add_observer(std::function<void(const Simulation&)> fn) {
-    observers_.emplace_back(next_observer_, std::move(fn));
+    observers_.add(next_observer_, std::move(fn));
     return next_observer_++;
 }
 
 void Simulation::remove_observer(int id) {
-    observers_.erase(std::remove_if(observers_.begin(), observers_.end(),
-                                    [id](const auto& o) { return o.first == id; }),
-                     observers_.end());
+    observers_.remove(id);
 }
 
 int Simulation::add_pre_tick(std::function<void(Simulation&)> fn) {
-    auto& list = in_pre_ticks_ ? added_pre_ticks_ : pre_ticks_;
-    list.push_back(PreTick{next_observer_, true, std::move(fn)});
-    pre_ticks_changed_ = true;
+    pre_ticks_.add(next_observer_, std::move(fn));
     return next_observer_++;
 }
 
 void Simulation::remove_pre_tick(int id) {
-    // only marked: a hook may be running (it is dropped at the next step)
-    for (auto* list : {&pre_ticks_, &added_pre_ticks_}) {
-        for (PreTick& h : *list) {
-            if (h.id == id) h.live = false;
-        }
-    }
-    pre_ticks_changed_ = true;
+    pre_ticks_.remove(id);
 }
 
 int Simulation::add_event_listener(std::function<void(const Simulation&, const Event&)> fn) {
-    listeners_.emplace_back(next_observer_, std::move(fn));
+    listeners_.add(next_observer_, std::move(fn));
     return next_observer_++;
 }
 
 void Simulation::remove_event_listener(int id) {
-    listeners_.erase(std::remove_if(listeners_.begin(), listeners_.end(),
-                                    [id](const auto& l) { return l.first == id; }),
-                     listeners_.end());
+    listeners_.remove(id);
 }
 
 void Simulation::post_event(Event event) {
@@ -561,10 +647,8 @@ void Simulation::post_event(Event event) {
 }
 
 void Simulation::dispatch(const Event& event) {
-    // a copy: a listener may add or remove listeners (events are rare, copying is cheap)
-    const auto listeners = listeners_;
-    for (const auto& l : listeners)
-        l.second(*this, event);
+    const Busy busy(*this, kListener);
+    listeners_.call(std::as_const(*this), event);
 }
 
 }  // namespace gaitlab

@@ -1,5 +1,8 @@
 #include "gaitlab/world.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include "check.h"
@@ -15,9 +18,18 @@ std::string object_name(const char* kind, int number) {
 }
 
 void check_position(const std::string& p, const Vec3& v) {
-    detail::check_finite(p + "position x", v.x);
-    detail::check_finite(p + "position y", v.y);
-    detail::check_finite(p + "position z", v.z);
+    detail::check_within(p + "position x", v.x, kMaxCoordinate, "m");
+    detail::check_within(p + "position y", v.y, kMaxCoordinate, "m");
+    detail::check_within(p + "position z", v.z, kMaxCoordinate, "m");
+}
+
+void check_size(const std::string& what, double v) {
+    detail::check_size(what, v, kMaxExtent);
+}
+
+void check_mass(const std::string& what, double v) {
+    detail::check_non_negative(what, v, "kg");
+    detail::check_at_most(what, v, kMaxObjectMass, "kg");
 }
 
 void check_orientation(const std::string& p, const Quat& q) {
@@ -53,10 +65,10 @@ void check_order(const std::string& p, const char* lo_name, double lo, const cha
 
 void validate(const BoxSpec& b, int number) {
     const std::string p = object_name("box", number);
-    detail::check_positive(p + "size x", b.size.x, "m");
-    detail::check_positive(p + "size y", b.size.y, "m");
-    detail::check_positive(p + "size z", b.size.z, "m");
-    detail::check_non_negative(p + "mass", b.mass, "kg");
+    check_size(p + "size x", b.size.x);
+    check_size(p + "size y", b.size.y);
+    check_size(p + "size z", b.size.z);
+    check_mass(p + "mass", b.mass);
     detail::check_range(p + "friction", b.friction, 0, 1);
     check_position(p, b.pose.position);
     check_orientation(p, b.pose.orientation);
@@ -64,9 +76,9 @@ void validate(const BoxSpec& b, int number) {
 
 void validate(const WallSpec& w, int number) {
     const std::string p = object_name("wall", number);
-    detail::check_positive(p + "length", w.length, "m");
-    detail::check_positive(p + "height", w.height, "m");
-    detail::check_positive(p + "thickness", w.thickness, "m");
+    check_size(p + "length", w.length);
+    check_size(p + "height", w.height);
+    check_size(p + "thickness", w.thickness);
     check_placement(p, w.position, w.yaw, w.friction);
 }
 
@@ -77,84 +89,101 @@ void validate(const RampSpec& r, int number) {
             "{}slope must be between 0 and 90 deg, both excluded (got {})", p,
             std::isnan(r.slope) ? "nan" : fmt::format("{:.6g} deg", rad_to_deg(r.slope))));
     }
-    detail::check_positive(p + "length", r.length, "m");
-    detail::check_positive(p + "width", r.width, "m");
+    check_size(p + "length", r.length);
+    check_size(p + "width", r.width);
+    check_size(p + "height", r.length * std::tan(r.slope));
     check_placement(p, r.position, r.yaw, r.friction);
 }
 
 void validate(const StairsSpec& s, int number) {
     const std::string p = object_name("stairs", number);
-    check_count(p + "steps", s.steps, 1, 1000);
-    detail::check_positive(p + "step_height", s.step_height, "m");
-    detail::check_positive(p + "step_depth", s.step_depth, "m");
-    detail::check_positive(p + "width", s.width, "m");
+    check_count(p + "steps", s.steps, 1, kMaxStairsSteps);
+    check_size(p + "step_height", s.step_height);
+    check_size(p + "step_depth", s.step_depth);
+    check_size(p + "width", s.width);
     detail::check_non_negative(p + "landing", s.landing, "m");
+    detail::check_at_most(p + "landing", s.landing, kMaxExtent, "m");
+    check_size(p + "height", s.steps * s.step_height);
+    check_size(p + "length", s.steps * s.step_depth + s.landing);
     check_placement(p, s.position, s.yaw, s.friction);
 }
 
 void validate(const CylinderSpec& c, int number) {
     const std::string p = object_name("cylinder", number);
-    detail::check_positive(p + "radius", c.radius, "m");
-    detail::check_positive(p + "length", c.length, "m");
-    detail::check_non_negative(p + "mass", c.mass, "kg");
+    check_size(p + "radius", c.radius);
+    check_size(p + "length", c.length);
+    check_mass(p + "mass", c.mass);
     check_placement(p, c.position, c.yaw, c.friction);
 }
 
 void validate(const PipeSpec& t, int number) {
     const std::string p = object_name("pipe", number);
-    detail::check_positive(p + "radius", t.radius, "m");
-    detail::check_positive(p + "thickness", t.thickness, "m");
-    detail::check_positive(p + "length", t.length, "m");
-    check_count(p + "sides", t.sides, 3, 256);
+    check_size(p + "radius", t.radius);
+    check_size(p + "thickness", t.thickness);
+    check_size(p + "length", t.length);
+    check_count(p + "sides", t.sides, 3, kMaxPipeSides);
     check_placement(p, t.position, t.yaw, t.friction);
 }
 
 void validate(const RubbleSpec& r, int number) {
     const std::string p = object_name("rubble", number);
-    detail::check_positive(p + "length", r.length, "m");
-    detail::check_positive(p + "width", r.width, "m");
-    check_count(p + "count", r.count, 0, 100000);
-    detail::check_positive(p + "min_size", r.min_size, "m");
-    detail::check_positive(p + "max_size", r.max_size, "m");
+    check_size(p + "length", r.length);
+    check_size(p + "width", r.width);
+    check_count(p + "count", r.count, 0, kMaxRubbleCount);
+    check_size(p + "min_size", r.min_size);
+    check_size(p + "max_size", r.max_size);
     check_order(p, "min_size", r.min_size, "max_size", r.max_size);
-    detail::check_positive(p + "min_height", r.min_height, "m");
-    detail::check_positive(p + "max_height", r.max_height, "m");
+    check_size(p + "min_height", r.min_height);
+    check_size(p + "max_height", r.max_height);
     check_order(p, "min_height", r.min_height, "max_height", r.max_height);
     check_placement(p, r.position, r.yaw, r.friction);
 }
 
 void validate(const HeightfieldSpec& h, int number) {
     const std::string p = object_name("heightfield", number);
-    detail::check_positive(p + "length", h.length, "m");
-    detail::check_positive(p + "width", h.width, "m");
+    check_size(p + "length", h.length);
+    check_size(p + "width", h.width);
     if (h.heights.empty()) {
         if (h.image.empty()) throw SpecError(p + "needs heights or an image");
-        detail::check_positive(p + "max_height", h.max_height, "m");
+        detail::check_size(p + "max_height", h.max_height, kMaxTerrainHeight);
     } else {
         if (!h.image.empty()) throw SpecError(p + "has both heights and an image (give one)");
-        check_count(p + "samples_x", h.samples_x, 2, 4096);
-        check_count(p + "samples_y", h.samples_y, 2, 4096);
+        check_count(p + "samples_x", h.samples_x, 2, kMaxHeightfieldSide);
+        check_count(p + "samples_y", h.samples_y, 2, kMaxHeightfieldSide);
         const size_t n = static_cast<size_t>(h.samples_x) * static_cast<size_t>(h.samples_y);
         if (h.heights.size() != n) {
             throw SpecError(fmt::format("{}needs samples_x · samples_y = {} heights (got {})", p, n,
                                         h.heights.size()));
         }
         for (size_t k = 0; k < n; ++k) {
-            if (!std::isfinite(h.heights[k])) {
-                throw SpecError(
-                    fmt::format("{}height at grid point ({}, {}) must be a finite number", p,
-                                k % static_cast<size_t>(h.samples_x) + 1,
-                                k / static_cast<size_t>(h.samples_x) + 1));
+            if (!(std::abs(h.heights[k]) <= kMaxTerrainHeight)) {
+                detail::check_within(fmt::format("{}height at grid point ({}, {})", p,
+                                                 k % static_cast<size_t>(h.samples_x) + 1,
+                                                 k / static_cast<size_t>(h.samples_x) + 1),
+                                     h.heights[k], kMaxTerrainHeight, "m");
             }
         }
     }
     check_placement(p, h.position, h.yaw, h.friction);
 }
 
+long long solid_count(const WorldSpec& world) {
+    long long n =
+        static_cast<long long>(world.boxes.size() + world.walls.size() + world.ramps.size() +
+                               world.cylinders.size() + world.heightfields.size());
+    for (const StairsSpec& s : world.stairs)
+        n += std::max(s.steps, 0);
+    for (const PipeSpec& p : world.pipes)
+        n += std::max(p.sides, 0);
+    for (const RubbleSpec& r : world.rubble)
+        n += std::max(r.count, 0);
+    return n;
+}
+
 void validate(const WorldSpec& world) {
-    detail::check_finite("gravity x", world.gravity.x);
-    detail::check_finite("gravity y", world.gravity.y);
-    detail::check_finite("gravity z", world.gravity.z);
+    detail::check_within("gravity x", world.gravity.x, kMaxGravity, "m/s²");
+    detail::check_within("gravity y", world.gravity.y, kMaxGravity, "m/s²");
+    detail::check_within("gravity z", world.gravity.z, kMaxGravity, "m/s²");
     detail::check_range("floor friction", world.floor.friction, 0, 1);
     // each kind is numbered from 1 in its own vector
     auto each = [](const auto& objects) {
@@ -169,6 +198,27 @@ void validate(const WorldSpec& world) {
     each(world.pipes);
     each(world.rubble);
     each(world.heightfields);
+    // every object was within its own limits; together they must fit too
+    const long long solids = solid_count(world);
+    if (solids > kMaxWorldSolids) {
+        throw SpecError(
+            fmt::format("the world's objects make {} rigid bodies (at most {}: "
+                        "fewer stones, steps or objects)",
+                        solids, kMaxWorldSolids));
+    }
+    long long samples = 0;
+    for (const HeightfieldSpec& h : world.heightfields)
+        samples += static_cast<long long>(h.heights.size());
+    if (samples > kMaxHeightSamples) {
+        throw SpecError(
+            fmt::format("the world's heightfields have {} samples together (at most "
+                        "{})",
+                        samples, kMaxHeightSamples));
+    }
+    if (world.robots.size() > static_cast<size_t>(kMaxRobots)) {
+        throw SpecError(fmt::format("a world holds at most {} robots (got {})", kMaxRobots,
+                                    world.robots.size()));
+    }
     for (const PlacedRobot& r : world.robots) {
         validate(r.robot);
         check_position("robot '" + r.robot.name + "' ", r.pose.position);

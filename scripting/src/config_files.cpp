@@ -1,14 +1,18 @@
 #include "config_files.h"
 
+#include <cctype>
 #include <filesystem>
+#include <set>
 
 #include <fmt/format.h>
 
 #include "gaitlab/controllers/registry.h"
+#include "gaitlab/files.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/suggest.h"
 #include "hot_reload.h"
 #include "lua_controller.h"
+#include "lua_util.h"
 #include "recording.h"
 #include "wrap.h"
 
@@ -32,7 +36,42 @@ std::shared_ptr<LuaControllerClass> class_on_top(lua_State* L) {
     return cls;
 }
 
+// `name` as part of a file name: ASCII letters, digits, '-', '_' and non-ASCII UTF-8 (names are
+// valid UTF-8) kept, anything else ('/', '.', '\\', spaces, quotes ...) as '_', at most 64
+// bytes (cut between characters), never empty, unique among `taken` (adds '_2', ...): whatever
+// a robot is called, its parts stay inside the folder they are saved to, one file each
+std::string file_name_part(const std::string& name, std::set<std::string>& taken) {
+    std::string out;
+    for (const char ch : name) {
+        const auto c = static_cast<unsigned char>(ch);
+        const bool keep = std::isalnum(c) || c == '-' || c == '_' || c >= 0x80;
+        out += keep ? ch : '_';
+    }
+    if (out.size() > 64) {
+        size_t cut = 64;
+        while (cut > 0 && (static_cast<unsigned char>(out[cut]) & 0xc0) == 0x80)
+            --cut;  // not inside a UTF-8 sequence
+        out.resize(cut);
+    }
+    if (out.empty()) out = "robot";
+    std::string unique = out;
+    for (int k = 2; !taken.insert(unique).second; ++k)
+        unique = fmt::format("{}_{}", out, k);
+    return unique;
+}
+
 }  // namespace
+
+std::string checked_input_path(lua_State* L, const std::string& arg) {
+    // input_path copies the file for the run folders as it names it: check what it would copy
+    const std::string path = Recordings::of(L).input_path(script_path(L, arg));
+    try {
+        check_file(path);
+    } catch (const ReadError& e) {
+        throw FormatError(fmt::format("{}: cannot read the file: {}", path, e.reason()), path, 0);
+    }
+    return input_path(L, arg);
+}
 
 std::shared_ptr<Controller> make_controller(lua_State* L, const ControllerRef& ref) {
     std::shared_ptr<Controller> c;
@@ -144,27 +183,28 @@ ActuationSpec relative_to(ActuationSpec spec, const std::string& file) {
 LoadedSimulation load_simulation(lua_State* L, const std::string& path) {
     LoadedSimulation out;
     // every file goes through input_path: noted for the run folders, a replay reads its copies
-    out.file = read_simulation(input_path(L, path));
+    out.file = read_simulation(checked_input_path(L, path));
     const EnvironmentSpec env =
-        read_environment(input_path(L, resolve_path(path, out.file.environment)));
+        read_environment(checked_input_path(L, resolve_path(path, out.file.environment)));
     out.world = std::make_shared<WorldBinding>();
     out.world->spec = env.world;
     out.world->placements = env.placements;
     for (const RobotEntry& entry : out.file.robots) {
         auto robot = std::make_shared<RobotBinding>();
-        robot->spec = read_robot(input_path(L, resolve_path(path, entry.robot)));
+        robot->spec = read_robot(checked_input_path(L, resolve_path(path, entry.robot)));
         for (const auto& other : out.robots) {
             if (other->spec.name == robot->spec.name) {
-                throw FormatError(fmt::format("{}: two robots named '{}' (placements name robots: "
-                                              "give each its own name)",
-                                              path, robot->spec.name),
-                                  path, 0);
+                throw FormatError(fmt::format("{}:{}: two robots named '{}' (placements name "
+                                              "robots: give each its own name)",
+                                              path, entry.line, robot->spec.name),
+                                  path, entry.line);
             }
         }
         std::vector<std::shared_ptr<Controller>> controllers;
         if (!entry.actuation.empty()) {
-            controllers = actuate(
-                L, *robot, read_actuation(input_path(L, resolve_path(path, entry.actuation))));
+            controllers =
+                actuate(L, *robot,
+                        read_actuation(checked_input_path(L, resolve_path(path, entry.actuation))));
         }
         out.world->add(robot, std::nullopt);
         out.robots.push_back(robot);
@@ -176,10 +216,10 @@ LoadedSimulation load_simulation(lua_State* L, const std::string& path) {
             found = found || r->spec.name == p.robot;
         if (!found) {
             const std::string env_file = resolve_path(path, out.file.environment);
-            throw FormatError(fmt::format("{}: robot '{}' is placed but the simulation has no "
+            throw FormatError(fmt::format("{}:{}: robot '{}' is placed but the simulation has no "
                                           "robot of that name",
-                                          env_file, p.robot),
-                              env_file, 0);
+                                          env_file, p.line, p.robot),
+                              env_file, p.line);
         }
     }
     return out;
@@ -209,10 +249,12 @@ std::string normalized_config(const std::string& master, std::vector<ConfigFile>
     file.environment = stem + ".environment.xml";
     parts.push_back({"environment", file.environment, env_path,
                      format_environment(read_environment(env_path)), "", 0});
+    std::set<std::string> taken;
     for (RobotEntry& entry : file.robots) {
         const std::string robot_path = resolve_path(master, entry.robot);
         const RobotSpec robot = read_robot(robot_path);
-        entry.robot = stem + "." + robot.name + ".robot.xml";
+        const std::string part = file_name_part(robot.name, taken);
+        entry.robot = stem + "." + part + ".robot.xml";
         parts.push_back({"robot", entry.robot, robot_path, format_robot(robot), "", 0});
         if (entry.actuation.empty()) continue;
         const std::string act_path = resolve_path(master, entry.actuation);
@@ -222,7 +264,7 @@ std::string normalized_config(const std::string& master, std::vector<ConfigFile>
                 g.controller.name = resolve_path(act_path, g.controller.name);
             }
         }
-        entry.actuation = stem + "." + robot.name + ".actuation.xml";
+        entry.actuation = stem + "." + part + ".actuation.xml";
         parts.push_back({"actuation", entry.actuation, act_path, format_actuation(act), "", 0});
     }
     return format_simulation(file);
@@ -244,8 +286,10 @@ void save_simulation(const std::string& path, const WorldBinding& world,
     const EnvironmentSpec env = environment_of(world);
     std::vector<std::pair<std::string, RobotSpec>> robots;
     std::vector<std::pair<std::string, ActuationSpec>> actuations;
+    std::set<std::string> taken;
     for (const WorldBinding::Entry& e : world.robots) {
-        const std::string& name = e.robot->spec.name;
+        // the robot's name names its files only once it cannot leave the folder
+        const std::string name = file_name_part(e.robot->spec.name, taken);
         RobotEntry entry;
         entry.robot = stem + "." + name + ".robot.xml";
         robots.emplace_back(next_to(entry.robot), e.robot->spec);

@@ -15,6 +15,12 @@
 
 namespace gaitlab::scripting {
 
+/// The file a script's `arg` names as input_path gives it (relative to the calling script, or
+/// the replay's copy of it), once check_file says it can be read: a directory, a device, a
+/// FIFO or a huge file is refused before anything opens it. Throws FormatError "PATH: cannot
+/// read the file: REASON", as the XML readers do.
+std::string checked_input_path(lua_State* L, const std::string& arg);
+
 /// The controller `ref` names, with its parameters set. Lua controller files (relative to the
 /// file the reference was read from) load through the controller-file cache, so they hot
 /// reload. Errors (an unknown controller or parameter, a value out of range, a broken Lua
@@ -52,14 +58,18 @@ EnvironmentSpec environment_of(const WorldBinding& world);
 
 /// The configuration a run folder keeps of the simulation file `master`, normalized so it stands
 /// on its own: the master's text, naming its parts as `<stem>.environment.xml`,
-/// `<stem>.<robot>.robot.xml` and `<stem>.<robot>.actuation.xml` next to it, and those parts
+/// `<stem>.<robot>.robot.xml` and `<stem>.<robot>.actuation.xml` next to it (names made safe
+/// as save_simulation makes them), and those parts
 /// (roles "environment", "robot", "actuation"). Lua controller files are named by absolute path
 /// (the run folder keeps their code itself). Throws FormatError.
 std::string normalized_config(const std::string& master, std::vector<ConfigFile>& parts);
 
 /// Writes a simulation file at `path` and its parts next to it: `<stem>.environment.xml`, and
-/// for each robot `<stem>.<robot>.robot.xml` and `<stem>.<robot>.actuation.xml`. Checks
-/// everything (unique robot names, nameable controllers) before writing anything.
+/// for each robot `<stem>.<robot>.robot.xml` and `<stem>.<robot>.actuation.xml`, where
+/// `<robot>` is the robot's name made safe as part of a file name (ASCII letters, digits, '-',
+/// '_' and non-ASCII kept, anything else '_', at most 64 bytes, unique): no name writes outside
+/// the folder of `path`. Checks everything (unique robot names, nameable controllers)
+/// before writing anything.
 void save_simulation(const std::string& path, const WorldBinding& world,
                      const SimulationOptions& options, double duration);
 

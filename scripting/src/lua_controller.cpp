@@ -286,6 +286,7 @@ int LuaController::l_set_angle(lua_State* L) {
     LuaController* c = self_of(L);
     const int m = check_joint(L, *c);
     const double deg = luaL_checknumber(L, 3);
+    luaL_argcheck(L, std::isfinite(deg), 3, "finite number of degrees expected");
     if (!c->io_) return luaL_error(L, "set_angle can only be called while the controller steps");
     c->io_->set_target(m, deg_to_rad(deg));
     return 0;

@@ -20,9 +20,11 @@ ActuationSpec& check_actuation(lua_State* L, int index) {
 // gaitlab.actuation.load(path): the actuation file's spec, or nil and a message
 int actuation_load(lua_State* L) {
     return protect(L, [&] {
-        const std::string path = input_path(L, check_string(L, 1));
-        return file_read(
-            L, [&] { new_object<ActuationSpec>(L, kActuationType, read_actuation(path)); });
+        const std::string arg = check_string(L, 1);
+        return file_read(L, [&] {
+            new_object<ActuationSpec>(L, kActuationType,
+                                      read_actuation(checked_input_path(L, arg)));
+        });
     });
 }
 

@@ -25,7 +25,17 @@ int robot_chain(lua_State* L) {
         ChainSpec spec;
         spec.name = f.string("name", "robot");
         if (!f.has("modules")) f.fail("modules", "number of modules expected, got nil");
-        spec.modules = saturate_int(f.integer("modules", 0));
+        // checked before it becomes an int (make_chain's words for make_chain's range), so a
+        // count beyond int never wraps into a valid one
+        const long long modules = f.integer("modules", 0);
+        if (modules < 1) {
+            throw ArgError(1, fmt::format("modules must be at least 1 (got {})", modules));
+        }
+        if (modules > kMaxModules) {
+            throw ArgError(
+                1, fmt::format("modules must be at most {} (got {})", kMaxModules, modules));
+        }
+        spec.modules = static_cast<int>(modules);
         if (f.push("module") != LUA_TNIL) {
             try {
                 spec.module = to_module(L, -1);
@@ -212,8 +222,9 @@ int robot_len(lua_State* L) {
 // gaitlab.robot.load(path): a robot from a robot file, or nil and a message
 int robot_load(lua_State* L) {
     return protect(L, [&] {
-        const std::string path = input_path(L, check_string(L, 1));
+        const std::string arg = check_string(L, 1);
         return file_read(L, [&] {
+            const std::string path = checked_input_path(L, arg);
             auto robot = std::make_shared<RobotBinding>();
             robot->spec = read_robot(path);
             push_robot(L, std::move(robot));
@@ -233,8 +244,9 @@ int robot_save(lua_State* L) {
 // gaitlab.robot.load_urdf(path): a robot from a URDF serial chain, or nil and a message
 int robot_load_urdf(lua_State* L) {
     return protect(L, [&] {
-        const std::string path = input_path(L, check_string(L, 1));
+        const std::string arg = check_string(L, 1);
         return file_read(L, [&] {
+            const std::string path = checked_input_path(L, arg);
             auto robot = std::make_shared<RobotBinding>();
             robot->spec = read_urdf(path);
             push_robot(L, std::move(robot));

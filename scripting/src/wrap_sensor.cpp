@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "gaitlab/checked.h"
 #include "lua_util.h"
 #include "scene.h"
 #include "wrap.h"
@@ -69,11 +70,14 @@ SensorKind parse_kind(const std::string& name) {
 int required_index(const Fields& f, const char* key, const char* what) {
     if (!f.has(key)) f.fail(key, fmt::format("{} number expected, got nil", what));
     const long long v = f.integer(key, 0);
-    // numbers the robot does not have are reported by validate_sensor with the robot's range
-    if (v < -1000000000LL || v > 1000000000LL) {
-        f.fail(key, fmt::format("{} number {} is out of range", what, v));
+    // numbers the robot does not have are reported by validate_sensor with the robot's range;
+    // beyond any robot's size they are refused before they can wrap into it
+    try {
+        return checked_int(fmt::format("{} number", what), v, -kMaxRobotBodies, kMaxRobotBodies) -
+               1;
+    } catch (const SpecError& e) {
+        f.fail(key, e.what());
     }
-    return static_cast<int>(v) - 1;
 }
 
 // builds a sensor spec from the table at index 2 (argument #1 of the method)

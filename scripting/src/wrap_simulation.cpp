@@ -1,9 +1,11 @@
 // gaitlab.simulation: compile a world, step it, read its time, record it.
 #include <cmath>
+#include <new>
 
 #include <fmt/format.h>
 
 #include "config_files.h"
+#include "gaitlab/checked.h"
 #include "gaitlab/controller.h"
 #include "gaitlab/files.h"
 #include "guard.h"
@@ -48,11 +50,14 @@ RecordRequest to_request(lua_State* L, int index, int arg, const std::string& pr
     try {
         Fields f(L, index, arg, {"dir", "record_every", "flush_seconds", "series"});
         r.dir = f.string("dir", "");
-        const long long every = f.integer("record_every", 0);
-        if (f.has("record_every") && every < 1) {
-            fail(fmt::format("record_every must be at least 1 (got {})", every));
+        if (f.has("record_every")) {
+            try {
+                r.options.record_every =
+                    checked_int("record_every", f.integer("record_every", 0), 1, kMaxControlEvery);
+            } catch (const SpecError& e) {
+                fail(e.what());
+            }
         }
-        r.options.record_every = static_cast<int>(every);
         r.options.flush_seconds = f.number("flush_seconds", r.options.flush_seconds);
         if (!(std::isfinite(r.options.flush_seconds) && r.options.flush_seconds >= 0)) {
             fail("flush_seconds must be a non-negative number of seconds");
@@ -95,6 +100,8 @@ void push_new_simulation(lua_State* L, std::shared_ptr<WorldBinding> world,
     try {
         validate(o);
         std::shared_ptr<Simulation> sim = world->compile(o);
+        for (const std::string& w : sim->warnings())
+            report(main, "warning: " + w);
         // the simulation lives in this Lua state: reporting through it is safe
         sim->set_controller_error_handler([main](const Controller& c, const std::exception& e) {
             std::string message = fmt::format("controller '{}' failed: {}", c.name(), e.what());
@@ -114,6 +121,9 @@ void push_new_simulation(lua_State* L, std::shared_ptr<WorldBinding> world,
                                          SimulationHandle{sim, 0, {}, std::move(world)});
     } catch (const SpecError& e) {
         throw ArgError(1, e.what());
+    } catch (const std::bad_alloc&) {
+        // the world's spec is copied before the simulation builds (which says so itself)
+        throw Error("not enough memory to build the simulation");
     }
     try {
         Recordings::of(L).created(L, *h, request);
@@ -135,8 +145,16 @@ int simulation_new(lua_State* L) {
         lua_pop(L, 1);
         SimulationOptions o;
         o.dt = f.number("dt", o.dt);
-        o.control_every = static_cast<int>(f.integer("control_every", o.control_every));
-        o.solver_iterations = static_cast<int>(f.integer("solver_iterations", o.solver_iterations));
+        // counts are checked before they become ints: 2^32 + 30 must not become 30
+        const long long every = f.integer("control_every", o.control_every);
+        const long long iterations = f.integer("solver_iterations", o.solver_iterations);
+        try {
+            o.control_every = checked_int("control_every", every, 1, kMaxControlEvery);
+            o.solver_iterations =
+                checked_int("solver_iterations", iterations, 1, kMaxSolverIterations);
+        } catch (const SpecError& e) {
+            throw ArgError(1, e.what());
+        }
         const long long seed = f.integer("seed", 0);
         if (seed < 0) f.fail("seed", "non-negative integer expected");
         o.seed = static_cast<std::uint64_t>(seed);
@@ -165,6 +183,11 @@ int simulation_run(lua_State* L) {
         if (!(std::isfinite(seconds) && seconds >= 0)) {
             throw ArgError(2, "non-negative number of seconds expected");
         }
+        try {
+            sim.ticks_for(seconds);  // a run that would not fit is a bad argument
+        } catch (const SpecError& e) {
+            throw ArgError(2, e.what());
+        }
         sim.run(seconds);
         return 0;
     });
@@ -175,6 +198,11 @@ int simulation_step(lua_State* L) {
         Simulation& sim = check_sim(L, 1);
         const long long n = lua_isnoneornil(L, 2) ? 1 : check_integer(L, 2);
         if (n < 0) throw ArgError(2, "non-negative number of ticks expected");
+        try {
+            checked_integer("ticks", n, 0, kMaxTicks - sim.ticks());
+        } catch (const SpecError& e) {
+            throw ArgError(2, e.what());
+        }
         sim.step(static_cast<long>(n));
         return 0;
     });
@@ -226,12 +254,25 @@ int simulation_load(lua_State* L) {
         request.dir = rec.dir.empty() ? "" : resolve_path(path, rec.dir);
         request.options.record_every = rec.every;
         request.options.flush_seconds = rec.flush_seconds;
+        // what goes wrong while the file's simulation is built is the file's: named at its
+        // <simulation> line, as nil and a message like any other problem of the file
+        std::string failed;
         try {
             push_new_simulation(L, loaded.world, loaded.file.options, request);
-        } catch (const ArgError& e) {
-            throw Error(fmt::format("{}: {}", path, e.what()));
+        } catch (const ScriptError&) {
+            throw;  // names its own Lua file and line
+        } catch (const std::exception& e) {
+            failed = fmt::format("{}:{}: {}", path, loaded.file.line, e.what());
         }
-        lua_createtable(L, 0, 6);
+        if (!failed.empty()) {
+            lua_settop(L, world - 1);
+            lua_pushnil(L);
+            lua_pushstring(L, failed.c_str());
+            return 2;
+        }
+        lua_createtable(L, 0, 7);
+        lua_pushinteger(L, loaded.file.line);
+        lua_setfield(L, -2, "line");
         lua_pushstring(L, loaded.file.name.c_str());
         lua_setfield(L, -2, "name");
         lua_pushnumber(L, loaded.file.duration);
@@ -358,6 +399,13 @@ int simulation_index(lua_State* L) {
             lua_pushinteger(L, sim.options().solver_iterations);
         } else if (k == "on_controller_error") {
             lua_pushstring(L, to_string(sim.options().on_controller_error));
+        } else if (k == "warnings") {
+            const std::vector<std::string>& w = sim.warnings();
+            lua_createtable(L, static_cast<int>(w.size()), 0);
+            for (size_t i = 0; i < w.size(); ++i) {
+                lua_pushstring(L, w[i].c_str());
+                lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+            }
         } else if (k == "paused") {
             lua_pushboolean(L, sim.paused());
         } else if (k == "seed") {

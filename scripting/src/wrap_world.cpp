@@ -2,10 +2,12 @@
 // geometry as triangles.
 #include <algorithm>
 #include <cmath>
+#include <new>
 
 #include <fmt/format.h>
 
 #include "config_files.h"
+#include "gaitlab/checked.h"
 #include "gaitlab/files.h"
 #include "gaitlab/geometry.h"
 #include "gaitlab/xml.h"
@@ -106,6 +108,18 @@ int add_object(lua_State* L, std::vector<Spec>& objects, Spec spec) {
     return 1;
 }
 
+// integer field `key` of the next object of `kind` (`existing` of them so far), checked
+// against [lo, hi] before it becomes an int, worded as the object's own check words it
+int count_field(const Fields& f, const char* key, int fallback, size_t existing, const char* kind,
+                int lo, int hi) {
+    const long long v = f.integer(key, fallback);
+    try {
+        return checked_int(fmt::format("{} {} {}", kind, existing + 1, key), v, lo, hi);
+    } catch (const SpecError& e) {
+        throw ArgError(2, e.what());
+    }
+}
+
 // the position, yaw (deg) and friction every object takes
 template <class Spec>
 void read_placement(const Fields& f, Spec& s, const Vec3& default_position) {
@@ -167,8 +181,8 @@ int world_stairs(lua_State* L) {
                  {"steps", "step_height", "step_depth", "width", "landing", "position", "yaw",
                   "friction"});
         StairsSpec s;
-        const long long steps = f.integer("steps", s.steps);
-        s.steps = saturate_int(steps);
+        s.steps =
+            count_field(f, "steps", s.steps, w.spec.stairs.size(), "stairs", 1, kMaxStairsSteps);
         s.step_height = f.number("step_height", s.step_height);
         s.step_depth = f.number("step_depth", s.step_depth);
         s.width = f.number("width", s.width);
@@ -202,7 +216,7 @@ int world_pipe(lua_State* L) {
         s.radius = f.number("radius", s.radius);
         s.thickness = f.number("thickness", s.thickness);
         s.length = f.number("length", s.length);
-        s.sides = saturate_int(f.integer("sides", s.sides));
+        s.sides = count_field(f, "sides", s.sides, w.spec.pipes.size(), "pipe", 3, kMaxPipeSides);
         // lying on the floor unless told otherwise
         read_placement(f, s, {0, 0, s.radius + s.thickness});
         return add_object(L, w.spec.pipes, s);
@@ -218,7 +232,8 @@ int world_rubble(lua_State* L) {
         RubbleSpec s;
         s.length = f.number("length", s.length);
         s.width = f.number("width", s.width);
-        s.count = saturate_int(f.integer("count", s.count));
+        s.count =
+            count_field(f, "count", s.count, w.spec.rubble.size(), "rubble", 0, kMaxRubbleCount);
         s.min_size = f.number("min_size", s.min_size);
         s.max_size = f.number("max_size", s.max_size);
         s.min_height = f.number("min_height", s.min_height);
@@ -326,81 +341,96 @@ void read_rows(lua_State* L, const Fields& f, int rows_index, HeightfieldSpec& s
 
 int world_heightfield(lua_State* L) {
     return protect(L, [&] {
-        WorldBinding& w = check_world(L, 1);
-        Fields f(L, 2, 2,
-                 {"length", "width", "heights", "samples", "resolution", "image", "max_height",
-                  "position", "yaw", "friction"});
-        HeightfieldSpec s;
-        s.length = f.number("length", s.length);
-        s.width = f.number("width", s.width);
-        read_placement(f, s, {});
-        const int number = static_cast<int>(w.spec.heightfields.size() + 1);
-        // sizes and placement first (on a stand-in grid), so no sampling runs before they pass
-        HeightfieldSpec probe = s;
-        probe.samples_x = probe.samples_y = 2;
-        probe.heights.assign(4, 0.0);
         try {
-            validate(probe, number);
-        } catch (const SpecError& e) {
-            throw ArgError(2, e.what());
-        }
-        const int ht = f.push("heights");
-        const int heights = lua_gettop(L);
-        const bool has_image = f.has("image");
-        if ((ht == LUA_TNIL) == !has_image) {
-            f.fail(has_image ? "image" : "heights",
-                   "give either heights (a function or a table of rows) or an image");
-        }
-        if (!has_image && f.has("max_height")) {
-            f.fail("max_height", "only an image takes max_height (heights are in metres)");
-        }
-        if (ht != LUA_TFUNCTION && (f.has("samples") || f.has("resolution"))) {
-            f.fail(f.has("samples") ? "samples" : "resolution",
-                   "only a heights function is sampled");
-        }
-        if (ht == LUA_TFUNCTION) {
-            if (f.has("samples") && f.has("resolution")) {
-                f.fail("samples", "give samples or resolution, not both");
-            }
-            if (f.has("samples")) {
-                const auto [nx, ny] = read_samples(L, f);
-                s.samples_x = nx;
-                s.samples_y = ny;
-            } else {
-                const double res = f.number("resolution", 0.02);
-                if (!(std::isfinite(res) && res > 0)) {
-                    f.fail("resolution", "positive number of metres expected");
-                }
-                auto count = [&](double extent) {
-                    const double n = std::round(extent / res) + 1;
-                    if (n > 4096) {
-                        f.fail("resolution", fmt::format("{:g} m gives more than 4096 samples "
-                                                         "across {:g} m",
-                                                         res, extent));
-                    }
-                    return std::max(2, static_cast<int>(n));
-                };
-                s.samples_x = count(s.length);
-                s.samples_y = count(s.width);
-            }
-            sample_function(L, f, heights, s);
-        } else if (ht == LUA_TTABLE) {
-            read_rows(L, f, heights, s);
-        } else if (ht != LUA_TNIL) {
-            f.fail("heights", "function or table of rows expected, got " + type_name(L, -1));
-        } else {
-            // relative to the script that names it; read now, so a bad image fails here
-            s.image = input_path(L, f.string("image", ""));
-            s.max_height = f.number("max_height", s.max_height);
+            WorldBinding& w = check_world(L, 1);
+            Fields f(L, 2, 2,
+                     {"length", "width", "heights", "samples", "resolution", "image", "max_height",
+                      "position", "yaw", "friction"});
+            HeightfieldSpec s;
+            s.length = f.number("length", s.length);
+            s.width = f.number("width", s.width);
+            read_placement(f, s, {});
+            const int number = static_cast<int>(w.spec.heightfields.size() + 1);
+            // sizes and placement first (on a stand-in grid), so no sampling runs before they pass
+            HeightfieldSpec probe = s;
+            probe.samples_x = probe.samples_y = 2;
+            probe.heights.assign(4, 0.0);
             try {
-                validate(s, number);
-                height_grid(s, number);
+                validate(probe, number);
             } catch (const SpecError& e) {
                 throw ArgError(2, e.what());
             }
+            const int ht = f.push("heights");
+            const int heights = lua_gettop(L);
+            const bool has_image = f.has("image");
+            if ((ht == LUA_TNIL) == !has_image) {
+                f.fail(has_image ? "image" : "heights",
+                       "give either heights (a function or a table of rows) or an image");
+            }
+            if (!has_image && f.has("max_height")) {
+                f.fail("max_height", "only an image takes max_height (heights are in metres)");
+            }
+            if (ht != LUA_TFUNCTION && (f.has("samples") || f.has("resolution"))) {
+                f.fail(f.has("samples") ? "samples" : "resolution",
+                       "only a heights function is sampled");
+            }
+            if (ht == LUA_TFUNCTION) {
+                if (f.has("samples") && f.has("resolution")) {
+                    f.fail("samples", "give samples or resolution, not both");
+                }
+                if (f.has("samples")) {
+                    const auto [nx, ny] = read_samples(L, f);
+                    s.samples_x = nx;
+                    s.samples_y = ny;
+                } else {
+                    const double res = f.number("resolution", 0.02);
+                    if (!(std::isfinite(res) && res > 0)) {
+                        f.fail("resolution", "positive number of metres expected");
+                    }
+                    auto count = [&](double extent) {
+                        const double n = std::round(extent / res) + 1;
+                        if (n > 4096) {
+                            f.fail("resolution", fmt::format("{:g} m gives more than 4096 samples "
+                                                             "across {:g} m",
+                                                             res, extent));
+                        }
+                        return std::max(2, static_cast<int>(n));
+                    };
+                    s.samples_x = count(s.length);
+                    s.samples_y = count(s.width);
+                }
+                sample_function(L, f, heights, s);
+            } else if (ht == LUA_TTABLE) {
+                read_rows(L, f, heights, s);
+            } else if (ht != LUA_TNIL) {
+                f.fail("heights", "function or table of rows expected, got " + type_name(L, -1));
+            } else {
+                // relative to the script that names it; read now, so a bad image fails here. What
+                // input_path copies for the run folders is checked first: a directory or a device
+                // is left to height_grid to refuse, with the path named as it names it
+                const std::string image = f.string("image", "");
+                s.image = Recordings::of(L).input_path(script_path(L, image));
+                bool readable = true;
+                try {
+                    check_file(s.image);
+                } catch (const ReadError&) {
+                    readable = false;
+                }
+                if (readable) s.image = input_path(L, image);
+                s.max_height = f.number("max_height", s.max_height);
+                try {
+                    validate(s, number);
+                    height_grid(s, number);
+                } catch (const SpecError& e) {
+                    throw ArgError(2, e.what());
+                }
+            }
+            lua_settop(L, 1);
+            return add_object(L, w.spec.heightfields, s);
+        } catch (const std::bad_alloc&) {
+            throw Error(fmt::format("not enough memory for heightfield {}",
+                                    check_world(L, 1).spec.heightfields.size() + 1));
         }
-        lua_settop(L, 1);
-        return add_object(L, w.spec.heightfields, s);
     });
 }
 
@@ -408,49 +438,53 @@ int world_heightfield(lua_State* L) {
 // { object =, kind =, vertices = { x1, y1, z1, x2, ... } }, nine numbers per triangle
 int world_triangles(lua_State* L) {
     return protect(L, [&] {
-        WorldBinding& w = check_world(L, 1);
-        std::vector<std::pair<std::string, Solid>> solids;
         try {
-            for (Solid& s : world_solids(w.spec)) {
-                std::string kind = s.object.substr(0, s.object.find(' '));
-                solids.emplace_back(std::move(kind), std::move(s));
+            WorldBinding& w = check_world(L, 1);
+            std::vector<std::pair<std::string, Solid>> solids;
+            try {
+                for (Solid& s : world_solids(w.spec)) {
+                    std::string kind = s.object.substr(0, s.object.find(' '));
+                    solids.emplace_back(std::move(kind), std::move(s));
+                }
+            } catch (const SpecError& e) {
+                throw Error(e.what());
             }
-        } catch (const SpecError& e) {
-            throw Error(e.what());
-        }
-        for (const WorldBinding::Entry& e : w.robots) {
-            const RobotSpec& robot = e.robot->spec;
-            auto sim = e.robot->sim.lock();
-            for (size_t b = 0; b < robot.bodies.size(); ++b) {
-                const Pose& local = robot.bodies[b].pose;
-                const Pose pose = sim ? sim->body(e.robot->index, static_cast<int>(b)).pose
-                                      : Pose{e.pose.apply(local.position),
-                                             e.pose.orientation * local.orientation};
-                solids.emplace_back("robot", body_solid(robot, static_cast<int>(b), pose));
-            }
-        }
-        lua_createtable(L, static_cast<int>(solids.size()), 0);
-        for (size_t k = 0; k < solids.size(); ++k) {
-            const std::vector<Triangle> tris = triangles(solids[k].second);
-            lua_createtable(L, 0, 3);
-            lua_pushstring(L, solids[k].second.object.c_str());
-            lua_setfield(L, -2, "object");
-            lua_pushstring(L, solids[k].first.c_str());
-            lua_setfield(L, -2, "kind");
-            lua_createtable(L, static_cast<int>(tris.size() * 9), 0);
-            lua_Integer i = 0;
-            for (const Triangle& t : tris) {
-                for (const Vec3& p : {t.a, t.b, t.c}) {
-                    for (double c : {p.x, p.y, p.z}) {
-                        lua_pushnumber(L, c);
-                        lua_rawseti(L, -2, ++i);
-                    }
+            for (const WorldBinding::Entry& e : w.robots) {
+                const RobotSpec& robot = e.robot->spec;
+                auto sim = e.robot->sim.lock();
+                for (size_t b = 0; b < robot.bodies.size(); ++b) {
+                    const Pose& local = robot.bodies[b].pose;
+                    const Pose pose = sim ? sim->body(e.robot->index, static_cast<int>(b)).pose
+                                          : Pose{e.pose.apply(local.position),
+                                                 e.pose.orientation * local.orientation};
+                    solids.emplace_back("robot", body_solid(robot, static_cast<int>(b), pose));
                 }
             }
-            lua_setfield(L, -2, "vertices");
-            lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+            lua_createtable(L, static_cast<int>(solids.size()), 0);
+            for (size_t k = 0; k < solids.size(); ++k) {
+                const std::vector<Triangle> tris = triangles(solids[k].second);
+                lua_createtable(L, 0, 3);
+                lua_pushstring(L, solids[k].second.object.c_str());
+                lua_setfield(L, -2, "object");
+                lua_pushstring(L, solids[k].first.c_str());
+                lua_setfield(L, -2, "kind");
+                lua_createtable(L, static_cast<int>(tris.size() * 9), 0);
+                lua_Integer i = 0;
+                for (const Triangle& t : tris) {
+                    for (const Vec3& p : {t.a, t.b, t.c}) {
+                        for (double c : {p.x, p.y, p.z}) {
+                            lua_pushnumber(L, c);
+                            lua_rawseti(L, -2, ++i);
+                        }
+                    }
+                }
+                lua_setfield(L, -2, "vertices");
+                lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
+            }
+            return 1;
+        } catch (const std::bad_alloc&) {
+            throw Error("not enough memory for the triangles of the world");
         }
-        return 1;
     });
 }
 
@@ -458,8 +492,9 @@ int world_triangles(lua_State* L) {
 // the names it places go when added), or nil and a message
 int world_load(lua_State* L) {
     return protect(L, [&] {
-        const std::string path = input_path(L, check_string(L, 1));
+        const std::string arg = check_string(L, 1);
         return file_read(L, [&] {
+            const std::string path = checked_input_path(L, arg);
             EnvironmentSpec env = read_environment(path);
             auto world = std::make_shared<WorldBinding>();
             world->spec = std::move(env.world);
@@ -477,6 +512,25 @@ int world_save(lua_State* L) {
         const std::string path = script_path(L, check_string(L, 2));
         const EnvironmentSpec env = environment_of(w);
         return file_written(L, path, [&] { write_environment(path, env); });
+    });
+}
+
+// read_source(path): the text of a file, read with the one bounded reader (a directory, a
+// FIFO, a device or a huge file is refused up front), or nil and "cannot read PATH: REASON".
+// For stdlib/worlds.lua, which loads world files (registry "gaitlab.read_source")
+int world_read_source(lua_State* L) {
+    return protect(L, [&] {
+        const std::string path = check_string(L, 1);
+        std::string text;
+        try {
+            text = read_file(path);
+        } catch (const ReadError& e) {
+            lua_pushnil(L);
+            lua_pushstring(L, e.what());
+            return 2;
+        }
+        lua_pushlstring(L, text.data(), text.size());
+        return 1;
     });
 }
 
@@ -537,6 +591,8 @@ void open_world(lua_State* L) {
     lua_pushcfunction(L, world_load);
     lua_setfield(L, -2, "load");
     lua_setfield(L, -2, "world");
+    lua_pushcfunction(L, world_read_source);
+    lua_setfield(L, LUA_REGISTRYINDEX, "gaitlab.read_source");
 }
 
 }  // namespace gaitlab::scripting

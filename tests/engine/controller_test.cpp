@@ -4,6 +4,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
 #include <vector>
 
 #include "gaitlab/error.h"
@@ -219,4 +221,42 @@ TEST_CASE("a controller cannot be built from an invalid definition") {
     };
     REQUIRE_THROWS_WITH(Bad(), Equals("parameter 'x' of controller 'bad': default 3 is outside "
                                       "its range [0, 1]"));
+}
+
+TEST_CASE("controller, parameter and value names are valid UTF-8 without control characters",
+          "[names]") {
+    using Catch::Matchers::Equals;
+    ControllerDef def{"osc\n", {}, {}};
+    REQUIRE_THROWS_WITH(validate(def), Equals("controller name must be valid UTF-8 without "
+                                              "control characters (got \"osc\\x0a\")"));
+    def.name = "osc";
+    def.params.push_back(ParamDef{"gain\xff", 1, 0, 2, ""});
+    REQUIRE_THROWS_WITH(validate(def),
+                        Equals("parameter 'gain\xff' of controller 'osc' name must be valid UTF-8 "
+                               "without control characters (got \"gain\\xff\")"));
+    def.params[0].name = "gain";
+    def.values.push_back("t\x01");
+    REQUIRE_THROWS_WITH(validate(def),
+                        Equals("value 't\x01' of controller 'osc' name must be valid UTF-8 "
+                               "without control characters (got \"t\\x01\")"));
+    def.values[0] = "phase";
+    CHECK_NOTHROW(validate(def));
+}
+
+TEST_CASE("a target that is not a finite number is refused by ControlIO", "[divergence]") {
+    std::vector<int> joints{0, 1};
+    struct Zero final : JointReader {
+        double angle(int) const override { return 0; }
+        double velocity(int) const override { return 0; }
+        double torque(int) const override { return 0; }
+    } reader;
+    double targets[2] = {0.5, 0.5};
+    ControlIO io(0.01, 0, joints, reader, targets);
+    REQUIRE_THROWS_WITH(io.set_target(1, std::nan("")),
+                        "joint 2 of the group: target must be a finite number (got nan)");
+    REQUIRE_THROWS_AS(io.set_target(0, HUGE_VAL), SpecError);
+    CHECK(targets[0] == 0.5);
+    CHECK(targets[1] == 0.5);
+    io.set_target(1, -1.25);
+    CHECK(targets[1] == -1.25);
 }

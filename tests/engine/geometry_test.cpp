@@ -310,9 +310,10 @@ TEST_CASE("an unreadable heightfield image is an error naming the heightfield an
     HeightfieldSpec h;
     h.image = "/tmp/gaitlab_no_such_dir/terrain.png";
     REQUIRE_THROWS_AS(height_grid(h, 2), SpecError);
-    REQUIRE_THROWS_WITH(height_grid(h, 2),
-                        Equals("heightfield 2 cannot read image "
-                               "'/tmp/gaitlab_no_such_dir/terrain.png': no such file"));
+    REQUIRE_THROWS_WITH(
+        height_grid(h, 2),
+        Equals("heightfield 2 cannot read image "
+               "'/tmp/gaitlab_no_such_dir/terrain.png': no such file or directory"));
     WorldSpec w;
     w.heightfields.push_back(h);
     REQUIRE_THROWS_WITH(world_solids(w), Contains("heightfield 1 cannot read image"));

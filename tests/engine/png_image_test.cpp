@@ -49,11 +49,11 @@ TEST_CASE("files that are not readable PNG images are errors naming them") {
         REQUIRE_THROWS_AS(read_png_grey("/tmp/gaitlab_no_such_dir/x.png"), SpecError);
         REQUIRE_THROWS_WITH(read_png_grey("/tmp/gaitlab_no_such_dir/x.png"),
                             Equals("cannot read image '/tmp/gaitlab_no_such_dir/x.png': no such "
-                                   "file"));
+                                   "file or directory"));
     }
     SECTION("a directory") {
         REQUIRE_THROWS_WITH(read_png_grey("/tmp"),
-                            Equals("cannot read image '/tmp': it is a directory"));
+                            Equals("cannot read image '/tmp': is a directory"));
     }
     SECTION("not a PNG, or a truncated one") {
         const TempPng good(8, 8, std::vector<unsigned short>(64, 100));

@@ -371,3 +371,72 @@ TEST_CASE("validate(RobotSpec) rejects broken robots") {
                             Equals("robot 'x' joint 'joint2' range must have min < max"));
     }
 }
+
+TEST_CASE("names are valid UTF-8 without control characters", "[names]") {
+    RobotSpec r = chain(2, Connection::pitch_pitch);
+    const auto rejected = [&](const std::string& message) {
+        REQUIRE_THROWS_WITH(validate(r), Equals(message));
+    };
+    for (const char* ok : {"snake", "serpent à sonnettes", "蛇", "a/b c", "🐍"}) {
+        r.name = ok;
+        CHECK_NOTHROW(validate(r));
+    }
+    r.name = std::string("snake\n1");
+    rejected("robot name must be valid UTF-8 without control characters (got \"snake\\x0a1\")");
+    r.name = "snake\x7f";
+    rejected("robot name must be valid UTF-8 without control characters (got \"snake\\x7f\")");
+    r.name = "\xc2\x85";  // U+0085, a C1 control
+    rejected("robot name must be valid UTF-8 without control characters (got \"\\xc2\\x85\")");
+    r.name = "bad\xff";
+    rejected("robot name must be valid UTF-8 without control characters (got \"bad\\xff\")");
+    r.name = "\xc0\xaf";  // an overlong '/'
+    rejected("robot name must be valid UTF-8 without control characters (got \"\\xc0\\xaf\")");
+    r.name = "\xed\xa0\x80";  // a surrogate
+    rejected("robot name must be valid UTF-8 without control characters (got \"\\xed\\xa0\\x80\")");
+    r.name = "cut\xe8\x9b";  // a truncated sequence
+    rejected("robot name must be valid UTF-8 without control characters (got \"cut\\xe8\\x9b\")");
+    r.name = std::string("nul\0", 4);
+    rejected("robot name must be valid UTF-8 without control characters (got \"nul\\x00\")");
+    r.name = std::string(300, 'a');
+    rejected("robot name must be at most 256 bytes long (got 300 bytes)");
+    r.name = "";
+    rejected("a robot needs a name");
+    r.name = "snake";
+    r.bodies[1].name = "seg\tment";
+    rejected(
+        "robot 'snake' body 'seg\tment' name must be valid UTF-8 without control characters "
+        "(got \"seg\\x09ment\")");
+    r.bodies[1].name = "segment1";
+    r.joints[0].name = "j\x01";
+    rejected(
+        "robot 'snake' joint 'j\x01' name must be valid UTF-8 without control characters "
+        "(got \"j\\x01\")");
+    ChainSpec c;
+    c.name = "a\x1b[31m";  // an escape sequence a terminal would act on
+    REQUIRE_THROWS_WITH(make_chain(c), Equals("robot name must be valid UTF-8 without control "
+                                              "characters (got \"a\\x1b[31m\")"));
+}
+
+TEST_CASE("robots are bounded in size and their checks stay fast", "[limits]") {
+    RobotSpec r = chain(2, Connection::pitch_pitch);
+    // many bodies: duplicate names are found without comparing every pair
+    RobotSpec big;
+    big.name = "big";
+    for (int b = 0; b < kMaxRobotBodies; ++b) {
+        BodySpec body = r.bodies[0];
+        body.name = "b" + std::to_string(b);
+        body.pose.position.x = b * 0.04;
+        big.bodies.push_back(body);
+    }
+    CHECK_NOTHROW(validate(big));
+    big.bodies.back().name = "b0";
+    REQUIRE_THROWS_WITH(validate(big), Equals("robot 'big' has two bodies named 'b0'"));
+    big.bodies.back().name = "last";
+    big.bodies.push_back(big.bodies.back());
+    REQUIRE_THROWS_WITH(
+        validate(big), Equals("robot 'big' has 10001 bodies and 0 joints (at most 10000 of each)"));
+    r.bodies[0].size.x = 1e6;
+    REQUIRE_THROWS_WITH(validate(r),
+                        Equals("robot 'snake' body 'tail' size x must be at most 100 m (got "
+                               "1000000 m)"));
+}

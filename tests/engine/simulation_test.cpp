@@ -4,8 +4,12 @@
 
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "gaitlab/error.h"
@@ -75,9 +79,11 @@ TEST_CASE("bad simulation options are rejected with the expected range") {
     }
     SECTION("control_every below 1") {
         REQUIRE_THROWS_WITH(Simulation(w, options_with(0.001, 0, 10)),
-                            Equals("control_every must be at least 1 (got 0)"));
+                            Equals("control_every must be in [1, 1000000] (got 0)"));
         REQUIRE_THROWS_WITH(validate(options_with(0.001, -5, 10)),
-                            Equals("control_every must be at least 1 (got -5)"));
+                            Equals("control_every must be in [1, 1000000] (got -5)"));
+        REQUIRE_THROWS_WITH(validate(options_with(0.001, 1000001, 10)),
+                            Equals("control_every must be in [1, 1000000] (got 1000001)"));
     }
     SECTION("solver_iterations outside [1, 10000]") {
         REQUIRE_THROWS_WITH(Simulation(w, options_with(0.001, 30, 0)),
@@ -178,6 +184,28 @@ TEST_CASE("run and step advance time in whole ticks") {
     CHECK(sim.ticks() == 62);
     REQUIRE_THROWS_WITH(sim.run(-1),
                         Equals("run time must be a non-negative number of seconds (got -1)"));
+}
+
+TEST_CASE("run and step never wrap: a run too long for the tick counter is refused",
+          "[simulation][limits]") {
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    sim.step(3);
+    // 1e17 s is 1e20 ticks: std::lround overflowed and the run did nothing
+    REQUIRE_THROWS_WITH(sim.run(1e17), Equals("run time must be in [0, 9.0072e+12] s at dt = "
+                                              "0.001 s (got 1e+17 s)"));
+    REQUIRE_THROWS_WITH(sim.run(std::numeric_limits<double>::infinity()),
+                        Equals("run time must be a non-negative number of seconds (got inf)"));
+    REQUIRE_THROWS_WITH(sim.run(std::nan("")),
+                        Equals("run time must be a non-negative number of seconds (got nan)"));
+    REQUIRE_THROWS_WITH(sim.step(1L << 62), Equals("ticks must be in [0, 9007199254740989] (got "
+                                                   "4611686018427387904)"));
+    REQUIRE_THROWS_WITH(sim.step(-1), Equals("ticks must be in [0, 9007199254740989] (got -1)"));
+    CHECK(sim.ticks() == 3);
+    CHECK(sim.ticks_for(1.5) == 1500);
+    CHECK(checked_ticks("duration", 10, 0.001) == 10000);
+    REQUIRE_THROWS_WITH(checked_ticks("duration", 1e16, 0.001),
+                        Equals("duration must be in [0, 9.0072e+12] s at dt = 0.001 s (got 1e+16 "
+                               "s)"));
 }
 
 TEST_CASE("world placement: the tail at the origin, bodies along +x at z = 0.026") {
@@ -380,4 +408,295 @@ TEST_CASE("a controller that outlives its simulation stops telling it", "[simula
     }
     sine->set_param("amplitude", 10);  // no listener left to call
     CHECK(sine->param("amplitude") == 10);
+}
+
+namespace {
+
+// a controller that runs `act` (once, or at every step) with the simulation driving it, then
+// holds its joints at 0
+class Reentrant final : public Controller {
+  public:
+    Reentrant(Simulation& sim, std::function<void(Simulation&)> act)
+        : Controller(ControllerDef{"reentrant", {}, {}}), sim_(sim), act_(std::move(act)) {}
+    void step(ControlIO& io) override {
+        ++steps;
+        if (act_) act_(sim_);
+        for (int m = 0; m < io.joints(); ++m)
+            io.set_target(m, 0);
+    }
+    int steps = 0;
+
+  private:
+    Simulation& sim_;
+    std::function<void(Simulation&)> act_;
+};
+
+const char* const kInsideTick = "cannot step the simulation from inside its own tick";
+
+}  // namespace
+
+TEST_CASE(
+    "a controller may add drives while the drives step: they act from the next control "
+    "tick",
+    "[simulation][reentrancy]") {
+    Simulation sim(test::chain_world(4, Connection::pitch_pitch));
+    std::vector<std::shared_ptr<Controller>> added;
+    // each step adds one more drive (more than enough to reallocate any vector of drives)
+    auto adder = std::make_shared<Reentrant>(sim, [&](Simulation& s) {
+        if (added.size() >= 40) return;
+        added.push_back(test::sine(10, 1, 0));
+        s.add_drive(0, drive_of({static_cast<int>(added.size() % 4)}, added.back()));
+    });
+    sim.add_drive(0, drive_of({0, 1, 2, 3}, adder));
+    sim.step(1);  // one control tick: the drive added in it has not stepped yet
+    REQUIRE(sim.drive_count() == 2);
+    CHECK(sim.controller(1).values(controllers::Sine::time)[0] == 0);
+    sim.run(1.5);  // 50 more control ticks
+    CHECK(sim.drive_count() == 41);
+    CHECK(adder->steps == 51);
+    // the first added drive stepped at every control tick after the one that added it
+    CHECK(added[0]->values(controllers::Sine::time)[0] == Approx(50 * 0.03));
+    // its targets count: a 10 deg sine on joint 1 (plus the adder's 0)
+    const double theta = sim.joint(0, 1).target;
+    CHECK(std::abs(theta) > 0);
+    CHECK(std::abs(theta) <= deg_to_rad(10) * 11);
+}
+
+TEST_CASE("step, run and reset from inside the simulation's own tick are errors",
+          "[simulation][reentrancy]") {
+    using Catch::Matchers::Contains;
+    using Catch::Matchers::StartsWith;
+    SECTION("from a controller's step") {
+        for (const char* what : {"step", "run", "reset"}) {
+            Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+            const std::string w = what;
+            auto once = std::make_shared<bool>(true);
+            auto c = std::make_shared<Reentrant>(sim, [w, once](Simulation& s) {
+                if (!*once) return;
+                *once = false;
+                if (w == "step") s.step(1);
+                if (w == "run") s.run(1);
+                if (w == "reset") s.reset();
+            });
+            sim.add_drive(0, drive_of({0, 1, 2}, c));
+            CHECK_THROWS_WITH(
+                sim.step(5),
+                Equals(std::string(kInsideTick) + " (" + w +
+                       " called from a controller's step: step, run and reset belong between "
+                       "ticks)"));
+            CHECK(sim.ticks() == 0);  // the first tick stopped at its think phase
+            CHECK(c->failed());
+            // the simulation is usable again between ticks
+            sim.reset();
+            CHECK_NOTHROW(sim.step(40));
+            CHECK(c->steps == 3);
+        }
+    }
+    SECTION("from an observer") {
+        Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+        sim.add_observer([](const Simulation& s) {
+            // observers get a const simulation; one that kept a mutable reference must still
+            // not get through
+            const_cast<Simulation&>(s).run(0.5);
+        });
+        CHECK_THROWS_WITH(sim.step(3), StartsWith(kInsideTick) && Contains("from an observer"));
+        CHECK(sim.ticks() == 1);
+    }
+    SECTION("from an event listener: a reset that resets again does not recurse") {
+        Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+        int calls = 0;
+        sim.add_event_listener([&calls, &sim](const Simulation&, const Event& e) {
+            ++calls;
+            if (e.kind == EventKind::reset) sim.reset();
+        });
+        sim.step(2);
+        CHECK_THROWS_WITH(sim.reset(), StartsWith(kInsideTick) &&
+                                           Contains("reset called from an event listener"));
+        CHECK(calls == 1);
+        CHECK(sim.ticks() == 0);
+    }
+    SECTION("a pre-tick hook may reset between ticks but not step") {
+        Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+        bool reset_done = false;
+        sim.add_pre_tick([&](Simulation& s) {
+            if (s.ticks() == 5 && !reset_done) {
+                reset_done = true;
+                s.reset();
+            }
+        });
+        sim.step(10);
+        CHECK(reset_done);
+        CHECK(sim.ticks() == 5);  // ticks 0-4, a reset, then ticks 0-4 again
+        sim.add_pre_tick([](Simulation& s) { s.step(1); });
+        CHECK_THROWS_WITH(sim.step(1),
+                          StartsWith(kInsideTick) && Contains("step called from a pre-tick hook"));
+    }
+}
+
+TEST_CASE("observers and event listeners may add and remove callbacks while they run",
+          "[simulation][reentrancy]") {
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    std::vector<std::string> calls;
+    int self = 0, victim = 0;
+    self = sim.add_observer([&](const Simulation& s) {
+        calls.push_back("self@" + std::to_string(s.ticks()));
+        if (s.ticks() == 1) {
+            // adding many (reallocating any vector they live in), removing another and itself
+            for (int k = 0; k < 50; ++k)
+                sim.add_observer([&calls, k](const Simulation&) {
+                    if (k == 49) calls.push_back("added");
+                });
+            sim.remove_observer(victim);
+            sim.remove_observer(self);
+        }
+    });
+    victim = sim.add_observer([&](const Simulation&) { calls.push_back("victim"); });
+    sim.step(3);
+    CHECK(calls == std::vector<std::string>{"self@1", "added", "added"});
+
+    // listeners: one that adds a listener and removes itself when an event comes
+    std::vector<std::string> heard;
+    int first = 0;
+    first = sim.add_event_listener([&](const Simulation&, const Event&) {
+        heard.push_back("first");
+        for (int k = 0; k < 20; ++k)
+            sim.add_event_listener([&heard, k](const Simulation&, const Event&) {
+                if (k == 0) heard.push_back("second");
+            });
+        sim.remove_event_listener(first);
+    });
+    sim.reset();
+    sim.reset();
+    CHECK(heard == std::vector<std::string>{"first", "second"});
+}
+
+TEST_CASE("a robot that starts inside an object, the floor or another robot gets a warning",
+          "[simulation][overlap]") {
+    using Catch::Matchers::Contains;
+    SECTION("resting on the floor, on stairs or next to a wall: no warning") {
+        WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+        WallSpec wall;
+        wall.position = {0.15, 0.036, 0};  // 20 mm thick, touching the robot's side
+        w.walls.push_back(wall);
+        StairsSpec stairs;
+        stairs.position = {1, 0, 0};
+        w.stairs.push_back(stairs);
+        PlacedRobot on_stairs = w.robots[0];
+        on_stairs.robot.name = "climber";
+        on_stairs.pose.position = {1.205, 0, 0.04};  // on the second step (0.2 m deep)
+        on_stairs.robot = make_chain([] {
+            ChainSpec c;
+            c.name = "climber";
+            c.modules = 2;
+            return c;
+        }());
+        w.robots.push_back(on_stairs);
+        Simulation sim(w);
+        CHECK(sim.warnings() == std::vector<std::string>{});
+    }
+    SECTION("inside a box: the warning names the body, the box and the depth") {
+        WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+        BoxSpec box;
+        box.size = {0.2, 0.2, 0.2};
+        box.pose.position = {0.29, 0, 0.1};  // around the head and the last segment
+        w.boxes.push_back(box);
+        Simulation sim(w);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0],
+                   Catch::Matchers::StartsWith("body 'segment3' of robot 'snake' starts 52.0 ") &&
+                       Contains("mm deep inside box 1: the contact solver will throw it out "
+                                "(place the robot clear of it, e.g. higher)"));
+        // warned, not refused: the scene still runs (and the solver pushes the head out)
+        CHECK_NOTHROW(sim.run(0.1));
+    }
+    SECTION("below the floor") {
+        WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+        w.robots[0].pose.position.z = -0.1;
+        Simulation sim(w);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0], Contains("deep inside the floor"));
+    }
+    SECTION("inside another robot") {
+        WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+        w.robots.push_back(w.robots[0]);
+        w.robots[1].pose.position.x = 0.01;
+        Simulation sim(w);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0],
+                   Contains("of robot 'snake_2'") && Contains("of robot 'snake'"));
+    }
+    SECTION("a shallow overlap (under 5 mm) is left to the solver") {
+        WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+        w.robots[0].pose.position.z = -0.003;
+        Simulation sim(w);
+        CHECK(sim.warnings().empty());
+    }
+}
+
+TEST_CASE("a world of 100 000 stones builds and steps in well under a second each",
+          "[simulation][limits]") {
+    // one densely packed field (each stone overlaps hundreds of others): Bullet's broadphase
+    // used to pair every stone with its neighbours on insertion and again at every step
+    WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+    RubbleSpec r;
+    r.count = kMaxRubbleCount;
+    r.position = {2, 0, 0};
+    w.rubble.push_back(r);
+    const auto t0 = std::chrono::steady_clock::now();
+    Simulation sim(w);
+    const auto t1 = std::chrono::steady_clock::now();
+    sim.step(100);
+    const auto t2 = std::chrono::steady_clock::now();
+    const auto seconds = [](auto d) { return std::chrono::duration<double>(d).count(); };
+    // generous bounds (a loaded machine, sanitizers): before, the build took about 10 s and
+    // 100 steps minutes
+    CHECK(seconds(t1 - t0) < 5);
+    CHECK(seconds(t2 - t1) < 5);
+    CHECK(sim.warnings().empty());
+}
+
+TEST_CASE("a robot started inside a stone of a rubble field is warned about by the field's name",
+          "[simulation][overlap]") {
+    WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+    RubbleSpec r;
+    r.count = 200;
+    r.length = r.width = 0.3;
+    r.position = {0.15, 0, 0};
+    r.min_height = r.max_height = 0.03;
+    w.rubble.push_back(r);
+    // static solids of one friction share one body: the warning still names the right one
+    WallSpec wall;
+    wall.position = {-1, 0, 0};
+    w.walls.push_back(wall);
+    w.boxes.resize(2);
+    w.boxes[0].pose.position = {0, 1, 0.05};
+    w.boxes[1].pose.position = {0, -1, 0.05};
+    Simulation sim(w);
+    REQUIRE(sim.warnings().size() == 1);
+    CHECK_THAT(sim.warnings()[0], Catch::Matchers::Contains("mm deep inside rubble 1:"));
+    w.rubble.clear();
+    w.boxes[1].pose.position = {0.2, 0, 0.05};
+    Simulation sim2(w);
+    REQUIRE(sim2.warnings().size() == 1);
+    CHECK_THAT(sim2.warnings()[0], Catch::Matchers::Contains("mm deep inside box 2:"));
+}
+
+TEST_CASE("100 000 static boxes build and step in well under a second each",
+          "[simulation][limits]") {
+    WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+    // all in one square metre: each overlaps dozens of others
+    BoxSpec box;
+    box.size = {0.04, 0.04, 0.02};
+    for (int k = 0; k < 100000; ++k) {
+        box.pose.position = {1.5 + (k % 317) / 317.0, (k / 317 % 317) / 317.0 - 0.5, 0.01};
+        w.boxes.push_back(box);
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    Simulation sim(w);
+    const auto t1 = std::chrono::steady_clock::now();
+    sim.step(100);
+    const auto t2 = std::chrono::steady_clock::now();
+    const auto seconds = [](auto d) { return std::chrono::duration<double>(d).count(); };
+    CHECK(seconds(t1 - t0) < 5);  // was 6 s on an idle machine, and 3 ms more per step
+    CHECK(seconds(t2 - t1) < 5);
 }

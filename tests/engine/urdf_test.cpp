@@ -172,3 +172,14 @@ TEST_CASE("URDF that is not a serial chain of revolute joints with boxes is reje
     CHECK_THAT(import_error("<gaitlab version=\"1\"/>"),
                Equals("r.urdf:1: expected a <robot> root element, got <gaitlab>"));
 }
+
+TEST_CASE("a link whose body is invalid is named at its own line", "[lines]") {
+    const std::string link = kLink;
+    CHECK_THAT(import_error("<robot name=\"r\">\n<link name=\"a\">" + link +
+                            "</link>\n<link name=\"b\"><inertial><mass value=\"1\"/></inertial>"
+                            "<collision><geometry><box size=\"0.1 -0.1 0.1\"/></geometry>"
+                            "</collision></link>\n</robot>"),
+               Equals("r.urdf:4: robot/link[2]: robot 'r' body 'b' size y must be positive (got "
+                      "-0.1 m)"));
+    CHECK_THAT(import_error(""), Equals("r.urdf:1: malformed XML: XML_ERROR_EMPTY_DOCUMENT"));
+}

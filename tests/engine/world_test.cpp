@@ -3,6 +3,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <limits>
 
 #include "gaitlab/error.h"
@@ -83,10 +84,102 @@ TEST_CASE("boxes are checked and numbered from 1") {
     }
 }
 
-TEST_CASE("gravity must be finite") {
+TEST_CASE("gravity must be finite and within 1000 m/s² on each axis") {
     WorldSpec w = world_with_robot();
     w.gravity.x = std::numeric_limits<double>::quiet_NaN();
     require_rejected(w, "gravity x must be a finite number");
+    w.gravity.x = 0;
+    w.gravity.z = -1e30;
+    require_rejected(w, "gravity z must be in [-1000, 1000] m/s² (got -1e+30)");
+    w.gravity.z = 1000.5;
+    require_rejected(w, "gravity z must be in [-1000, 1000] m/s² (got 1000.5)");
+    w.gravity = {1000, -1000, -1000};
+    CHECK_NOTHROW(validate(w));
+}
+
+TEST_CASE("positions, sizes and masses beyond what single-precision physics means are refused") {
+    WorldSpec w = world_with_robot();
+    SECTION("a box far away") {
+        w.boxes.resize(1);
+        w.boxes[0].pose.position.x = 1e30;
+        require_rejected(w, "box 1 position x must be in [-10000, 10000] m (got 1e+30)");
+    }
+    SECTION("a box larger than the world") {
+        w.boxes.resize(1);
+        w.boxes[0].size.x = 1e30;
+        require_rejected(w, "box 1 size x must be at most 10000 m (got 1e+30 m)");
+    }
+    SECTION("a box heavier than anything a robot meets") {
+        w.boxes.resize(1);
+        w.boxes[0].mass = 1e30;
+        require_rejected(w, "box 1 mass must be at most 1000000 kg (got 1e+30 kg)");
+    }
+    SECTION("stairs whose steps add up beyond the limit") {
+        w.stairs.resize(1);
+        w.stairs[0].steps = 1000;
+        w.stairs[0].step_height = 9000;
+        require_rejected(w, "stairs 1 height must be at most 10000 m (got 9000000 m)");
+    }
+    SECTION("a robot far away") {
+        w.robots[0].pose.position.y = -2e4;
+        require_rejected(w, "robot 'snake' position y must be in [-10000, 10000] m (got -20000)");
+    }
+    SECTION("a robot body") {
+        w.robots[0].robot.bodies[1].mass = 1e9;
+        require_rejected(
+            w, "robot 'snake' body 'segment1' mass must be at most 1000000 kg (got 1000000000 kg)");
+    }
+}
+
+TEST_CASE("heightfield heights are within 1000 m") {
+    WorldSpec w = world_with_robot();
+    HeightfieldSpec h;
+    h.samples_x = 2;
+    h.samples_y = 2;
+    h.heights = {0, 0, 1e6, 0};
+    w.heightfields.push_back(h);
+    require_rejected(w,
+                     "heightfield 1 height at grid point (1, 2) must be in [-1000, 1000] m "
+                     "(got 1000000)");
+    w.heightfields[0].heights[2] = -HUGE_VAL;
+    require_rejected(w, "heightfield 1 height at grid point (1, 2) must be a finite number");
+    w.heightfields[0].heights[2] = -1000;
+    CHECK_NOTHROW(validate(w));
+    w.heightfields[0].heights.clear();
+    w.heightfields[0].image = "x.png";
+    w.heightfields[0].max_height = 2000;
+    require_rejected(w, "heightfield 1 max_height must be at most 1000 m (got 2000 m)");
+}
+
+TEST_CASE("a world's objects are bounded in number") {
+    WorldSpec w = world_with_robot();
+    // 1e8 stones: each field within its own limit, together far beyond the world's
+    RubbleSpec r;
+    r.count = kMaxRubbleCount;
+    w.rubble.assign(1000, r);
+    CHECK(solid_count(w) == 100000000);
+    require_rejected(w,
+                     "the world's objects make 100000000 rigid bodies (at most 250000: fewer "
+                     "stones, steps or objects)");
+    w.rubble.resize(2);
+    CHECK_NOTHROW(validate(w));
+    SECTION("heightfields, whose samples add up") {
+        w.rubble.clear();
+        HeightfieldSpec h;
+        h.samples_x = h.samples_y = kMaxHeightfieldSide;
+        h.heights.assign(static_cast<size_t>(kMaxHeightSamples), 0.0);
+        w.heightfields = {h};
+        CHECK_NOTHROW(validate(w));
+        w.heightfields.push_back(h);
+        require_rejected(w,
+                         "the world's heightfields have 33554432 samples together (at most "
+                         "16777216)");
+    }
+    SECTION("robots") {
+        w.rubble.clear();
+        w.robots.resize(kMaxRobots + 1, w.robots[0]);
+        require_rejected(w, "a world holds at most 1000 robots (got 1001)");
+    }
 }
 
 TEST_CASE("the robots of a world are validated") {
@@ -187,7 +280,7 @@ TEST_CASE("every object of the world library is checked, named by kind and numbe
         REQUIRE_THROWS_WITH(
             Simulation(w),
             Equals("heightfield 1 cannot read image '/tmp/gaitlab_no_such_dir/x.png': no such "
-                   "file"));
+                   "file or directory"));
     }
     SECTION("a robot's placement") {
         w.robots[0].pose.position.x = nan;

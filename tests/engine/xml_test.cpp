@@ -187,9 +187,10 @@ TEST_CASE("robot files reject bad input with file, line, element path and a sugg
     CHECK_THAT(robot_error("<robot>\n<body name=\"a\" size=\"1 1\" mass=\"1\"/>\n</robot>"),
                Equals("robot.xml:4: robot/body[1]: attribute 'size': three numbers \"x y z\" "
                       "expected, got '1 1'"));
-    CHECK_THAT(robot_error("<robot>\n<body name=\"a\" size=\"1 1 -1\" mass=\"1\"/>\n</robot>"),
-               Equals("robot.xml:3: robot: robot 'robot' body 'a' size z must be positive (got "
-                      "-1 m)"));
+    CHECK_THAT(
+        robot_error("<robot>\n<body name=\"a\" size=\"1 1 -1\" mass=\"1\"/>\n</robot>"),
+        Equals("robot.xml:4: robot/body[1]: robot 'robot' body 'a' size z must be positive (got "
+               "-1 m)"));
     CHECK_THAT(robot_error("<robot/>"),
                Equals("robot.xml:3: robot: a robot needs a <chain>, or <body> and <joint> "
                       "elements"));
@@ -351,6 +352,23 @@ TEST_CASE("environment files reject values out of range before anything runs") {
                       "'friction')"));
 }
 
+TEST_CASE("environment files range-check gravity and heightfield heights", "[limits]") {
+    CHECK_THAT(environment_error("<environment gravity=\"0 0 -1e30\">\n<floor/></environment>"),
+               Equals("env.xml:3: environment: gravity z must be in [-1000, 1000] m/s² (got "
+                      "-1e+30)"));
+    CHECK_THAT(environment_error("<environment>\n<floor/>\n<heightfield samples=\"2 2\">\n"
+                                 "<heights>0 0 0 2000</heights></heightfield></environment>"),
+               Equals("env.xml:5: environment/heightfield[1]: heightfield 1 height at grid "
+                      "point (2, 2) must be in [-1000, 1000] m (got 2000)"));
+    CHECK_THAT(environment_error("<environment>\n<heightfield image=\"t.png\" "
+                                 "max_height=\"1e9\"/></environment>"),
+               Equals("env.xml:4: environment/heightfield[1]: heightfield 1 max_height must be "
+                      "at most 1000 m (got 1000000000 m)"));
+    CHECK_THAT(environment_error("<environment>\n<box position=\"1e30 0 0\"/></environment>"),
+               Equals("env.xml:4: environment/box[1]: box 1 position x must be in [-10000, "
+                      "10000] m (got 1e+30)"));
+}
+
 TEST_CASE("simulation files round-trip and name missing parts by their resolved path") {
     TempDir dir("xml_sim");
     test::write_text(dir.file("env.xml"), doc("<environment/>"));
@@ -388,9 +406,10 @@ TEST_CASE("simulation files round-trip and name missing parts by their resolved 
     test::write_text(dir.file("bad.xml"), doc("<simulation>\n<environment file=\"env.xml\"/>\n"
                                               "<robot file=\"robots/snake.xml\"/>\n</simulation>"));
     const std::string missing = (dir.path / "robots" / "snake.xml").string();
-    CHECK_THROWS_WITH(
-        read_simulation(dir.file("bad.xml")),
-        dir.file("bad.xml") + ":5: simulation/robot[1]: attribute 'file': no file at " + missing);
+    CHECK_THROWS_WITH(read_simulation(dir.file("bad.xml")),
+                      dir.file("bad.xml") +
+                          ":5: simulation/robot[1]: attribute 'file': cannot read " + missing +
+                          ": No such file or directory");
     test::write_text(dir.file("bad2.xml"), doc("<simulation dt=\"0.5\">\n<environment "
                                                "file=\"env.xml\"/></simulation>"));
     CHECK_THROWS_WITH(
@@ -400,6 +419,92 @@ TEST_CASE("simulation files round-trip and name missing parts by their resolved 
     CHECK_THROWS_WITH(read_simulation(dir.file("bad3.xml")),
                       dir.file("bad3.xml") +
                           ":3: simulation: an <environment file=\"...\"/> element is required");
+}
+
+TEST_CASE("simulation files refuse numbers that would wrap and parts that are not files",
+          "[limits]") {
+    TempDir dir("xml_sim_limits");
+    test::write_text(dir.file("env.xml"), doc("<environment/>"));
+    const auto error_of = [&](const std::string& sim) {
+        test::write_text(dir.file("s.xml"), doc(sim));
+        try {
+            read_simulation(dir.file("s.xml"));
+        } catch (const FormatError& e) {
+            return std::string(e.what());
+        }
+        FAIL("no error for " << sim);
+        return std::string();
+    };
+    const std::string at = dir.file("s.xml") + ":3: simulation: ";
+    // 1e16 s at 1 ms used to overflow std::lround and run no tick at all
+    CHECK(error_of("<simulation duration=\"1e16\"><environment file=\"env.xml\"/>"
+                   "</simulation>") ==
+          at + "duration must be in [0, 9.0072e+12] s at dt = 0.001 s (got 1e+16 s)");
+    CHECK(error_of("<simulation control_every=\"4294967326\"><environment file=\"env.xml\"/>"
+                   "</simulation>") ==
+          at + "control_every must be in [1, 1000000] (got 4294967326)");
+    CHECK(error_of("<simulation>\n<environment file=\"env.xml\"/>\n<record "
+                   "every=\"4294967297\"/></simulation>") ==
+          dir.file("s.xml") +
+              ":5: simulation/record[1]: every must be in [0, 1000000] (got 4294967297)");
+    std::filesystem::create_directory(dir.file("folder.xml"));
+    CHECK(error_of("<simulation>\n<environment file=\"folder.xml\"/></simulation>") ==
+          dir.file("s.xml") + ":4: simulation/environment[1]: attribute 'file': cannot read " +
+              dir.file("folder.xml") + ": is a directory");
+    CHECK(error_of("<simulation>\n<environment file=\"/dev/null\"/></simulation>") ==
+          dir.file("s.xml") +
+              ":4: simulation/environment[1]: attribute 'file': cannot read /dev/null: not a "
+              "regular file (a FIFO, device or socket)");
+}
+
+TEST_CASE("environment, robot and actuation files refuse counts that would wrap", "[limits]") {
+    CHECK_THAT(environment_error("<environment>\n<stairs steps=\"4294967297\"/></environment>"),
+               Equals("env.xml:4: environment/stairs[1]: steps must be in [1, 1000] (got "
+                      "4294967297)"));
+    CHECK_THAT(environment_error("<environment>\n<rubble count=\"-4294967296\"/></environment>"),
+               Equals("env.xml:4: environment/rubble[1]: count must be in [0, 100000] (got "
+                      "-4294967296)"));
+    CHECK_THAT(environment_error("<environment>\n<pipe sides=\"99999999999\"/></environment>"),
+               Equals("env.xml:4: environment/pipe[1]: sides must be in [3, 256] (got "
+                      "99999999999)"));
+    // module 4294967297 used to become module 1
+    CHECK_THAT(robot_error("<robot>\n<chain modules=\"3\"/>\n<sensor kind=\"imu\" "
+                           "module=\"4294967297\"/></robot>"),
+               Equals("robot.xml:5: robot/sensor[1]: module must be in [1, 10000] (got "
+                      "4294967297)"));
+    CHECK_THAT(robot_error("<robot>\n<chain modules=\"4294967299\"/></robot>"),
+               Equals("robot.xml:4: robot/chain[1]: modules must be in [1, 1000] (got "
+                      "4294967299)"));
+    CHECK_THAT(actuation_error("<actuation>\n<group joints=\"1 99999\"><controller "
+                               "builtin=\"sine\"/></group></actuation>"),
+               Equals("act.xml:4: actuation/group[1]: attribute 'joints': joint numbers must be "
+                      "in [1, 10000] (got 99999)"));
+    CHECK_THAT(actuation_error("<actuation>\n<group joints=\"1 99999999999999999999\">"
+                               "<controller builtin=\"sine\"/></group></actuation>"),
+               Catch::Matchers::Contains("joint numbers (from 1) expected"));
+}
+
+TEST_CASE("errors name the line of what is wrong: an empty file is line 1", "[lines]") {
+    for (const auto& read : {+[](std::string_view t) { parse_robot(t, "f.xml"); },
+                             +[](std::string_view t) { parse_actuation(t, "f.xml"); },
+                             +[](std::string_view t) { parse_environment(t, "f.xml"); },
+                             +[](std::string_view t) { parse_simulation(t, "f.xml"); }}) {
+        CHECK_THROWS_WITH(read(""), "f.xml:1: malformed XML: XML_ERROR_EMPTY_DOCUMENT");
+        CHECK_THROWS_WITH(read("\n\n  \n"), "f.xml:1: malformed XML: XML_ERROR_EMPTY_DOCUMENT");
+    }
+    // a body's error names the body, not the robot
+    CHECK_THAT(robot_error("<robot name=\"s\">\n<body name=\"a\" size=\"1 1 1\" mass=\"1\"/>\n"
+                           "<body name=\"b\" size=\"1 1 1\" mass=\"0\"/>\n</robot>"),
+               Equals("robot.xml:5: robot/body[2]: robot 's' body 'b' mass must be positive (got "
+                      "0 kg)"));
+    CHECK_THAT(robot_error("<robot name=\"s\">\n<body name=\"a\" size=\"1 1 1\" mass=\"1\"/>\n"
+                           "<body name=\"b\" size=\"1 1 1\" mass=\"1\"/>\n<joint name=\"j\" "
+                           "parent=\"a\" child=\"b\" pivot=\"0 0 0\" axis=\"0 0 2\"/>\n</robot>"),
+               Equals("robot.xml:6: robot/joint[1]: robot 's' joint 'j' axis must be a unit "
+                      "vector"));
+    CHECK_THAT(robot_error("<robot name=\"s\x01\">\n<chain modules=\"2\"/>\n</robot>"),
+               Equals("robot.xml:4: robot/chain[1]: robot name must be valid UTF-8 without "
+                      "control characters (got \"s\\x01\")"));
 }
 
 TEST_CASE("writers check before writing and replace files atomically") {

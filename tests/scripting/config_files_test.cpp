@@ -4,9 +4,11 @@
 // give nil and "FILE:LINE: ..." messages; controllers defined inside a script cannot be saved.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "gaitlab/xml.h"
 #include "lua_fixture.h"
@@ -243,8 +245,8 @@ TEST_CASE("bad files give nil and a message naming file and line", "[config_file
                               "</simulation>\n</gaitlab>\n");
     lua.run("s, err = gaitlab.simulation.load(DIR .. '/sim.xml')");
     CHECK(lua.string("err") == dir.file("sim.xml") +
-                                   ":4: simulation/robot[1]: attribute 'file': no file at " +
-                                   dir.file("robots/r.xml"));
+                                   ":4: simulation/robot[1]: attribute 'file': cannot read " +
+                                   dir.file("robots/r.xml") + ": No such file or directory");
 }
 
 TEST_CASE("a controller defined inside a script cannot be saved, and says why", "[config_files]") {
@@ -257,4 +259,131 @@ TEST_CASE("a controller defined inside a script cannot be saved, and says why", 
     CHECK(lua.error_of("robot:actuation()") ==
           "test:1: controller 'inline' is defined inside a script (test:2): a file can only "
           "name a controller loaded from its own file (gaitlab.controller.load) or a template");
+}
+
+TEST_CASE("errors while a simulation file is built or run name the file and its line",
+          "[config_files][lines]") {
+    TempDir dir("file_lines");
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.path.string() + "'");
+    const auto write = [&](const std::string& name, const std::string& inner) {
+        gaitlab::test::write_text(dir.file(name),
+                                  "<gaitlab version=\"1\">\n" + inner + "\n</gaitlab>\n");
+    };
+    write("snake.xml", "<robot name=\"snake\"><chain modules=\"3\"/></robot>");
+    // everything falls at 1000 m/s² without a floor: the robot diverges at 10 s
+    write("falling.xml",
+          "<environment gravity=\"0 0 -1000\"><floor enabled=\"false\"/>"
+          "</environment>");
+    write("sim.xml",
+          "<simulation duration=\"20\">\n<environment file=\"falling.xml\"/>\n"
+          "<robot file=\"snake.xml\"/>\n<record enabled=\"false\"/></simulation>");
+    // run: the engine's error used to name stdlib/simulation.lua:8
+    CHECK_THAT(lua.error_of("gaitlab.simulation.run_file(DIR .. '/sim.xml')"),
+               Catch::Matchers::StartsWith(dir.file("sim.xml") +
+                                           ":2: simulation diverged at t = 10.000 s: body "));
+
+    // built: an image that is a directory is found when the world is compiled
+    std::filesystem::create_directory(dir.file("terrain.png"));
+    write("hills.xml", "<environment><heightfield image=\"terrain.png\"/></environment>");
+    write("sim2.xml",
+          "<simulation>\n<environment file=\"hills.xml\"/>\n"
+          "<robot file=\"snake.xml\"/></simulation>");
+    lua.run("s, err = gaitlab.simulation.load(DIR .. '/sim2.xml')");
+    CHECK(lua.boolean("s == nil"));
+    CHECK(lua.string("err") == dir.file("sim2.xml") + ":2: heightfield 1 cannot read image '" +
+                                   dir.file("terrain.png") + "': is a directory");
+    CHECK(lua.error_of("gaitlab.simulation.run_file(DIR .. '/sim2.xml')") ==
+          dir.file("sim2.xml") + ":2: heightfield 1 cannot read image '" + dir.file("terrain.png") +
+              "': is a directory");
+
+    // two robots of one name: the second <robot> line; a placement of no robot: its <place>
+    write("sim3.xml",
+          "<simulation>\n<environment file=\"falling.xml\"/>\n"
+          "<robot file=\"snake.xml\"/>\n<robot file=\"snake.xml\"/></simulation>");
+    lua.run("s, err = gaitlab.simulation.load(DIR .. '/sim3.xml')");
+    CHECK(lua.string("err") == dir.file("sim3.xml") +
+                                   ":5: two robots named 'snake' (placements name robots: give "
+                                   "each its own name)");
+    write("placed.xml", "<environment>\n<place robot=\"worm\"/></environment>");
+    write("sim4.xml",
+          "<simulation>\n<environment file=\"placed.xml\"/>\n"
+          "<robot file=\"snake.xml\"/></simulation>");
+    lua.run("s, err = gaitlab.simulation.load(DIR .. '/sim4.xml')");
+    CHECK(lua.string("err") == dir.file("placed.xml") +
+                                   ":3: robot 'worm' is placed but the simulation has no robot "
+                                   "of that name");
+    // an empty part is line 1; a directory or a device given as a whole file says so
+    std::filesystem::create_directory(dir.file("folder.xml"));
+    write("empty_ok.xml", "<simulation>\n<environment file=\"empty.xml\"/></simulation>");
+    gaitlab::test::write_text(dir.file("empty.xml"), "");
+    lua.run("s, err = gaitlab.simulation.load(DIR .. '/empty_ok.xml')");
+    CHECK(lua.string("err") ==
+          dir.file("empty.xml") + ":1: malformed XML: XML_ERROR_EMPTY_DOCUMENT");
+    lua.run("s, err = gaitlab.simulation.load(DIR)");
+    CHECK(lua.string("err") == dir.path.string() + ": cannot read the file: is a directory");
+    lua.run("s, err = gaitlab.world.load('/dev/zero.xml')");
+    CHECK(lua.string("err") == "/dev/zero.xml: cannot read the file: No such file or directory");
+    lua.run("s, err = gaitlab.world.load(DIR .. '/folder.xml')");
+    CHECK(lua.string("err") == dir.file("folder.xml") + ": cannot read the file: is a directory");
+    lua.run("s, err = gaitlab.robot.load(DIR)");
+    CHECK(lua.string("err") == dir.path.string() + ": cannot read the file: is a directory");
+    lua.run("s, err = gaitlab.robot.load_urdf('/dev/zero')");
+    CHECK(lua.string("err") ==
+          "/dev/zero: cannot read the file: not a regular file (a FIFO, device or socket)");
+    lua.run("s, err = gaitlab.actuation.load(DIR)");
+    CHECK(lua.string("err") == dir.path.string() + ": cannot read the file: is a directory");
+}
+
+TEST_CASE("sim:save never writes outside its folder, whatever the robots are called",
+          "[config_files][save]") {
+    TempDir dir("save_names");
+    std::filesystem::create_directory(dir.file("out"));
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.path.string() + "'");
+    lua.run(R"(
+        world = gaitlab.world()
+        names = { "../../evil", "/etc/gaitlab_x", "a/b", "a_b", ".hidden", "serpent à sonnettes",
+                  string.rep("é", 100), "back\\slash", "ok" }
+        for i, name in ipairs(names) do
+          local r = gaitlab.robot.chain{ name = name, modules = 2 }
+          world:add(r, { y = i })
+          r:group("all"):drive(gaitlab.controllers.sine{})
+        end
+        sim = gaitlab.simulation{ world = world }
+        saved = assert(sim:save(DIR .. "/out/s.xml"))
+        loaded, setup = assert(gaitlab.simulation.load(DIR .. "/out/s.xml"))
+    )");
+    // the folder holds everything; nothing was written next to it or above it
+    std::vector<std::string> files, outside;
+    for (const auto& e : std::filesystem::directory_iterator(dir.file("out")))
+        files.push_back(e.path().filename().string());
+    for (const auto& e : std::filesystem::recursive_directory_iterator(dir.path)) {
+        if (e.path().parent_path() != dir.path / "out" && e.path() != dir.path / "out") {
+            outside.push_back(e.path().string());
+        }
+    }
+    CHECK(outside.empty());
+    CHECK_FALSE(std::filesystem::exists("/etc/gaitlab_x.robot.xml"));
+    std::sort(files.begin(), files.end());
+    CHECK(files.size() == 2 + 2 * 9);
+    for (const char* f :
+         {"s.______evil.robot.xml", "s._etc_gaitlab_x.robot.xml", "s.a_b.robot.xml",
+          "s.a_b_2.robot.xml", "s._hidden.robot.xml", "s.serpent_à_sonnettes.robot.xml",
+          "s.back_slash.actuation.xml", "s.ok.robot.xml"}) {
+        CHECK(std::find(files.begin(), files.end(), f) != files.end());
+    }
+    // 100 two-byte characters cut to 64 bytes, between characters
+    const std::string e32 = [] {
+        std::string s;
+        for (int i = 0; i < 32; ++i)
+            s += "é";
+        return s;
+    }();
+    CHECK(std::find(files.begin(), files.end(), "s." + e32 + ".robot.xml") != files.end());
+    // and the robots come back under their own names
+    CHECK(lua.boolean("setup.robots['../../evil'] ~= nil"));
+    CHECK(lua.boolean("setup.robots['/etc/gaitlab_x'] ~= nil"));
+    CHECK(lua.boolean("setup.robots['a/b'] ~= nil and setup.robots['a_b'] ~= nil"));
+    CHECK(lua.integer("#setup.controllers['a/b']") == 1);
 }

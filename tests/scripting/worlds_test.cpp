@@ -254,8 +254,14 @@ TEST_CASE("gaitlab.world.load runs a world file relative to the calling script",
     CHECK(lua.number("corridor_start.x") == -0.5);
 
     CHECK(lua.error_of("gaitlab.world.load('" + dir + "/nothing_here.lua')") ==
-          "test:1: cannot load world '" + dir + "/nothing_here.lua': no file at " + dir +
-              "/nothing_here.lua");
+          "test:1: cannot load world '" + dir + "/nothing_here.lua': cannot read " + dir +
+              "/nothing_here.lua: No such file or directory");
+    // a directory, a device or a FIFO is refused up front, never read (a FIFO would block)
+    CHECK(lua.error_of("gaitlab.world.load('" + dir + "')") ==
+          "test:1: cannot load world '" + dir + "': cannot read " + dir + ": is a directory");
+    CHECK(lua.error_of("gaitlab.world.load('/dev/zero')") ==
+          "test:1: cannot load world '/dev/zero': cannot read /dev/zero: not a regular file (a "
+          "FIFO, device or socket)");
     CHECK(lua.error_of("gaitlab.world.load('" + dir + "/not_a_world.lua')") ==
           "test:1: " + dir +
               "/not_a_world.lua: a world file must return "

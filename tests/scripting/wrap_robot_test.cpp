@@ -175,3 +175,18 @@ TEST_CASE("joints lists angle, target, velocity in degrees and torque", "[wrap_r
     CHECK(lua.number("joints[1].angle") > 5);
     CHECK(lua.number("math.abs(joints[1].torque)") <= 0.4 + 1e-9);
 }
+
+TEST_CASE("robot names are valid UTF-8 without control characters", "[wrap_robot][names]") {
+    LuaFixture lua;
+    CHECK(lua.error_of("gaitlab.robot.chain{ name = 'snake\\n', modules = 2 }") ==
+          "test:1: bad argument #1 to 'chain' (robot name must be valid UTF-8 without control "
+          "characters (got \"snake\\x0a\"))");
+    CHECK(lua.error_of("gaitlab.robot.chain{ name = 'bad\\xff', modules = 2 }") ==
+          "test:1: bad argument #1 to 'chain' (robot name must be valid UTF-8 without control "
+          "characters (got \"bad\\xff\"))");
+    CHECK(lua.error_of("gaitlab.robot.chain{ name = string.rep('a', 300), modules = 2 }") ==
+          "test:1: bad argument #1 to 'chain' (robot name must be at most 256 bytes long (got "
+          "300 bytes))");
+    lua.run("r = gaitlab.robot.chain{ name = 'serpent à sonnettes / 2', modules = 2 }");
+    CHECK(lua.string("r.name") == "serpent à sonnettes / 2");
+}

@@ -250,3 +250,15 @@ TEST_CASE("sensors can be attached while the simulation runs", "[wrap_sensor]") 
     CHECK(lua.number("imu:read().az") == Approx(9.81).margin(0.01));
     CHECK(lua.string("robot:sensors()[1].name") == "imu1");
 }
+
+TEST_CASE("sensor module and joint numbers never wrap", "[wrap_sensor][limits]") {
+    LuaFixture lua;
+    lua.run("r = gaitlab.robot.chain{ name = 'snake', modules = 3 }");
+    // 2^32 + 1 used to become module 1
+    CHECK(lua.error_of("r:sensor{ kind = 'imu', module = 2^32 + 1 }") ==
+          "test:1: bad argument #1 to 'sensor' (field 'module': module number must be in "
+          "[-10000, 10000] (got 4294967297))");
+    CHECK(lua.error_of("r:sensor{ kind = 'joint', joint = -2^40 }") ==
+          "test:1: bad argument #1 to 'sensor' (field 'joint': joint number must be in [-10000, "
+          "10000] (got -1099511627776))");
+}

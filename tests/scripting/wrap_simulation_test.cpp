@@ -18,7 +18,7 @@ TEST_CASE("simulation rejects bad options with Lua-worded messages", "[wrap_simu
     CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { every = 3 } }") ==
           bad + "field 'record': unknown key 'every')");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { record_every = 0 } }") ==
-          bad + "field 'record': record_every must be at least 1 (got 0))");
+          bad + "field 'record': record_every must be in [1, 1000000] (got 0))");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { flush_seconds = -1 } }") ==
           bad + "field 'record': flush_seconds must be a non-negative number of seconds)");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { series = 'x' } }") ==
@@ -32,7 +32,7 @@ TEST_CASE("simulation rejects bad options with Lua-worded messages", "[wrap_simu
     CHECK(lua.error_of("gaitlab.simulation{ world = w, dt = 0 }") ==
           bad + "dt must be in [1e-06, 0.1] s (got 0))");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, control_every = 0 }") ==
-          bad + "control_every must be at least 1 (got 0))");
+          bad + "control_every must be in [1, 1000000] (got 0))");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, control_every = 2.5 }") ==
           bad + "field 'control_every': integer expected, got a fractional number)");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, seed = -1 }") ==
@@ -125,4 +125,133 @@ TEST_CASE("sim:objects reports the dynamic objects of the world", "[wrap_simulat
     // no floor: both fall freely, 9.81 · 0.5² / 2 m
     CHECK(lua.number("before[1].position.z - after[1].position.z") == Approx(1.226).margin(0.01));
     CHECK(lua.number("after[2].velocity.z") == Approx(-4.905).margin(0.01));
+}
+
+TEST_CASE("a Lua controller may drive new groups from its step but not step its simulation",
+          "[wrap_simulation][reentrancy]") {
+    LuaFixture lua;
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ name = "snake", modules = 4 }
+        world = gaitlab.world()
+        world:add(robot)
+        added = {}
+        Grower = gaitlab.controller{ name = "grower", step = function(self)
+          if #added < 30 then
+            local s = gaitlab.controllers.sine{ amplitude = 10 }
+            added[#added + 1] = s
+            robot:group{ #added % 4 + 1 }:drive(s)
+          end
+          for m = 1, self.joints do self:set_angle(m, 0) end
+        end }
+        robot:group("all"):drive(Grower())
+        sim = gaitlab.simulation{ world = world }
+        sim:run(1)
+    )");
+    CHECK(lua.integer("#added") == 30);
+    CHECK(lua.integer("sim.ticks") == 1000);
+    // the first group added stepped from the control tick after the one that added it
+    CHECK(lua.number("added[1]:values().time[1]") == Approx(33 * 0.03));
+
+    // sensors attached from a step read from then on, and the step sees them at once
+    lua.run(R"(
+        robot2 = gaitlab.robot.chain{ name = "worm", modules = 3 }
+        world2 = gaitlab.world()
+        world2:add(robot2)
+        seen = {}
+        Watcher = gaitlab.controller{ name = "watcher", step = function(self)
+          local n = #seen + 1
+          if n <= 20 then
+            robot2:sensor{ kind = "imu", module = 1 + n % 3, name = "imu_" .. n }
+            seen[n] = self:sensor("imu_" .. n, "qw")
+          end
+          for m = 1, self.joints do self:set_angle(m, 0) end
+        end }
+        robot2:group("all"):drive(Watcher())
+        sim2 = gaitlab.simulation{ world = world2 }
+        sim2:run(1)
+    )");
+    CHECK(lua.integer("#robot2:sensors()") == 20);
+    CHECK(lua.number("seen[20]") == Approx(1).margin(1e-3));
+    CHECK(lua.number("robot2:sensor('imu_20'):read().qw") == Approx(1).margin(1e-3));
+
+    for (const char* call : {"sim:run(1)", "sim:step(5)", "sim:reset()"}) {
+        LuaFixture inner;
+        inner.run(std::string(R"(
+            robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
+            world = gaitlab.world()
+            world:add(robot)
+            Nested = gaitlab.controller{ name = "nested", step = function(self)
+              )") +
+                  call + R"(
+            end }
+            robot:group("all"):drive(Nested())
+            sim = gaitlab.simulation{ world = world }
+        )");
+        const std::string verb = std::string(call).substr(4, std::string(call).find('(') - 4);
+        CHECK(inner.error_of("sim:run(1)") ==
+              "test:6: cannot step the simulation from inside its own tick (" + verb +
+                  " called from a controller's step: step, run and reset belong between ticks)");
+        CHECK(inner.integer("sim.ticks") == 0);
+    }
+}
+
+TEST_CASE("a Lua controller setting a non-finite angle fails", "[wrap_simulation][divergence]") {
+    for (const char* value : {"0/0", "1/0", "-math.huge"}) {
+        LuaFixture lua;
+        lua.run(std::string(R"(
+            robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
+            world = gaitlab.world()
+            world:add(robot)
+            Bad = gaitlab.controller{ name = "bad", step = function(self)
+              self:set_angle(2, )") +
+                value + R"()
+            end }
+            robot:group("all"):drive(Bad())
+            sim = gaitlab.simulation{ world = world }
+        )");
+        CHECK(lua.error_of("sim:run(1)") ==
+              "test:6: bad argument #2 to 'set_angle' (finite number of degrees expected)");
+        CHECK(lua.boolean("robot:joints()[2].target == robot:joints()[2].target"));
+    }
+}
+
+TEST_CASE("counts and run lengths never wrap into other numbers", "[wrap_simulation][limits]") {
+    LuaFixture lua;
+    lua.run(R"(
+        w = gaitlab.world()
+        w:add(gaitlab.robot.chain{ modules = 2 })
+    )");
+    const std::string bad = "test:1: bad argument #1 to 'simulation' (";
+    // 2^32 + 30 used to become 30
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, control_every = 2^32 + 30 }") ==
+          bad + "control_every must be in [1, 1000000] (got 4294967326))");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, solver_iterations = 2^32 + 20 }") ==
+          bad + "solver_iterations must be in [1, 10000] (got 4294967316))");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { record_every = 4294967297 } }") ==
+          bad + "field 'record': record_every must be in [1, 1000000] (got 4294967297))");
+    lua.run("sim = gaitlab.simulation{ world = w }");
+    CHECK(lua.error_of("sim:run(1e17)") ==
+          "test:1: bad argument #1 to 'run' (run time must be in [0, 9.0072e+12] s at dt = 0.001 "
+          "s (got 1e+17 s))");
+    CHECK(lua.error_of("sim:step(2^62)") ==
+          "test:1: bad argument #1 to 'step' (ticks must be in [0, 9007199254740992] (got "
+          "4611686018427387904))");
+    CHECK(lua.integer("sim.ticks") == 0);
+    lua.run("sim:step(2^4)");  // a float with an integer value is a count
+    CHECK(lua.integer("sim.ticks") == 16);
+
+    const std::string chain = "test:1: bad argument #1 to 'chain' (";
+    CHECK(lua.error_of("gaitlab.robot.chain{ modules = 2^32 + 8 }") ==
+          chain + "modules must be at most 1000 (got 4294967304))");
+    CHECK(lua.error_of("gaitlab.robot.chain{ modules = -2^40 }") ==
+          chain + "modules must be at least 1 (got -1099511627776))");
+    CHECK(lua.error_of("w:stairs{ steps = 2^32 + 3 }") ==
+          "test:1: bad argument #1 to 'stairs' (stairs 1 steps must be in [1, 1000] (got "
+          "4294967299))");
+    CHECK(lua.error_of("w:pipe{ sides = 2^32 + 8 }") ==
+          "test:1: bad argument #1 to 'pipe' (pipe 1 sides must be in [3, 256] (got "
+          "4294967304))");
+    CHECK(lua.error_of("w:rubble{ count = 2^40 }") ==
+          "test:1: bad argument #1 to 'rubble' (rubble 1 count must be in [0, 100000] (got "
+          "1099511627776))");
 }

@@ -197,7 +197,7 @@ TEST_CASE("world:heightfield samples a function, takes rows, or reads an image",
     CHECK(lua.error_of("w:heightfield{ image = '/tmp/gaitlab_no_such_dir/t.png' }") ==
           bad +
               "heightfield 4 cannot read image '/tmp/gaitlab_no_such_dir/t.png': no such "
-              "file)");
+              "file or directory)");
 }
 
 TEST_CASE("a heightfield image path is relative to the script naming it", "[wrap_world]") {
@@ -210,7 +210,7 @@ TEST_CASE("a heightfield image path is relative to the script naming it", "[wrap
                              "1 cannot read image '" +
                              gaitlab::test::lua_dir() +
                              "/worlds/no_such_terrain.png': no such "
-                             "file)"));
+                             "file or directory)"));
     CHECK(e.file() == file);
     CHECK(e.line() == 3);
 }
@@ -292,4 +292,61 @@ TEST_CASE("a heightfield from a Lua function gives contact at the height it says
         end
     )");
     CHECK(lua.number("worst") < 0.0015);
+}
+
+TEST_CASE("gravity and heightfield heights are range-checked", "[wrap_world][limits]") {
+    LuaFixture lua;
+    CHECK(lua.error_of("gaitlab.world{ gravity = { 0, 0, -1e30 } }") ==
+          "test:1: bad argument #1 to 'world' (gravity z must be in [-1000, 1000] m/s² (got "
+          "-1e+30))");
+    CHECK(lua.error_of("gaitlab.world{ gravity = { 0/0, 0, -9.81 } }") ==
+          "test:1: bad argument #1 to 'world' (gravity x must be a finite number)");
+    lua.run("w = gaitlab.world{ gravity = { 0, 1000, -1000 } }");
+    const std::string bad = "test:1: bad argument #1 to 'heightfield' (";
+    CHECK(lua.error_of("w:heightfield{ heights = {{0, 0}, {0, 5000}} }") ==
+          bad +
+              "heightfield 1 height at grid point (2, 2) must be in [-1000, 1000] m (got "
+              "5000))");
+    CHECK(lua.error_of("w:heightfield{ heights = {{0, 0}, {0, 1/0}} }") ==
+          bad + "heightfield 1 height at grid point (2, 2) must be a finite number)");
+    CHECK(lua.error_of("w:heightfield{ samples = {2, 2}, heights = function(x) return x * 1e9 "
+                       "end }") ==
+          bad +
+              "heightfield 1 height at grid point (1, 1) must be in [-1000, 1000] m (got "
+              "-500000000))");
+    CHECK(lua.error_of("w:heightfield{ image = '/tmp', max_height = 1 }") ==
+          bad + "heightfield 1 cannot read image '/tmp': is a directory)");
+    CHECK(lua.error_of("w:heightfield{ image = '/dev/zero', max_height = 1 }") ==
+          bad +
+              "heightfield 1 cannot read image '/dev/zero': not a regular file (a FIFO, "
+              "device or socket))");
+    CHECK(lua.error_of("w:heightfield{ image = 'x.png', max_height = 1e5 }") ==
+          bad + "heightfield 1 max_height must be at most 1000 m (got 100000 m))");
+    CHECK(lua.error_of("w:box{ position = { 1e30, 0, 0 } }") ==
+          "test:1: bad argument #1 to 'box' (box 1 position x must be in [-10000, 10000] m (got "
+          "1e+30))");
+    CHECK(lua.error_of("w:box{ mass = 1e30 }") ==
+          "test:1: bad argument #1 to 'box' (box 1 mass must be at most 1000000 kg (got 1e+30 "
+          "kg))");
+}
+
+TEST_CASE("a robot placed inside an object runs with a warning", "[wrap_world][overlap]") {
+    LuaFixture lua;
+    lua.run(R"(
+        w = gaitlab.world()
+        w:box{ size = { 1, 1, 1 }, position = { 0.1, 0, 0.2 } }
+        r = gaitlab.robot.chain{ name = "snake", modules = 2 }
+        w:add(r)
+        sim = gaitlab.simulation{ world = w }
+        clear = gaitlab.world()
+        clear:add(gaitlab.robot.chain{ modules = 2 })
+        sim2 = gaitlab.simulation{ world = clear }
+    )");
+    CHECK(lua.integer("#sim.warnings") == 1);
+    CHECK_THAT(lua.string("sim.warnings[1]"),
+               Catch::Matchers::StartsWith("body 'tail' of robot 'snake' starts ") &&
+                   Catch::Matchers::EndsWith(" mm deep inside box 1: the contact solver will "
+                                             "throw it out (place the robot clear of it, e.g. "
+                                             "higher)"));
+    CHECK(lua.integer("#sim2.warnings") == 0);
 }

@@ -2,6 +2,7 @@
 // can change while it runs, and per-joint values that can be read, recorded and plotted.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -75,8 +76,12 @@ class ControlIO {
     double angle(int m) const { return reader_.angle(joints_[m]); }
     double velocity(int m) const { return reader_.velocity(joints_[m]); }
     double torque(int m) const { return reader_.torque(joints_[m]); }
-    /// Sets joint m's target angle, rad; it holds until the next control step.
-    void set_target(int m, double rad) { targets_[m] = rad; }
+    /// Sets joint m's target angle, rad; it holds until the next control step. A target that
+    /// is not a finite number throws SpecError (the controller's step fails).
+    void set_target(int m, double rad) {
+        if (!std::isfinite(rad)) bad_target(m, rad);
+        targets_[m] = rad;
+    }
     double target(int m) const { return targets_[m]; }
 
     /// Number of sensors of the group's robot (feedback: see sensor.h).
@@ -90,6 +95,7 @@ class ControlIO {
     const double* sensor_values(int k) const { return sensors_->values(k); }
 
   private:
+    [[noreturn]] void bad_target(int m, double rad) const;
     double dt_;
     double time_;
     const std::vector<int>& joints_;

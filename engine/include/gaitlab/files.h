@@ -34,6 +34,11 @@ class ReadError : public IoError {
 /// than the 64 MiB gaitlab reads"). Never blocks on a FIFO, never reads forever.
 std::string read_file(const std::string& path, std::uintmax_t max_bytes = kMaxInputBytes);
 
+/// Refuses up front, as read_file would, what read_file would refuse (no file, a directory, a
+/// FIFO, device or socket, a file larger than `max_bytes`), without opening or reading it:
+/// for callers that hand the path to a reader of their own. Throws ReadError.
+void check_file(const std::string& path, std::uintmax_t max_bytes = kMaxInputBytes);
+
 /// "64 MiB", "512 KiB", "100 bytes": a size limit as messages state it.
 std::string describe_size(std::uintmax_t bytes);
 

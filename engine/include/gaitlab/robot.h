@@ -12,6 +12,12 @@
 
 namespace gaitlab {
 
+/// Limits of robot specs (docs/formats.md).
+inline constexpr int kMaxModules = 1000;       ///< modules of one chain
+inline constexpr int kMaxRobotBodies = 10000;  ///< bodies of one robot (joints: as many)
+inline constexpr double kMaxBodyExtent = 100;  ///< m, each size of a body
+inline constexpr double kMaxBodyMass = 1e6;    ///< kg
+
 /// How consecutive modules of a chain are joined.
 enum class Connection { pitch_pitch, pitch_yaw, yaw_yaw };
 
@@ -79,8 +85,15 @@ struct RobotSpec {
 /// lying along +x with its tail at the origin. Throws SpecError on invalid input.
 RobotSpec make_chain(const ChainSpec& spec);
 
-/// Checks a robot spec (indices, masses, sizes, ranges, friction, sensors); throws SpecError.
+/// Checks a robot spec (names, indices, masses, sizes, ranges, friction, sensors, the limits
+/// above); throws SpecError.
 void validate(const RobotSpec& robot);
+/// Checks one body of the robot called `robot_name` (its name, mass, size, friction), as
+/// validate does; throws SpecError ("robot 'snake' body 'tail' mass must be positive ...").
+void validate_body(const std::string& robot_name, const BodySpec& body);
+/// Checks one joint against the bodies of `robot` (its name, the bodies it joins, axis, range,
+/// servo), as validate does; throws SpecError.
+void validate_joint(const RobotSpec& robot, const JointSpec& joint);
 
 /// Joint indices (0-based, from the tail) selected by role: "pitch", "yaw", "roll" or "all". Throws
 /// SpecError for an unknown role or an empty selection.

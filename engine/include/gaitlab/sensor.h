@@ -52,6 +52,9 @@ struct SensorSpec {
     bool enabled = true;                 ///< switched on (updated every tick) or off
 };
 
+/// Sensors one robot may carry.
+inline constexpr int kMaxSensors = 10000;
+
 /// Limits of SensorSpec::max_range, m.
 constexpr double kMinRange = 0.01;
 constexpr double kMaxRange = 100.0;

@@ -2,7 +2,9 @@
 // steps them. Compiling validates the spec; reset() rebuilds the physics from it.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <deque>
 #include <exception>
 #include <functional>
 #include <memory>
@@ -11,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "gaitlab/error.h"
 #include "gaitlab/event.h"
 #include "gaitlab/scheduler.h"
 #include "gaitlab/sensor.h"
@@ -30,11 +33,25 @@ const char* to_string(ControllerErrorPolicy policy);
 
 class Controller;
 
+/// Limits of simulation options and run lengths (docs/formats.md).
+inline constexpr int kMaxControlEvery = 1000000;  ///< also the limit of a recording's every
+inline constexpr int kMaxSolverIterations = 10000;
+/// ticks a simulation runs in all (2^53: time = ticks · dt stays exact, and a tick count is a
+/// Lua integer and a double alike)
+inline constexpr long kMaxTicks = 9007199254740992L;
+
+/// The ticks `seconds` make at step `dt` (round(seconds / dt)), when they keep a run that has
+/// done `done` ticks within kMaxTicks; otherwise SpecError "WHAT must be in [0, MAX] s at dt =
+/// DT s (got SECONDS s)" (and for a negative or non-finite number). Never converts a value that
+/// does not fit.
+long checked_ticks(std::string_view what, double seconds, double dt, long done = 0);
+
 /// Global options of a simulation.
 struct SimulationOptions {
-    double dt = 0.001;       ///< physics step, s, in (0, 0.1]
-    int control_every = 30;  ///< ticks between controller steps, >= 1
-    /// constraint solver iterations per step, >= 1; 20 keeps standard gaits within about 1% of
+    double dt = 0.001;       ///< physics step, s, in [1e-6, 0.1]
+    int control_every = 30;  ///< ticks between controller steps, in [1, kMaxControlEvery]
+    /// constraint solver iterations per step, in [1, kMaxSolverIterations]; 20 keeps standard
+    /// gaits within about 1% of
     /// a converged solution and resting robots still (see docs/performance.md)
     int solver_iterations = 20;
     std::uint64_t seed = 0;  ///< seeds everything random in the run
@@ -82,21 +99,32 @@ class Simulation {
     Simulation& operator=(const Simulation&) = delete;
 
     const WorldSpec& world() const { return world_; }
+    /// What compiling found suspect but not wrong, for the host to show: a robot that starts
+    /// more than 5 mm deep inside the floor, an object or another robot (the contact solver
+    /// throws it out, often metres away).
+    const std::vector<std::string>& warnings() const { return warnings_; }
     const SimulationOptions& options() const { return options_; }
     long ticks() const { return scheduler_.ticks(); }
     double time() const { return scheduler_.time(); }
 
-    /// Advances `ticks` ticks (see scheduler.h for the order inside one tick); the pre-tick
-    /// hooks run before each of them. Under ControllerErrorPolicy::pause it returns early, at
+    /// Advances `ticks` ticks, in [0, kMaxTicks - ticks()] (SpecError otherwise; see
+    /// scheduler.h for the order inside one tick); the pre-tick
+    /// hooks run before each of them. Between ticks only: from inside a tick (a controller, an
+    /// observer, a hook or an event listener) it throws SpecError. Under
+    /// ControllerErrorPolicy::pause it returns early, at
     /// the end of the tick in which a controller failed; returns the number of ticks run.
     long step(long ticks = 1);
-    /// Advances round(seconds / dt) ticks (fewer if paused); returns the ticks run.
+    /// Advances round(seconds / dt) ticks (fewer if paused); returns the ticks run. `seconds`
+    /// must be such that the run stays within kMaxTicks in all (SpecError naming the range).
     long run(double seconds);
+    /// The ticks run(seconds) would advance: round(seconds / dt), checked as run checks it.
+    long ticks_for(double seconds) const;
     /// Whether the last step/run returned early because a controller failed under
     /// ControllerErrorPolicy::pause; the next step/run clears it.
     bool paused() const { return paused_; }
     /// Rebuilds the physics from the spec, time 0, controllers reset (parameters kept); posts
-    /// a reset event stamped with the tick it happened at.
+    /// a reset event stamped with the tick it happened at. Between ticks or from a pre-tick
+    /// hook only (SpecError otherwise).
     void reset(Origin origin = Origin::script);
 
     /// Adds a drive to robot r while the simulation exists; throws SpecError. After time 0 it
@@ -177,15 +205,21 @@ class Simulation {
     using ControllerErrorHandler = std::function<void(const Controller&, const std::exception&)>;
     void set_controller_error_handler(ControllerErrorHandler fn) { on_error_ = std::move(fn); }
 
+    // Callbacks (observers, pre-tick hooks, event listeners, controllers) may add and remove
+    // callbacks and drives, and attach sensors, while the simulation runs them: what they add
+    // acts from the next time its list is walked (a drive from the next control tick), what
+    // they remove is not called again. They must not step or run the simulation that calls
+    // them, nor reset it except from a pre-tick hook (SpecError "cannot step the simulation
+    // from inside its own tick (...)").
+
     /// Calls `fn` in the record phase of every tick; returns an id for remove_observer.
     int add_observer(std::function<void(const Simulation&)> fn);
     void remove_observer(int id);
 
     /// Calls `fn` before every tick, between ticks: the place where changes from outside the
     /// script (console, viewer, replay) are applied, so they act from that tick on. Returns an
-    /// id for remove_pre_tick. A hook must not step the simulation.
+    /// id for remove_pre_tick.
     int add_pre_tick(std::function<void(Simulation&)> fn);
-    /// Safe to call from inside a hook.
     void remove_pre_tick(int id);
 
     /// Calls `fn` for every event (parameter changes of its controllers, resets, ...), in the
@@ -211,12 +245,24 @@ class Simulation {
         std::string label;
     };
 
+    // what the constructor does once the spec is valid
+    void compile();
+    // (re)builds the physics from the spec
     void build();
+    // "not enough memory to build the simulation (...)", for a std::bad_alloc while building
+    Error out_of_memory() const;
     void check_robot(int robot) const;
     void check_sensor(int sensor) const;
     void check_drive(int drive) const;
     void dispatch(const Event& event);
     std::string unique_label(const std::string& base);
+    // "body 'tail' of robot 'snake'", "box 2": how messages name physics body `body`
+    std::string body_name(int body) const;
+    // warns if a robot starts deep inside the floor, an object or another robot
+    void check_start_overlaps();
+    std::vector<std::string> warnings_;
+    // throws DivergenceError naming physics body `body` (it diverged in the step to `time`)
+    [[noreturn]] void diverged(int body, double time) const;
     // marks the drive's controller failed and freezes its targets at the measured angles
     void fail(DriveSlot& d, const std::exception& e);
 
@@ -228,22 +274,73 @@ class Simulation {
     std::unique_ptr<Phases> phases_;
     std::vector<RobotSlot> robots_;
     int first_object_ = 0;  // index of the first dynamic object among the physics' bodies
-    std::vector<DriveSlot> drives_;
+    // a deque: a controller may add a drive while its own slot is in use (think walks the
+    // drives by index and keeps references), and a deque keeps existing elements in place
+    std::deque<DriveSlot> drives_;
     std::vector<double> angles_;    // per global joint, rad, read in sense
     std::vector<double> targets_;   // per global joint, rad, summed in think
     std::vector<double> commands_;  // per global joint, rad/s, computed in act
-    std::vector<std::pair<int, std::function<void(const Simulation&)>>> observers_;
-    struct PreTick {
-        int id;
-        bool live;  // false once removed; dropped at the next step()
-        std::function<void(Simulation&)> fn;
+    // A list of callbacks that the callbacks themselves may change while it is walked: those
+    // added during a walk wait in `added_` and removed ones are only marked, until the next
+    // walk that starts outside any other (walks nest when a listener posts an event).
+    template <class Fn>
+    class Callbacks {
+      public:
+        void add(int id, Fn fn) {
+            (walking_ > 0 ? added_ : list_).push_back({id, true, std::move(fn)});
+            changed_ = true;
+        }
+        void remove(int id) {
+            for (auto* list : {&list_, &added_}) {
+                for (Entry& e : *list) {
+                    if (e.id == id) e.live = false;
+                }
+            }
+            changed_ = true;
+        }
+        bool idle() const { return list_.empty() && !changed_; }
+        template <class... Args>
+        void call(Args&... args) {
+            if (changed_ && walking_ == 0) tidy();
+            ++walking_;
+            struct Leave {
+                int& walking;
+                ~Leave() { --walking; }
+            } leave{walking_};
+            // by index: nothing is added to list_ during the walk, but stay safe if it were
+            for (size_t i = 0; i < list_.size(); ++i) {
+                if (list_[i].live) list_[i].fn(args...);
+            }
+        }
+
+      private:
+        struct Entry {
+            int id;
+            bool live;
+            Fn fn;
+        };
+        void tidy() {
+            changed_ = false;
+            for (Entry& e : added_)
+                list_.push_back(std::move(e));
+            added_.clear();
+            list_.erase(
+                std::remove_if(list_.begin(), list_.end(), [](const Entry& e) { return !e.live; }),
+                list_.end());
+        }
+        std::vector<Entry> list_, added_;
+        int walking_ = 0;
+        bool changed_ = false;
     };
-    void run_pre_ticks();
-    std::vector<PreTick> pre_ticks_;
-    std::vector<PreTick> added_pre_ticks_;  // added while the hooks run
-    bool in_pre_ticks_ = false;
-    bool pre_ticks_changed_ = false;  // added or removed since the lists were last tidied
-    std::vector<std::pair<int, std::function<void(const Simulation&, const Event&)>>> listeners_;
+    // what the simulation is running now (a controller's step, an observer, ...), or null
+    // between ticks: step, run and reset refuse to start while it is set
+    class Busy;
+    void check_idle(const char* what) const;
+    const char* busy_ = nullptr;
+
+    Callbacks<std::function<void(const Simulation&)>> observers_;
+    Callbacks<std::function<void(Simulation&)>> pre_ticks_;
+    Callbacks<std::function<void(const Simulation&, const Event&)>> listeners_;
     int next_observer_ = 1;
     std::set<std::string> labels_;
     ControllerErrorHandler on_error_;

@@ -15,6 +15,22 @@
 
 namespace gaitlab {
 
+/// Limits of world specs (docs/formats.md lists them): beyond them Bullet's single-precision
+/// geometry means nothing any more, or the world would not fit in memory.
+inline constexpr double kMaxGravity = 1000;        ///< m/s², each component, in [-max, max]
+inline constexpr double kMaxCoordinate = 10000;    ///< m: positions of objects and robots
+inline constexpr double kMaxExtent = 10000;        ///< m: sizes, lengths, radii of objects
+inline constexpr double kMaxObjectMass = 1e6;      ///< kg
+inline constexpr double kMaxTerrainHeight = 1000;  ///< m: heightfield heights, in [-max, max]
+inline constexpr int kMaxStairsSteps = 1000;
+inline constexpr int kMaxPipeSides = 256;
+inline constexpr int kMaxRubbleCount = 100000;        ///< stones of one rubble field
+inline constexpr int kMaxHeightfieldSide = 4096;      ///< samples along each side of one grid
+inline constexpr long long kMaxWorldSolids = 250000;  ///< bodies all objects expand into
+/// samples of all heightfields together (one 4096 × 4096 grid)
+inline constexpr long long kMaxHeightSamples = 4096LL * 4096;
+inline constexpr int kMaxRobots = 1000;  ///< robots in one world
+
 /// An infinite static plane at z = 0.
 struct FloorSpec {
     bool enabled = true;    ///< false: no floor
@@ -157,7 +173,12 @@ void validate(const PipeSpec& pipe, int number);
 void validate(const RubbleSpec& rubble, int number);
 void validate(const HeightfieldSpec& heightfield, int number);
 
-/// Checks a world spec (gravity, floor, every object, robots); throws SpecError.
+/// How many rigid bodies the objects of `world` expand into (stairs: one per step, pipes: one
+/// per side, rubble: one per stone, everything else one), without expanding them.
+long long solid_count(const WorldSpec& world);
+
+/// Checks a world spec (gravity, floor, every object, robots, the limits above); throws
+/// SpecError.
 void validate(const WorldSpec& world);
 
 }  // namespace gaitlab

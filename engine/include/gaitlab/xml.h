@@ -21,6 +21,7 @@ namespace gaitlab {
 struct Placement {
     std::string robot;  ///< the robot's name
     Pose pose;          ///< robot frame in the world frame
+    int line = 0;       ///< its <place> element's line when read from a file (0: not read)
 };
 
 /// An environment file: everything of a world but its robots, and where the robots go.
@@ -34,6 +35,7 @@ struct EnvironmentSpec {
 struct RobotEntry {
     std::string robot;
     std::string actuation;  ///< "" for a robot without controllers
+    int line = 0;           ///< its <robot> element's line when read from a file (0: not read)
 };
 
 /// What a run records (see docs/data.md); written in the simulation file.
@@ -53,6 +55,7 @@ struct SimulationFile {
     std::string environment;  ///< the environment file, as written
     std::vector<RobotEntry> robots;
     RecordSpec record;
+    int line = 0;  ///< the <simulation> element's line when read from a file (0: not read)
 };
 
 /// File readers: `path` is read and checked; `parse_*` read text (`file` names it in messages).

@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "gaitlab/geometry.h"
+#include "random.h"
 
 namespace gaitlab {
 
@@ -110,6 +112,9 @@ struct PhysicsWorld::Impl {
     std::vector<std::unique_ptr<btCollisionShape>> shapes;
     std::vector<std::unique_ptr<btRigidBody>> bodies;  // robots' bodies, then dynamic boxes
     std::vector<std::unique_ptr<btRigidBody>> fixed;   // floor and static boxes
+    // per fixed body, what it is ("the floor", "wall 1"), or for a compound what each of its
+    // children belongs to
+    std::vector<std::vector<std::string>> fixed_names;
     std::vector<std::unique_ptr<btHingeConstraint>> hinges;
     std::vector<Joint> joints;
 
@@ -123,6 +128,35 @@ struct PhysicsWorld::Impl {
     }
 
     std::vector<std::unique_ptr<std::vector<float>>> height_data;  // of heightfield shapes
+
+    // one static body for `group`, static solids of one friction and no heightfield
+    void add_compound(const std::vector<Solid>& solids, std::vector<size_t> group) {
+        // the compound's tree of children grows by insertion without rebalancing: solids in
+        // spatial order (a row of boxes, a grid) would make it a list and every insertion
+        // linear. In a fixed shuffled order it stays shallow (as a random binary tree does)
+        detail::SplitMix64 rng(group.size());
+        for (size_t k = group.size(); k > 1; --k)
+            std::swap(group[k - 1], group[static_cast<size_t>(rng.next() % k)]);
+        auto compound = std::make_unique<btCompoundShape>(true, static_cast<int>(group.size()));
+        std::vector<std::string> names;
+        for (size_t k : group) {
+            auto child = make_shape(solids[k], nullptr);
+            compound->addChildShape(body_transform(solids[k]), child.get());
+            shapes.push_back(std::move(child));
+            names.push_back(solids[k].object);
+        }
+        compound->setMargin(kMargin);
+        btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, compound.get());
+        info.m_friction = btScalar(solids[group.front()].friction);
+        info.m_restitution = 0;
+        auto body = std::make_unique<btRigidBody>(info);
+        body->setUserIndex(-2 - static_cast<int>(fixed.size()));
+        world.addRigidBody(body.get(), btBroadphaseProxy::StaticFilter,
+                           btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
+        fixed.push_back(std::move(body));
+        fixed_names.push_back(std::move(names));
+        shapes.push_back(std::move(compound));
+    }
 
     btRigidBody* add_body(const Solid& solid, int group, int mask) {
         // a heightfield shape points into its samples, which live as long as the world
@@ -142,11 +176,16 @@ struct PhysicsWorld::Impl {
         info.m_restitution = 0;
         auto body = std::make_unique<btRigidBody>(info);
         btRigidBody* raw = body.get();
+        // the first user index numbers the bodies: dynamic ones from 0 (as body() does),
+        // fixed ones from -2 down (fixed[k] is -2 - k), for overlap reports
         if (mass > 0) {
             raw->setActivationState(DISABLE_DEACTIVATION);
+            raw->setUserIndex(static_cast<int>(bodies.size()));
             bodies.push_back(std::move(body));
         } else {
+            raw->setUserIndex(-2 - static_cast<int>(fixed.size()));
             fixed.push_back(std::move(body));
+            fixed_names.push_back({solid.object});
         }
         shapes.push_back(std::move(shape));
         world.addRigidBody(raw, group, mask);
@@ -163,15 +202,24 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
     // direction, a contact that is not sliding resists motion along one axis only, so a robot
     // at rest creeps along the other and gaits drift
     s.world.getSolverInfo().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
+    // only bodies that move get their bounding boxes updated each step. Bullet's default
+    // updates every body's, static ones included, and each update of a static body moves its
+    // broadphase proxy from the fixed tree back to the dynamic one and collides it with
+    // everything there: with many static objects (a rubble field) every step cost time
+    // quadratic in their number. Static bodies never move here, and dynamic ones never sleep
+    // (DISABLE_DEACTIVATION), so the default bought nothing.
+    s.world.setForceUpdateAllAabbs(false);
 
     if (spec.floor.enabled) {
         auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), btScalar(0));
         btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, plane.get());
         info.m_friction = btScalar(spec.floor.friction);
         auto floor = std::make_unique<btRigidBody>(info);
+        floor->setUserIndex(-2);
         s.world.addRigidBody(floor.get(), btBroadphaseProxy::StaticFilter,
                              btBroadphaseProxy::AllFilter);
         s.fixed.push_back(std::move(floor));
+        s.fixed_names.push_back({"the floor"});
         s.shapes.push_back(std::move(plane));
     }
 
@@ -226,14 +274,28 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
         j.hinge->enableFeedback(true);
     }
 
-    // the world's objects, expanded into solids only now (a heightfield reads its image here)
-    for (const Solid& solid : world_solids(spec)) {
-        const bool dynamic = solid.mass > 0;
-        s.add_body(solid,
-                   dynamic ? btBroadphaseProxy::DefaultFilter : btBroadphaseProxy::StaticFilter,
-                   dynamic ? btBroadphaseProxy::AllFilter
-                           : (btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter));
+    first_object_body_ = static_cast<int>(s.bodies.size());
+    // the world's objects, expanded into solids only now (a heightfield reads its image here).
+    // The static solids of one friction (all but heightfields) are one body of one compound
+    // shape: they never enter the broadphase one by one, so building and stepping a world of
+    // 100 000 static boxes or stones (which Bullet would pair with each other on insertion,
+    // however many overlap) costs what one body costs there, and a robot's body meets only the
+    // solids its bounding box overlaps (the compound's own tree finds them)
+    const std::vector<Solid> solids = world_solids(spec);
+    std::map<double, std::vector<size_t>> by_friction;
+    for (size_t k = 0; k < solids.size(); ++k) {
+        const Solid& solid = solids[k];
+        if (solid.mass > 0) {
+            s.add_body(solid, btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
+        } else if (solid.kind == Solid::Kind::heightfield) {
+            s.add_body(solid, btBroadphaseProxy::StaticFilter,
+                       btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
+        } else {
+            by_friction[solid.friction].push_back(k);
+        }
     }
+    for (const auto& [friction, group] : by_friction)
+        s.add_compound(solids, group);
 }
 
 PhysicsWorld::~PhysicsWorld() = default;
@@ -298,6 +360,74 @@ Vec3 PhysicsWorld::position(int index) const {
 
 double PhysicsWorld::speed(int index) const {
     return impl_->bodies[static_cast<size_t>(index)]->getLinearVelocity().length();
+}
+
+int PhysicsWorld::first_diverged(double max_distance, double max_speed) const {
+    const btScalar d2 = btScalar(max_distance * max_distance);
+    const btScalar v2 = btScalar(max_speed * max_speed);
+    const auto& bodies = impl_->bodies;
+    for (size_t i = 0; i < bodies.size(); ++i) {
+        const btRigidBody& b = *bodies[i];
+        const btTransform& t = b.getWorldTransform();
+        const btVector3& p = t.getOrigin();
+        const btVector3& v = b.getLinearVelocity();
+        const btVector3& w = b.getAngularVelocity();
+        const btMatrix3x3& r = t.getBasis();
+        // one sum is not finite if any term is NaN or infinite
+        const btScalar all = w.x() + w.y() + w.z() + r[0].x() + r[0].y() + r[0].z() + r[1].x() +
+                             r[1].y() + r[1].z() + r[2].x() + r[2].y() + r[2].z();
+        // comparisons with NaN are false: a NaN position or velocity fails them too
+        if (!(p.length2() < d2 && v.length2() < v2 && std::isfinite(all))) {
+            return static_cast<int>(i);
+        }
+    }
+    return -1;
+}
+
+std::optional<PhysicsWorld::Overlap> PhysicsWorld::deepest_robot_overlap(double tolerance) const {
+    // contact tests use each body's collision filter, so a robot's own bodies (which do not
+    // collide unless self_collision is on, and never across a joint) are not reported
+    struct Deepest : btCollisionWorld::ContactResultCallback {
+        int self = -1;
+        int other = 0;  // user index of the other body
+        int child = 0;  // the child of the other body's compound shape, if it is one
+        btScalar depth = 0;
+        btScalar addSingleResult(btManifoldPoint& cp, const btCollisionObjectWrapper* a, int,
+                                 int index_a, const btCollisionObjectWrapper* b, int,
+                                 int index_b) override {
+            const bool a_is_self = a->getCollisionObject()->getUserIndex() == self;
+            const btCollisionObject* o =
+                a_is_self ? b->getCollisionObject() : a->getCollisionObject();
+            if (-cp.getDistance() > depth) {
+                depth = -cp.getDistance();
+                other = o->getUserIndex();
+                child = a_is_self ? index_b : index_a;
+            }
+            return 0;
+        }
+    };
+    std::optional<Overlap> out;
+    const int robot_bodies = first_object_body_;
+    for (int b = 0; b < robot_bodies; ++b) {
+        Deepest cb;
+        cb.self = b;
+        cb.depth = btScalar(tolerance);
+        impl_->world.contactTest(impl_->bodies[static_cast<size_t>(b)].get(), cb);
+        if (cb.depth > btScalar(tolerance) && (!out || cb.depth > out->depth)) {
+            Overlap o;
+            o.body = b;
+            o.depth = cb.depth;
+            if (cb.other >= 0) {
+                o.other_body = cb.other;
+            } else {
+                const auto& names = impl_->fixed_names[static_cast<size_t>(-2 - cb.other)];
+                const size_t child = static_cast<size_t>(std::max(cb.child, 0));
+                o.other = names.size() == 1 || child >= names.size() ? names.front() : names[child];
+            }
+            out = o;
+        }
+    }
+    return out;
 }
 
 JointError PhysicsWorld::joint_error(int joint) const {

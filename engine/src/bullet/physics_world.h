@@ -4,6 +4,8 @@
 #pragma once
 
 #include <memory>
+#include <optional>
+#include <string>
 
 #include "gaitlab/simulation.h"
 #include "gaitlab/world.h"
@@ -43,6 +45,24 @@ class PhysicsWorld {
     /// Speed of a body's centre of mass, m/s.
     double speed(int body) const;
     JointError joint_error(int joint) const;
+    /// The first body (robots' bodies, then dynamic objects, as numbered above) whose state
+    /// is not finite (position, orientation, velocities), lies farther than `max_distance` m
+    /// from the origin or moves faster than `max_speed` m/s; -1 if none. Cheap: a few dozen
+    /// instructions per body, run after every step.
+    int first_diverged(double max_distance, double max_speed) const;
+
+    /// Where a robot body and something else (the floor, an object, another robot's body)
+    /// interpenetrate.
+    struct Overlap {
+        int body = -1;        ///< the robot body (numbered as above)
+        std::string other;    ///< "the floor", "wall 1", "rubble 2", "robot 3 body 5" ...
+        int other_body = -1;  ///< the other body's number if it is a robot body or dynamic object
+        double depth = 0;     ///< m, > 0
+    };
+    /// The deepest overlap of any robot body deeper than `tolerance` m in the state as it
+    /// stands (before any step), if any. Does not change the world (a contact test, not a
+    /// collision pass).
+    std::optional<Overlap> deepest_robot_overlap(double tolerance) const;
     int contact_count() const;
 
     /// The Bullet world and bodies, for the other Bullet code of this folder (sensor_probes).
@@ -52,6 +72,7 @@ class PhysicsWorld {
   private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
+    int first_object_body_ = 0;  // robots' bodies come before it
 };
 
 }  // namespace gaitlab

@@ -1,12 +1,14 @@
 // Actuation files: joint groups and the controller that drives each, with its parameter values.
 // Parameter names are checked when the controller is built (they depend on the controller),
 // so each ControllerRef keeps the file and line it came from. See docs/formats.md.
+#include <cerrno>
 #include <cstdlib>
 #include <sstream>
 
 #include <fmt/format.h>
 
 #include "gaitlab/files.h"
+#include "gaitlab/robot.h"
 #include "gaitlab/xml.h"
 #include "xml_io.h"
 
@@ -30,18 +32,26 @@ void read_joints(const Element& e, GroupSpec& g) {
         g.role = words[0];
         return;
     }
+    // no robot has more joints than kMaxRobotBodies: a mark per joint finds repeats in one pass
+    std::vector<bool> listed(static_cast<size_t>(kMaxRobotBodies), false);
     for (const std::string& w : words) {
         char* end = nullptr;
+        errno = 0;
         const long n = std::strtol(w.c_str(), &end, 10);
-        if (*end != '\0' || n < 1 || n > 100000) {
+        if (*end != '\0' || errno == ERANGE || n < 1) {
             e.fail(fmt::format(
                 "attribute 'joints': 'pitch', 'yaw', 'all' or joint numbers (from 1) expected, "
                 "got '{}'",
                 text));
         }
-        for (int j : g.joints) {
-            if (j == n - 1) e.fail(fmt::format("attribute 'joints': joint {} is listed twice", n));
+        if (n > kMaxRobotBodies) {
+            e.fail(fmt::format("attribute 'joints': joint numbers must be in [1, {}] (got {})",
+                               kMaxRobotBodies, n));
         }
+        if (listed[static_cast<size_t>(n - 1)]) {
+            e.fail(fmt::format("attribute 'joints': joint {} is listed twice", n));
+        }
+        listed[static_cast<size_t>(n - 1)] = true;
         g.joints.push_back(static_cast<int>(n - 1));
     }
 }
@@ -77,6 +87,10 @@ ActuationSpec read_actuation_element(const Element& root) {
     root.allow({});
     ActuationSpec a;
     for (const Element& g : root.children({"group"})) {
+        // each group makes a controller: as many as a robot can have joints
+        if (a.groups.size() >= static_cast<size_t>(kMaxRobotBodies)) {
+            g.fail(fmt::format("an actuation has at most {} groups", kMaxRobotBodies));
+        }
         g.allow({"joints"});
         GroupSpec group;
         read_joints(g, group);

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "gaitlab/checked.h"
 #include "gaitlab/files.h"
 #include "gaitlab/xml.h"
 #include "xml_io.h"
@@ -53,6 +54,10 @@ struct Names {
         names.push_back(name);
     }
     template <class T>
+    void count(const char* name, T&, int, int) {
+        names.push_back(name);
+    }
+    template <class T>
     void angle(const char* name, T&) {
         names.push_back(name);
     }
@@ -61,10 +66,10 @@ struct Names {
 struct Read {
     const Element& e;
     void field(const char* name, double& v) { v = e.number(name, v); }
-    void field(const char* name, int& v) {
+    // a count is checked against its range before it becomes an int: it never wraps
+    void count(const char* name, int& v, int lo, int hi) {
         const long long n = e.integer(name, v);
-        // beyond int, the object's own range check says what is expected
-        v = static_cast<int>(std::clamp<long long>(n, -1, 1 << 30));
+        e.check([&] { v = checked_int(name, n, lo, hi); });
     }
     void field(const char* name, std::uint64_t& v) {
         const long long n = e.integer(name, static_cast<long long>(v));
@@ -79,7 +84,7 @@ struct Read {
 struct Write {
     xml::Writer& w;
     void field(const char* name, double v) { w.attr(name, v); }
-    void field(const char* name, int v) { w.attr_int(name, v); }
+    void count(const char* name, int v, int, int) { w.attr_int(name, v); }
     void field(const char* name, std::uint64_t v) { w.attr_int(name, static_cast<long long>(v)); }
     void field(const char* name, bool v) { w.attr(name, v); }
     void field(const char* name, const Vec3& v) { w.attr(name, v); }
@@ -109,7 +114,7 @@ void fields(V& v, S& s, RampSpec*) {
 
 template <class V, class S>
 void fields(V& v, S& s, StairsSpec*) {
-    v.field("steps", s.steps);
+    v.count("steps", s.steps, 1, kMaxStairsSteps);
     v.field("step_height", s.step_height);
     v.field("step_depth", s.step_depth);
     v.field("width", s.width);
@@ -135,7 +140,7 @@ void fields(V& v, S& s, PipeSpec*) {
     v.field("radius", s.radius);
     v.field("thickness", s.thickness);
     v.field("length", s.length);
-    v.field("sides", s.sides);
+    v.count("sides", s.sides, 3, kMaxPipeSides);
     v.field("position", s.position);
     v.angle("yaw", s.yaw);
     v.field("friction", s.friction);
@@ -145,7 +150,7 @@ template <class V, class S>
 void fields(V& v, S& s, RubbleSpec*) {
     v.field("length", s.length);
     v.field("width", s.width);
-    v.field("count", s.count);
+    v.count("count", s.count, 0, kMaxRubbleCount);
     v.field("min_size", s.min_size);
     v.field("max_size", s.max_size);
     v.field("min_height", s.min_height);
@@ -311,6 +316,7 @@ EnvironmentSpec read_environment_element(const Element& root) {
             k.children({});
             k.allow({"robot", "position", "yaw", "orientation"});
             Placement p;
+            p.line = k.line();
             p.robot = k.required_string("robot");
             for (const Placement& other : env.placements) {
                 if (other.robot == p.robot) {

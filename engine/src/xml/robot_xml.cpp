@@ -1,7 +1,10 @@
 // Robot files: a chain (modules, connection, module type) or, for any other robot, every body
 // and joint. See docs/formats.md.
+#include <map>
+
 #include <fmt/format.h>
 
+#include "gaitlab/checked.h"
 #include "gaitlab/files.h"
 #include "gaitlab/suggest.h"
 #include "gaitlab/xml.h"
@@ -61,8 +64,7 @@ RobotSpec read_chain(const Element& e, const std::string& name) {
     chain.name = name;
     if (!e.has("modules")) e.fail("attribute 'modules' is required (the number of modules)");
     const long long n = e.integer("modules", 1);
-    if (n < 1 || n > 1000) e.fail(fmt::format("modules must be in [1, 1000] (got {})", n));
-    chain.modules = static_cast<int>(n);
+    e.check([&] { chain.modules = checked_int("modules", n, 1, kMaxModules); });
     e.check([&] { chain.connection = parse_connection(e.string("connection", "pitch-pitch")); });
     chain.module = library_module(e, e.string("module", "y1"));
     const std::vector<Element> kids = e.children({"module"});
@@ -75,13 +77,14 @@ RobotSpec read_chain(const Element& e, const std::string& name) {
     }
 }
 
-int body_index(const Element& e, const RobotSpec& robot, const char* attr) {
+// the body named by attribute `attr`, among those read so far (`index`: name -> index)
+int body_index(const Element& e, const std::map<std::string, int>& index, const char* attr) {
     const std::string name = e.required_string(attr);
+    const auto it = index.find(name);
+    if (it != index.end()) return it->second;
     std::vector<std::string> names;
-    for (size_t b = 0; b < robot.bodies.size(); ++b) {
-        if (robot.bodies[b].name == name) return static_cast<int>(b);
-        names.push_back(robot.bodies[b].name);
-    }
+    for (const auto& [n, i] : index)
+        names.push_back(n);
     e.fail(fmt::format("attribute '{}': no body '{}' above this joint{}", attr, name,
                        did_you_mean(name, names)));
 }
@@ -117,8 +120,13 @@ SensorSpec read_sensor(const Element& e) {
     }
     e.children({});
     s.name = e.string("name", "");
-    s.module = static_cast<int>(e.integer("module", 1)) - 1;
-    s.joint = static_cast<int>(e.integer("joint", 1)) - 1;
+    // numbered from 1; beyond any robot's size they are refused before they can wrap into it
+    // (validate_sensor then names the robot's own range)
+    const long long module = e.integer("module", 1), joint = e.integer("joint", 1);
+    e.check([&] {
+        s.module = checked_int("module", module, 1, kMaxRobotBodies) - 1;
+        s.joint = checked_int("joint", joint, 1, kMaxRobotBodies) - 1;
+    });
     e.check([&] { s.half = parse_module_half(e.string("half", "head")); });
     s.direction = e.vec3("direction", s.direction);
     s.max_range = e.number("max_range", s.max_range);
@@ -160,11 +168,16 @@ RobotSpec read_robot_element(const Element& root) {
     const bool self_collision = root.boolean("self_collision", false);
     const std::vector<Element> kids = root.children({"chain", "body", "joint", "sensor"});
     RobotSpec robot;
+    robot.name = name;
+    std::map<std::string, int> body_names;  // name -> index, for joints and repeated names
     bool chain = false, parts = false;
     std::vector<std::pair<const Element*, SensorSpec>> sensors;
     for (const Element& k : kids) {
         const std::string kind = k.name();
         if (kind == "sensor") {
+            if (sensors.size() >= static_cast<size_t>(kMaxSensors)) {
+                k.fail(fmt::format("a robot has at most {} sensors", kMaxSensors));
+            }
             sensors.emplace_back(&k, read_sensor(k));
             continue;
         }
@@ -181,10 +194,13 @@ RobotSpec read_robot_element(const Element& root) {
         if (kind == "body") {
             k.allow({"name", "shape", "size", "mass", "position", "orientation", "friction"});
             k.children({});
+            if (robot.bodies.size() >= static_cast<size_t>(kMaxRobotBodies)) {
+                k.fail(fmt::format("a robot has at most {} bodies", kMaxRobotBodies));
+            }
             BodySpec b;
             b.name = k.required_string("name");
-            for (const BodySpec& other : robot.bodies) {
-                if (other.name == b.name) k.fail(fmt::format("a second body named '{}'", b.name));
+            if (body_names.count(b.name)) {
+                k.fail(fmt::format("a second body named '{}'", b.name));
             }
             b.shape = parse_shape(k, Shape::box);
             if (!k.has("size")) k.fail("attribute 'size' is required (\"x y z\", m)");
@@ -193,16 +209,22 @@ RobotSpec read_robot_element(const Element& root) {
             b.pose.position = k.vec3("position", {});
             b.pose.orientation = k.quat("orientation", {});
             b.friction = k.number("friction", 1.0);
+            // checked here, so its errors name its own line
+            k.check([&] { validate_body(name, b); });
+            body_names.emplace(b.name, static_cast<int>(robot.bodies.size()));
             robot.bodies.push_back(b);
         } else {
             k.allow({"name", "role", "parent", "child", "pivot", "axis", "min", "max", "kp",
                      "max_speed", "max_torque"});
             k.children({});
+            if (robot.joints.size() >= static_cast<size_t>(kMaxRobotBodies)) {
+                k.fail(fmt::format("a robot has at most {} joints", kMaxRobotBodies));
+            }
             JointSpec j;
             j.name = k.required_string("name");
             j.role = parse_role(k);
-            j.parent = body_index(k, robot, "parent");
-            j.child = body_index(k, robot, "child");
+            j.parent = body_index(k, body_names, "parent");
+            j.child = body_index(k, body_names, "child");
             if (!k.has("pivot")) k.fail("attribute 'pivot' is required (\"x y z\", m)");
             j.pivot = k.vec3("pivot", {});
             if (!k.has("axis")) k.fail("attribute 'axis' is required (a unit vector \"x y z\")");
@@ -213,11 +235,8 @@ RobotSpec read_robot_element(const Element& root) {
             j.servo.kp = k.number("kp", y1.servo.kp);
             j.servo.max_speed = k.number("max_speed", y1.servo.max_speed);
             j.servo.max_torque = k.number("max_torque", y1.servo.max_torque);
+            k.check([&] { validate_joint(robot, j); });
             robot.joints.push_back(j);
-            RobotSpec probe;
-            probe.bodies = robot.bodies;
-            probe.joints = {j};
-            k.check([&] { validate(probe); });
         }
     }
     if (!chain && !parts) root.fail("a robot needs a <chain>, or <body> and <joint> elements");

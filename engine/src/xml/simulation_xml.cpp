@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "gaitlab/checked.h"
 #include "gaitlab/files.h"
 #include "gaitlab/xml.h"
 #include "xml_io.h"
@@ -14,15 +15,16 @@ namespace {
 
 using xml::Element;
 
-// a referenced file, which must exist (its resolved path is named if it does not)
+// a referenced file, which must be one gaitlab can read (a missing file, a directory, a
+// device or a huge file is named with its resolved path and the reason)
 std::string read_ref(const Element& e, const char* attr, bool required) {
     if (!required && !e.has(attr)) return "";
     const std::string path = e.required_string(attr);
     if (path.empty()) e.fail(fmt::format("attribute '{}' is empty", attr));
-    const std::string resolved = resolve_path(e.file(), path);
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(resolved, ec)) {
-        e.fail(fmt::format("attribute '{}': no file at {}", attr, resolved));
+    try {
+        check_file(resolve_path(e.file(), path));
+    } catch (const ReadError& err) {
+        e.fail(fmt::format("attribute '{}': {}", attr, err.what()));
     }
     return path;
 }
@@ -41,24 +43,26 @@ SimulationFile read_simulation_element(const Element& root) {
     root.allow({"name", "duration", "dt", "control_every", "solver_iterations", "seed",
                 "on_controller_error"});
     SimulationFile s;
+    s.line = root.line();
     s.name = root.string("name", s.name);
     s.duration = root.number("duration", s.duration);
-    if (!(s.duration >= 0)) root.fail(fmt::format("duration must be >= 0 s (got {})", s.duration));
     SimulationOptions& o = s.options;
     o.dt = root.number("dt", o.dt);
     const long long ce = root.integer("control_every", o.control_every);
     const long long it = root.integer("solver_iterations", o.solver_iterations);
-    if (ce < 1 || ce > 1000000) root.fail(fmt::format("control_every must be >= 1 (got {})", ce));
-    if (it < 1 || it > 10000) {
-        root.fail(fmt::format("solver_iterations must be in [1, 10000] (got {})", it));
-    }
-    o.control_every = static_cast<int>(ce);
-    o.solver_iterations = static_cast<int>(it);
+    root.check([&] {
+        o.control_every = checked_int("control_every", ce, 1, kMaxControlEvery);
+        o.solver_iterations = checked_int("solver_iterations", it, 1, kMaxSolverIterations);
+    });
     const long long seed = root.integer("seed", 0);
     if (seed < 0) root.fail(fmt::format("seed must be >= 0 (got {})", seed));
     o.seed = static_cast<std::uint64_t>(seed);
     o.on_controller_error = parse_policy(root);
-    root.check([&] { validate(o); });
+    root.check([&] {
+        validate(o);
+        // `gaitlab run` runs it for round(duration / dt) ticks: they must fit
+        checked_ticks("duration", s.duration, o.dt);
+    });
     bool env = false, record = false;
     for (const Element& k : root.children({"environment", "robot", "record"})) {
         const std::string kind = k.name();
@@ -71,6 +75,7 @@ SimulationFile read_simulation_element(const Element& root) {
         } else if (kind == "robot") {
             k.allow({"file", "actuation"});
             RobotEntry r;
+            r.line = k.line();
             r.robot = read_ref(k, "file", true);
             r.actuation = read_ref(k, "actuation", false);
             s.robots.push_back(r);
@@ -81,8 +86,7 @@ SimulationFile read_simulation_element(const Element& root) {
             if (k.has("enabled")) s.record.enabled = k.boolean("enabled", true);
             s.record.dir = k.string("dir", "");
             const long long every = k.integer("every", 0);
-            if (every < 0) k.fail(fmt::format("every must be >= 0 ticks (got {})", every));
-            s.record.every = static_cast<int>(every);
+            k.check([&] { s.record.every = checked_int("every", every, 0, kMaxControlEvery); });
             s.record.flush_seconds = k.number("flush_seconds", s.record.flush_seconds);
             if (!(s.record.flush_seconds > 0)) {
                 k.fail(fmt::format("flush_seconds must be > 0 s (got {})", s.record.flush_seconds));

@@ -193,7 +193,7 @@ Pose read_origin(const Element& e) {
     return {o->vec3("xyz", {}), from_rpy(rpy[0], rpy[1], rpy[2])};
 }
 
-UrdfLink read_link(const Element& link) {
+UrdfLink read_link(const Element& link, const std::string& robot, const std::string& link_name) {
     UrdfLink out;
     out.line = link.line();
     bool geometry = false;
@@ -232,6 +232,13 @@ UrdfLink read_link(const Element& link) {
     }
     if (!geometry) link.fail("a link needs a box or a cylinder in <collision> or <visual>");
     if (!(out.mass > 0)) link.fail("a link needs an <inertial> with a mass > 0");
+    // the body it becomes, checked here so its errors name the link's line
+    BodySpec probe;
+    probe.name = link_name;
+    probe.shape = out.shape;
+    probe.size = out.size;
+    probe.mass = out.mass;
+    link.check([&] { validate_body(robot, probe); });
     return out;
 }
 
@@ -289,7 +296,10 @@ RobotSpec parse_urdf(std::string_view text, const std::string& file) {
         if (kind == "link") {
             const std::string name = k.required_string("name");
             if (links.count(name)) k.fail(fmt::format("a second link named '{}'", name));
-            links[name] = read_link(k);
+            if (links.size() >= static_cast<size_t>(kMaxRobotBodies)) {
+                k.fail(fmt::format("a robot has at most {} links", kMaxRobotBodies));
+            }
+            links[name] = read_link(k, robot.name, name);
             link_order.push_back(name);
         } else if (kind == "joint") {
             UrdfJoint j = read_joint(k);

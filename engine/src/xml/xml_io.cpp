@@ -1,11 +1,13 @@
 #include "xml_io.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -43,9 +45,18 @@ std::string read_text(const std::string& path) {
 Document::Document(std::string_view text, std::string file)
     : doc_(std::make_unique<tinyxml2::XMLDocument>(true, tinyxml2::COLLAPSE_WHITESPACE)),
       file_(std::move(file)) {
-    if (doc_->Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
-        // tinyxml2's own text names the line as "Line number=N"; say it our way
-        const int line = doc_->ErrorLineNum();
+    tinyxml2::XMLError parsed = tinyxml2::XML_SUCCESS;
+    try {
+        parsed = doc_->Parse(text.data(), text.size());
+    } catch (const std::bad_alloc&) {
+        throw FormatError(
+            fmt::format("{}: not enough memory to read it ({} bytes of XML)", file_, text.size()),
+            file_, 0);
+    }
+    if (parsed != tinyxml2::XML_SUCCESS) {
+        // tinyxml2's own text names the line as "Line number=N"; say it our way. An empty
+        // document has no line: its error is on line 1, where the text was expected
+        const int line = std::max(doc_->ErrorLineNum(), 1);
         throw FormatError(fmt::format("{}:{}: malformed XML: {}", file_, line,
                                       tinyxml2::XMLDocument::ErrorIDToName(doc_->ErrorID())),
                           file_, line);
