@@ -793,7 +793,9 @@ TEST_CASE("a broken pipe stops a printing run and closes its folder", "[cli][dat
 TEST_CASE("hostile names reach no shell or gnuplot command and no file outside --split DIR",
           "[cli][data]") {
     TempDir tmp("cli_hostile");
-    const std::string name = "s`touch bq`$(touch dollar)\"; system(\"touch sys\"); \"'\n!touch nl";
+    // printable, so a valid robot name; names with line ends come only from run folders made
+    // elsewhere (engine_plot_test covers them)
+    const std::string name = "s`touch bq`$(touch dollar)\"; system(\"touch sys\"); \"' !touch nl";
     const Run r =
         cli({"run", "--record", tmp / "run", kScripts + "/hostile_names.lua", name}, tmp.str());
     REQUIRE(r.status == 0);
@@ -825,7 +827,7 @@ TEST_CASE("hostile names reach no shell or gnuplot command and no file outside -
     CHECK(files == gaitlab::RunData(tmp / "run").names().size());
     // the summary and the list show no control characters from the run folder
     const Run list = cli({"data", tmp / "run", "--list"});
-    CHECK(list.out.find("?!touch nl.com.x") != std::string::npos);
+    CHECK(list.out.find(" !touch nl.com.x") != std::string::npos);
     // nor do messages quoting its content
     std::string data = slurp(tmp / "run/data.csv");
     const size_t row = data.find("\n0,") + 1;  // the first row, after the header's lines

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <set>
+#include <sstream>
 
 #include "gaitlab/error.h"
 #include "gaitlab/plot.h"
@@ -18,6 +19,7 @@
 using namespace gaitlab;
 using gaitlab::test::read_text;
 using gaitlab::test::TempDir;
+using gaitlab::test::write_text;
 
 namespace {
 
@@ -105,16 +107,45 @@ std::set<std::string> files_in(const std::string& dir) {
     return out;
 }
 
-// a recorded run whose robot has the name `name`
+// replaces the robot name "placeholder" by `name` in the series names of `file` (a CSV file
+// gaitlab wrote, whose fields need no quotes), quoting the new fields as RFC 4180 says
+void rename_series(const std::string& file, const std::string& name) {
+    std::istringstream in(read_text(file));
+    std::string line, out;
+    while (std::getline(in, line)) {
+        std::string joined;
+        for (size_t start = 0;;) {
+            const size_t comma = line.find(',', start);
+            std::string f = line.substr(start, comma == std::string::npos ? comma : comma - start);
+            if (f == "placeholder" || f.rfind("placeholder.", 0) == 0) {
+                f = name + f.substr(11);
+                std::string quoted = "\"";
+                for (char c : f)
+                    quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+                f = quoted + "\"";
+            }
+            joined += (start == 0 ? "" : ",") + f;
+            if (comma == std::string::npos) break;
+            start = comma + 1;
+        }
+        out += joined + "\n";
+    }
+    write_text(file, out);
+}
+
+// a recorded run whose robot's series carry the name `name`, as a run folder made elsewhere may
+// (gaitlab itself records only names that are printable UTF-8)
 std::string record_named(const std::string& dir, const std::string& name) {
     WorldSpec world = test::chain_world(2, Connection::pitch_pitch);
-    world.robots[0].robot.name = name;
+    world.robots[0].robot.name = "placeholder";
     Simulation sim(world);
     RecordOptions o;
     o.dir = dir;
     Recorder rec(sim, o);
     sim.run(0.1);
     rec.close();
+    rename_series(dir + "/data.csv", name);
+    rename_series(dir + "/series.csv", name);
     return dir;
 }
 
