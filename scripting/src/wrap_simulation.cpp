@@ -23,8 +23,10 @@ SimulationHandle& check_handle(lua_State* L, int index) {
     return check_object<SimulationHandle>(L, index, kSimulationType);
 }
 
-Simulation& check_sim(lua_State* L, int index) {
-    return *check_handle(L, index).sim;
+// the simulation of the handle at `index`, kept alive for the caller: stepping it runs Lua
+// code, which could let the handle go (its __gc, through the debug library)
+std::shared_ptr<Simulation> check_sim(lua_State* L, int index) {
+    return check_handle(L, index).sim;
 }
 
 // record = false | true | "dir" | { dir =, record_every =, flush_seconds =, series = {...} }
@@ -178,7 +180,8 @@ int simulation_new(lua_State* L) {
 
 int simulation_run(lua_State* L) {
     return protect(L, [&] {
-        Simulation& sim = check_sim(L, 1);
+        const std::shared_ptr<Simulation> kept = check_sim(L, 1);
+        Simulation& sim = *kept;
         const double seconds = check_number(L, 2);
         if (!(std::isfinite(seconds) && seconds >= 0)) {
             throw ArgError(2, "non-negative number of seconds expected");
@@ -195,7 +198,8 @@ int simulation_run(lua_State* L) {
 
 int simulation_step(lua_State* L) {
     return protect(L, [&] {
-        Simulation& sim = check_sim(L, 1);
+        const std::shared_ptr<Simulation> kept = check_sim(L, 1);
+        Simulation& sim = *kept;
         const long long n = lua_isnoneornil(L, 2) ? 1 : check_integer(L, 2);
         if (n < 0) throw ArgError(2, "non-negative number of ticks expected");
         try {
@@ -346,7 +350,7 @@ int simulation_flush(lua_State* L) {
 
 int simulation_reset(lua_State* L) {
     return protect(L, [&] {
-        check_sim(L, 1).reset();
+        check_sim(L, 1)->reset();
         return 0;
     });
 }
@@ -355,7 +359,8 @@ int simulation_reset(lua_State* L) {
 // { object = "box 2", position =, orientation =, velocity = }
 int simulation_objects(lua_State* L) {
     return protect(L, [&] {
-        Simulation& sim = check_sim(L, 1);
+        const std::shared_ptr<Simulation> kept = check_sim(L, 1);
+        Simulation& sim = *kept;
         std::vector<std::string> names;
         const WorldSpec& w = sim.world();
         for (size_t i = 0; i < w.boxes.size(); ++i) {
@@ -384,7 +389,8 @@ int simulation_objects(lua_State* L) {
 
 int simulation_index(lua_State* L) {
     return protect(L, [&] {
-        Simulation& sim = check_sim(L, 1);
+        const std::shared_ptr<Simulation> kept = check_sim(L, 1);
+        Simulation& sim = *kept;
         const char* key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
         const std::string k = key;
         if (k == "time") {
@@ -426,7 +432,8 @@ int simulation_index(lua_State* L) {
 
 int simulation_tostring(lua_State* L) {
     return protect(L, [&] {
-        Simulation& sim = check_sim(L, 1);
+        const std::shared_ptr<Simulation> kept = check_sim(L, 1);
+        Simulation& sim = *kept;
         lua_pushfstring(L, "gaitlab.Simulation (t = %f s, robots: %d)", sim.time(),
                         sim.robot_count());
         return 1;

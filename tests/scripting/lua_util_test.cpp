@@ -143,3 +143,21 @@ TEST_CASE("strings keep their zero bytes; paths with one are refused", "[lua_uti
     CHECK_THAT(lua.error_of("gaitlab.controller.write_template('sine', 'a\\0b.lua')"),
                Catch::Contains("a path cannot contain a zero byte"));
 }
+
+TEST_CASE("a simulation whose handle is destroyed while it steps finishes its tick", "[lua_util]") {
+    LuaFixture lua;
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ modules = 3 }
+        local C = gaitlab.controller{ name = "gc", step = function(self)
+          local mt = debug.getmetatable(SIM)
+          if mt then mt.__gc(SIM) end
+        end }
+        robot:group{ 1 }:drive(C{})
+        world = gaitlab.world()
+        world:add(robot)
+        SIM = gaitlab.simulation{ world = world, record = false }
+    )");
+    lua.run("SIM:run(0.5)");
+    CHECK_THAT(lua.error_of("SIM:run(0.5)"), Catch::Contains("attempt to index a userdata value"));
+    lua.run("collectgarbage() collectgarbage()");
+}
