@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 
@@ -81,11 +82,27 @@ std::string read_file(const std::string& path, std::uintmax_t max_bytes) {
 }
 
 void write_file_atomic(const std::string& path, std::string_view text) {
+    // the file replaced: a link's target (links stay links); never what is not a regular file
+    // (renaming over /dev/full would replace the device with a file)
+    std::string target = path;
+    struct stat st {};
+    if (::lstat(path.c_str(), &st) == 0 && S_ISLNK(st.st_mode)) {
+        if (char* real = ::realpath(path.c_str(), nullptr)) {
+            target = real;
+            std::free(real);
+        }
+    }
+    if (::stat(target.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+        throw IoError(fmt::format("cannot write {}: {}", path,
+                                  S_ISDIR(st.st_mode)
+                                      ? "is a directory"
+                                      : "not a regular file (a FIFO, device or socket)"));
+    }
     // a temporary name of this process and call: two writers of one path never share it, and
     // O_EXCL never follows a link someone left at that name
     static std::atomic<unsigned> counter{0};
     const std::string tmp =
-        fmt::format("{}.tmp-{}-{}", path, static_cast<long>(::getpid()), counter++);
+        fmt::format("{}.tmp-{}-{}", target, static_cast<long>(::getpid()), counter++);
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
     if (fd < 0) throw IoError(fmt::format("cannot write {}: {}", path, reason(errno)));
     try {
@@ -100,7 +117,7 @@ void write_file_atomic(const std::string& path, std::string_view text) {
         std::remove(tmp.c_str());
         throw IoError(fmt::format("cannot write {}: {}", path, reason(e)));
     }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    if (std::rename(tmp.c_str(), target.c_str()) != 0) {
         const int e = errno;
         std::remove(tmp.c_str());
         throw IoError(fmt::format("cannot write {}: {}", path, reason(e)));

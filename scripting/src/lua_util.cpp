@@ -1,7 +1,10 @@
 #include "lua_util.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+
+#include <fmt/format.h>
 
 namespace gaitlab::scripting {
 
@@ -188,11 +191,17 @@ long long Fields::integer(const char* key, long long fallback) const {
     int ok = 0;
     const lua_Integer v = lua_tointegerx(L_, -1, &ok);
     const bool is_number = lua_type(L_, -1) == LUA_TNUMBER;
+    const double d = lua_tonumber(L_, -1);
     const std::string t = type_name(L_, -1);
     lua_pop(L_, 1);
-    if (!ok)
-        fail(key, is_number ? "integer expected, got a fractional number"
-                            : "integer expected, got " + t);
+    if (!ok) {
+        if (!is_number) fail(key, "integer expected, got " + t);
+        // a whole number too large for an integer (1e19) is out of range, not fractional
+        if (std::isfinite(d) && std::floor(d) == d) {
+            fail(key, fmt::format("integer expected, got {} (beyond the 64-bit integers)", d));
+        }
+        fail(key, "integer expected, got a fractional number");
+    }
     return v;
 }
 

@@ -31,7 +31,7 @@ int sandbox_getmetatable(lua_State* L) {
         lua_pushnil(L);
         return 1;
     }
-    if (lua_getfield(L, -1, "__metatable") != LUA_TNIL) return 1;  // a protected metatable
+    if (raw_getfield(L, -1, "__metatable") != LUA_TNIL) return 1;  // a protected metatable
     lua_pop(L, 1);
     lua_pushvalue(L, -1);
     if (lua_rawget(L, lua_upvalueindex(1)) == LUA_TNIL) {
@@ -49,7 +49,7 @@ int sandbox_setmetatable(lua_State* L) {
     const int t = lua_type(L, 2);
     luaL_argexpected(L, t == LUA_TNIL || t == LUA_TTABLE, 2, "nil or table");
     if (t == LUA_TTABLE) {
-        if (lua_getfield(L, 2, "__gc") != LUA_TNIL) {
+        if (raw_getfield(L, 2, "__gc") != LUA_TNIL) {  // raw, as the collector looks
             return luaL_error(L,
                               "__gc metamethods are not available in sandboxed controller "
                               "files");

@@ -80,7 +80,7 @@ std::vector<std::string> to_names(lua_State* L, int index, int arg, const std::s
         throw ArgError(
             arg, what + "a series name or a list of names expected, got " + type_name(L, index));
     }
-    const lua_Integer n = luaL_len(L, index);
+    const auto n = static_cast<lua_Integer>(lua_rawlen(L, index));
     for (lua_Integer i = 1; i <= n; ++i) {
         lua_rawgeti(L, index, i);
         if (lua_type(L, -1) != LUA_TSTRING) {

@@ -91,7 +91,7 @@ int module_new(lua_State* L) {
         }
         if (f.push("range") != LUA_TNIL) {
             double r[2] = {0, 0};
-            bool ok = lua_istable(L, -1) && luaL_len(L, -1) == 2;
+            bool ok = lua_istable(L, -1) && lua_rawlen(L, -1) == 2;
             for (int k = 0; ok && k < 2; ++k) {
                 lua_rawgeti(L, -1, k + 1);
                 int is_num = 0;

@@ -69,7 +69,7 @@ int robot_group(lua_State* L) {
                 throw ArgError(2, e.what());
             }
         } else if (lua_istable(L, 2)) {
-            const lua_Integer n = luaL_len(L, 2);
+            const auto n = static_cast<lua_Integer>(lua_rawlen(L, 2));
             if (n == 0) throw ArgError(2, "a joint group needs at least one joint");
             const int nj = static_cast<int>(spec.joints.size());
             for (lua_Integer i = 1; i <= n; ++i) {

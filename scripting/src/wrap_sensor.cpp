@@ -84,7 +84,7 @@ int required_index(const Fields& f, const char* key, const char* what) {
 SensorSpec sensor_from_table(lua_State* L) {
     const int arg = 2;
     check_table(L, arg);
-    if (lua_getfield(L, arg, "kind") != LUA_TSTRING) {
+    if (raw_getfield(L, arg, "kind") != LUA_TSTRING) {
         const std::string t = type_name(L, -1);
         lua_pop(L, 1);
         throw ArgError(arg, fmt::format("field 'kind': sensor kind expected ({}), got {}",

@@ -66,7 +66,7 @@ RecordRequest to_request(lua_State* L, int index, int arg, const std::string& pr
         }
         const int st = f.push("series");
         if (st == LUA_TTABLE) {
-            const lua_Integer n = luaL_len(L, -1);
+            const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));
             for (lua_Integer i = 1; i <= n; ++i) {
                 lua_rawgeti(L, -1, i);
                 if (lua_type(L, -1) != LUA_TSTRING) {
@@ -172,7 +172,7 @@ int simulation_new(lua_State* L) {
         f.push("record");
         const RecordRequest request = to_request(L, -1, 1, "field 'record': ");
         lua_pop(L, 1);
-        lua_getfield(L, 2, "world");
+        raw_getfield(L, 2, "world");
         push_new_simulation(L, to_world(L, -1), o, request);
         return 1;
     });

@@ -249,7 +249,7 @@ int world_rubble(lua_State* L) {
 // samples = {nx, ny}: two integers in [2, 4096]
 std::pair<int, int> read_samples(lua_State* L, const Fields& f) {
     const char* expected = "{nx, ny} with two integers in [2, 4096] expected";
-    if (f.push("samples") != LUA_TTABLE || luaL_len(L, -1) != 2) {
+    if (f.push("samples") != LUA_TTABLE || lua_rawlen(L, -1) != 2) {
         lua_pop(L, 1);
         f.fail("samples", expected);
     }
@@ -300,7 +300,7 @@ void sample_function(lua_State* L, const Fields& f, int fn, HeightfieldSpec& s) 
 
 // heights = { row1, row2, ... }: row j is y = -width/2 + (j - 1) · width/(rows - 1)
 void read_rows(lua_State* L, const Fields& f, int rows_index, HeightfieldSpec& s) {
-    const lua_Integer ny = luaL_len(L, rows_index);
+    const auto ny = static_cast<lua_Integer>(lua_rawlen(L, rows_index));
     if (ny < 2 || ny > 4096) {
         f.fail("heights", fmt::format("2 to 4096 rows expected (got {})", ny));
     }
@@ -310,7 +310,7 @@ void read_rows(lua_State* L, const Fields& f, int rows_index, HeightfieldSpec& s
             lua_pop(L, 1);
             f.fail("heights", fmt::format("row {} is a {} (a list of numbers expected)", j, t));
         }
-        const lua_Integer nx = luaL_len(L, -1);
+        const auto nx = static_cast<lua_Integer>(lua_rawlen(L, -1));
         if (j == 1) {
             if (nx < 2 || nx > 4096) {
                 lua_pop(L, 1);

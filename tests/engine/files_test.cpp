@@ -63,6 +63,30 @@ TEST_CASE("reads refuse directories, FIFOs, devices and files above the limit", 
     CHECK(describe_size(100) == "100 bytes");
 }
 
+TEST_CASE("atomic writes replace regular files only, and keep links", "[files]") {
+    TempDir tmp("files_atomic_special");
+    // a device, a FIFO or a folder is never replaced by a file
+    struct stat before {};
+    REQUIRE(::stat("/dev/full", &before) == 0);
+    CHECK_THROWS_WITH(write_file_atomic("/dev/full", "x"),
+                      "cannot write /dev/full: not a regular file (a FIFO, device or socket)");
+    struct stat after {};
+    REQUIRE(::stat("/dev/full", &after) == 0);
+    CHECK(S_ISCHR(after.st_mode));
+    const std::string fifo = tmp / "fifo";
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    CHECK_THROWS_WITH(write_file_atomic(fifo, "x"),
+                      "cannot write " + fifo + ": not a regular file (a FIFO, device or socket)");
+    CHECK_THROWS_WITH(write_file_atomic(tmp.str(), "x"),
+                      "cannot write " + tmp.str() + ": is a directory");
+    // a link stays a link; its target gets the new content
+    write_file_atomic(tmp / "real.txt", "one");
+    std::filesystem::create_symlink(tmp / "real.txt", tmp / "link.txt");
+    write_file_atomic(tmp / "link.txt", "two");
+    CHECK(std::filesystem::is_symlink(tmp.path / "link.txt"));
+    CHECK(read_file(tmp / "real.txt") == "two");
+}
+
 TEST_CASE("numbers are written in their shortest form and read back to the same bits", "[csv]") {
     const double values[] = {0.0,
                              -0.0,
