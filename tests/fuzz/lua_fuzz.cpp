@@ -1,0 +1,24 @@
+// libFuzzer target: the Lua API. An input is a hand-written script (it starts with "--") or the
+// choices from which harness/script_gen.cpp generates one: calls of the public gaitlab API with
+// hostile arguments, in odd orders. Each runs in a fresh LuaHost, bounded in memory, ticks and
+// wall time, in a folder of its own (harness/runner.h). A Lua error is the expected outcome of
+// most inputs; a crash, sanitizer report, leak, abort, uncaught exception or timeout is a
+// finding, and so are the harness's own checks (a shell command run, a write outside the
+// folder, a saved file that does not load). tools/fuzz.sh builds and runs it; set
+// GAITLAB_FUZZ_PRINT=1 to see each script on stderr.
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+
+#include "runner.h"
+#include "script_gen.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    static gaitlab::fuzz::Runner runner(GAITLAB_FUZZ_FIXTURES);
+    static const bool print = std::getenv("GAITLAB_FUZZ_PRINT") != nullptr;
+    const gaitlab::fuzz::Script script = gaitlab::fuzz::script_for_input(data, size);
+    if (print) std::fprintf(stderr, "---- lua_fuzz script\n%s\n----\n", script.code.c_str());
+    runner.run(script);
+    return 0;
+}
