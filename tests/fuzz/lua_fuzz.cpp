@@ -10,9 +10,32 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <string>
 
+#include "confine.h"
 #include "runner.h"
 #include "script_gen.h"
+
+// libFuzzer writes crash reports and corpus entries while a script runs (when it crashes) and
+// from the folder it was started in: those places stay writable under the confinement
+extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
+    namespace fs = std::filesystem;
+    gaitlab::fuzz::allow_writes_in(fs::current_path().string());
+    for (int i = 1; i < *argc; ++i) {
+        const std::string arg = (*argv)[i];
+        std::string path;
+        if (arg.rfind("-artifact_prefix=", 0) == 0 || arg.rfind("-exact_artifact_path=", 0) == 0) {
+            path = arg.substr(arg.find('=') + 1);
+        } else if (!arg.empty() && arg[0] != '-') {
+            path = arg;  // a corpus folder or an input
+        }
+        if (path.empty()) continue;
+        const fs::path p = fs::absolute(path);
+        gaitlab::fuzz::allow_writes_in(fs::is_directory(p) ? p.string() : p.parent_path().string());
+    }
+    return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     static gaitlab::fuzz::Runner runner(GAITLAB_FUZZ_FIXTURES);

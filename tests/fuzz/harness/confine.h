@@ -12,8 +12,12 @@
 
 namespace gaitlab::fuzz {
 
-/// From now on, writes outside `folder` (an absolute path without symbolic links) fail.
+/// From now on, writes outside `folder` (an absolute path without symbolic links) and the
+/// folders given to allow_writes_in() fail.
 void confine_writes(const std::string& folder);
+/// Lets writes into `folder` (and below) pass even while confined: where the fuzzer itself
+/// writes, crash reports and new corpus entries, when a script crashes it.
+void allow_writes_in(const std::string& folder);
 /// Lifts the confinement.
 void release_writes();
 /// The writes refused since the last confine_writes(), as "CALL PATH" lines.

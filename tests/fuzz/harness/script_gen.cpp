@@ -147,6 +147,22 @@ constexpr const char* kMethods[] = {
 // group:drive and robot:actuate from inside a controller's step: heap-use-after-free in
 // Simulation::Phases::think (findings/drive_inside_step.lua)
 constexpr bool kKnownDriveInsideStep = true;
+// run:plot writes titles and series names into gnuplot's script where backticks run shell
+// commands (findings/plot_*_runs_shell.lua): no plots while names and titles may hold them
+constexpr bool kKnownPlotInjection = true;
+
+constexpr const char* kSetupWorld =
+    "try(function() R[1] = gaitlab.robot.chain{ name = 'snake', modules = 4, connection = "
+    "'pitch-yaw' } W[1] = gaitlab.world{} W[1]:add(R[1]) G[1] = R[1]:group('pitch') "
+    "G[2] = R[1]:group('yaw') end)\n";
+constexpr const char* kSetupDrive =
+    "try(function() C[1] = G[1]:drive(gaitlab.controllers.sine{}) N[1] = R[1]:sensor{ kind = "
+    "'imu', module = 2 } end)\n";
+constexpr const char* kSetupSimulation =
+    "try(function() S[1] = gaitlab.simulation{ world = W[1] } S[1]:step(30) end)\n";
+constexpr const char* kSetupRecording =
+    "try(function() S[1] = gaitlab.simulation{ world = W[1], record = 'runs/setup' } "
+    "S[1]:step(30) end)\n";
 
 class Generator {
   public:
@@ -161,6 +177,13 @@ class Generator {
             "R, W, G, C, K, S, N, M, A, D, L, X, T, P = "
             "{}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}\n"
             "local function try(f, ...) return pcall(f, ...) end\n";
+        // most scripts start from a robot in a world, or a running simulation, so that the
+        // statements after reach further than argument checks
+        const unsigned setup = in_.below(4);
+        if (setup >= 1) out += kSetupWorld;
+        if (setup >= 2) out += kSetupDrive;
+        if (setup == 2) out += kSetupSimulation;
+        if (setup == 3) out += kSetupRecording;
         int count = 0;
         while (!in_.done() && count < kMaxStatements) {
             out += cat({"try(function()\n", statement(0), "\nend)\n"});
@@ -176,7 +199,11 @@ class Generator {
     static constexpr int kMaxNesting = 4;  // values inside values
 
     bool hostile() { return in_.below(16) < hostility_; }
-    std::string slot() { return std::to_string(1 + in_.below(3)); }
+    // slot 1 half of the time: statements meet the objects others made
+    std::string slot() {
+        const unsigned b = in_.below(4);
+        return std::to_string(b < 2 ? 1 : b);
+    }
     std::string ref(const char* table) { return cat({table, "[", slot(), "]"}); }
     std::string x_slot() { return ref("X"); }
 
@@ -403,15 +430,17 @@ class Generator {
 
     // ---- tables of named fields -----------------------------------------------------------
 
-    // `{ key = value, ... }` with each key present or not; the values plausible or hostile,
-    // sometimes an unknown key or a positional value; sometimes the table hides behind
-    // __index, or is no table at all
+    // `{ key = value, ... }` with each key present or not (a key written "!key" is required:
+    // present unless hostile); the values plausible or hostile, sometimes an unknown key or a
+    // positional value; sometimes the table hides behind __index, or is no table at all
     template <class F>
     std::string fields(std::initializer_list<const char*> keys, F&& plausible) {
         if (hostile() && in_.one_in(3)) return value();
         std::string body;
-        for (const char* k : keys) {
-            if (in_.one_in(2)) continue;
+        for (const char* key : keys) {
+            const bool required = key[0] == '!';
+            const char* k = required ? key + 1 : key;
+            if (required ? hostile() && in_.one_in(2) : in_.one_in(2)) continue;
             const std::string v = hostile() ? value() : plausible(std::string_view(k));
             body += cat({k, " = ", v, ", "});
         }
@@ -441,7 +470,7 @@ class Generator {
     }
 
     std::string chain_args() {
-        return fields({"name", "modules", "connection", "module"}, [&](std::string_view k) {
+        return fields({"name", "!modules", "connection", "module"}, [&](std::string_view k) {
             if (k == "name") return name();
             if (k == "modules") return integer(1, 10);
             if (k == "connection") {
@@ -557,7 +586,7 @@ class Generator {
     }
 
     std::string sensor_args() {
-        return fields({"kind", "name", "joint", "module", "half", "direction", "max_range",
+        return fields({"!kind", "name", "joint", "module", "half", "direction", "max_range",
                        "enabled"},
                       [&](std::string_view k) {
                           if (k == "kind") return quote(in_.pick(kSensorKinds));
@@ -571,7 +600,7 @@ class Generator {
     }
 
     std::string module_args() {
-        return fields({"name", "base", "shape", "length", "width", "height", "radius", "mass",
+        return fields({"!name", "base", "shape", "length", "width", "height", "radius", "mass",
                        "axis", "range", "max_speed", "max_torque", "kp", "friction"},
                       [&](std::string_view k) {
                           if (k == "name") return name();
@@ -628,7 +657,7 @@ class Generator {
     }
 
     std::string simulation_args() {
-        return fields({"world", "dt", "control_every", "seed", "solver_iterations",
+        return fields({"!world", "dt", "control_every", "seed", "solver_iterations",
                        "on_controller_error", "record"},
                       [&](std::string_view k) {
                           if (k == "world") return ref("W");
@@ -735,7 +764,7 @@ class Generator {
 
     // the table given to gaitlab.controller{...}
     std::string class_args(int depth, bool sandboxed) {
-        return fields({"name", "params", "values", "step", "snapshot", "on_reload",
+        return fields({"!name", "params", "values", "!step", "snapshot", "on_reload",
                        "instruction_budget"},
                       [&](std::string_view k) -> std::string {
                           if (k == "name") return name();
@@ -771,9 +800,10 @@ class Generator {
                 code = "return gaitlab.controller{ name = 'broken', step = function(self) end";
                 break;
             case 2:
-                // a sandboxed file reaches neither processes nor files
-                code = cat({"pcall(os.execute, 'touch ", kInject, "') pcall(io.open, '", kInject,
-                            "', 'w') return gaitlab.controller(", class_args(depth, true), ")"});
+                // a sandboxed file reaches no processes (and the fuzzer lets no script run one)
+                code = cat({"pcall(os.execute, 'touch ", kInject, "') pcall(io.popen, 'touch ",
+                            kInject, "') return gaitlab.controller(", class_args(depth, true),
+                            ")"});
                 break;
             case 3:
                 code = "while true do end";
@@ -941,7 +971,7 @@ class Generator {
 
     std::string preset() {
         const std::string def =
-            fields({"name", "description", "params", "check", "build"},
+            fields({"!name", "description", "params", "check", "!build"},
                    [&](std::string_view k) -> std::string {
                        if (k == "params") {
                            return "{ size = { 1, min = 0, max = 10, unit = 'm', doc = 'x' } }";
@@ -1153,7 +1183,7 @@ class Generator {
     }
 
     std::string plot_or_export() {
-        if (in_.one_in(2)) {
+        if (kKnownPlotInjection || in_.one_in(2)) {
             return cat({x_slot(), " = ", ref("D"), ":export(",
                         fields({"series", "file", "dir", "from", "to"}, [&](std::string_view k) {
                             if (k == "series") return series_list();
@@ -1163,7 +1193,7 @@ class Generator {
                         ")"});
         }
         return cat({x_slot(), " = ", ref("D"), ":plot(",
-                    fields({"series", "output", "from", "to", "title", "width", "height"},
+                    fields({"!series", "!output", "from", "to", "title", "width", "height"},
                            [&](std::string_view k) {
                                if (k == "series") return series_list();
                                if (k == "output") {

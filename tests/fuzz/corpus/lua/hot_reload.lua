@@ -34,8 +34,9 @@ return gaitlab.controller{
 }
 ]])
 print(gaitlab.controller.reload())
-print(Wave.version, ctl.amplitude, ctl.speed)
+print(Wave.version, ctl.amplitude, pcall(function() return ctl.speed end))
 sim:step(60)
+print(ctl.amplitude, ctl.speed, ctl:values().extra)
 write("return gaitlab.controller{ name = 'wave', step = ")
 print(gaitlab.controller.reload())
 print(Wave.version, Wave.reload_error)
