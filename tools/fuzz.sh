@@ -52,4 +52,5 @@ done
 UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}" \
 LSAN_OPTIONS="suppressions=$root/tests/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}" \
 ./tests/fuzz/lua_fuzz -max_total_time="$seconds" -max_len=4096 -timeout=25 -close_fd_mask=1 \
-    -artifact_prefix="$build/" -print_final_stats=1 "$lua_corpus" 2>&1 | tail -n 15
+    -dict="$root/tests/fuzz/lua.dict" -artifact_prefix="$build/" -print_final_stats=1 \
+    "$lua_corpus" 2>&1 | tail -n 15

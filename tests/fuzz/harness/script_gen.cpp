@@ -61,6 +61,23 @@ std::string call(const char* fn, const std::string& args) {
     return std::string(fn) + "(" + args + ")";
 }
 
+// `s` with what would make it a path out of the run folder taken out: a leading '/' and ".."
+// components (odd strings may land where a path is expected)
+std::string contained(const std::string& s) {
+    std::string out;
+    size_t i = 0;
+    while (i <= s.size()) {
+        size_t j = s.find('/', i);
+        if (j == std::string::npos) j = s.size();
+        const std::string part = s.substr(i, j - i);
+        out += part == ".." ? "._" : part;
+        if (j < s.size()) out += '/';
+        i = j + 1;
+    }
+    if (!out.empty() && out[0] == '/') out.insert(0, "_");
+    return out;
+}
+
 // a Lua string literal with `s` as its value: bytes outside printable ASCII, quotes,
 // backslashes and ']' (so that generated code can sit in long brackets) as decimal escapes
 std::string quote(std::string_view s) {
@@ -93,9 +110,14 @@ constexpr const char* kWords[] = {
     "offset", "hopf",  "joint3", "imu1",   "front",  "back",   "x",       "angle",  "time",
     "joints", "name",  "set",    "params", "values", "step",   "script",  "console", "viewer"};
 
+// names that would leave the run folder if gaitlab made paths of them: name() gives them, in
+// the places of names only (any string may be given as a path, and a script that names a path
+// outside its folder is refused, not a finding)
+constexpr const char* kEscapingNames[] = {"..", "../../gaitlab_escape", "/tmp/gaitlab_escape",
+                                          "a/../../../gaitlab_escape", "../"};
+
 constexpr const char* kOddStrings[] = {
-    "",         "..",         ".",          "../../gaitlab_escape",
-    "a/b",      "/tmp/gaitlab_fuzz_absolute", "`touch gaitlab_injected`",
+    "",         ".",          "a/b",        "`touch gaitlab_injected`",
     "$(touch gaitlab_injected)", ";touch gaitlab_injected;",  "a\"b",
     "a'b",      "a\nb",       "x\r\n",      "\t",
     "\xff\xfe", "\xc3\x28",   "\xf0\x9f\x98\x80", "%s%s%n%d",
@@ -150,6 +172,11 @@ constexpr bool kKnownDriveInsideStep = true;
 // run:plot writes titles and series names into gnuplot's script where backticks run shell
 // commands (findings/plot_*_runs_shell.lua): no plots while names and titles may hold them
 constexpr bool kKnownPlotInjection = true;
+// LuaController::on_bind (sim:reset, a new simulation) and ~LuaController write through a
+// pointer into a Lua userdata that may have been collected: heap-use-after-free
+// (findings/reset_rebinds_lua_controller.lua, findings/self_metatable_replaced.lua). No
+// sim:reset, and no step that replaces the metatable of its self table
+constexpr bool kKnownControllerRebind = true;
 
 constexpr const char* kSetupWorld =
     "try(function() R[1] = gaitlab.robot.chain{ name = 'snake', modules = 4, connection = "
@@ -250,7 +277,7 @@ class Generator {
                 std::string s;
                 for (unsigned n = in_.below(17); n > 0; --n)
                     s += static_cast<char>(in_.byte());
-                return quote(s);
+                return quote(contained(s));
             }
             case 2: {
                 const std::string word = quote(in_.pick(kWords));
@@ -261,7 +288,7 @@ class Generator {
             }
             case 3: {
                 const std::string first = in_.pick(kOddStrings);
-                return quote(first + in_.pick(kOddStrings));
+                return quote(contained(first + in_.pick(kOddStrings)));
             }
             default:
                 return quote(in_.pick(kOddStrings));
@@ -272,8 +299,15 @@ class Generator {
 
     // a name for a robot, sensor, module, controller ...: a plausible word, or anything
     std::string name() {
-        if (hostile()) return in_.one_in(3) ? value() : odd_string();
-        return quote(in_.pick(kWords));
+        if (!hostile()) return quote(in_.pick(kWords));
+        switch (in_.below(4)) {
+            case 0:
+                return value();
+            case 1:
+                return quote(in_.pick(kEscapingNames));
+            default:
+                return odd_string();
+        }
     }
 
     // a path relative to the run folder that never leaves it
@@ -722,6 +756,7 @@ class Generator {
             case 12:
                 return "collectgarbage()";
             case 13:
+                if (kKnownControllerRebind) return cat({"self.m = ", value()});
                 return cat({"setmetatable(self, ", value(), ")"});
             case 14:
                 // patterns whose matching backtracks a lot: the sandbox must refuse them
@@ -877,6 +912,7 @@ class Generator {
             case 18:
                 return cat({ref("S"), ":run(", real(0, 0.5), ")"});
             case 19:
+                if (kKnownControllerRebind) return cat({x_slot(), " = ", ref("S"), ".ticks"});
                 return cat({ref("S"), ":reset()"});
             case 20:
                 return recording();
