@@ -69,7 +69,7 @@ constexpr const char* kInjected = "gaitlab_injected";
     std::abort();
 }
 
-// __fuzz_finding(message): a generated script's own check failed
+// __fuzz_finding(message): a strict script's own check failed
 int l_fuzz_finding(lua_State* L) {
     const char* message = luaL_tolstring(L, 1, nullptr);
     finding(message);
@@ -189,7 +189,7 @@ RunResult Runner::run(const Script& script, const Limits& limits) {
             });
         });
         lua_State* L = host.state();
-        if (script.generated) {
+        if (script.strict) {
             lua_pushcfunction(L, l_fuzz_finding);
             lua_setglobal(L, "__fuzz_finding");
         }
@@ -222,11 +222,11 @@ RunResult Runner::run(const Script& script, const Limits& limits) {
         finding("a file named " + std::string(kInjected) +
                 " appeared: a string of the script ran as a shell command");
     }
-    if (script.generated && !refused.empty()) {
+    if (script.strict && !refused.empty()) {
         std::string list;
         for (const std::string& r : refused)
             list += "\n  " + r;
-        finding("a generated script wrote outside its folder " + dir + ":" + list);
+        finding("a strict script wrote outside its folder " + dir + ":" + list);
     }
     fs::remove_all(dir, ec);
     return result;

@@ -47,9 +47,9 @@ class Runner {
 
     /// Runs `script`. Aborts the process with a message on stderr (a finding) when:
     /// - a file named gaitlab_injected appeared: a string ran as a shell command;
-    /// - a generated script wrote outside its folder (a hand-written one is only refused);
-    /// - a generated script called __fuzz_finding(message) (its own checks: a saved robot
-    ///   that does not load again ...).
+    /// - a strict script (script_gen.h) wrote outside its folder (others are only refused);
+    /// - a strict script called __fuzz_finding(message) (its own checks: a saved robot that
+    ///   does not load again ...).
     RunResult run(const Script& script, const Limits& limits = Limits());
     /// Whether scripts' print() and the host's reports go to stdout and stderr (default: no).
     void set_verbose(bool verbose) { verbose_ = verbose; }

@@ -1340,9 +1340,10 @@ std::string generate_script(const std::uint8_t* data, std::size_t size) {
     return Generator(data, size).script();
 }
 
-Script script_for_input(const std::uint8_t* data, std::size_t size) {
-    if (size >= 2 && data[0] == '-' && data[1] == '-') {
-        return {std::string(reinterpret_cast<const char*>(data), size), false};
+Script script_for_input(const std::uint8_t* data, std::size_t size, bool strict_marks) {
+    const std::string_view text(reinterpret_cast<const char*>(data), size);
+    if (text.substr(0, 2) == "--") {
+        return {std::string(text), strict_marks && text.substr(0, 9) == "-- strict"};
     }
     return {generate_script(data, size), true};
 }

@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
         std::fflush(stdout);
         const std::string bytes = read_bytes(p);
         const auto result = runner.run(gaitlab::fuzz::script_for_input(
-            reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
+            reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), true));
         const std::string first_line = result.message.substr(0, result.message.find('\n'));
         std::printf("%s: %s%s%s\n", p.string().c_str(), outcome_name(result.outcome),
                     first_line.empty() ? "" : ": ", first_line.c_str());

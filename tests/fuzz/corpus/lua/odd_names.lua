@@ -1,4 +1,4 @@
--- names with slashes, dots, quotes, newlines, backticks and bytes that are not UTF-8, saved to files
+-- strict: names with slashes, dots, quotes, newlines, backticks and bytes that are not UTF-8, saved to files
 local names = { "a/b", "../up", "..", "/abs", "q\"uote", "it's", "new\nline", "`tick`", "$(x)",
                 "\xff\xfe", "", ("n"):rep(300), "<x/>", "&amp;" }
 for _, name in ipairs(names) do
@@ -10,7 +10,7 @@ for _, name in ipairs(names) do
     local world = gaitlab.world{}
     world:add(robot)
     local sim = gaitlab.simulation{ world = world }
-    print(sim:save("named/sim.xml"))
+    print(sim:save("sim.xml"))
   end
   print(pcall(gaitlab.module, { name = name }))
   print(pcall(gaitlab.controller, { name = name, step = print }))
