@@ -156,6 +156,22 @@ constexpr const char* kChannels[] = {"angle", "velocity", "torque", "roll",  "pi
 constexpr const char* kSeries[] = {"snake.com.*", "snake.angle[*]", "sine.*",  "robot",
                                    "controller",  "sensor",         "*.com.x", "snake.energy",
                                    "robot.com.x", "sine.amplitude", "*",       "nothing"};
+constexpr const char* kRunFiles[] = {"run.json", "series.csv", "data.csv", "events.csv",
+                                     "log.txt", "config/script.lua"};
+// what a damaged file gets at the place it is cut
+constexpr const char* kSplices[] = {
+    ",",     "\n",     "\"",    "{",      "}",       "[",         "]",     ":",       "1e999",
+    "-",     "nan",     "<",     "/>",     "</",      "<robot>",   "=",     "\"\"",   "\r\n",
+    ",,,,",  "\n\n",   "null",  "true",   "-0",      "999999999999999999999", "\\u0000",
+    "0x1p4", "&#0;",    "<!--",  "\t",     "\xef\xbb\xbf"};
+// every reader given the damaged file at `path`, and its run folder opened
+constexpr const char* kReadBack =
+    "for _, load in ipairs{ gaitlab.robot.load, gaitlab.world.load, gaitlab.simulation.load, "
+    "gaitlab.actuation.load, gaitlab.robot.load_urdf } do pcall(load, path) end "
+    "local run = gaitlab.data.open(path:match('^(.*)/[^/]*$') or '.') "
+    "if run then D[1] = run local list = run:series() run:events() run:log() "
+    "if list[1] then run:get(list[1].name) run:export{ series = { list[1].name }, file = "
+    "'export.csv' } end end";
 constexpr const char* kSlots[] = {"R", "W", "G", "C", "K", "S", "N",
                                   "M", "A", "D", "L", "X", "T", "P"};
 constexpr const char* kMethods[] = {
@@ -854,7 +870,7 @@ class Generator {
 
     std::string statement(int depth) {
         if (depth > kMaxDepth) return "collectgarbage('step')";
-        switch (in_.below(50)) {
+        switch (in_.below(51)) {
             case 0:
             case 1:
                 return cat({ref("R"), " = gaitlab.robot.chain(", chain_args(), ")"});
@@ -989,9 +1005,36 @@ class Generator {
             case 48:
                 if (!may_drive()) return cat({x_slot(), " = #", ref("G")});
                 return step_inside_class(depth);
+            case 49:
+                return damage_file();
             default:
                 return cat({"local t = ", ref("W"), ":triangles() ", x_slot(), " = #t"});
         }
+    }
+
+    // a file gaitlab wrote (a saved robot, world, simulation or actuation, a file of a run
+    // folder) cut at some place, with something spliced in: the readers that load it later
+    // must reject it, or read it, without crashing
+    std::string damage_file() {
+        std::string file;
+        if (in_.one_in(2)) {
+            file = ref("P");
+        } else {
+            const std::string s = ref("S");
+            file = cat({"((", s, " and ", s, ".record_dir) or 'runs/setup') .. '/",
+                        in_.pick(kRunFiles), "'"});
+        }
+        const unsigned a = in_.byte();
+        const unsigned b = in_.byte();
+        const std::string splice =
+            in_.one_in(4) ? odd_string() : quote(in_.pick(kSplices));
+        const std::string cut = std::to_string(in_.below(17));
+        return cat({"local path = ", file,
+                    " local f = type(path) == 'string' and io.open(path, 'rb') if f then "
+                    "local s = f:read('a') f:close() local k = ",
+                    std::to_string(a * 256 + b), " % (#s + 1) s = s:sub(1, k) .. ", splice,
+                    " .. s:sub(k + 1 + ", cut, ") f = io.open(path, 'wb') f:write(s) f:close() ",
+                    kReadBack, " end"});
     }
 
     // a controller whose step runs one statement of the script's grammar, driving a group at
