@@ -5,7 +5,8 @@
 // most inputs; a crash, sanitizer report, leak, abort, uncaught exception or timeout is a
 // finding, and so are the harness's own checks (a shell command run, a write outside the
 // folder, a saved file that does not load). tools/fuzz.sh builds and runs it; set
-// GAITLAB_FUZZ_PRINT=1 to see each script on stderr.
+// GAITLAB_FUZZ_PRINT=1 to see each script on stderr, GAITLAB_FUZZ_SECONDS to change the wall
+// time after which a script is interrupted (a finding may depend on where that happens).
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -40,8 +41,13 @@ extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     static gaitlab::fuzz::Runner runner(GAITLAB_FUZZ_FIXTURES);
     static const bool print = std::getenv("GAITLAB_FUZZ_PRINT") != nullptr;
+    static const gaitlab::fuzz::Limits limits = [] {
+        gaitlab::fuzz::Limits l;
+        if (const char* s = std::getenv("GAITLAB_FUZZ_SECONDS")) l.seconds = std::atof(s);
+        return l;
+    }();
     const gaitlab::fuzz::Script script = gaitlab::fuzz::script_for_input(data, size);
     if (print) std::fprintf(stderr, "---- lua_fuzz script\n%s\n----\n", script.code.c_str());
-    runner.run(script);
+    runner.run(script, limits);
     return 0;
 }

@@ -1,11 +1,13 @@
 #include "runner.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <unistd.h>
 
 #include <lua.hpp>
 
+#include <cerrno>
 #include <chrono>
 #include <condition_variable>
 #include <csignal>
@@ -78,8 +80,8 @@ int l_fuzz_finding(lua_State* L) {
 // whether a file named `name` is anywhere in `dir`
 bool contains_file(const fs::path& dir, const std::string& name) {
     std::error_code ec;
-    for (fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied,
-                                             ec),
+    for (fs::recursive_directory_iterator
+             it(dir, fs::directory_options::skip_permission_denied, ec),
          end;
          !ec && it != end; it.increment(ec)) {
         if (it->path().filename() == name) return true;
@@ -150,7 +152,19 @@ Runner::Runner(std::string fixtures) : fixtures_(std::move(fixtures)) {
         dup2(null, STDIN_FILENO);
         if (null != STDIN_FILENO) close(null);
     }
-    std::string tmpl = (fs::temp_directory_path() / "gaitlab-lua-fuzz-XXXXXX").string();
+    // a process that crashed leaves its folder behind: remove those of processes that are gone
+    const fs::path tmp = fs::temp_directory_path();
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(tmp, ec)) {
+        const std::string name = e.path().filename().string();
+        int pid = 0;
+        if (std::sscanf(name.c_str(), "gaitlab-lua-fuzz-%d-", &pid) == 1 && pid > 0 &&
+            kill(pid, 0) != 0 && errno == ESRCH) {
+            fs::remove_all(e.path(), ec);
+        }
+    }
+    std::string tmpl =
+        (tmp / ("gaitlab-lua-fuzz-" + std::to_string(getpid()) + "-XXXXXX")).string();
     if (mkdtemp(tmpl.data()) == nullptr) {
         std::perror("lua_fuzz: cannot make a temporary folder");
         std::exit(2);

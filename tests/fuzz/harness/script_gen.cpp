@@ -135,7 +135,8 @@ constexpr const char* kFileNames[] = {
     "plot.png", "sub/f.xml", "sub",  "",          ".",        "./",      "a//b.xml",
     "dir/",   "w.lua",     "e.environment.xml",   "controllers/my_sine.lua",
     "controllers/shuttle.lua",       "walk.xml",  "terrain.png",          "robots/inchworm.urdf",
-    "walk/snake.robot.xml",          "walk/snake.actuation.xml",          "walk/flat.environment.xml"};
+    "walk/snake.robot.xml",          "walk/snake.actuation.xml",
+    "walk/flat.environment.xml"};
 
 constexpr const char* kOddFileNames[] = {
     "a\nb.xml", "`touch gaitlab_injected`.png", "$(touch gaitlab_injected).xml", "'q'.png",
@@ -741,7 +742,8 @@ class Generator {
                             " * (self.n or 0) + m)) end"});
             }
             case 2:
-                return cat({"local m = 1 self:set_angle(", joint_index(), ", ", real(-90, 90), ")"});
+                return cat(
+                    {"local m = 1 self:set_angle(", joint_index(), ", ", real(-90, 90), ")"});
             case 3:
                 return cat({"local m = 1 local a = self:",
                             in_.pick({"joint_angle", "joint_velocity", "joint_torque"}), "(",
@@ -754,7 +756,8 @@ class Generator {
                 return "self.n = (self.n or 0) + 1";
             case 6:
                 return cat({"self.",
-                            in_.pick({"time", "angle", "x", "phase", "joints", "amplitude", "near"}),
+                            in_.pick({"time", "angle", "x", "phase", "joints", "amplitude",
+                                      "near"}),
                             " = ", value()});
             case 7:
                 return cat({"if self.time then self.time[", joint_index(), "] = ", number(),
@@ -911,7 +914,8 @@ class Generator {
             case 9:
                 return cat({ref("K"), " = gaitlab.controller(", class_args(depth, false), ")"});
             case 10:
-                return cat({ref("C"), " = ", ref("K"), in_.one_in(2) ? "(" + params_args() + ")" : "()"});
+                return cat({ref("C"), " = ", ref("K"),
+                            in_.one_in(2) ? "(" + params_args() + ")" : "()"});
             case 11:
             case 12:
                 if (!may_drive()) return cat({x_slot(), " = ", ref("G"), ":joints()"});
