@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
@@ -46,9 +47,12 @@ int guarded_resume(lua_State* L) {
     lua_pushvalue(L, lua_upvalueindex(1));
     lua_insert(L, 1);
     const int nargs = lua_gettop(L) - 1;
-    lua_State* outer = g.set_running(co);
+    struct Running {  // restored however the call ends
+        Guard& g;
+        lua_State* outer;
+        ~Running() { g.set_running(outer); }
+    } running{g, g.set_running(co)};
     lua_call(L, nargs, LUA_MULTRET);
-    g.set_running(outer);
     return lua_gettop(L);
 }
 
@@ -162,6 +166,13 @@ void Guard::install(lua_State* L) {
     new (lua_newuserdatauv(L, sizeof(Guard), 0)) Guard();
     luaL_setmetatable(L, kGuardType);
     lua_setfield(L, LUA_REGISTRYINDEX, kGuardKey);
+    // the messages of the usual interrupts, kept so that Lua has them interned
+    lua_newtable(L);
+    for (const int s : {SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGALRM}) {
+        lua_pushfstring(L, "interrupted (%s)", signal_name(s));
+        lua_rawseti(L, -2, s);
+    }
+    lua_setfield(L, LUA_REGISTRYINDEX, "gaitlab.interrupt_messages");
 
     lua_pushcfunction(L, guarded_xpcall);
     lua_setglobal(L, "xpcall");
@@ -181,10 +192,19 @@ void Guard::install(lua_State* L) {
     lua_pop(L, 1);
 }
 
-std::string Guard::interrupt_message() const {
+void Guard::format_interrupt(char* out, std::size_t size) const {
     const int s = signal_.load();
-    const char* name = signal_name(s);
-    return name ? fmt::format("interrupted ({})", name) : fmt::format("interrupted (signal {})", s);
+    if (const char* name = signal_name(s)) {
+        std::snprintf(out, size, "interrupted (%s)", name);
+    } else {
+        std::snprintf(out, size, "interrupted (signal %d)", s);
+    }
+}
+
+std::string Guard::interrupt_message() const {
+    char message[64];
+    format_interrupt(message, sizeof message);
+    return message;
 }
 
 void Guard::interrupt(lua_State* L, int signal) {
@@ -224,9 +244,12 @@ void Guard::arm(lua_State* L) {
 void Guard::hook(lua_State* L, lua_Debug* ar) {
     Guard& g = of(L);
     if (g.signal_.load() != 0) {
-        // every instruction from now on fails, so no pcall can swallow the interrupt
+        // every instruction from now on fails, so no pcall can swallow the interrupt. The
+        // message was made at install: pushing it again allocates nothing, even at the limit
         lua_sethook(L, hook, LUA_MASKCALL | LUA_MASKRET | LUA_MASKCOUNT, 1);
-        lua_pushstring(L, g.interrupt_message().c_str());
+        char message[64];
+        g.format_interrupt(message, sizeof message);
+        lua_pushstring(L, message);
         lua_error(L);
     }
     if (g.frames_.empty() || ar->event != LUA_HOOKCOUNT) return;

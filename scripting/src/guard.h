@@ -37,6 +37,8 @@ class Guard {
     void clear_interrupt(lua_State* L);
     /// "interrupted (SIGINT)": the error Lua code stops with.
     std::string interrupt_message() const;
+    /// The same into `out` (no allocation).
+    void format_interrupt(char* out, std::size_t size) const;
     /// Notes the coroutine now running (so an interrupt reaches it); returns the previous one.
     lua_State* set_running(lua_State* co);
 

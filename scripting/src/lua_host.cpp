@@ -114,6 +114,11 @@ void protected_call(lua_State* L, int nargs, int nresults) {
         message = lua_isstring(L, -1) ? lua_tostring(L, -1) : "error in error handling";
     }
     lua_settop(L, base - 1);
+    // an interrupt says so, even where the state was too full for its message to be made
+    if (status == LUA_ERRMEM || status == LUA_ERRERR) {
+        const Guard& g = Guard::of(L);
+        if (g.interrupted() != 0) message = g.interrupt_message();
+    }
     throw ScriptError(message, file, line, traceback);
 }
 

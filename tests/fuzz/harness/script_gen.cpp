@@ -98,17 +98,41 @@ std::string quote(std::string_view s) {
 // checks that it never appears (gaitlab must never run a command written in a name or path)
 constexpr const char* kInject = "gaitlab_injected";
 
-constexpr const char* kHostileNumbers[] = {
-    "0/0",    "1/0",        "-1/0",       "2^31",   "2^31-1",          "-2^31",
-    "2^32+30", "2^53",      "2^63",       "-2^63",  "math.maxinteger", "math.mininteger",
-    "1e308",  "-1e308",     "5e-324",     "-0.0",   "1e-9",            "0",
-    "-1",     "1e6",        "1e9",        "0xffffffff", "'12'",        "' 3 '",
-    "'0x10'", "'nan'",      "'1e999'",    "-180.5", "1e-300",          "2^1023*1.999"};
+constexpr const char* kHostileNumbers[] = {"0/0",
+                                           "1/0",
+                                           "-1/0",
+                                           "2^31",
+                                           "2^31-1",
+                                           "-2^31",
+                                           "2^32+30",
+                                           "2^53",
+                                           "2^63",
+                                           "-2^63",
+                                           "math.maxinteger",
+                                           "math.mininteger",
+                                           "1e308",
+                                           "-1e308",
+                                           "5e-324",
+                                           "-0.0",
+                                           "1e-9",
+                                           "0",
+                                           "-1",
+                                           "1e6",
+                                           "1e9",
+                                           "0xffffffff",
+                                           "'12'",
+                                           "' 3 '",
+                                           "'0x10'",
+                                           "'nan'",
+                                           "'1e999'",
+                                           "-180.5",
+                                           "1e-300",
+                                           "2^1023*1.999"};
 
 constexpr const char* kWords[] = {
-    "snake",  "robot", "pitch",  "yaw",    "all",    "roll",   "y1",      "cube",   "sine",
-    "offset", "hopf",  "joint3", "imu1",   "front",  "back",   "x",       "angle",  "time",
-    "joints", "name",  "set",    "params", "values", "step",   "script",  "console", "viewer"};
+    "snake",  "robot", "pitch",  "yaw",    "all",    "roll", "y1",     "cube",    "sine",
+    "offset", "hopf",  "joint3", "imu1",   "front",  "back", "x",      "angle",   "time",
+    "joints", "name",  "set",    "params", "values", "step", "script", "console", "viewer"};
 
 // names that would leave the run folder if gaitlab made paths of them: name() gives them, in
 // the places of names only (any string may be given as a path, and a script that names a path
@@ -116,33 +140,92 @@ constexpr const char* kWords[] = {
 constexpr const char* kEscapingNames[] = {"..", "../../gaitlab_escape", "/tmp/gaitlab_escape",
                                           "a/../../../gaitlab_escape", "../"};
 
-constexpr const char* kOddStrings[] = {
-    "",         ".",          "a/b",        "`touch gaitlab_injected`",
-    "$(touch gaitlab_injected)", ";touch gaitlab_injected;",  "a\"b",
-    "a'b",      "a\nb",       "x\r\n",      "\t",
-    "\xff\xfe", "\xc3\x28",   "\xf0\x9f\x98\x80", "%s%s%n%d",
-    "{}{0}",    "<x a=\"1\"/>", "&amp;&",   "]]",
-    "--",       "snake.angle[*]", "sine.*", "*",
-    "?",        "[",          "NaN",        "inf",
-    "with space", "UPPER",    "a.b",        "robot.xml"};
+constexpr const char* kOddStrings[] = {"",
+                                       ".",
+                                       "a/b",
+                                       "`touch gaitlab_injected`",
+                                       "$(touch gaitlab_injected)",
+                                       ";touch gaitlab_injected;",
+                                       "a\"b",
+                                       "a'b",
+                                       "a\nb",
+                                       "x\r\n",
+                                       "\t",
+                                       "\xff\xfe",
+                                       "\xc3\x28",
+                                       "\xf0\x9f\x98\x80",
+                                       "%s%s%n%d",
+                                       "{}{0}",
+                                       "<x a=\"1\"/>",
+                                       "&amp;&",
+                                       "]]",
+                                       "--",
+                                       "snake.angle[*]",
+                                       "sine.*",
+                                       "*",
+                                       "?",
+                                       "[",
+                                       "NaN",
+                                       "inf",
+                                       "with space",
+                                       "UPPER",
+                                       "a.b",
+                                       "robot.xml"};
 
 // a string with a NUL inside, which C code that takes char* sees cut short
 constexpr std::string_view kNulString("ab\0cd", 5);
 
-constexpr const char* kFileNames[] = {
-    "r.xml",  "robot.xml", "w.xml",  "world.xml", "sim.xml",  "a.xml",   "x.urdf",
-    "c.lua",  "ctl.lua",   "out.png", "x.csv",    "run1",     "runs/a",  "x",
-    "plot.png", "sub/f.xml", "sub",  "",          ".",        "./",      "a//b.xml",
-    "dir/",   "w.lua",     "e.environment.xml",   "controllers/my_sine.lua",
-    "controllers/shuttle.lua",       "walk.xml",  "terrain.png",          "robots/inchworm.urdf",
-    "walk/snake.robot.xml",          "walk/snake.actuation.xml",
-    "walk/flat.environment.xml"};
+constexpr const char* kFileNames[] = {"r.xml",
+                                      "robot.xml",
+                                      "w.xml",
+                                      "world.xml",
+                                      "sim.xml",
+                                      "a.xml",
+                                      "x.urdf",
+                                      "c.lua",
+                                      "ctl.lua",
+                                      "out.png",
+                                      "x.csv",
+                                      "run1",
+                                      "runs/a",
+                                      "x",
+                                      "plot.png",
+                                      "sub/f.xml",
+                                      "sub",
+                                      "",
+                                      ".",
+                                      "./",
+                                      "a//b.xml",
+                                      "dir/",
+                                      "w.lua",
+                                      "e.environment.xml",
+                                      "controllers/my_sine.lua",
+                                      "controllers/shuttle.lua",
+                                      "walk.xml",
+                                      "terrain.png",
+                                      "robots/inchworm.urdf",
+                                      "walk/snake.robot.xml",
+                                      "walk/snake.actuation.xml",
+                                      "walk/flat.environment.xml"};
 
-constexpr const char* kOddFileNames[] = {
-    "a\nb.xml", "`touch gaitlab_injected`.png", "$(touch gaitlab_injected).xml", "'q'.png",
-    "\"q\".png", "\xc3\xa9.xml", "\xff.xml",    "sp ace.png", "a%s.csv",  "-n.png",
-    ";x;.csv",  ".png",          "x.PNG",       "x.png.png",  "nul\x01.xml", "a\\b.xml",
-    "*.xml",    "~/x.xml"};
+constexpr const char* kOddFileNames[] = {"a\nb.xml",
+                                         "`touch gaitlab_injected`.png",
+                                         "$(touch gaitlab_injected).xml",
+                                         "'q'.png",
+                                         "\"q\".png",
+                                         "\xc3\xa9.xml",
+                                         "\xff.xml",
+                                         "sp ace.png",
+                                         "a%s.csv",
+                                         "-n.png",
+                                         ";x;.csv",
+                                         ".png",
+                                         "x.PNG",
+                                         "x.png.png",
+                                         "nul\x01.xml",
+                                         "a\\b.xml",
+                                         "*.xml",
+                                         "~/x.xml"};
 
 constexpr const char* kBuiltins[] = {"sine",     "offset",      "phase_chain",   "hopf",
                                      "matsuoka", "distributed", "hindmarsh_rose"};
@@ -151,20 +234,20 @@ constexpr const char* kParamNames[] = {"amplitude", "frequency", "phase", "phase
 constexpr const char* kPresets[] = {"flat",   "slippery", "sticky", "ramp",
                                     "stairs", "pipe",     "rubble", "hills"};
 constexpr const char* kSensorKinds[] = {"joint", "imu", "contact", "range", "position"};
-constexpr const char* kChannels[] = {"angle", "velocity", "torque", "roll",  "pitch",
-                                     "yaw",   "qw",       "ax",     "wz",    "contact",
-                                     "force", "distance", "hit",    "x",     "vz"};
+constexpr const char* kChannels[] = {"angle", "velocity", "torque", "roll", "pitch",
+                                     "yaw",   "qw",       "ax",     "wz",   "contact",
+                                     "force", "distance", "hit",    "x",    "vz"};
 constexpr const char* kSeries[] = {"snake.com.*", "snake.angle[*]", "sine.*",  "robot",
                                    "controller",  "sensor",         "*.com.x", "snake.energy",
                                    "robot.com.x", "sine.amplitude", "*",       "nothing"};
-constexpr const char* kRunFiles[] = {"run.json", "series.csv", "data.csv", "events.csv",
-                                     "log.txt", "config/script.lua"};
+constexpr const char* kRunFiles[] = {"run.json",   "series.csv", "data.csv",
+                                     "events.csv", "log.txt",    "config/script.lua"};
 // what a damaged file gets at the place it is cut
 constexpr const char* kSplices[] = {
-    ",",     "\n",     "\"",    "{",      "}",       "[",         "]",     ":",       "1e999",
-    "-",     "nan",     "<",     "/>",     "</",      "<robot>",   "=",     "\"\"",   "\r\n",
-    ",,,,",  "\n\n",   "null",  "true",   "-0",      "999999999999999999999", "\\u0000",
-    "0x1p4", "&#0;",    "<!--",  "\t",     "\xef\xbb\xbf"};
+    ",",       "\n",    "\"",   "{",    "}",    "[",           "]",       ":",
+    "1e999",   "-",     "nan",  "<",    "/>",   "</",          "<robot>", "=",
+    "\"\"",    "\r\n",  ",,,,", "\n\n", "null", "true",        "-0",      "999999999999999999999",
+    "\\u0000", "0x1p4", "&#0;", "<!--", "\t",   "\xef\xbb\xbf"};
 // every reader given the damaged file at `path`, and its run folder opened
 constexpr const char* kReadBack =
     "for _, load in ipairs{ gaitlab.robot.load, gaitlab.world.load, gaitlab.simulation.load, "
@@ -176,24 +259,10 @@ constexpr const char* kReadBack =
 constexpr const char* kSlots[] = {"R", "W", "G", "C", "K", "S", "N",
                                   "M", "A", "D", "L", "X", "T", "P"};
 constexpr const char* kMethods[] = {
-    "group", "position", "bodies",  "save",   "actuate", "sensor",      "drive", "joints",
-    "add",   "box",      "heightfield", "triangles", "run", "step",     "reset", "record",
-    "live",  "objects",  "params",  "values", "set",     "read",        "on",    "off",
-    "get",   "series",   "export",  "plot",   "groups",  "norm",        "flush", "channels"};
-
-// Known findings not fixed yet (tests/fuzz/findings/README.md): the grammar leaves out what
-// triggers them, so that fuzzing goes on past them. Set an entry to false once its fix is in.
-// group:drive and robot:actuate from inside a controller's step: heap-use-after-free in
-// Simulation::Phases::think (findings/drive_inside_step.lua)
-constexpr bool kKnownDriveInsideStep = true;
-// run:plot writes titles and series names into gnuplot's script where backticks run shell
-// commands (findings/plot_*_runs_shell.lua): no plots while names and titles may hold them
-constexpr bool kKnownPlotInjection = true;
-// LuaController::on_bind (sim:reset, a new simulation) and ~LuaController write through a
-// pointer into a Lua userdata that may have been collected: heap-use-after-free
-// (findings/reset_rebinds_lua_controller.lua, findings/self_metatable_replaced.lua). No
-// sim:reset, and no step that replaces the metatable of its self table
-constexpr bool kKnownControllerRebind = true;
+    "group", "position", "bodies",      "save",      "actuate", "sensor", "drive", "joints",
+    "add",   "box",      "heightfield", "triangles", "run",     "step",   "reset", "record",
+    "live",  "objects",  "params",      "values",    "set",     "read",   "on",    "off",
+    "get",   "series",   "export",      "plot",      "groups",  "norm",   "flush", "channels"};
 
 constexpr const char* kSetupWorld =
     "try(function() R[1] = gaitlab.robot.chain{ name = 'snake', modules = 4, connection = "
@@ -349,11 +418,11 @@ class Generator {
         if (hostile()) return value();
         switch (in_.below(4)) {
             case 0:
-                return cat({"{ x = ", real(-1, 1), ", y = ", real(-1, 1), ", z = ", real(0, 1),
-                            " }"});
+                return cat(
+                    {"{ x = ", real(-1, 1), ", y = ", real(-1, 1), ", z = ", real(0, 1), " }"});
             case 1:
-                return cat({"gaitlab.vec3(", real(-1, 1), ", ", real(-1, 1), ", ", real(0, 1),
-                            ")"});
+                return cat(
+                    {"gaitlab.vec3(", real(-1, 1), ", ", real(-1, 1), ", ", real(0, 1), ")"});
             default:
                 return cat({"{ ", real(-1, 1), ", ", real(-1, 1), ", ", real(0, 1), " }"});
         }
@@ -371,8 +440,8 @@ class Generator {
             case 2:
                 return "setmetatable({}, { __len = function() error('len') end })";
             case 3:
-                return cat({"setmetatable({1, 2}, { __len = function() return ", number(),
-                            " end })"});
+                return cat(
+                    {"setmetatable({1, 2}, { __len = function() return ", number(), " end })"});
             case 4:
                 return "setmetatable({}, { __newindex = function() error('newindex') end })";
             case 5:
@@ -566,8 +635,8 @@ class Generator {
                 case 2:
                     return "{ { 0, 0.01 }, { 0.02, 0 } }";
                 default:
-                    return cat({"{ { ", real(0, 0.1), ", ", real(0, 0.1), " }, { ", real(0, 0.1),
-                                " } }"});
+                    return cat(
+                        {"{ { ", real(0, 0.1), ", ", real(0, 0.1), " }, { ", real(0, 0.1), " } }"});
             }
         }
         return real(0.001, 1);
@@ -579,33 +648,34 @@ class Generator {
             case 0:
                 return call("box", fields({"size", "position", "yaw", "mass", "friction"}, f));
             case 1:
-                return call("wall",
-                       fields({"length", "height", "thickness", "position", "yaw", "friction"}, f));
+                return call(
+                    "wall",
+                    fields({"length", "height", "thickness", "position", "yaw", "friction"}, f));
             case 2:
                 return call("ramp",
-                       fields({"slope", "length", "width", "position", "yaw", "friction"}, f));
+                            fields({"slope", "length", "width", "position", "yaw", "friction"}, f));
             case 3:
                 return call("stairs", fields({"steps", "step_height", "step_depth", "width",
-                                          "landing", "position", "yaw", "friction"},
-                                         f));
+                                              "landing", "position", "yaw", "friction"},
+                                             f));
             case 4:
                 return call("cylinder", fields({"radius", "length", "lying", "position", "yaw",
-                                            "mass", "friction"},
-                                           f));
+                                                "mass", "friction"},
+                                               f));
             case 5:
                 return call("pipe", fields({"radius", "thickness", "length", "sides", "position",
-                                        "yaw", "friction"},
-                                       f));
+                                            "yaw", "friction"},
+                                           f));
             case 6:
                 return call("rubble", fields({"length", "width", "count", "min_size", "max_size",
-                                          "min_height", "max_height", "seed", "position", "yaw",
-                                          "friction"},
-                                         f));
+                                              "min_height", "max_height", "seed", "position", "yaw",
+                                              "friction"},
+                                             f));
             default:
-                return call("heightfield", fields({"length", "width", "heights", "image",
-                                               "max_height", "samples", "resolution", "position",
-                                               "yaw", "friction"},
-                                              f));
+                return call("heightfield",
+                            fields({"length", "width", "heights", "image", "max_height", "samples",
+                                    "resolution", "position", "yaw", "friction"},
+                                   f));
         }
     }
 
@@ -618,9 +688,9 @@ class Generator {
         };
         if (preset == "ramp") return fields({"slope", "length", "width", "top", "friction"}, f);
         if (preset == "stairs") {
-            return fields({"steps", "step_height", "step_depth", "width", "landing", "distance",
-                           "friction"},
-                          f);
+            return fields(
+                {"steps", "step_height", "step_depth", "width", "landing", "distance", "friction"},
+                f);
         }
         if (preset == "pipe") {
             return fields({"radius", "thickness", "length", "sides", "entrance", "friction"}, f);
@@ -637,17 +707,17 @@ class Generator {
     }
 
     std::string sensor_args() {
-        return fields({"!kind", "name", "joint", "module", "half", "direction", "max_range",
-                       "enabled"},
-                      [&](std::string_view k) {
-                          if (k == "kind") return quote(in_.pick(kSensorKinds));
-                          if (k == "name") return name();
-                          if (k == "joint" || k == "module") return integer(0, 9);
-                          if (k == "half") return quote(in_.pick({"tail", "head", "middle"}));
-                          if (k == "direction") return vec();
-                          if (k == "max_range") return real(0, 5);
-                          return std::string(in_.one_in(2) ? "true" : "false");
-                      });
+        return fields(
+            {"!kind", "name", "joint", "module", "half", "direction", "max_range", "enabled"},
+            [&](std::string_view k) {
+                if (k == "kind") return quote(in_.pick(kSensorKinds));
+                if (k == "name") return name();
+                if (k == "joint" || k == "module") return integer(0, 9);
+                if (k == "half") return quote(in_.pick({"tail", "head", "middle"}));
+                if (k == "direction") return vec();
+                if (k == "max_range") return real(0, 5);
+                return std::string(in_.one_in(2) ? "true" : "false");
+            });
     }
 
     std::string module_args() {
@@ -755,19 +825,19 @@ class Generator {
             case 5:
                 return "self.n = (self.n or 0) + 1";
             case 6:
-                return cat({"self.",
-                            in_.pick({"time", "angle", "x", "phase", "joints", "amplitude",
-                                      "near"}),
-                            " = ", value()});
+                return cat(
+                    {"self.",
+                     in_.pick({"time", "angle", "x", "phase", "joints", "amplitude", "near"}),
+                     " = ", value()});
             case 7:
-                return cat({"if self.time then self.time[", joint_index(), "] = ", number(),
-                            " end"});
+                return cat(
+                    {"if self.time then self.time[", joint_index(), "] = ", number(), " end"});
             case 8:
                 return cat({"self.", in_.pick(kParamNames), " = ", real(-90, 90)});
             case 9:
                 if (in_.one_in(3)) return cat({"error(", value(), ")"});
-                return cat({"if (self.n or 0) > ", std::to_string(in_.byte() % 40),
-                            " then error(", value(), ") end"});
+                return cat({"if (self.n or 0) > ", std::to_string(in_.byte() % 40), " then error(",
+                            value(), ") end"});
             case 10:
                 return in_.one_in(3) ? "while true do end" : "for i = 1, 1e5 do end";
             case 11:
@@ -775,8 +845,8 @@ class Generator {
             case 12:
                 return "collectgarbage()";
             case 13:
-                if (kKnownControllerRebind) return cat({"self.m = ", value()});
-                return cat({"setmetatable(self, ", value(), ")"});
+                return in_.one_in(2) ? cat({"self.m = ", value()})
+                                     : cat({"setmetatable(self, ", value(), ")"});
             case 14:
                 // patterns whose matching backtracks a lot: the sandbox must refuse them
                 return cat({"local s = string.rep('a', ", std::to_string(in_.byte() % 40),
@@ -803,44 +873,40 @@ class Generator {
         return "function(self, dt)\n" + body + "  end";
     }
 
-    // whether a drive may be added here (see kKnownDriveInsideStep)
-    bool may_drive() const { return !(kKnownDriveInsideStep && in_step_ > 0); }
-
     std::string class_params() {
         std::string p = "{ ";
         for (unsigned n = in_.below(3); n > 0; --n) {
             p += cat({in_.pick(kParamNames), " = { ", real(-10, 10), ", min = ", real(-90, 0),
-                      ", max = ", real(0, 90),
-                      in_.one_in(2) ? ", unit = " + name() : std::string(), " }, "});
+                      ", max = ", real(0, 90), in_.one_in(2) ? ", unit = " + name() : std::string(),
+                      " }, "});
         }
         return p + "}";
     }
 
     // the table given to gaitlab.controller{...}
     std::string class_args(int depth, bool sandboxed) {
-        return fields({"!name", "params", "values", "!step", "snapshot", "on_reload",
-                       "instruction_budget"},
-                      [&](std::string_view k) -> std::string {
-                          if (k == "name") return name();
-                          if (k == "params") return class_params();
-                          if (k == "values") {
-                              std::string v = "{ ";
-                              for (unsigned n = in_.below(3); n > 0; --n)
-                                  v += quote(in_.pick({"time", "angle", "x", "joints", "set"})) +
-                                       ", ";
-                              return v + "}";
-                          }
-                          if (k == "step") return step_function(depth, sandboxed);
-                          if (k == "snapshot") return "function(self) return " + value() + " end";
-                          if (k == "on_reload") {
-                              // runs before the next step, inside the simulation's tick
-                              ++in_step_;
-                              const std::string body = step_statement(depth, sandboxed);
-                              --in_step_;
-                              return "function(self, snap) " + body + " end";
-                          }
-                          return integer(1, 100000);
-                      });
+        return fields(
+            {"!name", "params", "values", "!step", "snapshot", "on_reload", "instruction_budget"},
+            [&](std::string_view k) -> std::string {
+                if (k == "name") return name();
+                if (k == "params") return class_params();
+                if (k == "values") {
+                    std::string v = "{ ";
+                    for (unsigned n = in_.below(3); n > 0; --n)
+                        v += quote(in_.pick({"time", "angle", "x", "joints", "set"})) + ", ";
+                    return v + "}";
+                }
+                if (k == "step") return step_function(depth, sandboxed);
+                if (k == "snapshot") return "function(self) return " + value() + " end";
+                if (k == "on_reload") {
+                    // runs before the next step, inside the simulation's tick
+                    ++in_step_;
+                    const std::string body = step_statement(depth, sandboxed);
+                    --in_step_;
+                    return "function(self, snap) " + body + " end";
+                }
+                return integer(1, 100000);
+            });
     }
 
     // a controller file's text, in long brackets: returns a class, or misbehaves
@@ -855,9 +921,9 @@ class Generator {
                 break;
             case 2:
                 // a sandboxed file reaches no processes (and the fuzzer lets no script run one)
-                code = cat({"pcall(os.execute, 'touch ", kInject, "') pcall(io.popen, 'touch ",
-                            kInject, "') return gaitlab.controller(", class_args(depth, true),
-                            ")"});
+                code =
+                    cat({"pcall(os.execute, 'touch ", kInject, "') pcall(io.popen, 'touch ",
+                         kInject, "') return gaitlab.controller(", class_args(depth, true), ")"});
                 break;
             case 3:
                 code = "while true do end";
@@ -914,11 +980,10 @@ class Generator {
             case 9:
                 return cat({ref("K"), " = gaitlab.controller(", class_args(depth, false), ")"});
             case 10:
-                return cat({ref("C"), " = ", ref("K"),
-                            in_.one_in(2) ? "(" + params_args() + ")" : "()"});
+                return cat(
+                    {ref("C"), " = ", ref("K"), in_.one_in(2) ? "(" + params_args() + ")" : "()"});
             case 11:
             case 12:
-                if (!may_drive()) return cat({x_slot(), " = ", ref("G"), ":joints()"});
                 return cat({ref("G"), ":drive(", ref("C"), ")"});
             case 13:
                 return set_param();
@@ -932,7 +997,6 @@ class Generator {
             case 18:
                 return cat({ref("S"), ":run(", real(0, 0.5), ")"});
             case 19:
-                if (kKnownControllerRebind) return cat({x_slot(), " = ", ref("S"), ".ticks"});
                 return cat({ref("S"), ":reset()"});
             case 20:
                 return recording();
@@ -960,10 +1024,10 @@ class Generator {
             case 32:
                 return "gaitlab.controller.reload()";
             case 33:
-                return cat({"collectgarbage(",
-                            quote(in_.pick({"collect", "step", "incremental", "generational",
-                                            "count"})),
-                            ")"});
+                return cat(
+                    {"collectgarbage(",
+                     quote(in_.pick({"collect", "step", "incremental", "generational", "count"})),
+                     ")"});
             case 34:
                 return cat({object(), " = ", in_.one_in(2) ? std::string("nil") : object()});
             case 35:
@@ -1007,7 +1071,6 @@ class Generator {
             case 47:
                 return cat({ref("W"), ":add(", object(), ")"});
             case 48:
-                if (!may_drive()) return cat({x_slot(), " = #", ref("G")});
                 return step_inside_class(depth);
             case 49:
                 return damage_file();
@@ -1030,8 +1093,7 @@ class Generator {
         }
         const unsigned a = in_.byte();
         const unsigned b = in_.byte();
-        const std::string splice =
-            in_.one_in(4) ? odd_string() : quote(in_.pick(kSplices));
+        const std::string splice = in_.one_in(4) ? odd_string() : quote(in_.pick(kSplices));
         const std::string cut = std::to_string(in_.below(17));
         return cat({"local path = ", file,
                     " local f = type(path) == 'string' and io.open(path, 'rb') if f then "
@@ -1178,8 +1240,8 @@ class Generator {
             case 2: {
                 const std::string w = ref("W");
                 const std::string slot_p = ref("P");
-                return cat({"local p = ", w, ":save(", p, ") ", slot_p,
-                            " = p if p then ", w, " = gaitlab.world.load(p) end"});
+                return cat({"local p = ", w, ":save(", p, ") ", slot_p, " = p if p then ", w,
+                            " = gaitlab.world.load(p) end"});
             }
             case 3:
                 return cat({ref("W"), " = gaitlab.world.load(", p, ")"});
@@ -1210,15 +1272,14 @@ class Generator {
             case 0:
                 return cat({ref("A"), " = ", ref("R"), ":actuation()"});
             case 1:
-                if (!may_drive()) return cat({x_slot(), " = #", ref("A")});
                 return cat({x_slot(), " = ", ref("R"), ":actuate(", ref("A"), ")"});
             case 2:
                 return cat({ref("P"), " = ", ref("A"), ":save(", path(), ")"});
             case 3:
                 return cat({ref("A"), " = gaitlab.actuation.load(", path(), ")"});
             default:
-                return cat({"local a = ", ref("A"), " ", x_slot(),
-                            " = { a:groups(), #a, tostring(a) }"});
+                return cat(
+                    {"local a = ", ref("A"), " ", x_slot(), " = { a:groups(), #a, tostring(a) }"});
         }
     }
 
@@ -1243,15 +1304,17 @@ class Generator {
                 return cat({x, " = ", d, ":get(", series, range, ")"});
             }
             case 4:
-                return cat({x_slot(), " = ", ref("D"), ":get(",
-                            fields({"kind", "value", "joint", "source"}, [&](std::string_view k) {
+                return cat(
+                    {x_slot(), " = ", ref("D"), ":get(",
+                     fields({"kind", "value", "joint", "source"},
+                            [&](std::string_view k) {
                                 if (k == "kind") {
                                     return quote(in_.pick({"robot", "controller", "sensor"}));
                                 }
                                 if (k == "joint") return integer(0, 9);
                                 return name();
                             }),
-                            ")"});
+                     ")"});
             case 5: {
                 const std::string d = ref("D");
                 return cat({x_slot(), " = { ", d, ":events(), ", d, ":log() }"});
@@ -1266,28 +1329,29 @@ class Generator {
     }
 
     std::string plot_or_export() {
-        if (kKnownPlotInjection || in_.one_in(2)) {
+        if (in_.one_in(2)) {
             return cat({x_slot(), " = ", ref("D"), ":export(",
-                        fields({"series", "file", "dir", "from", "to"}, [&](std::string_view k) {
-                            if (k == "series") return series_list();
-                            if (k == "file" || k == "dir") return path();
-                            return real(0, 1);
-                        }),
+                        fields({"series", "file", "dir", "from", "to"},
+                               [&](std::string_view k) {
+                                   if (k == "series") return series_list();
+                                   if (k == "file" || k == "dir") return path();
+                                   return real(0, 1);
+                               }),
                         ")"});
         }
-        return cat({x_slot(), " = ", ref("D"), ":plot(",
-                    fields({"!series", "!output", "from", "to", "title", "width", "height"},
-                           [&](std::string_view k) {
-                               if (k == "series") return series_list();
-                               if (k == "output") {
-                                   return in_.one_in(3) ? path()
-                                                        : quote(in_.pick({"p.png", "sub/p.png"}));
-                               }
-                               if (k == "title") return name();
-                               if (k == "width" || k == "height") return integer(100, 400);
-                               return real(0, 1);
-                           }),
-                    ")"});
+        return cat(
+            {x_slot(), " = ", ref("D"), ":plot(",
+             fields({"!series", "!output", "from", "to", "title", "width", "height"},
+                    [&](std::string_view k) {
+                        if (k == "series") return series_list();
+                        if (k == "output") {
+                            return in_.one_in(3) ? path() : quote(in_.pick({"p.png", "sub/p.png"}));
+                        }
+                        if (k == "title") return name();
+                        if (k == "width" || k == "height") return integer(100, 400);
+                        return real(0, 1);
+                    }),
+             ")"});
     }
 
     // what a script reads: measures, lists, fields, string forms and lengths of everything
@@ -1339,10 +1403,10 @@ class Generator {
             case 0:
                 return x_slot() + " = gaitlab.controller.templates()";
             case 1:
-                return cat({ref("K"), " = gaitlab.controller.template(",
-                            hostile() ? value()
-                                      : quote(in_.pick({"sine", "cpg_chain", "blank", "none"})),
-                            ")"});
+                return cat(
+                    {ref("K"), " = gaitlab.controller.template(",
+                     hostile() ? value() : quote(in_.pick({"sine", "cpg_chain", "blank", "none"})),
+                     ")"});
             default:
                 return cat({ref("P"), " = gaitlab.controller.write_template(",
                             quote(in_.pick({"sine", "cpg_chain", "blank", "nope"})), ", ", path(),
