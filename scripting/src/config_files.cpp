@@ -93,7 +93,11 @@ std::shared_ptr<Controller> make_controller(lua_State* L, const ControllerRef& r
                 std::error_code ec;
                 // a replay has the code even where the file is gone
                 if (!fs::is_regular_file(path, ec) && !Reloader::of(L).has_override()) {
-                    fail_at(ref, fmt::format("no controller file at {}", path));
+                    fail_at(ref, fs::exists(path, ec)
+                                     ? fmt::format("controller file {} is not a regular file "
+                                                   "(a folder, FIFO or device)",
+                                                   path)
+                                     : fmt::format("no controller file at {}", path));
                 }
                 push_file_class(L, path, true);
                 c = std::make_shared<LuaController>(L, class_on_top(L));

@@ -236,6 +236,17 @@ TEST_CASE("bad files give nil and a message naming file and line", "[config_file
               ":4: group 1: robot 'robot' has no joint 9 (it has joints 1 to 4)");
     CHECK(lua.integer("#robot:actuation()") == 0);  // a bad file drives nothing
 
+    // a controller file that is a device or a folder is refused, never read
+    for (const std::string& target : {std::string("/dev/zero"), dir.path.string()}) {
+        gaitlab::test::write_text(dir.file("act3.xml"),
+                                  "<gaitlab version=\"1\">\n<actuation>\n<group joints=\"all\">\n"
+                                  "<controller file=\"" + target + "\"/>\n</group>\n"
+                                  "</actuation>\n</gaitlab>\n");
+        CHECK(lua.error_of("robot:actuate(assert(gaitlab.actuation.load(DIR .. '/act3.xml')))") ==
+              "test:1: " + dir.file("act3.xml") + ":4: controller file " + target +
+                  " is not a regular file (a folder, FIFO or device)");
+    }
+
     // a simulation file whose robot file is missing names its resolved path
     gaitlab::test::write_text(dir.file("env.xml"),
                               "<gaitlab version=\"1\"><environment/></gaitlab>");

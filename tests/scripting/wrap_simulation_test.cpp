@@ -35,6 +35,10 @@ TEST_CASE("simulation rejects bad options with Lua-worded messages", "[wrap_simu
           bad + "control_every must be in [1, 1000000] (got 0))");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, control_every = 2.5 }") ==
           bad + "field 'control_every': integer expected, got a fractional number)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, control_every = 1e19 }") ==
+          bad + "field 'control_every': integer expected, got 1e+19 (beyond the 64-bit integers))");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, dt = 0/0 }") ==
+          bad + "dt must be in [1e-06, 0.1] s (got nan))");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, seed = -1 }") ==
           bad + "field 'seed': non-negative integer expected)");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, solver_iterations = 0 }") ==
