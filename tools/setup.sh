@@ -9,7 +9,7 @@ packages=(
     liblua5.4-dev lua5.4
     libbullet-dev libeigen3-dev libfmt-dev libtinyxml2-dev libpng-dev
     catch2 libcli11-dev libbenchmark-dev libedit-dev
-    liburdfdom-tools gnuplot-nox valgrind
+    liburdfdom-tools gnuplot-nox valgrind tmux
 )
 
 if [ "${1:-}" = fuzz ]; then
