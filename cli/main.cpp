@@ -361,6 +361,10 @@ void print_summary(const gaitlab::RunData& run) {
 int data_command(const DataArgs& a) {
     const double from = a.has_from ? parse_seconds("--from", a.from) : -gaitlab::RunData::kInf;
     const double to = a.has_to ? parse_seconds("--to", a.to) : gaitlab::RunData::kInf;
+    if (from > to) {
+        throw gaitlab::SpecError(
+            fmt::format("--from {} is after --to {}: no row can be in between", a.from, a.to));
+    }
     const std::vector<std::string> wanted = split_names(a.series);
     if (!a.series.empty() && wanted.empty()) {
         throw gaitlab::SpecError("--series: at least one series name expected");

@@ -320,6 +320,8 @@ TEST_CASE("numeric options take numbers in their range, nothing else", "[cli]") 
         check_failure(cli({"data", "somewhere", "--to", t}),
                       "gaitlab: --to: a number of seconds expected (got '" + t + "')");
     }
+    check_failure(cli({"data", "somewhere", "--from", "5", "--to", "1"}),
+                  "gaitlab: --from 5 is after --to 1: no row can be in between");
 }
 
 TEST_CASE("the seed option makes math.random reproducible", "[cli]") {
