@@ -337,8 +337,8 @@ TEST_CASE("run.json is valid UTF-8 whatever bytes it is given", "[recorder]") {
     const std::string meta = read_text(tmp / "run/run.json");
     // each byte that is not UTF-8 is U+FFFD; no such byte is left in the file
     CHECK(meta.find("\"\\ufffd\\ufffd-\\ufffd\"") != std::string::npos);
-    for (const char c : {'\xff', '\xfe'})
-        CHECK(meta.find(c) == std::string::npos);
+    for (const char byte : {'\xff', '\xfe'})
+        CHECK(meta.find(byte) == std::string::npos);
     CHECK(RunData(tmp / "run").meta().args ==
           std::vector<std::string>{"\xef\xbf\xbd\xef\xbf\xbd-\xef\xbf\xbd"});
 }
