@@ -40,7 +40,7 @@ local function number(n)
   if n ~= n then return "nan" end
   if n == huge then return "math.huge" end
   if n == -huge then return "-math.huge" end
-  return format("%.14g", n)
+  return tostring(n)
 end
 
 -- the __name a metatable gives (gaitlab objects keep their metatable private: getmetatable
@@ -63,7 +63,10 @@ end
 
 local describe = {}
 
-local function angle(x) return x and format("%.1f°", x) or "-" end
+-- an angle in 7 columns ("°" is one column, two bytes)
+local function angle(x) return x and format("%6.1f°", x) or "      -" end
+-- a quantity as people write it: 30, 0.5, 1e-06
+local function quantity(x) return format("%.6g", x) end
 
 describe["gaitlab.Robot"] = function(robot)
   local lines = {}
@@ -86,14 +89,15 @@ describe["gaitlab.Robot"] = function(robot)
     lines[#lines + 1] = "  not in a simulation yet (no pose)"
   end
   local joints = robot:joints()
-  lines[#lines + 1] = "  joint  name          role    angle    target   range"
+  lines[#lines + 1] = format("  %5s  %-12s  %-6s  %7s  %7s   %s", "joint", "name", "role", "angle",
+    "target", "range")
   for i, j in ipairs(joints) do
     if i > 24 then
       lines[#lines + 1] = format("  ... (%d more joints)", #joints - 24)
       break
     end
-    lines[#lines + 1] = format("  %5d  %-12s  %-6s  %7s  %7s   %s .. %s", j.index, j.name, j.role,
-      angle(j.angle), angle(j.target), angle(j.min), angle(j.max))
+    lines[#lines + 1] = format("  %5d  %-12s  %-6s  %s  %s   %s° .. %s°", j.index, j.name, j.role,
+      angle(j.angle), angle(j.target), quantity(j.min), quantity(j.max))
   end
   return concat(lines, "\n")
 end
@@ -110,7 +114,7 @@ describe["gaitlab.Controller"] = function(ctl)
   for _, n in ipairs(names) do
     local p = params[n]
     lines[#lines + 1] = format("  %-" .. width .. "s = %-10s %-5s range %s .. %s, default %s", n,
-      number(p.value), p.unit, number(p.min), number(p.max), number(p.default))
+      quantity(p.value), p.unit, quantity(p.min), quantity(p.max), quantity(p.default))
   end
   if #names == 0 then lines[#lines + 1] = "  (no parameters)" end
   return concat(lines, "\n")
