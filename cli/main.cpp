@@ -1,6 +1,7 @@
 // The gaitlab executable: gaitlab run FILE.lua|FILE.xml (recorded to runs/ by default),
 // gaitlab FILE.lua, gaitlab data DIR (list, extract, export, plot recorded series), gaitlab
-// replay DIR, --help, --version.
+// replay DIR, --help, --version; gaitlab alone and gaitlab -i FILE.lua open the console
+// (console_command.h).
 //
 // The command line is strict: an option gaitlab does not know is an error (with the closest
 // one), wherever it stands; the script's own arguments follow FILE, after "--" as soon as one
@@ -30,6 +31,7 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include "console_command.h"
 #include "gaitlab/error.h"
 #include "gaitlab/plot.h"
 #include "gaitlab/run_data.h"
@@ -544,12 +546,14 @@ int main(int argc, char** argv) {
     if (!argl.empty() && (ends_with(argl[0], ".lua") || ends_with(argl[0], ".xml"))) {
         argl.insert(argl.begin(), "run");
     }
+    // "gaitlab -i FILE.lua ..." is "gaitlab console FILE.lua ..."
+    if (!argl.empty() && argl[0] == "-i") argl[0] = "console";
     std::string command = "gaitlab";
     for (const std::string& a : argl)
         command += " " + a;
     // everything after the first "--" of `gaitlab run` is the script's, as it is
     std::vector<std::string> script_tail;
-    if (!argl.empty() && argl[0] == "run") {
+    if (!argl.empty() && (argl[0] == "run" || argl[0] == "console")) {
         const auto dash = std::find(argl.begin(), argl.end(), "--");
         if (dash != argl.end()) {
             script_tail.assign(dash + 1, argl.end());
@@ -592,6 +596,9 @@ int main(int argc, char** argv) {
         "series.csv, events.csv, log.txt, run.json, config/), written every 2 s of wall time;\n"
         "SIGINT, SIGTERM or SIGHUP close the folders as interrupted (exit status 128 + the\n"
         "signal). See docs/data.md.");
+
+    gaitlab::cli::ConsoleArgs ca;
+    CLI::App* console = gaitlab::cli::add_console_command(app, ca);
 
     DataArgs da;
     CLI::App* data = app.add_subcommand("data", "List, extract, export or plot recorded series");
@@ -672,6 +679,14 @@ int main(int argc, char** argv) {
         catch_signals();
         return Stdout::finish(run_script(ra, command));
     }
+    if (*console || argl.empty()) {
+        if (ca.file.empty() && !script_tail.empty()) {
+            ca.file = script_tail.front();
+            script_tail.erase(script_tail.begin());
+        }
+        ca.args.insert(ca.args.end(), script_tail.begin(), script_tail.end());
+        return Stdout::finish(gaitlab::cli::run_console(ca, command));
+    }
     da.has_from = from->count() > 0;
     da.has_to = to->count() > 0;
     int status = 0;
@@ -683,10 +698,6 @@ int main(int argc, char** argv) {
             status = replay_command(replay_dir, replay_into);
         } else {
             Stdout::write(app.help());
-            Stdout::write(
-                "\nThe interactive console is not part of this version yet: run a script with\n"
-                "'gaitlab run FILE.lua'.\n");
-            status = argl.empty() ? 2 : 0;
         }
     } catch (const std::exception& e) {
         // messages may quote a run folder's content: no control characters to the terminal

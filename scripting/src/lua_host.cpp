@@ -221,6 +221,19 @@ void LuaHost::on_simulation(std::function<void(Simulation&, int)> fn) {
     Recordings::of(L_).on_created.push_back(std::move(fn));
 }
 
+void LuaHost::set_origin(Origin origin) {
+    lua_pushinteger(L_, static_cast<lua_Integer>(origin));
+    lua_setfield(L_, LUA_REGISTRYINDEX, kOriginKey);
+}
+
+Origin LuaHost::origin() const {
+    return default_origin(L_);
+}
+
+void LuaHost::set_output(std::function<void(const std::string&)> fn) {
+    Recordings::of(L_).output = std::move(fn);
+}
+
 void LuaHost::set_print(bool to_stdout) {
     Recordings::of(L_).print_to_stdout = to_stdout;
 }

@@ -39,8 +39,22 @@ void load_source(lua_State* L, std::string_view code, const std::string& chunk) 
     }
 }
 
+Origin default_origin(lua_State* L) {
+    lua_getfield(L, LUA_REGISTRYINDEX, kOriginKey);
+    const lua_Integer o = lua_tointeger(L, -1);
+    lua_pop(L, 1);
+    switch (o) {
+        case static_cast<lua_Integer>(Origin::console):
+            return Origin::console;
+        case static_cast<lua_Integer>(Origin::viewer):
+            return Origin::viewer;
+        default:
+            return Origin::script;
+    }
+}
+
 Origin opt_origin(lua_State* L, int arg) {
-    if (lua_isnoneornil(L, arg)) return Origin::script;
+    if (lua_isnoneornil(L, arg)) return default_origin(L);
     const std::string o = check_string(L, arg);
     const auto parsed = parse_origin(o);
     if (!parsed || *parsed == Origin::file) {

@@ -196,8 +196,15 @@ inline int saturate_int(long long v) {
         std::clamp<long long>(v, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
 }
 
-/// Who makes a change (argument `arg`): "script" (the default when absent), "console" or
-/// "viewer"; front ends pass theirs so that a replay can tell their changes apart.
+/// Registry key of the origin of changes made without naming one (an integer: Origin).
+inline constexpr const char* kOriginKey = "gaitlab.origin";
+
+/// Who makes the changes that do not say (`ctl.x = v`, `sim:reset()` ...): the host's origin
+/// (LuaHost::set_origin), "script" unless a front end runs the code.
+Origin default_origin(lua_State* L);
+
+/// Who makes a change (argument `arg`): "script", "console" or "viewer"; when absent, the
+/// host's default_origin. Front ends pass theirs so that a replay can tell their changes apart.
 Origin opt_origin(lua_State* L, int arg);
 
 /// `path` as the calling script means it: relative paths are relative to the folder of the Lua

@@ -39,7 +39,9 @@ int l_print(lua_State* L) {
             line.append(s, len);
         }
         Recordings& r = Recordings::of(L);
-        if (r.print_to_stdout) {
+        if (r.print_to_stdout && r.output) {
+            r.output(line + "\n");
+        } else if (r.print_to_stdout) {
             std::fwrite(line.data(), 1, line.size(), stdout);
             std::fputc('\n', stdout);
             std::fflush(stdout);

@@ -86,6 +86,8 @@ class Recordings {
     std::uint64_t script_seed = 0;
     std::vector<std::string> script_args;
     bool print_to_stdout = true;
+    /// where print() writes instead of stdout when set (LuaHost::set_output)
+    std::function<void(const std::string&)> output;
     std::shared_ptr<ReplayPlan> replay;  ///< set in replay mode
     std::vector<std::function<void(Simulation&, int)>> on_created;
 

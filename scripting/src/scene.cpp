@@ -14,9 +14,10 @@ std::shared_ptr<Simulation> RobotBinding::live() const {
     return s;
 }
 
-void RobotBinding::drive(std::vector<int> joints, std::shared_ptr<Controller> controller) {
+void RobotBinding::drive(std::vector<int> joints, std::shared_ptr<Controller> controller,
+                         Origin origin) {
     Drive d{std::move(joints), std::move(controller)};
-    if (auto s = sim.lock()) s->add_drive(index, d);
+    if (auto s = sim.lock()) s->add_drive(index, d, origin);
     drives.push_back(std::move(d));
 }
 

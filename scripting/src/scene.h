@@ -25,7 +25,8 @@ struct RobotBinding {
     /// The running simulation; throws Error if the robot is not in one.
     std::shared_ptr<Simulation> live() const;
     /// Drives `joints` with `controller`, now and in the running simulation if any.
-    void drive(std::vector<int> joints, std::shared_ptr<Controller> controller);
+    void drive(std::vector<int> joints, std::shared_ptr<Controller> controller,
+               Origin origin = Origin::script);
     /// Attaches a sensor (validated), now and in the running simulation if any; returns its
     /// index among the robot's sensors.
     int attach(SensorSpec sensor);

@@ -127,7 +127,7 @@ int controller_newindex(lua_State* L) {
             throw Error(
                 fmt::format("{}.{}: number expected, got {}", c.name(), key, type_name(L, 3)));
         }
-        c.set_param(i, v);
+        c.set_param(i, v, default_origin(L));
         return 0;
     });
 }

@@ -198,6 +198,22 @@ int robot_index(lua_State* L) {
             lua_pushstring(L, r.spec.name.c_str());
             return 1;
         }
+        // what the chain was built from: { modules =, connection =, module = }, nil otherwise
+        if (key == "chain") {
+            if (!r.spec.chain) {
+                lua_pushnil(L);
+                return 1;
+            }
+            const ChainSpec& c = *r.spec.chain;
+            lua_createtable(L, 0, 3);
+            lua_pushinteger(L, c.modules);
+            lua_setfield(L, -2, "modules");
+            lua_pushstring(L, to_string(c.connection));
+            lua_setfield(L, -2, "connection");
+            lua_pushstring(L, c.module.name.c_str());
+            lua_setfield(L, -2, "module");
+            return 1;
+        }
         lua_getfield(L, lua_upvalueindex(1), key.c_str());
         return 1;
     });
@@ -299,7 +315,7 @@ int group_drive(lua_State* L) {
             throw ArgError(2, "controller '" + c.controller->name() +
                                   "' already drives a group (create one controller per group)");
         }
-        g.robot->drive(g.joints, c.controller);
+        g.robot->drive(g.joints, c.controller, default_origin(L));
         c.attached = true;
         lua_settop(L, 2);
         return 1;

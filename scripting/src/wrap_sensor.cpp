@@ -279,7 +279,7 @@ int sensor_newindex(lua_State* L) {
                 throw Error(fmt::format("sensor '{}': enabled must be a boolean, got {}", name,
                                         type_name(L, 3)));
             }
-            h.robot->set_sensor_enabled(h.k, lua_toboolean(L, 3));
+            h.robot->set_sensor_enabled(h.k, lua_toboolean(L, 3), default_origin(L));
             return 0;
         }
         if (std::find(kFields.begin(), kFields.end(), key) != kFields.end()) {

@@ -350,7 +350,7 @@ int simulation_flush(lua_State* L) {
 
 int simulation_reset(lua_State* L) {
     return protect(L, [&] {
-        check_sim(L, 1)->reset();
+        check_sim(L, 1)->reset(default_origin(L));
         return 0;
     });
 }

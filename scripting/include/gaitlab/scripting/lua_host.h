@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gaitlab/error.h"
+#include "gaitlab/event.h"
 #include "gaitlab/recorder.h"
 
 struct lua_State;
@@ -102,6 +103,17 @@ class LuaHost {
     /// Calls `fn` for every simulation a script creates, with its 1-based creation index,
     /// before the script goes on (a console or viewer attaches here).
     void on_simulation(std::function<void(Simulation&, int)> fn);
+    /// Who makes the changes that code run from now on makes without naming an origin
+    /// (`ctl.phase = 90`, `sim:reset()`, `group:drive(ctl)`, `sensor.enabled = false`): their
+    /// events are stamped with it (docs/data.md). The console sets Origin::console while it
+    /// runs a typed line; the default is Origin::script.
+    void set_origin(Origin origin);
+    /// The origin set by set_origin.
+    Origin origin() const;
+    /// Where print() writes instead of stdout (one call per print, the text ends with a
+    /// newline); an empty function: stdout again. A console uses it to keep the line being
+    /// typed intact.
+    void set_output(std::function<void(const std::string&)> fn);
     /// Where the script's print() goes besides the logs of its recordings: stdout (the
     /// default) or nowhere (`false`, for replays).
     void set_print(bool to_stdout);

@@ -1,0 +1,30 @@
+// `gaitlab` alone, `gaitlab -i FILE.lua [ARGS]` and `gaitlab console [FILE.lua [ARGS]]`: the
+// interactive console (docs/console.md).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace gaitlab::cli {
+
+struct ConsoleArgs {
+    std::string file;               ///< the script to run first ("" : none)
+    std::vector<std::string> args;  ///< the script's arguments
+    std::string seed = "0";
+    std::string record;  ///< --record DIR
+    bool no_record = false;
+};
+
+/// Adds the `console` command to `app`, filling `args`.
+CLI::App* add_console_command(CLI::App& app, ConsoleArgs& args);
+
+/// Runs the console until Ctrl-D (0), SIGTERM or SIGHUP (128 + the signal); `command` is the
+/// command line, kept by the recordings. Installs its own handlers for SIGINT, SIGTERM and
+/// SIGHUP.
+int run_console(const ConsoleArgs& args, const std::string& command);
+
+}  // namespace gaitlab::cli

@@ -1,0 +1,146 @@
+#!/bin/sh
+# The console as a person uses it: gaitlab runs in a tmux pane (a private tmux server, so a
+# user's tmux is never touched), keys are sent to it, and the screen is read until the
+# expected text appears (or a timeout fails the test).
+#   console_tmux_test.sh GAITLAB
+set -eu
+gaitlab=$1
+tmp=$(mktemp -d)
+session=0
+sock="gaitlab-console-test-$$-0"
+cleanup() {
+    tmux -L "$sock" kill-server 2>/dev/null || true
+    rm -rf "$tmp"
+}
+trap cleanup EXIT
+cd "$tmp"
+export XDG_STATE_HOME="$tmp/state"
+
+fail() {
+    echo "FAIL: $1" >&2
+    echo "--- screen ---" >&2
+    tmux -L "$sock" capture-pane -p >&2 2>/dev/null || cat "$tmp/screen" >&2 2>/dev/null || true
+    exit 1
+}
+
+# start [ARGS...]: gaitlab in a fresh 120x40 pane; its exit status goes to $tmp/status
+start() {
+    rm -f "$tmp/status"
+    tmux -L "$sock" kill-server 2>/dev/null || true
+    # a server of its own for each session
+    session=$((session + 1))
+    sock="gaitlab-console-test-$$-$session"
+    tmux -L "$sock" new-session -d -x 120 -y 40 \
+        "$gaitlab $* ; echo \$? > $tmp/status; tmux -L $sock capture-pane -p -S - > $tmp/screen; sleep 30"
+    wait_for '^>( |$)' "the prompt"
+}
+
+# wait_for REGEX WHAT [SECONDS]: polls the screen until a line matches
+wait_for() {
+    n=0
+    limit=$(( ${3:-10} * 20 ))
+    while ! tmux -L "$sock" capture-pane -p 2>/dev/null | grep -Eq -- "$1"; do
+        n=$((n + 1))
+        [ "$n" -lt "$limit" ] || fail "no $2 (waited for /$1/)"
+        sleep 0.05
+    done
+}
+
+# wait_exit STATUS: the program ended with this status
+wait_exit() {
+    n=0
+    while [ ! -s "$tmp/status" ]; do
+        n=$((n + 1))
+        [ "$n" -lt 200 ] || fail "gaitlab did not exit"
+        sleep 0.05
+    done
+    [ "$(cat "$tmp/status")" = "$1" ] || fail "exit status $(cat "$tmp/status"), expected $1"
+}
+
+keys() { tmux -L "$sock" send-keys "$@"; }
+# line TEXT: types TEXT literally (tmux would take "end" for the End key), then Enter
+line() {
+    tmux -L "$sock" send-keys -l -- "$1"
+    tmux -L "$sock" send-keys Enter
+}
+
+# --- an expression, =expr, an error and going on, multi-line input, completion
+start console --no-record
+line '6 * 7'
+wait_for '^42$' "result of a bare expression"
+line '= 2^10, "x"'
+wait_for '^1024.0 +x$' "tab-separated results of =expr"
+line 'error("boom")'
+wait_for '^console:1: boom$' "error message"
+wait_for 'stack traceback:' "traceback"
+line 'for i = 1, 2 do'
+wait_for '^>>( |$)' "continuation prompt"
+line 'print("line", i)'
+line 'end'
+wait_for '^line +2$' "output of the multi-line chunk"
+line 'robot = gaitlab.robot.chain{ name = "snake", modules = 4 }'
+keys 'robot:gr' Tab
+wait_for '^> robot:group\($' "completion of robot:gr"
+line '"pitch")'
+wait_for '^group of 4 joints: 1, 2, 3, 4$' "the group"
+keys 'gaitlab.sim' Tab
+wait_for '^> gaitlab.simulation$' "completion of gaitlab.sim"
+# Ctrl-C at the prompt drops the typed text
+keys C-c
+wait_for '^> gaitlab.simulation\^C$' "the discarded line"
+line '=robot'
+wait_for "^robot 'snake': 4 y1 modules, pitch-pitch$" "the robot's description"
+keys C-d
+wait_exit 0
+
+# --- history after a restart
+start console --no-record
+keys Up
+wait_for '^> =robot$' "the last line of the previous session"
+keys C-u
+line '1 + 1'
+wait_for '^2$' "a line after the history"
+
+# --- Ctrl-C stops a long sim:run; the simulation goes on afterwards
+line 'world = gaitlab.world{}'
+line 'robot = gaitlab.robot.chain{ name = "snake", modules = 4 }'
+line 'world:add(robot)'
+line 'ctl = robot:group("pitch"):drive(gaitlab.controllers.sine{})'
+line 'sim = gaitlab.simulation{ world = world }'
+line 'sim:run(1e6)'
+sleep 0.5
+keys C-c
+wait_for 'interrupted \(SIGINT\)' "the interrupt"
+line 't0 = sim.time; sim:run(0.5); print("advanced", sim.time - t0 > 0.49, ctl.failed)'
+wait_for '^advanced +true +false$' "the simulation running on"
+keys C-d
+wait_exit 0
+
+# --- -i FILE.lua: its globals stay; a typed change is recorded with origin console; Ctrl-D
+# closes the recording as finished
+cat > walk.lua <<'EOF'
+local world = gaitlab.world{}
+robot = gaitlab.robot.chain{ name = "walker", modules = 4 }
+world:add(robot)
+ctl = robot:group("pitch"):drive(gaitlab.controllers.sine{})
+sim = gaitlab.simulation{ world = world }
+sim:run(0.3)
+EOF
+start -i walk.lua --record run1
+line 'ctl.phase = 90'
+line 'sim:run(0.3)'
+line '=sim.time'
+wait_for '^0.6' "the time after the run"
+keys C-d
+wait_exit 0
+grep -q '^300,0.3,console,param,sine.phase,90,' run1/events.csv || fail "event of origin console: $(cat run1/events.csv)"
+grep -q '"status": *"finished"' run1/run.json || fail "run.json not finished: $(cat run1/run.json)"
+
+# --- SIGTERM at the prompt closes the recording as interrupted
+start -i walk.lua --record run2
+tmux -L "$sock" send-keys 'ctl.phase' # something typed
+pkill_target=$(tmux -L "$sock" list-panes -F '#{pane_pid}')
+kill -TERM "$(pgrep -P "$pkill_target" gaitlab)"
+wait_exit 143
+grep -q '"status": *"interrupted"' run2/run.json || fail "run.json not interrupted: $(cat run2/run.json)"
+echo "console tmux tests passed"
