@@ -14,6 +14,7 @@
 #include "guard.h"
 #include "hot_reload.h"
 #include "lua_util.h"
+#include "playback.h"
 
 namespace gaitlab::scripting {
 
@@ -40,6 +41,7 @@ int l_print(lua_State* L) {
         }
         Recordings& r = Recordings::of(L);
         if (r.print_to_stdout) {
+            Playback::of(L).before_output();
             std::fwrite(line.data(), 1, line.size(), stdout);
             std::fputc('\n', stdout);
             std::fflush(stdout);
