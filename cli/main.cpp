@@ -257,10 +257,12 @@ class ProgressLine {
 
   private:
     static std::string duration(double s) {
-        if (s < 1) return "<1 s";
-        if (s < 60) return fmt::format("{:.0f} s", s);
-        if (s < 3600) return fmt::format("{:.0f} min {:02.0f} s", std::floor(s / 60), std::fmod(s, 60));
-        return fmt::format("{:.0f} h {:02.0f} min", std::floor(s / 3600), std::fmod(s, 3600) / 60);
+        if (!(s >= 1)) return "<1 s";
+        if (s >= 1e9) return "ages";  // a crawling run of a long duration
+        const long n = std::lround(s);
+        if (n < 60) return fmt::format("{} s", n);
+        if (n < 3600) return fmt::format("{} min {:02} s", n / 60, n % 60);
+        return fmt::format("{} h {:02} min", n / 3600, n % 3600 / 60);
     }
     bool shown_ = false;
 };

@@ -48,8 +48,9 @@ void Player::play(double now) {
 
 void Player::set_speed(double speed) {
     if (!(speed > 0)) {
-        throw SpecError(fmt::format(
-            "speed must be a real-time factor > 0 (inf: as fast as possible), got {}", detail::shown(speed)));
+        throw SpecError(
+            fmt::format("speed must be a real-time factor > 0 (inf: as fast as possible), got {}",
+                        detail::shown(speed)));
     }
     speed_ = speed;
     rebase_pending_ = true;
@@ -57,8 +58,8 @@ void Player::set_speed(double speed) {
 
 void Player::set_delay(double seconds) {
     if (!(seconds >= 0 && seconds <= kMaxPlayDelay)) {
-        throw SpecError(
-            fmt::format("delay must be in [0, {:g}] s, got {}", kMaxPlayDelay, detail::shown(seconds)));
+        throw SpecError(fmt::format("delay must be in [0, {:g}] s, got {}", kMaxPlayDelay,
+                                    detail::shown(seconds)));
     }
     delay_ = seconds;
     rebase_pending_ = true;

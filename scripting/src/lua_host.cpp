@@ -200,6 +200,13 @@ int LuaHost::playing() const {
     return Playback::of(L_).playing();
 }
 
+int LuaHost::pause_all() {
+    Playback& p = Playback::of(L_);
+    const int n = p.playing();
+    p.pause_all(L_, "");
+    return n;
+}
+
 void LuaHost::set_clock(std::function<double()> now) {
     Playback::of(L_).clock = now ? std::move(now) : WallClock(steady_seconds);
 }

@@ -61,8 +61,8 @@ void Playback::play(SimulationHandle& h) {
     Player& p = *h.player;
     const Simulation& sim = p.simulation();
     if (!p.failure().empty()) {
-        throw Error(fmt::format("cannot play simulation {}: it {}; call sim:reset() first",
-                                h.index, p.failure()));
+        throw Error(fmt::format("cannot play simulation {}: it {}; call sim:reset() first", h.index,
+                                p.failure()));
     }
     // under "stop" a failed controller stopped the simulation: it plays again once a fix of its
     // file reloaded (which revives it) or after a reset
@@ -89,6 +89,7 @@ void Playback::pause_all(lua_State* L, const std::string& why) {
     for (const Entry& e : playing_) {
         if (!e.player->playing()) continue;
         e.player->pause();
+        if (why.empty()) continue;
         report(L, fmt::format("simulation {} paused at t = {:.3f} s: {}", e.index,
                               e.player->simulation().time(), why));
     }
@@ -151,7 +152,8 @@ double Playback::pump(lua_State* L) {
                                       "failed: {}",
                                       e.index, sim.time(), label, message));
             } else {
-                p.fail(fmt::format("failed at t = {:.3f} s ({})", sim.time(), first_line(ex.what())));
+                p.fail(
+                    fmt::format("failed at t = {:.3f} s ({})", sim.time(), first_line(ex.what())));
                 report(L, fmt::format("simulation {} failed at t = {:.3f} s and was paused "
                                       "(sim:reset() to play it again): {}",
                                       e.index, sim.time(), message));

@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "gaitlab/player.h"
@@ -38,6 +39,9 @@ class Playback {
     double pump(lua_State* L);
     /// Called before the script writes to stdout: a progress line on the terminal goes first.
     void before_output() const;
+    /// Pauses every playing simulation, reporting "simulation N paused at t = T s: WHY" for
+    /// each unless `why` is empty.
+    void pause_all(lua_State* L, const std::string& why);
 
   private:
     friend class ProgressScope;
@@ -45,8 +49,6 @@ class Playback {
         std::shared_ptr<Player> player;
         int index;  // the simulation's creation index, for messages
     };
-    // pauses every playing simulation after an interrupt, saying so
-    void pause_all(lua_State* L, const std::string& why);
     std::vector<Entry> playing_;
     size_t next_ = 0;  // who starts the next pump: each in turn gets the first share
     bool pumping_ = false;

@@ -210,8 +210,8 @@ int simulation_step(lua_State* L) {
         } catch (const SpecError& e) {
             throw ArgError(2, e.what());
         }
-        const ProgressScope progress(
-            L, sim, static_cast<double>(sim.ticks() + n) * sim.options().dt);
+        const double end = static_cast<double>(sim.ticks() + n) * sim.options().dt;
+        const ProgressScope progress(L, sim, end);
         sim.step(static_cast<long>(n));
         return 0;
     });
@@ -477,11 +477,14 @@ int simulation_newindex(lua_State* L) {
         if (speed || key == "delay") {
             int ok = 0;
             const double v = lua_tonumberx(L, 3, &ok);
-            if (!ok) throw Error(fmt::format("sim.{}: number expected, got {}", key, type_name(L, 3)));
+            if (!ok) {
+                throw Error(fmt::format("sim.{}: number expected, got {}", key, type_name(L, 3)));
+            }
             if (speed && !(v > 0)) {
-                throw Error(fmt::format("sim.speed: a real-time factor > 0 expected (math.huge: "
-                                        "as fast as possible), got {}",
-                                        number_text(v)));
+                throw Error(fmt::format(
+                    "sim.speed: a real-time factor > 0 expected (math.huge: as fast as possible), "
+                    "got {}",
+                    number_text(v)));
             }
             if (!speed && !(v >= 0 && v <= kMaxPlayDelay)) {
                 throw Error(fmt::format("sim.delay: seconds in [0, {:g}] expected, got {}",
@@ -494,7 +497,9 @@ int simulation_newindex(lua_State* L) {
             }
             return 0;
         }
-        if (key == "playing") throw Error("sim.playing is read-only: call sim:play() or sim:pause()");
+        if (key == "playing") {
+            throw Error("sim.playing is read-only: call sim:play() or sim:pause()");
+        }
         const std::string what =
             key.empty() ? "a " + type_name(L, 2) + " key" : "field '" + key + "'";
         throw Error(fmt::format(

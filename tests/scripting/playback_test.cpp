@@ -106,8 +106,7 @@ TEST_CASE("a playing simulation keeps pace with the clock at its speed", "[playb
     }
 }
 
-TEST_CASE("pump does a bounded slice of work and lets slow simulations fall behind",
-          "[playback]") {
+TEST_CASE("pump does a bounded slice of work and lets slow simulations fall behind", "[playback]") {
     Fixture f;
     LuaFixture& lua = f.lua;
     f.snake("sim");
@@ -130,7 +129,7 @@ TEST_CASE("pump does a bounded slice of work and lets slow simulations fall behi
         f.per_tick = 0.002;
         lua.run("sim:play()");
         f.now += 0.1;
-        CHECK(f.lua.host.pump() == 0);  // behind
+        CHECK(f.lua.host.pump() == 0);          // behind
         CHECK(lua.integer("sim.ticks") >= 10);  // 20 ms of work
         CHECK(lua.integer("sim.ticks") <= 11);
         // a console calls again when told (it waits as long as pump says)
@@ -176,8 +175,9 @@ TEST_CASE("speed and delay reject bad values with a clear message", "[playback]"
     Fixture f;
     LuaFixture& lua = f.lua;
     f.snake("sim");
-    const std::string speed = "test:1: sim.speed: a real-time factor > 0 expected (math.huge: as "
-                              "fast as possible), got ";
+    const std::string speed =
+        "test:1: sim.speed: a real-time factor > 0 expected (math.huge: as "
+        "fast as possible), got ";
     CHECK(lua.error_of("sim.speed = 0") == speed + "0");
     CHECK(lua.error_of("sim.speed = -2") == speed + "-2");
     CHECK(lua.error_of("sim.speed = 0/0") == speed + "nan");
@@ -350,10 +350,14 @@ TEST_CASE("an interrupt pauses every playing simulation", "[playback]") {
     f.now += 0.1;
     CHECK(f.lua.host.pump() == kInf);
     CHECK(f.lua.host.playing() == 0);
-    CHECK(f.reports == std::vector<std::string>{
-                           "simulation 1 paused at t = 0.100 s: interrupted (SIGINT)",
-                           "simulation 2 paused at t = 0.100 s: interrupted (SIGINT)"});
+    CHECK(f.reports ==
+          std::vector<std::string>{"simulation 1 paused at t = 0.100 s: interrupted (SIGINT)",
+                                   "simulation 2 paused at t = 0.100 s: interrupted (SIGINT)"});
     f.lua.host.clear_interrupt();
+    lua.run("a:play()  b:play()");
+    CHECK(f.lua.host.pause_all() == 2);  // what a console does at Ctrl-C, quietly
+    CHECK(f.lua.host.playing() == 0);
+    CHECK(f.reports.size() == 2);
     lua.run("a:play()");
     f.now += 0.1;
     f.lua.host.pump();
@@ -436,7 +440,7 @@ TEST_CASE("long runs report their progress to the host's hook", "[playback]") {
         seen.push_back(p);
         order.push_back(p.done ? "done" : "line");
     });
-    f.per_tick = 0.0005;  // twice as fast as real time
+    f.per_tick = 0.0005;      // twice as fast as real time
     lua.run("sim:run(0.2)");  // 0.1 s of wall time: too short for a progress line
     CHECK(seen.empty());
     lua.run("sim:run(2)");  // 1 s: a line after 0.5 s, then every 0.25 s, then done
@@ -478,9 +482,10 @@ TEST_CASE("a controller file saved while the simulation plays reloads at the nex
     TempDir dir("playback_reload");
     const std::string file = dir.file("hold.lua");
     const auto version = [&](int angle) {
-        write_text(file, "return gaitlab.controller{ name = 'hold', step = function(self)\n"
-                         "  for m = 1, self.joints do self:set_angle(m, " +
-                             std::to_string(angle) + ") end\nend }\n");
+        write_text(file,
+                   "return gaitlab.controller{ name = 'hold', step = function(self)\n"
+                   "  for m = 1, self.joints do self:set_angle(m, " +
+                       std::to_string(angle) + ") end\nend }\n");
     };
     version(10);
     Fixture f;

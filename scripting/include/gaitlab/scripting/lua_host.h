@@ -138,6 +138,10 @@ class LuaHost {
     double pump();
     /// How many simulations play.
     int playing() const;
+    /// Pauses every playing simulation (a console's Ctrl-C); returns how many it paused.
+    /// An interrupt pauses them too, at the next pump(): a console that clears interrupts at
+    /// its prompt calls pump() or this first.
+    int pause_all();
     /// The wall clock simulations play against, in seconds from any origin (default:
     /// std::chrono::steady_clock); tests pass a fake one.
     void set_clock(std::function<double()> now);
