@@ -11,6 +11,7 @@
 #include <string>
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
 #include "console_frontend.h"
 #include "gaitlab/scripting/console.h"
@@ -134,6 +135,8 @@ int run_console(const ConsoleArgs& a, const std::string& command) {
         options.complete = [&console](std::string_view before) {
             return console.complete(before);
         };
+        // simulations play (sim:play()) while the prompt waits for a key
+        options.idle = [&host] { return host.pump(); };
         options.warn = [](const std::string& message) {
             std::fprintf(stderr, "gaitlab: warning: %s\n", message.c_str());
         };
@@ -169,7 +172,12 @@ int run_console(const ConsoleArgs& a, const std::string& command) {
             if (g_terminate != 0) break;
             if (line.kind == LineInput::Line::Kind::end) break;
             if (line.kind == LineInput::Line::Kind::interrupted) {
+                // Ctrl-C at the prompt: the line goes, and what plays stops (a stop button)
                 console.discard();
+                if (const int n = host.pause_all(); n > 0) {
+                    input.write(stderr, fmt::format("paused {} simulation{} (sim:play() goes on)\n",
+                                                    n, n == 1 ? "" : "s"));
+                }
                 continue;
             }
             g_running = 1;

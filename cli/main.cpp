@@ -11,6 +11,7 @@
 // "interrupted" and the exit status is 128 + the signal.
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -214,6 +215,58 @@ struct RunArgs {
     std::string seed = "0";
     std::string record;
     bool no_record = false;
+    bool no_progress = false;
+};
+
+// The progress line of a long sim:run(T) (or the duration of a simulation file) on a terminal:
+// "t = 12.0 / 60 s (20%), 4.1x real time, 12 s left", rewritten in place on stderr, taken away
+// before anything else is written there and when the run ends. Never on stdout (which holds
+// the script's data), and only when stderr is a terminal.
+class ProgressLine {
+  public:
+    void show(const gaitlab::scripting::RunProgress& p) {
+        if (p.done) {
+            clear();
+            return;
+        }
+        const double done = p.time - p.start;
+        const double factor = p.wall > 0 ? done / p.wall : 0;
+        std::string line = fmt::format("t = {:.1f} / {:g} s", p.time, p.end);
+        if (p.end > p.start) {
+            line += fmt::format(" ({:.0f}%)", 100 * done / (p.end - p.start));
+        }
+        if (factor > 0) {
+            line += fmt::format(", {:.2g}x real time, {} left", factor,
+                                duration((p.end - p.time) / factor));
+        }
+        // a line longer than the terminal would wrap, and \r would not take it all away
+        winsize ws{};
+        if (::ioctl(STDERR_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 1 &&
+            line.size() >= ws.ws_col) {
+            line.resize(ws.ws_col - 1U);
+        }
+        std::fprintf(stderr, "\r%s\x1b[K", line.c_str());
+        std::fflush(stderr);
+        shown_ = true;
+    }
+    // takes the line away (before a message, and at the end)
+    void clear() {
+        if (!shown_) return;
+        std::fputs("\r\x1b[K", stderr);
+        std::fflush(stderr);
+        shown_ = false;
+    }
+
+  private:
+    static std::string duration(double s) {
+        if (!(s >= 1)) return "<1 s";
+        if (s >= 1e9) return "ages";  // a crawling run of a long duration
+        const long n = std::lround(s);
+        if (n < 60) return fmt::format("{} s", n);
+        if (n < 3600) return fmt::format("{} min {:02} s", n / 60, n % 60);
+        return fmt::format("{} h {:02} min", n / 3600, n % 3600 / 60);
+    }
+    bool shown_ = false;
 };
 
 int run_script(const RunArgs& a, const std::string& command) {
@@ -245,11 +298,17 @@ int run_script(const RunArgs& a, const std::string& command) {
     std::string error;
     try {
         gaitlab::scripting::LuaHost host;
+        ProgressLine progress;
         // failed reloads of controller files and controllers failing under
         // on_controller_error = "continue" are reported while the script goes on
-        host.set_reporter([](const std::string& message) {
+        host.set_reporter([&progress](const std::string& message) {
+            progress.clear();
             std::fprintf(stderr, "gaitlab: %s\n", message.c_str());
         });
+        if (!a.no_progress && ::isatty(STDERR_FILENO)) {
+            host.set_progress(
+                [&progress](const gaitlab::scripting::RunProgress& p) { progress.show(p); });
+        }
         gaitlab::scripting::RecordSettings rec;
         rec.by_default = true;
         rec.disabled = a.no_record;
@@ -275,6 +334,14 @@ int run_script(const RunArgs& a, const std::string& command) {
             }
         } catch (const std::exception& e) {
             error = e.what();
+        }
+        progress.clear();
+        // sim:play() plays in the console, between keystrokes: a script has no such time
+        if (const int n = host.playing(); n > 0 && error.empty()) {
+            std::fprintf(stderr,
+                         "note: %d simulation%s left playing when the script ended: simulations "
+                         "play in the console (gaitlab -i %s)\n",
+                         n, n == 1 ? " was" : "s were", a.file.c_str());
         }
         // the run folders keep the reason ("interrupted" with the signal, "failed" with the
         // error); a failed close must not hide the error
@@ -588,6 +655,8 @@ int main(int argc, char** argv) {
     auto* no_record =
         run->add_flag("--no-record", ra.no_record, "Record nothing, whatever the script asks");
     record->excludes(no_record);
+    run->add_flag("--no-progress", ra.no_progress,
+                  "No progress line for long runs (shown on stderr when it is a terminal)");
     run->footer(
         "Arguments after FILE go to the script as arg[1], arg[2], ...; gaitlab's own options may\n"
         "stand anywhere, any other option is an error: put '--' before the script's arguments\n"

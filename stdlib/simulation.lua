@@ -22,3 +22,64 @@ function gaitlab.simulation.run_file(path)
   end
   return sim, setup
 end
+
+-- how sim:status() prints: a few lines a console shows as they are
+local registry = select(2, ...)
+local concat = table.concat
+
+-- {1, 2, 3, 5} -> "1-3, 5"
+local function ranges(list)
+  local out, i = {}, 1
+  while i <= #list do
+    local j = i
+    while j < #list and list[j + 1] == list[j] + 1 do j = j + 1 end
+    out[#out + 1] = j > i and format("%d-%d", list[i], list[j]) or tostring(list[i])
+    i = j + 1
+  end
+  return concat(out, ", ")
+end
+
+local function rate(x)
+  if x == math.huge then return "as fast as possible" end
+  return format("%gx real time", x)
+end
+
+registry["gaitlab.Status"] = {
+  __name = "gaitlab.Status",
+  __metatable = "gaitlab.Status",
+  __tostring = function(s)
+    local state
+    if s.playing then
+      state = "playing at " .. rate(s.speed)
+      if s.delay > 0 then state = state .. format(" with a delay of %g s per step", s.delay) end
+      state = state .. (s.factor and format(", measured %.2fx real time", s.factor)
+        or ", measuring the real-time factor")
+    else
+      state = "paused (speed " .. (s.speed == math.huge and "math.huge" or format("%g", s.speed))
+        .. format(", delay %g s)", s.delay)
+    end
+    local lines = { format("simulation %d: t = %.3f s, %s", s.simulation, s.time, state) }
+    if s.failure then
+      lines[#lines + 1] = "  " .. s.failure .. "; sim:reset() to play it again"
+    end
+    for _, r in ipairs(s.robots) do
+      local p = r.position
+      lines[#lines + 1] = format(
+        "  robot %s at (%.3f, %.3f, %.3f) m, heading %.1f deg, turned %.1f deg",
+        r.name, p.x, p.y, p.z, r.heading, r.turned)
+    end
+    for _, c in ipairs(s.controllers) do
+      local params = {}
+      for _, p in ipairs(c.params) do
+        params[#params + 1] = format("%s = %g%s", p.name, p.value,
+          p.unit ~= "" and " " .. p.unit or "")
+      end
+      local line = format("  controller %s on %s joints %s, %s", c.name, c.robot,
+        ranges(c.joints), c.state)
+      if c.error then line = line .. " (" .. c.error:match("[^\n]*") .. ")" end
+      if #params > 0 then line = line .. ": " .. concat(params, ", ") end
+      lines[#lines + 1] = line
+    end
+    return concat(lines, "\n")
+  end,
+}

@@ -126,6 +126,7 @@ class Simulation::Phases final : public TickPhases, public JointReader {
         // the sensors read the state the step reached: the next tick's think sees it, and so
         // do the observers
         sim_.sensing_->update(*sim_.physics_);
+        sim_.track_headings(false);
         if (sim_.observers_.idle()) return;
         const Busy busy(sim_, kObserver);
         sim_.observers_.call(std::as_const(sim_));
@@ -239,6 +240,7 @@ void Simulation::build() {
     for (size_t r = 0; r < robots_.size(); ++r) {
         robots_[r].start_position = robot_position(static_cast<int>(r));
     }
+    track_headings(true);
     physics_->read_angles(angles_.data());
     sensing_->attach(*physics_);
 }
@@ -481,6 +483,44 @@ Vec3 Simulation::robot_velocity(int robot) const {
 
 Vec3 Simulation::robot_displacement(int robot) const {
     return robot_position(robot) - robots_[static_cast<size_t>(robot)].start_position;
+}
+
+double Simulation::heading_now(int robot, double previous) const {
+    const RobotSlot& slot = robots_[static_cast<size_t>(robot)];
+    const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.bodies.size());
+    const Vec3 tail = physics_->position(slot.first_body);
+    const Vec3 d = physics_->position(slot.first_body + n - 1) - tail;
+    // a robot standing on its tail has no tail-to-head direction on the floor
+    constexpr double kVertical = 1e-9;
+    if (std::hypot(d.x, d.y) > kVertical) return std::atan2(d.y, d.x);
+    const Vec3 x = physics_->body(slot.first_body).pose.orientation.rotate(Vec3{1, 0, 0});
+    if (std::hypot(x.x, x.y) > kVertical) return std::atan2(x.y, x.x);
+    return previous;
+}
+
+void Simulation::track_headings(bool start) {
+    constexpr double kTurn = 2 * 3.14159265358979323846;
+    for (size_t r = 0; r < robots_.size(); ++r) {
+        RobotSlot& slot = robots_[r];
+        const double h = heading_now(static_cast<int>(r), slot.heading);
+        if (start) {
+            slot.turned = 0;
+        } else {
+            // the change since the last tick, taken the short way round
+            slot.turned += std::remainder(h - slot.heading, kTurn);
+        }
+        slot.heading = h;
+    }
+}
+
+double Simulation::robot_heading(int robot) const {
+    check_robot(robot);
+    return robots_[static_cast<size_t>(robot)].heading;
+}
+
+double Simulation::robot_turned(int robot) const {
+    check_robot(robot);
+    return robots_[static_cast<size_t>(robot)].turned;
 }
 
 BodyState Simulation::body(int robot, int b) const {

@@ -101,6 +101,7 @@ class Reloader {
     std::vector<FileRecord> history() const;
 
     /// Wall time between two checks, s.
+    double interval() const { return std::chrono::duration<double>(interval_).count(); }
     void set_interval(double seconds) {
         interval_ = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
             std::chrono::duration<double>(seconds));

@@ -12,6 +12,7 @@
 #include "guard.h"
 #include "hot_reload.h"
 #include "lua_util.h"
+#include "playback.h"
 #include "recording.h"
 #include "stdlib.h"
 
@@ -189,6 +190,33 @@ void LuaHost::set_reporter(std::function<void(const std::string&)> fn) {
 
 void LuaHost::set_reload_interval(double seconds) {
     Reloader::of(L_).set_interval(seconds);
+}
+
+double LuaHost::pump() {
+    return Playback::of(L_).pump(L_);
+}
+
+int LuaHost::playing() const {
+    return Playback::of(L_).playing();
+}
+
+int LuaHost::pause_all() {
+    Playback& p = Playback::of(L_);
+    const int n = p.playing();
+    p.pause_all(L_, "");
+    return n;
+}
+
+void LuaHost::set_clock(std::function<double()> now) {
+    Playback::of(L_).clock = now ? std::move(now) : WallClock(steady_seconds);
+}
+
+void LuaHost::set_pump_slice(double seconds) {
+    Playback::of(L_).slice = seconds;
+}
+
+void LuaHost::set_progress(std::function<void(const RunProgress&)> fn) {
+    Playback::of(L_).progress = std::move(fn);
 }
 
 void LuaHost::run_file(const std::string& path) {

@@ -14,6 +14,7 @@
 #include "guard.h"
 #include "hot_reload.h"
 #include "lua_util.h"
+#include "playback.h"
 
 namespace gaitlab::scripting {
 
@@ -42,6 +43,7 @@ int l_print(lua_State* L) {
         if (r.print_to_stdout && r.output) {
             r.output(line + "\n");
         } else if (r.print_to_stdout) {
+            Playback::of(L).before_output();
             std::fwrite(line.data(), 1, line.size(), stdout);
             std::fputc('\n', stdout);
             std::fflush(stdout);

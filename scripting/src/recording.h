@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "gaitlab/player.h"
 #include "gaitlab/recorder.h"
 #include "gaitlab/replay.h"
 #include "gaitlab/scripting/lua_host.h"
@@ -44,6 +45,7 @@ struct SimulationHandle {
     int index = 0;  ///< 1-based creation order in this Lua state
     std::shared_ptr<Recorder> recorder;
     std::shared_ptr<WorldBinding> world;  ///< what it was compiled from (for sim:save)
+    std::shared_ptr<Player> player;       ///< plays it against the wall clock (sim:play())
 };
 
 /// What a script asks for with `record = ...` or sim:record(...).

@@ -124,6 +124,26 @@ int robot_displacement(lua_State* L) {
     });
 }
 
+// robot:heading(): degrees in (-180, 180], tail-to-head direction on the floor, from +x
+// towards +y (docs/conventions.md)
+int robot_heading(lua_State* L) {
+    return protect(L, [&] {
+        RobotBinding& r = check_robot(L, 1);
+        lua_pushnumber(L, rad_to_deg(r.live()->robot_heading(r.index)));
+        return 1;
+    });
+}
+
+// robot:turned(): degrees turned since the simulation started, counter-clockwise positive,
+// not wrapped
+int robot_turned(lua_State* L) {
+    return protect(L, [&] {
+        RobotBinding& r = check_robot(L, 1);
+        lua_pushnumber(L, rad_to_deg(r.live()->robot_turned(r.index)));
+        return 1;
+    });
+}
+
 int robot_bodies(lua_State* L) {
     return protect(L, [&] {
         RobotBinding& r = check_robot(L, 1);
@@ -361,6 +381,8 @@ void open_robot(lua_State* L) {
                                 {"position", robot_position},
                                 {"velocity", robot_velocity},
                                 {"displacement", robot_displacement},
+                                {"heading", robot_heading},
+                                {"turned", robot_turned},
                                 {"bodies", robot_bodies},
                                 {"joints", robot_joints},
                                 {"save", robot_save},

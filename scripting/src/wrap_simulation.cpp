@@ -11,6 +11,7 @@
 #include "guard.h"
 #include "hot_reload.h"
 #include "lua_util.h"
+#include "playback.h"
 #include "recording.h"
 #include "scene.h"
 #include "wrap.h"
@@ -119,8 +120,9 @@ void push_new_simulation(lua_State* L, std::shared_ptr<WorldBinding> world,
             if (guard->interrupted() != 0) throw Error(guard->interrupt_message());
             if (raw->ticks() % raw->options().control_every == 0) Reloader::of(main).poll(main);
         });
-        h = new_object<SimulationHandle>(L, kSimulationType,
-                                         SimulationHandle{sim, 0, {}, std::move(world)});
+        auto player = std::make_shared<Player>(sim);
+        h = new_object<SimulationHandle>(
+            L, kSimulationType, SimulationHandle{sim, 0, {}, std::move(world), std::move(player)});
     } catch (const SpecError& e) {
         throw ArgError(1, e.what());
     } catch (const std::bad_alloc&) {
@@ -191,6 +193,7 @@ int simulation_run(lua_State* L) {
         } catch (const SpecError& e) {
             throw ArgError(2, e.what());
         }
+        const ProgressScope progress(L, sim, sim.time() + seconds);
         sim.run(seconds);
         return 0;
     });
@@ -207,6 +210,8 @@ int simulation_step(lua_State* L) {
         } catch (const SpecError& e) {
             throw ArgError(2, e.what());
         }
+        const double end = static_cast<double>(sim.ticks() + n) * sim.options().dt;
+        const ProgressScope progress(L, sim, end);
         sim.step(static_cast<long>(n));
         return 0;
     });
@@ -348,6 +353,160 @@ int simulation_flush(lua_State* L) {
     });
 }
 
+// sim:play(): plays the simulation against the wall clock (LuaHost::pump steps it)
+int simulation_play(lua_State* L) {
+    return protect(L, [&] {
+        Playback::of(L).play(check_handle(L, 1));
+        return 0;
+    });
+}
+
+int simulation_pause(lua_State* L) {
+    return protect(L, [&] {
+        check_handle(L, 1).player->pause();
+        return 0;
+    });
+}
+
+// a number as messages show it: "nan" whatever its sign bit
+std::string number_text(double v) {
+    return std::isnan(v) ? "nan" : fmt::format("{}", v);
+}
+
+// pushes a number, or nil for NaN (a measure not made yet)
+void push_measure(lua_State* L, double v) {
+    if (std::isnan(v)) {
+        lua_pushnil(L);
+    } else {
+        lua_pushnumber(L, v);
+    }
+}
+
+// sim:status(): { simulation, time, ticks, playing, speed, delay, factor, failure,
+// controllers = { { name, robot, joints, state, error, params = { { name, value, unit } } } },
+// robots = { { name, position, heading, turned } } }, which prints as a few lines of text
+// (stdlib/simulation.lua)
+int simulation_status(lua_State* L) {
+    return protect(L, [&] {
+        const SimulationHandle& h = check_handle(L, 1);
+        const std::shared_ptr<Simulation> kept = h.sim;
+        const Simulation& sim = *kept;
+        const Player& p = *h.player;
+        lua_createtable(L, 0, 10);
+        lua_pushinteger(L, h.index);
+        lua_setfield(L, -2, "simulation");
+        lua_pushnumber(L, sim.time());
+        lua_setfield(L, -2, "time");
+        lua_pushinteger(L, sim.ticks());
+        lua_setfield(L, -2, "ticks");
+        lua_pushboolean(L, p.playing());
+        lua_setfield(L, -2, "playing");
+        lua_pushnumber(L, p.speed());
+        lua_setfield(L, -2, "speed");
+        lua_pushnumber(L, p.delay());
+        lua_setfield(L, -2, "delay");
+        push_measure(L, p.measured_speed());
+        lua_setfield(L, -2, "factor");
+        if (!p.failure().empty()) {
+            lua_pushstring(L, p.failure().c_str());
+            lua_setfield(L, -2, "failure");
+        }
+        lua_createtable(L, sim.drive_count(), 0);
+        for (int d = 0; d < sim.drive_count(); ++d) {
+            const Controller& c = sim.controller(d);
+            lua_createtable(L, 0, 6);
+            lua_pushstring(L, sim.drive_label(d).c_str());
+            lua_setfield(L, -2, "name");
+            lua_pushstring(L, sim.robot_label(sim.drive_robot(d)).c_str());
+            lua_setfield(L, -2, "robot");
+            const std::vector<int>& joints = sim.drive_joints(d);
+            lua_createtable(L, static_cast<int>(joints.size()), 0);
+            for (size_t j = 0; j < joints.size(); ++j) {
+                lua_pushinteger(L, joints[j] + 1);
+                lua_rawseti(L, -2, static_cast<lua_Integer>(j + 1));
+            }
+            lua_setfield(L, -2, "joints");
+            lua_pushstring(L, c.failed() ? "failed" : "running");
+            lua_setfield(L, -2, "state");
+            if (c.failed()) {
+                lua_pushstring(L, c.failure().c_str());
+                lua_setfield(L, -2, "error");
+            }
+            const std::vector<ParamDef>& params = c.def().params;
+            lua_createtable(L, static_cast<int>(params.size()), 0);
+            for (size_t i = 0; i < params.size(); ++i) {
+                lua_createtable(L, 0, 3);
+                lua_pushstring(L, params[i].name.c_str());
+                lua_setfield(L, -2, "name");
+                lua_pushnumber(L, c.param(static_cast<int>(i)));
+                lua_setfield(L, -2, "value");
+                lua_pushstring(L, params[i].unit.c_str());
+                lua_setfield(L, -2, "unit");
+                lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+            }
+            lua_setfield(L, -2, "params");
+            lua_rawseti(L, -2, d + 1);
+        }
+        lua_setfield(L, -2, "controllers");
+        lua_createtable(L, sim.robot_count(), 0);
+        for (int r = 0; r < sim.robot_count(); ++r) {
+            lua_createtable(L, 0, 4);
+            lua_pushstring(L, sim.robot_label(r).c_str());
+            lua_setfield(L, -2, "name");
+            push_vec3(L, sim.robot_position(r));
+            lua_setfield(L, -2, "position");
+            lua_pushnumber(L, rad_to_deg(sim.robot_heading(r)));
+            lua_setfield(L, -2, "heading");
+            lua_pushnumber(L, rad_to_deg(sim.robot_turned(r)));
+            lua_setfield(L, -2, "turned");
+            lua_rawseti(L, -2, r + 1);
+        }
+        lua_setfield(L, -2, "robots");
+        // stdlib/simulation.lua registers how a status prints
+        luaL_setmetatable(L, "gaitlab.Status");
+        return 1;
+    });
+}
+
+// sim.speed = x, sim.delay = x; every other field is read-only
+int simulation_newindex(lua_State* L) {
+    return protect(L, [&] {
+        SimulationHandle& h = check_handle(L, 1);
+        const std::string key = lua_type(L, 2) == LUA_TSTRING ? to_string(L, 2) : "";
+        const bool speed = key == "speed";
+        if (speed || key == "delay") {
+            int ok = 0;
+            const double v = lua_tonumberx(L, 3, &ok);
+            if (!ok) {
+                throw Error(fmt::format("sim.{}: number expected, got {}", key, type_name(L, 3)));
+            }
+            if (speed && !(v > 0)) {
+                throw Error(fmt::format(
+                    "sim.speed: a real-time factor > 0 expected (math.huge: as fast as possible), "
+                    "got {}",
+                    number_text(v)));
+            }
+            if (!speed && !(v >= 0 && v <= kMaxPlayDelay)) {
+                throw Error(fmt::format("sim.delay: seconds in [0, {:g}] expected, got {}",
+                                        kMaxPlayDelay, number_text(v)));
+            }
+            if (speed) {
+                h.player->set_speed(v);
+            } else {
+                h.player->set_delay(v);
+            }
+            return 0;
+        }
+        if (key == "playing") {
+            throw Error("sim.playing is read-only: call sim:play() or sim:pause()");
+        }
+        const std::string what =
+            key.empty() ? "a " + type_name(L, 2) + " key" : "field '" + key + "'";
+        throw Error(fmt::format(
+            "cannot set {} of a gaitlab.Simulation (only speed and delay can be set)", what));
+    });
+}
+
 int simulation_reset(lua_State* L) {
     return protect(L, [&] {
         check_sim(L, 1)->reset(default_origin(L));
@@ -414,6 +573,12 @@ int simulation_index(lua_State* L) {
             }
         } else if (k == "paused") {
             lua_pushboolean(L, sim.paused());
+        } else if (k == "playing") {
+            lua_pushboolean(L, check_handle(L, 1).player->playing());
+        } else if (k == "speed") {
+            lua_pushnumber(L, check_handle(L, 1).player->speed());
+        } else if (k == "delay") {
+            lua_pushnumber(L, check_handle(L, 1).player->delay());
         } else if (k == "seed") {
             lua_pushinteger(L, static_cast<lua_Integer>(sim.options().seed));
         } else if (k == "record_dir") {
@@ -451,11 +616,17 @@ void open_simulation(lua_State* L) {
                                 {"record", simulation_record},
                                 {"flush", simulation_flush},
                                 {"live", live_new},
+                                {"play", simulation_play},
+                                {"pause", simulation_pause},
+                                {"status", simulation_status},
                                 {nullptr, nullptr}};
-    const luaL_Reg meta[] = {{"__tostring", simulation_tostring}, {nullptr, nullptr}};
+    const luaL_Reg meta[] = {{"__tostring", simulation_tostring},
+                             {"__newindex", simulation_newindex},
+                             {nullptr, nullptr}};
     register_type_with_fields<SimulationHandle>(L, kSimulationType, methods, simulation_index,
                                                 meta);
     Recordings::install(L);
+    Playback::install(L);
 
     lua_newtable(L);
     lua_createtable(L, 0, 1);

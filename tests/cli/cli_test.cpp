@@ -853,3 +853,46 @@ TEST_CASE("a FIFO, a device or a folder is no script: refused at once", "[cli]")
                   "gaitlab: zero.lua: not a regular file (a FIFO, device or socket)");
     check_failure(cli({"run", "dir.lua"}, tmp.str()), "gaitlab: dir.lua: is a directory");
 }
+
+TEST_CASE("a script that leaves a simulation playing ends with a note", "[cli][progress]") {
+    const Run r = cli({"run", "plays.lua"});
+    CHECK(r.status == 0);
+    CHECK(r.out == "true\n");
+    CHECK(r.err ==
+          "note: 1 simulation was left playing when the script ended: simulations play in the "
+          "console (gaitlab -i plays.lua)\n");
+}
+
+TEST_CASE("a long run shows a progress line on a terminal only", "[cli][progress]") {
+    // piped or redirected: not a byte more than without it
+    const Run piped = cli({"run", "progress.lua"});
+    CHECK(piped.status == 0);
+    CHECK(piped.out == "done at t = 6.0\n");
+    CHECK(piped.err.empty());
+
+    // on a terminal (script(1) gives the command a pseudo-terminal and copies what it shows)
+    TempDir dir("cli_progress");
+    const std::string shown = dir.file("shown");
+    const std::string command = std::string("script -qfec '") + GAITLAB_BINARY +
+                                " run --no-record progress.lua' " + shown + " > /dev/null";
+    const std::string cd = "cd '" + kScripts + "' && ";
+    REQUIRE(std::system((cd + command).c_str()) == 0);
+    const std::string screen = slurp(shown);
+    INFO(screen);
+    CHECK_THAT(screen, Catch::Matches(R"([\s\S]*\rt = [0-9.]+ / 6 s \([0-9]+%\), [0-9.e+]+x real )"
+                                      R"(time, (<1|[0-9]+) s left\x1b\[K[\s\S]*)"));
+    // taken away before the data
+    CHECK_THAT(screen, Catch::Contains("\r\x1b[Kdone at t = 6.0\r\n"));
+
+    // --no-progress: none on the terminal either
+    const std::string quiet = dir.file("quiet");
+    const std::string off = std::string("script -qfec '") + GAITLAB_BINARY +
+                            " run --no-record --no-progress progress.lua' " + quiet +
+                            " > /dev/null";
+    REQUIRE(std::system((cd + off).c_str()) == 0);
+    const std::string plain = slurp(quiet);
+    INFO(plain);
+    CHECK(plain.find("real time") == std::string::npos);
+    CHECK(plain.find("\x1b") == std::string::npos);
+    CHECK_THAT(plain, Catch::Contains("done at t = 6.0\r\n"));
+}

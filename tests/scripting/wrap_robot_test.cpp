@@ -190,3 +190,40 @@ TEST_CASE("robot names are valid UTF-8 without control characters", "[wrap_robot
     lua.run("r = gaitlab.robot.chain{ name = 'serpent à sonnettes / 2', modules = 2 }");
     CHECK(lua.string("r.name") == "serpent à sonnettes / 2");
 }
+
+TEST_CASE("robot:heading() and robot:turned() measure a turn", "[wrap_robot]") {
+    LuaFixture lua;
+    lua.run(R"(
+        straight = gaitlab.robot.chain{ modules = 4 }
+        robot = gaitlab.robot.chain{ name = "turner", modules = 4, connection = "pitch-yaw" }
+        world = gaitlab.world{ floor = { friction = 0.8 } }
+        world:add(straight, { y = 1 })
+        world:add(robot, { yaw = 170 })
+        robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 40, frequency = 0.5,
+                                                             phase = 120 })
+        -- a constant bend of the yaw joints turns it counter-clockwise
+        robot:group("yaw"):drive(gaitlab.controllers.sine{ amplitude = 0, offset = -20 })
+    )");
+    CHECK(lua.error_of("straight:heading()") ==
+          "test:1: robot 'robot' is not in a simulation (add it to a world, then create "
+          "gaitlab.simulation{world = ...})");
+    lua.run("sim = gaitlab.simulation{ world = world }");
+    CHECK(lua.number("straight:heading()") == Approx(0).margin(1e-5));
+    CHECK(lua.number("robot:heading()") == Approx(170).margin(1e-5));
+    CHECK(lua.number("robot:turned()") == 0);
+    lua.run("sim:run(6)");
+    // past +180 the heading wraps to -180 and on; the turn goes on counting
+    const double heading = lua.number("robot:heading()");
+    const double turned = lua.number("robot:turned()");
+    CHECK(heading < -160);
+    CHECK(turned > 15);
+    CHECK(turned < 40);
+    CHECK(std::remainder(170 + turned - heading, 360) == Approx(0).margin(1e-5));
+    CHECK(lua.number("straight:heading()") == Approx(0).margin(0.05));  // lying still
+    CHECK(lua.number("sim:status().robots[2].turned") == Approx(turned));
+    lua.run("sim:reset()");
+    CHECK(lua.number("robot:heading()") == Approx(170).margin(1e-5));
+    CHECK(lua.number("robot:turned()") == 0);
+    CHECK(lua.error_of("robot.heading()") ==
+          "test:1: bad argument #1 to 'heading' (gaitlab.Robot expected, got no value)");
+}

@@ -154,6 +154,16 @@ class Simulation {
     Vec3 robot_velocity(int robot) const;
     /// Centre of mass minus its value at time 0, m.
     Vec3 robot_displacement(int robot) const;
+    /// Heading of robot r, rad in (-π, π]: the direction of the line from the centre of its
+    /// tail body (its first body) to that of its head body (its last body), projected on the
+    /// floor plane, from +x towards +y (counter-clockwise seen from +z). When that line is
+    /// (almost) vertical, the tail body's x axis gives the direction; when that is vertical
+    /// too, the last heading is kept.
+    double robot_heading(int robot) const;
+    /// How far robot r has turned since time 0, rad, counter-clockwise positive, not wrapped
+    /// (two turns to the left read 4π): the heading followed tick by tick, so a turn of any
+    /// size is counted as long as it turns less than half a turn per tick.
+    double robot_turned(int robot) const;
     BodyState body(int robot, int body) const;
     JointState joint(int robot, int joint) const;
     /// Mechanical power of every servo of robot r, torque × velocity, W, into
@@ -236,7 +246,13 @@ class Simulation {
         int first_joint = 0;
         Vec3 start_position;
         std::string label;
+        double heading = 0;  // rad, at the last tick (see robot_heading)
+        double turned = 0;   // rad, unwrapped, since time 0
     };
+    // robot r's heading now, or `previous` when it has none (upright robot)
+    double heading_now(int robot, double previous) const;
+    // follows every robot's heading; at time 0 (build) `start` sets turned to 0
+    void track_headings(bool start);
     struct DriveSlot {
         int robot;
         Drive drive;

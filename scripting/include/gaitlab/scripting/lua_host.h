@@ -43,6 +43,15 @@ struct RecordSettings {
     std::vector<ConfigFile> files;
 };
 
+/// Where a long sim:run(T) or sim:step(n) stands (see LuaHost::set_progress).
+struct RunProgress {
+    double time = 0;    ///< simulated time now, s
+    double start = 0;   ///< simulated time when the run began, s
+    double end = 0;     ///< simulated time the run ends at, s
+    double wall = 0;    ///< wall seconds since the run began
+    bool done = false;  ///< the run ended, or the script writes output: take the line away
+};
+
 /// A Lua error, split into its parts (never parsed from strings after the fact).
 class ScriptError : public Error {
   public:
@@ -128,6 +137,33 @@ class LuaHost {
     int interrupted() const;
     /// Forgets an interrupt, so the host runs code again (a console back at its prompt).
     void clear_interrupt();
+
+    /// Steps every simulation that plays (sim:play()) as far as its pace allows now: wall time
+    /// × sim.speed, one sim.delay per tick, doing at most set_pump_slice() of work in all (a
+    /// tick at least per simulation that has one due), so a console stays responsive when it
+    /// calls this between keystrokes. Also checks the controller files for changes (hot
+    /// reload). Returns the wall seconds until it should be called again: 0 when behind,
+    /// +infinity when nothing plays. Never throws: a simulation that fails is paused and
+    /// reported through the reporter (it plays again after sim:reset(), or after a fix to the
+    /// failed controller's file reloads); an interrupt pauses every playing simulation (clear
+    /// it before playing again). Call it only between calls into the host, not from them.
+    double pump();
+    /// How many simulations play.
+    int playing() const;
+    /// Pauses every playing simulation (a console's Ctrl-C); returns how many it paused.
+    /// An interrupt pauses them too, at the next pump(): a console that clears interrupts at
+    /// its prompt calls pump() or this first.
+    int pause_all();
+    /// The wall clock simulations play against, in seconds from any origin (default:
+    /// std::chrono::steady_clock); tests pass a fake one.
+    void set_clock(std::function<double()> now);
+    /// Wall seconds of work one pump() does at most (default 0.02).
+    void set_pump_slice(double seconds);
+    /// Calls `fn` while a sim:run or sim:step takes long: first after 0.5 s of wall time,
+    /// then every 0.25 s at most, and once with `done` at its end if it was called; also with
+    /// `done` before the script prints to stdout while the run goes on (a front end that shows
+    /// a progress line takes it away). `fn` must not throw. An empty `fn`: no progress.
+    void set_progress(std::function<void(const RunProgress&)> fn);
 
     /// Loads and runs a Lua file; throws ScriptError (syntax or runtime).
     void run_file(const std::string& path);
