@@ -16,6 +16,7 @@ std::shared_ptr<Simulation> RobotBinding::live() const {
 
 void RobotBinding::drive(std::vector<int> joints, std::shared_ptr<Controller> controller) {
     Drive d{std::move(joints), std::move(controller)};
+    check_new_group(drives, d, spec.name);
     if (auto s = sim.lock()) s->add_drive(index, d);
     drives.push_back(std::move(d));
 }
