@@ -104,8 +104,11 @@ void create_folders_above(const std::string& path) {
         }
         if (::mkdir(f.c_str(), 0777) == 0) continue;
         const int e = errno;
-        // made meanwhile by someone else: fine if it is a folder
-        if (e == EEXIST && ::stat(f.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) continue;
+        if (e == EEXIST) {
+            // made meanwhile by someone else: fine if it is a folder; else a dangling link
+            if (::stat(f.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) continue;
+            throw WriteError(path, "a file of that name is in the way", f);
+        }
         throw WriteError(path, reason(e), f);
     }
 }

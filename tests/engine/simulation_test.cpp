@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "gaitlab/controllers/offset.h"
 #include "gaitlab/error.h"
 #include "sim_support.h"
 
@@ -282,6 +283,38 @@ TEST_CASE("overlapping groups add their targets, clamped to the joint range") {
     const double sum = 20 * std::sin(2 * pi * 0.5 * t2 + 30 * rad) + 85;
     REQUIRE(sum > 90);
     CHECK(sim.joint(0, 1).target == Approx(kPi / 2));
+}
+
+TEST_CASE("the same joints driven twice are an error naming both controllers") {
+    const std::string message =
+        "controller 'offset' cannot drive joints 2, 4 of robot 'snake': controller 'sine' "
+        "already drives exactly these joints (one controller per group: their targets would add "
+        "up; groups that only partly overlap do add)";
+    SECTION("added to a simulation") {
+        Simulation sim(test::chain_world(4, Connection::pitch_yaw));
+        test::drive(sim, "yaw", test::sine(20, 0.5, 30));
+        auto offset = std::make_shared<controllers::Offset>();
+        CHECK_THROWS_WITH(sim.add_drive(0, drive_of({3, 1}, offset)), message);
+        CHECK(sim.drive_count() == 1);
+        CHECK(sim.world().robots[0].actuation.size() == 1);
+        // a group that shares some of the joints adds up
+        sim.add_drive(0, drive_of({1, 2}, offset));
+        CHECK(sim.drive_count() == 2);
+        sim.step(30);
+        CHECK(sim.joint(0, 1).target != 0);
+    }
+    SECTION("in the spec a simulation is made from") {
+        WorldSpec world = test::chain_world(4, Connection::pitch_yaw);
+        world.robots[0].actuation.push_back(drive_of({1, 3}, test::sine(20, 0.5, 30)));
+        world.robots[0].actuation.push_back(
+            drive_of({3, 1}, std::make_shared<controllers::Offset>()));
+        try {
+            Simulation sim(world);
+            FAIL("no error");
+        } catch (const SpecError& e) {
+            CHECK(std::string(e.what()) == message);
+        }
+    }
 }
 
 TEST_CASE("observers run every tick after the step, until removed") {
