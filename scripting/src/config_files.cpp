@@ -1,8 +1,12 @@
 #include "config_files.h"
 
+#include <unistd.h>
+
 #include <cctype>
+#include <cerrno>
 #include <filesystem>
 #include <set>
+#include <system_error>
 
 #include <fmt/format.h>
 
@@ -318,6 +322,12 @@ void save_simulation(const std::string& path, const WorldBinding& world,
     format_environment(env, next_to(file.environment));
     format_simulation(file);
     create_folders_above(path);
+    // a folder that cannot be written to fails the save as a whole, not its first part
+    const std::string folder =
+        master.parent_path().empty() ? std::string(".") : master.parent_path().string();
+    if (::access(folder.c_str(), W_OK | X_OK) != 0) {
+        throw WriteError(path, std::generic_category().message(errno));
+    }
     // a part that fails is named with the file asked for, so the message says which save it was
     const auto part = [&](const std::string& p, const auto& write) {
         try {

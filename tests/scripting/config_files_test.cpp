@@ -4,6 +4,8 @@
 // give nil and "FILE:LINE: ..." messages; controllers defined inside a script cannot be saved.
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -462,6 +464,19 @@ TEST_CASE("saves make the folders they need and name the file as the script gave
     CHECK(lua.string("bad.absolute[2]") == "cannot write " + proj +
                                                "/blocker/abs.xml: cannot create folder " + proj +
                                                "/blocker: a file of that name is in the way");
+    // a folder that may not be written (root may write anywhere: checked for other users)
+    if (::geteuid() != 0) {
+        fs::create_directories(dir.file("proj/ro"));
+        fs::permissions(dir.file("proj/ro"), fs::perms::owner_read | fs::perms::owner_exec);
+        gaitlab::test::write_text(dir.file("proj/ro.lua"), R"(
+            ro = { sim = { sim:save("ro/sim.xml") }, robot = { robot:save("ro/sub/x.xml") } }
+        )");
+        lua.run("dofile(DIR .. '/proj/ro.lua')");
+        fs::permissions(dir.file("proj/ro"), fs::perms::owner_all);
+        CHECK(lua.string("ro.sim[2]") == "cannot write ro/sim.xml: Permission denied");
+        CHECK(lua.string("ro.robot[2]") ==
+              "cannot write ro/sub/x.xml: cannot create folder ro/sub: Permission denied");
+    }
     // no temporary file left anywhere
     for (const auto& e : fs::recursive_directory_iterator(dir.path)) {
         INFO(e.path());
