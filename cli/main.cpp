@@ -396,6 +396,9 @@ int data_command(const DataArgs& a) {
     }
     if (!a.xy.empty()) {
         if (a.plot.empty()) throw gaitlab::SpecError("--xy needs --plot OUT.png");
+        if (a.xy[0].empty() || a.xy[1].empty()) {
+            throw gaitlab::SpecError("--xy: two series names expected (X and Y)");
+        }
         if (!a.series.empty()) {
             throw gaitlab::SpecError(
                 "--xy plots one series against another: give no --series with it");

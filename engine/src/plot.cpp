@@ -189,9 +189,9 @@ PlotFiles plot(const RunData& run, const PlotOptions& o) {
         for (size_t i = 0; i < d[0].time.size(); ++i)
             points += std::isfinite(d[0].values[i]) && std::isfinite(d[1].values[i]);
         if (points == 0) {
-            throw SpecError(fmt::format("nothing to plot: '{}' and '{}' are never numbers at once "
-                                        "{}",
-                                        names[0], names[1], describe_range(o.from, o.to)));
+            throw SpecError(
+                fmt::format("nothing to plot: '{}' and '{}' are never numbers at once {}", names[0],
+                            names[1], describe_range(o.from, o.to)));
         }
     } else {
         names = run.select(o.series);

@@ -33,9 +33,8 @@ int actuation_save(lua_State* L) {
     return protect(L, [&] {
         const ActuationSpec& a = check_actuation(L, 1);
         const ScriptPath path(L, check_string(L, 2));
-        return file_written(L, path, [&] {
-            write_actuation(path.path(), relative_to(a, path.path()));
-        });
+        return file_written(L, path,
+                            [&] { write_actuation(path.path(), relative_to(a, path.path())); });
     });
 }
 

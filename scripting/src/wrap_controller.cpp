@@ -491,8 +491,8 @@ int class_write_template(lua_State* L) {
                 L, (target.shown(file) + ": file exists (templates never overwrite)").c_str());
             return 2;
         }
-        return file_written(
-            L, target, [&] { write_file_atomic(file, t->code, MissingFolders::create); });
+        return file_written(L, target,
+                            [&] { write_file_atomic(file, t->code, MissingFolders::create); });
     });
 }
 

@@ -257,8 +257,7 @@ int run_export(lua_State* L) {
 int run_plot(lua_State* L) {
     return protect(L, [&] {
         const RunData& run = check_run(L, 1);
-        Fields f(L, 2, 2,
-                 {"series", "x", "y", "output", "from", "to", "title", "width", "height"});
+        Fields f(L, 2, 2, {"series", "x", "y", "output", "from", "to", "title", "width", "height"});
         PlotOptions o;
         // a path plot (x and y) or series against time
         o.x = f.string("x", "");

@@ -228,9 +228,8 @@ int simulation_save(lua_State* L) {
                 f.fail("duration", "non-negative number of seconds expected");
             }
         }
-        return file_written(L, path, [&] {
-            save_simulation(path.path(), *h.world, sim.options(), duration);
-        });
+        return file_written(
+            L, path, [&] { save_simulation(path.path(), *h.world, sim.options(), duration); });
     });
 }
 

@@ -531,6 +531,8 @@ TEST_CASE("gaitlab data lists, extracts, exports and plots series", "[cli][data]
     check_failure(cli({"data", dir, "--plot", tmp / "q.png", "--xy", "snake.com.x", "snake.com.y",
                        "--from", "50"}),
                   "gaitlab: nothing to plot: the run has no rows from 50 s on");
+    check_failure(cli({"data", dir, "--plot", tmp / "q.png", "--xy", "", "snake.com.y"}),
+                  "gaitlab: --xy: two series names expected (X and Y)");
     const Run one_name = cli({"data", dir, "--plot", tmp / "q.png", "--xy", "snake.com.x"});
     CHECK(one_name.status > 0);
     CHECK_THAT(one_name.err, Catch::StartsWith("gaitlab: --xy: "));
@@ -834,8 +836,8 @@ TEST_CASE("hostile names reach no shell or gnuplot command and no file outside -
                          tmp.str());
     CHECK(plot.status == 0);
     CHECK(std::filesystem::file_size(tmp / "out/p`touch fn`.png") > 5000);
-    const Run path = cli({"data", tmp / "run", "--xy", name + ".com.x", name + ".com.y",
-                          "--title", name, "--plot", tmp / "out/xy`touch fx`.png"},
+    const Run path = cli({"data", tmp / "run", "--xy", name + ".com.x", name + ".com.y", "--title",
+                          name, "--plot", tmp / "out/xy`touch fx`.png"},
                          tmp.str());
     CHECK(path.status == 0);
     CHECK(std::filesystem::file_size(tmp / "out/xy`touch fx`.png") > 5000);
@@ -854,8 +856,8 @@ TEST_CASE("hostile names reach no shell or gnuplot command and no file outside -
         out.push_back(e.path().filename().string());
     std::sort(out.begin(), out.end());
     CHECK(out == std::vector<std::string>{"each", "p`touch fn`.csv", "p`touch fn`.gp",
-                                          "p`touch fn`.png", "xy`touch fx`.csv",
-                                          "xy`touch fx`.gp", "xy`touch fx`.png"});
+                                          "p`touch fn`.png", "xy`touch fx`.csv", "xy`touch fx`.gp",
+                                          "xy`touch fx`.png"});
     size_t files = 0;
     for (const auto& e : std::filesystem::directory_iterator(tmp / "out/each")) {
         CHECK(e.is_regular_file());

@@ -208,11 +208,14 @@ TEST_CASE("a plot of a name with a line end still skips the whole header", "[plo
 
 namespace {
 
-// sets every value of the series `name` in the data.csv of `dir` to `value`
-void set_column(const std::string& dir, const std::string& name, const std::string& value) {
+// sets the values of the series `name` in the data.csv of `dir` to `value`: every row, or the
+// rows whose 0-based number has the parity `parity` (0 or 1)
+void set_column(const std::string& dir, const std::string& name, const std::string& value,
+                int parity = -1) {
     std::istringstream in(read_text(dir + "/data.csv"));
     std::string line, out;
     long column = -1;
+    long row = 0;
     while (std::getline(in, line)) {
         std::vector<std::string> fields;
         std::stringstream ls(line);
@@ -221,7 +224,7 @@ void set_column(const std::string& dir, const std::string& name, const std::stri
         if (column < 0) {
             column = std::find(fields.begin(), fields.end(), name) - fields.begin();
             REQUIRE(column < static_cast<long>(fields.size()));
-        } else {
+        } else if (parity < 0 || row++ % 2 == parity) {
             fields[static_cast<size_t>(column)] = value;
         }
         for (size_t i = 0; i < fields.size(); ++i)
@@ -271,12 +274,13 @@ TEST_CASE("a path plot draws one series against another, at one scale", "[plot]"
     CHECK(rows > 20);
     // the script: y against x, labelled with names and units, one scale, start and end marked
     const std::string gp = read_text(f.script);
-    CHECK_THAT(gp, Catch::Contains("set xlabel \"snake.com.x (m)\"\nset ylabel \"snake.com.y (m)\"\n"
-                                   "set size ratio -1\n"));
+    CHECK_THAT(gp,
+               Catch::Contains("set xlabel \"snake.com.x (m)\"\nset ylabel \"snake.com.y (m)\"\n"
+                               "set size ratio -1\n"));
     CHECK_THAT(gp, Catch::Contains("plot \"path.csv\" using 2:3 skip 1 with lines"));
     CHECK_THAT(gp, Catch::Contains("every ::0::0 with points"));
-    CHECK_THAT(gp, Catch::Contains("every ::" + std::to_string(rows - 1) + "::" +
-                                   std::to_string(rows - 1) + " with points"));
+    CHECK_THAT(gp, Catch::Contains("every ::" + std::to_string(rows - 1) +
+                                   "::" + std::to_string(rows - 1) + " with points"));
 
     // series of different units keep a scale each
     o.y = "snake.angle[1]";
@@ -317,6 +321,15 @@ TEST_CASE("path plot options are checked", "[plot]") {
     CHECK_THROWS_WITH(plot(run, o),
                       "nothing to plot: 'snake.com.z' holds no numbers in the whole run (only NaN "
                       "or infinite values)");
+    // numbers, but never in the same row
+    const std::string dir2 = test::record_run(tmp / "run2", 0.3);
+    set_column(dir2, "snake.com.x", "nan", 0);
+    set_column(dir2, "snake.com.y", "inf", 1);
+    PlotOptions o2 = o;
+    o2.y = "snake.com.y";
+    CHECK_THROWS_WITH(plot(RunData(dir2), o2),
+                      "nothing to plot: 'snake.com.x' and 'snake.com.y' are never numbers at once "
+                      "in the whole run");
     o.y = "snake.com.y";
     o.from = 5;
     CHECK_THROWS_WITH(plot(run, o), "nothing to plot: the run has no rows from 5 s on");

@@ -242,8 +242,10 @@ TEST_CASE("bad files give nil and a message naming file and line", "[config_file
     for (const std::string& target : {std::string("/dev/zero"), dir.path.string()}) {
         gaitlab::test::write_text(dir.file("act3.xml"),
                                   "<gaitlab version=\"1\">\n<actuation>\n<group joints=\"all\">\n"
-                                  "<controller file=\"" + target + "\"/>\n</group>\n"
-                                  "</actuation>\n</gaitlab>\n");
+                                  "<controller file=\"" +
+                                      target +
+                                      "\"/>\n</group>\n"
+                                      "</actuation>\n</gaitlab>\n");
         CHECK(lua.error_of("robot:actuate(assert(gaitlab.actuation.load(DIR .. '/act3.xml')))") ==
               "test:1: " + dir.file("act3.xml") + ":4: controller file " + target +
                   " is not a regular file (a folder, FIFO or device)");
@@ -439,10 +441,10 @@ TEST_CASE("saves make the folders they need and name the file as the script gave
     lua.run("dofile(DIR .. '/proj/save.lua')");
     const std::string proj = dir.file("proj");
     CHECK(lua.string("ok.sim[1]") == proj + "/runs/x/sim.xml");
-    for (const char* f : {"runs/x/sim.xml", "runs/x/sim.snake.robot.xml",
-                          "runs/x/sim.snake.actuation.xml", "runs/x/sim.environment.xml",
-                          "robots/a/b/snake.xml", "acts/snake.xml", "worlds/w.xml",
-                          "urdf/deep/snake.urdf", "ctl/new/mine.lua"}) {
+    for (const char* f :
+         {"runs/x/sim.xml", "runs/x/sim.snake.robot.xml", "runs/x/sim.snake.actuation.xml",
+          "runs/x/sim.environment.xml", "robots/a/b/snake.xml", "acts/snake.xml", "worlds/w.xml",
+          "urdf/deep/snake.urdf", "ctl/new/mine.lua"}) {
         INFO(f);
         CHECK(fs::is_regular_file(proj + "/" + f));
     }
