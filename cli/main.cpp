@@ -388,6 +388,7 @@ struct DataArgs {
     std::string csv;
     std::string split;
     std::string plot;
+    std::vector<std::string> xy;  // --xy X Y: a path plot
     std::string title;
     std::string from, to;
     bool has_from = false, has_to = false;
@@ -466,11 +467,27 @@ int data_command(const DataArgs& a) {
         }
         return 0;
     }
+    if (!a.xy.empty()) {
+        if (a.plot.empty()) throw gaitlab::SpecError("--xy needs --plot OUT.png");
+        if (a.xy[0].empty() || a.xy[1].empty()) {
+            throw gaitlab::SpecError("--xy: two series names expected (X and Y)");
+        }
+        if (!a.series.empty()) {
+            throw gaitlab::SpecError(
+                "--xy plots one series against another: give no --series with it");
+        }
+    }
     if (!a.plot.empty()) {
-        if (wanted.empty()) throw gaitlab::SpecError("--plot needs --series NAME[,NAME...]");
+        if (wanted.empty() && a.xy.empty()) {
+            throw gaitlab::SpecError("--plot needs --series NAME[,NAME...] or --xy X Y");
+        }
         gaitlab::PlotOptions o;
         o.output = a.plot;
         o.series = wanted;
+        if (!a.xy.empty()) {
+            o.x = a.xy[0];
+            o.y = a.xy[1];
+        }
         o.from = from;
         o.to = to;
         o.title = a.title;
@@ -688,6 +705,11 @@ int main(int argc, char** argv) {
         data->add_option("--plot", da.plot,
                          "Plot the series into a PNG (gnuplot); OUT.gp and OUT.csv stay next to it")
             ->type_name("OUT.png");
+    data->add_option("--xy", da.xy,
+                     "With --plot: series Y against series X, one scale (a path from above: "
+                     "--xy snake.com.x snake.com.y)")
+        ->expected(2)
+        ->type_name("X Y");
     data->add_option("--title", da.title, "Title of the plot (default: the run's name)");
     auto* from =
         data->add_option("--from", da.from, "Only rows at or after this time, s")->type_name("T");

@@ -18,7 +18,6 @@
 namespace gaitlab {
 
 using data::reason;
-using data::write_all;
 
 std::string describe_size(std::uintmax_t bytes) {
     if (bytes >= (std::uintmax_t{1} << 30) && bytes % (std::uintmax_t{1} << 30) == 0)
@@ -81,7 +80,41 @@ std::string read_file(const std::string& path, std::uintmax_t max_bytes) {
     return out;
 }
 
-void write_file_atomic(const std::string& path, std::string_view text) {
+WriteError::WriteError(std::string path, std::string reason, std::string folder, std::string part)
+    : IoError(fmt::format("cannot write {}: {}{}{}", path,
+                          part.empty() ? "" : "its part " + part + ": ",
+                          folder.empty() ? "" : "cannot create folder " + folder + ": ", reason)),
+      path_(std::move(path)),
+      reason_(std::move(reason)),
+      folder_(std::move(folder)),
+      part_(std::move(part)) {}
+
+void create_folders_above(const std::string& path) {
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    // one folder at a time from the top, as mkdir -p does, so the message names the one that
+    // could not be made
+    std::filesystem::path folder;
+    for (const std::filesystem::path& part : parent) {
+        folder /= part;
+        const std::string f = folder.string();
+        struct stat st {};
+        if (::stat(f.c_str(), &st) == 0) {
+            if (S_ISDIR(st.st_mode)) continue;
+            throw WriteError(path, "a file of that name is in the way", f);
+        }
+        if (::mkdir(f.c_str(), 0777) == 0) continue;
+        const int e = errno;
+        if (e == EEXIST) {
+            // made meanwhile by someone else: fine if it is a folder; else a dangling link
+            if (::stat(f.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) continue;
+            throw WriteError(path, "a file of that name is in the way", f);
+        }
+        throw WriteError(path, reason(e), f);
+    }
+}
+
+void write_file_atomic(const std::string& path, std::string_view text, MissingFolders folders) {
+    if (folders == MissingFolders::create) create_folders_above(path);
     // the file replaced: a link's target (links stay links); never what is not a regular file
     // (renaming over /dev/full would replace the device with a file)
     std::string target = path;
@@ -93,35 +126,33 @@ void write_file_atomic(const std::string& path, std::string_view text) {
         }
     }
     if (::stat(target.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-        throw IoError(fmt::format("cannot write {}: {}", path,
-                                  S_ISDIR(st.st_mode)
-                                      ? "is a directory"
-                                      : "not a regular file (a FIFO, device or socket)"));
+        throw WriteError(path, S_ISDIR(st.st_mode)
+                                   ? "is a directory"
+                                   : "not a regular file (a FIFO, device or socket)");
     }
     // a temporary name of this process and call: two writers of one path never share it, and
-    // O_EXCL never follows a link someone left at that name
+    // O_EXCL never follows a link someone left at that name; messages name `path`, never it
     static std::atomic<unsigned> counter{0};
     const std::string tmp =
         fmt::format("{}.tmp-{}-{}", target, static_cast<long>(::getpid()), counter++);
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (fd < 0) throw IoError(fmt::format("cannot write {}: {}", path, reason(errno)));
-    try {
-        write_all(fd, text, path);
-    } catch (...) {
-        ::close(fd);
+    if (fd < 0) throw WriteError(path, reason(errno));
+    const auto fail = [&](int e) {
         std::remove(tmp.c_str());
-        throw;
+        throw WriteError(path, reason(e));
+    };
+    for (size_t done = 0; done < text.size();) {
+        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            const int e = errno;
+            ::close(fd);
+            fail(e);
+        }
+        done += static_cast<size_t>(n);
     }
-    if (::close(fd) != 0) {
-        const int e = errno;
-        std::remove(tmp.c_str());
-        throw IoError(fmt::format("cannot write {}: {}", path, reason(e)));
-    }
-    if (std::rename(tmp.c_str(), target.c_str()) != 0) {
-        const int e = errno;
-        std::remove(tmp.c_str());
-        throw IoError(fmt::format("cannot write {}: {}", path, reason(e)));
-    }
+    if (::close(fd) != 0) fail(errno);
+    if (std::rename(tmp.c_str(), target.c_str()) != 0) fail(errno);
 }
 
 }  // namespace gaitlab

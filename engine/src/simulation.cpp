@@ -274,6 +274,7 @@ void Simulation::add_drive(int robot, Drive drive, Origin origin) {
                                         placed.robot.name, j + 1, nj));
         }
     }
+    check_new_group(placed.actuation, drive, placed.robot.name);
     drive.controller->bind(static_cast<int>(drive.joints.size()));
     DriveSlot slot{robot,
                    drive,

@@ -1,8 +1,12 @@
 #include "config_files.h"
 
+#include <unistd.h>
+
 #include <cctype>
+#include <cerrno>
 #include <filesystem>
 #include <set>
+#include <system_error>
 
 #include <fmt/format.h>
 
@@ -145,6 +149,15 @@ std::vector<std::shared_ptr<Controller>> actuate(lua_State* L, RobotBinding& rob
             fail_at(g.controller, fmt::format("group {}: {}", groups.size() + 1, e.what()));
         }
         made.push_back(make_controller(L, g.controller));
+        // the same joints twice, in this file or with what already drives the robot
+        Actuation planned = robot.drives;
+        for (size_t i = 0; i + 1 < made.size(); ++i)
+            planned.push_back({groups[i], made[i]});
+        try {
+            check_new_group(planned, {groups.back(), made.back()}, robot.spec.name);
+        } catch (const SpecError& e) {
+            fail_at(g.controller, fmt::format("group {}: {}", groups.size(), e.what()));
+        }
     }
     for (size_t i = 0; i < made.size(); ++i)
         robot.drive(groups[i], made[i]);
@@ -308,11 +321,26 @@ void save_simulation(const std::string& path, const WorldBinding& world,
     }
     format_environment(env, next_to(file.environment));
     format_simulation(file);
-    for (const auto& [p, r] : robots)
-        write_robot(p, r);
-    for (const auto& [p, a] : actuations)
-        write_actuation(p, a);
-    write_environment(next_to(file.environment), env);
+    create_folders_above(path);
+    // a folder that cannot be written to fails the save as a whole, not its first part
+    const std::string folder =
+        master.parent_path().empty() ? std::string(".") : master.parent_path().string();
+    if (::access(folder.c_str(), W_OK | X_OK) != 0) {
+        throw WriteError(path, std::generic_category().message(errno));
+    }
+    // a part that fails is named with the file asked for, so the message says which save it was
+    const auto part = [&](const std::string& p, const auto& write) {
+        try {
+            write();
+        } catch (const WriteError& e) {
+            throw WriteError(path, e.reason(), e.folder(), p);
+        }
+    };
+    for (const auto& r : robots)
+        part(r.first, [&] { write_robot(r.first, r.second); });
+    for (const auto& a : actuations)
+        part(a.first, [&] { write_actuation(a.first, a.second); });
+    part(next_to(file.environment), [&] { write_environment(next_to(file.environment), env); });
     write_simulation(path, file);
 }
 

@@ -69,7 +69,8 @@ std::string normalized_config(const std::string& master, std::vector<ConfigFile>
 /// `<robot>` is the robot's name made safe as part of a file name (ASCII letters, digits, '-',
 /// '_' and non-ASCII kept, anything else '_', at most 64 bytes, unique): no name writes outside
 /// the folder of `path`. Checks everything (unique robot names, nameable controllers)
-/// before writing anything.
+/// before writing anything. Creates the folder of `path` if missing (as `mkdir -p`); a failure
+/// is a WriteError naming `path` (and the part, if a part failed).
 void save_simulation(const std::string& path, const WorldBinding& world,
                      const SimulationOptions& options, double duration);
 

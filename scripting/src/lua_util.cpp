@@ -74,6 +74,25 @@ std::string script_path(lua_State* L, const std::string& path) {
     return p.lexically_normal().string();
 }
 
+ScriptPath::ScriptPath(lua_State* L, std::string given)
+    : given_(std::move(given)), path_(script_path(L, given_)) {
+    if (std::filesystem::path(given_).is_relative()) base_ = caller_dir(L).lexically_normal();
+}
+
+std::string ScriptPath::shown(const std::string& resolved) const {
+    if (resolved == path_) return given_;
+    if (base_.empty()) return resolved;
+    const std::filesystem::path rel = std::filesystem::path(resolved).lexically_relative(base_);
+    return rel.empty() ? resolved : rel.string();
+}
+
+std::string ScriptPath::message(const IoError& e) const {
+    const auto* w = dynamic_cast<const WriteError*>(&e);
+    if (!w) return e.what();
+    const auto show = [this](const std::string& p) { return p.empty() ? p : shown(p); };
+    return WriteError(show(w->path()), w->reason(), show(w->folder()), show(w->part())).what();
+}
+
 void push_script_error(lua_State* L, const ScriptError& e) {
     lua_createtable(L, 0, 4);
     lua_pushstring(L, e.what());

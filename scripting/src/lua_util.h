@@ -212,18 +212,40 @@ Origin opt_origin(lua_State* L, int arg);
 /// Throws Error for a path with a zero byte (the system would open another file).
 std::string script_path(lua_State* L, const std::string& path);
 
-/// The result of every save(path) function: runs `write` (which writes `path`) and pushes the
-/// path, or nil and the message of the IoError it threw (Lua's luaL_fileresult convention).
+/// A path a script gave to a function that writes it: where to write (as script_path resolves
+/// it), and how messages show it and the files and folders around it — as the script wrote it.
+class ScriptPath {
+  public:
+    /// Throws Error as script_path does.
+    ScriptPath(lua_State* L, std::string given);
+    /// The path to write: relative paths resolved against the calling script's folder.
+    const std::string& path() const { return path_; }
+    /// `resolved` (this path, a folder above it, a file next to it) as the script would write
+    /// it: the given path itself, or relative to the script's folder if the given one was.
+    std::string shown(const std::string& resolved) const;
+    /// The message of a failed write with every path in it shown so: "cannot write
+    /// runs/x/sim.xml: Permission denied", never a path the script did not write.
+    std::string message(const IoError& e) const;
+
+  private:
+    std::string given_;
+    std::string path_;
+    std::filesystem::path base_;  // the script's folder; empty if paths are shown as resolved
+};
+
+/// The result of every save(path) function: runs `write` (which writes `path.path()`) and
+/// pushes that path, or nil and the message of the IoError it threw (Lua's luaL_fileresult
+/// convention), naming the file as the script gave it.
 template <class F>
-int file_written(lua_State* L, const std::string& path, F&& write) {
+int file_written(lua_State* L, const ScriptPath& path, F&& write) {
     try {
         write();
     } catch (const IoError& e) {
         lua_pushnil(L);
-        lua_pushstring(L, e.what());
+        lua_pushstring(L, path.message(e).c_str());
         return 2;
     }
-    lua_pushstring(L, path.c_str());
+    lua_pushstring(L, path.path().c_str());
     return 1;
 }
 

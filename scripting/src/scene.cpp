@@ -17,6 +17,7 @@ std::shared_ptr<Simulation> RobotBinding::live() const {
 void RobotBinding::drive(std::vector<int> joints, std::shared_ptr<Controller> controller,
                          Origin origin) {
     Drive d{std::move(joints), std::move(controller)};
+    check_new_group(drives, d, spec.name);
     if (auto s = sim.lock()) s->add_drive(index, d, origin);
     drives.push_back(std::move(d));
 }

@@ -32,8 +32,9 @@ int actuation_load(lua_State* L) {
 int actuation_save(lua_State* L) {
     return protect(L, [&] {
         const ActuationSpec& a = check_actuation(L, 1);
-        const std::string path = script_path(L, check_string(L, 2));
-        return file_written(L, path, [&] { write_actuation(path, relative_to(a, path)); });
+        const ScriptPath path(L, check_string(L, 2));
+        return file_written(L, path,
+                            [&] { write_actuation(path.path(), relative_to(a, path.path())); });
     });
 }
 

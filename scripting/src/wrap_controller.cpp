@@ -452,7 +452,8 @@ int class_template(lua_State* L) {
 }
 
 // gaitlab.controller.write_template(name, path): copies a template into a new file to edit and
-// load; the path, or nil and a message if the file exists or cannot be written
+// load, creating missing folders; the path, or nil and a message if the file exists or cannot
+// be written
 int class_write_template(lua_State* L) {
     return protect(L, [&] {
         const StdlibSource* t = nullptr;
@@ -461,11 +462,14 @@ int class_write_template(lua_State* L) {
         } catch (const SpecError& e) {
             throw ArgError(1, e.what());
         }
-        const std::string file = script_path(L, check_string(L, 2));
+        const ScriptPath target(L, check_string(L, 2));
+        const std::string& file = target.path();
         const std::filesystem::path path(file);
         std::error_code ec;
         if (const char* folder = sandbox_folder(L)) {
-            // a sandboxed file writes only inside its own folder, links resolved
+            // a sandboxed file writes only inside its own folder, links resolved (the folders
+            // it may create are checked before they exist: ".." after them is resolved as the
+            // system will resolve it)
             const auto inside =
                 std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec);
             const auto root =
@@ -473,7 +477,7 @@ int class_write_template(lua_State* L) {
             const std::filesystem::path rel = inside.lexically_relative(root);
             if (ec || rel.empty() || *rel.begin() == ".." || rel == ".") {
                 lua_pushnil(L);
-                lua_pushstring(L, (file +
+                lua_pushstring(L, (target.shown(file) +
                                    ": outside the folder of the sandboxed controller "
                                    "file (" +
                                    root.string() + "), where it may write")
@@ -483,18 +487,12 @@ int class_write_template(lua_State* L) {
         }
         if (std::filesystem::exists(path, ec)) {
             lua_pushnil(L);
-            lua_pushstring(L, (file + ": file exists (templates never overwrite)").c_str());
+            lua_pushstring(
+                L, (target.shown(file) + ": file exists (templates never overwrite)").c_str());
             return 2;
         }
-        try {
-            write_file_atomic(file, t->code);
-        } catch (const IoError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
-            return 2;
-        }
-        lua_pushstring(L, file.c_str());
-        return 1;
+        return file_written(L, target,
+                            [&] { write_file_atomic(file, t->code, MissingFolders::create); });
     });
 }
 

@@ -257,11 +257,16 @@ int run_export(lua_State* L) {
 int run_plot(lua_State* L) {
     return protect(L, [&] {
         const RunData& run = check_run(L, 1);
-        Fields f(L, 2, 2, {"series", "output", "from", "to", "title", "width", "height"});
+        Fields f(L, 2, 2, {"series", "x", "y", "output", "from", "to", "title", "width", "height"});
         PlotOptions o;
-        f.push("series");
-        o.series = to_names(L, -1, 2, "field 'series': ");
-        lua_pop(L, 1);
+        // a path plot (x and y) or series against time
+        o.x = f.string("x", "");
+        o.y = f.string("y", "");
+        if ((o.x.empty() && o.y.empty()) || f.has("series")) {
+            f.push("series");
+            o.series = to_names(L, -1, 2, "field 'series': ");
+            lua_pop(L, 1);
+        }
         if (!f.has("output")) f.fail("output", "file name of the PNG expected, got nil");
         o.output = f.string("output", "");
         o.from = f.number("from", o.from);

@@ -272,8 +272,8 @@ int robot_load(lua_State* L) {
 int robot_save(lua_State* L) {
     return protect(L, [&] {
         RobotBinding& r = check_robot(L, 1);
-        const std::string path = script_path(L, check_string(L, 2));
-        return file_written(L, path, [&] { write_robot(path, r.spec); });
+        const ScriptPath path(L, check_string(L, 2));
+        return file_written(L, path, [&] { write_robot(path.path(), r.spec); });
     });
 }
 
@@ -294,8 +294,8 @@ int robot_load_urdf(lua_State* L) {
 int robot_save_urdf(lua_State* L) {
     return protect(L, [&] {
         RobotBinding& r = check_robot(L, 1);
-        const std::string path = script_path(L, check_string(L, 2));
-        return file_written(L, path, [&] { write_urdf(path, r.spec); });
+        const ScriptPath path(L, check_string(L, 2));
+        return file_written(L, path, [&] { write_urdf(path.path(), r.spec); });
     });
 }
 

@@ -224,7 +224,7 @@ int simulation_save(lua_State* L) {
     return protect(L, [&] {
         SimulationHandle& h = check_handle(L, 1);
         const Simulation& sim = *h.sim;
-        const std::string path = script_path(L, check_string(L, 2));
+        const ScriptPath path(L, check_string(L, 2));
         double duration = sim.time() > 0 ? sim.time() : 10;
         if (!lua_isnoneornil(L, 3)) {
             Fields f(L, 3, 3, {"duration"});
@@ -233,8 +233,8 @@ int simulation_save(lua_State* L) {
                 f.fail("duration", "non-negative number of seconds expected");
             }
         }
-        return file_written(L, path,
-                            [&] { save_simulation(path, *h.world, sim.options(), duration); });
+        return file_written(
+            L, path, [&] { save_simulation(path.path(), *h.world, sim.options(), duration); });
     });
 }
 

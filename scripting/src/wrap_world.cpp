@@ -509,9 +509,9 @@ int world_load(lua_State* L) {
 int world_save(lua_State* L) {
     return protect(L, [&] {
         WorldBinding& w = *check_object<WorldPtr>(L, 1, kWorldType);
-        const std::string path = script_path(L, check_string(L, 2));
+        const ScriptPath path(L, check_string(L, 2));
         const EnvironmentSpec env = environment_of(w);
-        return file_written(L, path, [&] { write_environment(path, env); });
+        return file_written(L, path, [&] { write_environment(path.path(), env); });
     });
 }
 

@@ -506,7 +506,39 @@ TEST_CASE("gaitlab data lists, extracts, exports and plots series", "[cli][data]
                       "run folder holds run.json, series.csv, data.csv, events.csv, log.txt and "
                       "config/)");
     check_failure(cli({"data", dir, "--plot", tmp / "q.png"}),
-                  "gaitlab: --plot needs --series NAME[,NAME...]");
+                  "gaitlab: --plot needs --series NAME[,NAME...] or --xy X Y");
+
+    // the path seen from above, over a time range
+    const Run path = cli({"data", dir, "--plot", tmp / "xy/path.png", "--xy", "snake.com.x",
+                          "snake.com.y", "--from", "1", "--to", "2"});
+    CHECK(path.status == 0);
+    CHECK(path.out == "wrote " + (tmp / "xy/path.png") + " (gnuplot script " +
+                          (tmp / "xy/path.gp") + ", data " + (tmp / "xy/path.csv") + ")\n");
+    CHECK(std::filesystem::file_size(tmp / "xy/path.png") > 5000);
+    const std::string xy = slurp(tmp / "xy/path.csv");
+    CHECK(xy.rfind("time,snake.com.x,snake.com.y\n1.02,", 0) == 0);
+    CHECK(std::count(xy.begin(), xy.end(), '\n') == 1 + 33);  // 1.02 .. 1.98 s, every 0.03 s
+    CHECK_THAT(slurp(tmp / "xy/path.gp"), Catch::Contains("set size ratio -1"));
+    check_failure(cli({"data", dir, "--plot", tmp / "q.png", "--xy", "snake.com.x", "snake.com.y",
+                       "--series", "snake.com.z"}),
+                  "gaitlab: --xy plots one series against another: give no --series with it");
+    check_failure(cli({"data", dir, "--xy", "snake.com.x", "snake.com.y"}),
+                  "gaitlab: --xy needs --plot OUT.png");
+    check_failure(cli({"data", dir, "--plot", tmp / "q.png", "--xy", "snake.com.x", "snake.cm.y"}),
+                  "gaitlab: unknown series 'snake.cm.y'; did you mean 'snake.com.y', "
+                  "'snake.com.x' or 'snake.com.z'?");
+    check_failure(cli({"data", dir, "--plot", tmp / "q.png", "--xy", "robot", "snake.com.y"}),
+                  "gaitlab: the x axis takes one series; 'robot' selects 119 (snake.com.x, "
+                  "snake.com.y, snake.com.z, snake.com.vx, snake.com.vy, ...)");
+    check_failure(cli({"data", dir, "--plot", tmp / "q.png", "--xy", "snake.com.x", "snake.com.y",
+                       "--from", "50"}),
+                  "gaitlab: nothing to plot: the run has no rows from 50 s on");
+    check_failure(cli({"data", dir, "--plot", tmp / "q.png", "--xy", "", "snake.com.y"}),
+                  "gaitlab: --xy: two series names expected (X and Y)");
+    const Run one_name = cli({"data", dir, "--plot", tmp / "q.png", "--xy", "snake.com.x"});
+    CHECK(one_name.status > 0);
+    CHECK_THAT(one_name.err, Catch::StartsWith("gaitlab: --xy: "));
+    CHECK_FALSE(std::filesystem::exists(tmp / "q.png"));
 }
 
 TEST_CASE("gaitlab replay reproduces a run bit for bit and says when it does not",
@@ -806,6 +838,12 @@ TEST_CASE("hostile names reach no shell or gnuplot command and no file outside -
                          tmp.str());
     CHECK(plot.status == 0);
     CHECK(std::filesystem::file_size(tmp / "out/p`touch fn`.png") > 5000);
+    const Run path = cli({"data", tmp / "run", "--xy", name + ".com.x", name + ".com.y", "--title",
+                          name, "--plot", tmp / "out/xy`touch fx`.png"},
+                         tmp.str());
+    CHECK(path.status == 0);
+    CHECK(std::filesystem::file_size(tmp / "out/xy`touch fx`.png") > 5000);
+    CHECK(slurp(tmp / "out/xy`touch fx`.csv").rfind("time,\"s`touch bq`", 0) == 0);
     const Run split =
         cli({"data", tmp / "run", "--series", "robot", "--split", tmp / "out/each"}, tmp.str());
     CHECK(split.status == 0);
@@ -819,8 +857,9 @@ TEST_CASE("hostile names reach no shell or gnuplot command and no file outside -
     for (const auto& e : std::filesystem::directory_iterator(tmp / "out"))
         out.push_back(e.path().filename().string());
     std::sort(out.begin(), out.end());
-    CHECK(out ==
-          std::vector<std::string>{"each", "p`touch fn`.csv", "p`touch fn`.gp", "p`touch fn`.png"});
+    CHECK(out == std::vector<std::string>{"each", "p`touch fn`.csv", "p`touch fn`.gp",
+                                          "p`touch fn`.png", "xy`touch fx`.csv", "xy`touch fx`.gp",
+                                          "xy`touch fx`.png"});
     size_t files = 0;
     for (const auto& e : std::filesystem::directory_iterator(tmp / "out/each")) {
         CHECK(e.is_regular_file());

@@ -87,6 +87,53 @@ TEST_CASE("atomic writes replace regular files only, and keep links", "[files]")
     CHECK(read_file(tmp / "real.txt") == "two");
 }
 
+TEST_CASE("writes may create the missing folders above the file, and say which one failed",
+          "[files]") {
+    TempDir tmp("files_folders");
+    write_file_atomic(tmp / "a/b/c/x.txt", "deep", MissingFolders::create);
+    CHECK(read_file(tmp / "a/b/c/x.txt") == "deep");
+    // existing folders, "." and ".." on the way are fine
+    write_file_atomic(tmp / "a/./b/../b/y.txt", "y", MissingFolders::create);
+    CHECK(read_file(tmp / "a/b/y.txt") == "y");
+    // the default still refuses, naming the file
+    CHECK_THROWS_WITH(write_file_atomic(tmp / "none/x.txt", "x"),
+                      "cannot write " + (tmp / "none/x.txt") + ": No such file or directory");
+    CHECK_FALSE(std::filesystem::exists(tmp.path / "none"));
+    // a file where a folder must go: the folder is named, and what is after it is not made
+    write_file_atomic(tmp / "plain", "p");
+    try {
+        write_file_atomic(tmp / "plain/sub/x.txt", "x", MissingFolders::create);
+        FAIL("no error");
+    } catch (const WriteError& e) {
+        CHECK(std::string(e.what()) == "cannot write " + (tmp / "plain/sub/x.txt") +
+                                           ": cannot create folder " + (tmp / "plain") +
+                                           ": a file of that name is in the way");
+        CHECK(e.path() == tmp / "plain/sub/x.txt");
+        CHECK(e.folder() == tmp / "plain");
+        CHECK(e.reason() == "a file of that name is in the way");
+        CHECK(e.part().empty());
+    }
+    CHECK(read_file(tmp / "plain") == "p");
+    // a link to a folder is a folder; a dangling link is in the way
+    std::filesystem::create_directory_symlink(tmp.path / "a", tmp.path / "to_a");
+    write_file_atomic(tmp / "to_a/new/z.txt", "z", MissingFolders::create);
+    CHECK(read_file(tmp / "a/new/z.txt") == "z");
+    std::filesystem::create_symlink(tmp.path / "gone", tmp.path / "dangling");
+    CHECK_THROWS_WITH(write_file_atomic(tmp / "dangling/z.txt", "z", MissingFolders::create),
+                      "cannot write " + (tmp / "dangling/z.txt") + ": cannot create folder " +
+                          (tmp / "dangling") + ": a file of that name is in the way");
+    CHECK_FALSE(std::filesystem::exists(tmp.path / "gone"));
+    // the part of a save is named after the file asked for
+    CHECK(std::string(WriteError("s.xml", "is a directory", "", "s.robot.xml").what()) ==
+          "cannot write s.xml: its part s.robot.xml: is a directory");
+    // a failed write leaves no temporary file, and the message never names one
+    std::filesystem::create_directories(tmp.path / "d/x.txt");
+    CHECK_THROWS_WITH(write_file_atomic(tmp / "d/x.txt", "x", MissingFolders::create),
+                      "cannot write " + (tmp / "d/x.txt") + ": is a directory");
+    CHECK(std::distance(std::filesystem::directory_iterator(tmp.path / "d"),
+                        std::filesystem::directory_iterator()) == 1);
+}
+
 TEST_CASE("numbers are written in their shortest form and read back to the same bits", "[csv]") {
     const double values[] = {0.0,
                              -0.0,

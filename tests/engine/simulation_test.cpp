@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "gaitlab/controllers/offset.h"
 #include "gaitlab/error.h"
 #include "sim_support.h"
 
@@ -284,6 +285,38 @@ TEST_CASE("overlapping groups add their targets, clamped to the joint range") {
     CHECK(sim.joint(0, 1).target == Approx(kPi / 2));
 }
 
+TEST_CASE("the same joints driven twice are an error naming both controllers") {
+    const std::string message =
+        "controller 'offset' cannot drive joints 2, 4 of robot 'snake': controller 'sine' "
+        "already drives exactly these joints (one controller per group: their targets would add "
+        "up; groups that only partly overlap do add)";
+    SECTION("added to a simulation") {
+        Simulation sim(test::chain_world(4, Connection::pitch_yaw));
+        test::drive(sim, "yaw", test::sine(20, 0.5, 30));
+        auto offset = std::make_shared<controllers::Offset>();
+        CHECK_THROWS_WITH(sim.add_drive(0, drive_of({3, 1}, offset)), message);
+        CHECK(sim.drive_count() == 1);
+        CHECK(sim.world().robots[0].actuation.size() == 1);
+        // a group that shares some of the joints adds up
+        sim.add_drive(0, drive_of({1, 2}, offset));
+        CHECK(sim.drive_count() == 2);
+        sim.step(30);
+        CHECK(sim.joint(0, 1).target != 0);
+    }
+    SECTION("in the spec a simulation is made from") {
+        WorldSpec world = test::chain_world(4, Connection::pitch_yaw);
+        world.robots[0].actuation.push_back(drive_of({1, 3}, test::sine(20, 0.5, 30)));
+        world.robots[0].actuation.push_back(
+            drive_of({3, 1}, std::make_shared<controllers::Offset>()));
+        try {
+            Simulation sim(world);
+            FAIL("no error");
+        } catch (const SpecError& e) {
+            CHECK(std::string(e.what()) == message);
+        }
+    }
+}
+
 TEST_CASE("observers run every tick after the step, until removed") {
     Simulation sim(test::chain_world(2, Connection::pitch_pitch));
     std::vector<long> ticks;
@@ -439,15 +472,26 @@ TEST_CASE(
     "a controller may add drives while the drives step: they act from the next control "
     "tick",
     "[simulation][reentrancy]") {
-    Simulation sim(test::chain_world(4, Connection::pitch_pitch));
+    const WorldSpec world = test::chain_world(8, Connection::pitch_pitch);
+    const int nj = static_cast<int>(world.robots[0].robot.joints.size());
+    REQUIRE(nj >= 6);
+    Simulation sim(world);
     std::vector<std::shared_ptr<Controller>> added;
-    // each step adds one more drive (more than enough to reallocate any vector of drives)
+    // each step adds one more drive (more than enough to reallocate any vector of drives),
+    // each on a group of its own: the k-th drives the joints of the bits of k
     auto adder = std::make_shared<Reentrant>(sim, [&](Simulation& s) {
         if (added.size() >= 40) return;
         added.push_back(test::sine(10, 1, 0));
-        s.add_drive(0, drive_of({static_cast<int>(added.size() % 4)}, added.back()));
+        std::vector<int> joints;
+        for (int j = 0; j < nj; ++j) {
+            if ((added.size() >> j) & 1) joints.push_back(j);
+        }
+        s.add_drive(0, drive_of(joints, added.back()));
     });
-    sim.add_drive(0, drive_of({0, 1, 2, 3}, adder));
+    std::vector<int> all(static_cast<size_t>(nj));
+    for (int j = 0; j < nj; ++j)
+        all[static_cast<size_t>(j)] = j;
+    sim.add_drive(0, drive_of(all, adder));
     sim.step(1);  // one control tick: the drive added in it has not stepped yet
     REQUIRE(sim.drive_count() == 2);
     CHECK(sim.controller(1).values(controllers::Sine::time)[0] == 0);
@@ -456,10 +500,11 @@ TEST_CASE(
     CHECK(adder->steps == 51);
     // the first added drive stepped at every control tick after the one that added it
     CHECK(added[0]->values(controllers::Sine::time)[0] == Approx(50 * 0.03));
-    // its targets count: a 10 deg sine on joint 1 (plus the adder's 0)
-    const double theta = sim.joint(0, 1).target;
+    // its targets count: a 10 deg sine on joint 0 from the 20 odd-numbered drives (plus the
+    // adder's 0)
+    const double theta = sim.joint(0, 0).target;
     CHECK(std::abs(theta) > 0);
-    CHECK(std::abs(theta) <= deg_to_rad(10) * 11);
+    CHECK(std::abs(theta) <= deg_to_rad(10) * 20);
 }
 
 TEST_CASE("step, run and reset from inside the simulation's own tick are errors",

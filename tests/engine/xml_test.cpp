@@ -520,8 +520,12 @@ TEST_CASE("writers check before writing and replace files atomically") {
     CHECK(test::read_text(path) == before);  // nothing written when validation fails
     CHECK(std::distance(std::filesystem::directory_iterator(dir.path),
                         std::filesystem::directory_iterator()) == 1);  // no temporary file left
-    CHECK_THROWS_WITH(
-        write_robot(dir.file("no/such/dir/robot.xml"), good),
-        "cannot write " + dir.file("no/such/dir/robot.xml") + ": No such file or directory");
     CHECK(read_robot(path) == good);
+    // missing folders are made; a file in the way of one is named
+    write_robot(dir.file("no/such/dir/robot.xml"), good);
+    CHECK(read_robot(dir.file("no/such/dir/robot.xml")) == good);
+    CHECK_THROWS_WITH(write_robot(dir.file("robot.xml/sub/robot.xml"), good),
+                      "cannot write " + dir.file("robot.xml/sub/robot.xml") +
+                          ": cannot create folder " + dir.file("robot.xml") +
+                          ": a file of that name is in the way");
 }

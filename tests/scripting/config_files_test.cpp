@@ -4,6 +4,8 @@
 // give nil and "FILE:LINE: ..." messages; controllers defined inside a script cannot be saved.
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -240,8 +242,10 @@ TEST_CASE("bad files give nil and a message naming file and line", "[config_file
     for (const std::string& target : {std::string("/dev/zero"), dir.path.string()}) {
         gaitlab::test::write_text(dir.file("act3.xml"),
                                   "<gaitlab version=\"1\">\n<actuation>\n<group joints=\"all\">\n"
-                                  "<controller file=\"" + target + "\"/>\n</group>\n"
-                                  "</actuation>\n</gaitlab>\n");
+                                  "<controller file=\"" +
+                                      target +
+                                      "\"/>\n</group>\n"
+                                      "</actuation>\n</gaitlab>\n");
         CHECK(lua.error_of("robot:actuate(assert(gaitlab.actuation.load(DIR .. '/act3.xml')))") ==
               "test:1: " + dir.file("act3.xml") + ":4: controller file " + target +
                   " is not a regular file (a folder, FIFO or device)");
@@ -397,4 +401,142 @@ TEST_CASE("sim:save never writes outside its folder, whatever the robots are cal
     CHECK(lua.boolean("setup.robots['/etc/gaitlab_x'] ~= nil"));
     CHECK(lua.boolean("setup.robots['a/b'] ~= nil and setup.robots['a_b'] ~= nil"));
     CHECK(lua.integer("#setup.controllers['a/b']") == 1);
+}
+
+TEST_CASE("saves make the folders they need and name the file as the script gave it",
+          "[config_files][save]") {
+    TempDir dir("save_folders");
+    namespace fs = std::filesystem;
+    fs::create_directories(dir.file("proj/parts/s.snake.robot.xml"));  // a folder in the way
+    gaitlab::test::write_text(dir.file("proj/blocker"), "a file where a folder must go");
+    // a script file: relative paths are relative to its folder, and shown as it wrote them
+    gaitlab::test::write_text(dir.file("proj/save.lua"), R"(
+        robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
+        robot:group("pitch"):drive(gaitlab.controllers.sine{})
+        world = gaitlab.world()
+        world:add(robot)
+        sim = gaitlab.simulation{ world = world }
+        local function both(...) return { ... } end
+        ok = {
+          sim = both(sim:save("runs/x/sim.xml")),
+          robot = both(robot:save("robots/a/b/snake.xml")),
+          act = both(robot:actuation():save("acts/snake.xml")),
+          world = both(world:save("worlds/w.xml")),
+          urdf = both(robot:save_urdf("urdf/deep/snake.urdf")),
+          template = both(gaitlab.controller.write_template("sine", "ctl/new/mine.lua")),
+        }
+        bad = {
+          sim = both(sim:save("blocker/x/sim.xml")),
+          robot = both(robot:save("blocker/snake.xml")),
+          act = both(robot:actuation():save("./blocker/a/b.xml")),
+          world = both(world:save("robots")),
+          urdf = both(robot:save_urdf("blocker/u.urdf")),
+          template = both(gaitlab.controller.write_template("sine", "blocker/mine.lua")),
+          part = both(sim:save("parts/s.xml")),
+          absolute = both(robot:save(DIR .. "/proj/blocker/abs.xml")),
+        }
+    )");
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.path.string() + "'");
+    lua.run("dofile(DIR .. '/proj/save.lua')");
+    const std::string proj = dir.file("proj");
+    CHECK(lua.string("ok.sim[1]") == proj + "/runs/x/sim.xml");
+    for (const char* f :
+         {"runs/x/sim.xml", "runs/x/sim.snake.robot.xml", "runs/x/sim.snake.actuation.xml",
+          "runs/x/sim.environment.xml", "robots/a/b/snake.xml", "acts/snake.xml", "worlds/w.xml",
+          "urdf/deep/snake.urdf", "ctl/new/mine.lua"}) {
+        INFO(f);
+        CHECK(fs::is_regular_file(proj + "/" + f));
+    }
+    CHECK(lua.string("ok.template[1]") == proj + "/ctl/new/mine.lua");
+    lua.run("loaded = assert(gaitlab.simulation.load(DIR .. '/proj/runs/x/sim.xml'))");
+
+    const std::string in_way = ": cannot create folder blocker: a file of that name is in the way";
+    CHECK(lua.boolean("bad.sim[1] == nil"));
+    CHECK(lua.string("bad.sim[2]") == "cannot write blocker/x/sim.xml" + in_way);
+    CHECK(lua.string("bad.robot[2]") == "cannot write blocker/snake.xml" + in_way);
+    CHECK(lua.string("bad.act[2]") == "cannot write ./blocker/a/b.xml" + in_way);
+    CHECK(lua.string("bad.world[2]") == "cannot write robots: is a directory");
+    CHECK(lua.string("bad.urdf[2]") == "cannot write blocker/u.urdf" + in_way);
+    CHECK(lua.string("bad.template[2]") == "cannot write blocker/mine.lua" + in_way);
+    // a part that fails is named after the save it belongs to
+    CHECK(lua.string("bad.part[2]") ==
+          "cannot write parts/s.xml: its part parts/s.snake.robot.xml: is a directory");
+    // an absolute path is shown as given, folders too
+    CHECK(lua.string("bad.absolute[2]") == "cannot write " + proj +
+                                               "/blocker/abs.xml: cannot create folder " + proj +
+                                               "/blocker: a file of that name is in the way");
+    // a folder that may not be written (root may write anywhere: checked for other users)
+    if (::geteuid() != 0) {
+        fs::create_directories(dir.file("proj/ro"));
+        fs::permissions(dir.file("proj/ro"), fs::perms::owner_read | fs::perms::owner_exec);
+        gaitlab::test::write_text(dir.file("proj/ro.lua"), R"(
+            ro = { sim = { sim:save("ro/sim.xml") }, robot = { robot:save("ro/sub/x.xml") } }
+        )");
+        lua.run("dofile(DIR .. '/proj/ro.lua')");
+        fs::permissions(dir.file("proj/ro"), fs::perms::owner_all);
+        CHECK(lua.string("ro.sim[2]") == "cannot write ro/sim.xml: Permission denied");
+        CHECK(lua.string("ro.robot[2]") ==
+              "cannot write ro/sub/x.xml: cannot create folder ro/sub: Permission denied");
+    }
+    // no temporary file left anywhere
+    for (const auto& e : fs::recursive_directory_iterator(dir.path)) {
+        INFO(e.path());
+        CHECK(e.path().filename().string().find(".tmp-") == std::string::npos);
+    }
+}
+
+TEST_CASE("an actuation file that drives the same joints twice names the file and line",
+          "[config_files]") {
+    TempDir dir("act_twice");
+    const std::string act = dir.file("twice.actuation.xml");
+    gaitlab::test::write_text(act, R"(<?xml version="1.0"?>
+<gaitlab version="1">
+    <actuation>
+        <group joints="pitch">
+            <controller builtin="sine" amplitude="30"/>
+        </group>
+        <group joints="all">
+            <controller builtin="offset" angle="5"/>
+        </group>
+        <group joints="5 1 3">
+            <controller builtin="offset" angle="10"/>
+        </group>
+    </actuation>
+</gaitlab>
+)");
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.path.string() + "'");
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ name = "snake", modules = 5, connection = "pitch-yaw" }
+        act = assert(gaitlab.actuation.load(DIR .. "/twice.actuation.xml"))
+    )");
+    const std::string why =
+        "group 3: controller 'offset' cannot drive joints 1, 3, 5 of robot 'snake': controller "
+        "'sine' already drives exactly these joints (one controller per group: their targets "
+        "would add up; groups that only partly overlap do add)";
+    // the line of the group's <controller>
+    CHECK(lua.error_of("robot:actuate(act)") == "test:1: " + act + ":11: " + why);
+    CHECK(lua.integer("#robot:actuation():groups()") == 0);  // nothing half applied
+    // with what already drives the robot: the same joints given in Lua first
+    lua.run("robot:group{ 3, 1, 5 }:drive(gaitlab.controllers.sine{})");
+    CHECK_THAT(lua.error_of("robot:actuate(act)"),
+               Catch::Contains(act + ":5: group 1: controller 'sine' cannot drive joints 1, 3, 5 "
+                                     "of robot 'snake': controller 'sine' already drives"));
+    // and in a simulation file: nil and the message
+    lua.run(R"(
+        r2 = gaitlab.robot.chain{ name = "snake", modules = 5, connection = "pitch-yaw" }
+        w = gaitlab.world()
+        w:add(r2)
+        assert(gaitlab.simulation{ world = w }:save(DIR .. "/sim.xml"))
+    )");
+    std::string text = gaitlab::test::read_text(dir.file("sim.xml"));
+    const std::string robot_attr = "<robot file=\"sim.snake.robot.xml\"";
+    REQUIRE(text.find(robot_attr) != std::string::npos);
+    text.replace(text.find(robot_attr), robot_attr.size(),
+                 robot_attr + " actuation=\"twice.actuation.xml\"");
+    gaitlab::test::write_text(dir.file("sim.xml"), text);
+    lua.run("s, err = gaitlab.simulation.load(DIR .. '/sim.xml')");
+    CHECK(lua.boolean("s == nil"));
+    CHECK(lua.string("err") == act + ":11: " + why);
 }

@@ -99,6 +99,38 @@ return gaitlab.controller{ name = "linker", step = function() end })");
     CHECK(fs::exists(tmp.path / "script.lua"));
 }
 
+TEST_CASE("a sandboxed file may create folders inside its folder, never outside", "[sandbox]") {
+    TempDir tmp("sandbox_folders");
+    fs::create_directories(tmp.path / "ctl");
+    fs::create_directory_symlink(tmp.path, tmp.path / "ctl/out");
+    LuaFixture lua;
+    write_text(tmp / "ctl/maker.lua", R"(
+local refused = 0
+for _, p in ipairs({ "new/../../escaped.lua", "a/b/../../../escaped.lua", "out/new/linked.lua",
+                     "out/escaped.lua", "/tmp/gaitlab_sandbox_new/x.lua",
+                     "new/../new/../.." }) do
+  local ok, err = gaitlab.controller.write_template("sine", p)
+  local want = p .. ": outside the folder of the sandboxed controller file ("
+  assert(ok == nil and err:sub(1, #want) == want, tostring(err))
+  refused = refused + 1
+end
+assert(refused == 6)
+local written = assert(gaitlab.controller.write_template("sine", "gaits/new/mine.lua"))
+assert(written:sub(-#"/ctl/gaits/new/mine.lua") == "/ctl/gaits/new/mine.lua", written)
+assert(gaitlab.controller.write_template("sine", "gaits/x/../y/other.lua"))
+return gaitlab.controller{ name = "maker", step = function() end })");
+    lua.run("gaitlab.controller.load('" + (tmp / "ctl/maker.lua") + "')");
+    CHECK(fs::is_regular_file(tmp.path / "ctl/gaits/new/mine.lua"));
+    CHECK(fs::is_regular_file(tmp.path / "ctl/gaits/y/other.lua"));
+    // nothing was made outside: no file, no folder
+    CHECK_FALSE(fs::exists(tmp.path / "ctl/gaits/x"));  // paths are normalized before use
+    for (const char* made : {"escaped.lua", "new", "a", "linked.lua"})
+        CHECK_FALSE(fs::exists(tmp.path / made));
+    CHECK_FALSE(fs::exists("/tmp/gaitlab_sandbox_new"));
+    CHECK_FALSE(fs::exists(tmp.path / "ctl/new"));
+    CHECK_FALSE(fs::exists(tmp.path / "ctl/a"));
+}
+
 TEST_CASE("sandboxed code cannot match a pattern for hours", "[sandbox]") {
     CHECK(pattern_cost("abc", 100) == Approx(101));
     CHECK(pattern_cost("^abc", 100) == Approx(1));

@@ -121,6 +121,32 @@ TEST_CASE("series export to one file or one file each", "[wrap_data]") {
           "test:1: bad argument #1 to 'export' (field 'file': give either file = or dir =)");
 }
 
+TEST_CASE("run:plot draws a path with x and y", "[wrap_data]") {
+    TempDir tmp("wrap_data_path");
+    LuaFixture lua;
+    record(lua, tmp);
+    lua.run("OUT = '" + tmp.str() + "'");
+    lua.run(R"(
+        run = gaitlab.data.open(DIR)
+        png, gp, csv = run:plot{ x = "snake.com.x", y = "snake.com.y", output = OUT .. "/p/path.png",
+                                 from = 0.1 }
+    )");
+    CHECK(lua.string("png") == tmp / "p/path.png");
+    CHECK(std::filesystem::file_size(tmp / "p/path.png") > 3000);
+    CHECK(read_text(tmp / "p/path.csv").rfind("time,snake.com.x,snake.com.y\n0.12,", 0) == 0);
+    CHECK(read_text(tmp / "p/path.gp").find("using 2:3") != std::string::npos);
+    const std::string bad = "test:1: bad argument #1 to 'plot' (";
+    CHECK(lua.error_of("run:plot{ x = 'snake.com.x', output = OUT .. '/q.png' }") ==
+          bad + "a path plot needs two series: x and y)");
+    CHECK(lua.error_of("run:plot{ x = 'snake.com.x', y = 'snake.com.y', series = 'snake.com.z', "
+                       "output = OUT .. '/q.png' }") ==
+          bad +
+              "a plot shows series against time or one series against another (x and y), not "
+              "both)");
+    CHECK(lua.error_of("run:plot{ output = OUT .. '/q.png' }") ==
+          bad + "field 'series': a series name or a list of names expected, got nil)");
+}
+
 TEST_CASE("recording options: folder, rows, series, a late start and a stop", "[wrap_data]") {
     TempDir tmp("wrap_data_options");
     LuaFixture lua;

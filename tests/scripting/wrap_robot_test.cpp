@@ -85,6 +85,46 @@ TEST_CASE("a controller drives one group only", "[wrap_robot]") {
     CHECK(lua.string("table.concat(g:joints(), ',')") == "1,2");
 }
 
+TEST_CASE("a group is driven once; groups that partly overlap add up", "[wrap_robot]") {
+    LuaFixture lua;
+    lua.run(R"(
+        r = gaitlab.robot.chain{ name = "snake", modules = 5, connection = "pitch-yaw" }
+        wave = r:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 20 })
+        bias = gaitlab.controllers.offset{ angle = 10 }
+    )");
+    const std::string twice =
+        "test:1: controller 'offset' cannot drive joints 1, 3, 5 of robot 'snake': controller "
+        "'sine' already drives exactly these joints (one controller per group: their targets "
+        "would add up; groups that only partly overlap do add)";
+    // the same role, or the same joints listed in another order
+    CHECK(lua.error_of("r:group('pitch'):drive(bias)") == twice);
+    CHECK(lua.error_of("r:group{5, 3, 1}:drive(bias)") == twice);
+    // the refused controller is still free: it drives another group, partly overlapping
+    lua.run("r:group('all'):drive(bias)");
+    CHECK(lua.error_of("r:group{1, 2, 3, 4, 5}:drive(gaitlab.controllers.sine{})") ==
+          "test:1: controller 'sine' cannot drive joints 1, 2, 3, 4, 5 of robot 'snake': "
+          "controller 'offset' already drives exactly these joints (one controller per group: "
+          "their targets would add up; groups that only partly overlap do add)");
+    CHECK(lua.integer("#r:actuation():groups()") == 2);
+    // while the simulation runs too; a subset of a group is a group of its own
+    lua.run(R"(
+        world = gaitlab.world()
+        world:add(r)
+        sim = gaitlab.simulation{ world = world }
+        sim:run(0.1)
+    )");
+    CHECK(lua.error_of("r:group{1, 3, 5}:drive(gaitlab.controllers.offset{})") ==
+          "test:1: controller 'offset' cannot drive joints 1, 3, 5 of robot 'snake': controller "
+          "'sine' already drives exactly these joints (one controller per group: their targets "
+          "would add up; groups that only partly overlap do add)");
+    lua.run("r:group{3}:drive(gaitlab.controllers.offset{ angle = 5 }) sim:run(0.1)");
+    CHECK(lua.error_of("r:group{3}:drive(gaitlab.controllers.offset{})") ==
+          "test:1: controller 'offset' cannot drive joint 3 of robot 'snake': controller "
+          "'offset' already drives exactly this joint (one controller per group: their targets "
+          "would add up; groups that only partly overlap do add)");
+    CHECK(lua.integer("#r:actuation():groups()") == 3);
+}
+
 TEST_CASE("groups select joints by role in order from the tail", "[wrap_robot]") {
     LuaFixture lua;
     lua.run("r = gaitlab.robot.chain{ modules = 5, connection = 'pitch-yaw' }");

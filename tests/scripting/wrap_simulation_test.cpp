@@ -135,7 +135,7 @@ TEST_CASE("a Lua controller may drive new groups from its step but not step its 
           "[wrap_simulation][reentrancy]") {
     LuaFixture lua;
     lua.run(R"(
-        robot = gaitlab.robot.chain{ name = "snake", modules = 4 }
+        robot = gaitlab.robot.chain{ name = "snake", modules = 8 }
         world = gaitlab.world()
         world:add(robot)
         added = {}
@@ -143,7 +143,12 @@ TEST_CASE("a Lua controller may drive new groups from its step but not step its 
           if #added < 30 then
             local s = gaitlab.controllers.sine{ amplitude = 10 }
             added[#added + 1] = s
-            robot:group{ #added % 4 + 1 }:drive(s)
+            -- a group of its own each time: the joints of the bits of #added
+            local joints = {}
+            for j = 1, 7 do
+              if (#added >> (j - 1)) & 1 == 1 then joints[#joints + 1] = j end
+            end
+            robot:group(joints):drive(s)
           end
           for m = 1, self.joints do self:set_angle(m, 0) end
         end }

@@ -13,7 +13,9 @@ namespace gaitlab {
 class Controller;
 struct RobotSpec;
 
-/// A joint group and its controller. Groups of one robot may overlap; their targets add up.
+/// A joint group and its controller. Groups of one robot may overlap partly, and then their
+/// targets add up (an offset on every joint plus a sine on the pitch joints); two groups of
+/// exactly the same joints are an error (check_new_group).
 struct Drive {
     std::vector<int> joints;                 ///< 0-based joint indices, at least one
     std::shared_ptr<Controller> controller;  ///< drives exactly this group
@@ -62,6 +64,12 @@ struct ActuationSpec {
 
     bool operator==(const ActuationSpec& o) const { return groups == o.groups; }
 };
+
+/// Throws SpecError if a drive of `drives` has exactly the joints of `drive` (in any order):
+/// "controller 'offset' cannot drive joints 1, 3 of robot 'snake': controller 'sine' already
+/// drives exactly these joints (...)". Groups that only partly overlap pass. `robot` is the
+/// robot's name.
+void check_new_group(const Actuation& drives, const Drive& drive, const std::string& robot);
 
 /// The 0-based joints of `robot` that `group` selects; throws SpecError (unknown role, a
 /// joint the robot does not have, a joint named twice, an empty group).

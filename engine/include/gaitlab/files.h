@@ -28,6 +28,28 @@ class ReadError : public IoError {
     std::string reason_;
 };
 
+/// A file that could not be written: "cannot write PATH: REASON". When the file is one part
+/// of a save that writes several (a simulation file and the robot, actuation and environment
+/// files next to it), PATH is the file asked for and the part is named too: "cannot write
+/// PATH: its part PART: REASON". When a folder above it could not be created: "cannot write
+/// PATH: cannot create folder FOLDER: REASON".
+class WriteError : public IoError {
+  public:
+    WriteError(std::string path, std::string reason, std::string folder = {},
+               std::string part = {});
+    /// The file asked for.
+    const std::string& path() const { return path_; }
+    /// Why, without a path: "Permission denied", "No space left on device", ...
+    const std::string& reason() const { return reason_; }
+    /// The folder that could not be created ("" if the file itself failed).
+    const std::string& folder() const { return folder_; }
+    /// The part of the save that failed ("" if the file itself, or its folder, failed).
+    const std::string& part() const { return part_; }
+
+  private:
+    std::string path_, reason_, folder_, part_;
+};
+
 /// The whole of the regular file at `path`, at most `max_bytes` long. Anything else is refused
 /// up front with ReadError naming the path: a missing file ("no such file"), a directory ("is a
 /// directory"), a FIFO, device or socket ("is not a regular file"), a larger file ("is larger
@@ -42,8 +64,22 @@ void check_file(const std::string& path, std::uintmax_t max_bytes = kMaxInputByt
 /// "64 MiB", "512 KiB", "100 bytes": a size limit as messages state it.
 std::string describe_size(std::uintmax_t bytes);
 
+/// What a writer does when the folder of the file it writes does not exist.
+enum class MissingFolders {
+    refuse,  ///< fail: "cannot write PATH: No such file or directory"
+    create   ///< create it and the folders above it, as `mkdir -p` does
+};
+
+/// Creates the folders above `path` that do not exist yet, as `mkdir -p` does (mode 0777 less
+/// the umask). Throws WriteError naming `path` and the first folder that could not be created
+/// (a file in the way: "exists and is not a folder").
+void create_folders_above(const std::string& path);
+
 /// Writes `text` to `path` atomically: into a temporary file in the same folder, flushed, then
-/// renamed over `path`. On failure nothing at `path` changes and IoError names the path.
-void write_file_atomic(const std::string& path, std::string_view text);
+/// renamed over `path`. On failure nothing at `path` changes and WriteError names the path
+/// (never the temporary file). With MissingFolders::create, missing folders above `path` are
+/// created first (they stay if the write then fails).
+void write_file_atomic(const std::string& path, std::string_view text,
+                       MissingFolders folders = MissingFolders::refuse);
 
 }  // namespace gaitlab

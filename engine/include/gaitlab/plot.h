@@ -16,6 +16,10 @@ struct PlotOptions {
     /// next to it
     std::string output;
     std::vector<std::string> series;  ///< names, kinds or '*' patterns (RunData::select)
+    /// A path plot instead of series against time: `y` against `x` (one series each, `series`
+    /// left empty), e.g. "snake.com.x" and "snake.com.y" for a robot's path seen from above;
+    /// the axes have one scale when the two series have one unit.
+    std::string x, y;
     double from = -std::numeric_limits<double>::infinity();  ///< s
     double to = std::numeric_limits<double>::infinity();     ///< s
     std::string title;                                       ///< "" : the run's name
@@ -29,8 +33,9 @@ struct PlotFiles {
 };
 
 /// Writes the data and the gnuplot script, then runs `gnuplot` on it. Throws SpecError (bad
-/// options or series names, with suggestions) or IoError (files, or gnuplot missing or
-/// failing: the script and data stay, to run by hand).
+/// options or series names, with suggestions; a path plot whose x or y selects several series
+/// or has no numbers in the time range) or IoError (files, or gnuplot missing or failing: the
+/// script and data stay, to run by hand).
 PlotFiles plot(const RunData& run, const PlotOptions& options);
 
 }  // namespace gaitlab

@@ -14,7 +14,8 @@ namespace gaitlab {
 /// is parallel to the robot frame at rest; a joint's frame sits at its pivot. Throws SpecError
 /// if the bodies and joints do not form a tree.
 std::string format_urdf(const RobotSpec& robot);
-/// Writes format_urdf(robot) atomically; throws SpecError or IoError.
+/// Writes format_urdf(robot) atomically, creating missing folders above `path`; throws
+/// SpecError or WriteError (an IoError naming `path`).
 void write_urdf(const std::string& path, const RobotSpec& robot);
 
 /// A robot from URDF text: a serial chain (each link has at most one child) of revolute

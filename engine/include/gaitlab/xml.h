@@ -70,7 +70,8 @@ EnvironmentSpec parse_environment(std::string_view text, const std::string& file
 SimulationFile read_simulation(const std::string& path);
 SimulationFile parse_simulation(std::string_view text, const std::string& file);
 
-/// File writers: check the spec (SpecError), then write atomically (IoError).
+/// File writers: check the spec (SpecError), create the missing folders above `path` and write
+/// it atomically (WriteError, an IoError naming `path`).
 void write_robot(const std::string& path, const RobotSpec& robot);
 std::string format_robot(const RobotSpec& robot);
 void write_actuation(const std::string& path, const ActuationSpec& actuation);

@@ -153,7 +153,7 @@ std::string format_actuation(const ActuationSpec& a) {
 }
 
 void write_actuation(const std::string& path, const ActuationSpec& a) {
-    write_file_atomic(path, format_actuation(a));
+    write_file_atomic(path, format_actuation(a), MissingFolders::create);
 }
 
 }  // namespace gaitlab

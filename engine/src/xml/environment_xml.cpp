@@ -394,7 +394,7 @@ std::string format_environment(const EnvironmentSpec& env, const std::string& fi
 }
 
 void write_environment(const std::string& path, const EnvironmentSpec& env) {
-    write_file_atomic(path, format_environment(env, path));
+    write_file_atomic(path, format_environment(env, path), MissingFolders::create);
 }
 
 }  // namespace gaitlab

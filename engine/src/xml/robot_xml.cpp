@@ -350,7 +350,7 @@ std::string format_robot(const RobotSpec& robot) {
 }
 
 void write_robot(const std::string& path, const RobotSpec& robot) {
-    write_file_atomic(path, format_robot(robot));
+    write_file_atomic(path, format_robot(robot), MissingFolders::create);
 }
 
 }  // namespace gaitlab

@@ -141,7 +141,7 @@ std::string format_simulation(const SimulationFile& s) {
 }
 
 void write_simulation(const std::string& path, const SimulationFile& s) {
-    write_file_atomic(path, format_simulation(s));
+    write_file_atomic(path, format_simulation(s), MissingFolders::create);
 }
 
 }  // namespace gaitlab

@@ -164,7 +164,7 @@ std::string format_urdf(const RobotSpec& robot) {
 }
 
 void write_urdf(const std::string& path, const RobotSpec& robot) {
-    write_file_atomic(path, format_urdf(robot));
+    write_file_atomic(path, format_urdf(robot), MissingFolders::create);
 }
 
 namespace {
