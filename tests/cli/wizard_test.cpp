@@ -49,7 +49,8 @@ std::string lines(const std::vector<std::string>& answers) {
 
 TEST_CASE("gaitlab new --defaults writes a project that runs and moves", "[cli][wizard]") {
     TempDir dir("wizard_defaults");
-    const Output r = run_gaitlab({"new", "--defaults", "proj"}, dir.str());
+    // without DIR: a folder named after the robot
+    const Output r = run_gaitlab({"new", "--defaults"}, dir.str());
     INFO(r.out << r.err);
     REQUIRE(r.status == 0);
     CHECK(r.err.empty());
@@ -57,29 +58,30 @@ TEST_CASE("gaitlab new --defaults writes a project that runs and moves", "[cli][
     CHECK(r.out.find("[") == std::string::npos);
     for (const char* f : {"robot.xml", "actuation.xml", "environment.xml", "simulation.xml",
                           "run.lua"}) {
-        CHECK(fs::is_regular_file(dir.path / "proj" / f));
-        CHECK_THAT(r.out, Catch::Contains(std::string("proj/") + f));
+        CHECK(fs::is_regular_file(dir.path / "snake" / f));
+        CHECK_THAT(r.out, Catch::Contains(std::string("snake/") + f));
     }
     CHECK(moved(r.out, "snake") > 0.05);
-    CHECK_THAT(r.out, Catch::Contains("The recording is in proj/runs/snake-"));
-    CHECK(entries(dir.path / "proj" / "runs").size() == 1);
-    const gaitlab::RobotSpec robot = gaitlab::read_robot(dir / "proj/robot.xml");
+    CHECK_THAT(r.out, Catch::Contains("The recording is in snake/runs/snake-"));
+    CHECK(entries(dir.path / "snake" / "runs").size() == 1);
+    const gaitlab::RobotSpec robot = gaitlab::read_robot(dir / "snake/robot.xml");
     CHECK(robot.name == "snake");
     CHECK(robot.joints.size() == 8);
-    CHECK(gaitlab::read_simulation(dir / "proj/simulation.xml").duration == 10);
+    CHECK(gaitlab::read_simulation(dir / "snake/simulation.xml").duration == 10);
 
     // the same files with gaitlab run: the simulation file and run.lua, the same distance
-    const Output xml = run_gaitlab({"run", "--no-record", "proj/simulation.xml"}, dir.str());
+    const Output xml = run_gaitlab({"run", "--no-record", "snake/simulation.xml"}, dir.str());
     CHECK(xml.status == 0);
     CHECK(moved(xml.out, "snake") == moved(r.out, "snake"));
-    const Output lua = run_gaitlab({"run", "--no-record", "proj/run.lua"}, dir.str());
+    const Output lua = run_gaitlab({"run", "--no-record", "snake/run.lua"}, dir.str());
     CHECK(lua.status == 0);
     CHECK(moved(lua.out, "snake") == moved(r.out, "snake"));
 
-    // without DIR: a folder named after the robot, then snake-2 when that is taken
-    CHECK(run_gaitlab({"new", "--defaults"}, dir.str()).status == 0);
-    CHECK(run_gaitlab({"new", "--defaults"}, dir.str()).status == 0);
-    CHECK(entries(dir.path) == std::vector<std::string>{"proj", "snake", "snake-2"});
+    // snake is taken now: snake-2 (a 1 s run, not recorded)
+    const Output again = run_gaitlab({"new"}, dir.str(),
+                                     std::string(11, '\n') + "1\n\n\nno\n");
+    CHECK(again.status == 0);
+    CHECK(entries(dir.path) == std::vector<std::string>{"snake", "snake-2"});
 }
 
 TEST_CASE("pressing Enter at every question gives the defaults", "[cli][wizard]") {
