@@ -97,13 +97,17 @@ MakeCommand::MakeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
 
     a.robot = a.make->add_subcommand("robot", "A robot file: a chain of modules with sensors");
     output(a.robot);
-    a.robot->add_option("--name", a.name, "The robot's name")->capture_default_str();
+    a.robot->add_option("--name", a.name, "The robot's name")
+        ->type_name("NAME")
+        ->capture_default_str();
     a.robot->add_option("--modules", a.modules, "Number of modules, 1 to 1000")
         ->type_name("N")
         ->capture_default_str();
     a.robot->add_option("--connection", a.connection, "pitch-pitch, pitch-yaw or yaw-yaw")
+        ->type_name("C")
         ->capture_default_str();
     a.robot->add_option("--module", a.module, "Module type: y1 or cube (docs/modules.md)")
+        ->type_name("M")
         ->capture_default_str();
     a.robot->add_option("--sensor", a.sensors,
                         "A sensor, KIND or KIND:N (joint, imu, contact, range, position; N the "
@@ -129,14 +133,17 @@ MakeCommand::MakeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     a.world->add_option("--preset", a.preset,
                         "flat, slippery, sticky, ramp, stairs, pipe, rubble, hills "
                         "(docs/worlds.md)")
+        ->type_name("NAME")
         ->capture_default_str();
-    a.world->add_option("--friction", a.friction, "Friction of the floor and objects, 0 to 1");
+    a.world->add_option("--friction", a.friction, "Friction of the floor and objects, 0 to 1")
+        ->type_name("F");
     a.world->add_option("--param", a.params, "Another parameter of the preset (slope=15)")
         ->type_name("NAME=VALUE");
     auto* place_robot = a.world->add_option(
         "--robot", a.robot_file, "The robot file whose robot goes to the world's start");
     place_robot->type_name("FILE");
     a.world->add_option("--place", a.place, "The name of the robot that goes to the start")
+        ->type_name("NAME")
         ->excludes(place_robot);
 
     a.sim = a.make->add_subcommand("sim", "A simulation file naming a robot, actuation and world");
@@ -148,10 +155,12 @@ MakeCommand::MakeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     a.sim->add_option("--world", a.world_file, "The environment file")
         ->required()
         ->type_name("FILE");
-    a.sim->add_option("--name", a.sim_name, "The simulation's name (default: FILE's name)");
+    a.sim->add_option("--name", a.sim_name, "The simulation's name (default: FILE's name)")
+        ->type_name("NAME");
     a.sim->add_option("--duration", a.duration, "Simulated time `gaitlab run` runs, s")
+        ->type_name("S")
         ->capture_default_str();
-    a.sim->add_option("--dt", a.dt, "Physics step, s")->capture_default_str();
+    a.sim->add_option("--dt", a.dt, "Physics step, s")->type_name("S")->capture_default_str();
     a.sim->add_option("--control-every", a.control_every,
                       "Physics steps between controller steps")
         ->type_name("N")

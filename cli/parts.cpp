@@ -602,14 +602,22 @@ void PartMaker::check_groups(const RobotChoice& robot, const std::vector<GroupCh
 }
 
 void PartMaker::check_new_controller(const NewController& c) {
-    if (!is_identifier(c.name) || is_keyword(c.name)) {
+    if (is_keyword(c.name)) {
+        throw Error(fmt::format("'{}' is a word Lua keeps for itself: choose another name",
+                                c.name));
+    }
+    if (!is_identifier(c.name)) {
         throw Error(fmt::format("'{}' cannot name a controller: letters, digits and _, not "
                                 "starting with a digit (e.g. my_gait)",
                                 c.name));
     }
     std::set<std::string> seen;
     const auto check_name = [&](const std::string& n, const char* what) {
-        if (!is_identifier(n) || is_keyword(n)) {
+        if (is_keyword(n)) {
+            throw Error(fmt::format("'{}' is a word Lua keeps for itself: choose another name",
+                                    n));
+        }
+        if (!is_identifier(n)) {
             throw Error(fmt::format("'{}' cannot name a {}: letters, digits and _, not starting "
                                     "with a digit (e.g. amplitude)",
                                     n, what));
@@ -618,8 +626,16 @@ void PartMaker::check_new_controller(const NewController& c) {
             throw Error(fmt::format("'{}' is already a parameter or value of the controller", n));
         }
     };
-    for (const NewParam& p : c.params)
+    for (const NewParam& p : c.params) {
         check_name(p.name, "parameter");
+        // the unit goes into the file, in a string and a comment: one line of visible text
+        if (std::any_of(p.unit.begin(), p.unit.end(), [](char ch) {
+                return static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f;
+            })) {
+            throw Error(fmt::format("the unit of '{}' has a control character: type plain text",
+                                    p.name));
+        }
+    }
     for (const std::string& v : c.values)
         check_name(v, "value");
     eval("P.new_controller(" + lua_new_controller(c) + ")", 0);
@@ -724,14 +740,14 @@ void PartMaker::write_new_controller(const NewController& c, const std::string& 
         clock += "_";
 
     std::string text = fmt::format(
-        "-- {0}: a controller made by `gaitlab new`. Write your gait in step() below; a\n"
-        "-- simulation that is running picks up the file again when you save it\n"
+        "-- {1}: the controller {0}, made by `gaitlab new`. Write your gait in step()\n"
+        "-- below; a simulation that is running picks up the file again when you save it\n"
         "-- (docs/lua-controllers.md).\n"
         "return gaitlab.controller{{\n"
         "  name = \"{0}\",\n"
-        "  params = {{                                          -- {{ initial value, min =, "
-        "max =, unit = }}\n",
-        c.name);
+        "  params = {{                                 -- {{ initial value, min =, max =, unit "
+        "= }}\n",
+        c.name, fs::path(path).filename().string());
     std::string param_names, value_names;
     for (const NewParam& p : c.params) {
         text += fmt::format("    {} = {{ {}, min = {}, max = {}, unit = {} }},\n", p.name,
@@ -740,21 +756,21 @@ void PartMaker::write_new_controller(const NewController& c, const std::string& 
         param_names += fmt::format("{}self.{}{}", param_names.empty() ? "" : ", ", p.name,
                                    p.unit.empty() ? "" : " (" + p.unit + ")");
     }
-    text += "  },\n  values = { ";
+    std::string values;
     for (const std::string& v : c.values) {
-        text += "\"" + v + "\", ";
+        values += fmt::format("{}\"{}\"", values.empty() ? "" : ", ", v);
         value_names += fmt::format("{}self.{}[m]", value_names.empty() ? "" : ", ", v);
     }
-    text += "},                     -- per joint: recorded and plottable\n";
+    text += fmt::format("  }},\n  values = {{ {} }},  -- per joint: recorded and plottable\n",
+                        values);
     text += fmt::format(
-        "  step = function(self, dt)                           -- runs every control tick, dt "
-        "seconds apart\n"
+        "  step = function(self, dt)                  -- every control tick, dt seconds apart\n"
         "    -- Your parameters: {0}.\n"
         "    -- Your per-joint values: {1}.\n"
         "    -- Replace the lines below with your gait. As written they send a sine wave (40 deg,\n"
         "    -- 0.5 Hz, 120 deg between neighbours) along the group, so the robot moves already.\n"
-        "    self.{2} = (self.{2} or 0) + dt                 -- seconds since the start\n"
-        "    for m = 1, self.joints do                         -- joint 1 is nearest the tail\n"
+        "    self.{2} = (self.{2} or 0) + dt  -- seconds since the start\n"
+        "    for m = 1, self.joints do            -- joint 1 is nearest the tail\n"
         "      local angle = 40 * math.sin(2 * math.pi * 0.5 * self.{2} + (m - 1) * "
         "math.rad(120))\n",
         param_names.empty() ? "none" : param_names, value_names.empty() ? "none" : value_names,
@@ -764,7 +780,7 @@ void PartMaker::write_new_controller(const NewController& c, const std::string& 
         if (v == "angle") text += "      self.angle[m] = angle\n";
     }
     text +=
-        "      self:set_angle(m, angle)                        -- where joint m should go, deg\n"
+        "      self:set_angle(m, angle)           -- where joint m should go, deg\n"
         "    end\n"
         "  end,\n"
         "}\n";

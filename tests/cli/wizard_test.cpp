@@ -258,3 +258,50 @@ TEST_CASE("a project folder that exists and is not empty is refused", "[cli][wiz
     CHECK(fs::is_regular_file(dir.path / "empty/simulation.xml"));
     CHECK(entries(dir.path) == std::vector<std::string>{"empty", "file", "taken"});
 }
+
+TEST_CASE("garbage answers about a new controller are explained and asked again",
+          "[cli][wizard]") {
+    TempDir dir("wizard_garbage_new");
+    const std::string answers = lines({
+        std::string(300, 'x'), "bob",  // robot name
+        "3",                         // modules
+        "", "",                      // pitch-pitch, no sensors
+        "new",
+        "2fast", "end", "gait",      // controller name
+        "-1", "99", "1",             // how many parameters
+        "joints", "amp",             // parameter name ('joints' is reserved)
+        "big", "30",                 // initial value
+        "5", "50 60", "0 60",        // range
+        "",                          // unit: deg
+        "time time", "time",         // per-joint values
+        "1 x", "1 2",                // joints
+        "", "", "", "1", "", "", "no",
+    });
+    const Output r = run_gaitlab({"new", "b"}, dir.str(), answers);
+    INFO(r.out << r.err);
+    REQUIRE(r.status == 0);
+    for (const char* line : {
+             "  ! '2fast' cannot name a controller: letters, digits and _, not starting with a "
+             "digit (e.g. my_gait)\n",
+             "  ! 'end' is a word Lua keeps for itself: choose another name\n",
+             "  ! '-1': a whole number from 0 to 20 expected\n",
+             "  ! 'big': a number expected\n",
+             "  ! two numbers expected: MIN MAX\n",
+             "  ! 'time' is already a parameter or value of the controller\n",
+             "  ! 'x' is not a joint",
+         }) {
+        CHECK_THAT(r.out, Catch::Contains(line));
+    }
+    size_t count = 0;
+    for (size_t at = r.out.find("  ! "); at != std::string::npos; at = r.out.find("  ! ", at + 1))
+        ++count;
+    CHECK(count == 11);
+    CHECK(gaitlab::read_robot(dir / "b/robot.xml").name == "bob");
+    const gaitlab::ActuationSpec act = gaitlab::read_actuation(dir / "b/actuation.xml");
+    REQUIRE(act.groups.size() == 1);
+    CHECK(act.groups[0].joints == std::vector<int>{0, 1});
+    CHECK(act.groups[0].controller.name == "controllers/gait.lua");
+    CHECK_THAT(read_text(dir / "b/controllers/gait.lua"),
+               Catch::Contains("amp = { 30, min = 0, max = 60, unit = \"deg\" },"));
+    CHECK(moved(r.out, "bob") >= 0);
+}
