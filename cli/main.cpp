@@ -40,6 +40,8 @@
 #include "gaitlab/scripting/replay.h"
 #include "gaitlab/suggest.h"
 #include "gaitlab/version.h"
+#include "make.h"
+#include "wizard.h"
 
 namespace {
 
@@ -737,6 +739,9 @@ int main(int argc, char** argv) {
         "the viewer\nor reloads from disk at their ticks. Exit status 0: identical. It runs "
         "the run's script:\nreplay only runs you trust.");
 
+    gaitlab::cli::NewCommand new_command(app);
+    gaitlab::cli::MakeCommand make_command(app);
+
     std::vector<const char*> args{argv[0]};
     for (const std::string& a : argl)
         args.push_back(a.c_str());
@@ -784,6 +789,10 @@ int main(int argc, char** argv) {
     try {
         if (*data) {
             status = data_command(da);
+        } else if (new_command.chosen()) {
+            status = new_command.run();
+        } else if (make_command.chosen()) {
+            status = make_command.run();
         } else if (*replay) {
             catch_signals();
             status = replay_command(replay_dir, replay_into);

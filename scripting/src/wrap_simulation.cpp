@@ -1,5 +1,6 @@
 // gaitlab.simulation: compile a world, step it, read its time, record it.
 #include <cmath>
+#include <filesystem>
 #include <new>
 
 #include <fmt/format.h>
@@ -243,7 +244,11 @@ int simulation_save(lua_State* L) {
 // record = { enabled, dir, every, flush_seconds } }; or nil and a message
 int simulation_load(lua_State* L) {
     return protect(L, [&] {
-        const std::string path = script_path(L, check_string(L, 1));
+        // absolute: the parts are resolved against it, and a path relative to a script in a
+        // relative folder ("proj/run.lua") would be resolved against that folder twice
+        const std::string path = std::filesystem::absolute(script_path(L, check_string(L, 1)))
+                                     .lexically_normal()
+                                     .string();
         LoadedSimulation loaded;
         try {
             loaded = load_simulation(L, path);

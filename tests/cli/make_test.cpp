@@ -1,0 +1,194 @@
+// `gaitlab make robot|world|actuation|sim` (cli/make.cpp, through cli/parts.cpp): each kind of
+// file, read back by the engine's readers; a made simulation that runs; bad options, each with
+// one clear line and no file written.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "gaitlab/xml.h"
+#include "run_gaitlab.h"
+
+using gaitlab::test::Output;
+using gaitlab::test::run_gaitlab;
+using gaitlab::test::TempDir;
+
+namespace {
+
+Output make(std::vector<std::string> args, const TempDir& dir) {
+    args.insert(args.begin(), "make");
+    return run_gaitlab(args, dir.str());
+}
+
+// a failure: status 1 or 2, nothing on stdout, exactly `line` on stderr, no file `out`
+void check_failure(const Output& r, const std::string& line) {
+    INFO("stdout: " << r.out);
+    CHECK((r.status == 1 || r.status == 2));
+    CHECK(r.out.empty());
+    CHECK(r.err == line + "\n");
+}
+
+double param(const gaitlab::ControllerRef& c, const std::string& name) {
+    for (const auto& [n, v] : c.params)
+        if (n == name) return v;
+    return -1e9;
+}
+
+}  // namespace
+
+TEST_CASE("make builds each part, and the parts run together", "[cli][make]") {
+    TempDir dir("make_parts");
+    Output r = make({"robot", "--modules", "8", "--connection", "pitch-yaw", "--sensor", "imu",
+                     "--sensor", "contact:2", "-o", "snake.xml"},
+                    dir);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.empty());
+    CHECK(r.out == "wrote snake.xml (robot 'robot': 8 modules, pitch-yaw)\n");
+    const gaitlab::RobotSpec robot = gaitlab::read_robot(dir / "snake.xml");
+    CHECK(robot.name == "robot");
+    CHECK(robot.joints.size() == 8);
+    REQUIRE(robot.sensors.size() == 2);
+    CHECK(robot.sensors[0].name == "imu8");
+    CHECK(robot.sensors[1].name == "contact2");
+
+    r = make({"actuation", "--robot", "snake.xml", "--group", "pitch=sine:amplitude=40:phase=-120",
+              "--group", "yaw=offset", "-o", "parts/act.xml"},
+             dir);
+    REQUIRE(r.status == 0);
+    CHECK(r.out == "wrote parts/act.xml (2 groups)\n");
+    const gaitlab::ActuationSpec act = gaitlab::read_actuation(dir / "parts/act.xml");
+    REQUIRE(act.groups.size() == 2);
+    CHECK(act.groups[0].role == "pitch");
+    CHECK(act.groups[0].controller.name == "sine");
+    CHECK(param(act.groups[0].controller, "amplitude") == 40);
+    CHECK(param(act.groups[0].controller, "phase") == -120);
+    CHECK(act.groups[1].role == "yaw");
+    CHECK(act.groups[1].controller.name == "offset");
+
+    r = make({"world", "--preset", "ramp", "--friction", "0.6", "--param", "slope=12", "-o",
+              "ramp.xml"},
+             dir);
+    REQUIRE(r.status == 0);
+    const gaitlab::EnvironmentSpec env = gaitlab::read_environment(dir / "ramp.xml");
+    CHECK(env.world.floor.friction == 0.6);
+    // the ramp's start: the robot on the slope, for the robot named "robot" by default
+    REQUIRE(env.placements.size() == 1);
+    CHECK(env.placements[0].robot == "robot");
+    CHECK(env.placements[0].pose.position.x == Approx(0.1));
+
+    r = make({"sim", "--robot", "snake.xml", "--actuation", "parts/act.xml", "--world",
+              "ramp.xml", "--duration", "2", "--control-every", "20", "-o", "sim.xml"},
+             dir);
+    REQUIRE(r.status == 0);
+    CHECK(r.out == "wrote sim.xml (run it: gaitlab run sim.xml)\n");
+    const gaitlab::SimulationFile sim = gaitlab::read_simulation(dir / "sim.xml");
+    CHECK(sim.name == "sim");
+    CHECK(sim.duration == 2);
+    CHECK(sim.options.control_every == 20);
+    CHECK(sim.environment == "ramp.xml");
+    REQUIRE(sim.robots.size() == 1);
+    CHECK(sim.robots[0].actuation == "parts/act.xml");
+
+    const Output run = run_gaitlab({"run", "--no-record", "sim.xml"}, dir.str());
+    CHECK(run.status == 0);
+    CHECK_THAT(run.out, Catch::Matches(R"(robot: moved 0\.[0-9]+ m \(x -?[0-9.]+, y -?[0-9.]+\) in 2 s\n)"));
+}
+
+TEST_CASE("one robot file serves worlds made for its name and a flat world for any", "[cli][make]") {
+    TempDir dir("make_reuse");
+    REQUIRE(make({"robot", "--name", "worm", "--modules", "6", "-o", "worm.xml"}, dir).status == 0);
+    REQUIRE(make({"actuation", "--robot", "worm.xml", "--group", "all=sine:phase=-120", "-o",
+                  "a.xml"},
+                 dir)
+                .status == 0);
+    // a flat world has its start at the origin: it names no robot
+    REQUIRE(make({"world", "-o", "flat.xml"}, dir).status == 0);
+    CHECK(gaitlab::read_environment(dir / "flat.xml").placements.empty());
+    REQUIRE(make({"world", "--preset", "stairs", "--robot", "worm.xml", "-o", "stairs.xml"}, dir)
+                .status == 0);
+    CHECK(gaitlab::read_environment(dir / "stairs.xml").placements.at(0).robot == "worm");
+    for (const char* world : {"flat.xml", "stairs.xml"}) {
+        INFO(world);
+        REQUIRE(make({"sim", "--robot", "worm.xml", "--actuation", "a.xml", "--world", world,
+                      "--duration", "1", "--no-record", "-o", "s.xml"},
+                     dir)
+                    .status == 0);
+        CHECK(gaitlab::read_simulation(dir / "s.xml").record.enabled == false);
+        const Output run = run_gaitlab({"run", "s.xml"}, dir.str());
+        CHECK(run.status == 0);
+        CHECK_THAT(run.out, Catch::StartsWith("worm: moved "));
+    }
+    // a ramp made for the default name does not fit a robot called worm: said before writing
+    REQUIRE(make({"world", "--preset", "ramp", "-o", "ramp.xml"}, dir).status == 0);
+    const Output bad = make({"sim", "--robot", "worm.xml", "--world", "ramp.xml", "-o", "r.xml"}, dir);
+    check_failure(bad, "gaitlab: gaitlab make sim: " + dir.str() +
+                           "/ramp.xml:7: robot 'robot' is placed but the simulation has no robot "
+                           "of that name");
+    CHECK(!std::filesystem::exists(dir / "r.xml"));
+    // nothing left beside the files asked for
+    for (const auto& e : std::filesystem::directory_iterator(dir.path))
+        CHECK(e.path().filename().string()[0] != '.');
+}
+
+TEST_CASE("make rejects bad options with one clear line and writes nothing", "[cli][make]") {
+    TempDir dir("make_bad");
+    REQUIRE(make({"robot", "-o", "r.xml"}, dir).status == 0);
+    check_failure(make({"world", "--preset", "moon", "-o", "w.xml"}, dir),
+                  "gaitlab: gaitlab make world: unknown world 'moon' (worlds: flat, hills, pipe, "
+                  "ramp, rubble, slippery, stairs, sticky)");
+    check_failure(make({"world", "--preset", "rmap", "-o", "w.xml"}, dir),
+                  "gaitlab: gaitlab make world: unknown world 'rmap'; did you mean 'ramp'? "
+                  "(worlds: flat, hills, pipe, ramp, rubble, slippery, stairs, sticky)");
+    check_failure(make({"world", "--friction", "3", "-o", "w.xml"}, dir),
+                  "gaitlab: gaitlab make world: friction must be in [0, 1] (got 3)");
+    check_failure(make({"world", "--param", "slope", "-o", "w.xml"}, dir),
+                  "gaitlab: gaitlab make world: 'slope': NAME=VALUE expected, the value a number "
+                  "(e.g. amplitude=30)");
+    check_failure(make({"actuation", "--robot", "r.xml", "--group", "pitch", "-o", "a.xml"}, dir),
+                  "gaitlab: gaitlab make actuation: group 'pitch': "
+                  "JOINTS=CONTROLLER[:PARAM=VALUE...] expected, e.g. "
+                  "pitch=sine:amplitude=40:phase=-120");
+    check_failure(make({"actuation", "--robot", "r.xml", "--group", "head=sine", "-o", "a.xml"},
+                       dir),
+                  "gaitlab: gaitlab make actuation: group 'head=sine': 'head' is not a joint: say "
+                  "pitch, yaw, all, or joint numbers from 1 like 1 3 5");
+    check_failure(make({"actuation", "--robot", "r.xml", "--group", "pitch=sinus", "-o", "a.xml"},
+                       dir),
+                  "gaitlab: gaitlab make actuation: unknown controller 'sinus'; did you mean "
+                  "'sine'? (built-in controllers: distributed, hindmarsh_rose, hopf, matsuoka, "
+                  "offset, phase_chain, sine; a template is template/NAME, a Lua controller file "
+                  "PATH.lua)");
+    check_failure(make({"actuation", "--robot", "r.xml", "--group", "pitch=sine:amplitude=120",
+                        "-o", "a.xml"},
+                       dir),
+                  "gaitlab: gaitlab make actuation: sine.amplitude must be in [0, 90] deg (got "
+                  "120)");
+    check_failure(make({"actuation", "--robot", "nothere.xml", "--group", "pitch=sine", "-o",
+                        "a.xml"},
+                       dir),
+                  "gaitlab: gaitlab make actuation: --robot nothere.xml: no such file");
+    check_failure(make({"sim", "--robot", "r.xml", "--world", "none.xml", "-o", "s.xml"}, dir),
+                  "gaitlab: gaitlab make sim: --world none.xml: no such file");
+    check_failure(make({"robot", "--modules", "many", "-o", "x.xml"}, dir),
+                  "gaitlab: gaitlab make robot: --modules: a whole number expected (got 'many')");
+    check_failure(make({"robot", "--modules", "0", "-o", "x.xml"}, dir),
+                  "gaitlab: gaitlab make robot: modules must be at least 1 (got 0)");
+    check_failure(make({"robot", "--sensor", "laser", "-o", "x.xml"}, dir),
+                  "gaitlab: gaitlab make robot: unknown sensor kind 'laser' (kinds: joint, imu, "
+                  "contact, range, position)");
+    check_failure(make({"robot", "--modles", "3", "-o", "x.xml"}, dir),
+                  "gaitlab: unknown option '--modles' for 'gaitlab make robot'; did you mean "
+                  "'--modules'? (see 'gaitlab make robot --help')");
+    check_failure(make({"sim", "--robot", "r.xml", "--world", "r.xml", "--dt", "1", "-o",
+                        "s.xml"},
+                       dir),
+                  "gaitlab: gaitlab make sim: dt must be in [1e-06, 0.1] s (got 1)");
+    check_failure(make({}, dir),
+                  "gaitlab: say what to make: gaitlab make robot|world|actuation|sim ... -o FILE "
+                  "(see 'gaitlab make --help')");
+    std::vector<std::string> left;
+    for (const auto& e : std::filesystem::directory_iterator(dir.path))
+        left.push_back(e.path().filename().string());
+    CHECK(left == std::vector<std::string>{"r.xml"});
+}

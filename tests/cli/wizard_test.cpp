@@ -1,0 +1,307 @@
+// `gaitlab new` (cli/wizard.cpp) with answers piped on stdin: the defaults, a new controller
+// typed in, garbage at every kind of question, the end of input half-way, a folder that is
+// taken. Outcomes are checked: the files load and run with `gaitlab run`, the robot moved, the
+// controller has the parameters typed, and an interrupted wizard left nothing.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "gaitlab/xml.h"
+#include "run_gaitlab.h"
+
+using gaitlab::test::Output;
+using gaitlab::test::read_text;
+using gaitlab::test::run_gaitlab;
+using gaitlab::test::TempDir;
+using gaitlab::test::write_text;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// the distance in "NAME: moved D m ..." (-1 if absent)
+double moved(const std::string& out, const std::string& robot) {
+    std::smatch m;
+    const std::regex re(robot + R"(: moved ([0-9.]+) m)");
+    return std::regex_search(out, m, re) ? std::stod(m[1]) : -1;
+}
+
+std::vector<std::string> entries(const fs::path& dir) {
+    std::vector<std::string> out;
+    for (const auto& e : fs::directory_iterator(dir))
+        out.push_back(e.path().filename().string());
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// the answers, one a line
+std::string lines(const std::vector<std::string>& answers) {
+    std::string out;
+    for (const std::string& a : answers)
+        out += a + "\n";
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("gaitlab new --defaults writes a project that runs and moves", "[cli][wizard]") {
+    TempDir dir("wizard_defaults");
+    // without DIR: a folder named after the robot
+    const Output r = run_gaitlab({"new", "--defaults"}, dir.str());
+    INFO(r.out << r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.empty());
+    // no questions, the files listed, the run's result and where it was recorded
+    CHECK(r.out.find("[") == std::string::npos);
+    for (const char* f : {"robot.xml", "actuation.xml", "environment.xml", "simulation.xml",
+                          "run.lua"}) {
+        CHECK(fs::is_regular_file(dir.path / "snake" / f));
+        CHECK_THAT(r.out, Catch::Contains(std::string("snake/") + f));
+    }
+    CHECK(moved(r.out, "snake") > 0.05);
+    CHECK_THAT(r.out, Catch::Contains("The recording is in snake/runs/snake-"));
+    CHECK(entries(dir.path / "snake" / "runs").size() == 1);
+    const gaitlab::RobotSpec robot = gaitlab::read_robot(dir / "snake/robot.xml");
+    CHECK(robot.name == "snake");
+    CHECK(robot.joints.size() == 8);
+    CHECK(gaitlab::read_simulation(dir / "snake/simulation.xml").duration == 10);
+
+    // the same files with gaitlab run: the simulation file and run.lua, the same distance
+    const Output xml = run_gaitlab({"run", "--no-record", "snake/simulation.xml"}, dir.str());
+    CHECK(xml.status == 0);
+    CHECK(moved(xml.out, "snake") == moved(r.out, "snake"));
+    const Output lua = run_gaitlab({"run", "--no-record", "snake/run.lua"}, dir.str());
+    CHECK(lua.status == 0);
+    CHECK(moved(lua.out, "snake") == moved(r.out, "snake"));
+
+    // snake is taken now: snake-2 (a 1 s run, not recorded)
+    const Output again = run_gaitlab({"new"}, dir.str(),
+                                     std::string(11, '\n') + "1\n\n\nno\n");
+    CHECK(again.status == 0);
+    CHECK(entries(dir.path) == std::vector<std::string>{"snake", "snake-2"});
+}
+
+TEST_CASE("pressing Enter at every question gives the defaults", "[cli][wizard]") {
+    TempDir dir("wizard_enter");
+    const Output r = run_gaitlab({"new", "p", "--record-not-an-option"}, dir.str(), "");
+    CHECK(r.status == 2);  // (strict options: checked before any question)
+    const Output e = run_gaitlab({"new", "p"}, dir.str(), std::string(15, '\n'));
+    INFO(e.out << e.err);
+    REQUIRE(e.status == 0);
+    CHECK_THAT(e.out, Catch::Contains("Robot name [snake]: "));
+    CHECK_THAT(e.out, Catch::Contains("Number of modules [8]: "));
+    CHECK(moved(e.out, "snake") > 0.05);
+}
+
+TEST_CASE("a new controller with two parameters is written as typed and moves the robot",
+          "[cli][wizard]") {
+    TempDir dir("wizard_new_controller");
+    const std::string answers = lines({
+        "worm",       // robot name
+        "6",          // modules
+        "",           // pitch-pitch
+        "imu",        // sensors
+        "3",          // a new controller
+        "wave",       // its name
+        "2",          // two parameters
+        "amp",        "35", "0 60", "deg",  // name, initial value, range, unit
+        "freq",       "0.8", "0 3", "Hz",
+        "time angle",  // per-joint values
+        "",           // joints: all
+        "",           // no other controller
+        "",           // flat
+        "0.9",        // friction
+        "4",          // seconds
+        "",           // dt
+        "",           // control_every
+        "no",         // no recording
+    });
+    const Output r = run_gaitlab({"new", "w"}, dir.str(), answers);
+    INFO(r.out << r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.out.find("  ! ") == std::string::npos);
+    CHECK(moved(r.out, "worm") > 0.02);
+    CHECK(!fs::exists(dir.path / "w" / "runs"));
+    CHECK_THAT(r.out, Catch::Contains("w/controllers/wave.lua"));
+
+    // the controller as a Lua script sees it: its parameters as typed
+    write_text(dir / "check.lua", R"(
+local class = gaitlab.controller.load(arg[1])
+local ctl = class{}
+local names = {}
+for name, p in pairs(ctl:params()) do names[#names + 1] = name end
+table.sort(names)
+for _, name in ipairs(names) do
+  local p = ctl:params()[name]
+  print(name, p.value, p.min, p.max, p.unit)
+end
+print(class.name, ctl:values().time ~= nil, ctl:values().angle ~= nil)
+)");
+    const Output c = run_gaitlab({"run", "--no-record", "check.lua", "w/controllers/wave.lua"},
+                                 dir.str());
+    INFO(c.err);
+    CHECK(c.out == "amp\t35.0\t0.0\t60.0\tdeg\nfreq\t0.8\t0.0\t3.0\tHz\nwave\ttrue\ttrue\n");
+
+    // the actuation drives all joints with that file; the robot carries the imu
+    const gaitlab::ActuationSpec act = gaitlab::read_actuation(dir / "w/actuation.xml");
+    REQUIRE(act.groups.size() == 1);
+    CHECK(act.groups[0].role == "pitch");  // all the joints of a pitch-pitch chain
+    CHECK(act.groups[0].controller.name == "controllers/wave.lua");
+    CHECK(gaitlab::read_robot(dir / "w/robot.xml").sensors.at(0).name == "imu6");
+    CHECK(gaitlab::read_environment(dir / "w/environment.xml").world.floor.friction == 0.9);
+    const Output run = run_gaitlab({"run", "--no-record", "w/simulation.xml"}, dir.str());
+    CHECK(moved(run.out, "worm") == moved(r.out, "worm"));
+}
+
+TEST_CASE("garbage answers are explained and asked again", "[cli][wizard]") {
+    TempDir dir("wizard_garbage");
+    const std::string answers = lines({
+        "",                       // name: snake
+        "many", "0", "5",         // modules
+        "pitch-roll", "9", "2",   // connection: pitch-yaw
+        "laser imu:0", "imu:9", "imu:3 position",  // sensors
+        "4", "built-in",          // kind of controller
+        "sinus", "sine",          // built-in
+        "amplitude=200", "amplitud=3", "amplitude", "amplitude=30 phase=-120",
+        "head", "9", "",          // joints: pitch
+        "maybe", "yes",           // another controller
+        "2",                      // a template
+        "cpg", "cpg_chain",
+        "coupling=1000", "",
+        "yaw",                    // joints
+        "",                       // no more
+        "moon", "ramp",           // world
+        "2", "0.5",               // friction
+        "-1", "3",                // seconds
+        "0", "",                  // dt
+        "x", "",                  // control_every
+        "sure", "no",             // recording
+    });
+    const Output r = run_gaitlab({"new", "g"}, dir.str(), answers);
+    INFO(r.out << r.err);
+    REQUIRE(r.status == 0);
+    // one explanation per bad answer, in the engine's words where it has them
+    for (const char* line : {
+             "  ! 'many': a whole number from 1 to 1000 expected\n",
+             "  ! 'pitch-roll' is not one of the choices (pitch-pitch, pitch-yaw, yaw-yaw)\n",
+             "  ! '9': choose a number from 1 to 3, or a name\n",
+             "  ! unknown sensor kind 'laser' (kinds: joint, imu, contact, range, position)\n",
+             "  ! '4': choose a number from 1 to 3, or a name\n",
+             "  ! 'sinus' is not one of the choices; did you mean 'sine'?",
+             "  ! sine.amplitude must be in [0, 90] deg (got 200)\n",
+             "  ! 'head' is not a joint: say pitch, yaw, all, or joint numbers from 1 like 1 3 5\n",
+             "  ! 'maybe': answer yes or no\n",
+             "  ! 'moon' is not one of the choices",
+             "  ! friction must be in [0, 1] (got 2)\n",
+             "  ! 'x': a whole number from 1 to 1000000 expected\n",
+             "  ! 'sure': answer yes or no\n",
+         }) {
+        CHECK_THAT(r.out, Catch::Contains(line));
+    }
+    // 22 bad answers, 22 explanations
+    size_t count = 0;
+    for (size_t at = r.out.find("  ! "); at != std::string::npos; at = r.out.find("  ! ", at + 1))
+        ++count;
+    CHECK(count == 22);
+    // what was finally answered
+    const gaitlab::RobotSpec robot = gaitlab::read_robot(dir / "g/robot.xml");
+    CHECK(robot.joints.size() == 5);
+    CHECK(robot.sensors.size() == 2);
+    const gaitlab::ActuationSpec act = gaitlab::read_actuation(dir / "g/actuation.xml");
+    REQUIRE(act.groups.size() == 2);
+    CHECK(act.groups[0].role == "pitch");
+    CHECK(act.groups[1].role == "yaw");
+    CHECK(act.groups[1].controller.name == "controllers/cpg_chain.lua");
+    CHECK(fs::is_regular_file(dir.path / "g/controllers/cpg_chain.lua"));
+    CHECK(gaitlab::read_simulation(dir / "g/simulation.xml").duration == 3);
+    CHECK(moved(r.out, "snake") >= 0);
+}
+
+TEST_CASE("the end of input half-way leaves nothing behind", "[cli][wizard]") {
+    TempDir dir("wizard_eof");
+    // after a few answers, and in the middle of a new controller's parameters
+    for (const std::string& answers :
+         {lines({"snake", "8"}), lines({"", "", "", "", "new", "gait", "2", "amp", "10"}),
+          lines(std::vector<std::string>(14, ""))}) {
+        INFO(answers);
+        const Output r = run_gaitlab({"new"}, dir.str(), answers);
+        CHECK(r.status == 1);
+        CHECK_THAT(r.err, Catch::StartsWith("gaitlab: end of input at '"));
+        CHECK_THAT(r.err, Catch::EndsWith("'; nothing was written\n"));
+        CHECK(entries(dir.path).empty());
+        const Output d = run_gaitlab({"new", "given"}, dir.str(), answers);
+        CHECK(d.status == 1);
+        CHECK(entries(dir.path).empty());
+    }
+}
+
+TEST_CASE("a project folder that exists and is not empty is refused", "[cli][wizard]") {
+    TempDir dir("wizard_taken");
+    fs::create_directories(dir.path / "taken");
+    write_text(dir / "taken/notes.txt", "mine");
+    write_text(dir / "file", "mine");
+    Output r = run_gaitlab({"new", "--defaults", "taken"}, dir.str());
+    CHECK(r.status == 1);
+    CHECK(r.out.empty());  // refused before any question
+    CHECK(r.err == "gaitlab: new: taken exists and is not empty: choose another folder\n");
+    CHECK(entries(dir.path / "taken") == std::vector<std::string>{"notes.txt"});
+    r = run_gaitlab({"new", "--defaults", "file"}, dir.str());
+    CHECK(r.err == "gaitlab: new: file exists and is not a folder: choose another folder\n");
+    CHECK(read_text(dir / "file") == "mine");
+    // an empty folder is fine
+    fs::create_directories(dir.path / "empty");
+    r = run_gaitlab({"new", "--defaults", "empty"}, dir.str());
+    CHECK(r.status == 0);
+    CHECK(fs::is_regular_file(dir.path / "empty/simulation.xml"));
+    CHECK(entries(dir.path) == std::vector<std::string>{"empty", "file", "taken"});
+}
+
+TEST_CASE("garbage answers about a new controller are explained and asked again",
+          "[cli][wizard]") {
+    TempDir dir("wizard_garbage_new");
+    const std::string answers = lines({
+        std::string(300, 'x'), "bob",  // robot name
+        "3",                         // modules
+        "", "",                      // pitch-pitch, no sensors
+        "new",
+        "2fast", "end", "gait",      // controller name
+        "-1", "99", "1",             // how many parameters
+        "joints", "amp",             // parameter name ('joints' is reserved)
+        "big", "30",                 // initial value
+        "5", "50 60", "0 60",        // range
+        "",                          // unit: deg
+        "time time", "time",         // per-joint values
+        "1 x", "1 2",                // joints
+        "", "", "", "1", "", "", "no",
+    });
+    const Output r = run_gaitlab({"new", "b"}, dir.str(), answers);
+    INFO(r.out << r.err);
+    REQUIRE(r.status == 0);
+    for (const char* line : {
+             "  ! '2fast' cannot name a controller: letters, digits and _, not starting with a "
+             "digit (e.g. my_gait)\n",
+             "  ! 'end' is a word Lua keeps for itself: choose another name\n",
+             "  ! '-1': a whole number from 0 to 20 expected\n",
+             "  ! 'big': a number expected\n",
+             "  ! two numbers expected: MIN MAX\n",
+             "  ! 'time' is already a parameter or value of the controller\n",
+             "  ! 'x' is not a joint",
+         }) {
+        CHECK_THAT(r.out, Catch::Contains(line));
+    }
+    size_t count = 0;
+    for (size_t at = r.out.find("  ! "); at != std::string::npos; at = r.out.find("  ! ", at + 1))
+        ++count;
+    CHECK(count == 11);
+    CHECK(gaitlab::read_robot(dir / "b/robot.xml").name == "bob");
+    const gaitlab::ActuationSpec act = gaitlab::read_actuation(dir / "b/actuation.xml");
+    REQUIRE(act.groups.size() == 1);
+    CHECK(act.groups[0].joints == std::vector<int>{0, 1});
+    CHECK(act.groups[0].controller.name == "controllers/gait.lua");
+    CHECK_THAT(read_text(dir / "b/controllers/gait.lua"),
+               Catch::Contains("amp = { 30, min = 0, max = 60, unit = \"deg\" },"));
+    CHECK(moved(r.out, "bob") >= 0);
+}
