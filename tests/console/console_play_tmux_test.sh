@@ -49,6 +49,10 @@ grep -Eq '^[0-9]+,[0-9.]+,console,param,sine.phase,90,' run1/events.csv ||
 awk -F, '$3 == "console" && $5 == "sine.phase" { found = 1; if (!($2 > 0)) exit 1 }
          END { exit !found }' run1/events.csv || fail "the change at t = 0: $(cat run1/events.csv)"
 grep -q '"status": *"finished"' run1/run.json || fail "run.json not finished: $(cat run1/run.json)"
+# the replay steps on after the script as the console did, the change applying at its tick
+"$gaitlab" replay run1 > replay1.txt 2>&1 || fail "replay of run1: $(cat replay1.txt)"
+grep -q 'replay identical: .* bit for bit; 1 recorded change applied' replay1.txt ||
+    fail "replay of run1: $(cat replay1.txt)"
 
 # --- pace: as fast as possible, slowed by a delay, paused; Ctrl-C at the prompt pauses
 start -i snake.lua --no-record
@@ -177,5 +181,9 @@ wait_for "^W +$((v0 + 1)) +7(\.0)? +true$" "the new parameter's default, the sim
 keys C-d
 wait_exit 0
 grep -Eq '^[0-9]+,[0-9.]+,file,reload,' run2/events.csv || fail "no reload event: $(cat run2/events.csv)"
+# the replay runs the saved version from the recorded tick
+"$gaitlab" replay run2 > replay2.txt 2>&1 || fail "replay of run2: $(cat replay2.txt)"
+grep -q 'replay identical: .* bit for bit; 1 recorded change applied' replay2.txt ||
+    fail "replay of run2: $(cat replay2.txt)"
 
 echo "console play tmux tests passed"
