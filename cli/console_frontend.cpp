@@ -1,6 +1,7 @@
 #include "console_frontend.h"
 
 #include <poll.h>
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <editline/readline.h>
@@ -75,9 +76,9 @@ extern "C" char** attempt_completion(const char* text, int start, int end) {
     (void)text;
     const size_t ws = static_cast<size_t>(start);
     size_t ours = before.size();
-    while (ours > 0 && (std::isalnum(static_cast<unsigned char>(before[ours - 1])) ||
-                        before[ours - 1] == '_' || before[ours - 1] == '.' ||
-                        before[ours - 1] == ':'))
+    while (ours > 0 &&
+           (std::isalnum(static_cast<unsigned char>(before[ours - 1])) || before[ours - 1] == '_' ||
+            before[ours - 1] == '.' || before[ours - 1] == ':'))
         --ours;
     std::vector<std::string> matches;
     for (const std::string& f : found) {
@@ -103,13 +104,42 @@ extern "C" char** attempt_completion(const char* text, int start, int end) {
     return out;
 }
 
+// columns `text` takes on the screen as libedit draws it: UTF-8 sequences one, control
+// characters two (^X), tabs to the next multiple of 8 from `column`
+size_t display_columns(std::string_view text, size_t column) {
+    size_t c = column;
+    for (const char ch : text) {
+        const auto u = static_cast<unsigned char>(ch);
+        if ((u & 0xC0) == 0x80) continue;  // a continuation byte
+        if (u == '\t') {
+            c += 8 - c % 8;
+        } else if (u < 0x20 || u == 0x7F) {
+            c += 2;
+        } else {
+            ++c;
+        }
+    }
+    return c - column;
+}
+
+// the terminal's width in columns (80 when it cannot be told)
+size_t terminal_columns() {
+    winsize ws{};
+    if (::ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0) return ws.ws_col;
+    int rows = 0;
+    int cols = 0;
+    rl_get_screen_size(&rows, &cols);
+    return cols > 0 ? static_cast<size_t>(cols) : 80;
+}
+
 }  // namespace
 
 std::string default_history_file() {
     const char* state = std::getenv("XDG_STATE_HOME");
     if (state && *state) return (fs::path(state) / "gaitlab" / "history").string();
     const char* home = std::getenv("HOME");
-    if (home && *home) return (fs::path(home) / ".local" / "state" / "gaitlab" / "history").string();
+    if (home && *home)
+        return (fs::path(home) / ".local" / "state" / "gaitlab" / "history").string();
     return "";
 }
 
@@ -247,6 +277,7 @@ LineInput::Line LineInput::read_plain() {
 LineInput::Line LineInput::read_terminal(const char* prompt) {
     g_handed = Handed{};
     g_prompt_interrupted = 0;
+    prompt_ = prompt;
     rl_callback_handler_install(prompt, on_line);
     prompting_ = true;
     for (;;) {
@@ -296,9 +327,21 @@ void LineInput::write(std::FILE* stream, const std::string& text) {
         std::fflush(stream);
         return;
     }
-    // clear the prompt's line, write above it, then draw the prompt and the typed text again
+    // clear the prompt and the typed text from the row where they start (a long line wraps onto
+    // several rows, and the cursor is on the row of its position in the text), write there,
+    // then draw the prompt and the typed text again below
+    const size_t point = rl_line_buffer ? std::min(static_cast<size_t>(std::max(rl_point, 0)),
+                                                   std::strlen(rl_line_buffer))
+                                        : 0;
+    const size_t before = display_columns(prompt_, 0);
+    const size_t at =
+        before +
+        display_columns(std::string_view(rl_line_buffer ? rl_line_buffer : "", point), before);
+    const size_t row = at / terminal_columns();
     std::fflush(stdout);
-    std::fputs("\r\033[K", stdout);
+    std::fputs("\r", stdout);
+    if (row > 0) std::fprintf(stdout, "\033[%zuA", row);
+    std::fputs("\033[J", stdout);
     std::fflush(stdout);
     std::fwrite(text.data(), 1, text.size(), stream);
     if (!text.empty() && text.back() != '\n') std::fputc('\n', stream);

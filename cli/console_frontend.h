@@ -70,6 +70,7 @@ class LineInput {
     std::string pending_;  // bytes read after the last line (plain input)
     bool eof_ = false;
     bool prompting_ = false;  // a libedit prompt is on the screen
+    std::string prompt_;      // the prompt on the screen
     double next_idle_ = 0;    // monotonic seconds when the idle hook is due
     bool history_ok_ = false;
 };

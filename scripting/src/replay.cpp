@@ -6,7 +6,9 @@
 #include <fmt/format.h>
 
 #include "gaitlab/files.h"
+#include "gaitlab/replay.h"
 #include "gaitlab/scripting/lua_host.h"
+#include "gaitlab/simulation.h"
 #include "hot_reload.h"
 #include "recording.h"
 
@@ -23,6 +25,41 @@ std::string read_config(const RunData& run, const std::string& path) {
     std::error_code ec;
     if (!fs::exists(file, ec)) throw Error(fmt::format("cannot replay: {} is missing", file));
     return read_file(file);
+}
+
+// whether the run was recorded by a console session (`gaitlab console`, `gaitlab -i`): after
+// its script, the typed commands (sim:play(), sim:run ...) stepped the simulation on
+bool from_console(const RunMeta& m) {
+    for (const auto& [key, value] : m.provenance) {
+        if (key == "command") return value.rfind("gaitlab console", 0) == 0;
+    }
+    return false;
+}
+
+// steps `sim` on as a console's commands did: to the tick of each recorded change that came from
+// elsewhere (a reset there starts the ticks again), then to tick `last`; a controller failure
+// on the way (the console paused, then a reload or a reset let it go on) steps on too. Returns
+// the error that stopped it ("" if it got there)
+std::string step_on(Simulation& sim, EventReplay& replay, const std::vector<Event>& events,
+                    long last) {
+    for (;;) {
+        replay.apply_due();
+        const size_t k = replay.matched();
+        long target = last;
+        if (k < events.size() && events[k].origin != Origin::script &&
+            events[k].tick > sim.ticks()) {
+            target = events[k].tick;
+        }
+        if (target <= sim.ticks() || !replay.divergence().empty()) return "";
+        const long before = sim.ticks();
+        try {
+            sim.step(target - before);
+        } catch (const ReplayEnd&) {
+            throw;
+        } catch (const std::exception& e) {
+            if (sim.ticks() == before) return e.what();
+        }
+    }
 }
 
 }  // namespace
@@ -142,6 +179,20 @@ ReplayResult replay(const std::string& run_dir, const std::string& into,
             }
         } catch (const std::exception& e) {
             error = e.what();
+        }
+        // what the console's commands did after the script: the run records the changes
+        // typed there as events, not how far each command stepped; the simulation goes on to
+        // the tick the run ended at, the changes applying at their ticks
+        if (error.empty() && plan->replay && !plan->replay->ended() && plan->sim &&
+            plan->recorder && !plan->recorder->closed() && from_console(m)) {
+            const long last = plan->stop_tick >= 0 ? plan->stop_tick : m.last_tick;
+            try {
+                error = step_on(*plan->sim, *plan->replay, plan->events, last);
+            } catch (const ReplayEnd&) {
+                // the run stopped there (interrupted): so does the replay
+            } catch (const std::exception& e) {
+                error = e.what();
+            }
         }
         if (plan->replay) {
             if (plan->replay->ended()) {
