@@ -515,6 +515,13 @@ class Wizard {
         new_[c.name] = def;
     }
 
+    // a preset's description up to its first ';' or ", " (what it is, not where the robot
+    // starts or the formula of its shape): one line of a menu
+    static std::string summary(const std::string& description) {
+        size_t end = std::min(description.find(';'), description.find(", "));
+        return description.substr(0, end);
+    }
+
     void ask_world() {
         const std::vector<PresetInfo> presets = maker_.presets();
         std::vector<std::string> names;
@@ -522,7 +529,7 @@ class Wizard {
         for (size_t i = 0; i < presets.size(); ++i) {
             names.push_back(presets[i].name);
             list += fmt::format("  {}) {:<9} {}\n", i + 1, presets[i].name,
-                                presets[i].description);
+                                summary(presets[i].description));
         }
         explain(in_, "\nThe world is the ground and what lies on it (docs/worlds.md):\n" + list);
         WorldChoice& w = p_.world;
