@@ -755,8 +755,10 @@ int main(int argc, char** argv) {
             return Stdout::finish(status);
         }
         // a failure is one line on stderr, like every other failure of gaitlab
+        // (status 2, a usage error, as for an unknown option; not CLI11's codes 101-127,
+        // which shells read as "not found", "killed"...)
         std::fprintf(stderr, "gaitlab: %s (see 'gaitlab --help')\n", e.what());
-        return e.get_exit_code();
+        return 2;
     }
     if (const std::string error = leftover_error(app); !error.empty()) {
         std::fprintf(stderr, "gaitlab: %s\n", error.c_str());

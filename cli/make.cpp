@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "gaitlab/suggest.h"
+#include "gaitlab/xml.h"
 #include "parts.h"
 
 namespace gaitlab::cli {
@@ -51,6 +52,38 @@ void need_file(const char* option, const std::string& path) {
     }
 }
 
+// `-o path` may replace a file only of the kind it writes (`kind`: robot, actuation,
+// environment, simulation), as when a part is made again; any other file would be lost, so it is
+// refused unless `force`; never one of the files read (`inputs`: option, path)
+void check_output(const std::string& path, const std::string& kind, bool force,
+                  const std::vector<std::pair<const char*, std::string>>& inputs) {
+    if (path.empty()) throw Error("-o: a file name expected");
+    std::error_code ec;
+    for (const auto& [option, input] : inputs) {
+        if (!input.empty() && fs::equivalent(path, input, ec)) {
+            throw Error(fmt::format("-o {} is the {} file, which would be lost: write to another "
+                                    "file",
+                                    path, option));
+        }
+    }
+    if (force || !fs::exists(path, ec) || !fs::is_regular_file(path, ec)) return;
+    try {
+        if (kind == "robot") {
+            read_robot(path);
+        } else if (kind == "actuation") {
+            read_actuation(path);
+        } else if (kind == "environment") {
+            read_environment(path);
+        } else {
+            read_simulation(path);
+        }
+    } catch (const std::exception&) {
+        throw Error(fmt::format("-o {} exists and is not {} {} file, so it would be lost: write "
+                                "to another file, or add --force to replace it",
+                                path, kind[0] == 'a' || kind[0] == 'e' ? "an" : "a", kind));
+    }
+}
+
 }  // namespace
 
 struct MakeCommand::Args {
@@ -70,6 +103,7 @@ struct MakeCommand::Args {
     std::string actuation_file, world_file, sim_name, duration = "10", dt = "0.001",
                                                       control_every = "30";
     bool no_record = false;
+    bool force = false;
 };
 
 MakeCommand::MakeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
@@ -93,6 +127,9 @@ MakeCommand::MakeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
         sub->add_option("-o,--output", a.out, "The file to write (its folder is created)")
             ->required()
             ->type_name("FILE");
+        sub->add_flag("--force", a.force,
+                      "Replace FILE even if it is not a file of this kind (a file of this kind "
+                      "is always replaced)");
     };
 
     a.robot = a.make->add_subcommand("robot", "A robot file: a chain of modules with sensors");
@@ -204,6 +241,14 @@ int MakeCommand::run() {
         return 2;
     }
     try {
+        const std::string kind = sub == a.robot       ? "robot"
+                                 : sub == a.actuation ? "actuation"
+                                 : sub == a.world     ? "environment"
+                                                      : "simulation";
+        check_output(a.out, kind, a.force,
+                     {{"--robot", a.robot_file},
+                      {"--actuation", a.actuation_file},
+                      {"--world", a.world_file}});
         PartMaker maker;
         make_parent(a.out);
         if (sub == a.robot) {
@@ -228,11 +273,19 @@ int MakeCommand::run() {
         } else if (sub == a.world) {
             WorldChoice w;
             w.preset = a.preset;
-            for (const std::string& p : a.params) {
-                for (const auto& pv : parse_params(p))
-                    w.params.push_back(pv);
+            // all the --param options at once: a name given twice is refused
+            std::string params;
+            for (const std::string& p : a.params)
+                params += p + " ";
+            w.params = parse_params(params);
+            if (!a.friction.empty()) {
+                for (const auto& [name, value] : w.params) {
+                    if (name == "friction")
+                        throw Error("friction is given twice (--friction and --param "
+                                    "friction=...): give it once");
+                }
+                w.params.emplace_back("friction", number("--friction", a.friction));
             }
-            if (!a.friction.empty()) w.params.emplace_back("friction", number("--friction", a.friction));
             if (!a.robot_file.empty()) {
                 need_file("--robot", a.robot_file);
                 w.place = maker.robot_name(a.robot_file);

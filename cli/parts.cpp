@@ -378,6 +378,12 @@ std::string parse_joints(const std::string& text, std::string& error) {
         const std::string word = t.substr(start, end - start);
         start = end + 1;
         if (word.empty()) continue;
+        if (word == "pitch" || word == "yaw" || word == "all") {
+            error = fmt::format("'{}' stands alone: say pitch, yaw or all, or joint numbers like "
+                                "1 3 5, not both (got '{}')",
+                                word, t);
+            return "";
+        }
         int n = 0;
         const auto r = std::from_chars(word.data(), word.data() + word.size(), n);
         if (r.ec != std::errc() || r.ptr != word.data() + word.size() || n < 1) {
@@ -403,7 +409,15 @@ ParamValues parse_params(const std::string& text) {
                                     "amplitude=30)",
                                     item));
         }
-        out.emplace_back(item.substr(0, eq), v);
+        const std::string name = item.substr(0, eq);
+        // (the last would win without a word: say which is meant)
+        for (const auto& [seen, value] : out) {
+            if (seen == name) {
+                throw Error(fmt::format("'{}' is given twice ({}={} and {}): give it once",
+                                        name, name, number_text(value), item));
+            }
+        }
+        out.emplace_back(name, v);
         item.clear();
     };
     for (char c : text) {

@@ -71,10 +71,27 @@ void check_signal(const std::string& where) {
 // ---------------------------------------------------------------------------------------------
 // questions and answers
 
+// (all of it: an answer piped in may hold a NUL byte)
 void say(const std::string& text) {
-    std::fputs(text.c_str(), stdout);
+    std::fwrite(text.data(), 1, text.size(), stdout);
     std::fflush(stdout);
 }
+
+// the longest answer read, bytes
+constexpr size_t kMaxAnswer = 64 * 1024;
+// refused piped answers to one question before the wizard stops
+constexpr int kMaxRefused = 10;
+
+// the wizard stops: an answer longer than kMaxAnswer
+struct TooLong {
+    std::string question;
+};
+
+// the wizard stops: kMaxRefused piped answers to one question were refused
+struct Refused {
+    std::string question;
+    int count = 0;
+};
 
 // Reads answers, one line each, from standard input (unbuffered, so nothing is read past the
 // answer); with `defaults`, answers every question with its default without asking.
@@ -89,6 +106,7 @@ class Prompter {
     // why an answer does not do, and the question is asked again
     template <typename F>
     void ask(const std::string& question, const std::string& def, F accept) {
+        int refused = 0;
         for (;;) {
             std::string answer = def;
             if (!defaults_) {
@@ -103,6 +121,9 @@ class Prompter {
             } catch (const Error& e) {
                 if (defaults_) throw;
                 say(fmt::format("  ! {}\n", e.what()));
+                // piped answers that keep being refused (`yes | gaitlab new`) would be asked
+                // for forever: a person at a terminal can always try again, a script cannot
+                if (!tty_ && ++refused >= kMaxRefused) throw Refused{question, kMaxRefused};
             }
         }
     }
@@ -127,6 +148,8 @@ class Prompter {
                 throw Stopped{0, question};
             }
             if (c == '\n') return line;
+            // an endless line (`gaitlab new < /dev/zero`) would fill the memory
+            if (line.size() >= kMaxAnswer) throw TooLong{question};
             line += c;
         }
     }
@@ -223,8 +246,10 @@ const std::map<std::string, std::string>& template_lines() {
 struct ProjectController {
     bool is_new = false;  // a new controller (else a copied template)
     std::string name;     // template name, or the new controller's
+    std::string base;     // the file's name without .lua (a template's copy gives way to a
+                          // new controller of the same name: sine_2.lua)
     NewController def;    // the new one's declaration
-    std::string file() const { return "controllers/" + name + ".lua"; }
+    std::string file() const { return "controllers/" + base + ".lua"; }
 };
 
 struct Project {
@@ -411,16 +436,30 @@ class Wizard {
         });
         if (!builtin) {
             // the template is copied into the project, and the group uses that copy
-            const bool copied =
-                std::any_of(p_.written.begin(), p_.written.end(),
-                            [&](const ProjectController& w) { return w.name == name; });
+            const auto copied =
+                std::find_if(p_.written.begin(), p_.written.end(), [&](const ProjectController& w) {
+                    return !w.is_new && w.name == name;
+                });
             ProjectController w;
-            w.name = name;
-            if (!copied) p_.written.push_back(w);
+            if (copied != p_.written.end()) {
+                w = *copied;
+            } else {
+                w.name = name;
+                w.base = name;
+                for (int n = 2; file_taken(w.base); ++n)
+                    w.base = fmt::format("{}_{}", name, n);
+                p_.written.push_back(w);
+            }
             c.kind = ControllerChoice::Kind::file;
             c.name = w.file();
             c_template_[c.name] = name;
         }
+    }
+
+    // whether controllers/BASE.lua is already one of the project's files
+    bool file_taken(const std::string& base) const {
+        return std::any_of(p_.written.begin(), p_.written.end(),
+                           [&](const ProjectController& w) { return w.base == base; });
     }
 
     void ask_new_controller(ControllerChoice& c) {
@@ -431,10 +470,10 @@ class Wizard {
             NewController t = def;
             t.name = a;
             maker_.check_new_controller(t);
-            for (const ProjectController& w : p_.written) {
-                if (w.name == a) throw Error(fmt::format("'{}' is already a controller of this "
-                                                         "project: choose another name",
-                                                         a));
+            if (file_taken(a)) {
+                throw Error(fmt::format("'{}' is already a controller of this project: choose "
+                                        "another name",
+                                        a));
             }
             def = t;
         });
@@ -466,11 +505,25 @@ class Wizard {
             const std::string range =
                 number_text(std::min(p.min, p.value)) + " " + number_text(std::max(p.max, p.value));
             in_.ask("  range of " + p.name + ", as MIN MAX", range, [&](const std::string& a) {
-                const size_t space = a.find_first_of(" \t,");
-                if (space == std::string::npos) throw Error("two numbers expected: MIN MAX");
+                std::vector<std::string> words;
+                std::string word;
+                for (char ch : a + " ") {
+                    if (ch == ' ' || ch == '\t' || ch == ',') {
+                        if (!word.empty()) words.push_back(word);
+                        word.clear();
+                    } else {
+                        word += ch;
+                    }
+                }
+                if (words.size() != 2) {
+                    throw Error(words.size() < 2 ? std::string("two numbers expected: MIN MAX")
+                                                 : fmt::format("'{}': two numbers expected: "
+                                                               "MIN MAX",
+                                                               a));
+                }
                 NewParam q = p;
-                q.min = number(Prompter::trim(a.substr(0, space)));
-                q.max = number(Prompter::trim(a.substr(space + 1)));
+                q.min = number(words[0]);
+                q.max = number(words[1]);
                 NewController t = def;
                 t.params.push_back(q);
                 maker_.check_new_controller(t);
@@ -507,6 +560,7 @@ class Wizard {
         ProjectController w;
         w.is_new = true;
         w.name = def.name;
+        w.base = def.name;
         w.def = def;
         p_.written.push_back(w);
         c.kind = ControllerChoice::Kind::file;
@@ -625,11 +679,54 @@ bool NewCommand::chosen() const {
 
 namespace {
 
+// The folder the project goes into, `dir` as given (a trailing '/' dropped, a symbolic link to
+// an empty folder followed), or Error when it is taken or cannot be made there: it must not
+// exist, or be an empty folder; the folders it goes into that do not exist are made, inside the
+// nearest one that does, which must be a folder the user can write in.
+fs::path destination(fs::path dir) {
+    const std::string given = dir.string();
+    if (!dir.has_filename() && dir.has_parent_path()) dir = dir.parent_path();
+    std::error_code ec;
+    if (fs::is_symlink(fs::symlink_status(dir, ec))) {
+        const fs::path target = fs::read_symlink(dir, ec);
+        if (!fs::exists(dir, ec)) {
+            throw Error(fmt::format("{} is a symbolic link to {}, which does not exist: choose "
+                                    "another folder",
+                                    given, target.string()));
+        }
+        if (empty_folder(dir)) dir = fs::canonical(dir);  // the project goes into the target
+    }
+    if (fs::exists(dir, ec) && !empty_folder(dir)) {
+        throw Error(fmt::format("{} exists and is not {}: choose another folder", given,
+                                fs::is_directory(dir, ec) ? "empty" : "a folder"));
+    }
+    fs::path up = fs::absolute(dir).parent_path();
+    while (!fs::exists(up, ec) && up.has_relative_path())
+        up = up.parent_path();
+    if (!fs::is_directory(up, ec)) {
+        throw Error(fmt::format("cannot create {}: {} is a file, not a folder", given,
+                                up.string()));
+    }
+    if (::access(up.c_str(), W_OK | X_OK) != 0) {
+        throw Error(fmt::format("cannot create {}: cannot write in {} ({})", given, up.string(),
+                                std::strerror(errno)));
+    }
+    return dir;
+}
+
 // "wrote ..." lines and the run; returns the exit status
 int write_and_run(Wizard& wizard, const Project& p, PartMaker& maker, const fs::path& dir,
                   bool open_editor) {
     // built in a hidden folder beside the project, renamed at the end
     const fs::path parent = fs::absolute(dir).parent_path();
+    {
+        std::error_code ec;
+        fs::create_directories(parent, ec);
+        if (ec) {
+            throw IoError(fmt::format("{}: cannot create the folder {}: {}", dir.string(),
+                                      parent.string(), ec.message()));
+        }
+    }
     std::string pattern = (parent / ("." + dir.filename().string() + ".new-XXXXXX")).string();
     if (!::mkdtemp(pattern.data())) {
         throw IoError(fmt::format("{}: cannot create the project folder: {}", dir.string(),
@@ -785,30 +882,33 @@ int NewCommand::run() {
                      arg.c_str());
         return 2;
     }
-    const auto refuse = [](const fs::path& dir) {
-        std::error_code ec;
-        if (fs::exists(dir, ec) && !empty_folder(dir)) {
-            throw Error(fmt::format("{} exists and is not {}: choose another folder",
-                                    dir.string(),
-                                    fs::is_directory(dir, ec) ? "empty" : "a folder"));
-        }
-    };
     catch_signals();
     Prompter in(a.defaults);
     try {
-        if (!a.dir.empty()) refuse(a.dir);
+        // a folder that cannot be made is refused before the first question, not after the last
+        fs::path dir;
+        if (!a.dir.empty()) {
+            dir = destination(a.dir);
+        } else {
+            // the project goes into the current folder
+            if (::access(".", W_OK | X_OK) != 0) {
+                throw Error(fmt::format("cannot create the project folder in the current folder "
+                                        "{}: {} (give another: gaitlab new DIR)",
+                                        fs::current_path().string(), std::strerror(errno)));
+            }
+        }
         PartMaker maker;
         Wizard wizard(in, maker);
         const Project p = wizard.ask();
-        fs::path dir = a.dir;
         if (dir.empty()) {
             // ./NAME, or NAME-2, NAME-3 ... when that is taken
             const std::string base = folder_name(p.robot.name);
             dir = base;
-            for (int n = 2; fs::exists(dir) && !empty_folder(dir); ++n)
+            std::error_code ec;
+            for (int n = 2; fs::exists(fs::symlink_status(dir, ec)) && !empty_folder(dir); ++n)
                 dir = fmt::format("{}-{}", base, n);
         }
-        refuse(dir);
+        dir = destination(dir);
         return write_and_run(wizard, p, maker, dir, in.tty() && !in.defaults());
     } catch (const Stopped& s) {
         if (s.signal != 0) {
@@ -820,6 +920,18 @@ int NewCommand::run() {
         }
         std::fprintf(stderr, "gaitlab: end of input at '%s'; nothing was written\n",
                      s.question.c_str());
+        return 1;
+    } catch (const TooLong& t) {
+        std::fprintf(stderr,
+                     "\ngaitlab: the answer to '%s' is longer than %zu bytes; nothing was "
+                     "written\n",
+                     t.question.c_str(), kMaxAnswer);
+        return 1;
+    } catch (const Refused& r) {
+        std::fprintf(stderr,
+                     "gaitlab: %d answers to '%s' were refused in a row (see the '!' lines); "
+                     "nothing was written\n",
+                     r.count, r.question.c_str());
         return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "gaitlab: new: %s\n", e.what());

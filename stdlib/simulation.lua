@@ -41,7 +41,7 @@ end
 
 local function rate(x)
   if x == math.huge then return "as fast as possible" end
-  return format("%gx real time", x)
+  return format("at %gx real time", x)
 end
 
 registry["gaitlab.Status"] = {
@@ -50,7 +50,7 @@ registry["gaitlab.Status"] = {
   __tostring = function(s)
     local state
     if s.playing then
-      state = "playing at " .. rate(s.speed)
+      state = "playing " .. rate(s.speed)
       if s.delay > 0 then state = state .. format(" with a delay of %g s per step", s.delay) end
       state = state .. (s.factor and format(", measured %.2fx real time", s.factor)
         or ", measuring the real-time factor")

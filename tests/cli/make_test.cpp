@@ -192,3 +192,61 @@ TEST_CASE("make rejects bad options with one clear line and writes nothing", "[c
         left.push_back(e.path().filename().string());
     CHECK(left == std::vector<std::string>{"r.xml"});
 }
+
+TEST_CASE("make never loses a file: -o is no input, and replaces only a file of its kind",
+          "[cli][make]") {
+    TempDir dir("make_keep");
+    REQUIRE(make({"robot", "-o", "r.xml"}, dir).status == 0);
+    REQUIRE(make({"world", "-o", "w.xml"}, dir).status == 0);
+    gaitlab::test::write_text(dir / "notes.xml", "mine");
+    const std::string robot = gaitlab::test::read_text(dir / "r.xml");
+    // the simulation written over the robot it names
+    check_failure(make({"sim", "--robot", "r.xml", "--world", "w.xml", "-o", "./r.xml"}, dir),
+                  "gaitlab: gaitlab make sim: -o ./r.xml is the --robot file, which would be "
+                  "lost: write to another file");
+    check_failure(make({"robot", "-o", "notes.xml"}, dir),
+                  "gaitlab: gaitlab make robot: -o notes.xml exists and is not a robot file, so "
+                  "it would be lost: write to another file, or add --force to replace it");
+    check_failure(make({"actuation", "--robot", "r.xml", "--group", "all=sine", "-o", "w.xml"},
+                       dir),
+                  "gaitlab: gaitlab make actuation: -o w.xml exists and is not an actuation "
+                  "file, so it would be lost: write to another file, or add --force to replace "
+                  "it");
+    check_failure(make({"robot", "-o", ""}, dir), "gaitlab: gaitlab make robot: -o: a file name "
+                                                   "expected");
+    CHECK(gaitlab::test::read_text(dir / "notes.xml") == "mine");
+    CHECK(gaitlab::test::read_text(dir / "r.xml") == robot);
+    CHECK(gaitlab::read_environment(dir / "w.xml").placements.empty());
+    // a part made again replaces the old one; --force replaces anything
+    Output r = make({"robot", "--modules", "3", "-o", "r.xml"}, dir);
+    CHECK(r.status == 0);
+    CHECK(gaitlab::read_robot(dir / "r.xml").joints.size() == 3);
+    r = make({"robot", "--force", "-o", "notes.xml"}, dir);
+    CHECK(r.status == 0);
+    CHECK(gaitlab::read_robot(dir / "notes.xml").joints.size() == 8);
+}
+
+TEST_CASE("make refuses a parameter given twice instead of keeping the last", "[cli][make]") {
+    TempDir dir("make_twice");
+    REQUIRE(make({"robot", "-o", "r.xml"}, dir).status == 0);
+    check_failure(make({"world", "--param", "friction=0.5", "--friction", "0.6", "-o", "w.xml"},
+                       dir),
+                  "gaitlab: gaitlab make world: friction is given twice (--friction and --param "
+                  "friction=...): give it once");
+    check_failure(make({"world", "--preset", "ramp", "--param", "slope=3", "--param", "slope=4",
+                        "-o", "w.xml"},
+                       dir),
+                  "gaitlab: gaitlab make world: 'slope' is given twice (slope=3 and slope=4): "
+                  "give it once");
+    check_failure(make({"actuation", "--robot", "r.xml", "--group",
+                        "all=sine:amplitude=1:amplitude=2", "-o", "a.xml"},
+                       dir),
+                  "gaitlab: gaitlab make actuation: group 'all=sine:amplitude=1:amplitude=2': "
+                  "'amplitude' is given twice (amplitude=1 and amplitude=2): give it once");
+    check_failure(make({"actuation", "--robot", "r.xml", "--group", "all,3=sine", "-o", "a.xml"},
+                       dir),
+                  "gaitlab: gaitlab make actuation: group 'all,3=sine': 'all' stands alone: say "
+                  "pitch, yaw or all, or joint numbers like 1 3 5, not both (got 'all 3')");
+    CHECK(!std::filesystem::exists(dir / "w.xml"));
+    CHECK(!std::filesystem::exists(dir / "a.xml"));
+}

@@ -305,3 +305,120 @@ TEST_CASE("garbage answers about a new controller are explained and asked again"
                Catch::Contains("amp = { 30, min = 0, max = 60, unit = \"deg\" },"));
     CHECK(moved(r.out, "bob") >= 0);
 }
+
+TEST_CASE("endless or always-refused piped answers stop the wizard", "[cli][wizard]") {
+    TempDir dir("wizard_endless");
+    // `yes | gaitlab new`: 'y' names the robot, then is refused as a number of modules; after
+    // ten refusals in a row the wizard stops instead of asking forever
+    const Output yes = run_gaitlab({"new", "p"}, dir.str(), std::string(1000, 'y') + "\n" +
+                                                               [] {
+                                                                   std::string s;
+                                                                   for (int i = 0; i < 500; ++i)
+                                                                       s += "y\n";
+                                                                   return s;
+                                                               }());
+    CHECK(yes.status == 1);
+    CHECK(yes.err == "gaitlab: 10 answers to 'Number of modules' were refused in a row (see the "
+                     "'!' lines); nothing was written\n");
+    // nine refusals, then a good answer: the wizard goes on
+    std::string nine = "\n";
+    for (int i = 0; i < 9; ++i)
+        nine += "x\n";
+    const Output ok = run_gaitlab({"new", "q"}, dir.str(),
+                                  nine + "3\n" + std::string(9, '\n') + "1\n\n\nno\n");
+    INFO(ok.out << ok.err);
+    CHECK(ok.status == 0);
+    CHECK(gaitlab::read_robot(dir / "q/robot.xml").joints.size() == 3);
+    // an answer that never ends (`< /dev/zero`): stopped at 64 KiB, not read into the memory
+    const Output zero = run_gaitlab({"new", "z"}, dir.str(), std::string(100000, '\0'));
+    CHECK(zero.status == 1);
+    CHECK_THAT(zero.err, Catch::EndsWith("gaitlab: the answer to 'Robot name' is longer than "
+                                         "65536 bytes; nothing was written\n"));
+    // a NUL byte is shown as read, and the line after it is not glued to it
+    const Output nul = run_gaitlab({"new", "n"}, dir.str(), std::string("a\0b\n", 4));
+    CHECK_THAT(nul.out, Catch::Contains(std::string("Robot name [snake]: a\0b\n  ! ", 27)));
+    CHECK(entries(dir.path) == std::vector<std::string>{"q"});
+}
+
+TEST_CASE("a project folder that cannot be made is refused before the first question",
+          "[cli][wizard]") {
+    TempDir dir("wizard_where");
+    write_text(dir / "file", "mine");
+    fs::create_symlink("nowhere", dir.path / "dangling");
+    Output r = run_gaitlab({"new", "dangling"}, dir.str(), "");
+    CHECK(r.status == 1);
+    CHECK(r.out.empty());
+    CHECK(r.err == "gaitlab: new: dangling is a symbolic link to nowhere, which does not exist: "
+                   "choose another folder\n");
+    r = run_gaitlab({"new", "file/p"}, dir.str(), "");
+    CHECK(r.out.empty());
+    CHECK(r.err == "gaitlab: new: cannot create file/p: " + (dir / "file") +
+                       " is a file, not a folder\n");
+    CHECK(read_text(dir / "file") == "mine");
+    // folders that do not exist yet are made; a trailing '/' names the same folder
+    r = run_gaitlab({"new", "--defaults", "a/b/"}, dir.str());
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK(fs::is_regular_file(dir.path / "a/b/simulation.xml"));
+    // a link to an empty folder: the project goes into that folder
+    fs::create_directories(dir.path / "target");
+    fs::create_directory_symlink("target", dir.path / "link");
+    r = run_gaitlab({"new", "--defaults", "link"}, dir.str());
+    CHECK(r.status == 0);
+    CHECK(fs::is_symlink(dir.path / "link"));
+    CHECK(fs::is_regular_file(dir.path / "target/simulation.xml"));
+}
+
+TEST_CASE("a template chosen after a new controller of its name gets a file of its own",
+          "[cli][wizard]") {
+    TempDir dir("wizard_same_name");
+    const std::string answers = lines({
+        "", "", "", "",                      // snake, 8 modules, pitch-pitch, no sensors
+        "new", "sine", "0", "",              // a new controller called sine, no parameters
+        "1 2 3 4", "yes",                    // its joints; another
+        "template", "sine", "", "5 6 7 8",   // the sine template on the others
+        "", "", "", "1", "", "", "no",
+    });
+    const Output r = run_gaitlab({"new", "p"}, dir.str(), answers);
+    INFO(r.out << r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.out.find("  ! ") == std::string::npos);
+    CHECK_THAT(read_text(dir / "p/controllers/sine.lua"), Catch::Contains("name = \"sine\""));
+    CHECK_THAT(read_text(dir / "p/controllers/sine_2.lua"), Catch::Contains("my_sine"));
+    const gaitlab::ActuationSpec act = gaitlab::read_actuation(dir / "p/actuation.xml");
+    REQUIRE(act.groups.size() == 2);
+    CHECK(act.groups[0].controller.name == "controllers/sine.lua");
+    CHECK(act.groups[1].controller.name == "controllers/sine_2.lua");
+    CHECK(moved(r.out, "snake") >= 0);
+}
+
+TEST_CASE("mixed joint words, twice-given parameters and three-number ranges are explained",
+          "[cli][wizard]") {
+    TempDir dir("wizard_words");
+    const std::string answers = lines({
+        "", "4", "", "",
+        "", "", "amplitude=10 amplitude=20", "amplitude=20",  // built-in sine
+        "all 1", "",                                          // joints
+        "", "", "", "1", "", "", "no",
+    });
+    const Output r = run_gaitlab({"new", "p"}, dir.str(), answers);
+    INFO(r.out << r.err);
+    REQUIRE(r.status == 0);
+    CHECK_THAT(r.out, Catch::Contains("  ! 'amplitude' is given twice (amplitude=10 and "
+                                      "amplitude=20): give it once\n"));
+    CHECK_THAT(r.out, Catch::Contains("  ! 'all' stands alone: say pitch, yaw or all, or joint "
+                                      "numbers like 1 3 5, not both (got 'all 1')\n"));
+    const gaitlab::ActuationSpec act = gaitlab::read_actuation(dir / "p/actuation.xml");
+    REQUIRE(act.groups.size() == 1);
+    const auto& params = act.groups[0].controller.params;
+    CHECK(std::find(params.begin(), params.end(), std::make_pair(std::string("amplitude"), 20.0)) !=
+          params.end());
+
+    // a range of three numbers is refused as a whole; commas separate like spaces
+    const Output n = run_gaitlab({"new", "q"}, dir.str(),
+                                 lines({"", "", "", "", "new", "g", "1", "a", "1", "0 1 2",
+                                        "0,,2"}));
+    CHECK(n.status == 1);  // (the end of input at the unit)
+    CHECK_THAT(n.out, Catch::Contains("  ! '0 1 2': two numbers expected: MIN MAX\n"));
+    CHECK_THAT(n.out, Catch::Contains("range of a, as MIN MAX [0 90]: 0,,2\n  unit of a"));
+}

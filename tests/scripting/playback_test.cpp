@@ -426,7 +426,7 @@ TEST_CASE("sim:status() says where a simulation stands", "[playback]") {
           "0.5 Hz, phase = 120 deg, phase0 = 0 deg, offset = 0 deg");
     lua.run("sim.speed = math.huge  sim:play()");
     CHECK_THAT(lua.string("tostring(sim:status())"),
-               Catch::StartsWith("simulation 1: t = 0.000 s, playing at as fast as possible, "
+               Catch::StartsWith("simulation 1: t = 0.000 s, playing as fast as possible, "
                                  "measuring the real-time factor\n"));
 }
 
