@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "console_frontend.h"
+#include "gaitlab/files.h"
 #include "gaitlab/scripting/console.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/version.h"
@@ -154,7 +155,9 @@ int run_console(const ConsoleArgs& a, const std::string& command) {
         catch_console_signals();
 
         if (!a.file.empty()) {
-            // the script's error is shown, and the console opens with what it defined
+            // a script that cannot be read is an error, as for `gaitlab run`; one that fails
+            // shows its error, and the console opens with what it defined
+            (void)gaitlab::read_file(a.file);
             g_running = 1;
             try {
                 host.run_file(a.file);

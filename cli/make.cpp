@@ -308,7 +308,8 @@ int MakeCommand::run() {
             std::printf("wrote %s (run it: gaitlab run %s)\n", a.out.c_str(), a.out.c_str());
         }
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "gaitlab: %s: %s\n", command.c_str(), e.what());
+        // "gaitlab: make robot: ..."
+        std::fprintf(stderr, "gaitlab: %s: %s\n", command.c_str() + 8, e.what());
         return 1;
     }
     return 0;

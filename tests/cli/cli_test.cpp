@@ -201,6 +201,12 @@ TEST_CASE("a missing script fails with one line naming it", "[cli]") {
     CHECK(b.status == r.status);
     CHECK(b.err == r.err);
 
+    // the console does not open on a script it cannot read
+    const Run i = cli({"-i", "no_such_script.lua"});
+    CHECK(i.status == 1);
+    CHECK(i.out.empty());
+    CHECK(i.err == "gaitlab: cannot read no_such_script.lua: No such file or directory\n");
+
     check_failure(cli({"run", "notes.txt"}),
                   "gaitlab: notes.txt: expected a Lua script (FILE.lua) or a simulation file "
                   "(FILE.xml)");

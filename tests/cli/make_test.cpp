@@ -122,7 +122,7 @@ TEST_CASE("one robot file serves worlds made for its name and a flat world for a
     // a ramp made for the default name does not fit a robot called worm: said before writing
     REQUIRE(make({"world", "--preset", "ramp", "-o", "ramp.xml"}, dir).status == 0);
     const Output bad = make({"sim", "--robot", "worm.xml", "--world", "ramp.xml", "-o", "r.xml"}, dir);
-    check_failure(bad, "gaitlab: gaitlab make sim: " + dir.str() +
+    check_failure(bad, "gaitlab: make sim: " + dir.str() +
                            "/ramp.xml:7: robot 'robot' is placed but the simulation has no robot "
                            "of that name");
     CHECK(!std::filesystem::exists(dir / "r.xml"));
@@ -135,47 +135,47 @@ TEST_CASE("make rejects bad options with one clear line and writes nothing", "[c
     TempDir dir("make_bad");
     REQUIRE(make({"robot", "-o", "r.xml"}, dir).status == 0);
     check_failure(make({"world", "--preset", "moon", "-o", "w.xml"}, dir),
-                  "gaitlab: gaitlab make world: unknown world 'moon' (worlds: flat, hills, pipe, "
+                  "gaitlab: make world: unknown world 'moon' (worlds: flat, hills, pipe, "
                   "ramp, rubble, slippery, stairs, sticky)");
     check_failure(make({"world", "--preset", "rmap", "-o", "w.xml"}, dir),
-                  "gaitlab: gaitlab make world: unknown world 'rmap'; did you mean 'ramp'? "
+                  "gaitlab: make world: unknown world 'rmap'; did you mean 'ramp'? "
                   "(worlds: flat, hills, pipe, ramp, rubble, slippery, stairs, sticky)");
     check_failure(make({"world", "--friction", "3", "-o", "w.xml"}, dir),
-                  "gaitlab: gaitlab make world: friction must be in [0, 1] (got 3)");
+                  "gaitlab: make world: friction must be in [0, 1] (got 3)");
     check_failure(make({"world", "--param", "slope", "-o", "w.xml"}, dir),
-                  "gaitlab: gaitlab make world: 'slope': NAME=VALUE expected, the value a number "
+                  "gaitlab: make world: 'slope': NAME=VALUE expected, the value a number "
                   "(e.g. amplitude=30)");
     check_failure(make({"actuation", "--robot", "r.xml", "--group", "pitch", "-o", "a.xml"}, dir),
-                  "gaitlab: gaitlab make actuation: group 'pitch': "
+                  "gaitlab: make actuation: group 'pitch': "
                   "JOINTS=CONTROLLER[:PARAM=VALUE...] expected, e.g. "
                   "pitch=sine:amplitude=40:phase=-120");
     check_failure(make({"actuation", "--robot", "r.xml", "--group", "head=sine", "-o", "a.xml"},
                        dir),
-                  "gaitlab: gaitlab make actuation: group 'head=sine': 'head' is not a joint: say "
+                  "gaitlab: make actuation: group 'head=sine': 'head' is not a joint: say "
                   "pitch, yaw, all, or joint numbers from 1 like 1 3 5");
     check_failure(make({"actuation", "--robot", "r.xml", "--group", "pitch=sinus", "-o", "a.xml"},
                        dir),
-                  "gaitlab: gaitlab make actuation: unknown controller 'sinus'; did you mean "
+                  "gaitlab: make actuation: unknown controller 'sinus'; did you mean "
                   "'sine'? (built-in controllers: distributed, hindmarsh_rose, hopf, matsuoka, "
                   "offset, phase_chain, sine; a template is template/NAME, a Lua controller file "
                   "PATH.lua)");
     check_failure(make({"actuation", "--robot", "r.xml", "--group", "pitch=sine:amplitude=120",
                         "-o", "a.xml"},
                        dir),
-                  "gaitlab: gaitlab make actuation: sine.amplitude must be in [0, 90] deg (got "
+                  "gaitlab: make actuation: sine.amplitude must be in [0, 90] deg (got "
                   "120)");
     check_failure(make({"actuation", "--robot", "nothere.xml", "--group", "pitch=sine", "-o",
                         "a.xml"},
                        dir),
-                  "gaitlab: gaitlab make actuation: --robot nothere.xml: no such file");
+                  "gaitlab: make actuation: --robot nothere.xml: no such file");
     check_failure(make({"sim", "--robot", "r.xml", "--world", "none.xml", "-o", "s.xml"}, dir),
-                  "gaitlab: gaitlab make sim: --world none.xml: no such file");
+                  "gaitlab: make sim: --world none.xml: no such file");
     check_failure(make({"robot", "--modules", "many", "-o", "x.xml"}, dir),
-                  "gaitlab: gaitlab make robot: --modules: a whole number expected (got 'many')");
+                  "gaitlab: make robot: --modules: a whole number expected (got 'many')");
     check_failure(make({"robot", "--modules", "0", "-o", "x.xml"}, dir),
-                  "gaitlab: gaitlab make robot: modules must be at least 1 (got 0)");
+                  "gaitlab: make robot: modules must be at least 1 (got 0)");
     check_failure(make({"robot", "--sensor", "laser", "-o", "x.xml"}, dir),
-                  "gaitlab: gaitlab make robot: unknown sensor kind 'laser' (kinds: joint, imu, "
+                  "gaitlab: make robot: unknown sensor kind 'laser' (kinds: joint, imu, "
                   "contact, range, position)");
     check_failure(make({"robot", "--modles", "3", "-o", "x.xml"}, dir),
                   "gaitlab: unknown option '--modles' for 'gaitlab make robot'; did you mean "
@@ -183,7 +183,7 @@ TEST_CASE("make rejects bad options with one clear line and writes nothing", "[c
     check_failure(make({"sim", "--robot", "r.xml", "--world", "r.xml", "--dt", "1", "-o",
                         "s.xml"},
                        dir),
-                  "gaitlab: gaitlab make sim: dt must be in [1e-06, 0.1] s (got 1)");
+                  "gaitlab: make sim: dt must be in [1e-06, 0.1] s (got 1)");
     check_failure(make({}, dir),
                   "gaitlab: say what to make: gaitlab make robot|world|actuation|sim ... -o FILE "
                   "(see 'gaitlab make --help')");
@@ -202,17 +202,17 @@ TEST_CASE("make never loses a file: -o is no input, and replaces only a file of 
     const std::string robot = gaitlab::test::read_text(dir / "r.xml");
     // the simulation written over the robot it names
     check_failure(make({"sim", "--robot", "r.xml", "--world", "w.xml", "-o", "./r.xml"}, dir),
-                  "gaitlab: gaitlab make sim: -o ./r.xml is the --robot file, which would be "
+                  "gaitlab: make sim: -o ./r.xml is the --robot file, which would be "
                   "lost: write to another file");
     check_failure(make({"robot", "-o", "notes.xml"}, dir),
-                  "gaitlab: gaitlab make robot: -o notes.xml exists and is not a robot file, so "
+                  "gaitlab: make robot: -o notes.xml exists and is not a robot file, so "
                   "it would be lost: write to another file, or add --force to replace it");
     check_failure(make({"actuation", "--robot", "r.xml", "--group", "all=sine", "-o", "w.xml"},
                        dir),
-                  "gaitlab: gaitlab make actuation: -o w.xml exists and is not an actuation "
+                  "gaitlab: make actuation: -o w.xml exists and is not an actuation "
                   "file, so it would be lost: write to another file, or add --force to replace "
                   "it");
-    check_failure(make({"robot", "-o", ""}, dir), "gaitlab: gaitlab make robot: -o: a file name "
+    check_failure(make({"robot", "-o", ""}, dir), "gaitlab: make robot: -o: a file name "
                                                    "expected");
     CHECK(gaitlab::test::read_text(dir / "notes.xml") == "mine");
     CHECK(gaitlab::test::read_text(dir / "r.xml") == robot);
@@ -231,21 +231,21 @@ TEST_CASE("make refuses a parameter given twice instead of keeping the last", "[
     REQUIRE(make({"robot", "-o", "r.xml"}, dir).status == 0);
     check_failure(make({"world", "--param", "friction=0.5", "--friction", "0.6", "-o", "w.xml"},
                        dir),
-                  "gaitlab: gaitlab make world: friction is given twice (--friction and --param "
+                  "gaitlab: make world: friction is given twice (--friction and --param "
                   "friction=...): give it once");
     check_failure(make({"world", "--preset", "ramp", "--param", "slope=3", "--param", "slope=4",
                         "-o", "w.xml"},
                        dir),
-                  "gaitlab: gaitlab make world: 'slope' is given twice (slope=3 and slope=4): "
+                  "gaitlab: make world: 'slope' is given twice (slope=3 and slope=4): "
                   "give it once");
     check_failure(make({"actuation", "--robot", "r.xml", "--group",
                         "all=sine:amplitude=1:amplitude=2", "-o", "a.xml"},
                        dir),
-                  "gaitlab: gaitlab make actuation: group 'all=sine:amplitude=1:amplitude=2': "
+                  "gaitlab: make actuation: group 'all=sine:amplitude=1:amplitude=2': "
                   "'amplitude' is given twice (amplitude=1 and amplitude=2): give it once");
     check_failure(make({"actuation", "--robot", "r.xml", "--group", "all,3=sine", "-o", "a.xml"},
                        dir),
-                  "gaitlab: gaitlab make actuation: group 'all,3=sine': 'all' stands alone: say "
+                  "gaitlab: make actuation: group 'all,3=sine': 'all' stands alone: say "
                   "pitch, yaw or all, or joint numbers like 1 3 5, not both (got 'all 3')");
     CHECK(!std::filesystem::exists(dir / "w.xml"));
     CHECK(!std::filesystem::exists(dir / "a.xml"));

@@ -99,8 +99,8 @@ Document::Document(std::string_view text, std::string file, const char* kind)
     if (!inner) g.fail(fmt::format("expected a <{}> element inside", kind));
     if (std::strcmp(inner->Name(), kind) != 0) {
         Element(*this, inner, "gaitlab")
-            .fail(fmt::format("expected <{}>, got <{}> (is this a {} file?)", kind, inner->Name(),
-                              kind));
+            .fail(fmt::format("expected <{}>, got <{}> (is this {} {} file?)", kind, inner->Name(),
+                              std::strchr("aeiou", kind[0]) ? "an" : "a", kind));
     }
     if (const tinyxml2::XMLElement* extra = inner->NextSiblingElement()) {
         Element(*this, extra, "gaitlab")
