@@ -55,10 +55,15 @@ local function type_name(v)
   return nil
 end
 
+-- what tostring gives, at most 4096 bytes of it; a __tostring that fails says why
 local function safe_tostring(v)
   local ok, s = pcall(tostring, v)
-  if ok and type(s) == "string" then return s end
-  return "<" .. type(v) .. ">"
+  if not ok then
+    return format("<%s: __tostring failed: %s>", type(v), type(s) == "string" and s or type(s))
+  end
+  if type(s) ~= "string" then return "<" .. type(v) .. ">" end
+  if #s > 4096 then return s:sub(1, 4096) .. format("... (%d more bytes)", #s - 4096) end
+  return s
 end
 
 local describe = {}

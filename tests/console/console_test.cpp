@@ -253,6 +253,12 @@ TEST_CASE("pretty printing of tables", "[console][pretty]") {
     // vectors use their __tostring; bad options are errors in Lua's words
     CHECK(s.result("gaitlab.vec3(1, 2, 3)") == "(1, 2, 3)\n");
     CHECK(s.result("gaitlab.pretty({1, {2}}, { depth = 1 })") == "{ 1, {...} }\n");
+    // a __tostring that fails says why; a huge one is cut
+    CHECK(s.result("setmetatable({}, { __tostring = function() error('boom', 0) end })") ==
+          "<table: __tostring failed: boom>\n");
+    const std::string huge =
+        s.result("setmetatable({}, { __tostring = function() return ('x'):rep(1e6) end })");
+    CHECK(huge == std::string(4096, 'x') + "... (995904 more bytes)\n");
     s.console.feed("gaitlab.pretty(1, { depth = -1 })");
     CHECK(s.err.find("bad argument #2 to 'pretty' (field 'depth': a whole number >= 0 expected)") !=
           std::string::npos);
