@@ -262,7 +262,8 @@ constexpr const char* kMethods[] = {
     "group", "position", "bodies",      "save",      "actuate", "sensor", "drive", "joints",
     "add",   "box",      "heightfield", "triangles", "run",     "step",   "reset", "record",
     "live",  "objects",  "params",      "values",    "set",     "read",   "on",    "off",
-    "get",   "series",   "export",      "plot",      "groups",  "norm",   "flush", "channels"};
+    "get",   "series",   "export",      "plot",      "groups",  "norm",   "flush", "channels",
+    "play",  "pause",    "status",      "heading",   "turned"};
 
 constexpr const char* kSetupWorld =
     "try(function() R[1] = gaitlab.robot.chain{ name = 'snake', modules = 4, connection = "
@@ -939,7 +940,7 @@ class Generator {
 
     std::string statement(int depth) {
         if (depth > kMaxDepth) return "collectgarbage('step')";
-        switch (in_.below(51)) {
+        switch (in_.below(53)) {
             case 0:
             case 1:
                 return cat({ref("R"), " = gaitlab.robot.chain(", chain_args(), ")"});
@@ -1074,8 +1075,33 @@ class Generator {
                 return step_inside_class(depth);
             case 49:
                 return damage_file();
+            case 50:
+                return playback();
+            case 51:
+                return cat({"local s = ", ref("S"), " local st = s:status() ", x_slot(),
+                            " = { tostring(st), st.time, s.playing, s.speed, s.delay, ",
+                            ref("R"), ":heading(), ", ref("R"), ":turned() }"});
             default:
                 return cat({"local t = ", ref("W"), ":triangles() ", x_slot(), " = #t"});
+        }
+    }
+
+    // playing in the background (the console's sim:play; nothing pumps it here, so this
+    // checks the switches, their values and what stepping does to a playing simulation)
+    std::string playback() {
+        const std::string sim = ref("S");
+        switch (in_.below(5)) {
+            case 0:
+                return cat({sim, ":play()"});
+            case 1:
+                return cat({sim, ":pause()"});
+            case 2:
+                return cat({sim, ".speed = ",
+                            hostile() ? value() : in_.pick({"1", "4", "0.25", "math.huge"})});
+            case 3:
+                return cat({sim, ".delay = ", hostile() ? value() : real(0, 0.01)});
+            default:
+                return cat({sim, ".playing = ", value()});
         }
     }
 
