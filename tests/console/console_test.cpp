@@ -110,9 +110,9 @@ TEST_CASE("errors print with a traceback and the session goes on", "[console]") 
     CHECK(s.console.feed("error({})") == Status::ran);
     CHECK(s.err.rfind("console:1: (error object is a table value)", 0) == 0);
     s.err.clear();
-    // a __tostring that fails: the value still prints
+    // a __tostring that fails: the value still prints, with why
     s.type("bad = setmetatable({}, { __tostring = function() error('no') end })");
-    CHECK(s.result("bad") == "<table>\n");
+    CHECK(s.result("bad") == "<table: __tostring failed: console:1: no>\n");
     // a printer that fails: what cannot be printed is said
     s.type("gaitlab.pretty = function() error('no printer') end");
     CHECK(s.result("1") == "");
