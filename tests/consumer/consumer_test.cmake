@@ -7,6 +7,7 @@
 #   cmake      configure, build and run tests/consumer with find_package(gaitlab)
 #   pkgconfig  compile examples/embed/embed.cpp with `pkg-config --cflags --libs gaitlab`
 #   version    find_package(gaitlab 99 REQUIRED) fails with the version message
+#   missing    with a pkg-config that finds nothing, find_package(gaitlab) names what is missing
 cmake_minimum_required(VERSION 3.21)
 set(prefix ${WORK}/prefix)
 
@@ -115,6 +116,19 @@ elseif(STEP STREQUAL "version")
     string(REGEX REPLACE "[ \n]+" " " err "${err}")  # CMake wraps its messages
     if(NOT err MATCHES "compatible with requested version \"99\"" OR NOT err MATCHES "version: [0-9.]+")
         message(FATAL_ERROR "no version message:\n${err}")
+    endif()
+    message(STATUS "refused as expected")
+elseif(STEP STREQUAL "missing")
+    # pkg-config that finds nothing: the package says which dependency is missing
+    file(MAKE_DIRECTORY ${WORK}/no-pc)
+    set(ENV{PKG_CONFIG_LIBDIR} ${WORK}/no-pc)
+    set(ENV{PKG_CONFIG_PATH} "")
+    execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE}/tests/consumer -B ${WORK}/missing
+                            -G ${GENERATOR} -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_PREFIX_PATH=${prefix}
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    string(REGEX REPLACE "[ \n]+" " " err "${err}")
+    if(rc EQUAL 0 OR NOT err MATCHES "gaitlab needs bullet, which pkg-config does not find")
+        message(FATAL_ERROR "no message about the missing dependency (exit ${rc}):\n${err}")
     endif()
     message(STATUS "refused as expected")
 else()
