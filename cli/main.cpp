@@ -421,6 +421,16 @@ void print_summary(const gaitlab::RunData& run) {
     if (!m.script.empty())
         Stdout::print("script   {} (seed {})\n", printable(m.script), m.script_seed);
     Stdout::print("started  {}\n", printable(m.started));
+    // the gaitlab that recorded it: run folders written before it kept its commit say less
+    std::string built, commit;
+    for (const auto& [key, value] : m.provenance) {
+        if (key == "gaitlab") built = value;
+        if (key == "commit") commit = value;
+    }
+    if (!built.empty() || !commit.empty()) {
+        Stdout::print("gaitlab  {}{}\n", built.empty() ? "?" : printable(built),
+                      commit.empty() ? "" : fmt::format(" (commit {})", printable(commit)));
+    }
     Stdout::print("rows     {}{}, t = {} .. {} s, every {} ticks of {} s\n", t.size(),
                   run.truncated() ? " (last line cut short, dropped)" : "",
                   t.empty() ? "-" : fmt::format("{}", t.front()),

@@ -9,6 +9,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <thread>
 
 #include <fmt/format.h>
@@ -29,7 +30,7 @@
 namespace gaitlab {
 
 namespace fs = std::filesystem;
-using data::Json;
+using nlohmann::ordered_json;
 
 namespace {
 
@@ -77,10 +78,11 @@ std::string compiler() {
 std::string writer_of(const fs::path& dir) {
     try {
         const std::string path = (dir / "run.json").string();
-        const Json j = Json::parse(read_file(path), path);
-        if (const Json* p = j.find("process")) {
-            const long long pid = p->int_at("pid", 0);
-            if (pid > 0) return fmt::format(" (process {})", pid);
+        const data::JsonDocument doc(read_file(path), path);
+        if (const auto* p = data::find(doc.root(), "process")) {
+            const auto* pid = data::find(*p, "pid");
+            const std::optional<long long> n = pid ? data::as_integer(*pid) : std::nullopt;
+            if (n && *n > 0) return fmt::format(" (process {})", *n);
         }
     } catch (const std::exception&) {
         // a folder being written may be read between two of its writes: say less
@@ -193,6 +195,7 @@ RunProcess this_process() {
 std::vector<std::pair<std::string, std::string>> provenance() {
     std::vector<std::pair<std::string, std::string>> p;
     p.emplace_back("gaitlab", version());
+    p.emplace_back("commit", source_commit());
     p.emplace_back("bullet", physics_version());
     p.emplace_back("compiler", compiler());
     p.emplace_back("cpu", cpu_model());
@@ -289,88 +292,82 @@ void Recorder::unlock() {
 
 void Recorder::write_meta(const std::string& status, const std::string& message) {
     const Simulation& sim = *sim_;
-    Json j = Json::object();
-    j.set("format", "gaitlab run");
-    j.set("format_version", 1);
-    j.set("name", fs::path(options_.dir).filename().string());
-    j.set("status", status);
-    if (!message.empty()) j.set("message", message);
-    j.set("started", started_);
-    if (status != "running") j.set("ended", utc_now());
-    j.set("first_tick", first_tick_);
-    Json& proc = j.set("process", Json::object());
-    proc.set("pid", process_.pid);
-    proc.set("host", process_.host);
-    proc.set("boot_id", process_.boot_id);
-    proc.set("start_time", process_.start_time);
+    ordered_json j = ordered_json::object();
+    j["format"] = "gaitlab run";
+    j["format_version"] = 1;
+    j["name"] = fs::path(options_.dir).filename().string();
+    j["status"] = status;
+    if (!message.empty()) j["message"] = message;
+    j["started"] = started_;
+    if (status != "running") j["ended"] = utc_now();
+    j["first_tick"] = first_tick_;
+    ordered_json& proc = j["process"] = ordered_json::object();
+    proc["pid"] = process_.pid;
+    proc["host"] = process_.host;
+    proc["boot_id"] = process_.boot_id;
+    proc["start_time"] = process_.start_time;
     if (status != "running") {
-        j.set("last_tick", sim.ticks());
-        j.set("rows", rows_);
+        j["last_tick"] = sim.ticks();
+        j["rows"] = rows_;
     }
 
-    Json& s = j.set("simulation", Json::object());
-    s.set("index", context_.simulation);
-    s.set("dt", sim.options().dt);
-    s.set("control_every", sim.options().control_every);
-    s.set("solver_iterations", sim.options().solver_iterations);
-    s.set("seed", sim.options().seed);
-    s.set("on_controller_error",
-          sim.options().on_controller_error == ControllerErrorPolicy::stop ? "stop" : "continue");
-    Json& robots = s.set("robots", Json::array());
+    ordered_json& s = j["simulation"] = ordered_json::object();
+    s["index"] = context_.simulation;
+    s["dt"] = sim.options().dt;
+    s["control_every"] = sim.options().control_every;
+    s["solver_iterations"] = sim.options().solver_iterations;
+    s["seed"] = sim.options().seed;
+    s["on_controller_error"] =
+        sim.options().on_controller_error == ControllerErrorPolicy::stop ? "stop" : "continue";
+    ordered_json& robots = s["robots"] = ordered_json::array();
     for (int r = 0; r < sim.robot_count(); ++r) {
         const RobotSpec& spec = sim.world().robots[static_cast<size_t>(r)].robot;
-        Json& o = robots.push(Json::object());
-        o.set("label", sim.robot_label(r));
-        o.set("name", spec.name);
-        o.set("bodies", static_cast<int>(spec.bodies.size()));
-        o.set("joints", static_cast<int>(spec.joints.size()));
+        robots.push_back({{"label", sim.robot_label(r)},
+                          {"name", spec.name},
+                          {"bodies", spec.bodies.size()},
+                          {"joints", spec.joints.size()}});
     }
-    Json& ctls = s.set("controllers", Json::array());
+    ordered_json& ctls = s["controllers"] = ordered_json::array();
     for (int d = 0; d < sim.drive_count(); ++d) {
-        Json& o = ctls.push(Json::object());
-        o.set("label", sim.drive_label(d));
-        o.set("name", sim.controller(d).name());
-        o.set("robot", sim.robot_label(sim.drive_robot(d)));
-        Json& joints = o.set("joints", Json::array());
+        ordered_json joints = ordered_json::array();
         for (int jt : sim.drive_joints(d))
-            joints.push(jt + 1);
+            joints.push_back(jt + 1);
+        ctls.push_back({{"label", sim.drive_label(d)},
+                        {"name", sim.controller(d).name()},
+                        {"robot", sim.robot_label(sim.drive_robot(d))},
+                        {"joints", std::move(joints)}});
     }
 
-    Json& rec = j.set("recording", Json::object());
-    rec.set("record_every", options_.record_every);
-    rec.set("flush_seconds", options_.flush_seconds);
-    Json& sel = rec.set("select", Json::array());
-    for (const std::string& p : options_.series)
-        sel.push(p);
-    rec.set("series", static_cast<long long>(set_.size()));
+    ordered_json& rec = j["recording"] = ordered_json::object();
+    rec["record_every"] = options_.record_every;
+    rec["flush_seconds"] = options_.flush_seconds;
+    rec["select"] = options_.series;
+    rec["series"] = set_.size();
 
-    Json& run = j.set("run", Json::object());
-    run.set("script", context_.script);
-    Json& args = run.set("args", Json::array());
-    for (const std::string& a : context_.args)
-        args.push(a);
-    run.set("seed", context_.script_seed);
-    run.set("started_by", context_.started_by);
+    ordered_json& run = j["run"] = ordered_json::object();
+    run["script"] = context_.script;
+    run["args"] = context_.args;
+    run["seed"] = context_.script_seed;
+    run["started_by"] = context_.started_by;
 
-    Json& files = j.set("config", Json::array());
+    ordered_json& files = j["config"] = ordered_json::array();
     for (const ConfigFile& f : context_.files) {
-        Json& o = files.push(Json::object());
-        o.set("role", f.role);
-        o.set("path", f.path);
-        o.set("origin", f.origin);
+        ordered_json o = {{"role", f.role}, {"path", f.path}, {"origin", f.origin}};
         if (!f.of.empty()) {
-            o.set("of", f.of);
-            o.set("version", f.version);
+            o["of"] = f.of;
+            o["version"] = f.version;
         }
+        o["hash"] = data::content_hash(f.content);
+        files.push_back(std::move(o));
     }
 
-    Json& prov = j.set("provenance", Json::object());
+    ordered_json& prov = j["provenance"] = ordered_json::object();
     for (const auto& [k, v] : provenance())
-        prov.set(k, v);
+        prov[k] = v;
     for (const auto& [k, v] : context_.provenance)
-        prov.set(k, v);
+        prov[k] = v;
 
-    write_file_atomic((fs::path(options_.dir) / "run.json").string(), j.dump());
+    write_file_atomic((fs::path(options_.dir) / "run.json").string(), data::dump_json(j));
 }
 
 void Recorder::log(std::string_view line) {

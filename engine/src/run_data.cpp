@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <set>
 
 #include <fmt/format.h>
@@ -26,7 +27,7 @@
 namespace gaitlab {
 
 namespace fs = std::filesystem;
-using data::Json;
+using nlohmann::json;
 
 namespace {
 
@@ -214,49 +215,62 @@ bool inside_config(const std::string& path) {
 // what run.json says, each value checked: a folder from elsewhere may say anything
 class MetaReader {
   public:
-    explicit MetaReader(const std::string& file) : file_(file) {}
+    explicit MetaReader(const data::JsonDocument& doc) : doc_(doc) {}
 
-    [[noreturn]] void fail(const Json& at, const std::string& what) const {
-        throw FormatError(fmt::format("{}:{}: {}", file_, at.line(), what), file_, at.line());
+    [[noreturn]] void fail(const json& at, const std::string& what) const {
+        const int line = doc_.line(at);
+        throw FormatError(fmt::format("{}:{}: {}", doc_.file(), line, what), doc_.file(), line);
     }
     // a number member (or `fallback` when it is absent)
-    double number(const Json& o, const char* key, const char* name, double fallback) const {
-        const Json* v = o.find(key);
+    double number(const json& o, const char* key, const char* name, double fallback) const {
+        const json* v = data::find(o, key);
         if (!v) return fallback;
-        if (v->type() != Json::Type::number) fail(*v, fmt::format("{}: a number expected", name));
-        return v->num();
+        if (!v->is_number()) fail(*v, fmt::format("{}: a number expected", name));
+        return v->get<double>();
     }
     // a whole number member in [lo, hi]
-    long long integer(const Json& o, const char* key, const char* name, long long fallback,
+    long long integer(const json& o, const char* key, const char* name, long long fallback,
                       long long lo, long long hi) const {
-        const Json* v = o.find(key);
+        const json* v = data::find(o, key);
         if (!v) return fallback;
-        const long long x = v->integer(lo - 1);
-        if (v->type() != Json::Type::number || x < lo || x > hi ||
-            v->num() != std::trunc(v->num())) {
+        const std::optional<long long> x = data::as_integer(*v);
+        if (!x || *x < lo || *x > hi) {
             fail(*v, fmt::format("{}: a whole number from {} to {} expected", name, lo, hi));
         }
-        return x;
+        return *x;
     }
     // a config path member, which must stay inside config/ ("" only if `may_be_empty`)
-    std::string config_path(const Json& o, const char* key, const char* name,
+    std::string config_path(const json& o, const char* key, const char* name,
                             bool may_be_empty = false) const {
-        const Json* v = o.find(key);
+        const json* v = data::find(o, key);
         if (!v) return "";
-        const std::string p = v->str();
-        if (p.empty() && may_be_empty && v->type() == Json::Type::string) return p;
+        const std::string p = data::as_string(*v);
+        if (p.empty() && may_be_empty && v->is_string()) return p;
         if (!inside_config(p)) {
             fail(*v, fmt::format("{}: a path inside config/ expected, got '{}'", name, p));
         }
         return p;
     }
+    // the members of an object in the order the file has them (the parsed object sorts them)
+    std::vector<std::pair<std::string, const json*>> members(const json& o) const {
+        std::vector<std::pair<std::string, const json*>> out;
+        if (!o.is_object()) return out;
+        for (auto it = o.begin(); it != o.end(); ++it)
+            out.emplace_back(it.key(), &it.value());
+        std::stable_sort(out.begin(), out.end(), [&](const auto& a, const auto& b) {
+            return doc_.line(*a.second) < doc_.line(*b.second);
+        });
+        return out;
+    }
 
   private:
-    const std::string& file_;
+    const data::JsonDocument& doc_;
 };
 
-RunMeta meta_from(const Json& j, const std::string& file) {
-    if (j.type() != Json::Type::object || j.str_at("format") != "gaitlab run") {
+RunMeta meta_from(const data::JsonDocument& doc) {
+    const json& j = doc.root();
+    const std::string& file = doc.file();
+    if (!j.is_object() || data::str_at(j, "format") != "gaitlab run") {
         throw FormatError(fmt::format(
             "{}:1: not a gaitlab run description (an object with \"format\": \"gaitlab run\" "
             "expected)",
@@ -264,72 +278,75 @@ RunMeta meta_from(const Json& j, const std::string& file) {
     }
     constexpr long long kMaxInt = 2147483647;
     constexpr long long kMaxTick = 9000000000000000000;
-    const MetaReader r(file);
+    const MetaReader r(doc);
     RunMeta m;
-    m.name = j.str_at("name");
-    m.status = j.str_at("status");
-    m.message = j.str_at("message");
-    m.started = j.str_at("started");
-    m.ended = j.str_at("ended");
+    m.name = data::str_at(j, "name");
+    m.status = data::str_at(j, "status");
+    m.message = data::str_at(j, "message");
+    m.started = data::str_at(j, "started");
+    m.ended = data::str_at(j, "ended");
     m.first_tick = static_cast<long>(r.integer(j, "first_tick", "first_tick", 0, 0, kMaxTick));
     m.last_tick = static_cast<long>(r.integer(j, "last_tick", "last_tick", -1, -1, kMaxTick));
-    if (const Json* p = j.find("process")) {
+    if (const json* p = data::find(j, "process")) {
         m.process.pid = static_cast<long>(r.integer(*p, "pid", "process.pid", 0, 0, kMaxInt));
-        m.process.host = p->str_at("host");
-        m.process.boot_id = p->str_at("boot_id");
-        if (const Json* t = p->find("start_time")) m.process.start_time = t->uint(0);
+        m.process.host = data::str_at(*p, "host");
+        m.process.boot_id = data::str_at(*p, "boot_id");
+        if (const json* t = data::find(*p, "start_time")) m.process.start_time = data::as_uint(*t);
     }
-    if (const Json* s = j.find("simulation")) {
+    if (const json* s = data::find(j, "simulation")) {
         m.simulation = static_cast<int>(r.integer(*s, "index", "simulation.index", 1, 1, kMaxInt));
         m.options.dt = r.number(*s, "dt", "simulation.dt", m.options.dt);
         if (!(std::isfinite(m.options.dt) && m.options.dt > 0)) {
-            r.fail(*s->find("dt"), "simulation.dt: a positive number of seconds expected");
+            r.fail(*data::find(*s, "dt"), "simulation.dt: a positive number of seconds expected");
         }
         m.options.control_every = static_cast<int>(
             r.integer(*s, "control_every", "simulation.control_every", 30, 1, kMaxInt));
         m.options.solver_iterations = static_cast<int>(
             r.integer(*s, "solver_iterations", "simulation.solver_iterations", 20, 1, kMaxInt));
-        if (const Json* seed = s->find("seed")) m.options.seed = seed->uint(0);
-        if (s->str_at("on_controller_error") == "continue") {
+        if (const json* seed = data::find(*s, "seed")) m.options.seed = data::as_uint(*seed);
+        if (data::str_at(*s, "on_controller_error") == "continue") {
             m.options.on_controller_error = ControllerErrorPolicy::continue_;
         }
     }
-    if (const Json* rec = j.find("recording")) {
+    if (const json* rec = data::find(j, "recording")) {
         m.record_every = static_cast<int>(
             r.integer(*rec, "record_every", "recording.record_every", 0, 0, kMaxInt));
         m.flush_seconds = r.number(*rec, "flush_seconds", "recording.flush_seconds", 2);
         if (!(std::isfinite(m.flush_seconds) && m.flush_seconds >= 0)) {
-            r.fail(*rec->find("flush_seconds"),
+            r.fail(*data::find(*rec, "flush_seconds"),
                    "recording.flush_seconds: a non-negative number of seconds expected");
         }
-        if (const Json* sel = rec->find("select")) {
-            for (const Json& p : sel->items())
-                m.select.push_back(p.str());
+        if (const json* sel = data::find(*rec, "select"); sel && sel->is_array()) {
+            for (const json& p : *sel)
+                m.select.push_back(data::as_string(p));
         }
     }
-    if (const Json* run = j.find("run")) {
+    if (const json* run = data::find(j, "run")) {
         m.script = r.config_path(*run, "script", "run.script", true);
-        if (const Json* args = run->find("args")) {
-            for (const Json& a : args->items())
-                m.args.push_back(a.str());
+        if (const json* args = data::find(*run, "args"); args && args->is_array()) {
+            for (const json& a : *args)
+                m.args.push_back(data::as_string(a));
         }
-        if (const Json* seed = run->find("seed")) m.script_seed = seed->uint(0);
-        if (const Json* by = run->find("started_by")) m.started_by = by->str("simulation");
+        if (const json* seed = data::find(*run, "seed")) m.script_seed = data::as_uint(*seed);
+        if (const json* by = data::find(*run, "started_by")) {
+            m.started_by = data::as_string(*by, "simulation");
+        }
     }
-    if (const Json* files = j.find("config")) {
-        for (const Json& f : files->items()) {
+    if (const json* files = data::find(j, "config"); files && files->is_array()) {
+        for (const json& f : *files) {
             ConfigFile c;
-            c.role = f.str_at("role");
+            c.role = data::str_at(f, "role");
             c.path = r.config_path(f, "path", "config[].path");
-            c.origin = f.str_at("origin");
-            c.of = f.str_at("of");
-            if (const Json* v = f.find("version")) c.version = v->uint(0);
+            c.origin = data::str_at(f, "origin");
+            c.of = data::str_at(f, "of");
+            if (const json* v = data::find(f, "version")) c.version = data::as_uint(*v);
+            c.hash = data::str_at(f, "hash");  // "" in folders written before gaitlab kept it
             m.files.push_back(std::move(c));
         }
     }
-    if (const Json* p = j.find("provenance")) {
-        for (const auto& [k, v] : p->members())
-            m.provenance.emplace_back(k, v.str());
+    if (const json* p = data::find(j, "provenance")) {
+        for (const auto& [k, v] : r.members(*p))
+            m.provenance.emplace_back(k, data::as_string(*v));
     }
     return m;
 }
@@ -337,7 +354,8 @@ RunMeta meta_from(const Json& j, const std::string& file) {
 }  // namespace
 
 RunMeta RunData::read_meta(const std::string& path) {
-    return meta_from(Json::parse(read_own_file(path), path), path);
+    const data::JsonDocument doc(read_own_file(path), path);
+    return meta_from(doc);
 }
 
 RunData::RunData(std::string dir) : dir_(std::move(dir)) {

@@ -265,14 +265,14 @@ std::string normalized_config(const std::string& master, std::vector<ConfigFile>
     const std::string env_path = resolve_path(master, file.environment);
     file.environment = stem + ".environment.xml";
     parts.push_back({"environment", file.environment, env_path,
-                     format_environment(read_environment(env_path)), "", 0});
+                     format_environment(read_environment(env_path)), "", 0, ""});
     std::set<std::string> taken;
     for (RobotEntry& entry : file.robots) {
         const std::string robot_path = resolve_path(master, entry.robot);
         const RobotSpec robot = read_robot(robot_path);
         const std::string part = file_name_part(robot.name, taken);
         entry.robot = stem + "." + part + ".robot.xml";
-        parts.push_back({"robot", entry.robot, robot_path, format_robot(robot), "", 0});
+        parts.push_back({"robot", entry.robot, robot_path, format_robot(robot), "", 0, ""});
         if (entry.actuation.empty()) continue;
         const std::string act_path = resolve_path(master, entry.actuation);
         ActuationSpec act = read_actuation(act_path);
@@ -282,7 +282,7 @@ std::string normalized_config(const std::string& master, std::vector<ConfigFile>
             }
         }
         entry.actuation = stem + "." + part + ".actuation.xml";
-        parts.push_back({"actuation", entry.actuation, act_path, format_actuation(act), "", 0});
+        parts.push_back({"actuation", entry.actuation, act_path, format_actuation(act), "", 0, ""});
     }
     return format_simulation(file);
 }

@@ -476,6 +476,22 @@ TEST_CASE("gaitlab data lists, extracts, exports and plots series", "[cli][data]
     CHECK(summary.status == 0);
     CHECK_THAT(summary.out, Catch::Contains("status   finished\n"));
     CHECK_THAT(summary.out, Catch::Contains("rows     667, t = 0 .. 19.98 s, every 30 ticks"));
+    // the gaitlab that recorded it, with the commit it was built from
+    CHECK_THAT(
+        summary.out,
+        Catch::Matches(R"((.|\n)*\ngaitlab  [0-9]+\.[0-9]+\.[0-9]+ \(commit [^)\n]+\)\n(.|\n)*)"));
+    {
+        // a folder from before gaitlab kept the commit shows the version alone
+        const std::string meta = slurp(dir + "/run.json");
+        const size_t at = meta.find("\n    \"commit\": ");
+        REQUIRE(at != std::string::npos);
+        const size_t end = meta.find('\n', at + 1);
+        write_text(dir + "/run.json", meta.substr(0, at) + meta.substr(end));
+        const Run old = cli({"data", dir});
+        CHECK(old.status == 0);
+        CHECK_THAT(old.out, Catch::Matches(R"((.|\n)*\ngaitlab  [0-9]+\.[0-9]+\.[0-9]+\n(.|\n)*)"));
+        write_text(dir + "/run.json", meta);
+    }
 
     const Run list = cli({"data", dir, "--list"});
     CHECK(list.status == 0);

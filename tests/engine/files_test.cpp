@@ -176,29 +176,122 @@ TEST_CASE("CSV fields are quoted only when needed and split back", "[csv]") {
     CHECK_FALSE(split_line("a,\"open", f));
 }
 
+namespace {
+
+// the parse error `text` gives, as a user sees it
+std::string json_error(const std::string& text) {
+    try {
+        const JsonDocument doc(text, "f.json");
+    } catch (const FormatError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+}  // namespace
+
 TEST_CASE("JSON round-trips and reports errors with the line", "[json]") {
-    Json j = Json::object();
-    j.set("name", "a \"quoted\"\nline");
-    j.set("seed", std::uint64_t{18446744073709551615ull});
-    j.set("dt", 0.001);
-    j.set("list", Json::array()).push(1);
-    const Json back = Json::parse(j.dump(), "x.json");
-    CHECK(back.str_at("name") == "a \"quoted\"\nline");
-    CHECK(back.find("seed")->uint() == 18446744073709551615ull);
-    CHECK(back.num_at("dt") == 0.001);
-    CHECK(back.find("list")->items().size() == 1);
-    CHECK(Json::parse("\"\\u00e9\\ud83d\\ude00\"", "s").str() == "\xc3\xa9\xf0\x9f\x98\x80");
-    CHECK_THROWS_WITH(Json::parse("{\n\"a\": 1,\n}", "f.json"),
-                      "f.json:3: member name (a string) expected");
-    CHECK_THROWS_WITH(Json::parse("[1 2]", "f.json"), "f.json:1: ',' or ']' expected in an array");
-    CHECK_THROWS_WITH(Json::parse("{} x", "f.json"),
-                      "f.json:1: end of file expected after the JSON value");
-    CHECK_THROWS_WITH(Json::parse("\"abc", "f.json"), "f.json:1: unterminated string");
+    nlohmann::ordered_json j;
+    j["name"] = "a \"quoted\"\nline";
+    j["seed"] = std::uint64_t{18446744073709551615ull};
+    j["dt"] = 0.001;
+    j["flush"] = 2.0;
+    j["list"] = {1, "two"};
+    j["nested"] = {{"a", nlohmann::ordered_json::array()}, {"b", nlohmann::ordered_json::object()}};
+    const std::string text = dump_json(j);
+    // two-space indent, arrays of scalars on one line, members in order, doubles written short
+    CHECK(text ==
+          "{\n"
+          "  \"name\": \"a \\\"quoted\\\"\\nline\",\n"
+          "  \"seed\": 18446744073709551615,\n"
+          "  \"dt\": 0.001,\n"
+          "  \"flush\": 2,\n"
+          "  \"list\": [1, \"two\"],\n"
+          "  \"nested\": {\n"
+          "    \"a\": [],\n"
+          "    \"b\": {}\n"
+          "  }\n"
+          "}\n");
+    const JsonDocument back(text, "x.json");
+    CHECK(str_at(back.root(), "name") == "a \"quoted\"\nline");
+    CHECK(as_uint(*find(back.root(), "seed")) == 18446744073709551615ull);
+    CHECK(find(back.root(), "dt")->get<double>() == 0.001);
+    CHECK(find(back.root(), "flush")->get<double>() == 2.0);
+    CHECK(find(back.root(), "list")->size() == 2);
+    CHECK(find(back.root(), "missing") == nullptr);
+    CHECK(find(*find(back.root(), "list"), "x") == nullptr);  // not an object
+    CHECK(as_string(JsonDocument("\"\\u00e9\\ud83d\\ude00\"", "s").root()) ==
+          "\xc3\xa9\xf0\x9f\x98\x80");
+    // the first of two members of the same name counts
+    CHECK(find(JsonDocument("{\"a\": 1, \"a\": [2, {\"a\": 3}], \"b\": 4}", "d").root(), "a")
+              ->get<int>() == 1);
+    CHECK(json_error("{\n\"a\": 1,\n}") == "f.json:3: member name (a string) expected");
+    CHECK(json_error("[1 2]") == "f.json:1: ',' or ']' expected in an array");
+    CHECK(json_error("{\"a\": 1\n\n \"b\": 2}") == "f.json:3: ',' or '}' expected in an object");
+    CHECK(json_error("{\"a\" 1}") == "f.json:1: ':' expected after a member name");
+    CHECK(json_error("{} x") == "f.json:1: end of file expected after the JSON value");
+    CHECK(json_error("\"abc") == "f.json:1: unterminated string");
+    CHECK(json_error("\"abc\\") == "f.json:1: unterminated string");
+    CHECK(json_error("") == "f.json:1: JSON value expected, got the end of the file");
+    CHECK(json_error("{\"a\":\n\n") == "f.json:3: JSON value expected, got the end of the file");
+    CHECK(json_error("[tru]") == "f.json:1: JSON value expected, got 't'");
+    CHECK(json_error("\n\n\"\\q\"") == "f.json:3: unknown escape '\\q' in a string");
+    CHECK(json_error("\"\\u12g4\"") == "f.json:1: four hex digits expected after \\u");
     // bytes that are not printable are named, not copied into the message
-    CHECK_THROWS_WITH(Json::parse("\x1b[31m", "f.json"),
-                      "f.json:1: JSON value expected, got byte 0x1b");
-    CHECK_THROWS_WITH(Json::parse("\"\\\x07\"", "f.json"),
-                      "f.json:1: unknown escape: '\\' and byte 0x07 in a string");
+    CHECK(json_error("\x1b[31m") == "f.json:1: JSON value expected, got byte 0x1b");
+    CHECK(json_error("\n\xcc") == "f.json:2: JSON value expected, got byte 0xcc");
+    CHECK(json_error("\"\\\x07\"") == "f.json:1: unknown escape: '\\' and byte 0x07 in a string");
+    // where nlohmann-json says more, its words are kept
+    CHECK(json_error("[1,\n-x]") == "f.json:2: invalid number; expected digit after '-'");
+    CHECK(json_error("[1e999]") == "f.json:1: number overflow parsing '1e999'");
+    CHECK(json_error("\"a\nb\"") ==
+          "f.json:1: invalid string: control character U+000A (LF) must be escaped to "
+          "\\u000A or \\n");
+    CHECK(json_error("[\"\xff\"]") == "f.json:1: invalid string: ill-formed UTF-8 byte");
+    // deep nesting is refused before it costs anything
+    CHECK(json_error(std::string(100000, '[')) == "f.json:1: JSON nested too deeply");
+    CHECK(json_error("{\"a\": 1, \"a\": " + std::string(100, '[')) ==
+          "f.json:1: JSON nested too deeply");
+}
+
+TEST_CASE("JSON doubles read back to the same bits", "[json]") {
+    // replay rebuilds the simulation from run.json's numbers: every double must come back exact
+    std::vector<double> values = {0.0,
+                                  -0.0,
+                                  0.001,
+                                  1.0 / 3,
+                                  2.0,
+                                  1e16,
+                                  123456789012345678.0,
+                                  9007199254740993.0,
+                                  std::numeric_limits<double>::min(),
+                                  std::numeric_limits<double>::denorm_min(),
+                                  std::numeric_limits<double>::max(),
+                                  -std::numeric_limits<double>::max()};
+    std::uint64_t bits = 0x9e3779b97f4a7c15ull;
+    for (int i = 0; i < 2000; ++i) {
+        bits ^= bits << 13;
+        bits ^= bits >> 7;
+        bits ^= bits << 17;
+        double d = 0;
+        std::memcpy(&d, &bits, sizeof d);
+        if (std::isfinite(d)) values.push_back(d);
+    }
+    nlohmann::ordered_json j = nlohmann::ordered_json::array();
+    for (double d : values)
+        j.push_back(d);
+    j.push_back(std::nan(""));
+    j.push_back(std::numeric_limits<double>::infinity());
+    const JsonDocument back(dump_json(j), "n.json");
+    REQUIRE(back.root().size() == values.size() + 2);
+    for (size_t i = 0; i < values.size(); ++i) {
+        const double d = back.root()[i].get<double>();
+        INFO(values[i]);
+        CHECK(std::memcmp(&d, &values[i], sizeof d) == 0);
+    }
+    // JSON has no NaN or infinity: null
+    CHECK(back.root()[values.size()].is_null());
+    CHECK(back.root()[values.size() + 1].is_null());
 }
 
 namespace {
@@ -242,50 +335,81 @@ TEST_CASE("JSON strings are valid UTF-8 whatever bytes they hold", "[json]") {
                                  std::string("nul\0in", 6)};
     for (const std::string& b : bytes) {
         INFO(b);
-        Json j = Json::object();
-        j.set("name", b);
-        j.set(b, 1);  // as a member name too
-        const std::string text = j.dump();
+        nlohmann::ordered_json j;
+        j["name"] = b;
+        j["list"] = {b};
+        j[b] = 1;  // as a member name too
+        const std::string text = dump_json(j);
         CHECK(valid_utf8(text));
-        const Json back = Json::parse(text, "x.json");
-        const std::string name = back.str_at("name");
+        const JsonDocument back(text, "x.json");
+        const std::string name = str_at(back.root(), "name");
         CHECK(valid_utf8(name));
-        // valid UTF-8 comes back as it was; each bad byte as U+FFFD
+        // valid UTF-8 comes back as it was; bad bytes as U+FFFD
         if (valid_utf8(b)) CHECK(name == b);
-        CHECK(back.members()[1].first == name);
+        CHECK(as_string(back.root()["list"][0]) == name);
+        CHECK(find(back.root(), name) != nullptr);
     }
-    CHECK(Json::parse(Json("\xff"
-                           "a")
-                          .dump(),
-                      "x")
-              .str() ==
+    const auto round_trip = [](const std::string& s) {
+        return as_string(JsonDocument(dump_json(nlohmann::ordered_json(s)), "x").root());
+    };
+    CHECK(round_trip("\xff"
+                     "a") ==
           "\xef\xbf\xbd"
           "a");
-    CHECK(Json::parse(Json("\xe2\x82").dump(), "x").str() == "\xef\xbf\xbd\xef\xbf\xbd");
-    // lone or mismatched surrogate escapes read as U+FFFD too, never as broken UTF-8
-    CHECK(Json::parse("\"\\ud800x\"", "s").str() == "\xef\xbf\xbdx");
-    CHECK(Json::parse("\"\\udc00\"", "s").str() == "\xef\xbf\xbd");
-    CHECK(Json::parse("\"\\ud800\\u0041\"", "s").str() ==
+    // a sequence cut short is one U+FFFD (Unicode's "maximal subpart" practice)
+    CHECK(round_trip("\xe2\x82") == "\xef\xbf\xbd");
+    CHECK(round_trip("\xe2\x82z") ==
           "\xef\xbf\xbd"
-          "A");
+          "z");
+    // lone or mismatched surrogate escapes are refused, naming the line
+    CHECK(json_error("\n\"\\ud800x\"") ==
+          "f.json:2: invalid string: surrogate U+D800..U+DBFF must be followed by U+DC00..U+DFFF");
+    CHECK(json_error("\"\\udc00\"") ==
+          "f.json:1: invalid string: surrogate U+DC00..U+DFFF must follow U+D800..U+DBFF");
 }
 
 TEST_CASE("JSON values know their line, and numbers out of range are not integers", "[json]") {
-    const Json j = Json::parse("{\n  \"a\": 1,\n\n  \"b\": [\n 2, \"x\"]\n}", "f.json");
-    CHECK(j.line() == 1);
-    CHECK(j.find("a")->line() == 2);
-    CHECK(j.find("b")->line() == 4);
-    CHECK(j.find("b")->items()[1].line() == 5);
-    const Json n = Json::parse("[1e300, -1e300, 0.5, 1e3, 18446744073709551616]", "n.json");
-    CHECK(n.items()[0].integer(-7) == -7);
-    CHECK(n.items()[1].integer(-7) == -7);
-    CHECK(n.items()[2].integer(-7) == -7);
-    CHECK(n.items()[3].integer(-7) == 1000);
-    CHECK(n.items()[4].uint(3) == 3);
-    // an object with a great many members parses in linear time
+    const JsonDocument j(
+        "{\n  \"a\": 1,\n\n  \"b\": [\n 2, \"x\",\n [3,\n{\"c\":\n\n 4.5}]],\n"
+        "\"d\": true,\"e\"\n:\nnull}",
+        "f.json");
+    const nlohmann::json& r = j.root();
+    CHECK(j.line(r) == 1);
+    CHECK(j.line(r["a"]) == 2);
+    CHECK(j.line(r["b"]) == 4);
+    CHECK(j.line(r["b"][0]) == 5);
+    CHECK(j.line(r["b"][1]) == 5);
+    CHECK(j.line(r["b"][2]) == 6);
+    CHECK(j.line(r["b"][2][0]) == 6);
+    CHECK(j.line(r["b"][2][1]) == 7);
+    CHECK(j.line(r["b"][2][1]["c"]) == 9);
+    CHECK(j.line(r["d"]) == 10);
+    CHECK(j.line(r["e"]) == 12);
+    const nlohmann::json elsewhere = 1;
+    CHECK(j.line(elsewhere) == 0);
+    const JsonDocument n("[1e300, -1e300, 0.5, 1e3, 18446744073709551616, -3, \"4\"]", "n.json");
+    CHECK_FALSE(as_integer(n.root()[0]));
+    CHECK_FALSE(as_integer(n.root()[1]));
+    CHECK_FALSE(as_integer(n.root()[2]));
+    CHECK(as_integer(n.root()[3]) == 1000);
+    CHECK(as_uint(n.root()[4], 3) == 3);
+    CHECK(as_integer(n.root()[5]) == -3);
+    CHECK(as_uint(n.root()[5], 3) == 3);
+    CHECK_FALSE(as_integer(n.root()[6]));
+    // an object with a great many members parses in about linear time
     std::string big = "{";
     for (int i = 0; i < 200000; ++i)
         big += (i > 0 ? ",\"" : "\"") + std::to_string(i) + "\":1";
     big += "}";
-    CHECK(Json::parse(big, "big.json").members().size() == 200000);
+    const JsonDocument many(big, "big.json");
+    CHECK(many.root().size() == 200000);
+    CHECK(many.line(many.root()["199999"]) == 1);
+}
+
+TEST_CASE("content hashes are FNV-1a 64", "[files]") {
+    // the published test vectors of FNV-1a 64
+    CHECK(content_hash("") == "fnv1a64:cbf29ce484222325");
+    CHECK(content_hash("a") == "fnv1a64:af63dc4c8601ec8c");
+    CHECK(content_hash("foobar") == "fnv1a64:85944171f73967e8");
+    CHECK(content_hash(std::string("a\0b", 3)) != content_hash("a"));
 }

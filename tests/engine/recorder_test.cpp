@@ -17,6 +17,7 @@
 #include "gaitlab/error.h"
 #include "gaitlab/recorder.h"
 #include "gaitlab/run_data.h"
+#include "gaitlab/version.h"
 #include "sim_support.h"
 #include "temp_dir.h"
 
@@ -57,9 +58,9 @@ TEST_CASE("a run folder holds the data, the series list, events, log and configu
     ctx.script = "snake.lua";
     ctx.args = {"a", "b"};
     ctx.script_seed = 7;
-    ctx.files.push_back({"script", "snake.lua", "/somewhere/snake.lua", "print(1)\n", "", 0});
-    ctx.files.push_back(
-        {"controller", "controllers/c.lua", "/somewhere/controllers/c.lua", "return 1\n", "", 0});
+    ctx.files.push_back({"script", "snake.lua", "/somewhere/snake.lua", "print(1)\n", "", 0, ""});
+    ctx.files.push_back({"controller", "controllers/c.lua", "/somewhere/controllers/c.lua",
+                         "return 1\n", "", 0, ""});
     {
         Recorder rec(sim, o, ctx);
         sim.run(0.3);
@@ -90,13 +91,28 @@ TEST_CASE("a run folder holds the data, the series list, events, log and configu
     REQUIRE(run.meta().files.size() == 2);
     CHECK(run.meta().files[1].role == "controller");
     CHECK(run.meta().files[1].path == "controllers/c.lua");
-    bool has_cpu = false, has_compiler = false;
+    // each file's FNV-1a 64 hash (the values computed independently of gaitlab)
+    CHECK(run.meta().files[0].hash == "fnv1a64:c36adf2b03cacd3c");
+    CHECK(run.meta().files[1].hash == "fnv1a64:2190e8ea4e8cab5a");
+    std::string cpu, compiler, commit;
+    std::vector<std::string> keys;
     for (const auto& [k, v] : run.meta().provenance) {
-        has_cpu = has_cpu || (k == "cpu" && !v.empty());
-        has_compiler = has_compiler || (k == "compiler" && !v.empty());
+        keys.push_back(k);
+        if (k == "cpu") cpu = v;
+        if (k == "compiler") compiler = v;
+        if (k == "commit") commit = v;
     }
-    CHECK(has_cpu);
-    CHECK(has_compiler);
+    CHECK_FALSE(cpu.empty());
+    CHECK_FALSE(compiler.empty());
+    // the commit this very test was built from ("unknown" only outside a git work tree)
+    CHECK(commit == source_commit());
+    CHECK_FALSE(commit.empty());
+    if (fs::exists(fs::path(GAITLAB_SOURCE_DIR) / ".git")) CHECK(commit != "unknown");
+    // provenance reads back in the order run.json has it
+    REQUIRE(keys.size() >= 3);
+    CHECK(keys[0] == "gaitlab");
+    CHECK(keys[1] == "commit");
+    CHECK(keys[2] == "bullet");
     CHECK(run.rows() == 11);
     CHECK_FALSE(run.truncated());
     CHECK_THAT(run.log(),
@@ -286,8 +302,8 @@ TEST_CASE("two recorders never share a folder: the second is refused, the first 
     // a recorder that failed to start (here: config/a is a folder and a file) leaves the
     // folder to others
     RunContext clash;
-    clash.files.push_back({"script", "a/b.lua", "/x/a/b.lua", "1", "", 0});
-    clash.files.push_back({"input", "a", "/x/a", "2", "", 0});
+    clash.files.push_back({"script", "a/b.lua", "/x/a/b.lua", "1", "", 0, ""});
+    clash.files.push_back({"input", "a", "/x/a", "2", "", 0, ""});
     CHECK_THROWS_AS(Recorder(b, o, clash), IoError);
     { Recorder third(b, o); }
     CHECK(RunData(o.dir).rows() == 1);
@@ -336,7 +352,7 @@ TEST_CASE("run.json is valid UTF-8 whatever bytes it is given", "[recorder]") {
     { Recorder rec(sim, o, c); }
     const std::string meta = read_text(tmp / "run/run.json");
     // each byte that is not UTF-8 is U+FFFD; no such byte is left in the file
-    CHECK(meta.find("\"\\ufffd\\ufffd-\\ufffd\"") != std::string::npos);
+    CHECK(meta.find("\"\xef\xbf\xbd\xef\xbf\xbd-\xef\xbf\xbd\"") != std::string::npos);
     for (const char byte : {'\xff', '\xfe'})
         CHECK(meta.find(byte) == std::string::npos);
     CHECK(RunData(tmp / "run").meta().args ==

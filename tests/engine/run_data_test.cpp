@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <regex>
 #include <set>
 
 #include <fmt/format.h>
@@ -281,6 +282,46 @@ TEST_CASE("run.json from elsewhere is checked value by value, with its line", "[
     }
     write_text(dir + "/run.json", meta);
     CHECK(RunData(dir).meta().options.dt == 0.001);
+}
+
+TEST_CASE("run folders written before the commit and the hashes were recorded still read",
+          "[run_data]") {
+    TempDir tmp("run_data_old");
+    const std::string dir = tmp / "run";
+    {
+        Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+        RecordOptions o;
+        o.dir = dir;
+        RunContext c;
+        c.files.push_back({"script", "a.lua", "/x/a.lua", "print(1)\n", "", 0, ""});
+        Recorder rec(sim, o, c);
+        sim.run(0.05);
+        rec.close();
+    }
+    const std::string meta = read_text(dir + "/run.json");
+    REQUIRE(meta.find("\"commit\": ") != std::string::npos);
+    REQUIRE(meta.find("\"hash\": \"fnv1a64:") != std::string::npos);
+    const RunMeta now = RunData(dir).meta();
+    REQUIRE_FALSE(now.files.empty());
+    CHECK(now.files[0].hash == "fnv1a64:c36adf2b03cacd3c");
+    // run.json as gaitlab wrote it before: no commit, no hash, U+FFFD written as an escape
+    std::string old = std::regex_replace(meta, std::regex(",\n *\"hash\": \"[^\"]*\""), "");
+    old = std::regex_replace(old, std::regex("\n *\"commit\": \"[^\"]*\","), "");
+    old = std::regex_replace(old, std::regex("\"args\": \\[\\]"), "\"args\": [\"\\ufffd\"]");
+    REQUIRE(old.find("commit") == std::string::npos);
+    REQUIRE(old.find("hash") == std::string::npos);
+    REQUIRE(old.find("\\ufffd") != std::string::npos);
+    write_text(dir + "/run.json", old);
+    const RunData run(dir);
+    CHECK(run.meta().status == "finished");
+    CHECK(run.meta().options.dt == now.options.dt);
+    CHECK(run.meta().args == std::vector<std::string>{"\xef\xbf\xbd"});
+    REQUIRE(run.meta().files.size() == now.files.size());
+    for (const ConfigFile& f : run.meta().files)
+        CHECK(f.hash.empty());
+    CHECK(run.meta().provenance.size() + 1 == now.provenance.size());
+    for (const auto& [k, v] : run.meta().provenance)
+        CHECK(k != "commit");
 }
 
 TEST_CASE("configuration files stay inside config/, links too", "[run_data]") {

@@ -68,7 +68,7 @@ void record(const TempDir& tmp, const std::function<void(Simulation&)>& outside,
     host.set_reload_interval(reload_interval);
     host.set_print(false);
     // configuration a host adds itself (the XML parts, later) goes into config/ too
-    s.files.push_back({"master", "snake.xml", "/somewhere/snake.xml", "<gaitlab/>\n", "", 0});
+    s.files.push_back({"master", "snake.xml", "/somewhere/snake.xml", "<gaitlab/>\n", "", 0, ""});
     host.set_recording(s);
     host.on_simulation([&](Simulation& sim, int) { sim.add_pre_tick(outside); });
     host.run_file(s.script);

@@ -59,6 +59,9 @@ struct ConfigFile {
     std::string content;        ///< what was read (and ran)
     std::string of;             ///< reload: the path of the controller file it is a version of
     std::uint64_t version = 0;  ///< reload: the class version it became
+    /// the FNV-1a 64 hash of content, "fnv1a64:" and 16 hex digits: the recorder computes it
+    /// for run.json; read back, "" for folders written before gaitlab recorded it
+    std::string hash;
 };
 
 /// What ran besides the simulation: run.json keeps it for replay and provenance.

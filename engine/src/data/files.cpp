@@ -119,4 +119,13 @@ void AppendFile::close() {
     }
 }
 
+std::string content_hash(std::string_view bytes) {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (const char c : bytes) {
+        h ^= static_cast<unsigned char>(c);
+        h *= 0x100000001b3ull;
+    }
+    return fmt::format("fnv1a64:{:016x}", h);
+}
+
 }  // namespace gaitlab::data

@@ -22,6 +22,11 @@ std::string boot_id();
 /// there is no such process or it cannot be told.
 std::uint64_t process_start_time(long pid);
 
+/// The FNV-1a 64-bit hash of `bytes` as run.json records it: "fnv1a64:" and 16 lowercase hex
+/// digits (FNV-1a: offset basis 0xcbf29ce484222325, prime 0x100000001b3; a check that a file
+/// is the one that ran, not a defence against forgery).
+std::string content_hash(std::string_view bytes);
+
 /// A file opened for appending (created or truncated on open). Writes go straight to the
 /// operating system (write(2), no fsync): once write() returns they survive the process, not
 /// a power loss.

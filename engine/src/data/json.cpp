@@ -1,7 +1,9 @@
 #include "data/json.h"
 
-#include <charconv>
 #include <cmath>
+#include <iterator>
+#include <limits>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -9,454 +11,375 @@
 
 namespace gaitlab::data {
 
-Json::Json(double v) : type_(Type::number), number_(v) {
-    // JSON has no NaN or infinity: those are written as null
-    if (!std::isfinite(v)) {
-        type_ = Type::null;
-        return;
-    }
-    text_ = fmt::format("{}", v);
-}
-
-Json::Json(long long v)
-    : type_(Type::number), number_(static_cast<double>(v)), text_(std::to_string(v)) {}
-
-Json::Json(std::uint64_t v)
-    : type_(Type::number), number_(static_cast<double>(v)), text_(std::to_string(v)) {}
-
-Json& Json::push(Json v) {
-    items_.push_back(std::move(v));
-    return items_.back();
-}
-
-Json& Json::set(const std::string& key, Json v) {
-    for (auto& m : members_) {
-        if (m.first == key) {
-            m.second = std::move(v);
-            return m.second;
-        }
-    }
-    members_.emplace_back(key, std::move(v));
-    return members_.back().second;
-}
-
-Json& Json::add(std::string key, Json v) {
-    members_.emplace_back(std::move(key), std::move(v));
-    return members_.back().second;
-}
-
-const Json* Json::find(std::string_view key) const {
-    for (const auto& m : members_) {
-        if (m.first == key) return &m.second;
-    }
-    return nullptr;
-}
-
-std::string Json::str(const std::string& fallback) const {
-    return type_ == Type::string ? text_ : fallback;
-}
-
-double Json::num(double fallback) const {
-    return type_ == Type::number ? number_ : fallback;
-}
-
-long long Json::integer(long long fallback) const {
-    if (type_ != Type::number) return fallback;
-    long long v = 0;
-    const auto r = std::from_chars(text_.data(), text_.data() + text_.size(), v);
-    if (r.ec == std::errc() && r.ptr == text_.data() + text_.size()) return v;
-    // 1e3 is an integer too; 1e300 and 0.5 are not
-    if (number_ >= -9.2e18 && number_ <= 9.2e18 && number_ == std::trunc(number_))
-        return static_cast<long long>(number_);
-    return fallback;
-}
-
-std::uint64_t Json::uint(std::uint64_t fallback) const {
-    if (type_ != Type::number) return fallback;
-    std::uint64_t v = 0;
-    const auto r = std::from_chars(text_.data(), text_.data() + text_.size(), v);
-    if (r.ec == std::errc() && r.ptr == text_.data() + text_.size()) return v;
-    return fallback;
-}
-
-bool Json::boolean(bool fallback) const {
-    return type_ == Type::boolean ? bool_ : fallback;
-}
-
-std::string Json::str_at(std::string_view key) const {
-    const Json* j = find(key);
-    return j ? j->str() : "";
-}
-
-double Json::num_at(std::string_view key, double fallback) const {
-    const Json* j = find(key);
-    return j ? j->num(fallback) : fallback;
-}
-
-long long Json::int_at(std::string_view key, long long fallback) const {
-    const Json* j = find(key);
-    return j ? j->integer(fallback) : fallback;
-}
+using nlohmann::json;
+using nlohmann::ordered_json;
 
 namespace {
 
-// the length of the well-formed UTF-8 sequence at s[i] (RFC 3629: no overlong forms, no
-// surrogates, nothing above U+10FFFF), 0 if there is none
-size_t utf8_length(const std::string& s, size_t i) {
-    const auto b = [&](size_t k) { return static_cast<unsigned char>(s[k]); };
-    const unsigned char c = b(i);
-    if (c < 0x80) return 1;
-    size_t n = 0;
-    unsigned char lo = 0x80, hi = 0xBF;  // the allowed range of the second byte
-    if (c >= 0xC2 && c <= 0xDF) {
-        n = 2;
-    } else if (c >= 0xE0 && c <= 0xEF) {
-        n = 3;
-        if (c == 0xE0) lo = 0xA0;
-        if (c == 0xED) hi = 0x9F;
-    } else if (c >= 0xF0 && c <= 0xF4) {
-        n = 4;
-        if (c == 0xF0) lo = 0x90;
-        if (c == 0xF4) hi = 0x8F;
-    } else {
-        return 0;
+// a scalar or a member name as JSON text: nlohmann escapes it and writes every byte that is
+// not part of well-formed UTF-8 (a name made of arbitrary bytes) as U+FFFD, so the file is
+// always valid JSON
+void dump_scalar(std::string& out, const ordered_json& v) {
+    if (v.is_number_float()) {
+        // fmt's shortest form reads back to the same bits; "-0" would read back as the
+        // integer 0, so negative zero keeps its point
+        const double d = v.get<double>();
+        if (!std::isfinite(d)) {
+            out += "null";  // JSON has no NaN or infinity
+        } else if (d == 0 && std::signbit(d)) {
+            out += "-0.0";
+        } else {
+            out += fmt::format("{}", d);
+        }
+        return;
     }
-    if (i + n > s.size()) return 0;
-    if (b(i + 1) < lo || b(i + 1) > hi) return 0;
-    for (size_t k = 2; k < n; ++k) {
-        if (b(i + k) < 0x80 || b(i + k) > 0xBF) return 0;
-    }
-    return n;
+    out += v.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
-// a JSON string: control characters escaped, and every byte that is not part of well-formed
-// UTF-8 (a name made of arbitrary bytes) written as U+FFFD, so the file is always valid JSON
-void dump_string(std::string& out, const std::string& s) {
-    out.push_back('"');
-    for (size_t i = 0; i < s.size();) {
-        const auto c = static_cast<unsigned char>(s[i]);
-        switch (c) {
-            case '"':
-                out += "\\\"";
-                break;
-            case '\\':
-                out += "\\\\";
-                break;
-            case '\n':
-                out += "\\n";
-                break;
-            case '\r':
-                out += "\\r";
-                break;
-            case '\t':
-                out += "\\t";
-                break;
-            default:
-                if (c < 0x20 || c == 0x7f) {
-                    out += fmt::format("\\u{:04x}", c);
-                } else if (c < 0x80) {
-                    out.push_back(static_cast<char>(c));
-                } else {
-                    const size_t n = utf8_length(s, i);
-                    if (n == 0) {
-                        out += "\\ufffd";
-                    } else {
-                        out.append(s, i, n);
-                        i += n;
-                        continue;
-                    }
-                }
+void dump_value(std::string& out, const ordered_json& v, int indent) {
+    const std::string pad(static_cast<size_t>(indent + 2), ' ');
+    if (v.is_array()) {
+        if (v.empty()) {
+            out += "[]";
+            return;
         }
-        ++i;
+        // arrays of scalars stay on one line
+        bool flat = true;
+        for (const ordered_json& item : v)
+            flat = flat && !item.is_structured();
+        out += "[";
+        bool first = true;
+        for (const ordered_json& item : v) {
+            if (!first) out += flat ? ", " : ",";
+            first = false;
+            if (!flat) out += "\n" + pad;
+            dump_value(out, item, indent + 2);
+        }
+        if (!flat) out += "\n" + std::string(static_cast<size_t>(indent), ' ');
+        out += "]";
+    } else if (v.is_object()) {
+        if (v.empty()) {
+            out += "{}";
+            return;
+        }
+        out += "{";
+        bool first = true;
+        for (const auto& [key, value] : v.items()) {
+            if (!first) out += ",";
+            first = false;
+            out += "\n" + pad;
+            dump_scalar(out, ordered_json(key));
+            out += ": ";
+            dump_value(out, value, indent + 2);
+        }
+        out += "\n" + std::string(static_cast<size_t>(indent), ' ') + "}";
+    } else {
+        dump_scalar(out, v);
     }
-    out.push_back('"');
+}
+
+// an input iterator over the text that records how far nlohmann's lexer has read, so the
+// builder knows the line of each value it is handed
+class Cursor {
+  public:
+    using iterator_category = std::input_iterator_tag;
+    using value_type = char;
+    using difference_type = std::ptrdiff_t;
+    using pointer = const char*;
+    using reference = const char&;
+
+    Cursor(const char* p, const char** reached) : p_(p), reached_(reached) {}
+    reference operator*() const { return *p_; }
+    Cursor& operator++() {
+        *reached_ = ++p_;
+        return *this;
+    }
+    Cursor operator++(int) {
+        Cursor before = *this;
+        ++*this;
+        return before;
+    }
+    bool operator==(const Cursor& o) const { return p_ == o.p_; }
+    bool operator!=(const Cursor& o) const { return p_ != o.p_; }
+
+  private:
+    const char* p_;
+    const char** reached_;
+};
+
+// "'x'" for a printable byte, "byte 0x1b" for another
+std::string describe_byte(unsigned char c) {
+    return c > 0x20 && c < 0x7f ? fmt::format("'{}'", static_cast<char>(c))
+                                : fmt::format("byte 0x{:02x}", c);
+}
+
+// nlohmann's text with every byte that is not printable ASCII written as \xNN
+std::string printable(std::string_view s) {
+    std::string out;
+    for (const char c : s) {
+        const auto b = static_cast<unsigned char>(c);
+        out += b >= 0x20 && b < 0x7f ? std::string(1, c) : fmt::format("\\x{:02x}", b);
+    }
+    return out;
+}
+
+bool starts_with(std::string_view s, std::string_view prefix) {
+    return s.substr(0, prefix.size()) == prefix;
 }
 
 }  // namespace
 
-void Json::dump(std::string& out, int indent) const {
-    const std::string pad(static_cast<size_t>(indent + 2), ' ');
-    switch (type_) {
-        case Type::null:
-            out += "null";
-            break;
-        case Type::boolean:
-            out += bool_ ? "true" : "false";
-            break;
-        case Type::number:
-            out += text_;
-            break;
-        case Type::string:
-            dump_string(out, text_);
-            break;
-        case Type::array: {
-            if (items_.empty()) {
-                out += "[]";
-                break;
-            }
-            // arrays of scalars stay on one line
-            bool flat = true;
-            for (const Json& j : items_)
-                flat = flat && j.type_ != Type::array && j.type_ != Type::object;
-            out += "[";
-            for (size_t i = 0; i < items_.size(); ++i) {
-                if (i > 0) out += flat ? ", " : ",";
-                if (!flat) out += "\n" + pad;
-                items_[i].dump(out, indent + 2);
-            }
-            if (!flat) out += "\n" + std::string(static_cast<size_t>(indent), ' ');
-            out += "]";
-            break;
-        }
-        case Type::object: {
-            if (members_.empty()) {
-                out += "{}";
-                break;
-            }
-            out += "{";
-            for (size_t i = 0; i < members_.size(); ++i) {
-                if (i > 0) out += ",";
-                out += "\n" + pad;
-                dump_string(out, members_[i].first);
-                out += ": ";
-                members_[i].second.dump(out, indent + 2);
-            }
-            out += "\n" + std::string(static_cast<size_t>(indent), ' ') + "}";
-            break;
-        }
-    }
-}
+// builds the document from nlohmann's SAX events, noting the line of each value
+class JsonBuilder {
+  public:
+    JsonBuilder(JsonDocument& doc, std::string_view text, const char* const& reached)
+        : doc_(doc), text_(text), reached_(reached) {}
 
-std::string Json::dump() const {
+    bool null() { return scalar(json(nullptr)); }
+    bool boolean(bool b) { return scalar(json(b)); }
+    bool number_integer(json::number_integer_t v) { return scalar(json(v)); }
+    bool number_unsigned(json::number_unsigned_t v) { return scalar(json(v)); }
+    bool number_float(json::number_float_t v, const std::string& /*text*/) {
+        return scalar(json(v));
+    }
+    bool string(std::string& s) { return scalar(json(std::move(s))); }
+    bool binary(json::binary_t& /*b*/) { return true; }  // JSON text has none
+    bool start_object(std::size_t /*size*/) { return open(json::value_t::object); }
+    bool start_array(std::size_t /*size*/) { return open(json::value_t::array); }
+    bool end_object() { return close(); }
+    bool end_array() { return close(); }
+
+    bool key(std::string& k) {
+        if (skipping_ > 0) return true;
+        auto& members = stack_.back().value->get_ref<json::object_t&>();
+        const auto [it, fresh] = members.emplace(std::move(k), nullptr);
+        if (fresh) {
+            member_ = &it->second;
+        } else {
+            skip_value_ = true;  // a second member of the same name: the first one counts
+        }
+        return true;
+    }
+
+    bool parse_error(std::size_t position, const std::string& /*last_token*/,
+                     const nlohmann::detail::exception& ex) {
+        // `position` counts the bytes read, the offending one (or the end of the text) last
+        const size_t end = std::min(position > 0 ? position - 1 : 0, text_.size());
+        int line = 1;
+        for (size_t k = 0; k < end; ++k)
+            line += text_[k] == '\n';
+        fail(line, message(ex.what(), end));
+    }
+
+  private:
+    struct Frame {
+        json* value;
+        std::vector<int> item_lines;  // an array's items move as it grows: their lines wait here
+    };
+
+    [[noreturn]] void fail(int line, const std::string& what) const {
+        throw FormatError(fmt::format("{}:{}: {}", doc_.file_, line, what), doc_.file_, line);
+    }
+
+    // the line of the token nlohmann has just read: its last byte is the one before the
+    // lexer's position, or one more before after a number (whose end the lexer reads past)
+    int line_now() {
+        const size_t end = static_cast<size_t>(reached_ - text_.data()) - 1;
+        for (; scanned_ < end; ++scanned_)
+            line_ += text_[scanned_] == '\n';
+        return line_;
+    }
+
+    json* place(json v) {
+        const int line = line_now();
+        if (stack_.empty()) {
+            doc_.root_ = std::move(v);
+            doc_.lines_[&doc_.root_] = line;
+            return &doc_.root_;
+        }
+        Frame& f = stack_.back();
+        if (f.value->is_array()) {
+            auto& items = f.value->get_ref<json::array_t&>();
+            items.push_back(std::move(v));
+            f.item_lines.push_back(line);
+            return &items.back();
+        }
+        *member_ = std::move(v);
+        doc_.lines_[member_] = line;
+        return member_;
+    }
+
+    bool scalar(json v) {
+        if (skipping_ > 0) return true;
+        if (skip_value_) {
+            skip_value_ = false;
+            return true;
+        }
+        place(std::move(v));
+        return true;
+    }
+
+    bool open(json::value_t type) {
+        if (stack_.size() + static_cast<size_t>(skipping_) >= kMaxDepth) {
+            fail(line_now(), "JSON nested too deeply");
+        }
+        if (skipping_ > 0 || skip_value_) {
+            skip_value_ = false;
+            ++skipping_;
+            return true;
+        }
+        json* v = place(json(type));
+        stack_.push_back(Frame{v, {}});
+        return true;
+    }
+
+    bool close() {
+        if (skipping_ > 0) {
+            --skipping_;
+            return true;
+        }
+        Frame& f = stack_.back();
+        if (f.value->is_array()) {
+            const auto& items = f.value->get_ref<const json::array_t&>();
+            for (size_t i = 0; i < items.size(); ++i)
+                doc_.lines_[&items[i]] = f.item_lines[i];
+        }
+        stack_.pop_back();
+        return true;
+    }
+
+    // nlohmann's message in gaitlab's words: where it expected what. `at` is the offset of the
+    // offending byte (the text's size at its end).
+    std::string message(std::string_view what, size_t at) const {
+        // "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error while
+        // parsing value - invalid literal; last read: 'x'; expected ..."
+        if (const size_t p = what.find("] "); p != std::string_view::npos)
+            what.remove_prefix(p + 2);
+        if (starts_with(what, "parse error")) {
+            if (const size_t p = what.find(": "); p != std::string_view::npos) {
+                what.remove_prefix(p + 2);
+            }
+        }
+        std::string_view context;
+        std::string_view detail = what;
+        if (starts_with(what, "syntax error while parsing ")) {
+            const std::string_view rest = what.substr(27);
+            const size_t dash = rest.find(" - ");
+            if (dash != std::string_view::npos) {
+                context = rest.substr(0, dash);
+                detail = rest.substr(dash + 3);
+            }
+        }
+        const bool unexpected = starts_with(detail, "unexpected ");
+        if (!unexpected) detail = detail.substr(0, detail.find("; last read: "));
+
+        if (starts_with(detail, "invalid string: missing closing quote")) {
+            return "unterminated string";
+        }
+        if (starts_with(detail, "invalid string: forbidden character after backslash")) {
+            if (at >= text_.size()) return "unterminated string";
+            const auto c = static_cast<unsigned char>(text_[at]);
+            return c > 0x20 && c < 0x7f
+                       ? fmt::format("unknown escape '\\{}' in a string", static_cast<char>(c))
+                       : fmt::format("unknown escape: '\\' and byte 0x{:02x} in a string", c);
+        }
+        if (starts_with(detail, "invalid string: '\\u' must be followed by 4 hex digits")) {
+            return "four hex digits expected after \\u";
+        }
+        if (starts_with(detail, "invalid string") || starts_with(detail, "invalid number") ||
+            starts_with(detail, "number overflow") || starts_with(detail, "invalid BOM")) {
+            return printable(detail);
+        }
+        if (context == "value") {
+            if (what.size() >= 23 && what.substr(what.size() - 23) == "; expected end of input") {
+                return "end of file expected after the JSON value";
+            }
+            if (at >= text_.size()) return "JSON value expected, got the end of the file";
+            // the byte the value should start with: a literal cut short ("tru]") names its
+            // first letter
+            size_t start = at;
+            for (size_t k = 1; k <= 4 && k <= at && detail == "invalid literal"; ++k) {
+                const std::string_view w = text_.substr(at - k, k);
+                if (starts_with("true", w) || starts_with("false", w) || starts_with("null", w)) {
+                    start = at - k;
+                }
+            }
+            const auto c = static_cast<unsigned char>(text_[start]);
+            return "JSON value expected, got " + describe_byte(c);
+        }
+        if (context == "object key") return "member name (a string) expected";
+        if (context == "object separator") return "':' expected after a member name";
+        if (context == "object") return "',' or '}' expected in an object";
+        if (context == "array") return "',' or ']' expected in an array";
+        return printable(what);
+    }
+
+    static constexpr size_t kMaxDepth = 65;
+
+    JsonDocument& doc_;
+    std::string_view text_;
+    const char* const& reached_;
+    std::vector<Frame> stack_;
+    json* member_ = nullptr;
+    bool skip_value_ = false;
+    int skipping_ = 0;
+    size_t scanned_ = 0;
+    int line_ = 1;
+};
+
+std::string dump_json(const ordered_json& v) {
     std::string out;
-    dump(out, 0);
+    dump_value(out, v, 0);
     out += "\n";
     return out;
 }
 
-namespace {
+JsonDocument::JsonDocument(std::string_view text, std::string file) : file_(std::move(file)) {
+    const char* reached = text.data();
+    JsonBuilder builder(*this, text, reached);
+    json::sax_parse(Cursor(text.data(), &reached), Cursor(text.data() + text.size(), &reached),
+                    &builder);
+}
 
-class Parser {
-  public:
-    Parser(std::string_view text, const std::string& file) : s_(text), file_(file) {}
+int JsonDocument::line(const json& v) const {
+    const auto it = lines_.find(&v);
+    return it == lines_.end() ? 0 : it->second;
+}
 
-    Json document() {
-        Json v = value(0);
-        skip_space();
-        if (i_ < s_.size()) fail("end of file expected after the JSON value");
-        return v;
+const json* find(const json& o, std::string_view key) {
+    if (!o.is_object()) return nullptr;
+    const auto it = o.find(key);
+    return it == o.end() ? nullptr : &*it;
+}
+
+std::string str_at(const json& o, std::string_view key) {
+    const json* v = find(o, key);
+    return v ? as_string(*v) : "";
+}
+
+std::string as_string(const json& v, const std::string& fallback) {
+    return v.is_string() ? v.get_ref<const std::string&>() : fallback;
+}
+
+std::optional<long long> as_integer(const json& v) {
+    if (v.is_number_integer() && !v.is_number_unsigned()) return v.get<long long>();
+    if (v.is_number_unsigned()) {
+        const auto u = v.get<std::uint64_t>();
+        if (u <= static_cast<std::uint64_t>(std::numeric_limits<long long>::max()))
+            return static_cast<long long>(u);
+        return std::nullopt;
     }
-
-  private:
-    [[noreturn]] void fail(const std::string& what) const {
-        int line = 1;
-        for (size_t k = 0; k < i_ && k < s_.size(); ++k)
-            line += s_[k] == '\n';
-        throw FormatError(fmt::format("{}:{}: {}", file_, line, what));
+    if (v.is_number_float()) {
+        // 1e3 is an integer too; 1e300 and 0.5 are not
+        const double d = v.get<double>();
+        if (d >= -9.2e18 && d <= 9.2e18 && d == std::trunc(d)) return static_cast<long long>(d);
     }
+    return std::nullopt;
+}
 
-    // line ends occur only here: strings hold no raw control characters
-    void skip_space() {
-        while (i_ < s_.size() &&
-               (s_[i_] == ' ' || s_[i_] == '\t' || s_[i_] == '\n' || s_[i_] == '\r')) {
-            line_ += s_[i_] == '\n';
-            ++i_;
-        }
-    }
-
-    bool take(char c) {
-        skip_space();
-        if (i_ < s_.size() && s_[i_] == c) {
-            ++i_;
-            return true;
-        }
-        return false;
-    }
-
-    bool word(std::string_view w) {
-        if (s_.substr(i_, w.size()) == w) {
-            i_ += w.size();
-            return true;
-        }
-        return false;
-    }
-
-    Json value(int depth) {
-        skip_space();
-        const int line = line_;
-        Json v = bare_value(depth);
-        v.set_line(line);
-        return v;
-    }
-
-    Json bare_value(int depth) {
-        if (depth > 64) fail("JSON nested too deeply");
-        if (i_ >= s_.size()) fail("JSON value expected, got the end of the file");
-        const char c = s_[i_];
-        if (c == '{') return object(depth);
-        if (c == '[') return array(depth);
-        if (c == '"') return Json(string());
-        if (word("true")) return Json(true);
-        if (word("false")) return Json(false);
-        if (word("null")) return Json();
-        if (c == '-' || (c >= '0' && c <= '9')) return number();
-        const auto byte = static_cast<unsigned char>(c);
-        fail(byte > 0x20 && byte < 0x7f
-                 ? fmt::format("JSON value expected, got '{}'", c)
-                 : fmt::format("JSON value expected, got byte 0x{:02x}", byte));
-    }
-
-    Json object(int depth) {
-        ++i_;
-        Json o = Json::object();
-        if (take('}')) return o;
-        do {
-            skip_space();
-            if (i_ >= s_.size() || s_[i_] != '"') fail("member name (a string) expected");
-            std::string key = string();
-            if (!take(':')) fail("':' expected after a member name");
-            o.add(std::move(key), value(depth + 1));
-        } while (take(','));
-        if (!take('}')) fail("',' or '}' expected in an object");
-        return o;
-    }
-
-    Json array(int depth) {
-        ++i_;
-        Json a = Json::array();
-        if (take(']')) return a;
-        do {
-            a.push(value(depth + 1));
-        } while (take(','));
-        if (!take(']')) fail("',' or ']' expected in an array");
-        return a;
-    }
-
-    static void utf8(std::string& out, unsigned cp) {
-        if (cp < 0x80) {
-            out.push_back(static_cast<char>(cp));
-        } else if (cp < 0x800) {
-            out.push_back(static_cast<char>(0xC0 | (cp >> 6)));
-            out.push_back(static_cast<char>(0x80 | (cp & 0x3F)));
-        } else if (cp < 0x10000) {
-            out.push_back(static_cast<char>(0xE0 | (cp >> 12)));
-            out.push_back(static_cast<char>(0x80 | ((cp >> 6) & 0x3F)));
-            out.push_back(static_cast<char>(0x80 | (cp & 0x3F)));
-        } else {
-            out.push_back(static_cast<char>(0xF0 | (cp >> 18)));
-            out.push_back(static_cast<char>(0x80 | ((cp >> 12) & 0x3F)));
-            out.push_back(static_cast<char>(0x80 | ((cp >> 6) & 0x3F)));
-            out.push_back(static_cast<char>(0x80 | (cp & 0x3F)));
-        }
-    }
-
-    unsigned hex4() {
-        if (i_ + 4 > s_.size()) fail("four hex digits expected after \\u");
-        unsigned v = 0;
-        for (int k = 0; k < 4; ++k) {
-            const char c = s_[i_++];
-            v <<= 4;
-            if (c >= '0' && c <= '9') {
-                v |= static_cast<unsigned>(c - '0');
-            } else if (c >= 'a' && c <= 'f') {
-                v |= static_cast<unsigned>(c - 'a' + 10);
-            } else if (c >= 'A' && c <= 'F') {
-                v |= static_cast<unsigned>(c - 'A' + 10);
-            } else {
-                fail("four hex digits expected after \\u");
-            }
-        }
-        return v;
-    }
-
-    std::string string() {
-        ++i_;  // the opening quote
-        std::string out;
-        for (;;) {
-            if (i_ >= s_.size()) fail("unterminated string");
-            const char c = s_[i_++];
-            if (c == '"') return out;
-            if (static_cast<unsigned char>(c) < 0x20) fail("control character in a string");
-            if (c != '\\') {
-                out.push_back(c);
-                continue;
-            }
-            if (i_ >= s_.size()) fail("unterminated string");
-            const char e = s_[i_++];
-            switch (e) {
-                case '"':
-                case '\\':
-                case '/':
-                    out.push_back(e);
-                    break;
-                case 'b':
-                    out.push_back('\b');
-                    break;
-                case 'f':
-                    out.push_back('\f');
-                    break;
-                case 'n':
-                    out.push_back('\n');
-                    break;
-                case 'r':
-                    out.push_back('\r');
-                    break;
-                case 't':
-                    out.push_back('\t');
-                    break;
-                case 'u': {
-                    unsigned cp = hex4();
-                    if (cp >= 0xD800 && cp < 0xDC00 && s_.substr(i_, 2) == "\\u") {
-                        const size_t at = i_;
-                        i_ += 2;
-                        const unsigned lo = hex4();
-                        if (lo >= 0xDC00 && lo < 0xE000) {
-                            cp = 0x10000 + ((cp - 0xD800) << 10) + (lo - 0xDC00);
-                        } else {
-                            i_ = at;  // not a pair: the second escape stands alone
-                        }
-                    }
-                    // a lone surrogate is no character: U+FFFD, as in every string gaitlab writes
-                    if (cp >= 0xD800 && cp < 0xE000) cp = 0xFFFD;
-                    utf8(out, cp);
-                    break;
-                }
-                default: {
-                    const auto byte = static_cast<unsigned char>(e);
-                    fail(byte > 0x20 && byte < 0x7f
-                             ? fmt::format("unknown escape '\\{}' in a string", e)
-                             : fmt::format("unknown escape: '\\' and byte 0x{:02x} in a string",
-                                           byte));
-                }
-            }
-        }
-    }
-
-    Json number() {
-        const size_t start = i_;
-        if (s_[i_] == '-') ++i_;
-        while (i_ < s_.size() && ((s_[i_] >= '0' && s_[i_] <= '9') || s_[i_] == '.' ||
-                                  s_[i_] == 'e' || s_[i_] == 'E' || s_[i_] == '+' || s_[i_] == '-'))
-            ++i_;
-        const std::string_view t = s_.substr(start, i_ - start);
-        double v = 0;
-        const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
-        if (r.ec != std::errc() || r.ptr != t.data() + t.size()) {
-            fail(fmt::format("malformed number '{}'", t));
-        }
-        return Json::raw_number(v, std::string(t));
-    }
-
-    std::string_view s_;
-    const std::string& file_;
-    size_t i_ = 0;
-    int line_ = 1;
-};
-
-}  // namespace
-
-Json Json::parse(std::string_view text, const std::string& file) {
-    return Parser(text, file).document();
+std::uint64_t as_uint(const json& v, std::uint64_t fallback) {
+    if (v.is_number_unsigned()) return v.get<std::uint64_t>();
+    return fallback;
 }
 
 }  // namespace gaitlab::data

@@ -1,85 +1,53 @@
-// A small JSON value for the run folder's run.json: built and dumped by the recorder, parsed by
-// the reader (errors name FILE:LINE). Object members keep their order.
+// run.json through nlohmann-json: the recorder builds an ordered_json and dumps it with
+// dump_json; readers parse with JsonDocument, which remembers the line each value starts on so
+// that errors name FILE:LINE.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
-#include <utility>
-#include <vector>
+#include <unordered_map>
+
+#include <nlohmann/json.hpp>
 
 namespace gaitlab::data {
 
-class Json {
+/// `v` as run.json text: two-space indent, arrays of scalars on one line, members in their
+/// order, doubles in their shortest form that reads back to the same bits, NaN and infinities
+/// as null, bytes that are not well-formed UTF-8 as U+FFFD; ends with a line end.
+std::string dump_json(const nlohmann::ordered_json& v);
+
+/// A parsed JSON text that knows the line each of its values starts on. Duplicate member names
+/// keep the first value. Not copyable or movable: lines are kept by the values' addresses.
+class JsonDocument {
   public:
-    enum class Type { null, boolean, number, string, array, object };
-
-    Json() = default;
-    Json(bool b) : type_(Type::boolean), bool_(b) {}                   // NOLINT: implicit by design
-    Json(double v);                                                    // NOLINT
-    Json(int v) : Json(static_cast<long long>(v)) {}                   // NOLINT
-    Json(long v) : Json(static_cast<long long>(v)) {}                  // NOLINT
-    Json(long long v);                                                 // NOLINT
-    Json(std::uint64_t v);                                             // NOLINT
-    Json(const char* s) : type_(Type::string), text_(s) {}             // NOLINT
-    Json(std::string s) : type_(Type::string), text_(std::move(s)) {}  // NOLINT
-    /// A number keeping the text it was parsed from (integers read back exactly).
-    static Json raw_number(double v, std::string text) {
-        Json j(Type::number);
-        j.number_ = v;
-        j.text_ = std::move(text);
-        return j;
-    }
-    static Json array() { return Json(Type::array); }
-    static Json object() { return Json(Type::object); }
-
-    Type type() const { return type_; }
-    /// The line the value starts on in the text it was parsed from (0: not parsed).
-    int line() const { return line_; }
-    void set_line(int line) { line_ = line; }
-    bool is_null() const { return type_ == Type::null; }
-
-    /// Appends to an array.
-    Json& push(Json v);
-    /// Sets an object member (replacing one of the same name).
-    Json& set(const std::string& key, Json v);
-    /// Appends an object member without looking for one of the same name (find() gives the
-    /// first): what the parser does, in constant time.
-    Json& add(std::string key, Json v);
-    /// An object member or nullptr.
-    const Json* find(std::string_view key) const;
-    const std::vector<Json>& items() const { return items_; }
-    const std::vector<std::pair<std::string, Json>>& members() const { return members_; }
-
-    /// The value as a string, number, integer or boolean, or `fallback` when it is another type.
-    std::string str(const std::string& fallback = "") const;
-    double num(double fallback = 0) const;
-    long long integer(long long fallback = 0) const;
-    std::uint64_t uint(std::uint64_t fallback = 0) const;
-    bool boolean(bool fallback = false) const;
-
-    /// Member `key` as a string ("" if missing or not a string); likewise for numbers.
-    std::string str_at(std::string_view key) const;
-    double num_at(std::string_view key, double fallback = 0) const;
-    long long int_at(std::string_view key, long long fallback = 0) const;
-
-    /// Pretty-printed text (two-space indent), ending with a line end.
-    std::string dump() const;
-
     /// Parses `text`; `file` names it in errors ("FILE:LINE: message"); throws FormatError.
-    static Json parse(std::string_view text, const std::string& file);
+    JsonDocument(std::string_view text, std::string file);
+    JsonDocument(const JsonDocument&) = delete;
+    JsonDocument& operator=(const JsonDocument&) = delete;
+
+    const nlohmann::json& root() const { return root_; }
+    const std::string& file() const { return file_; }
+    /// The line `v`, a value of this document, starts on (0 for a value from elsewhere).
+    int line(const nlohmann::json& v) const;
 
   private:
-    explicit Json(Type t) : type_(t) {}
-    void dump(std::string& out, int indent) const;
-
-    Type type_ = Type::null;
-    int line_ = 0;
-    bool bool_ = false;
-    double number_ = 0;
-    std::string text_;  // string value, or the number as written
-    std::vector<Json> items_;
-    std::vector<std::pair<std::string, Json>> members_;
+    friend class JsonBuilder;
+    std::string file_;
+    nlohmann::json root_;
+    std::unordered_map<const nlohmann::json*, int> lines_;
 };
+
+/// Member `key` of object `o`, or nullptr (also when `o` is not an object).
+const nlohmann::json* find(const nlohmann::json& o, std::string_view key);
+/// Member `key` as a string: "" when it is missing or not a string.
+std::string str_at(const nlohmann::json& o, std::string_view key);
+/// `v` as a string, or `fallback` when it is not one.
+std::string as_string(const nlohmann::json& v, const std::string& fallback = "");
+/// `v` as a whole number (1e3 is one; 0.5, 1e300 and non-numbers are not).
+std::optional<long long> as_integer(const nlohmann::json& v);
+/// `v` as an unsigned 64-bit integer written as one, or `fallback`.
+std::uint64_t as_uint(const nlohmann::json& v, std::uint64_t fallback = 0);
 
 }  // namespace gaitlab::data
