@@ -182,7 +182,7 @@ RunContext Recordings::context(lua_State* L, int index, const std::string& start
     c.started_by = started_by;
     if (!settings.script.empty()) {
         c.script = fs::path(settings.script).filename().string();
-        c.files.push_back({"script", c.script, settings.script, script_source, "", 0});
+        c.files.push_back({"script", c.script, settings.script, script_source, "", 0, ""});
     }
     for (const ConfigFile& f : settings.files)
         c.files.push_back(f);
@@ -191,10 +191,10 @@ RunContext Recordings::context(lua_State* L, int index, const std::string& start
     const std::vector<Reloader::FileRecord> files = Reloader::of(L).history();
     for (size_t k = 0; k < files.size(); ++k) {
         const std::string path = config_path(k, files[k].chunk);
-        c.files.push_back({"controller", path, files[k].chunk, files[k].versions[0], "", 0});
+        c.files.push_back({"controller", path, files[k].chunk, files[k].versions[0], "", 0, ""});
         for (size_t v = 1; v < files[k].versions.size(); ++v) {
             c.files.push_back(
-                {"reload", reload_path(k, path, v), files[k].chunk, files[k].versions[v], path, v});
+                {"reload", reload_path(k, path, v), files[k].chunk, files[k].versions[v], path, v, ""});
         }
     }
     c.provenance.emplace_back("lua", LUA_RELEASE);
