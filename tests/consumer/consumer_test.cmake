@@ -79,7 +79,8 @@ elseif(STEP STREQUAL "cmake")
     file(REMOVE_RECURSE ${WORK}/consumer)
     run(${CMAKE_COMMAND} -S ${SOURCE}/tests/consumer -B ${WORK}/consumer -G ${GENERATOR}
         -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=${CXX} ${launcher}
-        -DCMAKE_PREFIX_PATH=${prefix})
+        -DCMAKE_PREFIX_PATH=${prefix} "-DCMAKE_CXX_FLAGS=${SANITIZE}"
+        "-DCMAKE_EXE_LINKER_FLAGS=${SANITIZE}")
     if(NOT out MATCHES "gaitlab [0-9.]+ from ${prefix}/")
         message(FATAL_ERROR "find_package(gaitlab) did not use ${prefix}:\n${out}")
     endif()
@@ -101,8 +102,8 @@ elseif(STEP STREQUAL "pkgconfig")
     string(STRIP "${out}" flags)
     separate_arguments(flags UNIX_COMMAND "${flags}")
     file(MAKE_DIRECTORY ${WORK}/pkgconfig)
-    run(${LAUNCHER} ${CXX} -std=c++17 -O1 ${SOURCE}/examples/embed/embed.cpp ${flags}
-        -o ${WORK}/pkgconfig/embed)
+    run(${LAUNCHER} ${CXX} -std=c++17 -O1 ${SANITIZE} ${SOURCE}/examples/embed/embed.cpp
+        ${flags} -o ${WORK}/pkgconfig/embed)
     run(${WORK}/pkgconfig/embed)
     check_moved("${out}")
 elseif(STEP STREQUAL "version")
