@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <string>
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include "console_frontend.h"
 #include "gaitlab/files.h"
@@ -133,9 +133,7 @@ int run_console(const ConsoleArgs& a, const std::string& command) {
         LineInput::Options options;
         options.terminal = terminal;
         options.history_file = terminal ? default_history_file() : "";
-        options.complete = [&console](std::string_view before) {
-            return console.complete(before);
-        };
+        options.complete = [&console](std::string_view before) { return console.complete(before); };
         // simulations play (sim:play()) while the prompt waits for a key
         options.idle = [&host] { return host.pump(); };
         options.warn = [](const std::string& message) {

@@ -61,9 +61,10 @@ void check_output(const std::string& path, const std::string& kind, bool force,
     std::error_code ec;
     for (const auto& [option, input] : inputs) {
         if (!input.empty() && fs::equivalent(path, input, ec)) {
-            throw Error(fmt::format("-o {} is the {} file, which would be lost: write to another "
-                                    "file",
-                                    path, option));
+            throw Error(
+                fmt::format("-o {} is the {} file, which would be lost: write to another "
+                            "file",
+                            path, option));
         }
     }
     if (force || !fs::exists(path, ec) || !fs::is_regular_file(path, ec)) return;
@@ -78,9 +79,10 @@ void check_output(const std::string& path, const std::string& kind, bool force,
             read_simulation(path);
         }
     } catch (const std::exception&) {
-        throw Error(fmt::format("-o {} exists and is not {} {} file, so it would be lost: write "
-                                "to another file, or add --force to replace it",
-                                path, kind[0] == 'a' || kind[0] == 'e' ? "an" : "a", kind));
+        throw Error(
+            fmt::format("-o {} exists and is not {} {} file, so it would be lost: write "
+                        "to another file, or add --force to replace it",
+                        path, kind[0] == 'a' || kind[0] == 'e' ? "an" : "a", kind));
     }
 }
 
@@ -146,9 +148,10 @@ MakeCommand::MakeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     a.robot->add_option("--module", a.module, "Module type: y1 or cube (docs/modules.md)")
         ->type_name("M")
         ->capture_default_str();
-    a.robot->add_option("--sensor", a.sensors,
-                        "A sensor, KIND or KIND:N (joint, imu, contact, range, position; N the "
-                        "module, or the joint); repeat for more")
+    a.robot
+        ->add_option("--sensor", a.sensors,
+                     "A sensor, KIND or KIND:N (joint, imu, contact, range, position; N the "
+                     "module, or the joint); repeat for more")
         ->type_name("KIND[:N]");
 
     a.actuation = a.make->add_subcommand(
@@ -167,17 +170,18 @@ MakeCommand::MakeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
 
     a.world = a.make->add_subcommand("world", "An environment file from the world library");
     output(a.world);
-    a.world->add_option("--preset", a.preset,
-                        "flat, slippery, sticky, ramp, stairs, pipe, rubble, hills "
-                        "(docs/worlds.md)")
+    a.world
+        ->add_option("--preset", a.preset,
+                     "flat, slippery, sticky, ramp, stairs, pipe, rubble, hills "
+                     "(docs/worlds.md)")
         ->type_name("NAME")
         ->capture_default_str();
     a.world->add_option("--friction", a.friction, "Friction of the floor and objects, 0 to 1")
         ->type_name("F");
     a.world->add_option("--param", a.params, "Another parameter of the preset (slope=15)")
         ->type_name("NAME=VALUE");
-    auto* place_robot = a.world->add_option(
-        "--robot", a.robot_file, "The robot file whose robot goes to the world's start");
+    auto* place_robot = a.world->add_option("--robot", a.robot_file,
+                                            "The robot file whose robot goes to the world's start");
     place_robot->type_name("FILE");
     a.world->add_option("--place", a.place, "The name of the robot that goes to the start")
         ->type_name("NAME")
@@ -186,8 +190,10 @@ MakeCommand::MakeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     a.sim = a.make->add_subcommand("sim", "A simulation file naming a robot, actuation and world");
     output(a.sim);
     a.sim->add_option("--robot", a.robot_file, "The robot file")->required()->type_name("FILE");
-    a.sim->add_option("--actuation", a.actuation_file, "The actuation file (none: the robot "
-                                                       "lies still)")
+    a.sim
+        ->add_option("--actuation", a.actuation_file,
+                     "The actuation file (none: the robot "
+                     "lies still)")
         ->type_name("FILE");
     a.sim->add_option("--world", a.world_file, "The environment file")
         ->required()
@@ -198,8 +204,7 @@ MakeCommand::MakeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
         ->type_name("S")
         ->capture_default_str();
     a.sim->add_option("--dt", a.dt, "Physics step, s")->type_name("S")->capture_default_str();
-    a.sim->add_option("--control-every", a.control_every,
-                      "Physics steps between controller steps")
+    a.sim->add_option("--control-every", a.control_every, "Physics steps between controller steps")
         ->type_name("N")
         ->capture_default_str();
     a.sim->add_flag("--no-record", a.no_record, "`gaitlab run` records nothing of it");
@@ -281,8 +286,9 @@ int MakeCommand::run() {
             if (!a.friction.empty()) {
                 for (const auto& [name, value] : w.params) {
                     if (name == "friction")
-                        throw Error("friction is given twice (--friction and --param "
-                                    "friction=...): give it once");
+                        throw Error(
+                            "friction is given twice (--friction and --param "
+                            "friction=...): give it once");
                 }
                 w.params.emplace_back("friction", number("--friction", a.friction));
             }

@@ -320,9 +320,9 @@ bool is_identifier(const std::string& s) {
 // Lua's reserved words cannot be written as `name = ...` in a table constructor
 bool is_keyword(const std::string& s) {
     static const std::set<std::string> words{
-        "and",  "break", "do",  "else", "elseif", "end",    "false", "for",  "function", "goto",
-        "if",   "in",    "local", "nil", "not",   "or",     "repeat", "return", "then", "true",
-        "until", "while"};
+        "and",      "break",  "do",   "else", "elseif", "end",  "false", "for",
+        "function", "goto",   "if",   "in",   "local",  "nil",  "not",   "or",
+        "repeat",   "return", "then", "true", "until",  "while"};
     return words.count(s) > 0;
 }
 
@@ -379,9 +379,10 @@ std::string parse_joints(const std::string& text, std::string& error) {
         start = end + 1;
         if (word.empty()) continue;
         if (word == "pitch" || word == "yaw" || word == "all") {
-            error = fmt::format("'{}' stands alone: say pitch, yaw or all, or joint numbers like "
-                                "1 3 5, not both (got '{}')",
-                                word, t);
+            error = fmt::format(
+                "'{}' stands alone: say pitch, yaw or all, or joint numbers like "
+                "1 3 5, not both (got '{}')",
+                word, t);
             return "";
         }
         int n = 0;
@@ -405,16 +406,17 @@ ParamValues parse_params(const std::string& text) {
         const size_t eq = item.find('=');
         double v = 0;
         if (eq == std::string::npos || eq == 0 || !parse_number(item.substr(eq + 1), v)) {
-            throw Error(fmt::format("'{}': NAME=VALUE expected, the value a number (e.g. "
-                                    "amplitude=30)",
-                                    item));
+            throw Error(
+                fmt::format("'{}': NAME=VALUE expected, the value a number (e.g. "
+                            "amplitude=30)",
+                            item));
         }
         const std::string name = item.substr(0, eq);
         // (the last would win without a word: say which is meant)
         for (const auto& [seen, value] : out) {
             if (seen == name) {
-                throw Error(fmt::format("'{}' is given twice ({}={} and {}): give it once",
-                                        name, name, number_text(value), item));
+                throw Error(fmt::format("'{}' is given twice ({}={} and {}): give it once", name,
+                                        name, number_text(value), item));
             }
         }
         out.emplace_back(name, v);
@@ -440,15 +442,15 @@ SensorChoice parse_sensor(const std::string& text) {
         const auto r = std::from_chars(n.data(), n.data() + n.size(), s.at);
         if (n.empty() || r.ec != std::errc() || r.ptr != n.data() + n.size() || s.at < 1) {
             throw Error(fmt::format(
-                "sensor '{}': KIND or KIND:N expected, N a module (or joint) number from 1",
-                text));
+                "sensor '{}': KIND or KIND:N expected, N a module (or joint) number from 1", text));
         }
     }
     const std::vector<std::string> kinds{"joint", "imu", "contact", "range", "position"};
     if (std::find(kinds.begin(), kinds.end(), s.kind) == kinds.end()) {
-        throw Error(fmt::format("unknown sensor kind '{}'{} (kinds: joint, imu, contact, range, "
-                                "position)",
-                                s.kind, did_you_mean(s.kind, kinds)));
+        throw Error(
+            fmt::format("unknown sensor kind '{}'{} (kinds: joint, imu, contact, range, "
+                        "position)",
+                        s.kind, did_you_mean(s.kind, kinds)));
     }
     if (s.kind == "position" && s.at > 0) {
         throw Error("sensor 'position': it measures the whole robot, so it takes no :N");
@@ -526,8 +528,7 @@ void PartMaker::eval(const std::string& code, int nresults) {
         const std::string here = std::string(kChunk) + ":";
         if (message.rfind(here, 0) == 0) {
             const size_t end = message.find_first_not_of("0123456789", here.size());
-            if (end != std::string::npos && end > here.size() &&
-                message.compare(end, 2, ": ") == 0)
+            if (end != std::string::npos && end > here.size() && message.compare(end, 2, ": ") == 0)
                 message.erase(0, end + 2);
         }
         throw Error(unwrap(message));
@@ -582,8 +583,8 @@ std::vector<JointInfo> PartMaker::joints(const RobotChoice& robot) {
     const lua_Integer n = luaL_len(L, -1);
     for (lua_Integer i = 1; i <= n; ++i) {
         lua_rawgeti(L, -1, i);
-        out.push_back({static_cast<int>(field_number(L, -1, "index")),
-                       field_string(L, -1, "role")});
+        out.push_back(
+            {static_cast<int>(field_number(L, -1, "index")), field_string(L, -1, "role")});
         lua_pop(L, 1);
     }
     lua_pop(L, 1);
@@ -594,10 +595,10 @@ void PartMaker::check_controller(const ControllerChoice& c) {
     if (c.kind == ControllerChoice::Kind::builtin) {
         const std::vector<std::string> names = builtins();
         if (std::find(names.begin(), names.end(), c.name) == names.end()) {
-            throw Error(fmt::format("unknown controller '{}'{} (built-in controllers: {}; a "
-                                    "template is template/NAME, a Lua controller file PATH.lua)",
-                                    c.name, did_you_mean(c.name, names),
-                                    fmt::join(names, ", ")));
+            throw Error(
+                fmt::format("unknown controller '{}'{} (built-in controllers: {}; a "
+                            "template is template/NAME, a Lua controller file PATH.lua)",
+                            c.name, did_you_mean(c.name, names), fmt::join(names, ", ")));
         }
     } else if (c.kind == ControllerChoice::Kind::template_) {
         const std::vector<std::string> names = templates();
@@ -617,24 +618,25 @@ void PartMaker::check_groups(const RobotChoice& robot, const std::vector<GroupCh
 
 void PartMaker::check_new_controller(const NewController& c) {
     if (is_keyword(c.name)) {
-        throw Error(fmt::format("'{}' is a word Lua keeps for itself: choose another name",
-                                c.name));
+        throw Error(
+            fmt::format("'{}' is a word Lua keeps for itself: choose another name", c.name));
     }
     if (!is_identifier(c.name)) {
-        throw Error(fmt::format("'{}' cannot name a controller: letters, digits and _, not "
-                                "starting with a digit (e.g. my_gait)",
-                                c.name));
+        throw Error(
+            fmt::format("'{}' cannot name a controller: letters, digits and _, not "
+                        "starting with a digit (e.g. my_gait)",
+                        c.name));
     }
     std::set<std::string> seen;
     const auto check_name = [&](const std::string& n, const char* what) {
         if (is_keyword(n)) {
-            throw Error(fmt::format("'{}' is a word Lua keeps for itself: choose another name",
-                                    n));
+            throw Error(fmt::format("'{}' is a word Lua keeps for itself: choose another name", n));
         }
         if (!is_identifier(n)) {
-            throw Error(fmt::format("'{}' cannot name a {}: letters, digits and _, not starting "
-                                    "with a digit (e.g. amplitude)",
-                                    n, what));
+            throw Error(
+                fmt::format("'{}' cannot name a {}: letters, digits and _, not starting "
+                            "with a digit (e.g. amplitude)",
+                            n, what));
         }
         if (!seen.insert(n).second) {
             throw Error(fmt::format("'{}' is already a parameter or value of the controller", n));
@@ -646,8 +648,8 @@ void PartMaker::check_new_controller(const NewController& c) {
         if (std::any_of(p.unit.begin(), p.unit.end(), [](char ch) {
                 return static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f;
             })) {
-            throw Error(fmt::format("the unit of '{}' has a control character: type plain text",
-                                    p.name));
+            throw Error(
+                fmt::format("the unit of '{}' has a control character: type plain text", p.name));
         }
     }
     for (const std::string& v : c.values)
@@ -668,8 +670,8 @@ void PartMaker::check_world(const WorldChoice& world) {
 
 void PartMaker::check_sim(const SimChoice& sim) {
     if (!(sim.duration > 0) || sim.duration > 1e6) {
-        throw SpecError(fmt::format("duration must be in (0, 1000000] s (got {})",
-                                    number_text(sim.duration)));
+        throw SpecError(
+            fmt::format("duration must be in (0, 1000000] s (got {})", number_text(sim.duration)));
     }
     SimulationOptions o;
     o.dt = sim.dt;
@@ -693,8 +695,8 @@ void PartMaker::write_actuation(const std::string& robot_file,
                                 const std::vector<GroupChoice>& groups, const std::string& path) {
     for (const GroupChoice& g : groups)
         check_controller(g.controller);
-    eval("P.actuation(" + lua_quote(fs::absolute(robot_file).string()) + ", " +
-             lua_groups(groups) + ", " + lua_quote(fs::absolute(path).string()) + ")",
+    eval("P.actuation(" + lua_quote(fs::absolute(robot_file).string()) + ", " + lua_groups(groups) +
+             ", " + lua_quote(fs::absolute(path).string()) + ")",
          0);
 }
 
@@ -719,10 +721,9 @@ void PartMaker::write_sim(const SimChoice& sim, const std::string& robot_file,
     // written next to `path` (its relative names hold there), loaded, then renamed: only a
     // simulation file that loads is ever written
     const fs::path target = fs::absolute(path);
-    const std::string check = (target.parent_path() / fmt::format(".{}.check-{}.xml",
-                                                                   target.stem().string(),
-                                                                   getpid()))
-                                  .string();
+    const std::string check =
+        (target.parent_path() / fmt::format(".{}.check-{}.xml", target.stem().string(), getpid()))
+            .string();
     gaitlab::write_simulation(check, f);
     try {
         eval("P.load_simulation(" + lua_quote(check) + ")", 0);
@@ -775,8 +776,8 @@ void PartMaker::write_new_controller(const NewController& c, const std::string& 
         values += fmt::format("{}\"{}\"", values.empty() ? "" : ", ", v);
         value_names += fmt::format("{}self.{}[m]", value_names.empty() ? "" : ", ", v);
     }
-    text += fmt::format("  }},\n  values = {{ {} }},  -- per joint: recorded and plottable\n",
-                        values);
+    text +=
+        fmt::format("  }},\n  values = {{ {} }},  -- per joint: recorded and plottable\n", values);
     text += fmt::format(
         "  step = function(self, dt)                  -- every control tick, dt seconds apart\n"
         "    -- Your parameters: {0}.\n"
@@ -803,8 +804,7 @@ void PartMaker::write_new_controller(const NewController& c, const std::string& 
 }
 
 void PartMaker::write_template(const std::string& name, const std::string& path) {
-    eval("P.template(" + lua_quote(name) + ", " + lua_quote(fs::absolute(path).string()) + ")",
-         0);
+    eval("P.template(" + lua_quote(name) + ", " + lua_quote(fs::absolute(path).string()) + ")", 0);
 }
 
 }  // namespace gaitlab::cli

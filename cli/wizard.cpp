@@ -13,9 +13,9 @@
 #include <charconv>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <functional>
-#include <cstring>
 #include <map>
 #include <set>
 #include <string>
@@ -177,8 +177,8 @@ std::string choose(const std::string& answer, const std::vector<std::string>& na
     const auto r = std::from_chars(answer.data(), answer.data() + answer.size(), n);
     if (r.ec == std::errc() && r.ptr == answer.data() + answer.size()) {
         if (n >= 1 && n <= static_cast<int>(names.size())) return names[static_cast<size_t>(n - 1)];
-        throw Error(fmt::format("'{}': choose a number from 1 to {}, or a name", answer,
-                                names.size()));
+        throw Error(
+            fmt::format("'{}': choose a number from 1 to {}, or a name", answer, names.size()));
     }
     if (std::find(names.begin(), names.end(), answer) != names.end()) return answer;
     throw Error(fmt::format("'{}' is not one of the choices{} ({})", answer,
@@ -254,8 +254,8 @@ struct ProjectController {
 
 struct Project {
     RobotChoice robot;
-    std::vector<GroupChoice> groups;          // controllers of kind file are project files
-    std::vector<ProjectController> written;   // controller files to write
+    std::vector<GroupChoice> groups;         // controllers of kind file are project files
+    std::vector<ProjectController> written;  // controller files to write
     WorldChoice world;
     SimChoice sim;
 };
@@ -363,10 +363,10 @@ class Wizard {
             });
             p_.groups.push_back(g);
             bool more = false;
-            explain(in_, "\nAnother controller can drive another group (their angles add up "
-                         "where groups overlap).\n");
-            in_.ask("Another controller", "no",
-                    [&](const std::string& a) { more = yes_no(a); });
+            explain(in_,
+                    "\nAnother controller can drive another group (their angles add up "
+                    "where groups overlap).\n");
+            in_.ask("Another controller", "no", [&](const std::string& a) { more = yes_no(a); });
             if (!more) break;
         }
     }
@@ -421,13 +421,14 @@ class Wizard {
         c.name = name;
         std::string table;
         for (const ParamInfo& p : maker_.controller_params(c)) {
-            table += fmt::format("  {:<16} {:>8} {:<5} from {} to {}\n", p.name,
-                                 number_text(p.value), p.unit, number_text(p.min),
-                                 number_text(p.max));
+            table +=
+                fmt::format("  {:<16} {:>8} {:<5} from {} to {}\n", p.name, number_text(p.value),
+                            p.unit, number_text(p.min), number_text(p.max));
         }
-        explain(in_, "\nIts parameters start at these values; change any with NAME=VALUE "
-                     "(amplitude=30 phase=-120).\n" +
-                         table);
+        explain(in_,
+                "\nIts parameters start at these values; change any with NAME=VALUE "
+                "(amplitude=30 phase=-120).\n" +
+                    table);
         in_.ask("Parameter changes", "", [&](const std::string& a) {
             ControllerChoice t = c;
             t.params = a == "none" ? ParamValues{} : parse_params(a);
@@ -436,10 +437,9 @@ class Wizard {
         });
         if (!builtin) {
             // the template is copied into the project, and the group uses that copy
-            const auto copied =
-                std::find_if(p_.written.begin(), p_.written.end(), [&](const ProjectController& w) {
-                    return !w.is_new && w.name == name;
-                });
+            const auto copied = std::find_if(
+                p_.written.begin(), p_.written.end(),
+                [&](const ProjectController& w) { return !w.is_new && w.name == name; });
             ProjectController w;
             if (copied != p_.written.end()) {
                 w = *copied;
@@ -471,14 +471,16 @@ class Wizard {
             t.name = a;
             maker_.check_new_controller(t);
             if (file_taken(a)) {
-                throw Error(fmt::format("'{}' is already a controller of this project: choose "
-                                        "another name",
-                                        a));
+                throw Error(
+                    fmt::format("'{}' is already a controller of this project: choose "
+                                "another name",
+                                a));
             }
             def = t;
         });
-        explain(in_, "\nParameters are the numbers you tune, even while it runs (an amplitude, "
-                     "a frequency).\n");
+        explain(in_,
+                "\nParameters are the numbers you tune, even while it runs (an amplitude, "
+                "a frequency).\n");
         int count = 0;
         in_.ask("How many parameters", "2",
                 [&](const std::string& a) { count = whole_number(a, 0, 20); });
@@ -486,8 +488,8 @@ class Wizard {
                                               {"frequency", 0.5, 0, 5, "Hz"},
                                               {"phase", 120, -180, 180, "deg"}};
         for (int i = 0; i < count; ++i) {
-            NewParam p = i < 3 ? kSuggested[i]
-                               : NewParam{fmt::format("param{}", i + 1), 0, -100, 100, ""};
+            NewParam p =
+                i < 3 ? kSuggested[i] : NewParam{fmt::format("param{}", i + 1), 0, -100, 100, ""};
             const std::string n = std::to_string(i + 1);
             in_.ask("Parameter " + n + ": name", p.name, [&](const std::string& a) {
                 NewController t = def;
@@ -540,8 +542,9 @@ class Wizard {
                     });
             def.params.push_back(p);
         }
-        explain(in_, "\nPer-joint values are numbers it keeps for each joint (a clock, the "
-                     "angle sent):\nthey are recorded and can be plotted.\n");
+        explain(in_,
+                "\nPer-joint values are numbers it keeps for each joint (a clock, the "
+                "angle sent):\nthey are recorded and can be plotted.\n");
         in_.ask("Per-joint values", "time angle", [&](const std::string& a) {
             NewController t = def;
             t.values.clear();
@@ -589,9 +592,8 @@ class Wizard {
         WorldChoice& w = p_.world;
         in_.ask("World", "flat", [&](const std::string& a) { w.preset = choose(a, names); });
         w.place = p_.robot.name;
-        const PresetInfo& preset =
-            presets[static_cast<size_t>(std::find(names.begin(), names.end(), w.preset) -
-                                        names.begin())];
+        const PresetInfo& preset = presets[static_cast<size_t>(
+            std::find(names.begin(), names.end(), w.preset) - names.begin())];
         for (const ParamInfo& p : preset.params) {
             if (p.name != "friction") continue;
             explain(in_, "\nFriction says how much the ground grips: 0 is ice, 1 is rubber.\n");
@@ -627,8 +629,9 @@ class Wizard {
             PartMaker::check_sim(t);
             s = t;
         });
-        explain(in_, "\nA recorded run keeps joint angles, positions, sensor readings... in a "
-                     "folder you can plot.\n");
+        explain(in_,
+                "\nA recorded run keeps joint angles, positions, sensor readings... in a "
+                "folder you can plot.\n");
         in_.ask("Record the run", "yes", [&](const std::string& a) { s.record = yes_no(a); });
     }
 
@@ -641,8 +644,8 @@ class Wizard {
     Prompter& in_;
     PartMaker& maker_;
     Project p_;
-    std::map<std::string, NewController> new_;           // by project file
-    std::map<std::string, std::string> c_template_;      // project file -> template
+    std::map<std::string, NewController> new_;       // by project file
+    std::map<std::string, std::string> c_template_;  // project file -> template
 };
 
 }  // namespace
@@ -660,14 +663,16 @@ NewCommand::NewCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     a_->app = app.add_subcommand(
         "new", "Build a robot, its controllers, a world and a simulation by answering questions");
     a_->app->allow_extras();
-    a_->app->add_option("dir", a_->dir,
-                        "The project folder to create (default: ./NAME, named after the robot)")
+    a_->app
+        ->add_option("dir", a_->dir,
+                     "The project folder to create (default: ./NAME, named after the robot)")
         ->type_name("DIR");
     a_->app->add_flag("--defaults", a_->defaults,
                       "Ask nothing: take every default (an 8-module snake on a flat floor)");
     a_->app->footer(
         "Every question has a default that Enter takes. The answers become files in the project\n"
-        "folder (robot.xml, actuation.xml, environment.xml, simulation.xml, controllers/, run.lua),\n"
+        "folder (robot.xml, actuation.xml, environment.xml, simulation.xml, controllers/, "
+        "run.lua),\n"
         "then the simulation runs. Nothing is written until the last answer. See docs/console.md.");
 }
 
@@ -690,9 +695,10 @@ fs::path destination(fs::path dir) {
     if (fs::is_symlink(fs::symlink_status(dir, ec))) {
         const fs::path target = fs::read_symlink(dir, ec);
         if (!fs::exists(dir, ec)) {
-            throw Error(fmt::format("{} is a symbolic link to {}, which does not exist: choose "
-                                    "another folder",
-                                    given, target.string()));
+            throw Error(
+                fmt::format("{} is a symbolic link to {}, which does not exist: choose "
+                            "another folder",
+                            given, target.string()));
         }
         if (empty_folder(dir)) dir = fs::canonical(dir);  // the project goes into the target
     }
@@ -704,8 +710,8 @@ fs::path destination(fs::path dir) {
     while (!fs::exists(up, ec) && up.has_relative_path())
         up = up.parent_path();
     if (!fs::is_directory(up, ec)) {
-        throw Error(fmt::format("cannot create {}: {} is a file, not a folder", given,
-                                up.string()));
+        throw Error(
+            fmt::format("cannot create {}: {} is a file, not a folder", given, up.string()));
     }
     if (::access(up.c_str(), W_OK | X_OK) != 0) {
         throw Error(fmt::format("cannot create {}: cannot write in {} ({})", given, up.string(),
@@ -754,7 +760,8 @@ int write_and_run(Wizard& wizard, const Project& p, PartMaker& maker, const fs::
     maker.write_robot(p.robot, in("robot.xml"));
     std::vector<GroupChoice> groups = p.groups;
     for (GroupChoice& g : groups) {
-        if (g.controller.kind == ControllerChoice::Kind::file) g.controller.name = in(g.controller.name);
+        if (g.controller.kind == ControllerChoice::Kind::file)
+            g.controller.name = in(g.controller.name);
     }
     maker.write_actuation(in("robot.xml"), groups, in("actuation.xml"));
     maker.write_world(p.world, in("environment.xml"));
@@ -780,8 +787,8 @@ int write_and_run(Wizard& wizard, const Project& p, PartMaker& maker, const fs::
     std::error_code ec;
     fs::rename(tmp, dir, ec);
     if (ec) {
-        throw IoError(fmt::format("{}: cannot create the project folder: {}", dir.string(),
-                                  ec.message()));
+        throw IoError(
+            fmt::format("{}: cannot create the project folder: {}", dir.string(), ec.message()));
     }
     cleanup.path.clear();
 
@@ -790,8 +797,8 @@ int write_and_run(Wizard& wizard, const Project& p, PartMaker& maker, const fs::
     const auto line = [&](const std::string& file, const std::string& what) {
         list += fmt::format("  {:<34} {}\n", (dir / file).string(), what);
     };
-    line("robot.xml", fmt::format("the robot: {}, {} modules, {}", p.robot.name,
-                                  p.robot.modules, p.robot.connection));
+    line("robot.xml", fmt::format("the robot: {}, {} modules, {}", p.robot.name, p.robot.modules,
+                                  p.robot.connection));
     line("actuation.xml", "which controller drives which joints");
     line("environment.xml", fmt::format("the world: {}", p.world.preset));
     line("simulation.xml", fmt::format("the simulation: {} s, recording {}",
@@ -855,8 +862,9 @@ int write_and_run(Wizard& wizard, const Project& p, PartMaker& maker, const fs::
     }
     std::fflush(stdout);
     if (g_signal != 0) {
-        std::fprintf(stderr, "gaitlab: interrupted; the project is complete in %s (run it again: "
-                             "gaitlab run %s/run.lua)\n",
+        std::fprintf(stderr,
+                     "gaitlab: interrupted; the project is complete in %s (run it again: "
+                     "gaitlab run %s/run.lua)\n",
                      d.c_str(), d.c_str());
         return 128 + g_signal;
     }
@@ -865,8 +873,7 @@ int write_and_run(Wizard& wizard, const Project& p, PartMaker& maker, const fs::
         return 1;
     }
     for (const std::string& f : folders) {
-        say(fmt::format("The recording is in {} (see its series: gaitlab data {} --list)\n", f,
-                        f));
+        say(fmt::format("The recording is in {} (see its series: gaitlab data {} --list)\n", f, f));
     }
     say(fmt::format("Run it again: gaitlab run {}/run.lua\n", d));
     return 0;
@@ -877,8 +884,9 @@ int write_and_run(Wizard& wizard, const Project& p, PartMaker& maker, const fs::
 int NewCommand::run() {
     Args& a = *a_;
     for (const std::string& arg : a.app->remaining()) {
-        std::fprintf(stderr, "gaitlab: unexpected argument '%s' for 'gaitlab new' (see 'gaitlab "
-                             "new --help')\n",
+        std::fprintf(stderr,
+                     "gaitlab: unexpected argument '%s' for 'gaitlab new' (see 'gaitlab "
+                     "new --help')\n",
                      arg.c_str());
         return 2;
     }
@@ -892,9 +900,10 @@ int NewCommand::run() {
         } else {
             // the project goes into the current folder
             if (::access(".", W_OK | X_OK) != 0) {
-                throw Error(fmt::format("cannot create the project folder in the current folder "
-                                        "{}: {} (give another: gaitlab new DIR)",
-                                        fs::current_path().string(), std::strerror(errno)));
+                throw Error(
+                    fmt::format("cannot create the project folder in the current folder "
+                                "{}: {} (give another: gaitlab new DIR)",
+                                fs::current_path().string(), std::strerror(errno)));
             }
         }
         PartMaker maker;

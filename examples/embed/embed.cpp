@@ -18,7 +18,7 @@ int main() {
         gaitlab::PlacedRobot robot{gaitlab::make_chain(chain), {}, {}};
 
         auto sine = std::make_shared<gaitlab::controllers::Sine>();
-        sine->set_param("amplitude", 40);  // degrees
+        sine->set_param("amplitude", 40);   // degrees
         sine->set_param("frequency", 0.5);  // Hz
         sine->set_param("phase", -120);     // degrees between neighbours: < 0 crawls head first
         robot.actuation.push_back({gaitlab::select_joints(robot.robot, "pitch"), sine});

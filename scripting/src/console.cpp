@@ -62,10 +62,10 @@ bool is_identifier(std::string_view s) {
     return std::all_of(s.begin(), s.end(), is_name_char);
 }
 
-constexpr const char* kKeywords[] = {"and",   "break",  "do",       "else", "elseif", "end",
-                                     "false", "for",    "function", "goto", "if",     "in",
-                                     "local", "nil",    "not",      "or",   "repeat", "return",
-                                     "then",  "true",   "until",    "while"};
+constexpr const char* kKeywords[] = {"and",   "break", "do",       "else", "elseif", "end",
+                                     "false", "for",   "function", "goto", "if",     "in",
+                                     "local", "nil",   "not",      "or",   "repeat", "return",
+                                     "then",  "true",  "until",    "while"};
 
 // what completion found for one name: whether it is a function (it gets "(")
 struct Candidates {

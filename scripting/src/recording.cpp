@@ -193,8 +193,8 @@ RunContext Recordings::context(lua_State* L, int index, const std::string& start
         const std::string path = config_path(k, files[k].chunk);
         c.files.push_back({"controller", path, files[k].chunk, files[k].versions[0], "", 0, ""});
         for (size_t v = 1; v < files[k].versions.size(); ++v) {
-            c.files.push_back(
-                {"reload", reload_path(k, path, v), files[k].chunk, files[k].versions[v], path, v, ""});
+            c.files.push_back({"reload", reload_path(k, path, v), files[k].chunk,
+                               files[k].versions[v], path, v, ""});
         }
     }
     c.provenance.emplace_back("lua", LUA_RELEASE);

@@ -66,9 +66,9 @@ TEST_CASE("make builds each part, and the parts run together", "[cli][make]") {
     CHECK(act.groups[1].role == "yaw");
     CHECK(act.groups[1].controller.name == "offset");
 
-    r = make({"world", "--preset", "ramp", "--friction", "0.6", "--param", "slope=12", "-o",
-              "ramp.xml"},
-             dir);
+    r = make(
+        {"world", "--preset", "ramp", "--friction", "0.6", "--param", "slope=12", "-o", "ramp.xml"},
+        dir);
     REQUIRE(r.status == 0);
     const gaitlab::EnvironmentSpec env = gaitlab::read_environment(dir / "ramp.xml");
     CHECK(env.world.floor.friction == 0.6);
@@ -77,8 +77,8 @@ TEST_CASE("make builds each part, and the parts run together", "[cli][make]") {
     CHECK(env.placements[0].robot == "robot");
     CHECK(env.placements[0].pose.position.x == Approx(0.1));
 
-    r = make({"sim", "--robot", "snake.xml", "--actuation", "parts/act.xml", "--world",
-              "ramp.xml", "--duration", "2", "--control-every", "20", "-o", "sim.xml"},
+    r = make({"sim", "--robot", "snake.xml", "--actuation", "parts/act.xml", "--world", "ramp.xml",
+              "--duration", "2", "--control-every", "20", "-o", "sim.xml"},
              dir);
     REQUIRE(r.status == 0);
     CHECK(r.out == "wrote sim.xml (run it: gaitlab run sim.xml)\n");
@@ -92,16 +92,18 @@ TEST_CASE("make builds each part, and the parts run together", "[cli][make]") {
 
     const Output run = run_gaitlab({"run", "--no-record", "sim.xml"}, dir.str());
     CHECK(run.status == 0);
-    CHECK_THAT(run.out, Catch::Matches(R"(robot: moved 0\.[0-9]+ m \(x -?[0-9.]+, y -?[0-9.]+\) in 2 s\n)"));
+    CHECK_THAT(run.out,
+               Catch::Matches(R"(robot: moved 0\.[0-9]+ m \(x -?[0-9.]+, y -?[0-9.]+\) in 2 s\n)"));
 }
 
-TEST_CASE("one robot file serves worlds made for its name and a flat world for any", "[cli][make]") {
+TEST_CASE("one robot file serves worlds made for its name and a flat world for any",
+          "[cli][make]") {
     TempDir dir("make_reuse");
     REQUIRE(make({"robot", "--name", "worm", "--modules", "6", "-o", "worm.xml"}, dir).status == 0);
-    REQUIRE(make({"actuation", "--robot", "worm.xml", "--group", "all=sine:phase=-120", "-o",
-                  "a.xml"},
-                 dir)
-                .status == 0);
+    REQUIRE(
+        make({"actuation", "--robot", "worm.xml", "--group", "all=sine:phase=-120", "-o", "a.xml"},
+             dir)
+            .status == 0);
     // a flat world has its start at the origin: it names no robot
     REQUIRE(make({"world", "-o", "flat.xml"}, dir).status == 0);
     CHECK(gaitlab::read_environment(dir / "flat.xml").placements.empty());
@@ -121,7 +123,8 @@ TEST_CASE("one robot file serves worlds made for its name and a flat world for a
     }
     // a ramp made for the default name does not fit a robot called worm: said before writing
     REQUIRE(make({"world", "--preset", "ramp", "-o", "ramp.xml"}, dir).status == 0);
-    const Output bad = make({"sim", "--robot", "worm.xml", "--world", "ramp.xml", "-o", "r.xml"}, dir);
+    const Output bad =
+        make({"sim", "--robot", "worm.xml", "--world", "ramp.xml", "-o", "r.xml"}, dir);
     check_failure(bad, "gaitlab: make sim: " + dir.str() +
                            "/ramp.xml:7: robot 'robot' is placed but the simulation has no robot "
                            "of that name");
@@ -149,25 +152,24 @@ TEST_CASE("make rejects bad options with one clear line and writes nothing", "[c
                   "gaitlab: make actuation: group 'pitch': "
                   "JOINTS=CONTROLLER[:PARAM=VALUE...] expected, e.g. "
                   "pitch=sine:amplitude=40:phase=-120");
-    check_failure(make({"actuation", "--robot", "r.xml", "--group", "head=sine", "-o", "a.xml"},
-                       dir),
-                  "gaitlab: make actuation: group 'head=sine': 'head' is not a joint: say "
-                  "pitch, yaw, all, or joint numbers from 1 like 1 3 5");
-    check_failure(make({"actuation", "--robot", "r.xml", "--group", "pitch=sinus", "-o", "a.xml"},
-                       dir),
-                  "gaitlab: make actuation: unknown controller 'sinus'; did you mean "
-                  "'sine'? (built-in controllers: distributed, hindmarsh_rose, hopf, matsuoka, "
-                  "offset, phase_chain, sine; a template is template/NAME, a Lua controller file "
-                  "PATH.lua)");
+    check_failure(
+        make({"actuation", "--robot", "r.xml", "--group", "head=sine", "-o", "a.xml"}, dir),
+        "gaitlab: make actuation: group 'head=sine': 'head' is not a joint: say "
+        "pitch, yaw, all, or joint numbers from 1 like 1 3 5");
+    check_failure(
+        make({"actuation", "--robot", "r.xml", "--group", "pitch=sinus", "-o", "a.xml"}, dir),
+        "gaitlab: make actuation: unknown controller 'sinus'; did you mean "
+        "'sine'? (built-in controllers: distributed, hindmarsh_rose, hopf, matsuoka, "
+        "offset, phase_chain, sine; a template is template/NAME, a Lua controller file "
+        "PATH.lua)");
     check_failure(make({"actuation", "--robot", "r.xml", "--group", "pitch=sine:amplitude=120",
                         "-o", "a.xml"},
                        dir),
                   "gaitlab: make actuation: sine.amplitude must be in [0, 90] deg (got "
                   "120)");
-    check_failure(make({"actuation", "--robot", "nothere.xml", "--group", "pitch=sine", "-o",
-                        "a.xml"},
-                       dir),
-                  "gaitlab: make actuation: --robot nothere.xml: no such file");
+    check_failure(
+        make({"actuation", "--robot", "nothere.xml", "--group", "pitch=sine", "-o", "a.xml"}, dir),
+        "gaitlab: make actuation: --robot nothere.xml: no such file");
     check_failure(make({"sim", "--robot", "r.xml", "--world", "none.xml", "-o", "s.xml"}, dir),
                   "gaitlab: make sim: --world none.xml: no such file");
     check_failure(make({"robot", "--modules", "many", "-o", "x.xml"}, dir),
@@ -180,10 +182,9 @@ TEST_CASE("make rejects bad options with one clear line and writes nothing", "[c
     check_failure(make({"robot", "--modles", "3", "-o", "x.xml"}, dir),
                   "gaitlab: unknown option '--modles' for 'gaitlab make robot'; did you mean "
                   "'--modules'? (see 'gaitlab make robot --help')");
-    check_failure(make({"sim", "--robot", "r.xml", "--world", "r.xml", "--dt", "1", "-o",
-                        "s.xml"},
-                       dir),
-                  "gaitlab: make sim: dt must be in [1e-06, 0.1] s (got 1)");
+    check_failure(
+        make({"sim", "--robot", "r.xml", "--world", "r.xml", "--dt", "1", "-o", "s.xml"}, dir),
+        "gaitlab: make sim: dt must be in [1e-06, 0.1] s (got 1)");
     check_failure(make({}, dir),
                   "gaitlab: say what to make: gaitlab make robot|world|actuation|sim ... -o FILE "
                   "(see 'gaitlab make --help')");
@@ -207,13 +208,14 @@ TEST_CASE("make never loses a file: -o is no input, and replaces only a file of 
     check_failure(make({"robot", "-o", "notes.xml"}, dir),
                   "gaitlab: make robot: -o notes.xml exists and is not a robot file, so "
                   "it would be lost: write to another file, or add --force to replace it");
-    check_failure(make({"actuation", "--robot", "r.xml", "--group", "all=sine", "-o", "w.xml"},
-                       dir),
-                  "gaitlab: make actuation: -o w.xml exists and is not an actuation "
-                  "file, so it would be lost: write to another file, or add --force to replace "
-                  "it");
-    check_failure(make({"robot", "-o", ""}, dir), "gaitlab: make robot: -o: a file name "
-                                                   "expected");
+    check_failure(
+        make({"actuation", "--robot", "r.xml", "--group", "all=sine", "-o", "w.xml"}, dir),
+        "gaitlab: make actuation: -o w.xml exists and is not an actuation "
+        "file, so it would be lost: write to another file, or add --force to replace "
+        "it");
+    check_failure(make({"robot", "-o", ""}, dir),
+                  "gaitlab: make robot: -o: a file name "
+                  "expected");
     CHECK(gaitlab::test::read_text(dir / "notes.xml") == "mine");
     CHECK(gaitlab::test::read_text(dir / "r.xml") == robot);
     CHECK(gaitlab::read_environment(dir / "w.xml").placements.empty());
@@ -229,10 +231,10 @@ TEST_CASE("make never loses a file: -o is no input, and replaces only a file of 
 TEST_CASE("make refuses a parameter given twice instead of keeping the last", "[cli][make]") {
     TempDir dir("make_twice");
     REQUIRE(make({"robot", "-o", "r.xml"}, dir).status == 0);
-    check_failure(make({"world", "--param", "friction=0.5", "--friction", "0.6", "-o", "w.xml"},
-                       dir),
-                  "gaitlab: make world: friction is given twice (--friction and --param "
-                  "friction=...): give it once");
+    check_failure(
+        make({"world", "--param", "friction=0.5", "--friction", "0.6", "-o", "w.xml"}, dir),
+        "gaitlab: make world: friction is given twice (--friction and --param "
+        "friction=...): give it once");
     check_failure(make({"world", "--preset", "ramp", "--param", "slope=3", "--param", "slope=4",
                         "-o", "w.xml"},
                        dir),
@@ -243,10 +245,10 @@ TEST_CASE("make refuses a parameter given twice instead of keeping the last", "[
                        dir),
                   "gaitlab: make actuation: group 'all=sine:amplitude=1:amplitude=2': "
                   "'amplitude' is given twice (amplitude=1 and amplitude=2): give it once");
-    check_failure(make({"actuation", "--robot", "r.xml", "--group", "all,3=sine", "-o", "a.xml"},
-                       dir),
-                  "gaitlab: make actuation: group 'all,3=sine': 'all' stands alone: say "
-                  "pitch, yaw or all, or joint numbers like 1 3 5, not both (got 'all 3')");
+    check_failure(
+        make({"actuation", "--robot", "r.xml", "--group", "all,3=sine", "-o", "a.xml"}, dir),
+        "gaitlab: make actuation: group 'all,3=sine': 'all' stands alone: say "
+        "pitch, yaw or all, or joint numbers like 1 3 5, not both (got 'all 3')");
     CHECK(!std::filesystem::exists(dir / "w.xml"));
     CHECK(!std::filesystem::exists(dir / "a.xml"));
 }

@@ -56,8 +56,8 @@ TEST_CASE("gaitlab new --defaults writes a project that runs and moves", "[cli][
     CHECK(r.err.empty());
     // no questions, the files listed, the run's result and where it was recorded
     CHECK(r.out.find("[") == std::string::npos);
-    for (const char* f : {"robot.xml", "actuation.xml", "environment.xml", "simulation.xml",
-                          "run.lua"}) {
+    for (const char* f :
+         {"robot.xml", "actuation.xml", "environment.xml", "simulation.xml", "run.lua"}) {
         CHECK(fs::is_regular_file(dir.path / "snake" / f));
         CHECK_THAT(r.out, Catch::Contains(std::string("snake/") + f));
     }
@@ -78,8 +78,7 @@ TEST_CASE("gaitlab new --defaults writes a project that runs and moves", "[cli][
     CHECK(moved(lua.out, "snake") == moved(r.out, "snake"));
 
     // snake is taken now: snake-2 (a 1 s run, not recorded)
-    const Output again = run_gaitlab({"new"}, dir.str(),
-                                     std::string(11, '\n') + "1\n\n\nno\n");
+    const Output again = run_gaitlab({"new"}, dir.str(), std::string(11, '\n') + "1\n\n\nno\n");
     CHECK(again.status == 0);
     CHECK(entries(dir.path) == std::vector<std::string>{"snake", "snake-2"});
 }
@@ -100,24 +99,24 @@ TEST_CASE("a new controller with two parameters is written as typed and moves th
           "[cli][wizard]") {
     TempDir dir("wizard_new_controller");
     const std::string answers = lines({
-        "worm",       // robot name
-        "6",          // modules
-        "",           // pitch-pitch
-        "imu",        // sensors
-        "3",          // a new controller
-        "wave",       // its name
-        "2",          // two parameters
-        "amp",        "35", "0 60", "deg",  // name, initial value, range, unit
-        "freq",       "0.8", "0 3", "Hz",
+        "worm",                              // robot name
+        "6",                                 // modules
+        "",                                  // pitch-pitch
+        "imu",                               // sensors
+        "3",                                 // a new controller
+        "wave",                              // its name
+        "2",                                 // two parameters
+        "amp",        "35",  "0 60", "deg",  // name, initial value, range, unit
+        "freq",       "0.8", "0 3",  "Hz",
         "time angle",  // per-joint values
-        "",           // joints: all
-        "",           // no other controller
-        "",           // flat
-        "0.9",        // friction
-        "4",          // seconds
-        "",           // dt
-        "",           // control_every
-        "no",         // no recording
+        "",            // joints: all
+        "",            // no other controller
+        "",            // flat
+        "0.9",         // friction
+        "4",           // seconds
+        "",            // dt
+        "",            // control_every
+        "no",          // no recording
     });
     const Output r = run_gaitlab({"new", "w"}, dir.str(), answers);
     INFO(r.out << r.err);
@@ -140,8 +139,8 @@ for _, name in ipairs(names) do
 end
 print(class.name, ctl:values().time ~= nil, ctl:values().angle ~= nil)
 )");
-    const Output c = run_gaitlab({"run", "--no-record", "check.lua", "w/controllers/wave.lua"},
-                                 dir.str());
+    const Output c =
+        run_gaitlab({"run", "--no-record", "check.lua", "w/controllers/wave.lua"}, dir.str());
     INFO(c.err);
     CHECK(c.out == "amp\t35.0\t0.0\t60.0\tdeg\nfreq\t0.8\t0.0\t3.0\tHz\nwave\ttrue\ttrue\n");
 
@@ -159,26 +158,48 @@ print(class.name, ctl:values().time ~= nil, ctl:values().angle ~= nil)
 TEST_CASE("garbage answers are explained and asked again", "[cli][wizard]") {
     TempDir dir("wizard_garbage");
     const std::string answers = lines({
-        "",                       // name: snake
-        "many", "0", "5",         // modules
-        "pitch-roll", "9", "2",   // connection: pitch-yaw
-        "laser imu:0", "imu:9", "imu:3 position",  // sensors
-        "4", "built-in",          // kind of controller
-        "sinus", "sine",          // built-in
-        "amplitude=200", "amplitud=3", "amplitude", "amplitude=30 phase=-120",
-        "head", "9", "",          // joints: pitch
-        "maybe", "yes",           // another controller
-        "2",                      // a template
-        "cpg", "cpg_chain",
-        "coupling=1000", "",
-        "yaw",                    // joints
-        "",                       // no more
-        "moon", "ramp",           // world
-        "2", "0.5",               // friction
-        "-1", "3",                // seconds
-        "0", "",                  // dt
-        "x", "",                  // control_every
-        "sure", "no",             // recording
+        "",  // name: snake
+        "many",
+        "0",
+        "5",  // modules
+        "pitch-roll",
+        "9",
+        "2",  // connection: pitch-yaw
+        "laser imu:0",
+        "imu:9",
+        "imu:3 position",  // sensors
+        "4",
+        "built-in",  // kind of controller
+        "sinus",
+        "sine",  // built-in
+        "amplitude=200",
+        "amplitud=3",
+        "amplitude",
+        "amplitude=30 phase=-120",
+        "head",
+        "9",
+        "",  // joints: pitch
+        "maybe",
+        "yes",  // another controller
+        "2",    // a template
+        "cpg",
+        "cpg_chain",
+        "coupling=1000",
+        "",
+        "yaw",  // joints
+        "",     // no more
+        "moon",
+        "ramp",  // world
+        "2",
+        "0.5",  // friction
+        "-1",
+        "3",  // seconds
+        "0",
+        "",  // dt
+        "x",
+        "",  // control_every
+        "sure",
+        "no",  // recording
     });
     const Output r = run_gaitlab({"new", "g"}, dir.str(), answers);
     INFO(r.out << r.err);
@@ -259,23 +280,40 @@ TEST_CASE("a project folder that exists and is not empty is refused", "[cli][wiz
     CHECK(entries(dir.path) == std::vector<std::string>{"empty", "file", "taken"});
 }
 
-TEST_CASE("garbage answers about a new controller are explained and asked again",
-          "[cli][wizard]") {
+TEST_CASE("garbage answers about a new controller are explained and asked again", "[cli][wizard]") {
     TempDir dir("wizard_garbage_new");
     const std::string answers = lines({
-        std::string(300, 'x'), "bob",  // robot name
-        "3",                         // modules
-        "", "",                      // pitch-pitch, no sensors
+        std::string(300, 'x'),
+        "bob",  // robot name
+        "3",    // modules
+        "",
+        "",  // pitch-pitch, no sensors
         "new",
-        "2fast", "end", "gait",      // controller name
-        "-1", "99", "1",             // how many parameters
-        "joints", "amp",             // parameter name ('joints' is reserved)
-        "big", "30",                 // initial value
-        "5", "50 60", "0 60",        // range
-        "",                          // unit: deg
-        "time time", "time",         // per-joint values
-        "1 x", "1 2",                // joints
-        "", "", "", "1", "", "", "no",
+        "2fast",
+        "end",
+        "gait",  // controller name
+        "-1",
+        "99",
+        "1",  // how many parameters
+        "joints",
+        "amp",  // parameter name ('joints' is reserved)
+        "big",
+        "30",  // initial value
+        "5",
+        "50 60",
+        "0 60",  // range
+        "",      // unit: deg
+        "time time",
+        "time",  // per-joint values
+        "1 x",
+        "1 2",  // joints
+        "",
+        "",
+        "",
+        "1",
+        "",
+        "",
+        "no",
     });
     const Output r = run_gaitlab({"new", "b"}, dir.str(), answers);
     INFO(r.out << r.err);
@@ -310,22 +348,23 @@ TEST_CASE("endless or always-refused piped answers stop the wizard", "[cli][wiza
     TempDir dir("wizard_endless");
     // `yes | gaitlab new`: 'y' names the robot, then is refused as a number of modules; after
     // ten refusals in a row the wizard stops instead of asking forever
-    const Output yes = run_gaitlab({"new", "p"}, dir.str(), std::string(1000, 'y') + "\n" +
-                                                               [] {
-                                                                   std::string s;
-                                                                   for (int i = 0; i < 500; ++i)
-                                                                       s += "y\n";
-                                                                   return s;
-                                                               }());
+    const Output yes = run_gaitlab(
+        {"new", "p"}, dir.str(), std::string(1000, 'y') + "\n" + [] {
+            std::string s;
+            for (int i = 0; i < 500; ++i)
+                s += "y\n";
+            return s;
+        }());
     CHECK(yes.status == 1);
-    CHECK(yes.err == "gaitlab: 10 answers to 'Number of modules' were refused in a row (see the "
-                     "'!' lines); nothing was written\n");
+    CHECK(yes.err ==
+          "gaitlab: 10 answers to 'Number of modules' were refused in a row (see the "
+          "'!' lines); nothing was written\n");
     // nine refusals, then a good answer: the wizard goes on
     std::string nine = "\n";
     for (int i = 0; i < 9; ++i)
         nine += "x\n";
-    const Output ok = run_gaitlab({"new", "q"}, dir.str(),
-                                  nine + "3\n" + std::string(9, '\n') + "1\n\n\nno\n");
+    const Output ok =
+        run_gaitlab({"new", "q"}, dir.str(), nine + "3\n" + std::string(9, '\n') + "1\n\n\nno\n");
     INFO(ok.out << ok.err);
     CHECK(ok.status == 0);
     CHECK(gaitlab::read_robot(dir / "q/robot.xml").joints.size() == 3);
@@ -348,12 +387,13 @@ TEST_CASE("a project folder that cannot be made is refused before the first ques
     Output r = run_gaitlab({"new", "dangling"}, dir.str(), "");
     CHECK(r.status == 1);
     CHECK(r.out.empty());
-    CHECK(r.err == "gaitlab: new: dangling is a symbolic link to nowhere, which does not exist: "
-                   "choose another folder\n");
+    CHECK(r.err ==
+          "gaitlab: new: dangling is a symbolic link to nowhere, which does not exist: "
+          "choose another folder\n");
     r = run_gaitlab({"new", "file/p"}, dir.str(), "");
     CHECK(r.out.empty());
-    CHECK(r.err == "gaitlab: new: cannot create file/p: " + (dir / "file") +
-                       " is a file, not a folder\n");
+    CHECK(r.err ==
+          "gaitlab: new: cannot create file/p: " + (dir / "file") + " is a file, not a folder\n");
     CHECK(read_text(dir / "file") == "mine");
     // folders that do not exist yet are made; a trailing '/' names the same folder
     r = run_gaitlab({"new", "--defaults", "a/b/"}, dir.str());
@@ -373,11 +413,11 @@ TEST_CASE("a template chosen after a new controller of its name gets a file of i
           "[cli][wizard]") {
     TempDir dir("wizard_same_name");
     const std::string answers = lines({
-        "", "", "", "",                      // snake, 8 modules, pitch-pitch, no sensors
-        "new", "sine", "0", "",              // a new controller called sine, no parameters
-        "1 2 3 4", "yes",                    // its joints; another
-        "template", "sine", "", "5 6 7 8",   // the sine template on the others
-        "", "", "", "1", "", "", "no",
+        "",         "",     "",  "",         // snake, 8 modules, pitch-pitch, no sensors
+        "new",      "sine", "0", "",         // a new controller called sine, no parameters
+        "1 2 3 4",  "yes",                   // its joints; another
+        "template", "sine", "",  "5 6 7 8",  // the sine template on the others
+        "",         "",     "",  "1",       "", "", "no",
     });
     const Output r = run_gaitlab({"new", "p"}, dir.str(), answers);
     INFO(r.out << r.err);
@@ -396,10 +436,23 @@ TEST_CASE("mixed joint words, twice-given parameters and three-number ranges are
           "[cli][wizard]") {
     TempDir dir("wizard_words");
     const std::string answers = lines({
-        "", "4", "", "",
-        "", "", "amplitude=10 amplitude=20", "amplitude=20",  // built-in sine
-        "all 1", "",                                          // joints
-        "", "", "", "1", "", "", "no",
+        "",
+        "4",
+        "",
+        "",
+        "",
+        "",
+        "amplitude=10 amplitude=20",
+        "amplitude=20",  // built-in sine
+        "all 1",
+        "",  // joints
+        "",
+        "",
+        "",
+        "1",
+        "",
+        "",
+        "no",
     });
     const Output r = run_gaitlab({"new", "p"}, dir.str(), answers);
     INFO(r.out << r.err);
@@ -415,9 +468,9 @@ TEST_CASE("mixed joint words, twice-given parameters and three-number ranges are
           params.end());
 
     // a range of three numbers is refused as a whole; commas separate like spaces
-    const Output n = run_gaitlab({"new", "q"}, dir.str(),
-                                 lines({"", "", "", "", "new", "g", "1", "a", "1", "0 1 2",
-                                        "0,,2"}));
+    const Output n =
+        run_gaitlab({"new", "q"}, dir.str(),
+                    lines({"", "", "", "", "new", "g", "1", "a", "1", "0 1 2", "0,,2"}));
     CHECK(n.status == 1);  // (the end of input at the unit)
     CHECK_THAT(n.out, Catch::Contains("  ! '0 1 2': two numbers expected: MIN MAX\n"));
     CHECK_THAT(n.out, Catch::Contains("range of a, as MIN MAX [0 90]: 0,,2\n  unit of a"));
