@@ -33,9 +33,12 @@ namespace {
                       ref.line);
 }
 
+// the class push_file_class or push_template_class left on the stack (popped)
 std::shared_ptr<LuaControllerClass> class_on_top(lua_State* L) {
-    auto cls = *static_cast<std::shared_ptr<LuaControllerClass>*>(
-        luaL_checkudata(L, -1, kControllerClassType));
+    auto* p = static_cast<std::shared_ptr<LuaControllerClass>*>(
+        luaL_testudata(L, -1, kControllerClassType));
+    if (!p) throw Error("internal error: no controller class on the Lua stack");
+    auto cls = *p;
     lua_pop(L, 1);
     return cls;
 }

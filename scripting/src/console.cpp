@@ -276,16 +276,18 @@ void Console::run() {
     std::string text;
     for (int i = 1; i <= n; ++i) {
         if (i > 1) text += '\t';
+        // read raw: this runs outside any protected call, where a metamethod's error would
+        // end the process
         lua_getfield(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);
-        lua_getfield(L, -1, "gaitlab");
+        raw_getfield(L, -1, "gaitlab");
         lua_remove(L, -2);
         if (lua_istable(L, -1)) {
-            lua_getfield(L, -1, "pretty");
+            raw_getfield(L, -1, "pretty");
             lua_remove(L, -2);
         }
         if (!lua_isfunction(L, -1)) {
             lua_pop(L, 1);
-            lua_getglobal(L, "tostring");
+            raw_getglobal(L, "tostring");
         }
         lua_pushvalue(L, base + i);
         try {

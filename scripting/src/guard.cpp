@@ -1,12 +1,18 @@
 #include "guard.h"
 
+#include <signal.h>
+
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <new>
 
 #include <fmt/format.h>
+
+#include "gaitlab/error.h"
+#include "lua_util.h"
 
 namespace gaitlab::scripting {
 
@@ -36,23 +42,27 @@ const char* signal_name(int s) {
     }
 }
 
-// coroutine.resume(co, ...) that first gives the coroutine the hook of the code resuming it,
-// so a budget or an interrupt also holds inside coroutines made before it started; upvalue 1
-// is the standard resume
+// coroutine.resume(co, ...) that first gives the coroutine the hook of the code resuming it
+// (or takes the guard's away), so a budget or an interrupt also holds inside coroutines made
+// before it started; upvalue 1 is the standard resume. No C++ object is alive here: the
+// errors of the resume (its arguments, an interrupt at the call) are raised after it
 int guarded_resume(lua_State* L) {
-    luaL_checktype(L, 1, LUA_TTHREAD);  // checked here: the call below raises nothing else
+    luaL_checktype(L, 1, LUA_TTHREAD);  // as the standard resume says it
     lua_State* co = lua_tothread(L, 1);
-    Guard& g = Guard::of(L);
-    lua_sethook(co, lua_gethook(L), lua_gethookmask(L), lua_gethookcount(L));
+    Guard* g = Guard::find(L);
+    if (!g) return luaL_error(L, "gaitlab is not loaded in this Lua state");
+    if (Guard::hooked(L)) {
+        g->set_hook(co, lua_gethookmask(L), lua_gethookcount(L));
+    } else {
+        g->release_hook(co);
+    }
     lua_pushvalue(L, lua_upvalueindex(1));
     lua_insert(L, 1);
     const int nargs = lua_gettop(L) - 1;
-    struct Running {  // restored however the call ends
-        Guard& g;
-        lua_State* outer;
-        ~Running() { g.set_running(outer); }
-    } running{g, g.set_running(co)};
-    lua_call(L, nargs, LUA_MULTRET);
+    lua_State* outer = g->set_running(co);
+    const int status = lua_pcall(L, nargs, LUA_MULTRET, 0);
+    g->set_running(outer);
+    if (status != LUA_OK) return lua_error(L);
     return lua_gettop(L);
 }
 
@@ -93,7 +103,8 @@ int guarded_wrap(lua_State* L) {
 // (a spent budget, an interrupt), the error passes through untouched. The script's handler
 // would run with hooks off: the error was raised inside the hook, where Lua allows none.
 int guarded_handler(lua_State* L) {
-    if (Guard::of(L).stopping()) {
+    const Guard* g = Guard::find(L);
+    if (g && g->stopping()) {
         lua_settop(L, 1);
         return 1;
     }
@@ -141,15 +152,28 @@ lua_State* Guard::set_running(lua_State* co) {
     return running_.exchange(co);
 }
 
-Guard& Guard::of(lua_State* L) {
+Guard* Guard::find(lua_State* L) {
     lua_getfield(L, LUA_REGISTRYINDEX, kGuardKey);
     auto* g = static_cast<Guard*>(luaL_testudata(L, -1, kGuardType));
     lua_pop(L, 1);
-    if (!g) luaL_error(L, "gaitlab is not loaded in this Lua state");
+    return g;
+}
+
+Guard& Guard::of(lua_State* L) {
+    Guard* g = find(L);
+    if (!g) throw Error("gaitlab is not loaded in this Lua state");
     return *g;
 }
 
-void Guard::install(lua_State* L) {
+bool Guard::hooked(lua_State* T) {
+    return lua_gethook(T) == hook;
+}
+
+void Guard::push_xpcall(lua_State* L) {
+    lua_pushcfunction(L, guarded_xpcall);
+}
+
+void Guard::install(lua_State* L, StateOwner owner) {
     if (luaL_newmetatable(L, kGuardType)) {
         lua_pushcfunction(L, [](lua_State* S) -> int {
             if (auto* g = static_cast<Guard*>(luaL_testudata(S, 1, kGuardType))) g->~Guard();
@@ -165,6 +189,7 @@ void Guard::install(lua_State* L) {
     lua_pop(L, 1);
     new (lua_newuserdatauv(L, sizeof(Guard), 0)) Guard();
     luaL_setmetatable(L, kGuardType);
+    static_cast<Guard*>(lua_touserdata(L, -1))->owner_ = owner;
     lua_setfield(L, LUA_REGISTRYINDEX, kGuardKey);
     // the messages of the usual interrupts, kept so that Lua has them interned
     lua_newtable(L);
@@ -174,17 +199,17 @@ void Guard::install(lua_State* L) {
     }
     lua_setfield(L, LUA_REGISTRYINDEX, "gaitlab.interrupt_messages");
 
-    lua_pushcfunction(L, guarded_xpcall);
-    lua_setglobal(L, "xpcall");
-    if (lua_getglobal(L, "coroutine") == LUA_TTABLE) {
-        lua_getfield(L, -1, "resume");
+    push_xpcall(L);
+    raw_setglobal(L, "xpcall");
+    if (raw_getglobal(L, "coroutine") == LUA_TTABLE) {
+        raw_getfield(L, -1, "resume");
         if (lua_iscfunction(L, -1)) {
             lua_pushcclosure(L, guarded_resume, 1);
-            lua_getfield(L, -2, "create");
+            raw_getfield(L, -2, "create");
             lua_pushvalue(L, -2);
             lua_pushcclosure(L, guarded_wrap, 2);
-            lua_setfield(L, -3, "wrap");
-            lua_setfield(L, -2, "resume");
+            raw_setfield(L, -3, "wrap");
+            raw_setfield(L, -2, "resume");
         } else {
             lua_pop(L, 1);
         }
@@ -221,9 +246,59 @@ void Guard::clear_interrupt(lua_State* L) {
     arm(L);
 }
 
+Guard::Saved* Guard::saved(lua_State* T) {
+    for (Saved& x : saved_) {
+        if (x.thread == T) return &x;
+    }
+    return nullptr;
+}
+
+void Guard::keep_hook(lua_State* T, bool pin) {
+    Saved* s = saved(T);
+    if (!s) {
+        if (hooked(T) && !pin) return;  // nothing to keep (and a hook must not allocate)
+        try {
+            saved_.push_back(Saved{T, nullptr, 0, 0, false});
+        } catch (const std::bad_alloc&) {
+            return;  // called from C functions Lua calls: the hook is lost, nothing thrown
+        }
+        s = &saved_.back();
+    }
+    if (!hooked(T)) {
+        s->hook = lua_gethook(T);
+        s->mask = lua_gethookmask(T);
+        s->count = lua_gethookcount(T);
+    }
+    s->pinned = s->pinned || pin;
+}
+
+void Guard::unpin_hook(lua_State* T) {
+    if (Saved* s = saved(T)) {
+        s->pinned = false;
+        if (!hooked(T)) saved_.erase(saved_.begin() + (s - saved_.data()));
+    }
+}
+
+void Guard::set_hook(lua_State* T, int mask, int count) {
+    keep_hook(T, false);
+    lua_sethook(T, hook, mask, count);
+}
+
+void Guard::release_hook(lua_State* T) {
+    Saved* s = saved(T);
+    if (hooked(T)) {
+        if (s) {
+            lua_sethook(T, s->hook, s->mask, s->count);
+        } else {
+            lua_sethook(T, nullptr, 0, 0);
+        }
+    }
+    if (s && !s->pinned) saved_.erase(saved_.begin() + (s - saved_.data()));
+}
+
 void Guard::arm(lua_State* L) {
     if (signal_.load() != 0) {
-        lua_sethook(L, hook, LUA_MASKCALL | LUA_MASKRET | LUA_MASKCOUNT, 1);
+        set_hook(L, LUA_MASKCALL | LUA_MASKRET | LUA_MASKCOUNT, 1);
         return;
     }
     bool exhausted = false;
@@ -234,15 +309,20 @@ void Guard::arm(lua_State* L) {
     }
     if (frames_.empty()) {
         interval_ = 0;
-        lua_sethook(L, nullptr, 0, 0);
+        release_hook(L);
         return;
     }
     interval_ = exhausted ? 1 : static_cast<int>(std::max<long long>(remaining, 1));
-    lua_sethook(L, hook, LUA_MASKCOUNT, interval_);
+    set_hook(L, LUA_MASKCOUNT, interval_);
 }
 
 void Guard::hook(lua_State* L, lua_Debug* ar) {
-    Guard& g = of(L);
+    Guard* found = find(L);
+    if (!found) {
+        lua_sethook(L, nullptr, 0, 0);  // a state gaitlab has left
+        return;
+    }
+    Guard& g = *found;
     if (g.signal_.load() != 0) {
         // every instruction from now on fails, so no pcall can swallow the interrupt. The
         // message was made at install: pushing it again allocates nothing, even at the limit
@@ -279,6 +359,61 @@ Budget::Budget(lua_State* L, long long instructions, const std::string& what, co
 Budget::~Budget() {
     guard_.frames_.pop_back();
     guard_.arm(L_);
+}
+
+namespace {
+
+// the state whose sim:run or sim:step takes SIGINT now (see InterruptScope), and what SIGINT
+// did before: written before the handler is installed, read by it
+std::atomic<Guard*> g_interruptible{nullptr};
+std::atomic<lua_State*> g_interruptible_state{nullptr};
+struct sigaction g_previous_sigint;
+
+extern "C" void on_interpreter_sigint(int sig) {
+    // a second Ctrl-C does what it did before this scope (lua.c's handler, or the default)
+    sigaction(SIGINT, &g_previous_sigint, nullptr);
+    Guard* g = g_interruptible.load();
+    lua_State* L = g_interruptible_state.load();
+    if (g && L) g->interrupt(L, sig);
+}
+
+}  // namespace
+
+InterruptScope::InterruptScope(lua_State* L) {
+    Guard* g = Guard::find(L);
+    if (!g || g->owner() != StateOwner::interpreter) return;
+    Guard* none = nullptr;
+    if (!g_interruptible.compare_exchange_strong(none, g)) return;  // an outer scope has it
+    struct sigaction current {};
+    sigaction(SIGINT, nullptr, &current);
+    if (!(current.sa_flags & SA_SIGINFO) && current.sa_handler == SIG_IGN) {
+        g_interruptible.store(nullptr);  // SIGINT is ignored (nohup, a background job)
+        return;
+    }
+    guard_ = g;
+    main_ = main_thread(L);
+    // an interrupt replaces the main thread's hook: keep the interpreter's to give it back
+    g->keep_hook(main_, true);
+    g_previous_sigint = current;
+    g_interruptible_state.store(main_);
+    struct sigaction sa {};
+    sa.sa_handler = on_interpreter_sigint;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
+}
+
+InterruptScope::~InterruptScope() {
+    if (!guard_) return;
+    struct sigaction current {};
+    sigaction(SIGINT, nullptr, &current);
+    if (!(current.sa_flags & SA_SIGINFO) && current.sa_handler == on_interpreter_sigint) {
+        sigaction(SIGINT, &g_previous_sigint, nullptr);
+    }
+    g_interruptible_state.store(nullptr);
+    g_interruptible.store(nullptr);
+    // the error it caused is on its way to the script; the interpreter's hook comes back
+    if (guard_->interrupted() != 0) guard_->clear_interrupt(main_);
+    guard_->unpin_hook(main_);
 }
 
 void* MemoryLimit::alloc(void* ud, void* ptr, std::size_t osize, std::size_t nsize) {

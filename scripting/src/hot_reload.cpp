@@ -52,8 +52,6 @@ void run_controller_source(lua_State* L, const std::string& source, const std::s
     protected_call(L, 0, 1);
 }
 
-namespace {}  // namespace
-
 void push_file_class(lua_State* L, const std::string& path, bool sandbox) {
     std::error_code ec;
     const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
@@ -93,9 +91,17 @@ const StdlibSource& find_template(std::string_view name) {
 
 void push_template_class(lua_State* L, std::string_view name) {
     const StdlibSource& t = find_template(name);
-    run_controller_source(L, t.code, std::string("template/") + t.name, true);
-    auto& cls = *static_cast<std::shared_ptr<LuaControllerClass>*>(
-        luaL_checkudata(L, -1, kControllerClassType));
+    const std::string chunk = std::string("template/") + t.name;
+    run_controller_source(L, t.code, chunk, true);
+    auto* p = static_cast<std::shared_ptr<LuaControllerClass>*>(
+        luaL_testudata(L, -1, kControllerClassType));
+    if (!p) {
+        const std::string got = type_name(L, -1);
+        lua_pop(L, 1);
+        throw Error(fmt::format(
+            "{}: a controller file must return gaitlab.controller{{...}}, got {}", chunk, got));
+    }
+    auto& cls = *p;
     cls->origin_kind = ControllerRef::Kind::template_;
     cls->origin = std::string(name);
 }

@@ -1,6 +1,8 @@
 #include "lua_controller.h"
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -227,43 +229,46 @@ void LuaController::sync_values() const {
 
 namespace {
 
-// the controller and its current step; these helpers use only lauxlib errors, so no C++
-// object is alive when they long-jump
+// the controller whose methods these are (upvalue 1 holds its box)
 LuaController* self_of(lua_State* L) {
     auto* c = *static_cast<LuaController**>(lua_touserdata(L, lua_upvalueindex(1)));
-    if (!c) luaL_error(L, "this controller is gone (its simulation and handles were removed)");
+    if (!c) throw Error("this controller is gone (its simulation and handles were removed)");
     return c;
 }
 
-// pushes why `name` names no sensor of the robot (C++ strings live only inside this call)
-void push_no_sensor(lua_State* L, const ControlIO& io, const char* name) {
+// "WHAT 'name'" with the closest of `names` and the list of them ("(LISTED: a, b)"), or `none`
+std::string unknown(const std::string& what, const std::string& name,
+                    const std::vector<std::string>& names, const char* listed, const char* none) {
+    std::string message = what + " '" + name + "'" + did_you_mean(name, names);
+    if (names.empty()) return message + " (" + none + ")";
+    message += std::string(" (") + listed + ":";
+    for (size_t i = 0; i < names.size(); ++i)
+        message += (i ? ", " : " ") + names[i];
+    return message + ")";
+}
+
+std::string no_sensor(const ControlIO& io, const std::string& name) {
     std::vector<std::string> names;
     for (int k = 0; k < io.sensor_count(); ++k)
         names.push_back(io.sensor(k).name);
-    std::string message = "the controller's robot has no sensor '" + std::string(name) + "'" +
-                          did_you_mean(name, names);
-    if (names.empty()) {
-        message += " (it has no sensors)";
-    } else {
-        message += " (its sensors:";
-        for (size_t i = 0; i < names.size(); ++i)
-            message += (i ? ", " : " ") + names[i];
-        message += ")";
-    }
-    lua_pushstring(L, message.c_str());
+    return unknown("the controller's robot has no sensor", name, names, "its sensors",
+                   "it has no sensors");
 }
 
-// pushes why `channel` is not a channel of sensor kind `kind`
-void push_no_channel(lua_State* L, SensorKind kind, const char* channel) {
+std::string no_channel(SensorKind kind, const std::string& channel) {
     std::vector<std::string> names;
     for (const SensorChannel& c : sensor_channels(kind))
         names.push_back(c.name);
-    std::string message = std::string(to_string(kind)) + " sensors have no channel '" + channel +
-                          "'" + did_you_mean(channel, names) + " (channels:";
-    for (size_t i = 0; i < names.size(); ++i)
-        message += (i ? ", " : " ") + names[i];
-    message += ")";
-    lua_pushstring(L, message.c_str());
+    return unknown(std::string(to_string(kind)) + " sensors have no channel", channel, names,
+                   "channels", "no channels");
+}
+
+// a string argument as luaL_checkstring takes it (a number converts)
+std::string check_text(lua_State* L, int arg) {
+    if (!lua_isstring(L, arg)) {
+        throw ArgError(arg, "string expected, got " + type_name(L, arg));
+    }
+    return to_string(L, arg);
 }
 
 void push_reading(lua_State* L, const SensorChannel& c, double value) {
@@ -275,85 +280,90 @@ void push_reading(lua_State* L, const SensorChannel& c, double value) {
 }
 
 int check_joint(lua_State* L, const Controller& c) {
-    const lua_Integer m = luaL_checkinteger(L, 2);
-    luaL_argcheck(L, m >= 1 && m <= c.joints(), 2, "joint number out of range");
+    const long long m = check_integer(L, 2);
+    if (m < 1 || m > c.joints()) throw ArgError(2, "joint number out of range");
     return static_cast<int>(m - 1);
+}
+
+// the step the controller is in: `method` may only be called while it steps
+ControlIO& current_step(ControlIO* io, const char* method) {
+    if (!io) throw Error(fmt::format("{} can only be called while the controller steps", method));
+    return *io;
 }
 
 }  // namespace
 
 int LuaController::l_set_angle(lua_State* L) {
-    LuaController* c = self_of(L);
-    const int m = check_joint(L, *c);
-    const double deg = luaL_checknumber(L, 3);
-    luaL_argcheck(L, std::isfinite(deg), 3, "finite number of degrees expected");
-    if (!c->io_) return luaL_error(L, "set_angle can only be called while the controller steps");
-    c->io_->set_target(m, deg_to_rad(deg));
-    return 0;
+    return protect(L, [&] {
+        LuaController* c = self_of(L);
+        const int m = check_joint(L, *c);
+        const double deg = check_number(L, 3);
+        if (!std::isfinite(deg)) throw ArgError(3, "finite number of degrees expected");
+        current_step(c->io_, "set_angle").set_target(m, deg_to_rad(deg));
+        return 0;
+    });
 }
 
 int LuaController::l_joint_angle(lua_State* L) {
-    LuaController* c = self_of(L);
-    const int m = check_joint(L, *c);
-    if (!c->io_) return luaL_error(L, "joint_angle can only be called while the controller steps");
-    lua_pushnumber(L, rad_to_deg(c->io_->angle(m)));
-    return 1;
+    return protect(L, [&] {
+        LuaController* c = self_of(L);
+        const int m = check_joint(L, *c);
+        lua_pushnumber(L, rad_to_deg(current_step(c->io_, "joint_angle").angle(m)));
+        return 1;
+    });
 }
 
 int LuaController::l_joint_velocity(lua_State* L) {
-    LuaController* c = self_of(L);
-    const int m = check_joint(L, *c);
-    if (!c->io_)
-        return luaL_error(L, "joint_velocity can only be called while the controller steps");
-    lua_pushnumber(L, rad_to_deg(c->io_->velocity(m)));
-    return 1;
+    return protect(L, [&] {
+        LuaController* c = self_of(L);
+        const int m = check_joint(L, *c);
+        lua_pushnumber(L, rad_to_deg(current_step(c->io_, "joint_velocity").velocity(m)));
+        return 1;
+    });
 }
 
 int LuaController::l_joint_torque(lua_State* L) {
-    LuaController* c = self_of(L);
-    const int m = check_joint(L, *c);
-    if (!c->io_) return luaL_error(L, "joint_torque can only be called while the controller steps");
-    lua_pushnumber(L, c->io_->torque(m));
-    return 1;
+    return protect(L, [&] {
+        LuaController* c = self_of(L);
+        const int m = check_joint(L, *c);
+        lua_pushnumber(L, current_step(c->io_, "joint_torque").torque(m));
+        return 1;
+    });
 }
 
 int LuaController::l_sensor(lua_State* L) {
-    LuaController* c = self_of(L);
-    const char* name = luaL_checkstring(L, 2);
-    const char* channel = luaL_optstring(L, 3, nullptr);
-    if (!c->io_) return luaL_error(L, "sensor can only be called while the controller steps");
-    const ControlIO& io = *c->io_;
-    const int k = io.find_sensor(name);
-    if (k < 0) {
-        push_no_sensor(L, io, name);
-        return luaL_argerror(L, 2, lua_tostring(L, -1));
-    }
-    const SensorSpec& spec = io.sensor(k);
-    const auto& channels = sensor_channels(spec.kind);
-    int ch = -1;
-    if (channel) {
-        ch = find_sensor_channel(spec.kind, channel);
-        if (ch < 0) {
-            push_no_channel(L, spec.kind, channel);
-            return luaL_argerror(L, 3, lua_tostring(L, -1));
+    return protect(L, [&] {
+        LuaController* c = self_of(L);
+        const std::string name = check_text(L, 2);
+        std::optional<std::string> channel;
+        if (!lua_isnoneornil(L, 3)) channel = check_text(L, 3);
+        const ControlIO& io = current_step(c->io_, "sensor");
+        const int k = io.find_sensor(name);
+        if (k < 0) throw ArgError(2, no_sensor(io, name));
+        const SensorSpec& spec = io.sensor(k);
+        const auto& channels = sensor_channels(spec.kind);
+        int ch = -1;
+        if (channel) {
+            ch = find_sensor_channel(spec.kind, *channel);
+            if (ch < 0) throw ArgError(3, no_channel(spec.kind, *channel));
         }
-    }
-    // a switched-off sensor reads nil: its last values are stale
-    if (!spec.enabled) {
-        lua_pushnil(L);
+        // a switched-off sensor reads nil: its last values are stale
+        if (!spec.enabled) {
+            lua_pushnil(L);
+            return 1;
+        }
+        const double* values = io.sensor_values(k);
+        if (ch >= 0) {
+            push_reading(L, channels[static_cast<size_t>(ch)], values[ch]);
+            return 1;
+        }
+        lua_createtable(L, 0, static_cast<int>(channels.size()));
+        for (size_t i = 0; i < channels.size(); ++i) {
+            push_reading(L, channels[i], values[i]);
+            lua_setfield(L, -2, channels[i].name.c_str());
+        }
         return 1;
-    }
-    const double* values = io.sensor_values(k);
-    if (ch >= 0) {
-        push_reading(L, channels[static_cast<size_t>(ch)], values[ch]);
-        return 1;
-    }
-    lua_createtable(L, 0, static_cast<int>(channels.size()));
-    for (size_t i = 0; i < channels.size(); ++i) {
-        push_reading(L, channels[i], values[i]);
-        lua_setfield(L, -2, channels[i].name.c_str());
-    }
-    return 1;
+    });
 }
 
 }  // namespace gaitlab::scripting

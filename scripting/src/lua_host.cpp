@@ -22,6 +22,32 @@ namespace gaitlab::scripting {
 
 namespace {
 
+// what a new host's state starts with: Lua's libraries, and gaitlab as the global `gaitlab`
+int open_host_libraries(lua_State* L) {
+    luaL_openlibs(L);
+    luaL_requiref(L, "gaitlab", luaopen_gaitlab, 1);
+    return 0;
+}
+
+// math.randomseed(seed as upvalue-less argument 1), through the math library of the state
+int seed_random(lua_State* L) {
+    lua_getglobal(L, "math");
+    lua_getfield(L, -1, "randomseed");
+    lua_pushvalue(L, 1);
+    lua_call(L, 1, 0);
+    return 0;
+}
+
+// gaitlab.simulation.run_file(argument 1)
+int run_simulation_file_of(lua_State* L) {
+    lua_getglobal(L, "gaitlab");
+    lua_getfield(L, -1, "simulation");
+    lua_getfield(L, -1, "run_file");
+    lua_pushvalue(L, 1);
+    lua_call(L, 1, 0);
+    return 0;
+}
+
 // message handler: turns the error into a table {message, file, line, traceback} while the
 // stack of the failed call is still there
 int message_handler(lua_State* L) {
@@ -117,8 +143,8 @@ void protected_call(lua_State* L, int nargs, int nresults) {
     lua_settop(L, base - 1);
     // an interrupt says so, even where the state was too full for its message to be made
     if (status == LUA_ERRMEM || status == LUA_ERRERR) {
-        const Guard& g = Guard::of(L);
-        if (g.interrupted() != 0) message = g.interrupt_message();
+        const Guard* g = Guard::find(L);
+        if (g && g->interrupted() != 0) message = g->interrupt_message();
     }
     throw ScriptError(message, file, line, traceback);
 }
@@ -135,9 +161,13 @@ LuaHost::LuaHost(std::size_t memory_limit)
         std::fprintf(stderr, "gaitlab: unprotected Lua error: %s\n", msg ? msg : "?");
         return 0;
     });
-    luaL_openlibs(L_);
-    luaL_requiref(L_, "gaitlab", luaopen_gaitlab, 1);
-    lua_pop(L_, 1);
+    try {
+        lua_pushcfunction(L_, open_host_libraries);
+        protected_call(L_, 0, 0);
+    } catch (...) {
+        lua_close(L_);  // the destructor will not run
+        throw;
+    }
     guard_ = &Guard::of(L_);
     // Lua 5.4 seeds math.random from the clock: seed 0 unless told otherwise, so every run is
     // reproducible and its recorded seed is true
@@ -161,9 +191,7 @@ void LuaHost::clear_interrupt() {
 }
 
 void LuaHost::seed(std::uint64_t seed) {
-    lua_getglobal(L_, "math");
-    lua_getfield(L_, -1, "randomseed");
-    lua_remove(L_, -2);
+    lua_pushcfunction(L_, seed_random);
     lua_pushinteger(L_, static_cast<lua_Integer>(seed));
     protected_call(L_, 1, 0);
     Recordings::of(L_).script_seed = seed;
@@ -177,7 +205,7 @@ void LuaHost::set_args(const std::string& script, const std::vector<std::string>
         lua_pushstring(L_, args[i].c_str());
         lua_rawseti(L_, -2, static_cast<lua_Integer>(i + 1));
     }
-    lua_setglobal(L_, "arg");
+    raw_setglobal(L_, "arg");
     Recordings::of(L_).script_args = args;
 }
 
@@ -287,11 +315,7 @@ void LuaHost::run_simulation_file(const std::string& path) {
         for (ConfigFile& f : parts)
             r.settings.files.push_back(std::move(f));
     }
-    lua_getglobal(L_, "gaitlab");
-    lua_getfield(L_, -1, "simulation");
-    lua_getfield(L_, -1, "run_file");
-    lua_replace(L_, -3);
-    lua_pop(L_, 1);
+    lua_pushcfunction(L_, run_simulation_file_of);
     lua_pushstring(L_, file.c_str());
     protected_call(L_, 1, 0);
 }

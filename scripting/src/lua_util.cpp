@@ -107,6 +107,37 @@ void push_script_error(lua_State* L, const ScriptError& e) {
     lua_pushstring(L, e.what());
 }
 
+namespace {
+
+// push_failure's body, called in protected mode with the Failure as light userdata: level 1 of
+// the stack is the binding, level 2 the code that called it
+int push_failure_value(lua_State* L) {
+    const auto& f = *static_cast<const Failure*>(lua_touserdata(L, 1));
+    switch (f.kind) {
+        case Failure::script:
+            push_script_error(L, *f.error);
+            break;
+        case Failure::located:
+            luaL_where(L, 2);
+            lua_pushstring(L, f.message);
+            lua_concat(L, 2);
+            break;
+        case Failure::argument:
+            lua_pushstring(L, f.message);
+            break;
+    }
+    return 1;
+}
+
+}  // namespace
+
+bool push_failure(lua_State* L, const Failure& f) {
+    // neither push allocates: a light C function and a light userdata
+    lua_pushcfunction(L, push_failure_value);
+    lua_pushlightuserdata(L, const_cast<Failure*>(&f));
+    return lua_pcall(L, 1, 1, 0) == LUA_OK;
+}
+
 void check_table(lua_State* L, int index) {
     if (!lua_istable(L, index)) {
         throw ArgError(index, "table expected, got " + type_name(L, index));

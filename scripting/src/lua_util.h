@@ -1,5 +1,24 @@
 // Helpers every binding file uses: argument checks in lauxlib's vocabulary, C++ objects in
 // userdata, table fields with unknown-key detection, and the exception barrier.
+//
+// These sources run on two Lua cores: Debian's Lua built as C++ (liblua5.4-c++, linked by the
+// gaitlab program), where a Lua error is a C++ exception that unwinds C++ frames, and the C Lua
+// of an interpreter that does `require "gaitlab"` (the module, scripting/module/), where a Lua
+// error is a longjmp that skips every C++ destructor on its way. So that both are correct:
+//   - a binding is `return protect(L, [&] { ... })`: its body reports errors by throwing C++
+//     exceptions (ArgError, Error ...), and protect raises them as Lua errors once the body's
+//     objects are gone. Inside a body, nothing may raise a Lua error: no luaL_check*,
+//     luaL_opt*, luaL_error, lua_error, lua_call, and no access that may run a metamethod
+//     (tables that scripts give are read and written raw: raw_getfield, lua_rawgeti ...,
+//     globals through raw_getglobal);
+//   - Lua code is called with protected_call (lua_host.h), which turns its errors into
+//     ScriptError;
+//   - a C function that raises Lua errors itself (lauxlib checks, lua_error) has no C++ object
+//     with a destructor alive when it does, and never lets a C++ exception out;
+//   - no Lua function is called from a catch block (an error there would skip the end of the
+//     handler): catch blocks keep what they need and the Lua calls come after them.
+// The one exception is running out of memory inside a body, which the C core raises from
+// any allocation: the body's objects are then not destroyed (docs/embedding.md says so).
 #pragma once
 
 #include <lua.hpp>
@@ -69,6 +88,30 @@ inline void raw_setfield(lua_State* L, int index, const char* key) {
     lua_rawset(L, index);
 }
 
+/// The global `name` without metamethods (the interpreter that requires gaitlab may give its
+/// globals a metatable, as strict.lua does): pushes it, returns its type.
+inline int raw_getglobal(lua_State* L, const char* name) {
+    lua_pushglobaltable(L);
+    const int t = raw_getfield(L, -1, name);
+    lua_remove(L, -2);
+    return t;
+}
+
+/// The global `name` = the value on top (popped), without metamethods.
+inline void raw_setglobal(lua_State* L, const char* name) {
+    lua_pushglobaltable(L);
+    lua_insert(L, -2);
+    raw_setfield(L, -2, name);
+    lua_pop(L, 1);
+}
+
+/// Pushes nil and `message` (a function's failure, as luaL_fileresult gives it); returns 2.
+inline int push_fail(lua_State* L, const std::string& message) {
+    lua_pushnil(L);
+    lua_pushlstring(L, message.data(), message.size());
+    return 2;
+}
+
 /// The type name Lua uses in its own messages (honours __name).
 std::string type_name(lua_State* L, int index);
 
@@ -84,28 +127,47 @@ inline constexpr const char* kReporterKey = "gaitlab.reporter";
 /// where it happened (e.g. inside a Lua controller stepped by sim:run), not where it resurfaced.
 void push_script_error(lua_State* L, const ScriptError& e);
 
-/// Runs `body` (returning the number of results) and turns any C++ exception into a Lua error
-/// once the exception is gone, so nothing with a destructor is skipped by longjmp.
+/// What a binding failed with, as protect() raises it (pointers into the exception, which
+/// lives while its handler runs).
+struct Failure {
+    enum Kind { argument, script, located } kind;
+    const char* message;                 ///< argument, located: the message
+    const ScriptError* error = nullptr;  ///< script: the error
+};
+
+/// Pushes the error value of `f` in protected mode: for `located`, prefixed with the place of
+/// the Lua code that called the binding (as luaL_error does); for `script`, its place kept for
+/// the message handler (push_script_error). Returns false, with Lua's out-of-memory message
+/// pushed instead, if the memory ran out.
+bool push_failure(lua_State* L, const Failure& f);
+
+/// Runs `body` (returning the number of results) and turns a C++ exception it throws into a
+/// Lua error ("bad argument #N to 'fn' (...)" for ArgError) once the body's objects and the
+/// exception are gone, so that nothing with a destructor is skipped (see the top of this
+/// file). Exceptions that are not std::exception pass through: under Lua built as C++ those
+/// are Lua's own errors.
 template <class F>
 int protect(lua_State* L, F&& body) {
+    const int top = lua_gettop(L);
     int arg = 0;
+    bool pushed = false;
     try {
         return body();
     } catch (const ArgError& e) {
+        lua_settop(L, top);
         arg = e.arg();
-        lua_pushstring(L, e.what());
+        pushed = push_failure(L, {Failure::argument, e.what()});
     } catch (const ScriptError& e) {
-        push_script_error(L, e);  // already says where it happened
+        lua_settop(L, top);
+        pushed = push_failure(L, {Failure::script, e.what(), &e});  // already says where
     } catch (const std::bad_alloc&) {
-        luaL_where(L, 1);
-        lua_pushliteral(L, "not enough memory");
-        lua_concat(L, 2);
+        lua_settop(L, top);
+        pushed = push_failure(L, {Failure::located, "not enough memory"});
     } catch (const std::exception& e) {
-        luaL_where(L, 1);
-        lua_pushstring(L, e.what());
-        lua_concat(L, 2);
+        lua_settop(L, top);
+        pushed = push_failure(L, {Failure::located, e.what()});
     }
-    if (arg > 0) return luaL_argerror(L, arg, lua_tostring(L, -1));
+    if (pushed && arg > 0) return luaL_argerror(L, arg, lua_tostring(L, -1));
     return lua_error(L);
 }
 
@@ -238,13 +300,13 @@ class ScriptPath {
 /// convention), naming the file as the script gave it.
 template <class F>
 int file_written(lua_State* L, const ScriptPath& path, F&& write) {
+    std::optional<std::string> failed;
     try {
         write();
     } catch (const IoError& e) {
-        lua_pushnil(L);
-        lua_pushstring(L, path.message(e).c_str());
-        return 2;
+        failed = path.message(e);
     }
+    if (failed) return push_fail(L, *failed);
     lua_pushstring(L, path.path().c_str());
     return 1;
 }
@@ -253,14 +315,16 @@ int file_written(lua_State* L, const ScriptPath& path, F&& write) {
 /// value), or pushes nil and the message of the FormatError it threw.
 template <class F>
 int file_read(lua_State* L, F&& read) {
+    const int top = lua_gettop(L);
+    std::optional<std::string> failed;
     try {
         read();
     } catch (const FormatError& e) {
-        lua_pushnil(L);
-        lua_pushstring(L, e.what());
-        return 2;
+        failed = e.what();
     }
-    return 1;
+    if (!failed) return 1;
+    lua_settop(L, top);
+    return push_fail(L, *failed);
 }
 
 /// Pushes {x = , y = , z = } with the gaitlab.Vec3 metatable.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -103,12 +104,14 @@ double Playback::pump(lua_State* L) {
         ~Leave() { flag = false; }
     } leave{pumping_};
     Reloader& reloader = Reloader::of(L);
+    std::optional<std::string> failed;  // reported after the handler (see lua_util.h)
     try {
         // saved controller files reload at once, whether or not a control tick is due
         reloader.poll(L);
     } catch (const std::exception& e) {
-        report(L, std::string("reload failed: ") + e.what());
+        failed = e.what();
     }
+    if (failed) report(L, "reload failed: " + *failed);
     playing_.erase(std::remove_if(playing_.begin(), playing_.end(),
                                   [](const Entry& e) { return !e.player->playing(); }),
                    playing_.end());
@@ -129,35 +132,42 @@ double Playback::pump(lua_State* L) {
         Player& p = *e.player;
         Simulation& sim = p.simulation();
         if (!p.playing()) continue;
+        bool threw = false;
+        std::string error;     // what stopped it: the message, a traceback on the next lines
+        std::string headline;  // its first line
         try {
             p.advance(clock, deadline);
+        } catch (const std::exception& ex) {
+            threw = true;
+            error = ex.what();
+            headline = first_line(error);
+            const auto* se = dynamic_cast<const ScriptError*>(&ex);
+            if (se && !se->traceback().empty()) error += "\n" + se->traceback();
+        }
+        if (!threw) {
             if (!p.playing()) {
                 // the controller's failure was reported as it happened
                 report(L, fmt::format("simulation {} paused at t = {:.3f} s (a controller failed)",
                                       e.index, sim.time()));
             }
-        } catch (const std::exception& ex) {
-            if (guard.interrupted() != 0) {
-                report(L, fmt::format("simulation {} paused at t = {:.3f} s: {}", e.index,
-                                      sim.time(), guard.interrupt_message()));
-                pause_all(L, guard.interrupt_message());
-                return kInf;
-            }
-            std::string message = ex.what();
-            const auto* se = dynamic_cast<const ScriptError*>(&ex);
-            if (se && !se->traceback().empty()) message += "\n" + se->traceback();
-            std::string label;
-            if (failed_controller(sim, &label)) {
-                report(L, fmt::format("simulation {} paused at t = {:.3f} s: controller '{}' "
-                                      "failed: {}",
-                                      e.index, sim.time(), label, message));
-            } else {
-                p.fail(
-                    fmt::format("failed at t = {:.3f} s ({})", sim.time(), first_line(ex.what())));
-                report(L, fmt::format("simulation {} failed at t = {:.3f} s and was paused "
-                                      "(sim:reset() to play it again): {}",
-                                      e.index, sim.time(), message));
-            }
+            continue;
+        }
+        if (guard.interrupted() != 0) {
+            report(L, fmt::format("simulation {} paused at t = {:.3f} s: {}", e.index, sim.time(),
+                                  guard.interrupt_message()));
+            pause_all(L, guard.interrupt_message());
+            return kInf;
+        }
+        std::string label;
+        if (failed_controller(sim, &label)) {
+            report(L, fmt::format("simulation {} paused at t = {:.3f} s: controller '{}' "
+                                  "failed: {}",
+                                  e.index, sim.time(), label, error));
+        } else {
+            p.fail(fmt::format("failed at t = {:.3f} s ({})", sim.time(), headline));
+            report(L, fmt::format("simulation {} failed at t = {:.3f} s and was paused "
+                                  "(sim:reset() to play it again): {}",
+                                  e.index, sim.time(), error));
         }
     }
     double wait = kInf;

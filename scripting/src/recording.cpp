@@ -137,16 +137,31 @@ Recordings& Recordings::of(lua_State* L) {
 
 void Recordings::install(lua_State* L) {
     register_type<Recordings>(L, kRecordingsType, nullptr);
-    new_object<Recordings>(L, kRecordingsType, Recordings{})->guard_ = &Guard::of(L);
+    Guard& guard = Guard::of(L);
+    Recordings* r = new_object<Recordings>(L, kRecordingsType, Recordings{});
+    r->guard_ = &guard;
     lua_setfield(L, LUA_REGISTRYINDEX, kRecordingsKey);
-    lua_pushcfunction(L, l_print);
-    lua_setglobal(L, "print");
-    if (lua_getglobal(L, "os") == LUA_TTABLE) {
-        lua_getfield(L, -1, "exit");
-        lua_pushcclosure(L, l_exit, 1);
-        lua_setfield(L, -2, "exit");
+    if (guard.owner() == StateOwner::interpreter) {
+        // an interpreter's print and os.exit stay its own (docs/embedding.md); its run folders
+        // are named after the script it runs (lua.c's arg[0])
+        const int top = lua_gettop(L);
+        if (raw_getglobal(L, "arg") == LUA_TTABLE && lua_rawgeti(L, -1, 0) == LUA_TSTRING) {
+            const fs::path script = to_string(L, -1);
+            if (script.extension() == ".lua" && !script.stem().empty()) {
+                r->settings.name = script.stem().string();
+            }
+        }
+        lua_settop(L, top);
+    } else {
+        lua_pushcfunction(L, l_print);
+        raw_setglobal(L, "print");
+        if (raw_getglobal(L, "os") == LUA_TTABLE) {
+            raw_getfield(L, -1, "exit");
+            lua_pushcclosure(L, l_exit, 1);
+            raw_setfield(L, -2, "exit");
+        }
+        lua_pop(L, 1);
     }
-    lua_pop(L, 1);
     // every controller file that loads or reloads goes into the run folders, and a reload is
     // an event of every simulation (a replay applies it again at the same tick)
     Reloader::of(L).set_observer([](lua_State* S, const Reloader::Change& c) {

@@ -1,10 +1,12 @@
 #include "sandbox.h"
 
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <new>
 
-#include <fmt/format.h>
-
+#include "guard.h"
 #include "lua_util.h"
 #include "wrap.h"
 
@@ -81,11 +83,15 @@ double call_cost(lua_State* L) {
     size_t n = 0, np = 0;
     lua_tolstring(L, 1, &n);
     const char* p = lua_tolstring(L, 2, &np);
-    std::string pattern(p, np);
-    if (fn == kGmatch && !pattern.empty() && pattern[0] == '^') {
-        pattern.insert(pattern.begin(), '%');  // no anchor: gmatch matches everywhere
+    try {
+        std::string pattern(p, np);
+        if (fn == kGmatch && !pattern.empty() && pattern[0] == '^') {
+            pattern.insert(pattern.begin(), '%');  // no anchor: gmatch matches everywhere
+        }
+        return pattern_cost(pattern, static_cast<double>(n));
+    } catch (const std::bad_alloc&) {
+        return HUGE_VAL;  // refused: no exception may leave a C function Lua calls
     }
-    return pattern_cost(pattern, static_cast<double>(n));
 }
 
 // the pattern functions of the string library, for sandboxed callers: upvalue 1 is the
@@ -94,6 +100,9 @@ int guarded_pattern(lua_State* L) {
     const double cost = call_cost(L);
     if (cost > kMaxPatternSteps) {
         // no C++ object may be alive here: lua_error jumps over this frame
+        char steps[32], most[32];
+        std::snprintf(steps, sizeof steps, "%.0e", cost);
+        std::snprintf(most, sizeof most, "%.0e", kMaxPatternSteps);
         size_t n = 0;
         lua_tolstring(L, 1, &n);
         luaL_where(L, 1);
@@ -101,8 +110,7 @@ int guarded_pattern(lua_State* L) {
                         "pattern too costly for a sandboxed controller: matching it against %I "
                         "characters may take about %s steps (at most %s); use fewer repetitions "
                         "(*, +, -) or a shorter string",
-                        static_cast<lua_Integer>(n), fmt::format("{:.0e}", cost).c_str(),
-                        fmt::format("{:.0e}", kMaxPatternSteps).c_str());
+                        static_cast<lua_Integer>(n), steps, most);
         lua_concat(L, 2);
         return lua_error(L);
     }
@@ -199,29 +207,34 @@ bool called_from_sandbox(lua_State* L) {
 }
 
 void guard_patterns(lua_State* L) {
-    // what sandboxes copy, as the libraries are now
+    // what sandboxes copy, as the libraries are now (read raw: an interpreter's globals may
+    // have metamethods)
     lua_newtable(L);
     for (const char* name : kBaseFunctions) {
-        lua_getglobal(L, name);
-        lua_setfield(L, -2, name);
+        if (std::strcmp(name, "xpcall") == 0) {
+            Guard::push_xpcall(L);  // a message handler cannot outlast a spent budget
+        } else {
+            raw_getglobal(L, name);
+        }
+        raw_setfield(L, -2, name);
     }
-    if (lua_getglobal(L, "string") == LUA_TTABLE) {
+    if (raw_getglobal(L, "string") == LUA_TTABLE) {
         for (const auto& [name, fn] :
              {std::pair{"find", kFind}, {"match", kMatch}, {"gmatch", kGmatch}, {"gsub", kMatch}}) {
-            if (lua_getfield(L, -1, name) != LUA_TFUNCTION) {
+            if (raw_getfield(L, -1, name) != LUA_TFUNCTION) {
                 lua_pop(L, 1);
                 continue;
             }
             lua_pushinteger(L, fn);
             lua_pushcclosure(L, guarded_pattern, 2);
-            lua_setfield(L, -2, name);  // strings reach these as methods too
+            raw_setfield(L, -2, name);  // strings reach these as methods too
         }
     }
     lua_pop(L, 1);
     for (const char* lib : kLibraries) {
-        if (lua_getglobal(L, lib) == LUA_TTABLE) {
+        if (raw_getglobal(L, lib) == LUA_TTABLE) {
             replace_with_copy(L);
-            lua_setfield(L, -2, lib);
+            raw_setfield(L, -2, lib);
         } else {
             lua_pop(L, 1);
         }

@@ -53,11 +53,14 @@ void open_stdlib(lua_State* L, int gaitlab_index) {
         // "=": a name, not a file, so paths in calls from it are not relative to it
         const std::string chunk = std::string("=stdlib/") + s->name;
         if (luaL_loadbufferx(L, s->code, std::strlen(s->code), chunk.c_str(), "t") != LUA_OK) {
-            lua_error(L);  // a broken stdlib is a build defect; report it as Lua would
+            // a broken stdlib is a build defect; report it as Lua would
+            const std::string message = to_string(L, -1);
+            lua_pop(L, 1);
+            throw ScriptError(message, chunk.substr(1), 0, "");
         }
         lua_pushvalue(L, gaitlab_index);
         lua_pushvalue(L, LUA_REGISTRYINDEX);
-        lua_call(L, 2, 0);
+        protected_call(L, 2, 0);
     }
 }
 

@@ -10,8 +10,13 @@ namespace gaitlab {
 class Controller;
 }
 #include "gaitlab/module.h"
+#include "guard.h"
 
 namespace gaitlab::scripting {
+
+/// Opens gaitlab in L's state (once: again, it pushes the same table) and pushes its table:
+/// lua_CFunction-like, raises Lua errors. luaopen_gaitlab is this for a LuaHost's state.
+int open_gaitlab(lua_State* L, StateOwner owner);
 
 struct RobotBinding;
 struct WorldBinding;

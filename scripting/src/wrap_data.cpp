@@ -109,17 +109,18 @@ void to_range(lua_State* L, int index, int arg, double& from, double& to) {
 int data_open(lua_State* L) {
     return protect(L, [&] {
         const std::string dir = check_string(L, 1);
+        std::shared_ptr<RunData> run;
+        std::string failed;
         try {
-            new_object<RunPtr>(L, kRunType, std::make_shared<RunData>(dir));
-            return 1;
+            run = std::make_shared<RunData>(dir);
         } catch (const IoError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
+            failed = e.what();
         } catch (const FormatError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
+            failed = e.what();
         }
-        return 2;
+        if (!run) return push_fail(L, failed);
+        new_object<RunPtr>(L, kRunType, std::move(run));
+        return 1;
     });
 }
 

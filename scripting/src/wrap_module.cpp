@@ -123,7 +123,7 @@ int module_new(lua_State* L) {
         lua_getfield(L, LUA_REGISTRYINDEX, kLibraryKey);
         push_module(L, m);
         lua_pushvalue(L, -1);
-        lua_setfield(L, -3, name.c_str());
+        raw_setfield(L, -3, name.c_str());  // gaitlab.modules: scripts may give it metamethods
         return 1;
     });
 }
@@ -185,7 +185,7 @@ ModuleDef to_module(lua_State* L, int index) {
     }
     const std::string name = lua_tostring(L, index);
     lua_getfield(L, LUA_REGISTRYINDEX, kLibraryKey);
-    lua_getfield(L, -1, name.c_str());
+    raw_getfield(L, -1, name.c_str());
     if (const void* p = luaL_testudata(L, -1, kModuleType)) {
         ModuleDef m = *static_cast<const ModuleDef*>(p);
         lua_pop(L, 2);

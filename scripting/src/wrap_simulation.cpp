@@ -2,6 +2,7 @@
 #include <cmath>
 #include <filesystem>
 #include <new>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -195,6 +196,7 @@ int simulation_run(lua_State* L) {
             throw ArgError(2, e.what());
         }
         const ProgressScope progress(L, sim, sim.time() + seconds);
+        const InterruptScope interruptible(L);  // Ctrl-C in an interpreter (guard.h)
         sim.run(seconds);
         return 0;
     });
@@ -213,6 +215,7 @@ int simulation_step(lua_State* L) {
         }
         const double end = static_cast<double>(sim.ticks() + n) * sim.options().dt;
         const ProgressScope progress(L, sim, end);
+        const InterruptScope interruptible(L);  // Ctrl-C in an interpreter (guard.h)
         sim.step(static_cast<long>(n));
         return 0;
     });
@@ -250,13 +253,13 @@ int simulation_load(lua_State* L) {
                                      .lexically_normal()
                                      .string();
         LoadedSimulation loaded;
+        std::optional<std::string> unreadable;
         try {
             loaded = load_simulation(L, path);
         } catch (const FormatError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
-            return 2;
+            unreadable = e.what();
         }
+        if (unreadable) return push_fail(L, *unreadable);
         push_world(L, loaded.world);
         const int world = lua_gettop(L);
         // the file's <record> applies as `record = ...` would
@@ -280,9 +283,7 @@ int simulation_load(lua_State* L) {
         }
         if (!failed.empty()) {
             lua_settop(L, world - 1);
-            lua_pushnil(L);
-            lua_pushstring(L, failed.c_str());
-            return 2;
+            return push_fail(L, failed);
         }
         lua_createtable(L, 0, 7);
         lua_pushinteger(L, loaded.file.line);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <new>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -522,13 +523,13 @@ int world_read_source(lua_State* L) {
     return protect(L, [&] {
         const std::string path = check_string(L, 1);
         std::string text;
+        std::optional<std::string> unreadable;
         try {
             text = read_file(path);
         } catch (const ReadError& e) {
-            lua_pushnil(L);
-            lua_pushstring(L, e.what());
-            return 2;
+            unreadable = e.what();
         }
+        if (unreadable) return push_fail(L, *unreadable);
         lua_pushlstring(L, text.data(), text.size());
         return 1;
     });

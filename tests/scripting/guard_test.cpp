@@ -1,6 +1,9 @@
 // The limits Lua code runs under (scripting/src/guard.cpp): budgets that pcall, xpcall and
 // coroutines cannot escape, budgets on controller files and their hooks, interrupts from
-// another thread, and the memory limit of a host.
+// another thread, the memory limit of a host, the debug hooks of others given back, and
+// Ctrl-C in the state of an interpreter that required gaitlab.
+#include <signal.h>
+
 #include <catch2/catch.hpp>
 
 #include <chrono>
@@ -10,8 +13,10 @@
 #include <thread>
 #include <vector>
 
+#include "guard.h"
 #include "lua_fixture.h"
 #include "temp_dir.h"
+#include "wrap.h"
 
 using gaitlab::scripting::LuaHost;
 using gaitlab::scripting::ScriptError;
@@ -205,4 +210,88 @@ TEST_CASE("a host's Lua state has a memory limit", "[guard]") {
     lua_getglobal(host.state(), "ok");
     CHECK(lua_tointeger(host.state(), -1) == 1000);
     lua_pop(host.state(), 1);
+}
+
+TEST_CASE("a budget gives back the debug hook it found", "[guard]") {
+    LuaFixture lua;
+    lua.run("calls = 0 function counter() calls = calls + 1 end debug.sethook(counter, '', 1000)");
+    drive(lua, "gaitlab.controller{ name = 'c', step = function() for i = 1, 1000 do end end }");
+    lua.run("sim:run(0.1)");
+    // the script's hook is back after every step, with its mask and count
+    CHECK(lua.boolean("debug.gethook() == counter"));
+    CHECK(lua.string("(select(2, debug.gethook()))") == "");
+    CHECK(lua.integer("(select(3, debug.gethook()))") == 1000);
+    // a budget still holds while it is away
+    lua.run("cls = gaitlab.controller{ name = 'loop', step = function() while true do end end }");
+    drive(lua, "cls");
+    CHECK_THAT(lua.error_of("sim:run(0.1)"),
+               Catch::Contains("controller 'loop' exceeded its instruction budget"));
+    CHECK(lua.boolean("debug.gethook() == counter"));
+}
+
+namespace {
+
+// the state of an interpreter that did require "gaitlab" (what gaitlab/core.so opens), here
+// with the C++ core of the test: gaitlab as the global `gaitlab`
+struct InterpreterState {
+    lua_State* L = luaL_newstate();
+    InterpreterState() {
+        luaL_openlibs(L);
+        lua_pushcfunction(L, [](lua_State* S) {
+            return gaitlab::scripting::open_gaitlab(S, gaitlab::scripting::StateOwner::interpreter);
+        });
+        gaitlab::scripting::protected_call(L, 0, 1);
+        lua_setglobal(L, "gaitlab");
+    }
+    ~InterpreterState() { lua_close(L); }
+    void run(const std::string& code) {
+        REQUIRE(luaL_loadbufferx(L, code.data(), code.size(), "=i", "t") == LUA_OK);
+        gaitlab::scripting::protected_call(L, 0, 0);
+    }
+};
+
+void (*sigint_handler())(int) {
+    struct sigaction sa {};
+    sigaction(SIGINT, nullptr, &sa);
+    return sa.sa_handler;
+}
+
+}  // namespace
+
+TEST_CASE("Ctrl-C in an interpreter stops sim:run, then the interpreter has its handler back",
+          "[guard]") {
+    InterpreterState lua;
+    // the interpreter's own SIGINT handler (lua.c has one while it runs a script) and hook
+    struct sigaction own {};
+    own.sa_handler = [](int) {};
+    sigemptyset(&own.sa_mask);
+    struct sigaction before {};
+    sigaction(SIGINT, &own, &before);
+    lua.run("function counter() end debug.sethook(counter, '', 1000000)");
+    lua.run(
+        "robot = gaitlab.robot.chain{ modules = 2 } world = gaitlab.world() world:add(robot) "
+        "robot:group{ 1 }:drive(gaitlab.controller{ name = 'c', step = function(self) "
+        "self:set_angle(1, 5) end }()) sim = gaitlab.simulation{ world = world }");
+    std::thread stopper([] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        kill(getpid(), SIGINT);
+    });
+    quickly([&] {
+        lua.run("ok, err = pcall(sim.run, sim, 3600)");  // minutes, if nothing stopped it
+    });
+    stopper.join();
+    lua_getglobal(lua.L, "err");
+    CHECK_THAT(std::string(luaL_optstring(lua.L, -1, "")), Catch::Contains("interrupted (SIGINT)"));
+    lua_pop(lua.L, 1);
+    // the error went to the script, which goes on: no interrupt left, the script's hook and the
+    // interpreter's handler are back
+    lua.run("after = sim.time sim:run(0.01) assert(sim.time > after)");
+    lua.run("assert(debug.gethook() == counter)");
+    CHECK(sigint_handler() == own.sa_handler);
+    // a state gaitlab owns leaves signals to its host
+    LuaFixture host;
+    drive(host, "gaitlab.controller{ name = 'c', step = function() end }");
+    host.run("sim:run(0.01)");
+    CHECK(sigint_handler() == own.sa_handler);
+    sigaction(SIGINT, &before, nullptr);
 }

@@ -1,0 +1,2 @@
+-- a sandboxed file that asks for a finalizer: refused
+return setmetatable({}, { __gc = function() end })

@@ -1,0 +1,21 @@
+-- Runs until a signal stops it: a simulation stepping in C++ with a Lua controller, for as long
+-- as it takes. arg[1] = "catch": the script sets a debug hook of its own, catches the interrupt
+-- and goes on.
+local robot = gaitlab.robot.chain{ name = "snake", modules = 4 }
+local world = gaitlab.world()
+world:add(robot)
+robot:group("pitch"):drive(gaitlab.controller{ name = "busy", step = function(self)
+  for m = 1, self.joints do self:set_angle(m, 10) end
+end }())
+local sim = gaitlab.simulation{ world = world }
+io.stderr:write("running\n")
+if arg[1] == "catch" then
+  local function hook() end
+  debug.sethook(hook, "", 1000000000)
+  local ok, err = pcall(sim.run, sim, 1e6)
+  print("caught:", ok, err)
+  print("runs again:", pcall(sim.run, sim, 0.1))
+  print("hook kept:", debug.gethook() == hook)
+else
+  sim:run(1e6)
+end
