@@ -40,6 +40,14 @@ install(FILES ${PROJECT_BINARY_DIR}/gaitlabConfig.cmake
               ${PROJECT_BINARY_DIR}/gaitlabConfigVersion.cmake
         DESTINATION ${GAITLAB_CMAKE_DIR})
 
+# the Lua module for the stock interpreter (scripting/module): `require "gaitlab"` in lua5.4
+# finds LIBDIR/lua/5.4/gaitlab.so, which loads gaitlab/core.so next to it. Debian's lua5.4
+# looks in /usr/lib/<multiarch>/lua/5.4 and /usr/local/lib/lua/5.4, where --prefix /usr and
+# --prefix /usr/local put them; any other prefix goes on LUA_CPATH (docs/embedding.md)
+set(GAITLAB_LUA_MODULE_DIR ${CMAKE_INSTALL_LIBDIR}/lua/5.4)
+install(TARGETS gaitlab_lua_module LIBRARY DESTINATION ${GAITLAB_LUA_MODULE_DIR})
+install(TARGETS gaitlab_lua_core LIBRARY DESTINATION ${GAITLAB_LUA_MODULE_DIR}/gaitlab)
+
 # pkg-config: one gaitlab.pc for the three libraries; its prefix is found from where it lies
 file(RELATIVE_PATH GAITLAB_PC_TO_PREFIX
      /prefix/${CMAKE_INSTALL_LIBDIR}/pkgconfig /prefix)

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# Installs the Debian packages gaitlab builds, tests and benchmarks with; `tools/setup.sh fuzz`
-# also installs clang and libFuzzer (tools/fuzz.sh).
+# Installs the Debian packages gaitlab builds, tests and benchmarks with (lua5.3, lua5.1 and
+# luajit: the tests check that `require "gaitlab"` refuses them); `tools/setup.sh fuzz` also
+# installs clang and libFuzzer (tools/fuzz.sh).
 # Idempotent: prints nothing and installs nothing when everything is already there.
 set -euo pipefail
 
 packages=(
     cmake g++ ninja-build pkg-config
     liblua5.4-dev lua5.4
+    lua5.3 lua5.1 luajit
     libbullet-dev libeigen3-dev libfmt-dev libtinyxml2-dev libpng-dev
     catch2 libcli11-dev libbenchmark-dev libedit-dev nlohmann-json3-dev
     liburdfdom-tools gnuplot-nox valgrind tmux

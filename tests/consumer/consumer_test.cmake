@@ -8,6 +8,8 @@
 #   pkgconfig  compile examples/embed/embed.cpp with `pkg-config --cflags --libs gaitlab`
 #   version    find_package(gaitlab 99 REQUIRED) fails with the version message
 #   missing    with a pkg-config that finds nothing, find_package(gaitlab) names what is missing
+#   luamodule  lua5.4 runs examples/first_snake.lua with the installed Lua module
+#              (LIBDIR/lua/5.4/gaitlab.so and gaitlab/core.so) on LUA_CPATH
 cmake_minimum_required(VERSION 3.21)
 set(prefix ${WORK}/prefix)
 
@@ -132,6 +134,33 @@ elseif(STEP STREQUAL "missing")
         message(FATAL_ERROR "no message about the missing dependency (exit ${rc}):\n${err}")
     endif()
     message(STATUS "refused as expected")
+elseif(STEP STREQUAL "luamodule")
+    file(GLOB_RECURSE entry ${prefix}/*/lua/5.4/gaitlab.so)
+    list(LENGTH entry n)
+    if(NOT n EQUAL 1)
+        message(FATAL_ERROR "no LIBDIR/lua/5.4/gaitlab.so under ${prefix}: '${entry}'")
+    endif()
+    get_filename_component(dir ${entry} DIRECTORY)
+    if(NOT EXISTS ${dir}/gaitlab/core.so)
+        message(FATAL_ERROR "${dir}/gaitlab/core.so is not installed next to gaitlab.so")
+    endif()
+    set(env LUA_CPATH=${dir}/?.so LUA_CPATH_5_4=${dir}/?.so LUA_INIT= LUA_INIT_5_4=)
+    if(LUA_ENV)
+        list(APPEND env "${LUA_ENV}")
+    endif()
+    # from elsewhere than the build tree, which the installed module must not need
+    file(MAKE_DIRECTORY ${WORK}/luamodule)
+    execute_process(COMMAND ${CMAKE_COMMAND} -E env ${env} lua5.4 -e "gaitlab = require 'gaitlab'"
+                            ${SOURCE}/examples/first_snake.lua
+                    WORKING_DIRECTORY ${WORK}/luamodule
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT out MATCHES "^moved ([0-9.]+) m \\(x -?[0-9.]+, y -?[0-9.]+\\)\n$")
+        message(FATAL_ERROR "lua5.4 with the installed module (${rc}):\n${out}\n${err}")
+    endif()
+    if(CMAKE_MATCH_1 LESS_EQUAL 0.1)
+        message(FATAL_ERROR "the snake moved ${CMAKE_MATCH_1} m with the installed module")
+    endif()
+    message(STATUS "lua5.4 with ${entry}: ${out}")
 else()
     message(FATAL_ERROR "unknown STEP '${STEP}'")
 endif()
