@@ -19,22 +19,24 @@
 
 /* which Lua provides the API the interpreter runs (whatever this file's luaL_error resolved
  * to): "LuaJIT", "Lua 5.3.6" ..., for the message */
-static void name_lua(char *out, size_t size) {
-    const char *ident;
-    const char *at;
+static void name_lua(char* out, size_t size) {
+    const char* ident;
+    const char* at;
     size_t n = 0;
     if (dlsym(RTLD_DEFAULT, "luaJIT_setmode")) {
         snprintf(out, size, "LuaJIT");
         return;
     }
     /* every Lua from 5.1 on has lua_ident: "$LuaVersion: Lua 5.3.6 ..." or "$Lua: Lua 5.1.5 ..." */
-    ident = (const char *)dlsym(RTLD_DEFAULT, "lua_ident");
+    ident = (const char*)dlsym(RTLD_DEFAULT, "lua_ident");
     at = ident ? strstr(ident, "Lua 5.") : NULL;
     if (at) {
-        while (at[n] && at[n] != ' ' && n < 8) ++n; /* "Lua", then up to "5.x.y" */
+        while (at[n] && at[n] != ' ' && n < 8)
+            ++n; /* "Lua", then up to "5.x.y" */
         if (at[n] == ' ') {
             ++n;
-            while (at[n] && at[n] != ' ' && n < 16) ++n;
+            while (at[n] && at[n] != ' ' && n < 16)
+                ++n;
         }
         snprintf(out, size, "%.*s", (int)n, at);
         return;
@@ -46,21 +48,21 @@ static void name_lua(char *out, size_t size) {
  * it must also provide lua_newuserdatauv, new in 5.4 */
 static int is_lua54(void) {
     Dl_info api, uv;
-    void *newuserdatauv = dlsym(RTLD_DEFAULT, "lua_newuserdatauv");
-    if (!newuserdatauv || !dladdr((void *)&luaL_error, &api) || !dladdr(newuserdatauv, &uv)) {
+    void* newuserdatauv = dlsym(RTLD_DEFAULT, "lua_newuserdatauv");
+    if (!newuserdatauv || !dladdr((void*)&luaL_error, &api) || !dladdr(newuserdatauv, &uv)) {
         return 0;
     }
     return api.dli_fbase == uv.dli_fbase;
 }
 
-__attribute__((visibility("default"))) int luaopen_gaitlab(lua_State *L) {
-    typedef int (*open_fn)(lua_State *);
+__attribute__((visibility("default"))) int luaopen_gaitlab(lua_State* L) {
+    typedef int (*open_fn)(lua_State*);
     char path[4096];
     char lua[32];
     Dl_info self;
-    const char *slash;
+    const char* slash;
     int n;
-    void *core;
+    void* core;
     open_fn open;
     if (!is_lua54()) {
         name_lua(lua, sizeof lua);
@@ -70,12 +72,12 @@ __attribute__((visibility("default"))) int luaopen_gaitlab(lua_State *L) {
                           lua);
     }
     /* gaitlab/core.so next to this file, as the interpreter found it */
-    if (!dladdr((void *)&luaopen_gaitlab, &self) || !self.dli_fname) {
+    if (!dladdr((void*)&luaopen_gaitlab, &self) || !self.dli_fname) {
         return luaL_error(L, "gaitlab: cannot tell where gaitlab.so is");
     }
     slash = strrchr(self.dli_fname, '/');
-    n = slash ? snprintf(path, sizeof path, "%.*s/gaitlab/core.so",
-                         (int)(slash - self.dli_fname), self.dli_fname)
+    n = slash ? snprintf(path, sizeof path, "%.*s/gaitlab/core.so", (int)(slash - self.dli_fname),
+                         self.dli_fname)
               : snprintf(path, sizeof path, "./gaitlab/core.so");
     if (n < 0 || (size_t)n >= sizeof path) {
         return luaL_error(L, "gaitlab: the path of gaitlab.so is too long");

@@ -25,7 +25,7 @@ run() {
         sleep 0.1
         waited=$((waited + 1))
     done
-    sleep 0.3  # well inside sim:run
+    sleep 0.2  # the script said it from inside sim:run
     kill -INT $pid
     # it must stop within a minute, not at the end of its 1e6 simulated seconds
     for _ in $(seq 600); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
