@@ -8,7 +8,7 @@ set -euo pipefail
 packages=(
     cmake g++ ninja-build pkg-config
     liblua5.4-dev lua5.4
-    libbullet-dev libeigen3-dev libfmt-dev libtinyxml2-dev libpng-dev
+    libbullet-dev libfmt-dev libtinyxml2-dev libpng-dev
     catch2 libcli11-dev libbenchmark-dev libedit-dev nlohmann-json3-dev
     liburdfdom-tools gnuplot-nox valgrind tmux dpkg-dev file
 )
