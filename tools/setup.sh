@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian packages gaitlab builds, tests and benchmarks with; `tools/setup.sh fuzz`
+# Installs the Debian packages gaitlab builds, tests, benchmarks and packages with (dpkg-dev and
+# file: dpkg-shlibdeps computes the .deb's dependencies, tools/package.sh); `tools/setup.sh fuzz`
 # also installs clang and libFuzzer (tools/fuzz.sh).
 # Idempotent: prints nothing and installs nothing when everything is already there.
 set -euo pipefail
@@ -7,9 +8,9 @@ set -euo pipefail
 packages=(
     cmake g++ ninja-build pkg-config
     liblua5.4-dev lua5.4
-    libbullet-dev libeigen3-dev libfmt-dev libtinyxml2-dev libpng-dev
+    libbullet-dev libfmt-dev libtinyxml2-dev libpng-dev
     catch2 libcli11-dev libbenchmark-dev libedit-dev nlohmann-json3-dev
-    liburdfdom-tools gnuplot-nox valgrind tmux
+    liburdfdom-tools gnuplot-nox valgrind tmux dpkg-dev file
 )
 
 if [ "${1:-}" = fuzz ]; then
