@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "config_files.h"  // scripting/src: make_controller, as actuation files load controllers
-#include "data/csv.h"      // engine/src: the number format of the recorder's rows
+#include "formats/csv.h"   // engine/src: the number format of the recorder's rows
 #include "gaitlab/controller.h"
 #include "gaitlab/controllers/registry.h"
 #include "gaitlab/robot.h"
@@ -209,16 +209,16 @@ void check_all() {
     set.sample(*sim, values.data());
     std::string row;
     for (double v : values) {
-        gaitlab::data::append_number(row, v);
+        gaitlab::formats::append_number(row, v);
         row += ',';
     }
     std::vector<std::string> fields;
     row.pop_back();
-    check(gaitlab::data::split_line(row, fields) && fields.size() == values.size(),
+    check(gaitlab::formats::split_line(row, fields) && fields.size() == values.size(),
           "a CSV row does not split into its fields");
     for (size_t i = 0; i < values.size(); ++i) {
         double back = 0;
-        check(gaitlab::data::parse_number(fields[i], back),
+        check(gaitlab::formats::parse_number(fields[i], back),
               "CSV field '" + fields[i] + "' is no number");
         check(back == values[i] || (std::isnan(back) && std::isnan(values[i])),
               "CSV field '" + fields[i] + "' does not read back");
@@ -273,10 +273,10 @@ void bm_csv_row(benchmark::State& state) {
     size_t bytes = 0;
     for (auto _ : state) {
         row.clear();  // the recorder appends rows to a buffer that it empties at each flush
-        gaitlab::data::append_number(row, sim->time());
+        gaitlab::formats::append_number(row, sim->time());
         for (double v : values) {
             row += ',';
-            gaitlab::data::append_number(row, v);
+            gaitlab::formats::append_number(row, v);
         }
         row += '\n';
         bytes += row.size();
@@ -293,10 +293,10 @@ void bm_recorder_row(benchmark::State& state) {
     std::string buffer;
     for (auto _ : state) {
         set.sample(*sim, values.data());
-        gaitlab::data::append_number(buffer, sim->time());
+        gaitlab::formats::append_number(buffer, sim->time());
         for (double v : values) {
             buffer += ',';
-            gaitlab::data::append_number(buffer, v);
+            gaitlab::formats::append_number(buffer, v);
         }
         buffer += '\n';
         if (buffer.size() > (1u << 20)) buffer.clear();  // as if flushed
