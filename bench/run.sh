@@ -4,7 +4,8 @@
 #   bench/run.sh [--quick] [--no-build] [--only SECTION]...
 #
 # SECTION: overhead | lua | callgrind (incl. the built-in controllers) | sensors | process |
-# accuracy | record (recording cost, time and callgrind) | memory (a one-hour recorded run)
+# accuracy | record (recording cost, time and callgrind) | memory (a one-hour recorded run) |
+# viewer (what serving the viewer costs)
 # (default: all of them).
 # --quick: shorter runs, fewer repetitions and scenarios (about 3 minutes instead of about 10).
 # BUILD_DIR (default build-bench) selects the build directory.
@@ -23,7 +24,7 @@ while [ $# -gt 0 ]; do
     esac
     shift
 done
-[ ${#sections[@]} -eq 0 ] && sections=(overhead lua callgrind sensors process accuracy record memory)
+[ ${#sections[@]} -eq 0 ] && sections=(overhead lua callgrind sensors process accuracy record memory viewer)
 want() { local s; for s in "${sections[@]}"; do [ "$s" = "$1" ] && return 0; done; return 1; }
 
 if [ $do_build -eq 1 ]; then
@@ -32,7 +33,7 @@ if [ $do_build -eq 1 ]; then
     if [ ! -f "$build/CMakeCache.txt" ]; then
         cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release >/dev/null
     fi
-    cmake --build "$build" --target gaitlab_bench raw_bullet_loop gaitlab >/dev/null
+    cmake --build "$build" --target gaitlab_bench raw_bullet_loop viewer_bench gaitlab >/dev/null
 fi
 bench=$build/bench/gaitlab_bench
 raw=$build/bench/raw_bullet_loop
@@ -237,4 +238,6 @@ if want memory; then
     [ $quick -eq 1 ] && hours=0.25
     "$bench" memory --hours "$hours" --modules 4 --ce 30
 fi
+
+want viewer && "$build/bench/viewer_bench" "${q[@]}"
 exit 0

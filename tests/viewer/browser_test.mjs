@@ -49,7 +49,7 @@ const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
 
 // gaitlab, and the address it prints
 const child = spawn(gaitlab, ['run', path.join(source, 'tests/viewer/scripts/walk.lua'), '--view',
-  '--record', run, '--no-progress', '--', '30'], { stdio: ['ignore', 'pipe', 'pipe'] });
+  '--record', run, '--no-progress', '--', '120'], { stdio: ['ignore', 'pipe', 'pipe'] });
 let stderr = '';
 let stdout = '';
 child.stdout.on('data', (d) => { stdout += d; });
@@ -79,8 +79,8 @@ try {
   page.on('pageerror', (e) => pageErrors.push(e.message));
   page.on('console', (m) => { if (m.type() === 'error') pageErrors.push(m.text()); });
   const started = Date.now();
-  await page.goto(url);
-  await page.waitForFunction(() => window.gaitlab && window.gaitlab.drawn > 5, null, { timeout: 20000 });
+  await page.goto(url, { timeout: 90000 });
+  await page.waitForFunction(() => window.gaitlab && window.gaitlab.drawn > 5, null, { timeout: 60000 });
   check(true, `the page loads and draws frames (${Date.now() - started} ms)`);
   const scene = await page.evaluate(() => window.gaitlab.scene);
   check(scene.bodies.length === 7 && scene.robots[0].name === 'snake',
@@ -126,6 +126,40 @@ try {
   }
   check(orange > 30, `the robot is drawn (${orange} orange pixels)`);
 
+  // a live plot: the centre of mass by default, and a joint angle of the controller by its box
+  await page.click('#add-plot');
+  await page.waitForFunction(() => window.gaitlab.plots.length === 1 && window.gaitlab.plots[0].u);
+  await page.locator('#plot-1 summary', { hasText: 'controller sine' }).click();
+  await page.locator('#plot-1 input[data-series="sine.angle[1]"]').check();
+  await page.waitForFunction(() => {
+    const p = window.gaitlab.plots[0];
+    return p.names.size === 2 && p.points() > 30 && p.u.data[2].filter((v) => v !== null).length > 30;
+  }, null, { timeout: 15000 });
+  const plotted = await page.evaluate(() => {
+    const p = window.gaitlab.plots[0];
+    const angles = p.u.data[2].filter((v) => v !== null);
+    const c = p.u.ctx.canvas;
+    const d = p.u.ctx.getImageData(0, 0, c.width, c.height).data;
+    let ink = 0;
+    for (let i = 0; i < d.length; i += 4) if (d[i + 3] > 0 && (d[i] < 200 || d[i + 2] < 200)) ink++;
+    return { names: [...p.names], points: p.points(), min: Math.min(...angles), max: Math.max(...angles), ink };
+  });
+  check(plotted.names.includes('snake.com.x') && plotted.names.includes('sine.angle[1]'),
+    `the plot shows ${plotted.names.join(' and ')}`);
+  check(plotted.points > 30 && plotted.max - plotted.min > 20,
+    `the plot has data: ${plotted.points} samples, sine.angle[1] from ${plotted.min.toFixed(1)} to ${plotted.max.toFixed(1)} deg`);
+  check(plotted.ink > 500, `the plot is drawn (${plotted.ink} pixels of ink)`);
+  // its live buffers' settings: samples every 10 ticks
+  await page.fill('#live-every', '10');
+  await page.locator('#live-every').dispatchEvent('change');
+  await page.waitForFunction(() => {
+    const t = window.gaitlab.plots[0].u.data[0];
+    return t.length > 3 && Math.abs(t[t.length - 1] - t[t.length - 2] - 0.01) < 1e-9;
+  }, null, { timeout: 10000 });
+  check(true, 'the sampling rate is set from the page (one sample every 10 ticks)');
+  await page.locator('#plot-1 summary', { hasText: 'series' }).click();  // fold the checkboxes
+  await page.screenshot({ path: path.join(out, 'viewer-plot.png') });
+
   // pause stops time
   await page.click('#play');
   await page.waitForFunction(() => window.gaitlab.frame.state.playing === false);
@@ -163,11 +197,11 @@ try {
   check(true, 'play goes on after pause');
   await page.screenshot({ path: path.join(out, 'viewer-3.png') });
 
-  // as fast as possible: the script ends (30 s simulated); the page still serves and plays on
+  // as fast as possible: the script ends (120 s simulated); the page still serves and plays on
   await page.selectOption('#speed', 'max');
-  await page.waitForFunction(() => window.gaitlab.frame.state.finished === true, null, { timeout: 30000 });
+  await page.waitForFunction(() => window.gaitlab.frame.state.finished === true, null, { timeout: 60000 });
   const tEnd = await time();
-  check(Math.abs(tEnd - 30) < 1e-9, `the script's run ends at its 30 s (t = ${tEnd})`);
+  check(Math.abs(tEnd - 120) < 1e-9, `the script's run ends at its 120 s (t = ${tEnd})`);
   check(/the script has finished/.test(stderr), 'gaitlab says the script has finished and still serves');
   await page.click('#reset');
   await page.waitForFunction(() => window.gaitlab.frame.time < 0.5);

@@ -169,9 +169,9 @@ TEST_CASE("bad commands get a clear 4xx and change nothing") {
     const std::vector<Bad> bad = {
         {"{\"command\": ", 400, "malformed JSON at byte"},
         {"[1, 2]", 400, "(got array)"},
-        {"{}", 400, "field 'command' expected: play, pause, step, reset, speed or param"},
+        {"{}", 400, "field 'command' expected: play, pause, step, reset, speed, param or live"},
         {R"({"command":"fly"})", 400,
-         "unknown command 'fly': play, pause, step, reset, speed or param expected"},
+         "unknown command 'fly': play, pause, step, reset, speed, param or live expected"},
         {R"({"command":"pause","ticks":3})", 400,
          "command 'pause' takes no field 'ticks' (it takes command, simulation)"},
         {R"({"command":"step","ticks":0})", 400, "a whole number of ticks in [1, 1000000]"},
@@ -191,6 +191,12 @@ TEST_CASE("bad commands get a clear 4xx and change nothing") {
          "field 'value': a number in [0, 90] deg expected for sine.amplitude"},
         {R"({"command":"param","name":"amplitude","value":3})", 400,
          "fields 'controller' and 'name' expected"},
+        {R"({"command":"live","sample_every":0})", 400,
+         "field 'sample_every': ticks between samples in [1, 1000000] expected"},
+        {R"({"command":"live","refresh":-1})", 400,
+         "field 'refresh': seconds between publications in [0, 10] expected"},
+        {R"({"command":"live","size":1e9})", 400,
+         "field 'size': samples kept per series in [1, 100000] expected"},
     };
     for (const Bad& b : bad) {
         auto r = post(c, b.body);

@@ -205,6 +205,8 @@ const char* to_string(Command::Kind kind) {
             return "speed";
         case Command::Kind::param:
             return "param";
+        case Command::Kind::live:
+            return "live";
     }
     return "?";
 }
@@ -252,6 +254,10 @@ struct Server::State {
     std::deque<Command> commands;
     std::atomic<bool> pending{false};
 
+    std::mutex live_mutex;
+    LiveProvider live;
+    bool stopped = false;
+
     std::atomic<int> streams{0};
     std::atomic<bool> page_seen{false};
     std::atomic<std::uint64_t> frames{0}, sent{0}, dropped{0}, accepted{0}, refused{0};
@@ -295,19 +301,20 @@ Command Server::State::parse_command(const std::string& body, std::string& error
     }
     const auto name = j.find("command");
     if (name == j.end() || !name->is_string()) {
-        error = "field 'command' expected: play, pause, step, reset, speed or param";
+        error = "field 'command' expected: play, pause, step, reset, speed, param or live";
         return c;
     }
     const std::string what = name->get<std::string>();
     static const std::vector<std::pair<std::string, Command::Kind>> kinds = {
         {"play", Command::Kind::play},   {"pause", Command::Kind::pause},
         {"step", Command::Kind::step},   {"reset", Command::Kind::reset},
-        {"speed", Command::Kind::speed}, {"param", Command::Kind::param}};
+        {"speed", Command::Kind::speed}, {"param", Command::Kind::param},
+        {"live", Command::Kind::live}};
     const auto k =
         std::find_if(kinds.begin(), kinds.end(), [&](const auto& p) { return p.first == what; });
     if (k == kinds.end()) {
         error = fmt::format(
-            "unknown command '{}': play, pause, step, reset, speed or param "
+            "unknown command '{}': play, pause, step, reset, speed, param or live "
             "expected",
             what.substr(0, 40));
         return c;
@@ -320,6 +327,8 @@ Command Server::State::parse_command(const std::string& body, std::string& error
     if (c.kind == Command::Kind::param) {
         allowed.insert(allowed.end(), {"controller", "name", "value"});
     }
+    if (c.kind == Command::Kind::live)
+        allowed.insert(allowed.end(), {"sample_every", "refresh", "size"});
     for (const auto& item : j.items()) {
         if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end()) {
             std::string list;
@@ -360,6 +369,31 @@ Command Server::State::parse_command(const std::string& body, std::string& error
             return c;
         } else {
             c.value = v->get<double>();
+        }
+    }
+    if (c.kind == Command::Kind::live) {
+        if (const auto v = j.find("sample_every"); v != j.end()) {
+            if (!v->is_number_integer() || v->get<long long>() < 1 ||
+                v->get<long long>() > 1000000) {
+                error = "field 'sample_every': ticks between samples in [1, 1000000] expected";
+                return c;
+            }
+            c.sample_every = v->get<int>();
+        }
+        if (const auto v = j.find("refresh"); v != j.end()) {
+            if (!v->is_number() || !(v->get<double>() >= 0 && v->get<double>() <= 10)) {
+                error = "field 'refresh': seconds between publications in [0, 10] expected";
+                return c;
+            }
+            c.refresh = v->get<double>();
+        }
+        if (const auto v = j.find("size"); v != j.end()) {
+            if (!v->is_number_integer() || v->get<long long>() < 1 ||
+                v->get<long long>() > 100000) {
+                error = "field 'size': samples kept per series in [1, 100000] expected";
+                return c;
+            }
+            c.size = v->get<int>();
         }
     }
     if (c.kind == Command::Kind::param) {
@@ -470,6 +504,33 @@ void Server::State::routes() {
         const std::size_t start = s.find("data: ") + 6;
         res.set_content(s.substr(start, s.size() - start - 2), "application/json");
     });
+
+    // live series: answered on this thread by the provider (the view reads the live buffers,
+    // which are made for readers on other threads)
+    auto live_route = [this](bool list) {
+        return [this, list](const httplib::Request& req, httplib::Response& res) {
+            LiveProvider fn;
+            {
+                std::lock_guard<std::mutex> lock(live_mutex);
+                fn = live;
+            }
+            if (!fn) {
+                refuse(res, 404, "no live series here");
+                return;
+            }
+            std::map<std::string, std::string> query;
+            for (const auto& [key, value] : req.params)
+                query[key] = value;
+            if (list) query["list"] = "1";
+            try {
+                res.set_content(fn(query), "application/json");
+            } catch (const ServerError& e) {
+                refuse(res, 400, e.what());
+            }
+        };
+    };
+    http.Get("/api/live", live_route(false));
+    http.Get("/api/live/series", live_route(true));
 
     http.Get("/api/status", [this](const httplib::Request&, httplib::Response& res) {
         json j;
@@ -592,8 +653,8 @@ void Server::State::routes() {
         if (res.status == 404) {
             ++refused;
             res.set_content(json_error(fmt::format("no such page: {} {} (the viewer serves /, "
-                                                   "/api/events, /api/scene, /api/status and "
-                                                   "POST /api/command)",
+                                                   "/api/events, /api/scene, /api/live, "
+                                                   "/api/status and POST /api/command)",
                                                    req.method, req.path.substr(0, 80))),
                             "application/json");
         } else if (res.status == 413) {
@@ -678,14 +739,27 @@ Server::Server(ServerOptions options) : state_(std::make_shared<State>()) {
 }
 
 Server::~Server() {
+    stop();
+}
+
+void Server::stop() {
     State& s = *state_;
     {
         std::lock_guard<std::mutex> lock(s.mutex);
+        if (s.stopped) return;
+        s.stopped = true;
         s.stopping = true;
     }
     s.changed.notify_all();
     s.http.stop();
     if (s.thread.joinable()) s.thread.join();
+    std::lock_guard<std::mutex> lock(s.live_mutex);
+    s.live = nullptr;
+}
+
+void Server::set_live_provider(LiveProvider fn) {
+    std::lock_guard<std::mutex> lock(state_->live_mutex);
+    state_->live = std::move(fn);
 }
 
 int Server::port() const {

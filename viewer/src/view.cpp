@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "gaitlab/controller.h"
 #include "gaitlab/geometry.h"
+#include "gaitlab/live.h"
 #include "gaitlab/player.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/simulation.h"
@@ -23,6 +25,21 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kIdle = 0.05;
 // a heightfield is drawn from at most this many samples along each side
 constexpr int kMaxDrawnSamples = 257;
+// live buffers by default: samples kept per series, wall seconds between publications
+constexpr int kLiveSize = 2000;
+constexpr double kLiveRefresh = 0.1;
+
+// "a,b,c" -> {"a", "b", "c"}
+std::vector<std::string> split_commas(const std::string& s) {
+    std::vector<std::string> out;
+    size_t at = 0;
+    while (at <= s.size() && !s.empty()) {
+        const size_t end = std::min(s.find(',', at), s.size());
+        if (end > at) out.push_back(s.substr(at, end - at));
+        at = end + 1;
+    }
+    return out;
+}
 
 json pose_json(const Pose& p) {
     return {p.position.x,    p.position.y,    p.position.z,   p.orientation.w,
@@ -183,8 +200,12 @@ struct View::Session {
     int listener = 0;
     bool held = false;        // a page paused it
     bool scene_dirty = true;  // its drives or their definitions changed
-    double next_frame = 0;    // wall time the next frame is due
-    std::string failure;      // why it stopped ("" if it did not)
+    // its latest series for the pages' plots: made, remade and destroyed on the simulation's
+    // thread under Impl::live_mutex; read by the server's threads under it
+    std::unique_ptr<LiveBuffers> live;
+    LiveOptions live_options;
+    double next_frame = 0;  // wall time the next frame is due
+    std::string failure;    // why it stopped ("" if it did not)
 
     Simulation& sim() const { return player->simulation(); }
 };
@@ -193,9 +214,12 @@ struct View::Impl {
     scripting::LuaHost& host;
     ViewOptions options;
     Server server;
-    std::vector<std::unique_ptr<Session>> sessions;  // oldest first; the last is shown
-    Session* running = nullptr;                      // the session a run steps now
-    bool finished = false;                           // the script has ended
+    // oldest first; the last is shown. Changed on the simulation's thread under live_mutex,
+    // which the server's threads take to read live series
+    std::vector<std::unique_ptr<Session>> sessions;
+    mutable std::mutex live_mutex;
+    Session* running = nullptr;  // the session a run steps now
+    bool finished = false;       // the script has ended
     std::string script_error;
     Frame frame;  // reused: its vectors keep their capacity
 
@@ -226,12 +250,19 @@ struct View::Impl {
             if (e.kind == EventKind::drive || e.kind == EventKind::reload) raw->scene_dirty = true;
             if (e.kind == EventKind::reset) raw->failure.clear();
         });
-        sessions.push_back(std::move(s));
-        // scripts that make many simulations: the view keeps the newest
-        while (sessions.size() > static_cast<size_t>(kMaxViewed)) {
-            detach(*sessions.front());
-            sessions.erase(sessions.begin());
+        raw->live_options.size = kLiveSize;
+        raw->live_options.refresh_seconds = kLiveRefresh;
+        {
+            std::lock_guard<std::mutex> lock(live_mutex);
+            sessions.push_back(std::move(s));
+            remake_live(*raw);
+            // scripts that make many simulations: the view keeps the newest
+            while (sessions.size() > static_cast<size_t>(kMaxViewed)) {
+                detach(*sessions.front());
+                sessions.erase(sessions.begin());
+            }
         }
+        raw->scene_dirty = true;
         try {
             publish(*raw);
         } catch (const std::exception& e) {
@@ -241,9 +272,100 @@ struct View::Impl {
         }
     }
 
+    // under live_mutex
     void detach(Session& s) {
+        s.live.reset();
         s.sim().remove_observer(s.observer);
         s.sim().remove_event_listener(s.listener);
+    }
+
+    // (re)makes the live buffers of `s` with every series it has now; under live_mutex
+    void remake_live(Session& s) {
+        if (s.live) s.live_options = s.live->options();
+        s.live.reset();
+        try {
+            s.live = std::make_unique<LiveBuffers>(s.sim(), s.live_options);
+        } catch (const std::exception& e) {
+            server.publish_message(
+                "error", fmt::format("simulation {}: no live series ({})", s.index, e.what()));
+        }
+    }
+
+    // GET /api/live and /api/live/series, on a server thread
+    std::string live_json(const std::map<std::string, std::string>& q) const {
+        std::lock_guard<std::mutex> lock(live_mutex);
+        int index = 0;
+        if (auto it = q.find("simulation"); it != q.end() && !it->second.empty()) {
+            try {
+                index = std::stoi(it->second);
+            } catch (const std::exception&) {
+                throw ServerError("simulation: a simulation number expected");
+            }
+        }
+        const Session* s = find(index);
+        if (!s || !s->live) {
+            throw ServerError(fmt::format("no live series for simulation {}", index));
+        }
+        const LiveBuffers& live = *s->live;
+        json j;
+        j["simulation"] = s->index;
+        if (q.count("list")) {
+            json list = json::array();
+            for (const SeriesInfo& i : live.series()) {
+                list.push_back({{"name", i.name},
+                                {"kind", to_string(i.kind)},
+                                {"source", i.source},
+                                {"value", i.value},
+                                {"joint", i.joint},
+                                {"body", i.body},
+                                {"unit", i.unit}});
+            }
+            j["series"] = list;
+            const LiveOptions o = live.options();
+            j["sample_every"] = o.sample_every;
+            j["refresh"] = o.refresh_seconds;
+            j["size"] = o.size;
+            j["dt"] = s->sim().options().dt;
+            return j.dump(-1, ' ', false, json::error_handler_t::replace);
+        }
+        std::vector<std::string> names;
+        if (auto it = q.find("series"); it != q.end()) names = split_commas(it->second);
+        if (names.empty()) throw ServerError("series: names of live series expected (a,b,c)");
+        double since = -kInf;
+        if (auto it = q.find("since"); it != q.end() && !it->second.empty()) {
+            try {
+                since = std::stod(it->second);
+            } catch (const std::exception&) {
+                throw ServerError("since: a time in seconds expected");
+            }
+        }
+        LiveSnapshot snap;
+        try {
+            snap = live.snapshot(names);
+        } catch (const SpecError& e) {
+            throw ServerError(e.what());
+        }
+        // only what the page has not seen; everything again after a reset (time went back)
+        size_t first = 0;
+        const bool restart = !snap.time.empty() && snap.time.back() < since;
+        if (!restart) {
+            while (first < snap.time.size() && snap.time[first] <= since)
+                ++first;
+        }
+        j["version"] = snap.version;
+        j["restart"] = restart;
+        j["names"] = snap.names;
+        j["time"] =
+            std::vector<double>(snap.time.begin() + static_cast<long>(first), snap.time.end());
+        json values = json::array();
+        for (const std::vector<double>& v : snap.values) {
+            json col = json::array();
+            for (size_t k = first; k < v.size(); ++k)
+                col.push_back(std::isfinite(v[k]) ? json(v[k]) : json(nullptr));
+            values.push_back(std::move(col));
+        }
+        j["values"] = std::move(values);
+        return j.dump(-1, ' ', false, json::error_handler_t::replace);
     }
 
     std::string state_json(const Session& s) const {
@@ -268,6 +390,11 @@ struct View::Impl {
         const Simulation& sim = s.sim();
         if (s.scene_dirty) {
             s.scene_dirty = false;
+            // new drives and reloaded controllers bring new series
+            if (s.live && s.live->series().size() != SeriesSet(sim).size()) {
+                std::lock_guard<std::mutex> lock(live_mutex);
+                remake_live(s);
+            }
             std::vector<ParamControl> controls;
             std::string scene = scene_json(sim, s.index, &controls);
             server.publish_scene(std::move(scene), std::move(controls));
@@ -344,6 +471,13 @@ struct View::Impl {
                     break;
                 case Command::Kind::speed:
                     p.set_speed(c.value);
+                    break;
+                case Command::Kind::live:
+                    if (s->live) {
+                        if (c.sample_every > 0) s->live->set_sample_every(c.sample_every);
+                        if (c.refresh >= 0) s->live->set_refresh_seconds(c.refresh);
+                        if (c.size > 0) s->live->set_size(c.size);
+                    }
                     break;
                 case Command::Kind::param:
                     try {
@@ -464,11 +598,16 @@ View::View(scripting::LuaHost& host, ServerOptions server, ViewOptions options) 
     });
     host.set_runner(
         [impl](Player& p, int index, long ticks) { return impl->run(p, index, ticks); });
+    impl->server.set_live_provider(
+        [impl](const std::map<std::string, std::string>& q) { return impl->live_json(q); });
 }
 
 View::~View() {
     *alive_ = nullptr;
     impl_->host.set_runner({});
+    // no server thread reads the live buffers once they go
+    impl_->server.stop();
+    std::lock_guard<std::mutex> lock(impl_->live_mutex);
     for (const auto& s : impl_->sessions)
         impl_->detach(*s);
 }

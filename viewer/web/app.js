@@ -4,9 +4,17 @@
 // (/api/command). docs/viewer.md describes the protocol.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import uPlot from 'uplot';
 
 const token = new URLSearchParams(location.search).get('token');
 const query = token ? `?token=${encodeURIComponent(token)}` : '';
+// an API address with its parameters (and the token, when there is one)
+function api(path, params = {}) {
+  const p = new URLSearchParams(params);
+  if (token) p.set('token', token);
+  const q = p.toString();
+  return q ? `${path}?${q}` : path;
+}
 
 // what tests (and curious users, from the browser console) can read
 const gaitlab = {
@@ -17,6 +25,7 @@ const gaitlab = {
   messages: [],     // {level, text}
   errors: [],       // command errors
   connected: false,
+  plots: [],        // the live plots: { names, paused, points() }
 };
 window.gaitlab = gaitlab;
 
@@ -368,6 +377,7 @@ function connect() {
     gaitlab.scene = JSON.parse(e.data);
     buildScene(gaitlab.scene);
     if (first) needsViewAll = true;
+    loadSeries();
   });
   events.addEventListener('frame', (e) => {
     const f = JSON.parse(e.data);
@@ -381,5 +391,220 @@ function connect() {
   });
 }
 
+// ---------------------------------------------------------------------------------------------
+// live plots (uPlot): the series of the simulation's live buffers, chosen by checkboxes
+
+let seriesInfo = null;          // { simulation, series: [...], sample_every, refresh, size }
+const store = { time: [], values: new Map(), since: null, names: '' };
+let plotCount = 0;
+
+async function loadSeries() {
+  const sim = gaitlab.scene ? gaitlab.scene.simulation : 0;
+  try {
+    const r = await fetch(api('api/live/series', { simulation: sim }));
+    if (!r.ok) return;
+    seriesInfo = await r.json();
+  } catch (e) {
+    return;
+  }
+  $('live-every').value = seriesInfo.sample_every;
+  $('live-refresh').value = seriesInfo.refresh;
+  $('live-size').value = seriesInfo.size;
+  const known = new Set(seriesInfo.series.map((s) => s.name));
+  for (const p of gaitlab.plots) {
+    for (const n of [...p.names]) if (!known.has(n)) p.names.delete(n);
+    p.buildPicker();
+    p.rebuild();
+  }
+  store.since = null;   // everything again, for the new simulation
+}
+
+for (const [id, field] of [['live-every', 'sample_every'], ['live-refresh', 'refresh'], ['live-size', 'size']]) {
+  $(id).addEventListener('change', (e) => {
+    const v = Number(e.target.value);
+    send({ command: 'live', [field]: field === 'refresh' ? v : Math.round(v) });
+  });
+}
+
+// the checkboxes of one plot, grouped by kind, then robot / controller, then quantity (joints
+// side by side)
+function picker(plot) {
+  const root = document.createElement('details');
+  const summary = document.createElement('summary');
+  summary.textContent = 'series…';
+  root.appendChild(summary);
+  if (!seriesInfo) return root;
+  const groups = new Map();
+  for (const s of seriesInfo.series) {
+    const key = `${s.kind}|${s.source}`;
+    if (!groups.has(key)) groups.set(key, new Map());
+    const q = groups.get(key);
+    const value = s.body ? `${s.body}.${s.value}` : s.value;
+    if (!q.has(value)) q.set(value, []);
+    q.get(value).push(s);
+  }
+  for (const [key, quantities] of groups) {
+    const [kind, source] = key.split('|');
+    const d = document.createElement('details');
+    const sm = document.createElement('summary');
+    sm.textContent = `${kind} ${source}`;
+    d.appendChild(sm);
+    for (const [value, list] of quantities) {
+      const line = document.createElement('div');
+      const unit = list[0].unit ? ` (${list[0].unit})` : '';
+      line.append(`${value}${unit}: `);
+      for (const s of list) {
+        const label = document.createElement('label');
+        label.className = 'pick';
+        const box = document.createElement('input');
+        box.type = 'checkbox';
+        box.dataset.series = s.name;
+        box.checked = plot.names.has(s.name);
+        box.addEventListener('change', () => {
+          if (box.checked) plot.names.add(s.name); else plot.names.delete(s.name);
+          plot.rebuild();
+          store.since = null;
+        });
+        label.append(box, s.joint ? `${s.joint}` : '✓');
+        line.appendChild(label);
+      }
+      d.appendChild(line);
+    }
+    root.appendChild(d);
+  }
+  return root;
+}
+
+function addPlot(names = []) {
+  const id = ++plotCount;
+  const el = document.createElement('div');
+  el.className = 'plot';
+  el.id = `plot-${id}`;
+  const header = document.createElement('header');
+  const title = document.createElement('span');
+  title.className = 'title';
+  title.textContent = `plot ${id}`;
+  const pause = document.createElement('button');
+  pause.textContent = 'Pause';
+  pause.title = 'Freeze this plot (the others go on)';
+  const close = document.createElement('button');
+  close.textContent = '×';
+  close.title = 'Remove this plot';
+  header.append(title, pause, close);
+  const pickHolder = document.createElement('div');
+  const chart = document.createElement('div');
+  const hint = document.createElement('div');
+  hint.className = 'hint';
+  hint.textContent = 'drag across the plot to zoom (it pauses), double-click to zoom out';
+  el.append(header, pickHolder, chart, hint);
+  $('plots').appendChild(el);
+
+  const plot = {
+    id, el, names: new Set(names), paused: false, u: null,
+    points: () => (plot.u ? plot.u.data[0].length : 0),
+    buildPicker() {
+      pickHolder.textContent = '';
+      pickHolder.appendChild(picker(plot));
+    },
+    rebuild() {
+      if (plot.u) plot.u.destroy();
+      plot.u = null;
+      const names = [...plot.names];
+      if (names.length === 0) return;
+      const units = names.map((n) => {
+        const s = seriesInfo && seriesInfo.series.find((x) => x.name === n);
+        return s && s.unit ? ` (${s.unit})` : '';
+      });
+      const colours = ['#e07b24', '#2a7fbf', '#3f9e4d', '#9b4fb3', '#c33', '#8a6d3b', '#17a2b8', '#555'];
+      plot.u = new uPlot({
+        width: 426, height: 170,
+        scales: { x: { time: false } },
+        axes: [{ label: 't (s)' }, {}],
+        legend: { live: true },
+        series: [{ label: 't' }, ...names.map((n, i) => ({
+          label: n + units[i], stroke: colours[i % colours.length], width: 1.5,
+        }))],
+        hooks: {
+          // a zoom by the user freezes the plot, so new data does not undo it
+          setSelect: [(u) => { if (u.select.width > 0) { plot.paused = true; pause.textContent = 'Play'; } }],
+        },
+      }, plot.data(), chart);
+      plot.u.over.addEventListener('dblclick', () => {
+        plot.paused = false;
+        pause.textContent = 'Pause';
+      });
+    },
+    data() {
+      // a series just chosen has no samples until the next fetch: nulls, as long as the time
+      const n = store.time.length;
+      return [store.time.slice(), ...[...plot.names].map((name) => {
+        const v = store.values.get(name) || [];
+        return v.length === n ? v.slice() : new Array(n - v.length).fill(null).concat(v);
+      })];
+    },
+    update() {
+      if (plot.u && !plot.paused) plot.u.setData(plot.data());
+    },
+  };
+  pause.addEventListener('click', () => {
+    plot.paused = !plot.paused;
+    pause.textContent = plot.paused ? 'Play' : 'Pause';
+    if (!plot.paused) plot.update();
+  });
+  close.addEventListener('click', () => {
+    if (plot.u) plot.u.destroy();
+    el.remove();
+    gaitlab.plots.splice(gaitlab.plots.indexOf(plot), 1);
+  });
+  plot.buildPicker();
+  plot.rebuild();
+  gaitlab.plots.push(plot);
+  return plot;
+}
+$('add-plot').addEventListener('click', () => {
+  // a new plot starts with the first robot's centre of mass, or the first series
+  const first = seriesInfo && (seriesInfo.series.find((s) => /\.com\.x$/.test(s.name)) || seriesInfo.series[0]);
+  const p = addPlot(first ? [first.name] : []);
+  p.el.querySelector('details').open = true;
+  store.since = null;
+});
+
+// the samples of every plotted series, fetched since the last one seen
+async function pollLive() {
+  const wanted = [...new Set(gaitlab.plots.flatMap((p) => [...p.names]))].sort();
+  const refresh = seriesInfo ? Math.max(seriesInfo.refresh, 0.05) : 0.2;
+  if (wanted.length > 0 && gaitlab.scene) {
+    const key = wanted.join(',');
+    if (key !== store.names) store.since = null;
+    try {
+      const params = { simulation: gaitlab.scene.simulation, series: key };
+      if (store.since !== null) params.since = store.since;
+      const r = await fetch(api('api/live', params));
+      if (r.ok) {
+        const d = await r.json();
+        if (store.since === null || d.restart || key !== store.names) {
+          store.time = [];
+          store.values = new Map(wanted.map((n) => [n, []]));
+        }
+        store.names = key;
+        store.time.push(...d.time);
+        d.names.forEach((n, i) => store.values.get(n).push(...d.values[i]));
+        const size = Number($('live-size').value) || 2000;
+        if (store.time.length > size) {
+          const cut = store.time.length - size;
+          store.time.splice(0, cut);
+          for (const v of store.values.values()) v.splice(0, cut);
+        }
+        if (store.time.length > 0) store.since = store.time[store.time.length - 1];
+        for (const p of gaitlab.plots) p.update();
+      }
+    } catch (e) {
+      // gaitlab went away: the stream's handler says so
+    }
+  }
+  setTimeout(pollLive, refresh * 1000);
+}
+
 connect();
 draw();
+pollLive();

@@ -7,6 +7,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -60,6 +62,7 @@ struct Command {
         reset,  ///< back to time 0
         speed,  ///< `value`: real-time factor, > 0 (inf: as fast as possible)
         param,  ///< controller `drive`'s parameter `name` = `value`
+        live,   ///< live buffers' settings: `sample_every`, `refresh`, `size` (0 / < 0: kept)
     };
     Kind kind = Kind::play;
     int simulation = 0;  ///< creation index (0: the newest)
@@ -67,6 +70,9 @@ struct Command {
     std::string name;
     double value = 0;
     long count = 0;
+    int sample_every = 0;  ///< live: ticks between samples
+    double refresh = -1;   ///< live: wall seconds between publications
+    int size = 0;          ///< live: samples kept per series
 };
 
 /// "play", "pause", ...
@@ -124,6 +130,15 @@ class Server {
     bool has_commands() const;
     /// Waits until a command arrives or `seconds` pass.
     void wait_for_commands(double seconds);
+    /// Answers GET /api/live (`query` has "series", "since", "simulation") and GET
+    /// /api/live/series (`query` has "simulation" and "list"): `fn` returns the JSON body, or
+    /// throws ServerError for a 400 saying why. Called on the server's threads: it must be
+    /// thread-safe. Without one, both answer 404.
+    using LiveProvider = std::function<std::string(const std::map<std::string, std::string>&)>;
+    void set_live_provider(LiveProvider fn);
+    /// Stops serving now (the destructor does it too): pages are disconnected, the threads
+    /// joined; nothing is called on the server's threads any more.
+    void stop();
     /// Whether a page has ever opened its event stream.
     bool page_seen() const;
     ServerStats stats() const;
