@@ -513,16 +513,27 @@ function addPlot(names = []) {
       if (names.length === 0) return;
       const units = names.map((n) => {
         const s = seriesInfo && seriesInfo.series.find((x) => x.name === n);
-        return s && s.unit ? ` (${s.unit})` : '';
+        return s && s.unit ? s.unit : '';
       });
+      // one scale per unit: metres and degrees do not share an axis (left, then right)
+      const scaleOf = (u) => u || 'value';
+      const scaleNames = [...new Set(units.map(scaleOf))];
       const colours = ['#e07b24', '#2a7fbf', '#3f9e4d', '#9b4fb3', '#c33', '#8a6d3b', '#17a2b8', '#555'];
+      const axes = [{ label: 't (s)' }];
+      scaleNames.slice(0, 2).forEach((sc, i) => axes.push({
+        scale: sc, side: i === 0 ? 3 : 1, label: sc === 'value' ? '' : sc,
+        grid: { show: i === 0 },
+      }));
+      const scales = { x: { time: false } };
+      for (const sc of scaleNames) scales[sc] = {};
       plot.u = new uPlot({
         width: 426, height: 170,
-        scales: { x: { time: false } },
-        axes: [{ label: 't (s)' }, {}],
+        scales,
+        axes,
         legend: { live: true },
         series: [{ label: 't' }, ...names.map((n, i) => ({
-          label: n + units[i], stroke: colours[i % colours.length], width: 1.5,
+          label: units[i] ? `${n} (${units[i]})` : n, scale: scaleOf(units[i]),
+          stroke: colours[i % colours.length], width: 1.5,
         }))],
         hooks: {
           // a zoom by the user freezes the plot, so new data does not undo it
