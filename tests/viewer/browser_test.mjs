@@ -83,8 +83,8 @@ try {
   await page.waitForFunction(() => window.gaitlab && window.gaitlab.drawn > 5, null, { timeout: 60000 });
   check(true, `the page loads and draws frames (${Date.now() - started} ms)`);
   const scene = await page.evaluate(() => window.gaitlab.scene);
-  check(scene.bodies.length === 7 && scene.robots[0].name === 'snake',
-    'the scene has the snake\'s 7 bodies');
+  check(scene.bodies.length === 7 && scene.robots[0].name === 'snake' && scene.sensors[0].name === 'snake.imu6',
+    'the scene has the snake\'s 7 bodies and its IMU');
   check(scene.objects.some((o) => o.kind === 'mesh' && o.name.startsWith('ramp')) &&
     scene.objects.filter((o) => o.name.startsWith('stairs')).length === 3 &&
     scene.objects.some((o) => o.dynamic === 0), 'the scene has the ramp, 3 steps and the movable box');
@@ -191,6 +191,11 @@ try {
   check(refused.status === 400 && /sine\.amplitude must be in \[0, 90\] deg \(got 120\)/.test(refused.body.error),
     `an out-of-range value is refused with its range (${refused.status}: ${refused.body.error})`);
 
+  // a sensor switched off from the page
+  await page.locator('input[data-sensor="snake.imu6"]').uncheck();
+  await page.waitForFunction(() => window.gaitlab.frame.state.sensors[0] === false);
+  check(true, 'the IMU is switched off from the page (the engine reports it back)');
+
   // play again
   await page.click('#play');
   await page.waitForFunction((t) => window.gaitlab.frame.time > t + 0.2, t3);
@@ -220,6 +225,7 @@ check(/moved \d/.test(stdout), `the script printed its result (${stdout.trim()})
 const events = fs.readFileSync(path.join(run, 'events.csv'), 'utf8');
 check(/,viewer,param,sine\.amplitude,20,/.test(events), 'events.csv records sine.amplitude = 20 from the viewer');
 check(/,viewer,reset,/.test(events), 'events.csv records the reset from the viewer');
+check(/,viewer,sensor,snake\.imu6,0,/.test(events), 'events.csv records the IMU switched off from the viewer');
 const runJson = JSON.parse(fs.readFileSync(path.join(run, 'run.json'), 'utf8'));
 check(runJson.status === 'finished', `the run is closed as finished (${runJson.status})`);
 const replay = spawnSync(gaitlab, ['replay', run], { encoding: 'utf8' });

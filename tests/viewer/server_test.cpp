@@ -123,14 +123,15 @@ TEST_CASE("the server serves the page with its libraries and its routes on loopb
 
 TEST_CASE("commands are checked and queued in order for the simulation's side") {
     Server server({});
-    server.publish_scene("{}", sine_controls());
+    server.publish_scene("{}", sine_controls(), {"snake.imu6"});
     httplib::Client c("127.0.0.1", server.port());
     CHECK_FALSE(server.has_commands());
     for (const char* body :
          {R"({"command":"pause"})", R"({"command":"step","ticks":30})",
           R"({"command":"param","controller":"sine","name":"amplitude","value":25.5})",
           R"({"command":"speed","value":"max"})", R"({"command":"speed","value":0.5})",
-          R"({"command":"reset","simulation":1})", R"({"command":"play"})"}) {
+          R"({"command":"reset","simulation":1})", R"({"command":"play"})",
+          R"({"command":"sensor","name":"snake.imu6","enabled":false})"}) {
         auto r = post(c, body);
         REQUIRE(r);
         INFO(body << " -> " << r->body);
@@ -139,7 +140,10 @@ TEST_CASE("commands are checked and queued in order for the simulation's side") 
     CHECK(server.has_commands());
     const std::vector<Command> cs = server.take_commands();
     CHECK_FALSE(server.has_commands());
-    REQUIRE(cs.size() == 7);
+    REQUIRE(cs.size() == 8);
+    CHECK(cs[7].kind == Command::Kind::sensor);
+    CHECK(cs[7].name == "snake.imu6");
+    CHECK(cs[7].value == 0);
     CHECK(cs[0].kind == Command::Kind::pause);
     CHECK(cs[1].kind == Command::Kind::step);
     CHECK(cs[1].count == 30);
@@ -154,12 +158,12 @@ TEST_CASE("commands are checked and queued in order for the simulation's side") 
     CHECK(cs[5].kind == Command::Kind::reset);
     CHECK(cs[5].simulation == 1);
     CHECK(cs[6].kind == Command::Kind::play);
-    CHECK(server.stats().commands == 7);
+    CHECK(server.stats().commands == 8);
 }
 
 TEST_CASE("bad commands get a clear 4xx and change nothing") {
     Server server({});
-    server.publish_scene("{}", sine_controls());
+    server.publish_scene("{}", sine_controls(), {"snake.imu6"});
     httplib::Client c("127.0.0.1", server.port());
     struct Bad {
         std::string body;
@@ -169,9 +173,10 @@ TEST_CASE("bad commands get a clear 4xx and change nothing") {
     const std::vector<Bad> bad = {
         {"{\"command\": ", 400, "malformed JSON at byte"},
         {"[1, 2]", 400, "(got array)"},
-        {"{}", 400, "field 'command' expected: play, pause, step, reset, speed, param or live"},
+        {"{}", 400,
+         "field 'command' expected: play, pause, step, reset, speed, param, live or sensor"},
         {R"({"command":"fly"})", 400,
-         "unknown command 'fly': play, pause, step, reset, speed, param or live expected"},
+         "unknown command 'fly': play, pause, step, reset, speed, param, live or sensor expected"},
         {R"({"command":"pause","ticks":3})", 400,
          "command 'pause' takes no field 'ticks' (it takes command, simulation)"},
         {R"({"command":"step","ticks":0})", 400, "a whole number of ticks in [1, 1000000]"},
@@ -191,6 +196,10 @@ TEST_CASE("bad commands get a clear 4xx and change nothing") {
          "field 'value': a number in [0, 90] deg expected for sine.amplitude"},
         {R"({"command":"param","name":"amplitude","value":3})", 400,
          "fields 'controller' and 'name' expected"},
+        {R"({"command":"sensor","name":"snake.imu9","enabled":false})", 400,
+         "there is no sensor 'snake.imu9' (there is snake.imu6)"},
+        {R"({"command":"sensor","name":"snake.imu6","enabled":0})", 400,
+         "'enabled' (true or false) expected"},
         {R"({"command":"live","sample_every":0})", 400,
          "field 'sample_every': ticks between samples in [1, 1000000] expected"},
         {R"({"command":"live","refresh":-1})", 400,

@@ -207,6 +207,8 @@ const char* to_string(Command::Kind kind) {
             return "param";
         case Command::Kind::live:
             return "live";
+        case Command::Kind::sensor:
+            return "sensor";
     }
     return "?";
 }
@@ -243,6 +245,7 @@ struct Server::State {
     std::uint64_t scene_version = 0;
     std::shared_ptr<const std::string> scene;  // as an SSE event
     std::vector<ParamControl> controls;
+    std::vector<std::string> sensors;
     std::uint64_t frame_version = 0;
     std::shared_ptr<const Frame> frame;
     std::shared_ptr<const std::string> frame_event;              // encoded once, on first demand
@@ -301,7 +304,7 @@ Command Server::State::parse_command(const std::string& body, std::string& error
     }
     const auto name = j.find("command");
     if (name == j.end() || !name->is_string()) {
-        error = "field 'command' expected: play, pause, step, reset, speed, param or live";
+        error = "field 'command' expected: play, pause, step, reset, speed, param, live or sensor";
         return c;
     }
     const std::string what = name->get<std::string>();
@@ -309,12 +312,12 @@ Command Server::State::parse_command(const std::string& body, std::string& error
         {"play", Command::Kind::play},   {"pause", Command::Kind::pause},
         {"step", Command::Kind::step},   {"reset", Command::Kind::reset},
         {"speed", Command::Kind::speed}, {"param", Command::Kind::param},
-        {"live", Command::Kind::live}};
+        {"live", Command::Kind::live},   {"sensor", Command::Kind::sensor}};
     const auto k =
         std::find_if(kinds.begin(), kinds.end(), [&](const auto& p) { return p.first == what; });
     if (k == kinds.end()) {
         error = fmt::format(
-            "unknown command '{}': play, pause, step, reset, speed, param or live "
+            "unknown command '{}': play, pause, step, reset, speed, param, live or sensor "
             "expected",
             what.substr(0, 40));
         return c;
@@ -329,6 +332,7 @@ Command Server::State::parse_command(const std::string& body, std::string& error
     }
     if (c.kind == Command::Kind::live)
         allowed.insert(allowed.end(), {"sample_every", "refresh", "size"});
+    if (c.kind == Command::Kind::sensor) allowed.insert(allowed.end(), {"name", "enabled"});
     for (const auto& item : j.items()) {
         if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end()) {
             std::string list;
@@ -369,6 +373,26 @@ Command Server::State::parse_command(const std::string& body, std::string& error
             return c;
         } else {
             c.value = v->get<double>();
+        }
+    }
+    if (c.kind == Command::Kind::sensor) {
+        const auto n = j.find("name");
+        const auto on = j.find("enabled");
+        if (n == j.end() || !n->is_string() || on == j.end() || !on->is_boolean()) {
+            error =
+                "fields 'name' (\"<robot>.<sensor>\", as the scene lists sensors) and "
+                "'enabled' (true or false) expected";
+            return c;
+        }
+        c.name = n->get<std::string>();
+        c.value = on->get<bool>() ? 1 : 0;
+        if (std::find(sensors.begin(), sensors.end(), c.name) == sensors.end()) {
+            std::string names;
+            for (const std::string& x : sensors)
+                names += (names.empty() ? "" : ", ") + x;
+            error = fmt::format("there is no sensor '{}' (there {} {})", c.name.substr(0, 60),
+                                sensors.size() == 1 ? "is" : "are", names.empty() ? "none" : names);
+            return c;
         }
     }
     if (c.kind == Command::Kind::live) {
@@ -780,13 +804,15 @@ std::string Server::url() const {
     return u;
 }
 
-void Server::publish_scene(std::string json_text, std::vector<ParamControl> controls) {
+void Server::publish_scene(std::string json_text, std::vector<ParamControl> controls,
+                           std::vector<std::string> sensors) {
     State& s = *state_;
     auto event = std::make_shared<const std::string>(sse("scene", json_text));
     {
         std::lock_guard<std::mutex> lock(s.mutex);
         s.scene = std::move(event);
         s.controls = std::move(controls);
+        s.sensors = std::move(sensors);
         ++s.scene_version;
     }
     s.changed.notify_all();

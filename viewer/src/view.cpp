@@ -13,6 +13,7 @@
 #include "gaitlab/live.h"
 #include "gaitlab/player.h"
 #include "gaitlab/scripting/lua_host.h"
+#include "gaitlab/sensor.h"
 #include "gaitlab/simulation.h"
 
 namespace gaitlab::viewer {
@@ -173,7 +174,21 @@ std::string scene_json(const Simulation& sim, int index, std::vector<ParamContro
                         {"params", params}});
     }
     j["controllers"] = ctls;
+
+    json sensors = json::array();
+    for (int i = 0; i < sim.sensor_count(); ++i) {
+        const SensorSpec& spec = sim.sensor(i);
+        sensors.push_back({{"index", i},
+                           {"name", sensor_label(sim, i)},
+                           {"kind", to_string(spec.kind)},
+                           {"robot", sim.robot_label(sim.sensor_robot(i))}});
+    }
+    j["sensors"] = sensors;
     return j.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+std::string sensor_label(const Simulation& sim, int i) {
+    return sim.robot_label(sim.sensor_robot(i)) + "." + sim.sensor(i).name;
 }
 
 void frame_poses(const Simulation& sim, std::vector<double>& out) {
@@ -246,8 +261,14 @@ struct View::Impl {
         s->observer = sim.add_observer([this, raw](const Simulation&) {
             if (raw == shown() && steady_seconds() >= raw->next_frame) publish(*raw);
         });
-        s->listener = sim.add_event_listener([raw](const Simulation&, const Event& e) {
+        s->listener = sim.add_event_listener([this, raw](const Simulation&, const Event& e) {
             if (e.kind == EventKind::drive || e.kind == EventKind::reload) raw->scene_dirty = true;
+            // hot reload, for the messages panel (failed reloads come through the host)
+            if (e.kind == EventKind::reload) {
+                server.publish_message(
+                    "info", fmt::format("simulation {}: {} reloaded (version {})", raw->index,
+                                        e.name, static_cast<long>(e.value)));
+            }
             if (e.kind == EventKind::reset) raw->failure.clear();
         });
         raw->live_options.size = kLiveSize;
@@ -380,6 +401,11 @@ struct View::Impl {
         const double m = p.measured_speed();
         j["measured"] = std::isfinite(m) ? json(m) : json(nullptr);
         if (!s.failure.empty()) j["failure"] = s.failure;
+        const Simulation& sim = s.sim();
+        json sensors = json::array();
+        for (int i = 0; i < sim.sensor_count(); ++i)
+            sensors.push_back(sim.sensor_enabled(i));
+        j["sensors"] = sensors;
         if (!script_error.empty()) j["script_error"] = script_error;
         return j.dump(-1, ' ', false, json::error_handler_t::replace);
     }
@@ -397,7 +423,10 @@ struct View::Impl {
             }
             std::vector<ParamControl> controls;
             std::string scene = scene_json(sim, s.index, &controls);
-            server.publish_scene(std::move(scene), std::move(controls));
+            std::vector<std::string> sensors;
+            for (int i = 0; i < sim.sensor_count(); ++i)
+                sensors.push_back(sensor_label(sim, i));
+            server.publish_scene(std::move(scene), std::move(controls), std::move(sensors));
         }
         frame.simulation = s.index;
         frame.tick = sim.ticks();
@@ -472,6 +501,16 @@ struct View::Impl {
                 case Command::Kind::speed:
                     p.set_speed(c.value);
                     break;
+                case Command::Kind::sensor: {
+                    const int i = sim.find_sensor(c.name);
+                    if (i < 0) {
+                        server.publish_message("error",
+                                               fmt::format("there is no sensor '{}'", c.name));
+                        break;
+                    }
+                    sim.set_sensor_enabled(i, c.value != 0, Origin::viewer);
+                    break;
+                }
                 case Command::Kind::live:
                     if (s->live) {
                         if (c.sample_every > 0) s->live->set_sample_every(c.sample_every);

@@ -161,6 +161,7 @@ function buildScene(scene) {
 
   $('sim-name').textContent = `simulation ${scene.simulation}`;
   buildParams(scene);
+  buildSensors(scene);
 }
 
 // the centre of robot r's bodies, for following it
@@ -335,6 +336,33 @@ function buildParams(scene) {
   }
 }
 
+// sensors: a switch each; a switch is an event of the run (origin viewer), like a parameter
+let sensorBoxes = [];
+function buildSensors(scene) {
+  const box = $('sensors');
+  box.textContent = '';
+  sensorBoxes = [];
+  if (!scene.sensors || scene.sensors.length === 0) {
+    box.innerHTML = '<p class="small">no sensor</p>';
+    return;
+  }
+  for (const s of scene.sensors) {
+    const label = document.createElement('label');
+    label.className = 'pick';
+    const input = document.createElement('input');
+    input.type = 'checkbox';
+    input.dataset.sensor = s.name;
+    input.checked = true;
+    input.addEventListener('change', () =>
+      send({ command: 'sensor', name: s.name, enabled: input.checked }));
+    label.append(input, ` ${s.name} (${s.kind})`);
+    const line = document.createElement('div');
+    line.appendChild(label);
+    box.appendChild(line);
+    sensorBoxes.push(input);
+  }
+}
+
 function showFrame(f) {
   $('time').textContent = f.time.toFixed(3);
   const s = f.state || {};
@@ -348,6 +376,9 @@ function showFrame(f) {
   const speed = s.speed === 'max' ? 'as fast as possible' : `${s.speed}×`;
   $('measured').textContent = `target ${speed}` +
     (s.measured !== null && s.measured !== undefined ? `, measured ${s.measured.toFixed(2)}× real time` : '');
+  if (s.sensors && s.sensors.length === sensorBoxes.length) {
+    s.sensors.forEach((on, i) => { sensorBoxes[i].checked = on; });
+  }
   if (f.params.length === sliders.length) {
     f.params.forEach((v, i) => {
       const sl = sliders[i];

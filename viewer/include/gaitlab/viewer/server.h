@@ -56,13 +56,14 @@ struct ParamControl {
 /// One command from a page, checked against the published controls.
 struct Command {
     enum class Kind {
-        play,   ///< play at the simulation's speed
-        pause,  ///< hold
-        step,   ///< `count` ticks, then hold
-        reset,  ///< back to time 0
-        speed,  ///< `value`: real-time factor, > 0 (inf: as fast as possible)
-        param,  ///< controller `drive`'s parameter `name` = `value`
-        live,   ///< live buffers' settings: `sample_every`, `refresh`, `size` (0 / < 0: kept)
+        play,    ///< play at the simulation's speed
+        pause,   ///< hold
+        step,    ///< `count` ticks, then hold
+        reset,   ///< back to time 0
+        speed,   ///< `value`: real-time factor, > 0 (inf: as fast as possible)
+        param,   ///< controller `drive`'s parameter `name` = `value`
+        live,    ///< live buffers' settings: `sample_every`, `refresh`, `size` (0 / < 0: kept)
+        sensor,  ///< switches sensor `name` ("<robot>.<sensor>") on (`value` 1) or off (0)
     };
     Kind kind = Kind::play;
     int simulation = 0;  ///< creation index (0: the newest)
@@ -118,8 +119,10 @@ class Server {
     // --- the simulation's side (any thread, never blocks on a client) ---
 
     /// Replaces the scene (a JSON object: bodies, objects, controllers; see view.cpp) and the
-    /// controls commands are checked against; every page gets it, then frames.
-    void publish_scene(std::string json, std::vector<ParamControl> controls);
+    /// controls commands are checked against (parameters, and sensors by their
+    /// "<robot>.<sensor>" names); every page gets it, then frames.
+    void publish_scene(std::string json, std::vector<ParamControl> controls,
+                       std::vector<std::string> sensors = {});
     /// Makes `frame` the latest; pages that are ready get it, the others get a later one.
     void publish_frame(Frame frame);
     /// A message for the pages' console panel ("info", "error" ...), kept in a bounded log.

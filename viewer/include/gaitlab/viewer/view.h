@@ -67,6 +67,9 @@ class View {
 /// checked against.
 std::string scene_json(const Simulation& sim, int index, std::vector<ParamControl>* controls);
 
+/// How pages and events name sensor i: "<robot label>.<sensor name>".
+std::string sensor_label(const Simulation& sim, int i);
+
 /// Where every body of `sim` is: robots' bodies, then dynamic objects (7 numbers each).
 void frame_poses(const Simulation& sim, std::vector<double>& out);
 
