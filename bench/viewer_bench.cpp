@@ -6,12 +6,15 @@
 // loopback that read every frame, as a browser would.
 //
 //   viewer_bench [--quick]
+//   viewer_bench one PAGES SECONDS    one run (PAGES -1: no viewer), for callgrind
+//                                     (--separate-threads=yes: thread 1 is the simulation's)
 #include <time.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -93,6 +96,12 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    if (argc == 4 && std::strcmp(argv[1], "one") == 0) {
+        const Sample s = run(std::atoi(argv[2]), std::atof(argv[3]));
+        std::printf("wall %.3f s, simulation thread CPU %.3f s, frames %llu, sent %llu\n",
+                    s.wall, s.cpu, s.frames, s.sent);
+        return 0;
+    }
     const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
     const double seconds = quick ? 10 : 30;
     const int reps = quick ? 3 : 5;

@@ -33,12 +33,27 @@ double seconds_since(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-void post(int port, const std::string& body) {
+// a page's command; false if it was not accepted (called from the page's thread: no REQUIRE)
+bool post(int port, const std::string& body) {
     httplib::Client c("127.0.0.1", port);
     auto r = c.Post("/api/command", body, "application/json");
-    REQUIRE(r);
-    INFO(body << " -> " << r->body);
-    REQUIRE(r->status == 200);
+    return r && r->status == 200;
+}
+
+// a page's thread: joined however the test leaves
+struct Page {
+    std::thread thread;
+    std::atomic<bool> ok{true};
+    ~Page() {
+        if (thread.joinable()) thread.join();
+    }
+};
+
+// waits until the view has published `n` frames (the run is under way), at most 20 s
+void wait_frames(View& view, std::uint64_t n) {
+    const auto end = Clock::now() + std::chrono::seconds(20);
+    while (view.server().stats().frames < n && Clock::now() < end)
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
 }
 
 ViewOptions no_wait() {
@@ -60,13 +75,15 @@ TEST_CASE("under a view sim:run plays at real time and a page's speed makes it a
     CHECK(wall < 2);
     // a page asks for as fast as possible while 60 s run
     const int port = view.server().port();
-    std::thread page([port] {
+    Page page;
+    page.thread = std::thread([&page, port] {
         std::this_thread::sleep_for(std::chrono::milliseconds(200));
-        post(port, R"({"command":"speed","value":"max"})");
+        page.ok = post(port, R"({"command":"speed","value":"max"})");
     });
     start = Clock::now();
     host.run_string("sim:run(60) assert(sim.ticks == 60400)", "run");
-    page.join();
+    page.thread.join();
+    CHECK(page.ok);
     CHECK(seconds_since(start) < 30);
     // without a view, the same runs go at once again
     scripting::LuaHost plain;
@@ -94,22 +111,22 @@ assert(sim.ticks == 600, "the run ran " .. sim.ticks .. " ticks")
         host.set_recording(rec);
         View view(host, {}, no_wait());
         const int port = view.server().port();
-        std::atomic<bool> done{false};
-        std::thread page([&] {
-            std::this_thread::sleep_for(std::chrono::milliseconds(150));
-            post(port, R"({"command":"pause","simulation":1})");
+        Page page;
+        page.thread = std::thread([&] {
+            wait_frames(view, 6);  // about 0.1 s into the run
+            bool ok = post(port, R"({"command":"pause","simulation":1})");
             std::this_thread::sleep_for(std::chrono::milliseconds(400));
-            post(port, R"({"command":"param","controller":"sine","name":"amplitude","value":20})");
-            post(port, R"({"command":"step","ticks":30})");
+            ok = ok && post(port, R"({"command":"param","controller":"sine","name":"amplitude",)"
+                                  R"("value":20})");
+            ok = ok && post(port, R"({"command":"step","ticks":30})");
             std::this_thread::sleep_for(std::chrono::milliseconds(100));
-            post(port, R"({"command":"play"})");
-            done = true;
+            page.ok = ok && post(port, R"({"command":"play"})");
         });
         const auto start = Clock::now();
         host.run_file(script);
         const double wall = seconds_since(start);
-        page.join();
-        CHECK(done);
+        page.thread.join();
+        CHECK(page.ok);
         // 0.6 s of simulated time at real time, plus about half a second held
         CHECK(wall >= 0.6 + 0.4);
         host.finish();
@@ -128,8 +145,8 @@ TEST_CASE("a page resets a run: the run still does its ticks and replays bit for
     const std::string script = dir / "snake.lua";
     test::write_text(script, std::string(kSnake) + R"(
 sim:run(0.5)
--- reset at about 0.2 s: the run's 500 ticks end near 0.3 s
-assert(sim.time < 0.45, "no reset happened: t = " .. sim.time)
+-- a reset about 0.2 s in: the run's 500 ticks end near 0.3 s
+assert(sim.time < 0.49, "no reset happened: t = " .. sim.time)
 )");
     const std::string run = dir / "run";
     {
@@ -142,12 +159,14 @@ assert(sim.time < 0.45, "no reset happened: t = " .. sim.time)
         host.set_recording(rec);
         View view(host, {}, no_wait());
         const int port = view.server().port();
-        std::thread page([port] {
-            std::this_thread::sleep_for(std::chrono::milliseconds(200));
-            post(port, R"({"command":"reset"})");
+        Page page;
+        page.thread = std::thread([&] {
+            wait_frames(view, 12);  // about 0.2 s into the run
+            page.ok = post(port, R"({"command":"reset"})");
         });
         host.run_file(script);
-        page.join();
+        page.thread.join();
+        CHECK(page.ok);
         host.finish();
     }
     CHECK(test::read_text(run + "/events.csv").find(",viewer,reset,") != std::string::npos);

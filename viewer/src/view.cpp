@@ -389,25 +389,31 @@ struct View::Impl {
         return j.dump(-1, ' ', false, json::error_handler_t::replace);
     }
 
+    // the frame's state, written by hand: it goes out up to 60 times a second
     std::string state_json(const Session& s) const {
         const Player& p = *s.player;
-        json j;
         const bool waiting = options.wait_for_page && !server.page_seen();
-        j["held"] = s.held;
-        j["running"] = running == &s && !s.held && !waiting;
-        j["playing"] = finished ? p.playing() : !s.held;
-        j["finished"] = finished;
-        j["speed"] = std::isinf(p.speed()) ? json("max") : json(p.speed());
+        const bool playing = finished ? p.playing() : !s.held;
+        std::string out = fmt::format(
+            "{{\"held\":{},\"running\":{},\"playing\":{},\"finished\":{},\"speed\":", s.held,
+            running == &s && !s.held && !waiting, playing, finished);
+        out += std::isinf(p.speed()) ? std::string("\"max\"") : fmt::format("{}", p.speed());
         const double m = p.measured_speed();
-        j["measured"] = std::isfinite(m) ? json(m) : json(nullptr);
-        if (!s.failure.empty()) j["failure"] = s.failure;
+        out += std::isfinite(m) ? fmt::format(",\"measured\":{}", m) : ",\"measured\":null";
+        out += ",\"sensors\":[";
         const Simulation& sim = s.sim();
-        json sensors = json::array();
         for (int i = 0; i < sim.sensor_count(); ++i)
-            sensors.push_back(sim.sensor_enabled(i));
-        j["sensors"] = sensors;
-        if (!script_error.empty()) j["script_error"] = script_error;
-        return j.dump(-1, ' ', false, json::error_handler_t::replace);
+            out += (i > 0 ? "," : "") + std::string(sim.sensor_enabled(i) ? "true" : "false");
+        out += ']';
+        // messages are rare: the JSON library quotes them
+        if (!s.failure.empty())
+            out += ",\"failure\":" +
+                   json(s.failure).dump(-1, ' ', false, json::error_handler_t::replace);
+        if (!script_error.empty())
+            out += ",\"script_error\":" +
+                   json(script_error).dump(-1, ' ', false, json::error_handler_t::replace);
+        out += '}';
+        return out;
     }
 
     // publishes the scene if it changed, then a frame of `s` (the shown session only)
