@@ -338,6 +338,13 @@ int run_script(const RunArgs& a, const std::string& command) {
                          "opens (Ctrl-C quits)\n",
                          view->url().c_str());
         }
+        if (view) {
+            // sim:view() shows that simulation (every one is shown already, the newest first)
+            host.set_view_handler([&view](const std::shared_ptr<gaitlab::Player>& p, int index) {
+                view->show(p, index);
+                return view->url();
+            });
+        }
         // failed reloads of controller files and controllers failing under
         // on_controller_error = "continue" are reported while the script goes on
         host.set_reporter([&progress, &view](const std::string& message) {
@@ -401,6 +408,7 @@ int run_script(const RunArgs& a, const std::string& command) {
                 host.clear_interrupt();
             }
         }
+        host.set_view_handler({});
         view.reset();
         // sim:play() plays in the console, between keystrokes: a script has no such time
         if (const int n = host.playing(); n > 0 && error.empty() && !a.view) {

@@ -15,6 +15,10 @@ void LuaHost::set_runner(Runner fn) {
     Playback::of(L_).runner = std::move(fn);
 }
 
+void LuaHost::set_view_handler(ViewHandler fn) {
+    Playback::of(L_).view = std::move(fn);
+}
+
 std::string LuaHost::interrupt_message() const {
     return guard_->interrupted() != 0 ? guard_->interrupt_message() : std::string();
 }

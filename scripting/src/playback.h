@@ -31,6 +31,8 @@ class Playback {
     std::function<void(const RunProgress&)> progress;
     /// How sim:run and sim:step advance (LuaHost::set_runner); empty: Simulation::step.
     LuaHost::Runner runner;
+    /// What sim:view() calls (LuaHost::set_view_handler); empty: sim:view() is an error.
+    LuaHost::ViewHandler view;
     /// Called with every new simulation's player (LuaHost::on_player).
     std::vector<std::function<void(const std::shared_ptr<Player>&, int)>> on_player;
 

@@ -625,12 +625,19 @@ int simulation_tostring(lua_State* L) {
 }  // namespace
 
 void open_simulation(lua_State* L) {
-    const luaL_Reg methods[] = {{"run", simulation_run},         {"step", simulation_step},
-                                {"reset", simulation_reset},     {"save", simulation_save},
-                                {"objects", simulation_objects}, {"record", simulation_record},
-                                {"flush", simulation_flush},     {"live", live_new},
-                                {"play", simulation_play},       {"pause", simulation_pause},
-                                {"status", simulation_status},   {nullptr, nullptr}};
+    const luaL_Reg methods[] = {{"run", simulation_run},
+                                {"step", simulation_step},
+                                {"reset", simulation_reset},
+                                {"save", simulation_save},
+                                {"objects", simulation_objects},
+                                {"record", simulation_record},
+                                {"flush", simulation_flush},
+                                {"live", live_new},
+                                {"play", simulation_play},
+                                {"pause", simulation_pause},
+                                {"status", simulation_status},
+                                {"view", simulation_view},
+                                {nullptr, nullptr}};
     const luaL_Reg meta[] = {{"__tostring", simulation_tostring},
                              {"__newindex", simulation_newindex},
                              {nullptr, nullptr}};

@@ -293,6 +293,23 @@ struct View::Impl {
         }
     }
 
+    // shows `player`'s simulation: moves its session last (the shown one), or adds one
+    void show(const std::shared_ptr<Player>& player, int index) {
+        for (size_t k = 0; k < sessions.size(); ++k) {
+            if (sessions[k]->index != index) continue;
+            {
+                std::lock_guard<std::mutex> lock(live_mutex);
+                std::unique_ptr<Session> s = std::move(sessions[k]);
+                sessions.erase(sessions.begin() + static_cast<long>(k));
+                sessions.push_back(std::move(s));
+            }
+            sessions.back()->scene_dirty = true;
+            publish(*sessions.back());
+            return;
+        }
+        add(player, index);
+    }
+
     // under live_mutex
     void detach(Session& s) {
         s.live.reset();
@@ -395,8 +412,9 @@ struct View::Impl {
         const bool waiting = options.wait_for_page && !server.page_seen();
         const bool playing = finished ? p.playing() : !s.held;
         std::string out = fmt::format(
-            "{{\"held\":{},\"running\":{},\"playing\":{},\"finished\":{},\"speed\":", s.held,
-            running == &s && !s.held && !waiting, playing, finished);
+            "{{\"held\":{},\"running\":{},\"playing\":{},\"finished\":{},\"console\":{},"
+            "\"speed\":",
+            s.held, running == &s && !s.held && !waiting, playing, finished, options.console);
         out += std::isinf(p.speed()) ? std::string("\"max\"") : fmt::format("{}", p.speed());
         const double m = p.measured_speed();
         out += std::isfinite(m) ? fmt::format(",\"measured\":{}", m) : ",\"measured\":null";
@@ -569,6 +587,9 @@ struct View::Impl {
             ~Restore() { impl.running = outer; }
         } restore{*this, outer};
         const bool was_playing = p.playing();
+        // a run typed in the console goes, whatever the page held (the page may pause it
+        // again); a script's run waits while the page holds it
+        if (options.console) s->held = false;
         const WallClock clock = steady_seconds;
         long done = 0;
         bool waited = false;
@@ -604,27 +625,40 @@ struct View::Impl {
         return done;
     }
 
+    // one round of serving outside the script's runs; returns the wall seconds to wait
+    double poll() {
+        const bool was = finished;
+        finished = true;  // between runs, the pages play and step the simulations themselves
+        struct Restore {
+            bool& flag;
+            bool value;
+            ~Restore() { flag = value; }
+        } restore{finished, options.console ? was : true};
+        const WallClock clock = steady_seconds;
+        apply(nullptr, 0);
+        double wait = kIdle;
+        for (const auto& s : sessions) {
+            Player& p = *s->player;
+            if (s->held || !p.playing()) continue;
+            try {
+                p.advance(clock, clock() + 0.02);
+            } catch (const std::exception& e) {
+                fail(*s, e);
+            }
+            wait = std::min(wait, p.wait(clock()));
+        }
+        if (Session* s = shown(); s && steady_seconds() >= s->next_frame) publish(*s);
+        return std::max(wait, 0.0);
+    }
+
     void serve(const std::function<bool()>& stop) {
         finished = true;
         for (const auto& s : sessions)
             publish(*s);
-        const WallClock clock = steady_seconds;
         while (!stop()) {
-            apply(nullptr, 0);
-            double wait = kIdle;
-            for (const auto& s : sessions) {
-                Player& p = *s->player;
-                if (s->held || !p.playing()) continue;
-                try {
-                    p.advance(clock, clock() + 0.02);
-                } catch (const std::exception& e) {
-                    fail(*s, e);
-                }
-                wait = std::min(wait, p.wait(clock()));
-            }
+            double wait = poll();
             // hot reload, and what the script left playing with sim:play()
             wait = std::min(wait, host.pump());
-            if (Session* s = shown(); s && steady_seconds() >= s->next_frame) publish(*s);
             if (wait > 0) server.wait_for_commands(wait);
         }
     }
@@ -667,6 +701,14 @@ std::string View::url() const {
 
 void View::message(const std::string& level, const std::string& text) {
     impl_->server.publish_message(level, text);
+}
+
+void View::show(const std::shared_ptr<Player>& player, int index) {
+    impl_->show(player, index);
+}
+
+double View::poll() {
+    return impl_->poll();
 }
 
 void View::serve(const std::function<bool()>& stop, const std::string& script_error) {

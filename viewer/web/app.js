@@ -369,6 +369,8 @@ function showFrame(f) {
   $('play').textContent = s.playing ? 'Pause' : 'Play';
   let state = '';
   if (s.failure) state = s.failure;
+  else if (s.console && s.finished) state = s.playing ? '(playing)' : '(paused: the console has it)';
+  else if (s.console) state = '(the console runs it)';
   else if (s.finished) state = s.playing ? '(script finished, playing on)' : '(script finished)';
   else if (!s.running && !s.held) state = '(waiting for the script)';
   else if (s.held) state = '(paused)';

@@ -125,6 +125,11 @@ class LuaHost {
     /// them against the wall clock with the player and waits while its page holds them.
     using Runner = std::function<long(Player& player, int index, long ticks)>;
     void set_runner(Runner fn);
+    /// What sim:view() does: fn(player, index) shows the simulation in a viewer and returns
+    /// its address (a console makes the viewer on the first call). Without one, sim:view()
+    /// raises an error saying where it works.
+    using ViewHandler = std::function<std::string(const std::shared_ptr<Player>&, int index)>;
+    void set_view_handler(ViewHandler fn);
     /// What an interrupt stops the host's code with ("interrupted (SIGINT)"); "" if none.
     std::string interrupt_message() const;
     /// Who makes the changes that code run from now on makes without naming an origin

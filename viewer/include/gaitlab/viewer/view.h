@@ -30,6 +30,9 @@ inline constexpr int kMaxViewed = 16;
 struct ViewOptions {
     /// Runs wait until a page has opened (so the start is not missed).
     bool wait_for_page = true;
+    /// The view serves a console (sim:view()): between typed lines the pages may play, step
+    /// and reset the simulations, as after the script of `gaitlab run --view`.
+    bool console = false;
     double frame_rate = kFrameRate;  ///< frames per second at most, > 0
 };
 
@@ -48,6 +51,14 @@ class View {
 
     /// A message for the pages' console panel.
     void message(const std::string& level, const std::string& text);
+
+    /// Shows a simulation that exists already (sim:view()): the pages show it from now on.
+    void show(const std::shared_ptr<Player>& player, int index);
+
+    /// One round of serving between a console's keystrokes: applies the pages' commands,
+    /// advances what they play, publishes a frame when one is due. Returns the wall seconds
+    /// until it should be called again (at most 0.05).
+    double poll();
 
     /// Serves after the script has ended, until `stop()` says so (checked at least every
     /// 50 ms): applies the pages' commands, plays what they play, and pumps the host (hot
