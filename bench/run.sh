@@ -6,6 +6,7 @@
 # SECTION: overhead | lua | callgrind (incl. the built-in controllers) | sensors | process |
 # accuracy | record (recording cost, time and callgrind) | memory (a one-hour recorded run) |
 # micro (Google Benchmark: one controller step, one recorder row, XML parsing)
+# viewer (what serving the viewer costs)
 # (default: all of them).
 # --quick: shorter runs, fewer repetitions and scenarios (about 3 minutes instead of about 10).
 # BUILD_DIR (default build-bench) selects the build directory.
@@ -24,7 +25,7 @@ while [ $# -gt 0 ]; do
     esac
     shift
 done
-[ ${#sections[@]} -eq 0 ] && sections=(overhead lua callgrind sensors process accuracy record memory micro)
+[ ${#sections[@]} -eq 0 ] && sections=(overhead lua callgrind sensors process accuracy record memory micro viewer)
 want() { local s; for s in "${sections[@]}"; do [ "$s" = "$1" ] && return 0; done; return 1; }
 
 if [ $do_build -eq 1 ]; then
@@ -33,7 +34,7 @@ if [ $do_build -eq 1 ]; then
     if [ ! -f "$build/CMakeCache.txt" ]; then
         cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release >/dev/null
     fi
-    cmake --build "$build" --target gaitlab_bench raw_bullet_loop gaitlab gaitlab_microbench >/dev/null
+    cmake --build "$build" --target gaitlab_bench raw_bullet_loop gaitlab gaitlab_microbench viewer_bench >/dev/null
 fi
 bench=$build/bench/gaitlab_bench
 raw=$build/bench/raw_bullet_loop
@@ -287,4 +288,6 @@ if want micro; then
             }
         }' "$work/micro.csv"
 fi
+
+want viewer && "$build/bench/viewer_bench" "${q[@]}"
 exit 0
