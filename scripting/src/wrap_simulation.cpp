@@ -206,6 +206,7 @@ int simulation_run(lua_State* L) {
         } catch (const SpecError& e) {
             throw ArgError(2, e.what());
         }
+        sim.run(0);  // from inside its own tick: refused, naming run (run_ticks steps)
         const ProgressScope progress(L, sim, sim.time() + seconds);
         run_ticks(L, check_handle(L, 1), sim.ticks_for(seconds));
         return 0;

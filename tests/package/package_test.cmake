@@ -335,11 +335,11 @@ elseif(STEP STREQUAL "noshlibdeps")
     message(STATUS "refused as expected")
 elseif(STEP STREQUAL "script")
     # a PATH with what tools/package.sh needs before its check (bash, and tools/setup.sh's
-    # dpkg-query and grep), but no dpkg-shlibdeps
+    # dpkg-query, grep, npm and the lock-file stamp's tools), but no dpkg-shlibdeps
     set(bin ${WORK}/script-bin)
     file(REMOVE_RECURSE ${bin})
     file(MAKE_DIRECTORY ${bin})
-    foreach(tool bash dirname dpkg-query grep id)
+    foreach(tool bash cat cut dirname dpkg-query grep id npm sha256sum)
         find_program(path_${tool} ${tool} REQUIRED)
         file(CREATE_LINK ${path_${tool}} ${bin}/${tool} SYMBOLIC)
     endforeach()

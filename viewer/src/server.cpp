@@ -760,6 +760,10 @@ Server::Server(ServerOptions options) : state_(std::make_shared<State>()) {
     pthread_sigmask(SIG_BLOCK, &quiet, &old);
     s.thread = std::thread([&s] { s.http.listen_after_bind(); });
     pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    // httplib's stop() does nothing before the listener runs, which would leave a server stopped
+    // at once (a port taken, a test) blocked in accept() forever: wait until it runs.
+    while (!s.http.is_running())
+        std::this_thread::sleep_for(std::chrono::microseconds(100));
 }
 
 Server::~Server() {
