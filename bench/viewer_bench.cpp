@@ -98,8 +98,8 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
     if (argc == 4 && std::strcmp(argv[1], "one") == 0) {
         const Sample s = run(std::atoi(argv[2]), std::atof(argv[3]));
-        std::printf("wall %.3f s, simulation thread CPU %.3f s, frames %llu, sent %llu\n",
-                    s.wall, s.cpu, s.frames, s.sent);
+        std::printf("wall %.3f s, simulation thread CPU %.3f s, frames %llu, sent %llu\n", s.wall,
+                    s.cpu, s.frames, s.sent);
         return 0;
     }
     const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
@@ -111,11 +111,13 @@ int main(int argc, char** argv) {
         for (size_t c = 0; c < configs.size(); ++c)
             samples[c].push_back(run(configs[c], seconds));
     }
-    std::printf("\n### Serving the viewer (%g simulated s as fast as possible, median of %d "
-                "interleaved runs)\n\n",
-                seconds, reps);
-    std::printf("| setup | wall ms per simulated s | overhead | simulation thread CPU ms per "
-                "simulated s | overhead | frames published | frames sent |\n");
+    std::printf(
+        "\n### Serving the viewer (%g simulated s as fast as possible, median of %d "
+        "interleaved runs)\n\n",
+        seconds, reps);
+    std::printf(
+        "| setup | wall ms per simulated s | overhead | simulation thread CPU ms per "
+        "simulated s | overhead | frames published | frames sent |\n");
     std::printf("|---|---|---|---|---|---|---|\n");
     double base_wall = 0, base_cpu = 0;
     for (size_t c = 0; c < configs.size(); ++c) {
@@ -131,7 +133,7 @@ int main(int argc, char** argv) {
             base_wall = w;
             base_cpu = u;
         }
-        const std::string name = configs[c] < 0   ? "no viewer"
+        const std::string name = configs[c] < 0    ? "no viewer"
                                  : configs[c] == 0 ? "viewer, no page"
                                                    : "viewer, " + std::to_string(configs[c]) +
                                                          (configs[c] == 1 ? " page" : " pages");
