@@ -4,7 +4,9 @@
 #   bench/run.sh [--quick] [--no-build] [--only SECTION]...
 #
 # SECTION: overhead | lua | callgrind (incl. the built-in controllers) | sensors | process |
-# accuracy | record (recording cost, time and callgrind) | memory (a one-hour recorded run)
+# accuracy | record (recording cost, time and callgrind) | memory (a one-hour recorded run) |
+# micro (Google Benchmark: one controller step, one recorder row, XML parsing)
+# viewer (what serving the viewer costs)
 # (default: all of them).
 # --quick: shorter runs, fewer repetitions and scenarios (about 3 minutes instead of about 10).
 # BUILD_DIR (default build-bench) selects the build directory.
@@ -23,7 +25,7 @@ while [ $# -gt 0 ]; do
     esac
     shift
 done
-[ ${#sections[@]} -eq 0 ] && sections=(overhead lua callgrind sensors process accuracy record memory)
+[ ${#sections[@]} -eq 0 ] && sections=(overhead lua callgrind sensors process accuracy record memory micro viewer)
 want() { local s; for s in "${sections[@]}"; do [ "$s" = "$1" ] && return 0; done; return 1; }
 
 if [ $do_build -eq 1 ]; then
@@ -32,10 +34,11 @@ if [ $do_build -eq 1 ]; then
     if [ ! -f "$build/CMakeCache.txt" ]; then
         cmake -S "$root" -B "$build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release >/dev/null
     fi
-    cmake --build "$build" --target gaitlab_bench raw_bullet_loop gaitlab >/dev/null
+    cmake --build "$build" --target gaitlab_bench raw_bullet_loop gaitlab gaitlab_microbench viewer_bench >/dev/null
 fi
 bench=$build/bench/gaitlab_bench
 raw=$build/bench/raw_bullet_loop
+micro=$build/bench/gaitlab_microbench
 gaitlab=$build/gaitlab
 my_sine=$root/examples/controllers/my_sine.lua
 q=()
@@ -237,4 +240,54 @@ if want memory; then
     [ $quick -eq 1 ] && hours=0.25
     "$bench" memory --hours "$hours" --modules 4 --ce 30
 fi
+# the micro-benchmarks: R repetitions of each, CPU time per call (median and range over the
+# repetitions) and throughput; Google Benchmark picks the iterations of each repetition
+if want micro; then
+    reps=5
+    min_time=0.5
+    [ $quick -eq 1 ] && reps=3 && min_time=0.1
+    "$micro" --benchmark_repetitions="$reps" --benchmark_min_time="$min_time" \
+        --benchmark_format=csv 2>/dev/null > "$work/micro.csv"
+    echo
+    echo "### Micro-benchmarks (Google Benchmark, $reps repetitions of at least $min_time s each)"
+    echo
+    echo "| benchmark | CPU time per call, median | range over the repetitions | throughput (median) | note |"
+    echo "|---|---|---|---|---|"
+    awk -F, '
+        function fmt(ns) {
+            if (ns >= 1e6) return sprintf("%.2f ms", ns / 1e6)
+            if (ns >= 1e3) return sprintf("%.2f µs", ns / 1e3)
+            return sprintf("%.1f ns", ns)
+        }
+        function rate(v, unit) {
+            if (v >= 1e9) return sprintf("%.2f G%s/s", v / 1e9, unit)
+            if (v >= 1e6) return sprintf("%.1f M%s/s", v / 1e6, unit)
+            return sprintf("%.0f k%s/s", v / 1e3, unit)
+        }
+        NR == 1 { next }
+        {
+            for (i = 1; i <= NF; ++i) gsub(/"/, "", $i)
+            name = $1; cpu = $4 + 0
+            if (name ~ /_(mean|stddev|cv)$/) next
+            if (name ~ /_median$/) {
+                sub(/_median$/, "", name)
+                tp = $6 != "" ? rate($6, "B") : $7 != "" ? rate($7, "") : ""
+                if (name ~ /controller_step/ && $7 != "") tp = rate($7, " joint steps")
+                if (name ~ /series_sample/ && $7 != "") tp = rate($7, " series")
+                med[name] = cpu; thr[name] = tp; note[name] = $8
+                order[++n] = name
+                next
+            }
+            if (!(name in lo) || cpu < lo[name]) lo[name] = cpu
+            if (!(name in hi) || cpu > hi[name]) hi[name] = cpu
+        }
+        END {
+            for (k = 1; k <= n; ++k) {
+                m = order[k]
+                printf "| %s | **%s** | %s – %s | %s | %s |\n", m, fmt(med[m]), fmt(lo[m]), fmt(hi[m]), thr[m], note[m]
+            }
+        }' "$work/micro.csv"
+fi
+
+want viewer && "$build/bench/viewer_bench" "${q[@]}"
 exit 0

@@ -3,11 +3,13 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <charconv>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include <fmt/format.h>
@@ -18,6 +20,7 @@
 #include "gaitlab/scripting/console.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/version.h"
+#include "gaitlab/viewer/view.h"
 
 namespace gaitlab::cli {
 
@@ -128,14 +131,20 @@ int run_console(const ConsoleArgs& a, const std::string& command) {
         host.set_recording(rec);
         host.seed(seed);
         host.set_args(a.file, a.args);
+        // the browser viewer, made by the first sim:view() (it goes before the host)
+        std::unique_ptr<viewer::View> view;
 
         scripting::Console console(host);
         LineInput::Options options;
         options.terminal = terminal;
         options.history_file = terminal ? default_history_file() : "";
         options.complete = [&console](std::string_view before) { return console.complete(before); };
-        // simulations play (sim:play()) while the prompt waits for a key
-        options.idle = [&host] { return host.pump(); };
+        // simulations play (sim:play()) while the prompt waits for a key, and the viewer's
+        // pages are served
+        options.idle = [&host, &view] {
+            const double wait = host.pump();
+            return view ? std::min(wait, view->poll()) : wait;
+        };
         options.warn = [](const std::string& message) {
             std::fprintf(stderr, "gaitlab: warning: %s\n", message.c_str());
         };
@@ -143,8 +152,24 @@ int run_console(const ConsoleArgs& a, const std::string& command) {
         console.set_writers([&input](const std::string& t) { input.write(stdout, t); },
                             [&input](const std::string& t) { input.write(stderr, t); });
         host.set_output([&input](const std::string& t) { input.write(stdout, t); });
-        host.set_reporter(
-            [&input](const std::string& m) { input.write(stderr, "gaitlab: " + m + "\n"); });
+        host.set_reporter([&input, &view](const std::string& m) {
+            input.write(stderr, "gaitlab: " + m + "\n");
+            if (view) view->message("error", m);
+        });
+        // sim:view(): the page and this console steer the simulation together
+        host.set_view_handler([&](const std::shared_ptr<Player>& player, int index) {
+            if (!view) {
+                viewer::ViewOptions o;
+                o.wait_for_page = false;
+                o.console = true;
+                view = std::make_unique<viewer::View>(host, viewer::ServerOptions{}, o);
+                input.write(stderr, "viewer: " + view->url() +
+                                        "\n  open it in a browser: the page and this console "
+                                        "work together (sim:run plays at real time)\n");
+            }
+            view->show(player, index);
+            return view->url();
+        });
 
         struct Interruptible {
             explicit Interruptible(scripting::LuaHost& h) { g_host.store(&h); }
@@ -187,6 +212,7 @@ int run_console(const ConsoleArgs& a, const std::string& command) {
             if (s != scripting::Console::Status::more) input.add_history(console.last_chunk());
         }
         // nothing may reach `input` once it is gone
+        host.set_view_handler({});
         host.set_output({});
         host.set_reporter(
             [](const std::string& m) { std::fprintf(stderr, "gaitlab: %s\n", m.c_str()); });

@@ -40,6 +40,7 @@
 #include "gaitlab/scripting/replay.h"
 #include "gaitlab/suggest.h"
 #include "gaitlab/version.h"
+#include "gaitlab/viewer/view.h"
 #include "make.h"
 #include "wizard.h"
 
@@ -218,7 +219,24 @@ struct RunArgs {
     std::string record;
     bool no_record = false;
     bool no_progress = false;
+    bool view = false;  // --view: serve the viewer
+    std::string port;   // --port
+    std::string host;   // --host
 };
+
+// --port: a whole number in [1, 65535]; SpecError naming the option otherwise
+int parse_port(const std::string& text) {
+    int v = 0;
+    const char* end = text.data() + text.size();
+    const auto r = std::from_chars(text.data(), end, v);
+    if (text.empty() || r.ec != std::errc() || r.ptr != end || v < 1 || v > 65535) {
+        throw gaitlab::SpecError(
+            fmt::format("--port: a port number from 1 to 65535 expected (got '{}'; leave --port "
+                        "out for any free port)",
+                        printable(text)));
+    }
+    return v;
+}
 
 // The progress line of a long sim:run(T) (or the duration of a simulation file) on a terminal:
 // "t = 12.0 / 60 s (20%), 4.1x real time, 12 s left", rewritten in place on stderr, taken away
@@ -290,22 +308,49 @@ int run_script(const RunArgs& a, const std::string& command) {
         return 2;
     }
     std::uint64_t seed = 0;
+    gaitlab::viewer::ServerOptions server;
     try {
         seed = parse_seed(a.seed);
+        if (!a.port.empty()) server.port = parse_port(a.port);
+        if (!a.host.empty()) server.host = a.host;
     } catch (const gaitlab::Error& e) {
         std::fprintf(stderr, "gaitlab: %s (see 'gaitlab run --help')\n", e.what());
         return 2;
     }
     std::vector<std::string> folders;
     std::string error;
+    // Ctrl-C ended the viewer after the script: the way to quit, not an interruption
+    bool quit_viewer = false;
     try {
         gaitlab::scripting::LuaHost host;
         ProgressLine progress;
+        // the viewer goes before the host: its simulations' controllers live in the host
+        std::unique_ptr<gaitlab::viewer::View> view;
+        if (a.view) {
+            try {
+                view = std::make_unique<gaitlab::viewer::View>(host, server);
+            } catch (const gaitlab::Error& e) {
+                std::fprintf(stderr, "gaitlab: %s\n", e.what());
+                return 1;
+            }
+            std::fprintf(stderr,
+                         "viewer: %s\n  open it in a browser: the simulation starts when the page "
+                         "opens (Ctrl-C quits)\n",
+                         view->url().c_str());
+        }
+        if (view) {
+            // sim:view() shows that simulation (every one is shown already, the newest first)
+            host.set_view_handler([&view](const std::shared_ptr<gaitlab::Player>& p, int index) {
+                view->show(p, index);
+                return view->url();
+            });
+        }
         // failed reloads of controller files and controllers failing under
         // on_controller_error = "continue" are reported while the script goes on
-        host.set_reporter([&progress](const std::string& message) {
+        host.set_reporter([&progress, &view](const std::string& message) {
             progress.clear();
             std::fprintf(stderr, "gaitlab: %s\n", message.c_str());
+            if (view) view->message("error", message);
         });
         if (!a.no_progress && ::isatty(STDERR_FILENO)) {
             host.set_progress(
@@ -338,8 +383,35 @@ int run_script(const RunArgs& a, const std::string& command) {
             error = e.what();
         }
         progress.clear();
+        if (view && g_signal == 0) {
+            // the student looks on (and plays on) after the script, until Ctrl-C
+            if (error.empty()) {
+                std::fprintf(stderr,
+                             "gaitlab: the script has finished; the viewer still serves %s "
+                             "(Ctrl-C quits)\n",
+                             view->url().c_str());
+                view->message("info",
+                              "the script has finished: play on, or quit with Ctrl-C "
+                              "in the terminal");
+            } else {
+                std::fprintf(stderr, "gaitlab: %s\n", error.c_str());
+                std::fprintf(stderr,
+                             "gaitlab: the script failed; the viewer still serves %s (Ctrl-C "
+                             "quits)\n",
+                             view->url().c_str());
+                view->message("error", "the script failed: " + error);
+            }
+            view->serve([] { return g_signal != 0; }, error);
+            // what was recorded after the script is part of the run: it ends as the script did
+            if (g_signal == SIGINT || g_signal == SIGTERM || g_signal == SIGHUP) {
+                quit_viewer = true;
+                host.clear_interrupt();
+            }
+        }
+        host.set_view_handler({});
+        view.reset();
         // sim:play() plays in the console, between keystrokes: a script has no such time
-        if (const int n = host.playing(); n > 0 && error.empty()) {
+        if (const int n = host.playing(); n > 0 && error.empty() && !a.view) {
             std::fprintf(stderr,
                          "note: %d simulation%s left playing when the script ended: simulations "
                          "play in the console (gaitlab -i %s)\n",
@@ -356,7 +428,7 @@ int run_script(const RunArgs& a, const std::string& command) {
     } catch (const std::exception& e) {
         if (error.empty()) error = e.what();
     }
-    if (g_signal != 0) {
+    if (g_signal != 0 && !quit_viewer) {
         // a broken pipe ends quietly, as SIGPIPE would have
         if (g_signal != SIGPIPE) {
             std::fprintf(stderr, "gaitlab: %s\n", error.empty() ? "interrupted" : error.c_str());
@@ -364,7 +436,8 @@ int run_script(const RunArgs& a, const std::string& command) {
         return 128 + g_signal;
     }
     if (!error.empty()) {
-        std::fprintf(stderr, "gaitlab: %s\n", error.c_str());
+        // the viewer showed it already
+        if (!quit_viewer) std::fprintf(stderr, "gaitlab: %s\n", error.c_str());
         return 1;
     }
     // one line saying where the runs went
@@ -686,6 +759,17 @@ int main(int argc, char** argv) {
     record->excludes(no_record);
     run->add_flag("--no-progress", ra.no_progress,
                   "No progress line for long runs (shown on stderr when it is a terminal)");
+    auto* view = run->add_flag("--view", ra.view,
+                               "Watch and steer it in a browser: serves a page on "
+                               "http://127.0.0.1:PORT (see docs/viewer.md)");
+    run->add_option("--port", ra.port, "With --view: the port (default: any free port)")
+        ->type_name("P")
+        ->needs(view);
+    run->add_option("--host", ra.host,
+                    "With --view: the address to listen on (default 127.0.0.1, this machine "
+                    "only; any other needs the token of the printed address)")
+        ->type_name("ADDR")
+        ->needs(view);
     run->footer(
         "Arguments after FILE go to the script as arg[1], arg[2], ...; gaitlab's own options may\n"
         "stand anywhere, any other option is an error: put '--' before the script's arguments\n"
@@ -693,7 +777,10 @@ int main(int argc, char** argv) {
         "Each simulation the script creates is recorded into a run folder of its own (data.csv,\n"
         "series.csv, events.csv, log.txt, run.json, config/), written every 2 s of wall time;\n"
         "SIGINT, SIGTERM or SIGHUP close the folders as interrupted (exit status 128 + the\n"
-        "signal). See docs/data.md.");
+        "signal). See docs/data.md.\n"
+        "With --view, sim:run plays at real time in the page (speed, pause, step, reset and\n"
+        "the controllers' parameters there), starting when the page opens; after the script\n"
+        "the page still serves until Ctrl-C. See docs/viewer.md.");
 
     gaitlab::cli::ConsoleArgs ca;
     CLI::App* console = gaitlab::cli::add_console_command(app, ca);

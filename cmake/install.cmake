@@ -10,6 +10,11 @@
 # package, are linked into the program that uses them and cannot mismatch at run time. They are
 # position-independent (CMAKE_POSITION_INDEPENDENT_CODE), so a shared object (the Lua C module)
 # may link them.
+#
+# Two install components, which are the two Debian packages (cmake/package.cmake): `dev` (the
+# libraries, headers, CMake package and pkg-config file: gaitlab-dev) and `runtime` (everything
+# else: gaitlab). A rule that names no component is `runtime`
+# (CMAKE_INSTALL_DEFAULT_COMPONENT_NAME, set in the top CMakeLists.txt before any subdirectory).
 include(CMakePackageConfigHelpers)
 
 set(GAITLAB_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/gaitlab)
@@ -18,18 +23,18 @@ set(GAITLAB_DATA_DIR ${CMAKE_INSTALL_DATADIR}/gaitlab)
 install(TARGETS gaitlab RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS gaitlab_engine gaitlab_controllers gaitlab_scripting
         EXPORT gaitlabTargets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT runtime NAMELINK_COMPONENT dev
+        RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 # the public headers: include/gaitlab/*.h (engine), include/gaitlab/controllers/*.h,
 # include/gaitlab/scripting/*.h; they include only each other and the standard library
 foreach(dir engine controllers scripting)
     install(DIRECTORY ${PROJECT_SOURCE_DIR}/${dir}/include/
-            DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+            DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT dev FILES_MATCHING PATTERN "*.h")
 endforeach()
 
-install(EXPORT gaitlabTargets NAMESPACE gaitlab:: DESTINATION ${GAITLAB_CMAKE_DIR})
+install(EXPORT gaitlabTargets NAMESPACE gaitlab:: DESTINATION ${GAITLAB_CMAKE_DIR} COMPONENT dev)
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/gaitlabConfig.cmake.in
     ${PROJECT_BINARY_DIR}/gaitlabConfig.cmake INSTALL_DESTINATION ${GAITLAB_CMAKE_DIR})
 # 0.x: a minor release may break the API, so 0.1.2 satisfies find_package(gaitlab 0.1) but not
@@ -38,7 +43,7 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/gaitlabConfigVersion.cmak
     COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/gaitlabConfig.cmake
               ${PROJECT_BINARY_DIR}/gaitlabConfigVersion.cmake
-        DESTINATION ${GAITLAB_CMAKE_DIR})
+        DESTINATION ${GAITLAB_CMAKE_DIR} COMPONENT dev)
 
 # the Lua module for the stock interpreter (scripting/module): `require "gaitlab"` in lua5.4
 # finds LIBDIR/lua/5.4/gaitlab.so, which loads gaitlab/core.so next to it. Debian's lua5.4
@@ -53,7 +58,8 @@ file(RELATIVE_PATH GAITLAB_PC_TO_PREFIX
      /prefix/${CMAKE_INSTALL_LIBDIR}/pkgconfig /prefix)
 string(REGEX REPLACE "/$" "" GAITLAB_PC_TO_PREFIX "${GAITLAB_PC_TO_PREFIX}")
 configure_file(${PROJECT_SOURCE_DIR}/cmake/gaitlab.pc.in ${PROJECT_BINARY_DIR}/gaitlab.pc @ONLY)
-install(FILES ${PROJECT_BINARY_DIR}/gaitlab.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+install(FILES ${PROJECT_BINARY_DIR}/gaitlab.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig
+        COMPONENT dev)
 
 # the Lua sources the program embeds, for reading and copying: stdlib/, stdlib/templates/
 # (what ctl.new_file starts from) and the ready-made worlds

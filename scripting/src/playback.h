@@ -29,6 +29,12 @@ class Playback {
     double slice = 0.02;               ///< wall seconds of work per pump at most
     /// Where long runs report their progress (none: they do not).
     std::function<void(const RunProgress&)> progress;
+    /// How sim:run and sim:step advance (LuaHost::set_runner); empty: Simulation::step.
+    LuaHost::Runner runner;
+    /// What sim:view() calls (LuaHost::set_view_handler); empty: sim:view() is an error.
+    LuaHost::ViewHandler view;
+    /// Called with every new simulation's player (LuaHost::on_player).
+    std::vector<std::function<void(const std::shared_ptr<Player>&, int)>> on_player;
 
     /// sim:play(): plays the simulation of `h` from now on (it keeps playing while the
     /// handle is gone). Throws Error if it failed and must be reset first.

@@ -1,5 +1,6 @@
 #include "gaitlab/scripting/replay.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -27,11 +28,24 @@ std::string read_config(const RunData& run, const std::string& path) {
     return read_file(file);
 }
 
-// whether the run was recorded by a console session (`gaitlab console`, `gaitlab -i`): after
-// its script, the typed commands (sim:play(), sim:run ...) stepped the simulation on
+// whether the run was recorded by a console session (`gaitlab console`, `gaitlab -i`) or with
+// the viewer (`gaitlab run FILE --view`): after its script, the typed commands (sim:play(),
+// sim:run ...) or the page's play and step buttons stepped the simulation on
 bool from_console(const RunMeta& m) {
     for (const auto& [key, value] : m.provenance) {
-        if (key == "command") return value.rfind("gaitlab console", 0) == 0;
+        if (key != "command") continue;
+        if (value.rfind("gaitlab console", 0) == 0) return true;
+        if (value.rfind("gaitlab run ", 0) != 0) return false;
+        // gaitlab's own options stand before "--"; after it, everything is the script's
+        size_t at = 0;
+        while (at < value.size()) {
+            const size_t end = std::min(value.find(' ', at), value.size());
+            const std::string word = value.substr(at, end - at);
+            if (word == "--") return false;
+            if (word == "--view") return true;
+            at = end + 1;
+        }
+        return false;
     }
     return false;
 }

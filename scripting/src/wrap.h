@@ -54,6 +54,8 @@ void open_data(lua_State* L);
 
 /// sim:live{...} (wrap_data.cpp): live buffers of a simulation.
 int live_new(lua_State* L);
+/// sim:view() (wrap_view.cpp): shows the simulation in the host's viewer; returns its address.
+int simulation_view(lua_State* L);
 
 bool is_robot(lua_State* L, int index);
 std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index);

@@ -136,6 +136,18 @@ void push_new_simulation(lua_State* L, std::shared_ptr<WorldBinding> world,
     } catch (const SpecError& e) {
         throw ArgError(1, std::string("field 'record': ") + e.what());
     }
+    for (const auto& fn : Playback::of(L).on_player)
+        fn(h->player, h->index);
+}
+
+// runs `ticks` ticks of the handle's simulation for sim:run and sim:step: at once, or through
+// the host's runner (a viewer paces them)
+long run_ticks(lua_State* L, const SimulationHandle& h, long ticks) {
+    const Playback& playback = Playback::of(L);
+    if (!playback.runner) return h.sim->step(ticks);
+    h.sim->step(0);  // from inside its own tick: refused as a step would be
+    const std::shared_ptr<Player> player = h.player;
+    return playback.runner(*player, h.index, ticks);
 }
 
 int simulation_new(lua_State* L) {
@@ -195,9 +207,10 @@ int simulation_run(lua_State* L) {
         } catch (const SpecError& e) {
             throw ArgError(2, e.what());
         }
+        sim.run(0);  // from inside its own tick: refused, naming run (run_ticks steps)
         const ProgressScope progress(L, sim, sim.time() + seconds);
         const InterruptScope interruptible(L);  // Ctrl-C in an interpreter (guard.h)
-        sim.run(seconds);
+        run_ticks(L, check_handle(L, 1), sim.ticks_for(seconds));
         return 0;
     });
 }
@@ -216,7 +229,7 @@ int simulation_step(lua_State* L) {
         const double end = static_cast<double>(sim.ticks() + n) * sim.options().dt;
         const ProgressScope progress(L, sim, end);
         const InterruptScope interruptible(L);  // Ctrl-C in an interpreter (guard.h)
-        sim.step(static_cast<long>(n));
+        run_ticks(L, check_handle(L, 1), static_cast<long>(n));
         return 0;
     });
 }
@@ -614,12 +627,19 @@ int simulation_tostring(lua_State* L) {
 }  // namespace
 
 void open_simulation(lua_State* L) {
-    const luaL_Reg methods[] = {{"run", simulation_run},         {"step", simulation_step},
-                                {"reset", simulation_reset},     {"save", simulation_save},
-                                {"objects", simulation_objects}, {"record", simulation_record},
-                                {"flush", simulation_flush},     {"live", live_new},
-                                {"play", simulation_play},       {"pause", simulation_pause},
-                                {"status", simulation_status},   {nullptr, nullptr}};
+    const luaL_Reg methods[] = {{"run", simulation_run},
+                                {"step", simulation_step},
+                                {"reset", simulation_reset},
+                                {"save", simulation_save},
+                                {"objects", simulation_objects},
+                                {"record", simulation_record},
+                                {"flush", simulation_flush},
+                                {"live", live_new},
+                                {"play", simulation_play},
+                                {"pause", simulation_pause},
+                                {"status", simulation_status},
+                                {"view", simulation_view},
+                                {nullptr, nullptr}};
     const luaL_Reg meta[] = {{"__tostring", simulation_tostring},
                              {"__newindex", simulation_newindex},
                              {nullptr, nullptr}};

@@ -163,13 +163,14 @@ TEST_CASE("a line that errors inside a controller keeps the simulation", "[conso
         "bad = Bad{}\n"
         "robot:group('yaw')");
     s.err.clear();
-    s.type("sim2w = gaitlab.world{}\n"
-           "r2 = gaitlab.robot.chain{ name = 'r2', modules = 2 }\n"
-           "sim2w:add(r2)\n"
-           "b = r2:group('all'):drive(Bad{})\n"
-           "sim2 = gaitlab.simulation{ world = sim2w, on_controller_error = 'stop' }\n"
-           "b.gain = 1.8\n"
-           "sim2:run(0.1)");
+    s.type(
+        "sim2w = gaitlab.world{}\n"
+        "r2 = gaitlab.robot.chain{ name = 'r2', modules = 2 }\n"
+        "sim2w:add(r2)\n"
+        "b = r2:group('all'):drive(Bad{})\n"
+        "sim2 = gaitlab.simulation{ world = sim2w, on_controller_error = 'stop' }\n"
+        "b.gain = 1.8\n"
+        "sim2:run(0.1)");
     CHECK(s.err.find("too much gain") != std::string::npos);
     // the first simulation is untouched and runs on
     CHECK(s.result("sim:run(0.1)") == "");
@@ -228,26 +229,29 @@ TEST_CASE("pretty printing of tables", "[console][pretty]") {
     Session s;
     CHECK(s.result("{}") == "{}\n");
     CHECK(s.result("{1, 2, 3}") == "{ 1, 2, 3 }\n");
-    CHECK(s.result("{b = 1, a = 'x', [3.5] = true, 10}") == "{ 10, [3.5] = true, a = \"x\", b = 1 }\n");
-    CHECK(s.result("{['not a name'] = 1, ['end'] = 2}") == "{ [\"end\"] = 2, [\"not a name\"] = 1 }\n");
+    CHECK(s.result("{b = 1, a = 'x', [3.5] = true, 10}") ==
+          "{ 10, [3.5] = true, a = \"x\", b = 1 }\n");
+    CHECK(s.result("{['not a name'] = 1, ['end'] = 2}") ==
+          "{ [\"end\"] = 2, [\"not a name\"] = 1 }\n");
     CHECK(s.result("{'a\\nb'}") == "{ \"a\\nb\" }\n");
     // cycles are marked, nesting is limited
     s.type("t = {name = 't'}; t.self = t");
     CHECK(s.result("t") == "{ name = \"t\", self = <cycle> }\n");
     CHECK(s.result("{{{{{{1}}}}}}") == "{ { { { {...} } } } }\n");
     // long tables are cut, on several lines
-    const std::string big = s.result("(function() local t = {} for i = 1, 1e6 do t[i] = i end return t end)()");
+    const std::string big =
+        s.result("(function() local t = {} for i = 1, 1e6 do t[i] = i end return t end)()");
     CHECK(big.find("... (999960 more)") != std::string::npos);
     CHECK(big.size() < 2000);
     // a table shared 2^30 times over prints in bounded time and size
     const auto start = std::chrono::steady_clock::now();
-    const std::string shared = s.result(
-        "(function() local t = {} for i = 1, 30 do t = {t, t, t} end return t end)()");
+    const std::string shared =
+        s.result("(function() local t = {} for i = 1, 30 do t = {t, t, t} end return t end)()");
     CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(2));
     CHECK(shared.size() < 20000);
     // a huge hash table: cut, sorted among the keys looked at
-    const std::string hash = s.result(
-        "(function() local t = {} for i = 1, 2e5 do t['k' .. i] = i end return t end)()");
+    const std::string hash =
+        s.result("(function() local t = {} for i = 1, 2e5 do t['k' .. i] = i end return t end)()");
     CHECK(hash.find("... (") != std::string::npos);
     CHECK(hash.size() < 4000);
     // vectors use their __tostring; bad options are errors in Lua's words
@@ -313,10 +317,11 @@ TEST_CASE("completion of globals, fields and methods", "[console][completion]") 
     CHECK(s.console.complete("print(str") == V{"string"});
     CHECK(s.console.complete("string.fo") == V{"string.format("});
     // tables with metatables: __index tables are followed, no metamethod runs
-    s.type("calls = 0\n"
-           "base = { hello = function() end }\n"
-           "obj = setmetatable({ own = 1 }, { __index = base })\n"
-           "trap = setmetatable({}, { __index = function() calls = calls + 1 end })");
+    s.type(
+        "calls = 0\n"
+        "base = { hello = function() end }\n"
+        "obj = setmetatable({ own = 1 }, { __index = base })\n"
+        "trap = setmetatable({}, { __index = function() calls = calls + 1 end })");
     CHECK(s.console.complete("obj.") == V{"obj.hello(", "obj.own"});
     CHECK(s.console.complete("obj:he") == V{"obj:hello("});
     CHECK(s.console.complete("trap.x.y") == V{});

@@ -1,68 +1,13 @@
 #!/bin/sh
-# The console as a person uses it: gaitlab runs in a tmux pane (a private tmux server, so a
-# user's tmux is never touched), keys are sent to it, and the screen is read until the
-# expected text appears (or a timeout fails the test).
+# The console as a person uses it, through tmux (tmux_lib.sh: a private tmux server, keys sent,
+# the screen read until the expected text appears or a timeout fails the test).
 #   console_tmux_test.sh GAITLAB
 set -eu
 gaitlab=$1
+here=$(cd "$(dirname "$0")" && pwd)
 tmp=$(mktemp -d)
-session=0
-sock="gaitlab-console-test-$$-0"
-cleanup() {
-    tmux -L "$sock" kill-server 2>/dev/null || true
-    rm -rf "$tmp"
-}
-trap cleanup EXIT
 cd "$tmp"
-export XDG_STATE_HOME="$tmp/state"
-
-fail() {
-    echo "FAIL: $1" >&2
-    echo "--- screen ---" >&2
-    tmux -L "$sock" capture-pane -p >&2 2>/dev/null || cat "$tmp/screen" >&2 2>/dev/null || true
-    exit 1
-}
-
-# start [ARGS...]: gaitlab in a fresh 120x40 pane; its exit status goes to $tmp/status
-start() {
-    rm -f "$tmp/status"
-    tmux -L "$sock" kill-server 2>/dev/null || true
-    # a server of its own for each session
-    session=$((session + 1))
-    sock="gaitlab-console-test-$$-$session"
-    tmux -L "$sock" new-session -d -x 120 -y 40 \
-        "$gaitlab $* ; echo \$? > $tmp/status; tmux -L $sock capture-pane -p -S - > $tmp/screen; sleep 30"
-    wait_for '^>( |$)' "the prompt"
-}
-
-# wait_for REGEX WHAT [SECONDS]: polls the screen until a line matches
-wait_for() {
-    n=0
-    limit=$(( ${3:-10} * 20 ))
-    while ! tmux -L "$sock" capture-pane -p 2>/dev/null | grep -Eq -- "$1"; do
-        n=$((n + 1))
-        [ "$n" -lt "$limit" ] || fail "no $2 (waited for /$1/)"
-        sleep 0.05
-    done
-}
-
-# wait_exit STATUS: the program ended with this status
-wait_exit() {
-    n=0
-    while [ ! -s "$tmp/status" ]; do
-        n=$((n + 1))
-        [ "$n" -lt 200 ] || fail "gaitlab did not exit"
-        sleep 0.05
-    done
-    [ "$(cat "$tmp/status")" = "$1" ] || fail "exit status $(cat "$tmp/status"), expected $1"
-}
-
-keys() { tmux -L "$sock" send-keys "$@"; }
-# line TEXT: types TEXT literally (tmux would take "end" for the End key), then Enter
-line() {
-    tmux -L "$sock" send-keys -l -- "$1"
-    tmux -L "$sock" send-keys Enter
-}
+. "$here/tmux_lib.sh"
 
 # --- an expression, =expr, an error and going on, multi-line input, completion
 start console --no-record
@@ -138,7 +83,7 @@ grep -q '"status": *"finished"' run1/run.json || fail "run.json not finished: $(
 
 # --- SIGTERM at the prompt closes the recording as interrupted
 start -i walk.lua --record run2
-tmux -L "$sock" send-keys 'ctl.phase' # something typed
+type_text 'ctl.phase' # something typed
 pkill_target=$(tmux -L "$sock" list-panes -F '#{pane_pid}')
 kill -TERM "$(pgrep -P "$pkill_target" gaitlab)"
 wait_exit 143

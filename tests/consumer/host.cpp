@@ -14,7 +14,8 @@ int main() {
             local sim = gaitlab.simulation{ world = world }
             sim:run(5)
             print(string.format("lua moved x %.3f m", robot:displacement().x))
-        )", "=host");
+        )",
+                        "=host");
         host.run_string("error('on purpose')", "=host");  // errors come back as ScriptError
         std::printf("no error\n");
         return 1;

@@ -32,7 +32,7 @@ namespace gaitlab {
 class Simulation;
 struct Event;
 
-namespace data {
+namespace formats {
 class AppendFile;
 }
 
@@ -144,7 +144,7 @@ class Recorder {
     RunContext context_;
     SeriesSet set_;
     std::vector<double> values_;
-    std::unique_ptr<data::AppendFile> data_, events_, log_;
+    std::unique_ptr<formats::AppendFile> data_, events_, log_;
     int lock_ = -1;  // the folder, opened and locked (flock) while recording
     std::string data_buf_, events_buf_, log_buf_;
     long rows_ = 0;

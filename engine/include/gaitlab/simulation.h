@@ -15,56 +15,15 @@
 
 #include "gaitlab/error.h"
 #include "gaitlab/event.h"
+#include "gaitlab/options.h"
 #include "gaitlab/scheduler.h"
 #include "gaitlab/sensor.h"
+#include "gaitlab/types.h"
 #include "gaitlab/world.h"
 
 namespace gaitlab {
 
-/// What a simulation does when a controller's step throws.
-enum class ControllerErrorPolicy {
-    stop,       ///< the error leaves Simulation::step (batch runs)
-    continue_,  ///< the controller is marked failed, its group holds, the run goes on
-    pause       ///< as continue_, but step/run return at the end of that tick (consoles)
-};
-
-/// "stop", "continue" or "pause".
-const char* to_string(ControllerErrorPolicy policy);
-
 class Controller;
-
-/// Limits of simulation options and run lengths (docs/formats.md).
-inline constexpr int kMaxControlEvery = 1000000;  ///< also the limit of a recording's every
-inline constexpr int kMaxSolverIterations = 10000;
-/// ticks a simulation runs in all (2^53: time = ticks · dt stays exact, and a tick count is a
-/// Lua integer and a double alike)
-inline constexpr long kMaxTicks = 9007199254740992L;
-
-/// The ticks `seconds` make at step `dt` (round(seconds / dt)), when they keep a run that has
-/// done `done` ticks within kMaxTicks; otherwise SpecError "WHAT must be in [0, MAX] s at dt =
-/// DT s (got SECONDS s)" (and for a negative or non-finite number). Never converts a value that
-/// does not fit.
-long checked_ticks(std::string_view what, double seconds, double dt, long done = 0);
-
-/// Global options of a simulation.
-struct SimulationOptions {
-    double dt = 0.001;       ///< physics step, s, in [1e-6, 0.1]
-    int control_every = 30;  ///< ticks between controller steps, in [1, kMaxControlEvery]
-    /// constraint solver iterations per step, in [1, kMaxSolverIterations]; 20 keeps standard
-    /// gaits within about 1% of
-    /// a converged solution and resting robots still (see docs/performance.md)
-    int solver_iterations = 20;
-    std::uint64_t seed = 0;  ///< seeds everything random in the run
-    /// In both cases the failed controller is marked failed and its joints hold the angles
-    /// measured when it failed (targets frozen) until reset().
-    ControllerErrorPolicy on_controller_error = ControllerErrorPolicy::stop;
-};
-
-inline SimulationOptions default_simulation_options() {
-    return SimulationOptions{};
-}
-/// Checks ranges; throws SpecError.
-void validate(const SimulationOptions& options);
 
 /// Measured and commanded state of one joint.
 struct JointState {
@@ -72,19 +31,6 @@ struct JointState {
     double target = 0;    ///< rad, commanded (sum of the groups driving it, clamped to range)
     double velocity = 0;  ///< rad/s
     double torque = 0;    ///< N·m applied by the servo (and the range stops) to the head side
-};
-
-/// State of one rigid body.
-struct BodyState {
-    Pose pose;
-    Vec3 linear_velocity;   ///< m/s, of the centre of mass
-    Vec3 angular_velocity;  ///< rad/s
-};
-
-/// How well a joint holds together: the solver lets joints drift slightly.
-struct JointError {
-    double separation = 0;  ///< distance between the pivot seen from each body, m
-    double axis_angle = 0;  ///< angle between the axis seen from each body, rad
 };
 
 class PhysicsWorld;

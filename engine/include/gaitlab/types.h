@@ -1,4 +1,5 @@
-// Small value types shared by the whole C++ API: vectors, rotations, poses.
+// Small value types shared by the whole C++ API: vectors, rotations, poses, and the state of a
+// body and of a joint as the physics reports them.
 #pragma once
 
 #include <cmath>
@@ -75,6 +76,19 @@ struct Pose {
 
     /// The point `local`, given in this pose's frame, expressed in the parent frame.
     Vec3 apply(const Vec3& local) const { return position + orientation.rotate(local); }
+};
+
+/// State of one rigid body.
+struct BodyState {
+    Pose pose;
+    Vec3 linear_velocity;   ///< m/s, of the centre of mass
+    Vec3 angular_velocity;  ///< rad/s
+};
+
+/// How well a joint holds together: the solver lets joints drift slightly.
+struct JointError {
+    double separation = 0;  ///< distance between the pivot seen from each body, m
+    double axis_angle = 0;  ///< angle between the axis seen from each body, rad
 };
 
 }  // namespace gaitlab

@@ -11,8 +11,8 @@
 
 #include "gaitlab/actuation.h"
 #include "gaitlab/error.h"
+#include "gaitlab/options.h"
 #include "gaitlab/robot.h"
-#include "gaitlab/simulation.h"
 #include "gaitlab/world.h"
 
 namespace gaitlab {

@@ -1,4 +1,4 @@
-#include "physics_world.h"
+#include "bullet/physics_world.h"
 
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
 #include <btBulletDynamicsCommon.h>
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "gaitlab/geometry.h"
-#include "random.h"
+#include "spec/random.h"
 
 namespace gaitlab {
 

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "gaitlab/simulation.h"
+#include "gaitlab/types.h"
 #include "gaitlab/world.h"
 
 class btDiscreteDynamicsWorld;

@@ -1,8 +1,8 @@
-#include "sensor_probes.h"
+#include "bullet/sensor_probes.h"
 
 #include <btBulletDynamicsCommon.h>
 
-#include "physics_world.h"
+#include "bullet/physics_world.h"
 
 namespace gaitlab {
 

@@ -1,5 +1,5 @@
 // What the sensors ask of Bullet: a ray cast and the contact points of the last step. This
-// interface speaks gaitlab types; engine/src/sensing.cpp turns the answers into readings.
+// interface speaks gaitlab types; engine/src/sim/sensing.cpp turns the answers into readings.
 #pragma once
 
 #include <vector>

@@ -10,7 +10,7 @@
 #include "gaitlab/files.h"
 #include "gaitlab/robot.h"
 #include "gaitlab/xml.h"
-#include "xml_io.h"
+#include "xml/xml_io.h"
 
 namespace gaitlab {
 

@@ -8,7 +8,7 @@
 #include "gaitlab/files.h"
 #include "gaitlab/suggest.h"
 #include "gaitlab/xml.h"
-#include "xml_io.h"
+#include "xml/xml_io.h"
 
 namespace gaitlab {
 

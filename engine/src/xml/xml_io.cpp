@@ -1,4 +1,4 @@
-#include "xml_io.h"
+#include "xml/xml_io.h"
 
 #include <algorithm>
 #include <cerrno>

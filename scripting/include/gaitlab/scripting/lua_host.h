@@ -16,8 +16,9 @@
 struct lua_State;
 
 namespace gaitlab {
+class Player;
 class Simulation;
-}
+}  // namespace gaitlab
 
 namespace gaitlab::scripting {
 
@@ -112,6 +113,25 @@ class LuaHost {
     /// Calls `fn` for every simulation a script creates, with its 1-based creation index,
     /// before the script goes on (a console or viewer attaches here).
     void on_simulation(std::function<void(Simulation&, int)> fn);
+    /// Calls `fn` for every simulation a script creates, after the on_simulation functions,
+    /// with the player that plays it (it holds the simulation: keep it to keep the simulation)
+    /// and its creation index: a front end that drives simulations from outside the script (a
+    /// viewer) attaches here.
+    void on_player(std::function<void(const std::shared_ptr<Player>&, int)> fn);
+    /// How sim:run(T) and sim:step(n) advance a simulation: fn(player, index, ticks) must run
+    /// `ticks` ticks of player.simulation() (fewer only where Simulation::step would stop
+    /// early, or by throwing what it throws) and return how many it ran. Without one (the
+    /// default, or an empty function) they step at once, as fast as possible; a viewer paces
+    /// them against the wall clock with the player and waits while its page holds them.
+    using Runner = std::function<long(Player& player, int index, long ticks)>;
+    void set_runner(Runner fn);
+    /// What sim:view() does: fn(player, index) shows the simulation in a viewer and returns
+    /// its address (a console makes the viewer on the first call). Without one, sim:view()
+    /// raises an error saying where it works.
+    using ViewHandler = std::function<std::string(const std::shared_ptr<Player>&, int index)>;
+    void set_view_handler(ViewHandler fn);
+    /// What an interrupt stops the host's code with ("interrupted (SIGINT)"); "" if none.
+    std::string interrupt_message() const;
     /// Who makes the changes that code run from now on makes without naming an origin
     /// (`ctl.phase = 90`, `sim:reset()`, `group:drive(ctl)`, `sensor.enabled = false`): their
     /// events are stamped with it (docs/data.md). The console sets Origin::console while it

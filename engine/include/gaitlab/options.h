@@ -1,0 +1,54 @@
+// Simulation options: a plain value like the specs (a simulation file stores them, and
+// compiling a simulation checks them), and the limits of run lengths. simulation.h includes
+// this header, so a program that builds a Simulation needs no other.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+namespace gaitlab {
+
+/// What a simulation does when a controller's step throws.
+enum class ControllerErrorPolicy {
+    stop,       ///< the error leaves Simulation::step (batch runs)
+    continue_,  ///< the controller is marked failed, its group holds, the run goes on
+    pause       ///< as continue_, but step/run return at the end of that tick (consoles)
+};
+
+/// "stop", "continue" or "pause".
+const char* to_string(ControllerErrorPolicy policy);
+
+/// Limits of simulation options and run lengths (docs/formats.md).
+inline constexpr int kMaxControlEvery = 1000000;  ///< also the limit of a recording's every
+inline constexpr int kMaxSolverIterations = 10000;
+/// ticks a simulation runs in all (2^53: time = ticks · dt stays exact, and a tick count is a
+/// Lua integer and a double alike)
+inline constexpr long kMaxTicks = 9007199254740992L;
+
+/// The ticks `seconds` make at step `dt` (round(seconds / dt)), when they keep a run that has
+/// done `done` ticks within kMaxTicks; otherwise SpecError "WHAT must be in [0, MAX] s at dt =
+/// DT s (got SECONDS s)" (and for a negative or non-finite number). Never converts a value that
+/// does not fit.
+long checked_ticks(std::string_view what, double seconds, double dt, long done = 0);
+
+/// Global options of a simulation.
+struct SimulationOptions {
+    double dt = 0.001;       ///< physics step, s, in [1e-6, 0.1]
+    int control_every = 30;  ///< ticks between controller steps, in [1, kMaxControlEvery]
+    /// constraint solver iterations per step, in [1, kMaxSolverIterations]; 20 keeps standard
+    /// gaits within about 1% of
+    /// a converged solution and resting robots still (see docs/performance.md)
+    int solver_iterations = 20;
+    std::uint64_t seed = 0;  ///< seeds everything random in the run
+    /// In both cases the failed controller is marked failed and its joints hold the angles
+    /// measured when it failed (targets frozen) until reset().
+    ControllerErrorPolicy on_controller_error = ControllerErrorPolicy::stop;
+};
+
+inline SimulationOptions default_simulation_options() {
+    return SimulationOptions{};
+}
+/// Checks ranges; throws SpecError.
+void validate(const SimulationOptions& options);
+
+}  // namespace gaitlab

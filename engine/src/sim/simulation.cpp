@@ -1,0 +1,662 @@
+#include "gaitlab/simulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <new>
+#include <string_view>
+#include <utility>
+
+#include <fmt/format.h>
+
+#include "bullet/physics_world.h"
+#include "gaitlab/checked.h"
+#include "gaitlab/controller.h"
+#include "gaitlab/error.h"
+#include "gaitlab/servo.h"
+#include "sim/sensing.h"
+#include "spec/check.h"
+
+namespace gaitlab {
+
+Scheduler::Scheduler(double dt, int control_every)
+    : dt_(dt), control_every_(control_every), control_dt_(dt * control_every) {}
+
+namespace {
+
+// what a simulation may be busy running (Simulation::busy_)
+constexpr const char* kController = "a controller's step";
+constexpr const char* kObserver = "an observer";
+constexpr const char* kPreTick = "a pre-tick hook";
+constexpr const char* kListener = "an event listener";
+
+// beyond these a body has left any scene gaitlab simulates: the step diverged
+constexpr double kMaxDistance = 1e5;  // m from the origin
+constexpr double kMaxSpeed = 1e4;     // m/s
+
+// a robot that starts deeper than this inside something gets a warning: the contact solver
+// resolves deep overlaps with large impulses (a robot inside a box flies metres away). Deeper
+// than the 1 mm margin convex hulls (ramps) add to a surface a robot rests on.
+constexpr double kMaxStartOverlap = 0.005;  // m
+
+}  // namespace
+
+// marks the simulation busy running `what` for the lifetime of the guard (nested guards give
+// back the outer mark)
+class Simulation::Busy {
+  public:
+    Busy(Simulation& sim, const char* what) : sim_(sim), outer_(sim.busy_) { sim.busy_ = what; }
+    ~Busy() { sim_.busy_ = outer_; }
+    Busy(const Busy&) = delete;
+    Busy& operator=(const Busy&) = delete;
+
+  private:
+    Simulation& sim_;
+    const char* outer_;
+};
+
+// the tick phases of a simulation (see scheduler.h for their order)
+class Simulation::Phases final : public TickPhases, public JointReader {
+  public:
+    explicit Phases(Simulation& sim) : sim_(sim) {}
+
+    void sense() override { sim_.physics_->read_angles(sim_.angles_.data()); }
+
+    void think(double time, double control_dt) override {
+        std::fill(sim_.targets_.begin(), sim_.targets_.end(), 0.0);
+        // the drives there were when the tick began: one that a controller adds now acts from
+        // the next control tick
+        const Busy busy(sim_, kController);
+        for (size_t i = 0, n = sim_.drives_.size(); i < n; ++i) {
+            DriveSlot& d = sim_.drives_[i];
+            Controller& c = *d.drive.controller;
+            if (!c.failed()) {  // a failed controller's targets stay frozen
+                ControlIO io(control_dt, time, d.global_joints, *this, d.targets.data(),
+                             &sim_.sensing_->reader(d.robot));
+                try {
+                    c.step(io);
+                } catch (const std::exception& e) {
+                    sim_.fail(d, e);
+                    if (sim_.options_.on_controller_error == ControllerErrorPolicy::stop) throw;
+                }
+            }
+            for (size_t m = 0; m < d.global_joints.size(); ++m) {
+                sim_.targets_[static_cast<size_t>(d.global_joints[m])] += d.targets[m];
+            }
+        }
+        // overlapping groups add up; the sum stays inside the joint's range
+        for (size_t j = 0; j < sim_.targets_.size(); ++j) {
+            sim_.targets_[j] = std::clamp(sim_.targets_[j], min_[j], max_[j]);
+        }
+    }
+
+    void act() override {
+        for (size_t j = 0; j < servos_.size(); ++j) {
+            sim_.commands_[j] = servo_command(servos_[j], sim_.targets_[j], sim_.angles_[j]);
+        }
+        sim_.physics_->set_motor_velocities(sim_.commands_.data());
+    }
+
+    void physics(double dt) override {
+        sim_.physics_->step(dt);
+        // every step, before the record phase: no observer (a recorder) ever sees the state
+        // of a diverged step
+        const int bad = sim_.physics_->first_diverged(kMaxDistance, kMaxSpeed);
+        if (bad >= 0) sim_.diverged(bad, sim_.scheduler_.time() + dt);
+    }
+
+    void record(long /*tick*/, double /*time*/) override {
+        // the sensors read the state the step reached: the next tick's think sees it, and so
+        // do the observers
+        sim_.sensing_->update(*sim_.physics_);
+        sim_.track_headings(false);
+        if (sim_.observers_.idle()) return;
+        const Busy busy(sim_, kObserver);
+        sim_.observers_.call(std::as_const(sim_));
+    }
+
+    double angle(int joint) const override { return sim_.angles_[static_cast<size_t>(joint)]; }
+    double velocity(int joint) const override { return sim_.physics_->velocity(joint); }
+    double torque(int joint) const override { return sim_.physics_->torque(joint); }
+
+    // per global joint, copied from the spec so the hot loop reads flat arrays
+    std::vector<ServoDef> servos_;
+    std::vector<double> min_, max_;
+
+  private:
+    Simulation& sim_;
+};
+
+namespace {
+
+const SimulationOptions& checked(const SimulationOptions& o) {
+    validate(o);
+    return o;
+}
+
+}  // namespace
+
+Simulation::Simulation(WorldSpec world, SimulationOptions options)
+    : world_(std::move(world)),
+      options_(checked(options)),
+      scheduler_(options_.dt, options_.control_every) {
+    validate(world_);
+    try {
+        compile();
+    } catch (const std::bad_alloc&) {
+        throw out_of_memory();
+    }
+}
+
+Error Simulation::out_of_memory() const {
+    size_t bodies = 0;
+    for (const PlacedRobot& r : world_.robots)
+        bodies += r.robot.bodies.size();
+    return Error(
+        fmt::format("not enough memory to build the simulation ({} robots with {} "
+                    "bodies, {} bodies of world objects)",
+                    world_.robots.size(), bodies, solid_count(world_)));
+}
+
+void Simulation::compile() {
+    phases_ = std::make_unique<Phases>(*this);
+    int first_joint = 0;
+    for (const PlacedRobot& r : world_.robots) {
+        RobotSlot slot;
+        slot.label = unique_label(r.robot.name);
+        for (const JointSpec& j : r.robot.joints) {
+            phases_->servos_.push_back(j.servo);
+            phases_->min_.push_back(j.min_angle);
+            phases_->max_.push_back(j.max_angle);
+        }
+        slot.first_joint = first_joint;
+        first_joint += static_cast<int>(r.robot.joints.size());
+        robots_.push_back(slot);
+    }
+    int first_body = 0;
+    for (size_t r = 0; r < robots_.size(); ++r) {
+        robots_[r].first_body = first_body;
+        first_body += static_cast<int>(world_.robots[r].robot.bodies.size());
+    }
+    first_object_ = first_body;
+    angles_.assign(static_cast<size_t>(first_joint), 0.0);
+    targets_.assign(angles_.size(), 0.0);
+    commands_.assign(angles_.size(), 0.0);
+    sensing_ = std::make_unique<Sensing>(world_, options_.dt);
+
+    // bind every drive of the spec; the spec keeps them so reset() and copies see them too
+    for (size_t r = 0; r < world_.robots.size(); ++r) {
+        Actuation drives = std::move(world_.robots[r].actuation);
+        world_.robots[r].actuation.clear();
+        for (Drive& d : drives)
+            add_drive(static_cast<int>(r), std::move(d));
+    }
+    build();
+    check_start_overlaps();
+}
+
+void Simulation::check_start_overlaps() {
+    const auto o = physics_->deepest_robot_overlap(kMaxStartOverlap);
+    if (!o) return;
+    const std::string other = o->other_body >= 0 ? body_name(o->other_body) : o->other;
+    warnings_.push_back(fmt::format(
+        "{} starts {:.1f} mm deep inside {}: the contact solver will throw it out (place the "
+        "robot clear of it, e.g. higher)",
+        body_name(o->body), o->depth * 1000, other));
+}
+
+Simulation::~Simulation() {
+    // controllers may outlive the simulation (a Lua handle keeps them): stop telling it
+    for (DriveSlot& d : drives_)
+        d.drive.controller->set_param_listener(nullptr);
+}
+
+std::string Simulation::unique_label(const std::string& base) {
+    std::string label = base;
+    for (int k = 2; !labels_.insert(label).second; ++k)
+        label = fmt::format("{}_{}", base, k);
+    return label;
+}
+
+void Simulation::build() {
+    physics_ = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations);
+    for (size_t r = 0; r < robots_.size(); ++r) {
+        robots_[r].start_position = robot_position(static_cast<int>(r));
+    }
+    track_headings(true);
+    physics_->read_angles(angles_.data());
+    sensing_->attach(*physics_);
+}
+
+void Simulation::check_robot(int robot) const {
+    if (robot < 0 || robot >= robot_count()) {
+        throw SpecError(fmt::format("robot index {} out of range [0, {})", robot, robot_count()));
+    }
+}
+
+void Simulation::check_drive(int drive) const {
+    if (drive < 0 || drive >= drive_count()) {
+        throw SpecError(fmt::format("drive index {} out of range [0, {})", drive, drive_count()));
+    }
+}
+
+void Simulation::add_drive(int robot, Drive drive, Origin origin) {
+    check_robot(robot);
+    const PlacedRobot& placed = world_.robots[static_cast<size_t>(robot)];
+    const int nj = static_cast<int>(placed.robot.joints.size());
+    if (!drive.controller) throw SpecError("a drive needs a controller");
+    if (drive.joints.empty()) throw SpecError("a joint group needs at least one joint");
+    std::vector<int> sorted = drive.joints;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
+        throw SpecError("a joint group names the same joint twice");
+    }
+    for (int j : drive.joints) {
+        if (j < 0 || j >= nj) {
+            throw SpecError(fmt::format("robot '{}' has no joint {} (it has joints 1 to {})",
+                                        placed.robot.name, j + 1, nj));
+        }
+    }
+    check_new_group(placed.actuation, drive, placed.robot.name);
+    drive.controller->bind(static_cast<int>(drive.joints.size()));
+    DriveSlot slot{robot,
+                   drive,
+                   {},
+                   std::vector<double>(drive.joints.size(), 0.0),
+                   unique_label(drive.controller->name())};
+    for (int j : drive.joints)
+        slot.global_joints.push_back(robots_[robot].first_joint + j);
+    const int index = drive_count();
+    // parameter changes become events stamped with the tick they act from
+    drive.controller->set_param_listener([this, index](int param, double value, Origin o) {
+        Event e;
+        e.kind = EventKind::param;
+        e.origin = o;
+        e.name = drives_[static_cast<size_t>(index)].label + "." +
+                 drives_[static_cast<size_t>(index)].drive.controller->def().params[param].name;
+        e.value = value;
+        e.drive = index;
+        post_event(std::move(e));
+    });
+    drives_.push_back(std::move(slot));
+    world_.robots[static_cast<size_t>(robot)].actuation.push_back(std::move(drive));
+    if (physics_) {  // not while the constructor binds the drives of the spec
+        Event e;
+        e.kind = EventKind::drive;
+        e.origin = origin;
+        e.name = drives_.back().label;
+        e.drive = index;
+        post_event(std::move(e));
+    }
+}
+
+const std::string& Simulation::robot_label(int robot) const {
+    check_robot(robot);
+    return robots_[static_cast<size_t>(robot)].label;
+}
+
+const Controller& Simulation::controller(int drive) const {
+    check_drive(drive);
+    return *drives_[static_cast<size_t>(drive)].drive.controller;
+}
+
+Controller& Simulation::controller(int drive) {
+    check_drive(drive);
+    return *drives_[static_cast<size_t>(drive)].drive.controller;
+}
+
+int Simulation::drive_robot(int drive) const {
+    check_drive(drive);
+    return drives_[static_cast<size_t>(drive)].robot;
+}
+
+const std::vector<int>& Simulation::drive_joints(int drive) const {
+    check_drive(drive);
+    return drives_[static_cast<size_t>(drive)].drive.joints;
+}
+
+const std::string& Simulation::drive_label(int drive) const {
+    check_drive(drive);
+    return drives_[static_cast<size_t>(drive)].label;
+}
+
+std::string Simulation::body_name(int body) const {
+    // robot bodies come first, then the dynamic objects (boxes, cylinders)
+    if (body < first_object_) {
+        size_t r = 0;
+        while (r + 1 < robots_.size() && robots_[r + 1].first_body <= body)
+            ++r;
+        const RobotSpec& robot = world_.robots[r].robot;
+        return fmt::format("body '{}' of robot '{}'",
+                           robot.bodies[static_cast<size_t>(body - robots_[r].first_body)].name,
+                           robots_[r].label);
+    }
+    int k = body - first_object_;
+    for (size_t i = 0; i < world_.boxes.size(); ++i) {
+        if (world_.boxes[i].mass > 0 && k-- == 0) return fmt::format("box {}", i + 1);
+    }
+    for (size_t i = 0; i < world_.cylinders.size(); ++i) {
+        if (world_.cylinders[i].mass > 0 && k-- == 0) return fmt::format("cylinder {}", i + 1);
+    }
+    return fmt::format("body {}", body);
+}
+
+void Simulation::diverged(int body, double time) const {
+    const std::string name = body_name(body);
+    const BodyState s = physics_->body(body);
+    const Vec3& x = s.pose.position;
+    using detail::shown;
+    throw DivergenceError(fmt::format(
+        "simulation diverged at t = {:.3f} s: {} is at ({}, {}, {}) m moving at {} m/s (try a "
+        "smaller dt or more solver iterations)",
+        time, name, shown(x.x), shown(x.y), shown(x.z), shown(s.linear_velocity.norm())));
+}
+
+void Simulation::fail(DriveSlot& d, const std::exception& e) {
+    for (size_t m = 0; m < d.global_joints.size(); ++m) {
+        d.targets[m] = angles_[static_cast<size_t>(d.global_joints[m])];
+    }
+    d.drive.controller->set_failed(true, e.what());
+    if (options_.on_controller_error == ControllerErrorPolicy::stop) return;
+    if (options_.on_controller_error == ControllerErrorPolicy::pause) pause_pending_ = true;
+    if (on_error_) on_error_(*d.drive.controller, e);
+}
+
+void Simulation::check_idle(const char* what) const {
+    // a pre-tick hook runs between ticks: it may reset (a replay applies a console's reset
+    // there), but stepping from it would nest ticks
+    const bool allowed = busy_ == kPreTick && std::string_view(what) == "reset";
+    if (busy_ && !allowed) {
+        throw SpecError(fmt::format(
+            "cannot step the simulation from inside its own tick ({} called from {}: step, run "
+            "and reset belong between ticks)",
+            what, busy_));
+    }
+}
+
+long Simulation::step(long ticks) {
+    check_idle("step");
+    // within kMaxTicks in all: the tick counter never wraps and time stays exact
+    checked_integer("ticks", ticks, 0, kMaxTicks - this->ticks());
+    paused_ = false;
+    for (long i = 0; i < ticks; ++i) {
+        if (!pre_ticks_.idle()) {
+            const Busy busy(*this, kPreTick);
+            pre_ticks_.call(*this);
+        }
+        scheduler_.tick(*phases_);
+        if (pause_pending_) {
+            pause_pending_ = false;
+            paused_ = true;
+            return i + 1;
+        }
+    }
+    return ticks;
+}
+
+long Simulation::ticks_for(double seconds) const {
+    return checked_ticks("run time", seconds, options_.dt, ticks());
+}
+
+long Simulation::run(double seconds) {
+    check_idle("run");
+    return step(ticks_for(seconds));
+}
+
+void Simulation::reset(Origin origin) {
+    check_idle("reset");
+    const long at = ticks();
+    scheduler_.reset();
+    pause_pending_ = paused_ = false;
+    for (DriveSlot& d : drives_) {
+        d.drive.controller->set_failed(false);
+        d.drive.controller->reset();
+        std::fill(d.targets.begin(), d.targets.end(), 0.0);
+    }
+    std::fill(targets_.begin(), targets_.end(), 0.0);
+    std::fill(commands_.begin(), commands_.end(), 0.0);
+    try {
+        build();
+    } catch (const std::bad_alloc&) {
+        throw out_of_memory();
+    }
+    // stamped with the tick it happened at, like every other event (a replay applies it there)
+    Event e;
+    e.kind = EventKind::reset;
+    e.origin = origin;
+    e.tick = at;
+    dispatch(e);
+}
+
+Vec3 Simulation::robot_position(int robot) const {
+    check_robot(robot);
+    const RobotSpec& spec = world_.robots[static_cast<size_t>(robot)].robot;
+    Vec3 sum;
+    for (size_t b = 0; b < spec.bodies.size(); ++b) {
+        sum += physics_->position(robots_[robot].first_body + static_cast<int>(b)) *
+               spec.bodies[b].mass;
+    }
+    return sum * (1.0 / total_mass(spec));
+}
+
+Vec3 Simulation::robot_velocity(int robot) const {
+    check_robot(robot);
+    const RobotSpec& spec = world_.robots[static_cast<size_t>(robot)].robot;
+    Vec3 sum;
+    for (size_t b = 0; b < spec.bodies.size(); ++b) {
+        sum += physics_->body(robots_[robot].first_body + static_cast<int>(b)).linear_velocity *
+               spec.bodies[b].mass;
+    }
+    return sum * (1.0 / total_mass(spec));
+}
+
+Vec3 Simulation::robot_displacement(int robot) const {
+    return robot_position(robot) - robots_[static_cast<size_t>(robot)].start_position;
+}
+
+double Simulation::heading_now(int robot, double previous) const {
+    const RobotSlot& slot = robots_[static_cast<size_t>(robot)];
+    const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.bodies.size());
+    const Vec3 tail = physics_->position(slot.first_body);
+    const Vec3 d = physics_->position(slot.first_body + n - 1) - tail;
+    // a robot standing on its tail has no tail-to-head direction on the floor
+    constexpr double kVertical = 1e-9;
+    if (std::hypot(d.x, d.y) > kVertical) return std::atan2(d.y, d.x);
+    const Vec3 x = physics_->body(slot.first_body).pose.orientation.rotate(Vec3{1, 0, 0});
+    if (std::hypot(x.x, x.y) > kVertical) return std::atan2(x.y, x.x);
+    return previous;
+}
+
+void Simulation::track_headings(bool start) {
+    constexpr double kTurn = 2 * 3.14159265358979323846;
+    for (size_t r = 0; r < robots_.size(); ++r) {
+        RobotSlot& slot = robots_[r];
+        const double h = heading_now(static_cast<int>(r), slot.heading);
+        if (start) {
+            slot.turned = 0;
+        } else {
+            // the change since the last tick, taken the short way round
+            slot.turned += std::remainder(h - slot.heading, kTurn);
+        }
+        slot.heading = h;
+    }
+}
+
+double Simulation::robot_heading(int robot) const {
+    check_robot(robot);
+    return robots_[static_cast<size_t>(robot)].heading;
+}
+
+double Simulation::robot_turned(int robot) const {
+    check_robot(robot);
+    return robots_[static_cast<size_t>(robot)].turned;
+}
+
+BodyState Simulation::body(int robot, int b) const {
+    check_robot(robot);
+    const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.bodies.size());
+    if (b < 0 || b >= n) throw SpecError(fmt::format("body index {} out of range [0, {})", b, n));
+    return physics_->body(robots_[robot].first_body + b);
+}
+
+JointState Simulation::joint(int robot, int j) const {
+    check_robot(robot);
+    const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.joints.size());
+    if (j < 0 || j >= n) throw SpecError(fmt::format("joint index {} out of range [0, {})", j, n));
+    const int g = robots_[robot].first_joint + j;
+    JointState s;
+    s.angle = physics_->angle(g);
+    s.target = targets_[static_cast<size_t>(g)];
+    s.velocity = physics_->velocity(g);
+    s.torque = physics_->torque(g);
+    return s;
+}
+
+void Simulation::joint_powers(int robot, double* out) const {
+    check_robot(robot);
+    const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.joints.size());
+    const int first = robots_[static_cast<size_t>(robot)].first_joint;
+    for (int j = 0; j < n; ++j)
+        out[j] = physics_->torque(first + j) * physics_->velocity(first + j);
+}
+
+JointError Simulation::joint_error(int robot, int j) const {
+    check_robot(robot);
+    const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.joints.size());
+    if (j < 0 || j >= n) throw SpecError(fmt::format("joint index {} out of range [0, {})", j, n));
+    return physics_->joint_error(robots_[robot].first_joint + j);
+}
+
+int Simulation::object_count() const {
+    return physics_->body_count() - first_object_;
+}
+
+BodyState Simulation::object(int index) const {
+    const int n = object_count();
+    if (index < 0 || index >= n) {
+        throw SpecError(fmt::format("object index {} out of range [0, {})", index, n));
+    }
+    return physics_->body(first_object_ + index);
+}
+
+int Simulation::contact_count() const {
+    return physics_->contact_count();
+}
+
+void Simulation::check_sensor(int i) const {
+    if (i < 0 || i >= sensor_count()) {
+        throw SpecError(fmt::format("sensor index {} out of range [0, {})", i, sensor_count()));
+    }
+}
+
+int Simulation::sensor_count() const {
+    return sensing_->count();
+}
+
+const SensorSpec& Simulation::sensor(int i) const {
+    check_sensor(i);
+    return sensing_->spec(i);
+}
+
+int Simulation::sensor_robot(int i) const {
+    check_sensor(i);
+    return sensing_->robot(i);
+}
+
+int Simulation::find_sensor(int robot, std::string_view name) const {
+    check_robot(robot);
+    return sensing_->find(robot, name);
+}
+
+int Simulation::sensor_index(int robot, int k) const {
+    check_robot(robot);
+    const int n = sensing_->robot_sensor_count(robot);
+    if (k < 0 || k >= n) {
+        throw SpecError(fmt::format("robot sensor index {} out of range [0, {})", k, n));
+    }
+    return sensing_->index(robot, k);
+}
+
+const std::vector<SensorChannel>& Simulation::sensor_channels(int i) const {
+    return gaitlab::sensor_channels(sensor(i).kind);
+}
+
+const std::vector<double>& Simulation::sensor_values(int i) const {
+    check_sensor(i);
+    return sensing_->values(i);
+}
+
+bool Simulation::sensor_enabled(int i) const {
+    return sensor(i).enabled;
+}
+
+void Simulation::set_sensor_enabled(int i, bool on, Origin origin) {
+    check_sensor(i);
+    if (sensor_enabled(i) == on) return;  // no change, no event
+    sensing_->set_enabled(i, on, *physics_);
+    // the spec follows, so reset() and a copy of world() keep the switch
+    const int r = sensing_->robot(i);
+    RobotSpec& robot = world_.robots[static_cast<size_t>(r)].robot;
+    SensorSpec& spec = robot.sensors[static_cast<size_t>(sensing_->local_index(i))];
+    spec.enabled = on;
+    Event e;
+    e.kind = EventKind::sensor;
+    e.origin = origin;
+    e.name = robot_label(r) + "." + sensor_name(spec);
+    e.value = on ? 1 : 0;
+    post_event(std::move(e));
+}
+
+int Simulation::find_sensor(std::string_view label) const {
+    for (int i = 0; i < sensor_count(); ++i) {
+        if (label == robot_label(sensor_robot(i)) + "." + sensor_name(sensor(i))) return i;
+    }
+    return -1;
+}
+
+int Simulation::add_sensor(int robot, SensorSpec sensor) {
+    check_robot(robot);
+    RobotSpec& spec = world_.robots[static_cast<size_t>(robot)].robot;
+    validate_sensor(spec, sensor);
+    const int i = sensing_->add(robot, sensor, *physics_);
+    spec.sensors.push_back(std::move(sensor));
+    return i;
+}
+
+int Simulation::add_observer(std::function<void(const Simulation&)> fn) {
+    observers_.add(next_observer_, std::move(fn));
+    return next_observer_++;
+}
+
+void Simulation::remove_observer(int id) {
+    observers_.remove(id);
+}
+
+int Simulation::add_pre_tick(std::function<void(Simulation&)> fn) {
+    pre_ticks_.add(next_observer_, std::move(fn));
+    return next_observer_++;
+}
+
+void Simulation::remove_pre_tick(int id) {
+    pre_ticks_.remove(id);
+}
+
+int Simulation::add_event_listener(std::function<void(const Simulation&, const Event&)> fn) {
+    listeners_.add(next_observer_, std::move(fn));
+    return next_observer_++;
+}
+
+void Simulation::remove_event_listener(int id) {
+    listeners_.remove(id);
+}
+
+void Simulation::post_event(Event event) {
+    event.tick = ticks();
+    dispatch(event);
+}
+
+void Simulation::dispatch(const Event& event) {
+    const Busy busy(*this, kListener);
+    listeners_.call(std::as_const(*this), event);
+}
+
+}  // namespace gaitlab

@@ -1,0 +1,66 @@
+#include "gaitlab/module.h"
+
+#include <fmt/format.h>
+
+#include "gaitlab/error.h"
+#include "gaitlab/robot.h"
+#include "spec/check.h"
+
+namespace gaitlab {
+
+const char* to_string(JointAxis a) {
+    return a == JointAxis::bend ? "bend" : "twist";
+}
+
+ModuleDef cube_module_def() {
+    ModuleDef m;
+    m.name = "cube";
+    m.length = 0.06;
+    m.width = 0.06;
+    m.height = 0.06;
+    m.radius = 0.03;
+    m.mass = 0.1;
+    // a standard-size high-torque hobby servo: about 10 kg·cm and 0.2 s per 60 degrees
+    m.servo.max_torque = 1.0;
+    m.servo.max_speed = 5.2;
+    return m;
+}
+
+const std::vector<ModuleDef>& builtin_modules() {
+    static const std::vector<ModuleDef> modules{default_module_def(), cube_module_def()};
+    return modules;
+}
+
+ModuleDef builtin_module(std::string_view name) {
+    std::string names;
+    for (const ModuleDef& m : builtin_modules()) {
+        if (m.name == name) return m;
+        names += (names.empty() ? "'" : ", '") + m.name + "'";
+    }
+    throw SpecError(fmt::format("unknown module type '{}' (built in: {})", name, names));
+}
+
+void validate(const ModuleDef& m) {
+    const std::string p = "module '" + m.name + "' ";
+    if (m.name.empty()) throw SpecError("a module type needs a name");
+    detail::check_name("module name", m.name);
+    // the limits of the bodies a chain makes of it (robot.h)
+    detail::check_size(p + "length", m.length, kMaxBodyExtent);
+    if (m.shape == Shape::box) {
+        detail::check_size(p + "width", m.width, kMaxBodyExtent);
+        detail::check_size(p + "height", m.height, kMaxBodyExtent);
+    } else {
+        detail::check_size(p + "radius", m.radius, kMaxBodyExtent / 2);
+    }
+    detail::check_positive(p + "mass", m.mass, "kg");
+    detail::check_at_most(p + "mass", m.mass, kMaxBodyMass, "kg");
+    detail::check_range(p + "friction", m.friction, 0, 1);
+    detail::check_positive(p + "servo kp", m.servo.kp, "1/s");
+    detail::check_positive(p + "servo max_speed", m.servo.max_speed, "rad/s");
+    detail::check_positive(p + "servo max_torque", m.servo.max_torque, "N·m");
+    if (!(m.min_angle < m.max_angle && m.min_angle >= -kPi && m.max_angle <= kPi)) {
+        throw SpecError(p + "joint range must satisfy -180 <= min < max <= 180 deg");
+    }
+}
+
+}  // namespace gaitlab

@@ -1,0 +1,46 @@
+#include "gaitlab/options.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "gaitlab/checked.h"
+#include "gaitlab/error.h"
+#include "spec/check.h"
+
+namespace gaitlab {
+
+void validate(const SimulationOptions& o) {
+    detail::check_range("dt", o.dt, 1e-6, 0.1, "s");
+    checked_int("control_every", o.control_every, 1, kMaxControlEvery);
+    checked_int("solver_iterations", o.solver_iterations, 1, kMaxSolverIterations);
+}
+
+const char* to_string(ControllerErrorPolicy policy) {
+    switch (policy) {
+        case ControllerErrorPolicy::stop:
+            return "stop";
+        case ControllerErrorPolicy::continue_:
+            return "continue";
+        case ControllerErrorPolicy::pause:
+            return "pause";
+    }
+    return "stop";
+}
+
+long checked_ticks(std::string_view what, double seconds, double dt, long done) {
+    if (!(std::isfinite(seconds) && seconds >= 0)) {
+        throw SpecError(fmt::format("{} must be a non-negative number of seconds (got {})", what,
+                                    detail::shown(seconds)));
+    }
+    // compared as doubles first: seconds / dt may be far beyond what a long holds
+    const long left = kMaxTicks - done;
+    const double n = std::round(seconds / dt);
+    if (!(n <= static_cast<double>(left))) {
+        throw SpecError(fmt::format("{} must be in [0, {:g}] s at dt = {:g} s (got {:g} s)", what,
+                                    static_cast<double>(left) * dt, dt, seconds));
+    }
+    return static_cast<long>(n);
+}
+
+}  // namespace gaitlab

@@ -1,0 +1,360 @@
+// The recorder (engine/src/record/recorder.cpp): run folder contents, rows every record_every
+// ticks, numbers that read back bit for bit, events, flushing, and write failures.
+#include <catch2/catch.hpp>
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "engine/sim_support.h"
+#include "gaitlab/controllers/hopf.h"
+#include "gaitlab/error.h"
+#include "gaitlab/recorder.h"
+#include "gaitlab/run_data.h"
+#include "gaitlab/version.h"
+#include "temp_dir.h"
+
+using namespace gaitlab;
+using gaitlab::test::read_text;
+using gaitlab::test::TempDir;
+namespace fs = std::filesystem;
+
+namespace {
+
+// lines of a text file
+std::vector<std::string> lines(const std::string& text) {
+    std::vector<std::string> out;
+    size_t start = 0;
+    while (start < text.size()) {
+        size_t end = text.find('\n', start);
+        if (end == std::string::npos) end = text.size();
+        out.push_back(text.substr(start, end - start));
+        start = end + 1;
+    }
+    return out;
+}
+
+Simulation snake_sim(int modules = 4) {
+    return Simulation(test::chain_world(modules, Connection::pitch_pitch));
+}
+
+}  // namespace
+
+TEST_CASE("a run folder holds the data, the series list, events, log and configuration",
+          "[recorder]") {
+    TempDir tmp("recorder_folder");
+    Simulation sim(test::chain_world(4, Connection::pitch_pitch));
+    test::drive(sim, "pitch", test::sine(40, 0.5, 120));
+    RecordOptions o;
+    o.dir = tmp / "run";
+    RunContext ctx;
+    ctx.script = "snake.lua";
+    ctx.args = {"a", "b"};
+    ctx.script_seed = 7;
+    ctx.files.push_back({"script", "snake.lua", "/somewhere/snake.lua", "print(1)\n", "", 0, ""});
+    ctx.files.push_back({"controller", "controllers/c.lua", "/somewhere/controllers/c.lua",
+                         "return 1\n", "", 0, ""});
+    {
+        Recorder rec(sim, o, ctx);
+        sim.run(0.3);
+        rec.close();
+        CHECK(rec.rows() == 11);  // t = 0 and every 30 ticks up to 300
+    }
+    for (const char* f : {"run.json", "series.csv", "data.csv", "events.csv", "log.txt"})
+        CHECK(fs::exists(tmp / ("run/" + std::string(f))));
+    CHECK(read_text(tmp / "run/config/snake.lua") == "print(1)\n");
+    CHECK(read_text(tmp / "run/config/controllers/c.lua") == "return 1\n");
+
+    const auto data = lines(read_text(tmp / "run/data.csv"));
+    REQUIRE(data.size() == 12);
+    CHECK(data[0].rfind("time,snake.com.x,snake.com.y,snake.com.z,snake.com.vx,", 0) == 0);
+    CHECK(data[1].rfind("0,", 0) == 0);
+    CHECK(data[2].rfind("0.03,", 0) == 0);
+    CHECK(data[11].rfind("0.3,", 0) == 0);
+
+    RunData run(tmp / "run");
+    CHECK(run.meta().status == "finished");
+    CHECK(run.meta().script == "snake.lua");
+    CHECK(run.meta().args == std::vector<std::string>{"a", "b"});
+    CHECK(run.meta().script_seed == 7);
+    CHECK(run.meta().record_every == 30);
+    CHECK(run.meta().first_tick == 0);
+    CHECK(run.meta().last_tick == 300);
+    CHECK(run.meta().options.control_every == 30);
+    REQUIRE(run.meta().files.size() == 2);
+    CHECK(run.meta().files[1].role == "controller");
+    CHECK(run.meta().files[1].path == "controllers/c.lua");
+    // each file's FNV-1a 64 hash (the values computed independently of gaitlab)
+    CHECK(run.meta().files[0].hash == "fnv1a64:c36adf2b03cacd3c");
+    CHECK(run.meta().files[1].hash == "fnv1a64:2190e8ea4e8cab5a");
+    std::string cpu, compiler, commit;
+    std::vector<std::string> keys;
+    for (const auto& [k, v] : run.meta().provenance) {
+        keys.push_back(k);
+        if (k == "cpu") cpu = v;
+        if (k == "compiler") compiler = v;
+        if (k == "commit") commit = v;
+    }
+    CHECK_FALSE(cpu.empty());
+    CHECK_FALSE(compiler.empty());
+    // the commit this very test was built from ("unknown" only outside a git work tree)
+    CHECK(commit == source_commit());
+    CHECK_FALSE(commit.empty());
+    if (fs::exists(fs::path(GAITLAB_SOURCE_DIR) / ".git")) CHECK(commit != "unknown");
+    // provenance reads back in the order run.json has it
+    REQUIRE(keys.size() >= 3);
+    CHECK(keys[0] == "gaitlab");
+    CHECK(keys[1] == "commit");
+    CHECK(keys[2] == "bullet");
+    CHECK(run.rows() == 11);
+    CHECK_FALSE(run.truncated());
+    CHECK_THAT(run.log(),
+               Catch::StartsWith("recording 80 series every 30 ticks from t = 0 s into "));
+    CHECK_THAT(run.log(), Catch::EndsWith("recording finished at t = 0.3 s: 11 rows\n"));
+}
+
+TEST_CASE("recorded numbers read back bit for bit", "[recorder]") {
+    TempDir tmp("recorder_bits");
+    Simulation sim = snake_sim(6);
+    test::drive(sim, "pitch", test::sine(40, 0.5, 120));
+    RecordOptions o;
+    o.dir = tmp / "run";
+    o.record_every = 7;
+    std::vector<std::vector<double>> expected;
+    {
+        Recorder rec(sim, o);
+        // what the recorder samples, sampled again alongside it
+        SeriesSet probe(sim, {});
+        std::vector<double> row(probe.size());
+        probe.sample(sim, row.data());
+        expected.push_back(row);
+        sim.add_observer([&](const Simulation& s) {
+            probe.tick(s);
+            if (s.ticks() % 7 == 0) {
+                probe.sample(s, row.data());
+                expected.push_back(row);
+            }
+        });
+        sim.run(1.0);
+    }
+    RunData run(tmp / "run");
+    REQUIRE(run.rows() == static_cast<long>(expected.size()));
+    const std::vector<std::string> names = run.names();
+    const auto all = run.get(names);
+    for (size_t k = 0; k < names.size(); ++k) {
+        for (size_t i = 0; i < expected.size(); ++i) {
+            const double want = expected[i][k], got = all[k].values[i];
+            INFO(names[k] << " row " << i);
+            REQUIRE(std::memcmp(&want, &got, sizeof want) == 0);
+        }
+    }
+    // the energy integrates |torque * velocity| every tick: it grows and is positive
+    const SeriesData e = run.get("snake.energy");
+    CHECK(e.values.front() == 0);
+    CHECK(e.values.back() > 0);
+    for (size_t i = 1; i < e.values.size(); ++i)
+        CHECK(e.values[i] >= e.values[i - 1]);
+    CHECK(e.time[1] == Approx(0.007));
+}
+
+TEST_CASE("parameter changes and resets are events with their tick and origin", "[recorder]") {
+    TempDir tmp("recorder_events");
+    Simulation sim = snake_sim();
+    auto ctl = test::sine(30, 0.5, 120);
+    test::drive(sim, "pitch", ctl);
+    RecordOptions o;
+    o.dir = tmp / "run";
+    {
+        Recorder rec(sim, o);
+        sim.run(0.1);
+        ctl->set_param("amplitude", 35);
+        ctl->set_param("amplitude", 35);  // no change, no event
+        sim.add_pre_tick([&](Simulation& s) {
+            if (s.ticks() == 150) s.controller(0).set_param("frequency", 1, Origin::viewer);
+        });
+        sim.run(0.1);
+        sim.reset(Origin::console);
+        sim.run(0.06);
+    }
+    RunData run(tmp / "run");
+    const std::vector<Event> ev = run.events();
+    REQUIRE(ev.size() == 3);
+    CHECK(ev[0].tick == 100);
+    CHECK(ev[0].kind == EventKind::param);
+    CHECK(ev[0].origin == Origin::script);
+    CHECK(ev[0].name == "sine.amplitude");
+    CHECK(ev[0].value == 35);
+    CHECK(ev[1].tick == 150);
+    CHECK(ev[1].origin == Origin::viewer);
+    CHECK(ev[1].name == "sine.frequency");
+    CHECK(ev[2].kind == EventKind::reset);
+    CHECK(ev[2].origin == Origin::console);
+    CHECK(ev[2].tick == 200);  // when it happened
+    // after the reset the rows start again at t = 0, with the state the reset made
+    const SeriesData a = run.get("sine.amplitude");
+    const SeriesData x = run.get("snake.com.x");
+    REQUIRE(a.time.size() == 7 + 1 + 2);
+    CHECK(a.time[7] == 0);
+    CHECK(a.values[7] == 35);  // parameters survive a reset
+    CHECK(x.values[7] == x.values[0]);
+}
+
+TEST_CASE("a run folder must be new, empty or an earlier run", "[recorder]") {
+    TempDir tmp("recorder_dirs");
+    Simulation sim = snake_sim(2);
+    RecordOptions o;
+    o.dir = tmp / "run";
+    { Recorder rec(sim, o); }
+    test::write_text(tmp / "run/extra.txt", "kept");
+    { Recorder again(sim, o); }  // an earlier run is replaced
+    CHECK(read_text(tmp / "run/extra.txt") == "kept");
+    CHECK(RunData(tmp / "run").rows() == 1);
+
+    fs::create_directories(tmp / "other");
+    test::write_text(tmp / "other/notes.txt", "mine");
+    o.dir = tmp / "other";
+    CHECK_THROWS_WITH(Recorder(sim, o),
+                      "cannot record into " + (tmp / "other") +
+                          ": the folder is not empty and holds no earlier run (record into a "
+                          "new or empty folder)");
+    // under a regular file (root ignores permission bits, not this)
+    o.dir = tmp / "other/notes.txt/run";
+    CHECK_THROWS_WITH(Recorder(sim, o),
+                      Catch::StartsWith("cannot create run folder " + o.dir + ": Not a directory"));
+    o.dir = tmp / "run";
+    o.record_every = -1;
+    CHECK_THROWS_WITH(Recorder(sim, o), "record_every must be at least 1 (got -1)");
+    o.record_every = 1;
+    o.flush_seconds = -2;
+    CHECK_THROWS_WITH(Recorder(sim, o),
+                      "flush_seconds must be a non-negative number of seconds (got -2)");
+}
+
+TEST_CASE("a write failure stops the run with a clear message and keeps what was written",
+          "[recorder]") {
+    TempDir tmp("recorder_full");
+    Simulation sim = snake_sim(4);
+    test::drive(sim, "pitch", test::sine(40, 0.5, 120));
+    RecordOptions o;
+    o.dir = tmp / "run";
+    o.flush_seconds = 0;
+    Recorder rec(sim, o);
+    sim.run(0.3);
+    // a file size limit makes the disk "full" about 20 kB further on (SIGXFSZ ignored: the
+    // write fails with EFBIG instead of killing the process)
+    const auto size = static_cast<rlim_t>(fs::file_size(tmp / "run/data.csv"));
+    rlimit old{};
+    REQUIRE(getrlimit(RLIMIT_FSIZE, &old) == 0);
+    const auto previous = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit small = old;
+    small.rlim_cur = size + 20000;
+    REQUIRE(setrlimit(RLIMIT_FSIZE, &small) == 0);
+    std::string message;
+    try {
+        sim.run(60);
+    } catch (const IoError& e) {
+        message = e.what();
+    }
+    setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, previous);
+    CHECK(message == "cannot write " + (tmp / "run/data.csv") +
+                         ": File too large (recording stopped; what was written before is kept)");
+    CHECK(sim.time() < 10);  // it stopped the run
+    CHECK(rec.closed());
+    RunData run(tmp / "run");
+    CHECK(run.rows() >= 11);
+    CHECK(run.meta().status == "failed");
+    CHECK_THAT(run.meta().message, Catch::Contains("File too large"));
+    CHECK_THAT(run.log(), Catch::Contains("recording stopped at t = "));
+    rec.close();  // nothing more to do, no second error
+}
+
+TEST_CASE("two recorders never share a folder: the second is refused, the first goes on",
+          "[recorder]") {
+    TempDir tmp("recorder_two");
+    Simulation a = snake_sim(2), b = snake_sim(3);
+    RecordOptions o;
+    o.dir = tmp / "run";
+    o.flush_seconds = 0;
+    auto first = std::make_unique<Recorder>(a, o);
+    a.run(0.3);
+    const std::string pid = std::to_string(getpid());
+    CHECK_THROWS_WITH(Recorder(b, o), "cannot record into " + o.dir +
+                                          ": another recording is writing into it (process " + pid +
+                                          "); record into another folder");
+    a.run(0.3);
+    first->close();
+    // nothing of the first was lost
+    const RunData run(o.dir);
+    CHECK(run.rows() == 21);
+    CHECK(run.series()[0].name == "snake.com.x");
+    CHECK(run.meta().process.pid == getpid());
+    // once it is closed, the folder is an earlier run: replaced
+    { Recorder again(b, o); }
+    CHECK(RunData(o.dir).rows() == 1);
+    // a recorder that failed to start (here: config/a is a folder and a file) leaves the
+    // folder to others
+    RunContext clash;
+    clash.files.push_back({"script", "a/b.lua", "/x/a/b.lua", "1", "", 0, ""});
+    clash.files.push_back({"input", "a", "/x/a", "2", "", 0, ""});
+    CHECK_THROWS_AS(Recorder(b, o, clash), IoError);
+    { Recorder third(b, o); }
+    CHECK(RunData(o.dir).rows() == 1);
+}
+
+TEST_CASE("a folder whose run.json names a process still writing it is refused", "[recorder]") {
+    // a file system without locks still has run.json: it names this very process here
+    TempDir tmp("recorder_alive");
+    Simulation sim = snake_sim(2);
+    RecordOptions o;
+    o.dir = tmp / "run";
+    { Recorder rec(sim, o); }
+    std::string meta = read_text(tmp / "run/run.json");
+    meta.replace(meta.find("\"status\": \"finished\""), 20, "\"status\": \"running\"");
+    test::write_text(tmp / "run/run.json", meta);
+    CHECK_THROWS_WITH(Recorder(sim, o), Catch::StartsWith("cannot record into " + o.dir +
+                                                          ": another recording is writing "
+                                                          "into it (process "));
+    CHECK(fs::exists(tmp / "run/data.csv"));
+}
+
+TEST_CASE("a run closed by a signal says so", "[recorder]") {
+    TempDir tmp("recorder_signal");
+    Simulation sim = snake_sim(2);
+    RecordOptions o;
+    o.dir = tmp / "run";
+    Recorder rec(sim, o);
+    sim.run(0.1);
+    rec.close("interrupted", "SIGTERM");
+    const RunData run(o.dir);
+    CHECK(run.meta().status == "interrupted");
+    CHECK(run.meta().message == "SIGTERM");
+    CHECK(run.meta().last_tick == 100);
+    CHECK(run.state() == "interrupted by SIGTERM");
+    CHECK_THAT(run.log(), Catch::EndsWith("recording interrupted at t = 0.1 s: 4 rows: SIGTERM\n"));
+}
+
+TEST_CASE("run.json is valid UTF-8 whatever bytes it is given", "[recorder]") {
+    // names are checked before they get here (printable UTF-8); a script's arguments are not
+    TempDir tmp("recorder_utf8");
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    RecordOptions o;
+    o.dir = tmp / "run";
+    RunContext c;
+    c.args = {"\xff\xfe-\xc3"};
+    { Recorder rec(sim, o, c); }
+    const std::string meta = read_text(tmp / "run/run.json");
+    // each byte that is not UTF-8 is U+FFFD; no such byte is left in the file
+    CHECK(meta.find("\"\xef\xbf\xbd\xef\xbf\xbd-\xef\xbf\xbd\"") != std::string::npos);
+    for (const char byte : {'\xff', '\xfe'})
+        CHECK(meta.find(byte) == std::string::npos);
+    CHECK(RunData(tmp / "run").meta().args ==
+          std::vector<std::string>{"\xef\xbf\xbd\xef\xbf\xbd-\xef\xbf\xbd"});
+}

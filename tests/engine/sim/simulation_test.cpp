@@ -1,0 +1,747 @@
+// Tests for engine/src/sim/simulation.cpp: option and drive validation, placement, summed targets
+// of overlapping groups, observers, time and reset, dynamic objects.
+#include "gaitlab/simulation.h"
+
+#include <catch2/catch.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/sim_support.h"
+#include "gaitlab/controllers/offset.h"
+#include "gaitlab/error.h"
+
+using namespace gaitlab;
+using Catch::Matchers::Equals;
+
+namespace {
+
+SimulationOptions options_with(double dt, int control_every, int solver_iterations) {
+    SimulationOptions o;
+    o.dt = dt;
+    o.control_every = control_every;
+    o.solver_iterations = solver_iterations;
+    return o;
+}
+
+Drive drive_of(std::vector<int> joints, std::shared_ptr<Controller> c) {
+    Drive d;
+    d.joints = std::move(joints);
+    d.controller = std::move(c);
+    return d;
+}
+
+// positions of every body of robot 0, appended after every control tick
+std::vector<double> trace_positions(Simulation& sim, double seconds) {
+    std::vector<double> out;
+    const int bodies = static_cast<int>(sim.world().robots[0].robot.bodies.size());
+    const int every = sim.options().control_every;
+    const int id = sim.add_observer([&out, bodies, every](const Simulation& s) {
+        if ((s.ticks() - 1) % every != 0) return;
+        for (int b = 0; b < bodies; ++b) {
+            const Vec3 p = s.body(0, b).pose.position;
+            out.insert(out.end(), {p.x, p.y, p.z});
+        }
+    });
+    sim.run(seconds);
+    sim.remove_observer(id);
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("default simulation options") {
+    const SimulationOptions o = default_simulation_options();
+    CHECK(o.dt == 0.001);
+    CHECK(o.control_every == 30);
+    CHECK(o.solver_iterations == 20);
+    CHECK(o.seed == 0);
+    REQUIRE_NOTHROW(validate(o));
+}
+
+TEST_CASE("bad simulation options are rejected with the expected range") {
+    const WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+    SECTION("dt zero, negative, too large or not a number") {
+        REQUIRE_THROWS_AS(validate(options_with(0, 30, 10)), SpecError);
+        REQUIRE_THROWS_WITH(validate(options_with(0, 30, 10)),
+                            Equals("dt must be in [1e-06, 0.1] s (got 0)"));
+        REQUIRE_THROWS_WITH(validate(options_with(-0.001, 30, 10)),
+                            Equals("dt must be in [1e-06, 0.1] s (got -0.001)"));
+        REQUIRE_THROWS_WITH(Simulation(w, options_with(0.5, 30, 10)),
+                            Equals("dt must be in [1e-06, 0.1] s (got 0.5)"));
+        REQUIRE_THROWS_WITH(
+            validate(options_with(std::numeric_limits<double>::quiet_NaN(), 30, 10)),
+            Equals("dt must be in [1e-06, 0.1] s (got nan)"));
+    }
+    SECTION("control_every below 1") {
+        REQUIRE_THROWS_WITH(Simulation(w, options_with(0.001, 0, 10)),
+                            Equals("control_every must be in [1, 1000000] (got 0)"));
+        REQUIRE_THROWS_WITH(validate(options_with(0.001, -5, 10)),
+                            Equals("control_every must be in [1, 1000000] (got -5)"));
+        REQUIRE_THROWS_WITH(validate(options_with(0.001, 1000001, 10)),
+                            Equals("control_every must be in [1, 1000000] (got 1000001)"));
+    }
+    SECTION("solver_iterations outside [1, 10000]") {
+        REQUIRE_THROWS_WITH(Simulation(w, options_with(0.001, 30, 0)),
+                            Equals("solver_iterations must be in [1, 10000] (got 0)"));
+        REQUIRE_THROWS_WITH(validate(options_with(0.001, 30, 10001)),
+                            Equals("solver_iterations must be in [1, 10000] (got 10001)"));
+    }
+    SECTION("the ends of the ranges are allowed") {
+        CHECK_NOTHROW(validate(options_with(0.1, 1, 1)));
+        CHECK_NOTHROW(validate(options_with(1e-6, 1000, 10000)));
+    }
+}
+
+TEST_CASE("bad drives are rejected") {
+    Simulation sim(test::chain_world(8, Connection::pitch_pitch));
+    SECTION("a joint the robot does not have") {
+        REQUIRE_THROWS_AS(sim.add_drive(0, drive_of({0, 8}, test::sine(40, 0.5, 120))), SpecError);
+        REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({0, 8}, test::sine(40, 0.5, 120))),
+                            Equals("robot 'snake' has no joint 9 (it has joints 1 to 8)"));
+        REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({-1}, test::sine(40, 0.5, 120))),
+                            Equals("robot 'snake' has no joint 0 (it has joints 1 to 8)"));
+    }
+    SECTION("an empty group") {
+        REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({}, test::sine(40, 0.5, 120))),
+                            Equals("a joint group needs at least one joint"));
+    }
+    SECTION("a group naming a joint twice") {
+        REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({1, 2, 1}, test::sine(40, 0.5, 120))),
+                            Equals("a joint group names the same joint twice"));
+    }
+    SECTION("a drive without a controller") {
+        REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({1}, nullptr)),
+                            Equals("a drive needs a controller"));
+    }
+    SECTION("the same controller driving two groups") {
+        auto s = test::sine(40, 0.5, 120);
+        sim.add_drive(0, drive_of({0, 1}, s));
+        REQUIRE_THROWS_WITH(sim.add_drive(0, drive_of({2, 3}, s)),
+                            Equals("controller 'sine' already drives a group (create one "
+                                   "controller per group)"));
+    }
+    SECTION("a robot that does not exist") {
+        REQUIRE_THROWS_WITH(sim.add_drive(1, drive_of({0}, test::sine(40, 0.5, 120))),
+                            Equals("robot index 1 out of range [0, 1)"));
+    }
+    SECTION("a rejected drive leaves the simulation usable and undriven") {
+        CHECK_THROWS(sim.add_drive(0, drive_of({0, 8}, test::sine(40, 0.5, 120))));
+        sim.run(0.1);
+        for (int j = 0; j < 8; ++j)
+            CHECK(sim.joint(0, j).target == 0);
+    }
+}
+
+TEST_CASE("drives in the world spec are checked when the simulation compiles it") {
+    WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+    SECTION("bad joint") {
+        w.robots[0].actuation.push_back(drive_of({4}, test::sine(40, 0.5, 120)));
+        REQUIRE_THROWS_WITH(Simulation(w),
+                            Equals("robot 'snake' has no joint 5 (it has joints 1 to 4)"));
+    }
+    SECTION("one controller, two groups") {
+        auto s = test::sine(40, 0.5, 120);
+        w.robots[0].actuation.push_back(drive_of({0, 1}, s));
+        w.robots[0].actuation.push_back(drive_of({2, 3}, s));
+        REQUIRE_THROWS_WITH(Simulation(w), Equals("controller 'sine' already drives a group "
+                                                  "(create one controller per group)"));
+    }
+    SECTION("valid drives are kept in the compiled spec") {
+        w.robots[0].actuation.push_back(drive_of({0, 1, 2, 3}, test::sine(40, 0.5, 120)));
+        const Simulation sim(w);
+        CHECK(sim.world().robots[0].actuation.size() == 1);
+        CHECK(sim.world().robots[0].actuation[0].controller->joints() == 4);
+    }
+}
+
+TEST_CASE("accessors reject indices out of range") {
+    const Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    CHECK(sim.robot_count() == 1);
+    REQUIRE_THROWS_WITH(sim.body(0, 3), Equals("body index 3 out of range [0, 3)"));
+    REQUIRE_THROWS_WITH(sim.joint(0, -1), Equals("joint index -1 out of range [0, 2)"));
+    REQUIRE_THROWS_WITH(sim.robot_position(2), Equals("robot index 2 out of range [0, 1)"));
+}
+
+TEST_CASE("run and step advance time in whole ticks") {
+    SimulationOptions o;
+    o.dt = 0.002;
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch), o);
+    CHECK(sim.ticks() == 0);
+    CHECK(sim.time() == 0);
+    sim.step();
+    CHECK(sim.ticks() == 1);
+    sim.step(9);
+    CHECK(sim.ticks() == 10);
+    sim.run(0.1);
+    CHECK(sim.ticks() == 60);
+    CHECK(sim.time() == Approx(0.12));
+    sim.run(0.0031);  // rounds to 2 ticks
+    CHECK(sim.ticks() == 62);
+    REQUIRE_THROWS_WITH(sim.run(-1),
+                        Equals("run time must be a non-negative number of seconds (got -1)"));
+}
+
+TEST_CASE("run and step never wrap: a run too long for the tick counter is refused",
+          "[simulation][limits]") {
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    sim.step(3);
+    // 1e17 s is 1e20 ticks: std::lround overflowed and the run did nothing
+    REQUIRE_THROWS_WITH(sim.run(1e17), Equals("run time must be in [0, 9.0072e+12] s at dt = "
+                                              "0.001 s (got 1e+17 s)"));
+    REQUIRE_THROWS_WITH(sim.run(std::numeric_limits<double>::infinity()),
+                        Equals("run time must be a non-negative number of seconds (got inf)"));
+    REQUIRE_THROWS_WITH(sim.run(std::nan("")),
+                        Equals("run time must be a non-negative number of seconds (got nan)"));
+    REQUIRE_THROWS_WITH(sim.step(1L << 62), Equals("ticks must be in [0, 9007199254740989] (got "
+                                                   "4611686018427387904)"));
+    REQUIRE_THROWS_WITH(sim.step(-1), Equals("ticks must be in [0, 9007199254740989] (got -1)"));
+    CHECK(sim.ticks() == 3);
+    CHECK(sim.ticks_for(1.5) == 1500);
+    CHECK(checked_ticks("duration", 10, 0.001) == 10000);
+    REQUIRE_THROWS_WITH(checked_ticks("duration", 1e16, 0.001),
+                        Equals("duration must be in [0, 9.0072e+12] s at dt = 0.001 s (got 1e+16 "
+                               "s)"));
+}
+
+TEST_CASE("world placement: the tail at the origin, bodies along +x at z = 0.026") {
+    const int n = 8;
+    SECTION("identity pose") {
+        const Simulation sim(test::chain_world(n, Connection::pitch_yaw));
+        for (int b = 0; b <= n; ++b) {
+            CAPTURE(b);
+            const BodyState s = sim.body(0, b);
+            const double x = b == 0 ? 0.018 : (b == n ? 0.072 * n - 0.018 : 0.072 * b);
+            CHECK(s.pose.position.x == Approx(x).margin(1e-6));
+            CHECK(s.pose.position.y == Approx(0).margin(1e-6));
+            CHECK(s.pose.position.z == Approx(0.026).margin(1e-6));
+            CHECK(s.pose.orientation.w == Approx(1));
+        }
+        for (int j = 0; j < n; ++j) {
+            CHECK(sim.joint(0, j).angle == Approx(0).margin(1e-6));
+            CHECK(sim.joint_error(0, j).separation < 1e-6);
+        }
+        // the centre of mass of a straight chain is its middle
+        const Vec3 com = sim.robot_position(0);
+        CHECK(com.x == Approx(0.036 * n));
+        CHECK(com.y == Approx(0).margin(1e-6));
+        CHECK(com.z == Approx(0.026));
+        CHECK(sim.robot_displacement(0).norm() == Approx(0).margin(1e-12));
+    }
+    SECTION("a placed robot is moved and turned by its pose") {
+        WorldSpec w = test::chain_world(n, Connection::pitch_pitch);
+        w.robots[0].pose.position = {1, 2, 0};
+        w.robots[0].pose.orientation = Quat::from_axis_angle({0, 0, 1}, kPi / 2);
+        const Simulation sim(w);
+        // along +y now, starting at (1, 2)
+        const BodyState head = sim.body(0, n);
+        CHECK(head.pose.position.x == Approx(1).margin(1e-6));
+        CHECK(head.pose.position.y == Approx(2 + 0.072 * n - 0.018).margin(1e-6));
+        CHECK(head.pose.position.z == Approx(0.026).margin(1e-6));
+        CHECK(sim.joint(0, 3).angle == Approx(0).margin(1e-6));
+    }
+}
+
+TEST_CASE("overlapping groups add their targets, clamped to the joint range") {
+    const double dt = 0.001;
+    const int every = 30;
+    SimulationOptions o;
+    o.dt = dt;
+    o.control_every = every;
+    Simulation sim(test::chain_world(4, Connection::pitch_yaw), o);
+    test::drive(sim, "all", test::sine(20, 0.5, 30));
+    auto turn = test::sine(0, 0.5, 0, 0, 15);
+    test::drive(sim, "yaw", turn);
+
+    // after the first control tick each joint's clock reads control_dt; the formula is written
+    // out here independently of the engine's deg_to_rad
+    sim.step();
+    const double pi = 3.14159265358979323846, rad = pi / 180;
+    const double t = every * dt;
+    auto all_deg = [&](int m) { return 20 * std::sin(2 * pi * 0.5 * t + m * 30 * rad); };
+    CHECK(sim.joint(0, 0).target == Approx(all_deg(0) * rad));         // pitch: "all" only
+    CHECK(sim.joint(0, 1).target == Approx((all_deg(1) + 15) * rad));  // yaw: "all" + offset
+    CHECK(sim.joint(0, 2).target == Approx(all_deg(2) * rad));
+    CHECK(sim.joint(0, 3).target == Approx((all_deg(3) + 15) * rad));
+
+    // targets hold between control ticks
+    const double held = sim.joint(0, 3).target;
+    sim.step(every - 1);
+    CHECK(sim.joint(0, 3).target == held);
+    sim.step();
+    CHECK(sim.joint(0, 3).target != held);
+
+    // the sum is clamped to the range: 15 + 85 deg > 90 deg
+    turn->set_param("offset", 85);
+    sim.step(every);
+    const double t2 = 3 * every * dt;
+    const double sum = 20 * std::sin(2 * pi * 0.5 * t2 + 30 * rad) + 85;
+    REQUIRE(sum > 90);
+    CHECK(sim.joint(0, 1).target == Approx(kPi / 2));
+}
+
+TEST_CASE("the same joints driven twice are an error naming both controllers") {
+    const std::string message =
+        "controller 'offset' cannot drive joints 2, 4 of robot 'snake': controller 'sine' "
+        "already drives exactly these joints (one controller per group: their targets would add "
+        "up; groups that only partly overlap do add)";
+    SECTION("added to a simulation") {
+        Simulation sim(test::chain_world(4, Connection::pitch_yaw));
+        test::drive(sim, "yaw", test::sine(20, 0.5, 30));
+        auto offset = std::make_shared<controllers::Offset>();
+        CHECK_THROWS_WITH(sim.add_drive(0, drive_of({3, 1}, offset)), message);
+        CHECK(sim.drive_count() == 1);
+        CHECK(sim.world().robots[0].actuation.size() == 1);
+        // a group that shares some of the joints adds up
+        sim.add_drive(0, drive_of({1, 2}, offset));
+        CHECK(sim.drive_count() == 2);
+        sim.step(30);
+        CHECK(sim.joint(0, 1).target != 0);
+    }
+    SECTION("in the spec a simulation is made from") {
+        WorldSpec world = test::chain_world(4, Connection::pitch_yaw);
+        world.robots[0].actuation.push_back(drive_of({1, 3}, test::sine(20, 0.5, 30)));
+        world.robots[0].actuation.push_back(
+            drive_of({3, 1}, std::make_shared<controllers::Offset>()));
+        try {
+            Simulation sim(world);
+            FAIL("no error");
+        } catch (const SpecError& e) {
+            CHECK(std::string(e.what()) == message);
+        }
+    }
+}
+
+TEST_CASE("observers run every tick after the step, until removed") {
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    std::vector<long> ticks;
+    std::vector<double> times;
+    const int id = sim.add_observer([&](const Simulation& s) {
+        ticks.push_back(s.ticks());
+        times.push_back(s.time());
+    });
+    int other = 0;
+    const int id2 = sim.add_observer([&other](const Simulation&) { ++other; });
+    CHECK(id != id2);
+    sim.step(5);
+    CHECK(ticks == std::vector<long>{1, 2, 3, 4, 5});
+    CHECK(times.back() == Approx(0.005));
+    sim.remove_observer(id);
+    sim.step(5);
+    CHECK(ticks.size() == 5);
+    CHECK(other == 10);
+    sim.remove_observer(12345);  // unknown ids are ignored
+    sim.step();
+    CHECK(other == 11);
+}
+
+TEST_CASE("reset gives back time 0 and the same trajectory") {
+    Simulation sim(test::chain_world(8, Connection::pitch_pitch));
+    auto s = test::sine(40, 0.5, 120);
+    test::drive(sim, "pitch", s);
+    const std::vector<double> first = trace_positions(sim, 2.0);
+    REQUIRE(sim.robot_displacement(0).norm() > 0.005);
+    const double time_value = s->values(controllers::Sine::time)[0];
+    CHECK(time_value == Approx(2.01));  // 67 control ticks of 30 ms
+
+    sim.reset();
+    CHECK(sim.ticks() == 0);
+    CHECK(sim.time() == 0);
+    CHECK(sim.robot_displacement(0).norm() == Approx(0).margin(1e-12));
+    CHECK(sim.body(0, 0).pose.position.x == Approx(0.018).margin(1e-6));
+    CHECK(s->values(controllers::Sine::time)[0] == 0);
+    CHECK(s->param("amplitude") == 40);  // parameters are kept
+
+    const std::vector<double> second = trace_positions(sim, 2.0);
+    REQUIRE(second.size() == first.size());
+    CHECK(second == first);  // bit for bit
+}
+
+TEST_CASE("dynamic objects are numbered boxes first, then cylinders") {
+    WorldSpec w;
+    BoxSpec fixed, moving;
+    moving.mass = 1;
+    moving.pose.position = {1, 0, 0.05};
+    w.boxes = {fixed, moving};
+    CylinderSpec c;
+    c.mass = 1;
+    c.position = {2, 0, 0.05};
+    w.cylinders.push_back(c);
+    Simulation sim(w);
+    REQUIRE(sim.object_count() == 2);
+    CHECK(sim.object(0).pose.position.x == Approx(1));
+    CHECK(sim.object(1).pose.position.x == Approx(2));
+    REQUIRE_THROWS_AS(sim.object(2), SpecError);
+}
+
+TEST_CASE("pre-tick hooks run before every tick and may add or remove hooks", "[simulation]") {
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    std::vector<long> seen;
+    int added = 0, self = 0;
+    self = sim.add_pre_tick([&](Simulation& s) {
+        seen.push_back(s.ticks());
+        if (s.ticks() == 2) {
+            // adding a hook from a hook: it runs from the next tick on
+            sim.add_pre_tick([&](Simulation&) { ++added; });
+        }
+        if (s.ticks() == 4) sim.remove_pre_tick(self);  // removing itself
+    });
+    sim.step(8);
+    CHECK(seen == std::vector<long>{0, 1, 2, 3, 4});
+    CHECK(added == 5);  // before ticks 3 to 7
+}
+
+TEST_CASE("events carry the tick they act from and their origin", "[simulation]") {
+    Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+    auto sine = test::sine(20, 0.5, 0);
+    test::drive(sim, "all", sine);
+    std::vector<Event> events;
+    const int id =
+        sim.add_event_listener([&](const Simulation&, const Event& e) { events.push_back(e); });
+    sim.step(10);
+    sine->set_param("amplitude", 25);
+    sim.add_pre_tick([&](Simulation& s) {
+        if (s.ticks() == 15) s.controller(0).set_param("phase", 30, Origin::viewer);
+    });
+    sim.step(10);
+    sim.add_drive(0, Drive{{0}, test::sine(5, 1, 0)});
+    sim.reset(Origin::console);
+    sim.remove_event_listener(id);
+    sine->set_param("amplitude", 30);
+    REQUIRE(events.size() == 4);
+    CHECK(events[0].kind == EventKind::param);
+    CHECK(events[0].tick == 10);
+    CHECK(events[0].name == "sine.amplitude");
+    CHECK(events[0].value == 25);
+    CHECK(events[0].drive == 0);
+    CHECK(events[0].origin == Origin::script);
+    CHECK(events[1].tick == 15);
+    CHECK(events[1].origin == Origin::viewer);
+    CHECK(events[1].name == "sine.phase");
+    CHECK(events[2].kind == EventKind::drive);
+    CHECK(events[2].name == "sine_2");
+    CHECK(events[2].tick == 20);
+    CHECK(events[3].kind == EventKind::reset);
+    CHECK(events[3].origin == Origin::console);
+    CHECK(events[3].tick == 20);  // when it happened, not the tick after it (0)
+    CHECK(sim.ticks() == 0);
+}
+
+TEST_CASE("a controller that outlives its simulation stops telling it", "[simulation]") {
+    auto sine = test::sine(20, 0.5, 0);
+    {
+        Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+        test::drive(sim, "all", sine);
+        sim.add_event_listener([](const Simulation&, const Event&) {});
+    }
+    sine->set_param("amplitude", 10);  // no listener left to call
+    CHECK(sine->param("amplitude") == 10);
+}
+
+namespace {
+
+// a controller that runs `act` (once, or at every step) with the simulation driving it, then
+// holds its joints at 0
+class Reentrant final : public Controller {
+  public:
+    Reentrant(Simulation& sim, std::function<void(Simulation&)> act)
+        : Controller(ControllerDef{"reentrant", {}, {}}), sim_(sim), act_(std::move(act)) {}
+    void step(ControlIO& io) override {
+        ++steps;
+        if (act_) act_(sim_);
+        for (int m = 0; m < io.joints(); ++m)
+            io.set_target(m, 0);
+    }
+    int steps = 0;
+
+  private:
+    Simulation& sim_;
+    std::function<void(Simulation&)> act_;
+};
+
+const char* const kInsideTick = "cannot step the simulation from inside its own tick";
+
+}  // namespace
+
+TEST_CASE(
+    "a controller may add drives while the drives step: they act from the next control "
+    "tick",
+    "[simulation][reentrancy]") {
+    const WorldSpec world = test::chain_world(8, Connection::pitch_pitch);
+    const int nj = static_cast<int>(world.robots[0].robot.joints.size());
+    REQUIRE(nj >= 6);
+    Simulation sim(world);
+    std::vector<std::shared_ptr<Controller>> added;
+    // each step adds one more drive (more than enough to reallocate any vector of drives),
+    // each on a group of its own: the k-th drives the joints of the bits of k
+    auto adder = std::make_shared<Reentrant>(sim, [&](Simulation& s) {
+        if (added.size() >= 40) return;
+        added.push_back(test::sine(10, 1, 0));
+        std::vector<int> joints;
+        for (int j = 0; j < nj; ++j) {
+            if ((added.size() >> j) & 1) joints.push_back(j);
+        }
+        s.add_drive(0, drive_of(joints, added.back()));
+    });
+    std::vector<int> all(static_cast<size_t>(nj));
+    for (int j = 0; j < nj; ++j)
+        all[static_cast<size_t>(j)] = j;
+    sim.add_drive(0, drive_of(all, adder));
+    sim.step(1);  // one control tick: the drive added in it has not stepped yet
+    REQUIRE(sim.drive_count() == 2);
+    CHECK(sim.controller(1).values(controllers::Sine::time)[0] == 0);
+    sim.run(1.5);  // 50 more control ticks
+    CHECK(sim.drive_count() == 41);
+    CHECK(adder->steps == 51);
+    // the first added drive stepped at every control tick after the one that added it
+    CHECK(added[0]->values(controllers::Sine::time)[0] == Approx(50 * 0.03));
+    // its targets count: a 10 deg sine on joint 0 from the 20 odd-numbered drives (plus the
+    // adder's 0)
+    const double theta = sim.joint(0, 0).target;
+    CHECK(std::abs(theta) > 0);
+    CHECK(std::abs(theta) <= deg_to_rad(10) * 20);
+}
+
+TEST_CASE("step, run and reset from inside the simulation's own tick are errors",
+          "[simulation][reentrancy]") {
+    using Catch::Matchers::Contains;
+    using Catch::Matchers::StartsWith;
+    SECTION("from a controller's step") {
+        for (const char* what : {"step", "run", "reset"}) {
+            Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+            const std::string w = what;
+            auto once = std::make_shared<bool>(true);
+            auto c = std::make_shared<Reentrant>(sim, [w, once](Simulation& s) {
+                if (!*once) return;
+                *once = false;
+                if (w == "step") s.step(1);
+                if (w == "run") s.run(1);
+                if (w == "reset") s.reset();
+            });
+            sim.add_drive(0, drive_of({0, 1, 2}, c));
+            CHECK_THROWS_WITH(
+                sim.step(5),
+                Equals(std::string(kInsideTick) + " (" + w +
+                       " called from a controller's step: step, run and reset belong between "
+                       "ticks)"));
+            CHECK(sim.ticks() == 0);  // the first tick stopped at its think phase
+            CHECK(c->failed());
+            // the simulation is usable again between ticks
+            sim.reset();
+            CHECK_NOTHROW(sim.step(40));
+            CHECK(c->steps == 3);
+        }
+    }
+    SECTION("from an observer") {
+        Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+        sim.add_observer([](const Simulation& s) {
+            // observers get a const simulation; one that kept a mutable reference must still
+            // not get through
+            const_cast<Simulation&>(s).run(0.5);
+        });
+        CHECK_THROWS_WITH(sim.step(3), StartsWith(kInsideTick) && Contains("from an observer"));
+        CHECK(sim.ticks() == 1);
+    }
+    SECTION("from an event listener: a reset that resets again does not recurse") {
+        Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+        int calls = 0;
+        sim.add_event_listener([&calls, &sim](const Simulation&, const Event& e) {
+            ++calls;
+            if (e.kind == EventKind::reset) sim.reset();
+        });
+        sim.step(2);
+        CHECK_THROWS_WITH(sim.reset(), StartsWith(kInsideTick) &&
+                                           Contains("reset called from an event listener"));
+        CHECK(calls == 1);
+        CHECK(sim.ticks() == 0);
+    }
+    SECTION("a pre-tick hook may reset between ticks but not step") {
+        Simulation sim(test::chain_world(3, Connection::pitch_pitch));
+        bool reset_done = false;
+        sim.add_pre_tick([&](Simulation& s) {
+            if (s.ticks() == 5 && !reset_done) {
+                reset_done = true;
+                s.reset();
+            }
+        });
+        sim.step(10);
+        CHECK(reset_done);
+        CHECK(sim.ticks() == 5);  // ticks 0-4, a reset, then ticks 0-4 again
+        sim.add_pre_tick([](Simulation& s) { s.step(1); });
+        CHECK_THROWS_WITH(sim.step(1),
+                          StartsWith(kInsideTick) && Contains("step called from a pre-tick hook"));
+    }
+}
+
+TEST_CASE("observers and event listeners may add and remove callbacks while they run",
+          "[simulation][reentrancy]") {
+    Simulation sim(test::chain_world(2, Connection::pitch_pitch));
+    std::vector<std::string> calls;
+    int self = 0, victim = 0;
+    self = sim.add_observer([&](const Simulation& s) {
+        calls.push_back("self@" + std::to_string(s.ticks()));
+        if (s.ticks() == 1) {
+            // adding many (reallocating any vector they live in), removing another and itself
+            for (int k = 0; k < 50; ++k)
+                sim.add_observer([&calls, k](const Simulation&) {
+                    if (k == 49) calls.push_back("added");
+                });
+            sim.remove_observer(victim);
+            sim.remove_observer(self);
+        }
+    });
+    victim = sim.add_observer([&](const Simulation&) { calls.push_back("victim"); });
+    sim.step(3);
+    CHECK(calls == std::vector<std::string>{"self@1", "added", "added"});
+
+    // listeners: one that adds a listener and removes itself when an event comes
+    std::vector<std::string> heard;
+    int first = 0;
+    first = sim.add_event_listener([&](const Simulation&, const Event&) {
+        heard.push_back("first");
+        for (int k = 0; k < 20; ++k)
+            sim.add_event_listener([&heard, k](const Simulation&, const Event&) {
+                if (k == 0) heard.push_back("second");
+            });
+        sim.remove_event_listener(first);
+    });
+    sim.reset();
+    sim.reset();
+    CHECK(heard == std::vector<std::string>{"first", "second"});
+}
+
+TEST_CASE("a robot that starts inside an object, the floor or another robot gets a warning",
+          "[simulation][overlap]") {
+    using Catch::Matchers::Contains;
+    SECTION("resting on the floor, on stairs or next to a wall: no warning") {
+        WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+        WallSpec wall;
+        wall.position = {0.15, 0.036, 0};  // 20 mm thick, touching the robot's side
+        w.walls.push_back(wall);
+        StairsSpec stairs;
+        stairs.position = {1, 0, 0};
+        w.stairs.push_back(stairs);
+        PlacedRobot on_stairs = w.robots[0];
+        on_stairs.robot.name = "climber";
+        on_stairs.pose.position = {1.205, 0, 0.04};  // on the second step (0.2 m deep)
+        on_stairs.robot = make_chain([] {
+            ChainSpec c;
+            c.name = "climber";
+            c.modules = 2;
+            return c;
+        }());
+        w.robots.push_back(on_stairs);
+        Simulation sim(w);
+        CHECK(sim.warnings() == std::vector<std::string>{});
+    }
+    SECTION("inside a box: the warning names the body, the box and the depth") {
+        WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+        BoxSpec box;
+        box.size = {0.2, 0.2, 0.2};
+        box.pose.position = {0.29, 0, 0.1};  // around the head and the last segment
+        w.boxes.push_back(box);
+        Simulation sim(w);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0],
+                   Catch::Matchers::StartsWith("body 'segment3' of robot 'snake' starts 52.0 ") &&
+                       Contains("mm deep inside box 1: the contact solver will throw it out "
+                                "(place the robot clear of it, e.g. higher)"));
+        // warned, not refused: the scene still runs (and the solver pushes the head out)
+        CHECK_NOTHROW(sim.run(0.1));
+    }
+    SECTION("below the floor") {
+        WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+        w.robots[0].pose.position.z = -0.1;
+        Simulation sim(w);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0], Contains("deep inside the floor"));
+    }
+    SECTION("inside another robot") {
+        WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+        w.robots.push_back(w.robots[0]);
+        w.robots[1].pose.position.x = 0.01;
+        Simulation sim(w);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0],
+                   Contains("of robot 'snake_2'") && Contains("of robot 'snake'"));
+    }
+    SECTION("a shallow overlap (under 5 mm) is left to the solver") {
+        WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+        w.robots[0].pose.position.z = -0.003;
+        Simulation sim(w);
+        CHECK(sim.warnings().empty());
+    }
+}
+
+TEST_CASE("a world of 100 000 stones builds and steps in well under a second each",
+          "[simulation][limits]") {
+    // one densely packed field (each stone overlaps hundreds of others): Bullet's broadphase
+    // used to pair every stone with its neighbours on insertion and again at every step
+    WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+    RubbleSpec r;
+    r.count = kMaxRubbleCount;
+    r.position = {2, 0, 0};
+    w.rubble.push_back(r);
+    const auto t0 = std::chrono::steady_clock::now();
+    Simulation sim(w);
+    const auto t1 = std::chrono::steady_clock::now();
+    sim.step(100);
+    const auto t2 = std::chrono::steady_clock::now();
+    const auto seconds = [](auto d) { return std::chrono::duration<double>(d).count(); };
+    // generous bounds (a loaded machine, sanitizers): before, the build took about 10 s and
+    // 100 steps minutes
+    CHECK(seconds(t1 - t0) < 5);
+    CHECK(seconds(t2 - t1) < 5);
+    CHECK(sim.warnings().empty());
+}
+
+TEST_CASE("a robot started inside a stone of a rubble field is warned about by the field's name",
+          "[simulation][overlap]") {
+    WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+    RubbleSpec r;
+    r.count = 200;
+    r.length = r.width = 0.3;
+    r.position = {0.15, 0, 0};
+    r.min_height = r.max_height = 0.03;
+    w.rubble.push_back(r);
+    // static solids of one friction share one body: the warning still names the right one
+    WallSpec wall;
+    wall.position = {-1, 0, 0};
+    w.walls.push_back(wall);
+    w.boxes.resize(2);
+    w.boxes[0].pose.position = {0, 1, 0.05};
+    w.boxes[1].pose.position = {0, -1, 0.05};
+    Simulation sim(w);
+    REQUIRE(sim.warnings().size() == 1);
+    CHECK_THAT(sim.warnings()[0], Catch::Matchers::Contains("mm deep inside rubble 1:"));
+    w.rubble.clear();
+    w.boxes[1].pose.position = {0.2, 0, 0.05};
+    Simulation sim2(w);
+    REQUIRE(sim2.warnings().size() == 1);
+    CHECK_THAT(sim2.warnings()[0], Catch::Matchers::Contains("mm deep inside box 2:"));
+}
+
+TEST_CASE("100 000 static boxes build and step in well under a second each",
+          "[simulation][limits]") {
+    WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+    // all in one square metre: each overlaps dozens of others
+    BoxSpec box;
+    box.size = {0.04, 0.04, 0.02};
+    for (int k = 0; k < 100000; ++k) {
+        box.pose.position = {1.5 + (k % 317) / 317.0, (k / 317 % 317) / 317.0 - 0.5, 0.01};
+        w.boxes.push_back(box);
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    Simulation sim(w);
+    const auto t1 = std::chrono::steady_clock::now();
+    sim.step(100);
+    const auto t2 = std::chrono::steady_clock::now();
+    const auto seconds = [](auto d) { return std::chrono::duration<double>(d).count(); };
+    CHECK(seconds(t1 - t0) < 5);  // was 6 s on an idle machine, and 3 ms more per step
+    CHECK(seconds(t2 - t1) < 5);
+}

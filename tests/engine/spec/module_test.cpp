@@ -1,0 +1,100 @@
+// Tests for engine/src/spec/module.cpp: the module library and module validation.
+#include "gaitlab/module.h"
+
+#include <catch2/catch.hpp>
+
+#include <limits>
+
+#include "gaitlab/error.h"
+
+using namespace gaitlab;
+using Catch::Matchers::Equals;
+
+TEST_CASE("the module library holds y1 first, then cube") {
+    const std::vector<ModuleDef>& lib = builtin_modules();
+    REQUIRE(lib.size() == 2);
+    CHECK(lib[0].name == "y1");
+    CHECK(lib[1].name == "cube");
+    for (const ModuleDef& m : lib)
+        CHECK_NOTHROW(validate(m));
+}
+
+TEST_CASE("y1 keeps its documented numbers") {
+    const ModuleDef y1 = builtin_module("y1");
+    CHECK(y1.shape == Shape::box);
+    CHECK(y1.axis == JointAxis::bend);
+    CHECK(y1.length == 0.072);
+    CHECK(y1.width == 0.052);
+    CHECK(y1.height == 0.052);
+    CHECK(y1.mass == 0.05);
+    CHECK(y1.min_angle == Approx(-kPi / 2));
+    CHECK(y1.max_angle == Approx(kPi / 2));
+    CHECK(y1.servo.kp == 8.3);
+    CHECK(y1.servo.max_speed == 4.5);
+    CHECK(y1.servo.max_torque == 0.4);
+    CHECK(y1.friction == 1.0);
+}
+
+TEST_CASE("cube is a 60 mm cube module with a stronger servo") {
+    const ModuleDef cube = builtin_module("cube");
+    CHECK(cube.shape == Shape::box);
+    CHECK(cube.length == 0.06);
+    CHECK(cube.width == 0.06);
+    CHECK(cube.height == 0.06);
+    CHECK(cube.mass == 0.1);
+    CHECK(cube.servo.max_torque == 1.0);
+    CHECK(cube.servo.max_speed == 5.2);
+    CHECK(cube.servo.kp == 8.3);
+    CHECK(cube.max_angle == Approx(kPi / 2));
+}
+
+TEST_CASE("an unknown module type names the built-in ones") {
+    REQUIRE_THROWS_AS(builtin_module("cub"), SpecError);
+    REQUIRE_THROWS_WITH(builtin_module("cub"),
+                        Equals("unknown module type 'cub' (built in: 'y1', 'cube')"));
+}
+
+TEST_CASE("module validation checks the fields of its shape") {
+    ModuleDef m;
+    m.name = "big";
+    SECTION("a box needs a width") {
+        m.width = -0.01;
+        REQUIRE_THROWS_WITH(validate(m),
+                            Equals("module 'big' width must be positive (got -0.01 m)"));
+    }
+    SECTION("a cylinder needs a radius and ignores width and height") {
+        m.shape = Shape::cylinder;
+        m.width = -1;
+        m.radius = 0.03;
+        CHECK_NOTHROW(validate(m));
+        m.radius = 0;
+        REQUIRE_THROWS_WITH(validate(m), Equals("module 'big' radius must be positive (got 0 m)"));
+    }
+    SECTION("mass, friction, servo and range") {
+        m.mass = std::numeric_limits<double>::quiet_NaN();
+        REQUIRE_THROWS_WITH(validate(m), Equals("module 'big' mass must be positive (got nan kg)"));
+        m.mass = 0.1;
+        m.friction = 1.2;
+        REQUIRE_THROWS_WITH(validate(m),
+                            Equals("module 'big' friction must be in [0, 1] (got 1.2)"));
+        m.friction = 1;
+        m.servo.max_speed = 0;
+        REQUIRE_THROWS_WITH(validate(m),
+                            Equals("module 'big' servo max_speed must be positive (got 0 rad/s)"));
+        m.servo.max_speed = 1;
+        m.min_angle = 0.5;
+        m.max_angle = 0.5;
+        REQUIRE_THROWS_WITH(validate(m), Equals("module 'big' joint range must satisfy -180 <= "
+                                                "min < max <= 180 deg"));
+    }
+    SECTION("a module type needs a name") {
+        m.name = "";
+        REQUIRE_THROWS_WITH(validate(m), Equals("a module type needs a name"));
+    }
+}
+
+TEST_CASE("joint axis names") {
+    CHECK(std::string(to_string(JointAxis::bend)) == "bend");
+    CHECK(std::string(to_string(JointAxis::twist)) == "twist");
+    CHECK(std::string(to_string(Shape::cylinder)) == "cylinder");
+}

@@ -1,0 +1,292 @@
+// Tests for engine/src/spec/world.cpp: world spec validation (directly and through Simulation).
+#include "gaitlab/world.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+
+#include "gaitlab/error.h"
+#include "gaitlab/simulation.h"
+
+using namespace gaitlab;
+using Catch::Matchers::Equals;
+
+namespace {
+
+WorldSpec world_with_robot() {
+    ChainSpec chain;
+    chain.name = "snake";
+    chain.modules = 2;
+    WorldSpec w;
+    PlacedRobot placed;
+    placed.robot = make_chain(chain);
+    w.robots.push_back(std::move(placed));
+    return w;
+}
+
+// the world must be rejected with `message`, by validate() and by the Simulation that compiles it
+void require_rejected(const WorldSpec& w, const std::string& message) {
+    REQUIRE_THROWS_AS(validate(w), SpecError);
+    REQUIRE_THROWS_WITH(validate(w), Equals(message));
+    REQUIRE_THROWS_WITH(Simulation(w), Equals(message));
+}
+
+}  // namespace
+
+TEST_CASE("a default world with a robot is valid") {
+    const WorldSpec w = world_with_robot();
+    REQUIRE_NOTHROW(validate(w));
+    CHECK(w.gravity.z == -9.81);
+    CHECK(w.floor.enabled);
+    CHECK(w.floor.friction == 1.0);
+}
+
+TEST_CASE("floor friction must be in [0, 1]") {
+    WorldSpec w = world_with_robot();
+    w.floor.friction = 1.5;
+    require_rejected(w, "floor friction must be in [0, 1] (got 1.5)");
+    w.floor.friction = -0.2;
+    require_rejected(w, "floor friction must be in [0, 1] (got -0.2)");
+    w.floor.friction = std::numeric_limits<double>::quiet_NaN();
+    require_rejected(w, "floor friction must be in [0, 1] (got nan)");
+    w.floor.friction = 0;
+    CHECK_NOTHROW(validate(w));
+    w.floor.friction = 1;
+    CHECK_NOTHROW(validate(w));
+}
+
+TEST_CASE("boxes are checked and numbered from 1") {
+    WorldSpec w = world_with_robot();
+    w.boxes.resize(2);
+    w.boxes[0].pose.position = {1, 0, 0.05};
+    w.boxes[1].pose.position = {-1, 0, 0.05};
+    REQUIRE_NOTHROW(validate(w));
+    SECTION("negative mass") {
+        w.boxes[1].mass = -1;
+        require_rejected(w, "box 2 mass must not be negative (got -1 kg)");
+    }
+    SECTION("zero size") {
+        w.boxes[0].size.y = 0;
+        require_rejected(w, "box 1 size y must be positive (got 0 m)");
+    }
+    SECTION("friction above 1") {
+        w.boxes[0].friction = 3;
+        require_rejected(w, "box 1 friction must be in [0, 1] (got 3)");
+    }
+    SECTION("infinite position") {
+        w.boxes[1].pose.position.z = std::numeric_limits<double>::infinity();
+        require_rejected(w, "box 2 position z must be a finite number");
+    }
+    SECTION("an orientation that is not a rotation") {
+        w.boxes[0].pose.orientation = Quat::from_axis_angle({0, 0, 1}, std::nan(""));
+        require_rejected(w, "box 1 orientation must be a unit quaternion");
+    }
+}
+
+TEST_CASE("gravity must be finite and within 1000 m/s² on each axis") {
+    WorldSpec w = world_with_robot();
+    w.gravity.x = std::numeric_limits<double>::quiet_NaN();
+    require_rejected(w, "gravity x must be a finite number");
+    w.gravity.x = 0;
+    w.gravity.z = -1e30;
+    require_rejected(w, "gravity z must be in [-1000, 1000] m/s² (got -1e+30)");
+    w.gravity.z = 1000.5;
+    require_rejected(w, "gravity z must be in [-1000, 1000] m/s² (got 1000.5)");
+    w.gravity = {1000, -1000, -1000};
+    CHECK_NOTHROW(validate(w));
+}
+
+TEST_CASE("positions, sizes and masses beyond what single-precision physics means are refused") {
+    WorldSpec w = world_with_robot();
+    SECTION("a box far away") {
+        w.boxes.resize(1);
+        w.boxes[0].pose.position.x = 1e30;
+        require_rejected(w, "box 1 position x must be in [-10000, 10000] m (got 1e+30)");
+    }
+    SECTION("a box larger than the world") {
+        w.boxes.resize(1);
+        w.boxes[0].size.x = 1e30;
+        require_rejected(w, "box 1 size x must be at most 10000 m (got 1e+30 m)");
+    }
+    SECTION("a box heavier than anything a robot meets") {
+        w.boxes.resize(1);
+        w.boxes[0].mass = 1e30;
+        require_rejected(w, "box 1 mass must be at most 1000000 kg (got 1e+30 kg)");
+    }
+    SECTION("stairs whose steps add up beyond the limit") {
+        w.stairs.resize(1);
+        w.stairs[0].steps = 1000;
+        w.stairs[0].step_height = 9000;
+        require_rejected(w, "stairs 1 height must be at most 10000 m (got 9000000 m)");
+    }
+    SECTION("a robot far away") {
+        w.robots[0].pose.position.y = -2e4;
+        require_rejected(w, "robot 'snake' position y must be in [-10000, 10000] m (got -20000)");
+    }
+    SECTION("a robot body") {
+        w.robots[0].robot.bodies[1].mass = 1e9;
+        require_rejected(
+            w, "robot 'snake' body 'segment1' mass must be at most 1000000 kg (got 1000000000 kg)");
+    }
+}
+
+TEST_CASE("heightfield heights are within 1000 m") {
+    WorldSpec w = world_with_robot();
+    HeightfieldSpec h;
+    h.samples_x = 2;
+    h.samples_y = 2;
+    h.heights = {0, 0, 1e6, 0};
+    w.heightfields.push_back(h);
+    require_rejected(w,
+                     "heightfield 1 height at grid point (1, 2) must be in [-1000, 1000] m "
+                     "(got 1000000)");
+    w.heightfields[0].heights[2] = -HUGE_VAL;
+    require_rejected(w, "heightfield 1 height at grid point (1, 2) must be a finite number");
+    w.heightfields[0].heights[2] = -1000;
+    CHECK_NOTHROW(validate(w));
+    w.heightfields[0].heights.clear();
+    w.heightfields[0].image = "x.png";
+    w.heightfields[0].max_height = 2000;
+    require_rejected(w, "heightfield 1 max_height must be at most 1000 m (got 2000 m)");
+}
+
+TEST_CASE("a world's objects are bounded in number") {
+    WorldSpec w = world_with_robot();
+    // 1e8 stones: each field within its own limit, together far beyond the world's
+    RubbleSpec r;
+    r.count = kMaxRubbleCount;
+    w.rubble.assign(1000, r);
+    CHECK(solid_count(w) == 100000000);
+    require_rejected(w,
+                     "the world's objects make 100000000 rigid bodies (at most 250000: fewer "
+                     "stones, steps or objects)");
+    w.rubble.resize(2);
+    CHECK_NOTHROW(validate(w));
+    SECTION("heightfields, whose samples add up") {
+        w.rubble.clear();
+        HeightfieldSpec h;
+        h.samples_x = h.samples_y = kMaxHeightfieldSide;
+        h.heights.assign(static_cast<size_t>(kMaxHeightSamples), 0.0);
+        w.heightfields = {h};
+        CHECK_NOTHROW(validate(w));
+        w.heightfields.push_back(h);
+        require_rejected(w,
+                         "the world's heightfields have 33554432 samples together (at most "
+                         "16777216)");
+    }
+    SECTION("robots") {
+        w.rubble.clear();
+        w.robots.resize(kMaxRobots + 1, w.robots[0]);
+        require_rejected(w, "a world holds at most 1000 robots (got 1001)");
+    }
+}
+
+TEST_CASE("the robots of a world are validated") {
+    WorldSpec w = world_with_robot();
+    w.robots[0].robot.bodies[2].mass = 0;
+    require_rejected(w, "robot 'snake' body 'head' mass must be positive (got 0 kg)");
+}
+
+TEST_CASE("every object of the world library is checked, named by kind and number") {
+    WorldSpec w = world_with_robot();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    SECTION("walls") {
+        w.walls.resize(2);
+        REQUIRE_NOTHROW(validate(w));
+        w.walls[1].thickness = -0.01;
+        require_rejected(w, "wall 2 thickness must be positive (got -0.01 m)");
+        w.walls[1].thickness = 0.01;
+        w.walls[0].yaw = nan;
+        require_rejected(w, "wall 1 yaw must be a finite number");
+    }
+    SECTION("ramps") {
+        w.ramps.resize(1);
+        REQUIRE_NOTHROW(validate(w));
+        w.ramps[0].slope = deg_to_rad(95);
+        require_rejected(w,
+                         "ramp 1 slope must be between 0 and 90 deg, both excluded (got 95 deg)");
+        w.ramps[0].slope = 0;
+        require_rejected(w, "ramp 1 slope must be between 0 and 90 deg, both excluded (got 0 deg)");
+        w.ramps[0].slope = nan;
+        require_rejected(w, "ramp 1 slope must be between 0 and 90 deg, both excluded (got nan)");
+        w.ramps[0].slope = 0.2;
+        w.ramps[0].friction = 1.01;
+        require_rejected(w, "ramp 1 friction must be in [0, 1] (got 1.01)");
+    }
+    SECTION("stairs") {
+        w.stairs.resize(2);
+        w.stairs[1].step_height = -0.01;
+        require_rejected(w, "stairs 2 step_height must be positive (got -0.01 m)");
+        w.stairs[1].step_height = 0.01;
+        w.stairs[1].steps = 0;
+        require_rejected(w, "stairs 2 steps must be in [1, 1000] (got 0)");
+        w.stairs[1].steps = 2;
+        w.stairs[0].landing = -1;
+        require_rejected(w, "stairs 1 landing must not be negative (got -1 m)");
+    }
+    SECTION("cylinders") {
+        w.cylinders.resize(1);
+        w.cylinders[0].mass = -2;
+        require_rejected(w, "cylinder 1 mass must not be negative (got -2 kg)");
+        w.cylinders[0].mass = 2;
+        w.cylinders[0].radius = 0;
+        require_rejected(w, "cylinder 1 radius must be positive (got 0 m)");
+    }
+    SECTION("pipes") {
+        w.pipes.resize(1);
+        w.pipes[0].sides = 2;
+        require_rejected(w, "pipe 1 sides must be in [3, 256] (got 2)");
+        w.pipes[0].sides = 8;
+        w.pipes[0].position.y = std::numeric_limits<double>::infinity();
+        require_rejected(w, "pipe 1 position y must be a finite number");
+    }
+    SECTION("rubble") {
+        w.rubble.resize(1);
+        w.rubble[0].max_size = 0.01;
+        require_rejected(w, "rubble 1 max_size must not be below min_size (got 0.01 < 0.02 m)");
+        w.rubble[0].max_size = 0.05;
+        w.rubble[0].count = -1;
+        require_rejected(w, "rubble 1 count must be in [0, 100000] (got -1)");
+        w.rubble[0].count = 0;
+        CHECK_NOTHROW(validate(w));
+        w.rubble[0].friction = -0.5;
+        require_rejected(w, "rubble 1 friction must be in [0, 1] (got -0.5)");
+    }
+    SECTION("heightfields") {
+        w.heightfields.resize(1);
+        require_rejected(w, "heightfield 1 needs heights or an image");
+        HeightfieldSpec& h = w.heightfields[0];
+        h.samples_x = 2;
+        h.samples_y = 3;
+        h.heights = {0, 0, 0, 0, 0};
+        require_rejected(w, "heightfield 1 needs samples_x · samples_y = 6 heights (got 5)");
+        h.heights.push_back(nan);
+        require_rejected(w, "heightfield 1 height at grid point (2, 3) must be a finite number");
+        h.heights.back() = 0.1;
+        CHECK_NOTHROW(validate(w));
+        h.samples_x = 1;
+        h.heights.resize(3);
+        require_rejected(w, "heightfield 1 samples_x must be in [2, 4096] (got 1)");
+        h.image = "x.png";
+        require_rejected(w, "heightfield 1 has both heights and an image (give one)");
+        h.heights.clear();
+        h.max_height = 0;
+        require_rejected(w, "heightfield 1 max_height must be positive (got 0 m)");
+        // validation does not read the image; compiling does
+        h.max_height = 0.1;
+        h.image = "/tmp/gaitlab_no_such_dir/x.png";
+        CHECK_NOTHROW(validate(w));
+        REQUIRE_THROWS_WITH(
+            Simulation(w),
+            Equals("heightfield 1 cannot read image '/tmp/gaitlab_no_such_dir/x.png': no such "
+                   "file or directory"));
+    }
+    SECTION("a robot's placement") {
+        w.robots[0].pose.position.x = nan;
+        require_rejected(w, "robot 'snake' position x must be a finite number");
+        w.robots[0].pose.position.x = 0;
+        w.robots[0].pose.orientation = {2, 0, 0, 0};
+        require_rejected(w, "robot 'snake' orientation must be a unit quaternion");
+    }
+}

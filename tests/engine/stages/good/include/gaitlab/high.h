@@ -1,0 +1,3 @@
+#pragma once
+
+#include "gaitlab/low.h"

@@ -1,0 +1,5 @@
+#pragma once
+
+#include <gaitlab/high.h>
+
+#include "low/a.h"

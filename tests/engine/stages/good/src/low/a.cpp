@@ -1,0 +1,5 @@
+#include "low/a.h"
+
+#include <liblow/x.h>
+
+#include "a.h"

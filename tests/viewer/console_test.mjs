@@ -1,0 +1,95 @@
+// The page and the terminal console at the same time: `gaitlab -i scripts/console.lua`, then
+// sim:view() typed at the prompt gives the viewer's address; while the console waits for the
+// next line, the page's commands play the simulation, change a parameter and pause it; a typed
+// sim:run plays at real time; the session's run folder records the page's change and replays
+// bit for bit. No browser: the page's requests are made with fetch.
+//
+// Usage: node console_test.mjs GAITLAB SOURCE_DIR OUT_DIR
+import { spawn, spawnSync } from 'node:child_process';
+import fs from 'node:fs';
+import path from 'node:path';
+
+const [gaitlab, source, out] = process.argv.slice(2);
+fs.rmSync(out, { recursive: true, force: true });
+fs.mkdirSync(out, { recursive: true });
+const run = path.join(out, 'run');
+let passed = 0;
+let failed = 0;
+function check(ok, what) {
+  if (ok) passed++; else failed++;
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
+}
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
+const child = spawn(gaitlab, ['-i', path.join(source, 'tests/viewer/scripts/console.lua'),
+  '--record', run], { stdio: ['pipe', 'pipe', 'pipe'] });
+let stdout = '';
+let stderr = '';
+child.stdout.on('data', (d) => { stdout += d; });
+child.stderr.on('data', (d) => { stderr += d; });
+const exited = new Promise((resolve) => child.on('exit', (code) => resolve(code)));
+async function waitFor(what, test, ms = 20000) {
+  const end = Date.now() + ms;
+  while (Date.now() < end) {
+    if (test()) return true;
+    await sleep(50);
+  }
+  console.log(`FAIL waiting for ${what}\nstdout:\n${stdout}\nstderr:\n${stderr}`);
+  child.kill('SIGKILL');
+  process.exit(1);
+}
+function type(line) { child.stdin.write(`${line}\n`); }
+
+type('print("at", sim:view())');
+await waitFor('the address', () => /at\thttp:\/\/127\.0\.0\.1:\d+\//.test(stdout));
+const url = stdout.match(/at\t(http:\/\/\S+)/)[1];
+check(/viewer: http:\/\/127\.0\.0\.1:\d+\//.test(stderr), `sim:view() serves the viewer at ${url}`);
+const post = async (command) => {
+  const r = await fetch(`${url}api/command`, {
+    method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(command),
+  });
+  return r.status;
+};
+const scene = await (await fetch(`${url}api/scene`)).json();
+check(scene.simulation === 1 && scene.bodies.length === 5, 'the page gets the snake\'s scene');
+
+// while the console waits for a line, the page plays the simulation
+check(await post({ command: 'play' }) === 200, 'the page says play');
+await sleep(800);
+check(await post({ command: 'param', controller: 'sine', name: 'amplitude', value: 25 }) === 200,
+  'the page sets sine.amplitude = 25');
+await sleep(400);
+check(await post({ command: 'pause' }) === 200, 'the page says pause');
+await sleep(300);
+type('print("t", sim.time, "amplitude", sim:status().controllers[1].params[1].value)');
+await waitFor('the time', () => /^t\t[\d.]+\tamplitude\t25/m.test(stdout));
+const t = Number(stdout.match(/^t\t([\d.]+)/m)[1]);
+check(t > 0.5 && t < 5, `the simulation played while the console waited (t = ${t} s)`);
+type('print("t again", sim.time)');
+await waitFor('the time again', () => /^t again\t/m.test(stdout));
+check(Number(stdout.match(/^t again\t([\d.]+)/m)[1]) === t, 'paused from the page, it stays paused');
+
+// a typed run plays at real time while the view is open
+const start = Date.now();
+type('sim:run(0.5) print("ran")');
+await waitFor('the run', () => /^ran$/m.test(stdout));
+check(Date.now() - start >= 450, `a typed sim:run(0.5) plays at real time (${Date.now() - start} ms)`);
+child.stdin.end();
+const code = await exited;
+check(code === 0, `the console ends with status 0 (got ${code})`);
+
+const events = fs.readFileSync(path.join(run, 'events.csv'), 'utf8');
+check(/,viewer,param,sine\.amplitude,25,/.test(events), 'events.csv records the page\'s change');
+const replay = spawnSync(gaitlab, ['replay', run], { encoding: 'utf8' });
+check(replay.status === 0 && /^replay identical/.test(replay.stdout),
+  `the console session replays bit for bit (${(replay.stdout + replay.stderr).trim()})`);
+
+// without a viewer, sim:view() says where it works
+const bad = path.join(out, 'view.lua');
+fs.writeFileSync(bad, fs.readFileSync(path.join(source, 'tests/viewer/scripts/console.lua'), 'utf8') + 'sim:view()\n');
+const noview = spawnSync(gaitlab, ['run', '--no-record', bad], { encoding: 'utf8' });
+check(noview.status === 1 && /sim:view\(\): no viewer here: run the script with gaitlab run FILE --view/.test(noview.stderr),
+  `sim:view() without a viewer is a clear error (${noview.stderr.trim()})`);
+
+console.log(`${passed} passed, ${failed} failed`);
+process.exit(failed === 0 ? 0 : 1);

@@ -1,0 +1,654 @@
+// The gaitlab viewer page: a 3D view of the simulation gaitlab serves, its controls and the
+// controllers' parameters. The scene comes once (and again when it changes), then frames of
+// poses, over one server-sent event stream (/api/events); commands go back as JSON posts
+// (/api/command). docs/viewer.md describes the protocol.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import uPlot from 'uplot';
+
+const token = new URLSearchParams(location.search).get('token');
+const query = token ? `?token=${encodeURIComponent(token)}` : '';
+// an API address with its parameters (and the token, when there is one)
+function api(path, params = {}) {
+  const p = new URLSearchParams(params);
+  if (token) p.set('token', token);
+  const q = p.toString();
+  return q ? `${path}?${q}` : path;
+}
+
+// what tests (and curious users, from the browser console) can read
+const gaitlab = {
+  scene: null,      // the scene as gaitlab sent it
+  frame: null,      // the latest frame
+  frames: 0,        // frames received
+  drawn: 0,         // frames drawn
+  messages: [],     // {level, text}
+  errors: [],       // command errors
+  connected: false,
+  plots: [],        // the live plots: { names, paused, points() }
+};
+window.gaitlab = gaitlab;
+
+const $ = (id) => document.getElementById(id);
+const canvas = $('scene');
+
+// ---------------------------------------------------------------------------------------------
+// the 3D view: z up, as gaitlab's frames are
+
+const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(window.devicePixelRatio);
+const world = new THREE.Scene();
+world.background = new THREE.Color(0xdfe6ee);
+const camera = new THREE.PerspectiveCamera(45, 1, 0.005, 500);
+camera.up.set(0, 0, 1);
+camera.position.set(-0.6, -1.1, 0.7);
+const controls = new OrbitControls(camera, canvas);
+controls.target.set(0.3, 0, 0);
+controls.enableDamping = true;
+controls.update();
+
+world.add(new THREE.HemisphereLight(0xffffff, 0x8d8d8d, 2.2));
+const sun = new THREE.DirectionalLight(0xffffff, 2.0);
+sun.position.set(2, -3, 5);
+world.add(sun);
+
+let sceneGroup = new THREE.Group();   // what one scene message builds
+gaitlab.three = { THREE, world, camera, controls, renderer };
+world.add(sceneGroup);
+let bodyMeshes = [];                  // robots' bodies, then dynamic objects: frame order
+let robots = [];
+
+const robotColours = [0xe07b24, 0x2a7fbf, 0x3f9e4d, 0x9b4fb3];
+const objectMaterial = new THREE.MeshStandardMaterial({ color: 0x8e98a6, roughness: 0.8 });
+const dynamicMaterial = new THREE.MeshStandardMaterial({ color: 0xb59b6a, roughness: 0.7 });
+
+function resize() {
+  const w = canvas.clientWidth, h = canvas.clientHeight;
+  if (canvas.width !== Math.floor(w * renderer.getPixelRatio()) ||
+      canvas.height !== Math.floor(h * renderer.getPixelRatio())) {
+    renderer.setSize(w, h, false);
+    camera.aspect = w / Math.max(h, 1);
+    camera.updateProjectionMatrix();
+  }
+}
+
+function setPose(object, p, k = 0) {
+  if (p[k] === null) return;   // a value JSON cannot hold (the simulation diverged)
+  object.position.set(p[k], p[k + 1], p[k + 2]);
+  object.quaternion.set(p[k + 4], p[k + 5], p[k + 6], p[k + 3]);
+}
+
+function gridTexture() {
+  const n = 512;
+  const c = document.createElement('canvas');
+  c.width = c.height = n;
+  const g = c.getContext('2d');
+  g.fillStyle = '#f4f6f8';
+  g.fillRect(0, 0, n, n);
+  g.fillStyle = '#c3cad4';
+  for (let i = 0; i < 10; ++i) {
+    g.fillRect(Math.round(i * n / 10), 0, 2, n);
+    g.fillRect(0, Math.round(i * n / 10), n, 2);
+  }
+  g.fillStyle = '#7d8898';
+  g.fillRect(0, 0, 4, n);
+  g.fillRect(0, 0, n, 4);
+  const t = new THREE.CanvasTexture(c);
+  t.wrapS = t.wrapT = THREE.RepeatWrapping;
+  t.repeat.set(200, 200);
+  t.anisotropy = renderer.capabilities.getMaxAnisotropy();
+  t.colorSpace = THREE.SRGBColorSpace;
+  return t;
+}
+
+// a box or a cylinder whose axis is its local x, as gaitlab's bodies and solids are
+function shapeGeometry(shape, size) {
+  if (shape === 'cylinder') {
+    const g = new THREE.CylinderGeometry(size[1] / 2, size[1] / 2, size[0], 24);
+    g.rotateZ(-Math.PI / 2);
+    return g;
+  }
+  return new THREE.BoxGeometry(size[0], size[1], size[2]);
+}
+
+function buildScene(scene) {
+  world.remove(sceneGroup);
+  sceneGroup.traverse((o) => { if (o.geometry) o.geometry.dispose(); });
+  sceneGroup = new THREE.Group();
+  world.add(sceneGroup);
+  bodyMeshes = [];
+  robots = scene.robots;
+
+  if (scene.floor.enabled) {
+    // the grid is a texture of the floor (lines drawn as lines vanish on some GPUs): one
+    // square metre per repeat, a strong line each metre, a light one each 10 cm
+    const floor = new THREE.Mesh(new THREE.PlaneGeometry(200, 200),
+      new THREE.MeshStandardMaterial({ map: gridTexture(), roughness: 1 }));
+    sceneGroup.add(floor);
+  }
+  sceneGroup.add(new THREE.AxesHelper(0.1));
+
+  scene.bodies.forEach((b, i) => {
+    const robotBody = i - scene.robots[b.robot].first_body;
+    const base = new THREE.Color(robotColours[b.robot % robotColours.length]);
+    // alternate shades make the modules countable
+    const colour = robotBody % 2 ? base.clone().multiplyScalar(0.8) : base;
+    const mesh = new THREE.Mesh(shapeGeometry(b.shape, b.size),
+      new THREE.MeshStandardMaterial({ color: colour, roughness: 0.55 }));
+    mesh.name = b.name;
+    sceneGroup.add(mesh);
+    bodyMeshes.push(mesh);
+  });
+  const dynamic = [];
+  for (const o of scene.objects) {
+    let mesh;
+    if (o.kind === 'mesh') {
+      const g = new THREE.BufferGeometry();
+      g.setAttribute('position', new THREE.Float32BufferAttribute(o.positions, 3));
+      g.computeVertexNormals();
+      mesh = new THREE.Mesh(g, objectMaterial);
+      mesh.material.side = THREE.DoubleSide;
+    } else {
+      mesh = new THREE.Mesh(shapeGeometry(o.kind, o.size),
+        o.dynamic >= 0 ? dynamicMaterial : objectMaterial);
+      setPose(mesh, o.pose);
+    }
+    mesh.name = o.name;
+    sceneGroup.add(mesh);
+    if (o.dynamic >= 0) dynamic[o.dynamic] = mesh;
+  }
+  bodyMeshes.push(...dynamic);
+
+  $('sim-name').textContent = `simulation ${scene.simulation}`;
+  buildParams(scene);
+  buildSensors(scene);
+}
+
+// the centre of robot r's bodies, for following it
+function robotCentre(r) {
+  const robot = robots[r];
+  const c = new THREE.Vector3();
+  if (!robot || robot.bodies === 0) return null;
+  for (let i = 0; i < robot.bodies; ++i) c.add(bodyMeshes[robot.first_body + i].position);
+  return c.divideScalar(robot.bodies);
+}
+
+let needsViewAll = false;
+function viewAll() {
+  const box = new THREE.Box3();
+  for (const m of bodyMeshes) box.expandByObject(m);
+  if (box.isEmpty()) box.set(new THREE.Vector3(-0.5, -0.5, 0), new THREE.Vector3(0.5, 0.5, 0.2));
+  const centre = box.getCenter(new THREE.Vector3());
+  const size = Math.max(box.getSize(new THREE.Vector3()).length(), 0.3);
+  controls.target.copy(centre);
+  camera.position.copy(centre).add(new THREE.Vector3(-0.55, -1, 0.65).multiplyScalar(size));
+  controls.update();
+}
+
+let drawnFrame = null;
+let lastCentre = null;
+function draw() {
+  requestAnimationFrame(draw);
+  resize();
+  const f = gaitlab.frame;
+  if (f && f !== drawnFrame && gaitlab.scene && f.simulation === gaitlab.scene.simulation &&
+      f.poses.length === bodyMeshes.length * 7) {
+    drawnFrame = f;
+    bodyMeshes.forEach((m, i) => setPose(m, f.poses, i * 7));
+    if (needsViewAll) {
+      needsViewAll = false;
+      viewAll();
+    }
+    if ($('follow').checked) {
+      const c = robotCentre(0);
+      if (c && lastCentre) {
+        // the camera keeps its place relative to the robot
+        const d = c.clone().sub(lastCentre);
+        controls.target.add(d);
+        camera.position.add(d);
+      }
+      lastCentre = c;
+    } else {
+      lastCentre = robotCentre(0);
+    }
+    gaitlab.drawn++;
+  }
+  controls.update();
+  renderer.render(world, camera);
+}
+
+// ---------------------------------------------------------------------------------------------
+// commands
+
+function message(level, text) {
+  gaitlab.messages.push({ level, text });
+  const box = $('messages');
+  const line = document.createElement('div');
+  line.className = level;
+  line.textContent = text;
+  box.appendChild(line);
+  while (box.childNodes.length > 300) box.removeChild(box.firstChild);
+  box.scrollTop = box.scrollHeight;
+}
+
+async function send(command) {
+  if (gaitlab.scene && command.simulation === undefined) command.simulation = gaitlab.scene.simulation;
+  try {
+    const r = await fetch(`api/command${query}`, {
+      method: 'POST',
+      headers: { 'Content-Type': 'application/json' },
+      body: JSON.stringify(command),
+    });
+    if (!r.ok) {
+      const body = await r.json().catch(() => ({ error: `HTTP ${r.status}` }));
+      gaitlab.errors.push(body.error);
+      message('error', `${command.command}: ${body.error}`);
+    }
+  } catch (e) {
+    message('error', `${command.command}: gaitlab does not answer (${e.message})`);
+  }
+}
+
+$('play').addEventListener('click', () => {
+  const state = gaitlab.frame ? gaitlab.frame.state : {};
+  send({ command: state.playing ? 'pause' : 'play' });
+});
+$('step').addEventListener('click', () =>
+  send({ command: 'step', ticks: gaitlab.scene ? gaitlab.scene.control_every : 1 }));
+$('reset').addEventListener('click', () => send({ command: 'reset' }));
+$('speed').addEventListener('change', (e) => {
+  const v = e.target.value;
+  send({ command: 'speed', value: v === 'max' ? 'max' : Number(v) });
+});
+$('home').addEventListener('click', () => { $('follow').checked = false; viewAll(); });
+document.addEventListener('keydown', (e) => {
+  if (e.target.tagName === 'INPUT' || e.target.tagName === 'SELECT') return;
+  if (e.key === ' ') { e.preventDefault(); $('play').click(); }
+  if (e.key === 's') $('step').click();
+  if (e.key === 'r') $('reset').click();
+});
+
+// ---------------------------------------------------------------------------------------------
+// parameters: one slider each, with its range and unit
+
+let sliders = [];   // in frame.params order: { input, output, param }
+let dragging = null;
+
+function format(v) {
+  return Math.abs(v) >= 100 ? v.toFixed(1) : Math.abs(v) >= 1 ? v.toFixed(2) : v.toPrecision(3);
+}
+
+function buildParams(scene) {
+  const box = $('params');
+  box.textContent = '';
+  sliders = [];
+  if (scene.controllers.length === 0) {
+    box.innerHTML = '<p class="small">no controller</p>';
+    return;
+  }
+  for (const c of scene.controllers) {
+    const h = document.createElement('h3');
+    h.textContent = c.label === c.name ? `${c.label} (${c.robot})` : `${c.label}: ${c.name} (${c.robot})`;
+    box.appendChild(h);
+    for (const p of c.params) {
+      const row = document.createElement('div');
+      row.className = 'param';
+      const id = `param-${c.label}-${p.name}`;
+      const label = document.createElement('label');
+      label.htmlFor = id;
+      label.textContent = p.name;
+      label.title = `${c.label}.${p.name}`;
+      const input = document.createElement('input');
+      input.type = 'range';
+      input.id = id;
+      input.min = p.min;
+      input.max = p.max;
+      // a power of ten, so round values (20 deg, 0.5 Hz) are on the slider
+      input.step = p.max > p.min ? 10 ** Math.floor(Math.log10((p.max - p.min) / 1000)) : 1;
+      input.value = p.default;
+      input.dataset.controller = c.label;
+      input.dataset.param = p.name;
+      const output = document.createElement('output');
+      output.htmlFor = id;
+      output.textContent = `${format(p.default)} ${p.unit}`;
+      const range = document.createElement('div');
+      range.className = 'range';
+      range.textContent = `${format(p.min)} … ${format(p.max)} ${p.unit}`;
+      row.append(label, input, output, range);
+      box.appendChild(row);
+      const slider = { input, output, param: p, controller: c.label, sent: 0 };
+      sliders.push(slider);
+      // while dragging: a few commands a second; the last value always goes
+      input.addEventListener('input', () => {
+        dragging = slider;
+        output.textContent = `${format(Number(input.value))} ${p.unit}`;
+        const now = performance.now();
+        if (now - slider.sent > 60) {
+          slider.sent = now;
+          send({ command: 'param', controller: c.label, name: p.name, value: Number(input.value) });
+        }
+      });
+      input.addEventListener('change', () => {
+        send({ command: 'param', controller: c.label, name: p.name, value: Number(input.value) });
+        dragging = null;
+      });
+    }
+  }
+}
+
+// sensors: a switch each; a switch is an event of the run (origin viewer), like a parameter
+let sensorBoxes = [];
+function buildSensors(scene) {
+  const box = $('sensors');
+  box.textContent = '';
+  sensorBoxes = [];
+  if (!scene.sensors || scene.sensors.length === 0) {
+    box.innerHTML = '<p class="small">no sensor</p>';
+    return;
+  }
+  for (const s of scene.sensors) {
+    const label = document.createElement('label');
+    label.className = 'pick';
+    const input = document.createElement('input');
+    input.type = 'checkbox';
+    input.dataset.sensor = s.name;
+    input.checked = true;
+    input.addEventListener('change', () =>
+      send({ command: 'sensor', name: s.name, enabled: input.checked }));
+    label.append(input, ` ${s.name} (${s.kind})`);
+    const line = document.createElement('div');
+    line.appendChild(label);
+    box.appendChild(line);
+    sensorBoxes.push(input);
+  }
+}
+
+function showFrame(f) {
+  $('time').textContent = f.time.toFixed(3);
+  const s = f.state || {};
+  $('play').textContent = s.playing ? 'Pause' : 'Play';
+  let state = '';
+  if (s.failure) state = s.failure;
+  else if (s.console && s.finished) state = s.playing ? '(playing)' : '(paused: the console has it)';
+  else if (s.console) state = '(the console runs it)';
+  else if (s.finished) state = s.playing ? '(script finished, playing on)' : '(script finished)';
+  else if (!s.running && !s.held) state = '(waiting for the script)';
+  else if (s.held) state = '(paused)';
+  $('state').textContent = state;
+  const speed = s.speed === 'max' ? 'as fast as possible' : `${s.speed}×`;
+  $('measured').textContent = `target ${speed}` +
+    (s.measured !== null && s.measured !== undefined ? `, measured ${s.measured.toFixed(2)}× real time` : '');
+  if (s.sensors && s.sensors.length === sensorBoxes.length) {
+    s.sensors.forEach((on, i) => { sensorBoxes[i].checked = on; });
+  }
+  if (f.params.length === sliders.length) {
+    f.params.forEach((v, i) => {
+      const sl = sliders[i];
+      if (sl === dragging || v === null) return;
+      if (Number(sl.input.value) !== v) sl.input.value = v;
+      sl.output.textContent = `${format(v)} ${sl.param.unit}`;
+    });
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// the stream
+
+function connect() {
+  const events = new EventSource(`api/events${query}`);
+  events.addEventListener('open', () => {
+    gaitlab.connected = true;
+    $('connection').hidden = true;
+  });
+  events.addEventListener('error', () => {
+    gaitlab.connected = false;
+    $('connection').hidden = false;
+    $('connection').textContent = 'gaitlab does not answer: is it still running? (retrying)';
+  });
+  events.addEventListener('scene', (e) => {
+    const first = gaitlab.scene === null;
+    gaitlab.scene = JSON.parse(e.data);
+    buildScene(gaitlab.scene);
+    if (first) needsViewAll = true;
+    loadSeries();
+  });
+  events.addEventListener('frame', (e) => {
+    const f = JSON.parse(e.data);
+    gaitlab.frame = f;
+    gaitlab.frames++;
+    showFrame(f);
+  });
+  events.addEventListener('message', (e) => {
+    const m = JSON.parse(e.data);
+    message(m.level, m.text);
+  });
+}
+
+// ---------------------------------------------------------------------------------------------
+// live plots (uPlot): the series of the simulation's live buffers, chosen by checkboxes
+
+let seriesInfo = null;          // { simulation, series: [...], sample_every, refresh, size }
+const store = { time: [], values: new Map(), since: null, names: '' };
+let plotCount = 0;
+
+async function loadSeries() {
+  const sim = gaitlab.scene ? gaitlab.scene.simulation : 0;
+  try {
+    const r = await fetch(api('api/live/series', { simulation: sim }));
+    if (!r.ok) return;
+    seriesInfo = await r.json();
+  } catch (e) {
+    return;
+  }
+  $('live-every').value = seriesInfo.sample_every;
+  $('live-refresh').value = seriesInfo.refresh;
+  $('live-size').value = seriesInfo.size;
+  const known = new Set(seriesInfo.series.map((s) => s.name));
+  for (const p of gaitlab.plots) {
+    for (const n of [...p.names]) if (!known.has(n)) p.names.delete(n);
+    p.buildPicker();
+    p.rebuild();
+  }
+  store.since = null;   // everything again, for the new simulation
+}
+
+for (const [id, field] of [['live-every', 'sample_every'], ['live-refresh', 'refresh'], ['live-size', 'size']]) {
+  $(id).addEventListener('change', (e) => {
+    const v = Number(e.target.value);
+    send({ command: 'live', [field]: field === 'refresh' ? v : Math.round(v) });
+  });
+}
+
+// the checkboxes of one plot, grouped by kind, then robot / controller, then quantity (joints
+// side by side)
+function picker(plot) {
+  const root = document.createElement('details');
+  const summary = document.createElement('summary');
+  summary.textContent = 'series…';
+  root.appendChild(summary);
+  if (!seriesInfo) return root;
+  const groups = new Map();
+  for (const s of seriesInfo.series) {
+    const key = `${s.kind}|${s.source}`;
+    if (!groups.has(key)) groups.set(key, new Map());
+    const q = groups.get(key);
+    const value = s.body ? `${s.body}.${s.value}` : s.value;
+    if (!q.has(value)) q.set(value, []);
+    q.get(value).push(s);
+  }
+  for (const [key, quantities] of groups) {
+    const [kind, source] = key.split('|');
+    const d = document.createElement('details');
+    const sm = document.createElement('summary');
+    sm.textContent = `${kind} ${source}`;
+    d.appendChild(sm);
+    for (const [value, list] of quantities) {
+      const line = document.createElement('div');
+      const unit = list[0].unit ? ` (${list[0].unit})` : '';
+      line.append(`${value}${unit}: `);
+      for (const s of list) {
+        const label = document.createElement('label');
+        label.className = 'pick';
+        const box = document.createElement('input');
+        box.type = 'checkbox';
+        box.dataset.series = s.name;
+        box.checked = plot.names.has(s.name);
+        box.addEventListener('change', () => {
+          if (box.checked) plot.names.add(s.name); else plot.names.delete(s.name);
+          plot.rebuild();
+          store.since = null;
+        });
+        label.append(box, s.joint ? `${s.joint}` : '✓');
+        line.appendChild(label);
+      }
+      d.appendChild(line);
+    }
+    root.appendChild(d);
+  }
+  return root;
+}
+
+function addPlot(names = []) {
+  const id = ++plotCount;
+  const el = document.createElement('div');
+  el.className = 'plot';
+  el.id = `plot-${id}`;
+  const header = document.createElement('header');
+  const title = document.createElement('span');
+  title.className = 'title';
+  title.textContent = `plot ${id}`;
+  const pause = document.createElement('button');
+  pause.textContent = 'Pause';
+  pause.title = 'Freeze this plot (the others go on)';
+  const close = document.createElement('button');
+  close.textContent = '×';
+  close.title = 'Remove this plot';
+  header.append(title, pause, close);
+  const pickHolder = document.createElement('div');
+  const chart = document.createElement('div');
+  const hint = document.createElement('div');
+  hint.className = 'hint';
+  hint.textContent = 'drag across the plot to zoom (it pauses), double-click to zoom out';
+  el.append(header, pickHolder, chart, hint);
+  $('plots').appendChild(el);
+
+  const plot = {
+    id, el, names: new Set(names), paused: false, u: null,
+    points: () => (plot.u ? plot.u.data[0].length : 0),
+    buildPicker() {
+      pickHolder.textContent = '';
+      pickHolder.appendChild(picker(plot));
+    },
+    rebuild() {
+      if (plot.u) plot.u.destroy();
+      plot.u = null;
+      const names = [...plot.names];
+      if (names.length === 0) return;
+      const units = names.map((n) => {
+        const s = seriesInfo && seriesInfo.series.find((x) => x.name === n);
+        return s && s.unit ? s.unit : '';
+      });
+      // one scale per unit: metres and degrees do not share an axis (left, then right)
+      const scaleOf = (u) => u || 'value';
+      const scaleNames = [...new Set(units.map(scaleOf))];
+      const colours = ['#e07b24', '#2a7fbf', '#3f9e4d', '#9b4fb3', '#c33', '#8a6d3b', '#17a2b8', '#555'];
+      const axes = [{ label: 't (s)' }];
+      scaleNames.slice(0, 2).forEach((sc, i) => axes.push({
+        scale: sc, side: i === 0 ? 3 : 1, label: sc === 'value' ? '' : sc,
+        grid: { show: i === 0 },
+      }));
+      const scales = { x: { time: false } };
+      for (const sc of scaleNames) scales[sc] = {};
+      plot.u = new uPlot({
+        width: 426, height: 170,
+        scales,
+        axes,
+        legend: { live: true },
+        series: [{ label: 't' }, ...names.map((n, i) => ({
+          label: units[i] ? `${n} (${units[i]})` : n, scale: scaleOf(units[i]),
+          stroke: colours[i % colours.length], width: 1.5,
+        }))],
+        hooks: {
+          // a zoom by the user freezes the plot, so new data does not undo it
+          setSelect: [(u) => { if (u.select.width > 0) { plot.paused = true; pause.textContent = 'Play'; } }],
+        },
+      }, plot.data(), chart);
+      plot.u.over.addEventListener('dblclick', () => {
+        plot.paused = false;
+        pause.textContent = 'Pause';
+      });
+    },
+    data() {
+      // a series just chosen has no samples until the next fetch: nulls, as long as the time
+      const n = store.time.length;
+      return [store.time.slice(), ...[...plot.names].map((name) => {
+        const v = store.values.get(name) || [];
+        return v.length === n ? v.slice() : new Array(n - v.length).fill(null).concat(v);
+      })];
+    },
+    update() {
+      if (plot.u && !plot.paused) plot.u.setData(plot.data());
+    },
+  };
+  pause.addEventListener('click', () => {
+    plot.paused = !plot.paused;
+    pause.textContent = plot.paused ? 'Play' : 'Pause';
+    if (!plot.paused) plot.update();
+  });
+  close.addEventListener('click', () => {
+    if (plot.u) plot.u.destroy();
+    el.remove();
+    gaitlab.plots.splice(gaitlab.plots.indexOf(plot), 1);
+  });
+  plot.buildPicker();
+  plot.rebuild();
+  gaitlab.plots.push(plot);
+  return plot;
+}
+$('add-plot').addEventListener('click', () => {
+  // a new plot starts with the first robot's centre of mass, or the first series
+  const first = seriesInfo && (seriesInfo.series.find((s) => /\.com\.x$/.test(s.name)) || seriesInfo.series[0]);
+  const p = addPlot(first ? [first.name] : []);
+  p.el.querySelector('details').open = true;
+  store.since = null;
+});
+
+// the samples of every plotted series, fetched since the last one seen
+async function pollLive() {
+  const wanted = [...new Set(gaitlab.plots.flatMap((p) => [...p.names]))].sort();
+  const refresh = seriesInfo ? Math.max(seriesInfo.refresh, 0.05) : 0.2;
+  if (wanted.length > 0 && gaitlab.scene) {
+    const key = wanted.join(',');
+    if (key !== store.names) store.since = null;
+    try {
+      const params = { simulation: gaitlab.scene.simulation, series: key };
+      if (store.since !== null) params.since = store.since;
+      const r = await fetch(api('api/live', params));
+      if (r.ok) {
+        const d = await r.json();
+        if (store.since === null || d.restart || key !== store.names) {
+          store.time = [];
+          store.values = new Map(wanted.map((n) => [n, []]));
+        }
+        store.names = key;
+        store.time.push(...d.time);
+        d.names.forEach((n, i) => store.values.get(n).push(...d.values[i]));
+        const size = Number($('live-size').value) || 2000;
+        if (store.time.length > size) {
+          const cut = store.time.length - size;
+          store.time.splice(0, cut);
+          for (const v of store.values.values()) v.splice(0, cut);
+        }
+        if (store.time.length > 0) store.since = store.time[store.time.length - 1];
+        for (const p of gaitlab.plots) p.update();
+      }
+    } catch (e) {
+      // gaitlab went away: the stream's handler says so
+    }
+  }
+  setTimeout(pollLive, refresh * 1000);
+}
+
+connect();
+draw();
+pollLive();
