@@ -1,7 +1,8 @@
 # Debian packages through CPack: `cpack -G DEB` in a build tree (tools/package.sh does it all,
 # from configuring for /usr to build/packages/) makes
 #   gaitlab_<version>_<arch>.deb      the install component `runtime`: the program, the Lua
-#                                     stdlib, templates and worlds, the docs and examples, and
+#                                     stdlib, templates and worlds, the Lua module for lua5.4,
+#                                     the docs and examples, and
 #                                     whatever else cmake/install.cmake installs without naming
 #                                     a component
 #   gaitlab-dev_<version>_<arch>.deb  the component `dev`: the static libraries, the public
@@ -67,6 +68,8 @@ set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME gaitlab)
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_SECTION science)
 # plots (`gaitlab data DIR --plot`, run:plot) are drawn by gnuplot
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_RECOMMENDS "gnuplot-nox | gnuplot")
+# the Lua module (LIBDIR/lua/5.4/gaitlab.so) is for the stock interpreter, which provides its Lua
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_SUGGESTS "lua5.4")
 # the first line is the summary (CPACK_PACKAGE_DESCRIPTION_SUMMARY stays unset: CPack would put it
 # before each package's own); lines stay under 80 columns, as Debian's tools show them
 set(CPACK_DEBIAN_RUNTIME_DESCRIPTION
@@ -79,8 +82,8 @@ controllers written in Lua that reload while the simulation runs) are Lua
 scripts or XML files; every run is recorded to a folder of CSV series and
 replays bit for bit.
 This package holds the gaitlab program (script runner, console, wizard, data
-tools), its Lua library, controller templates and worlds, the documentation
-and the examples.")
+tools), its Lua library, controller templates and worlds, the gaitlab module
+for the lua5.4 interpreter, the documentation and the examples.")
 
 set(CPACK_DEBIAN_DEV_PACKAGE_NAME gaitlab-dev)
 set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)

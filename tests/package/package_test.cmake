@@ -11,8 +11,9 @@
 #             /usr, owned by root; the program, stdlib, worlds, docs and examples in gaitlab;
 #             headers, libraries, CMake package and gaitlab.pc in gaitlab-dev
 #   run       both packages extracted into a scratch root (dpkg-deb -x): the extracted program
-#             runs an extracted example and records it; examples/embed/embed.cpp builds against
-#             the extracted gaitlab-dev through its gaitlab.pc; both snakes move
+#             runs an extracted example and records it; lua5.4 runs it with the extracted Lua
+#             module; examples/embed/embed.cpp builds against the extracted gaitlab-dev through
+#             its gaitlab.pc; the snakes move
 #   apt       apt-get install --simulate ./gaitlab_*.deb ./gaitlab-dev_*.deb resolves
 #   noshlibdeps  cpack where dpkg-shlibdeps cannot be found stops, saying what to install,
 #             and makes no package
@@ -243,7 +244,8 @@ elseif(STEP STREQUAL "contents")
               /usr/share/gaitlab/stdlib/templates/sine.lua /usr/share/gaitlab/worlds/flat.lua
               /usr/share/doc/gaitlab/README.md /usr/share/doc/gaitlab/install.md
               /usr/share/doc/gaitlab/embedding.md /usr/share/doc/gaitlab/examples/first_snake.lua
-              /usr/share/doc/gaitlab/examples/embed/embed.cpp)
+              /usr/share/doc/gaitlab/examples/embed/embed.cpp
+              /usr/${LIBDIR}/lua/5.4/gaitlab.so /usr/${LIBDIR}/lua/5.4/gaitlab/core.so)
         if(NOT f IN_LIST runtime_files)
             message(FATAL_ERROR "gaitlab lacks ${f}")
         endif()
@@ -281,6 +283,20 @@ elseif(STEP STREQUAL "run")
         message(FATAL_ERROR "the extracted gaitlab failed (${rc}):\n${out}\n${err}")
     endif()
     check_moved("extracted gaitlab run first_snake.lua" "${out}")
+    # the extracted Lua module in lua5.4 (require "gaitlab")
+    set(cpath ${root}/usr/${LIBDIR}/lua/5.4/?.so)
+    set(env LUA_CPATH=${cpath} LUA_CPATH_5_4=${cpath} LUA_INIT= LUA_INIT_5_4=)
+    if(LUA_ENV)
+        list(APPEND env "${LUA_ENV}")
+    endif()
+    execute_process(COMMAND ${CMAKE_COMMAND} -E env ${env} lua5.4 -e "gaitlab = require 'gaitlab'"
+                            ${root}/usr/share/doc/gaitlab/examples/first_snake.lua
+                    WORKING_DIRECTORY ${WORK}/cwd RESULT_VARIABLE rc OUTPUT_VARIABLE out
+                    ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "lua5.4 with the extracted Lua module failed (${rc}):\n${out}\n${err}")
+    endif()
+    check_moved("lua5.4 with the extracted module, first_snake.lua" "${out}")
     foreach(f run.json data.csv series.csv config/first_snake.lua)
         if(NOT EXISTS ${WORK}/cwd/run/${f})
             message(FATAL_ERROR "the run folder lacks ${f}")
