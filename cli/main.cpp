@@ -337,6 +337,12 @@ int run_script(const RunArgs& a, const std::string& command) {
                          "viewer: %s\n  open it in a browser: the simulation starts when the page "
                          "opens (Ctrl-C quits)\n",
                          view->url().c_str());
+            if (server.host == "0.0.0.0" || server.host == "::") {
+                std::fprintf(stderr,
+                             "  from another machine: this machine's address in place of "
+                             "127.0.0.1, with the token (whoever has it can steer the "
+                             "simulation)\n");
+            }
         }
         if (view) {
             // sim:view() shows that simulation (every one is shown already, the newest first)

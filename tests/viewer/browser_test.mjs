@@ -55,6 +55,8 @@ let stdout = '';
 child.stdout.on('data', (d) => { stdout += d; });
 child.stderr.on('data', (d) => { stderr += d; });
 const exited = new Promise((resolve) => child.on('exit', (code, signal) => resolve({ code, signal })));
+// whatever happens to the test (a failed wait throws), gaitlab does not outlive it
+process.on('exit', () => { if (child.exitCode === null) child.kill('SIGKILL'); });
 let url = null;
 for (let i = 0; i < 100 && !url; ++i) {
   const m = stderr.match(/viewer: (http:\/\/\S+)/);

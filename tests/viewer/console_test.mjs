@@ -28,6 +28,8 @@ let stderr = '';
 child.stdout.on('data', (d) => { stdout += d; });
 child.stderr.on('data', (d) => { stderr += d; });
 const exited = new Promise((resolve) => child.on('exit', (code) => resolve(code)));
+// whatever happens to the test (a failed wait throws), gaitlab does not outlive it
+process.on('exit', () => { if (child.exitCode === null) child.kill('SIGKILL'); });
 async function waitFor(what, test, ms = 20000) {
   const end = Date.now() + ms;
   while (Date.now() < end) {

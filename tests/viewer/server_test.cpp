@@ -470,8 +470,6 @@ TEST_CASE("a port in use or an address that is not this machine's: a clear messa
     ServerOptions bad;
     bad.host = "192.0.2.1";  // TEST-NET: never an address of this machine
     CHECK_THROWS_WITH(Server(bad), Catch::Contains("is not an address of this machine"));
-    bad.host = "no.such.host.invalid";
-    CHECK_THROWS_WITH(Server(bad), Catch::Contains("is not an address of this machine"));
     ServerOptions port;
     port.port = 70000;
     CHECK_THROWS_WITH(Server(port), Catch::Contains("a port number in [1, 65535] expected"));
