@@ -30,7 +30,9 @@ inline double rosenbrock(const std::vector<double>& x) {
     return s;
 }
 
-/// 10 n + sum x_i^2 - 10 cos(2 pi x_i): a grid of local minima, the global one 0 at the origin.
+/// 10 n + sum x_i^2 - 10 cos(2 pi x_i): a grid of local minima (one near every whole point),
+/// the global one 0 at the origin. The tests search [-4, 6]^n, whose centre (1, ..., 1), where
+/// CMA-ES and PGPE start, is a local minimum, value n.
 inline double rastrigin(const std::vector<double>& x) {
     double s = 10.0 * static_cast<double>(x.size());
     for (double v : x)
