@@ -32,6 +32,9 @@ std::vector<Evaluation> WorkerPool::evaluate(const std::vector<std::vector<doubl
     std::vector<Evaluation> results(xs.size());
     if (xs.empty()) return results;
     std::unique_lock<std::mutex> lock(mutex_);
+    // a second batch (from another thread, or from inside an evaluation) would wait for the
+    // workers the first one holds: refused instead of a deadlock
+    if (xs_) throw Error("WorkerPool::evaluate: a batch is already under way (one call at a time)");
     xs_ = &xs;
     evaluate_ = &evaluate;
     results_ = &results;

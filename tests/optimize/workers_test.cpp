@@ -122,6 +122,19 @@ TEST_CASE("evaluations that throw anything are failures with a message; the pool
     CHECK(pool.evaluate({}, [](const std::vector<double>&, int) { return 0.0; }).empty());
 }
 
+TEST_CASE("an evaluation that calls the pool again fails instead of deadlocking") {
+    WorkerPool pool(2);
+    const std::vector<std::vector<double>> xs = {{1}, {2}};
+    const auto r = pool.evaluate(xs, [&](const std::vector<double>& x, int) {
+        return pool.evaluate({x}, [](const std::vector<double>& y, int) { return y[0]; })[0]
+            .fitness;
+    });
+    for (const Evaluation& e : r)
+        CHECK(e.error == "WorkerPool::evaluate: a batch is already under way (one call at a time)");
+    CHECK(pool.evaluate(xs, [](const std::vector<double>& x, int) { return x[0]; })[1].fitness ==
+          2);
+}
+
 TEST_CASE("bad worker counts and generation counts are refused") {
     CHECK_THROWS_WITH(WorkerPool(0), "workers must be at least 1 (got 0)");
     WorkerPool pool(1);

@@ -42,7 +42,8 @@ class WorkerPool {
     int workers() const { return static_cast<int>(threads_.size()); }
 
     /// Evaluates every individual of `xs` with `evaluate`, spread over the workers; returns
-    /// when all are done, result i for individual i. One call at a time.
+    /// when all are done, result i for individual i. One call at a time: a call while another
+    /// is under way (from another thread, or from inside an evaluation) throws Error.
     std::vector<Evaluation> evaluate(const std::vector<std::vector<double>>& xs,
                                      const EvaluateFunction& evaluate);
 
