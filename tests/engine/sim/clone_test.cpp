@@ -401,6 +401,19 @@ TEST_CASE("clone: bad uses") {
         sim->run(0.1);
         CHECK(sim->time() == Approx(0.3));
     }
+    SECTION("a second simulation of a spec whose controller cannot be copied") {
+        WorldSpec world = test::chain_world(4, Connection::pitch_pitch);
+        Drive d;
+        d.joints = {0, 1};
+        d.controller = std::make_shared<Opaque>();
+        world.robots[0].actuation.push_back(d);
+        Simulation first(world);
+        CHECK_THROWS_WITH(Simulation(world),
+                          "controller 'opaque' cannot be copied: its C++ class does not "
+                          "implement Controller::clone()");
+        first.run(0.1);  // the first is not disturbed
+        CHECK(first.controller(0).bound());
+    }
     SECTION("a diverged simulation clones into a copy that reports the same divergence") {
         // a box falling at 1000 m/s² for 10 s passes the 10 km/s the check calls diverged
         WorldSpec w;
