@@ -102,4 +102,12 @@ void Distributed::publish() {
     }
 }
 
+// the integrator's scratch space is not state: every step overwrites it before reading
+Distributed::Distributed(const Distributed& other)
+    : Controller(other), state_(other.state_), rk4_(std::make_unique<detail::Rk4>()) {}
+
+std::unique_ptr<Controller> Distributed::clone() const {
+    return std::unique_ptr<Controller>(new Distributed(*this));
+}
+
 }  // namespace gaitlab::controllers

@@ -128,4 +128,18 @@ void HindmarshRose::step(ControlIO& io) {
     }
 }
 
+// the integrator's scratch space is not state: every step overwrites it before reading
+HindmarshRose::HindmarshRose(const HindmarshRose& other)
+    : Controller(other),
+      state_(other.state_),
+      since_spike_(other.since_spike_),
+      count_(other.count_),
+      level_(other.level_),
+      sigmoid_(other.sigmoid_),
+      rk4_(std::make_unique<detail::Rk4>()) {}
+
+std::unique_ptr<Controller> HindmarshRose::clone() const {
+    return std::unique_ptr<Controller>(new HindmarshRose(*this));
+}
+
 }  // namespace gaitlab::controllers

@@ -86,4 +86,12 @@ void Hopf::publish() {
     }
 }
 
+// the integrator's scratch space is not state: every step overwrites it before reading
+Hopf::Hopf(const Hopf& other)
+    : Controller(other), state_(other.state_), rk4_(std::make_unique<detail::Rk4>()) {}
+
+std::unique_ptr<Controller> Hopf::clone() const {
+    return std::unique_ptr<Controller>(new Hopf(*this));
+}
+
 }  // namespace gaitlab::controllers

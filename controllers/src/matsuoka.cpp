@@ -87,4 +87,12 @@ void Matsuoka::publish() {
     }
 }
 
+// the integrator's scratch space is not state: every step overwrites it before reading
+Matsuoka::Matsuoka(const Matsuoka& other)
+    : Controller(other), state_(other.state_), rk4_(std::make_unique<detail::Rk4>()) {}
+
+std::unique_ptr<Controller> Matsuoka::clone() const {
+    return std::unique_ptr<Controller>(new Matsuoka(*this));
+}
+
 }  // namespace gaitlab::controllers

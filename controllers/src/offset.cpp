@@ -12,4 +12,8 @@ void Offset::step(ControlIO& io) {
         io.set_target(m, target);
 }
 
+std::unique_ptr<Controller> Offset::clone() const {
+    return std::unique_ptr<Controller>(new Offset(*this));
+}
+
 }  // namespace gaitlab::controllers

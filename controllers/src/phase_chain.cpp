@@ -77,4 +77,12 @@ void PhaseChain::publish() {
     }
 }
 
+// the integrator's scratch space is not state: every step overwrites it before reading
+PhaseChain::PhaseChain(const PhaseChain& other)
+    : Controller(other), state_(other.state_), rk4_(std::make_unique<detail::Rk4>()) {}
+
+std::unique_ptr<Controller> PhaseChain::clone() const {
+    return std::unique_ptr<Controller>(new PhaseChain(*this));
+}
+
 }  // namespace gaitlab::controllers

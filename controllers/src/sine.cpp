@@ -29,4 +29,8 @@ void Sine::step(ControlIO& io) {
     }
 }
 
+std::unique_ptr<Controller> Sine::clone() const {
+    return std::unique_ptr<Controller>(new Sine(*this));
+}
+
 }  // namespace gaitlab::controllers

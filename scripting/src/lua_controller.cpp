@@ -1,6 +1,7 @@
 #include "lua_controller.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <optional>
 
@@ -140,6 +141,13 @@ void LuaController::on_bind() {
     lua_pushinteger(L, joints());
     lua_setfield(L, -2, "joints");
 
+    set_methods();
+    self_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+    pushed_version_ = ~std::uint64_t{0};
+}
+
+void LuaController::set_methods() {
+    lua_State* L = L_;
     lua_createtable(L, 0, 1);  // metatable
     // keep these names in kControllerMethods: class definitions may not reuse them
     const luaL_Reg methods[] = {{"set_angle", l_set_angle},
@@ -156,8 +164,161 @@ void LuaController::on_bind() {
     luaL_setfuncs(L, methods, 1);
     lua_setfield(L, -2, "__index");
     lua_setmetatable(L, -2);
-    self_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
-    pushed_version_ = ~std::uint64_t{0};
+}
+
+namespace {
+
+// what the copy of a controller's instance table meets: the controller, the path of the
+// field it is in, and the copies made so far (memo: original -> copy, at index `memo`), so
+// tables shared or cyclic in the original are shared or cyclic in the copy
+struct DeepCopy {
+    lua_State* L;
+    const std::string& controller;
+    int memo;
+
+    [[noreturn]] void refuse(const std::string& path, const std::string& what) const {
+        throw SpecError(fmt::format(
+            "controller '{}' cannot be copied: {} holds {} (only numbers, strings, booleans, "
+            "tables and functions without upvalues can be copied; the copy would share it with "
+            "the original)",
+            controller, path, what));
+    }
+
+    // how a key shows in a path: self.x, self[3], self["a b"], self[<table>]
+    std::string key_text(int index) const {
+        if (lua_type(L, index) == LUA_TSTRING) {
+            size_t n = 0;
+            const char* k = lua_tolstring(L, index, &n);
+            const std::string key(k, n);
+            const bool name = !key.empty() &&
+                              (std::isalpha(static_cast<unsigned char>(key[0])) || key[0] == '_') &&
+                              std::all_of(key.begin(), key.end(), [](char c) {
+                                  return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+                              });
+            return name ? "." + key : "[\"" + key + "\"]";
+        }
+        if (lua_type(L, index) == LUA_TNUMBER) {
+            lua_pushvalue(L, index);
+            const std::string text = lua_tostring(L, -1);
+            lua_pop(L, 1);
+            return "[" + text + "]";
+        }
+        return "[<" + std::string(luaL_typename(L, index)) + ">]";
+    }
+
+    // pushes the copy of the value at `index`
+    void push(int index, const std::string& path) {
+        index = lua_absindex(L, index);
+        switch (lua_type(L, index)) {
+            case LUA_TNIL:
+            case LUA_TBOOLEAN:
+            case LUA_TNUMBER:
+            case LUA_TSTRING:
+            case LUA_TLIGHTUSERDATA:
+                lua_pushvalue(L, index);
+                return;
+            case LUA_TFUNCTION: {
+                // a function that keeps state of its own (upvalues other than _ENV) would be
+                // shared by the original and the copy
+                if (!lua_iscfunction(L, index)) {
+                    for (int u = 1;; ++u) {
+                        const char* name = lua_getupvalue(L, index, u);
+                        if (!name) break;
+                        lua_pop(L, 1);
+                        if (std::string(name) != "_ENV") refuse(path, "a function with upvalues");
+                    }
+                } else if (lua_getupvalue(L, index, 1)) {
+                    lua_pop(L, 1);
+                    refuse(path, "a C function with upvalues");
+                }
+                lua_pushvalue(L, index);
+                return;
+            }
+            case LUA_TTABLE:
+                break;
+            case LUA_TTHREAD:
+                refuse(path, "a coroutine");
+            default:
+                refuse(path, std::string("a ") + luaL_typename(L, index));
+        }
+        lua_pushvalue(L, index);
+        if (lua_rawget(L, memo) != LUA_TNIL) return;  // copied already: the same copy
+        lua_pop(L, 1);
+        luaL_checkstack(L, 8, "copying a controller");
+        lua_newtable(L);
+        const int copy = lua_gettop(L);
+        lua_pushvalue(L, index);
+        lua_pushvalue(L, copy);
+        lua_rawset(L, memo);
+        lua_pushnil(L);
+        while (lua_next(L, index) != 0) {
+            const int key = lua_gettop(L) - 1;
+            const std::string at = path + key_text(key);
+            push(key, at + " (a key)");
+            push(key + 1, at);
+            lua_rawset(L, copy);
+            lua_pop(L, 1);  // the value; the key stays for lua_next
+        }
+        // a metatable (a class of methods, typically) is shared, not copied
+        if (lua_getmetatable(L, index)) lua_setmetatable(L, copy);
+    }
+};
+
+}  // namespace
+
+LuaController::LuaController(const LuaController& o)
+    : Controller(o), L_(o.L_), cls_(o.cls_), label_(o.label_), class_version_(o.class_version_) {
+    if (o.self_ref_ != LUA_NOREF) {
+        lua_State* L = L_;
+        luaL_checkstack(L, 8, "copying a controller");
+        const int top = lua_gettop(L);
+        try {
+            lua_newtable(L);  // the memo of copies
+            DeepCopy copy{L, name(), lua_gettop(L)};
+            lua_rawgeti(L, LUA_REGISTRYINDEX, o.self_ref_);
+            const int self = lua_gettop(L);
+            // the instance table itself: its fields copied, its methods made anew for this
+            // controller (the original's reach the original)
+            lua_newtable(L);
+            const int mine = lua_gettop(L);
+            lua_pushvalue(L, self);
+            lua_pushvalue(L, mine);
+            lua_rawset(L, copy.memo);
+            lua_pushnil(L);
+            while (lua_next(L, self) != 0) {
+                const int key = lua_gettop(L) - 1;
+                const std::string at = "self" + copy.key_text(key);
+                copy.push(key, at + " (a key)");
+                copy.push(key + 1, at);
+                lua_rawset(L, mine);
+                lua_pop(L, 1);
+            }
+            lua_settop(L, mine);
+            set_methods();
+            self_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+        } catch (...) {
+            lua_settop(L, top);
+            release_box();
+            throw;
+        }
+        lua_settop(L, top);
+    }
+    pushed_version_ = o.pushed_version_;
+    cls_->instances.push_back(this);
+}
+
+std::unique_ptr<Controller> LuaController::clone() const {
+    return std::unique_ptr<Controller>(new LuaController(*this));
+}
+
+std::unique_ptr<Controller> LuaController::fresh_copy() const {
+    auto c = std::make_unique<LuaController>(L_, cls_);
+    // parameters by name, as a reload keeps them
+    for (const ParamDef& p : c->def().params) {
+        const int i = find_param(p.name);
+        if (i >= 0) c->set_param(p.name, std::clamp(param(i), p.min, p.max));
+    }
+    return c;
 }
 
 void LuaController::push_params() {

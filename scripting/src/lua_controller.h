@@ -51,6 +51,14 @@ class LuaController final : public Controller {
 
     void step(ControlIO& io) override;
     ControllerRef ref() const override;
+    /// A copy in the same Lua state: parameters, values and a deep copy of the instance
+    /// table's plain data (numbers, strings, booleans, tables, nested and shared as they are;
+    /// functions without upvalues are shared). Throws SpecError naming the controller and the
+    /// field for a value that cannot be copied (a coroutine, a userdata, a function with
+    /// upvalues: state the copy would share with the original).
+    std::unique_ptr<Controller> clone() const override;
+    /// A new instance of the same class, parameters at this one's values.
+    std::unique_ptr<Controller> fresh_copy() const override;
     const LuaControllerClass& cls() const { return *cls_; }
 
     /// Calls the class's snapshot(self) and keeps the result for on_reload; throws ScriptError.
@@ -64,6 +72,10 @@ class LuaController final : public Controller {
     void on_bind() override;
 
   private:
+    LuaController(const LuaController& other);
+    // creates the instance's methods (a metatable whose functions reach this controller
+    // through a new box) and sets them on the table on top of the stack
+    void set_methods();
     void push_params();
     // adopts the current version of the class: parameters and values kept by name
     void migrate();

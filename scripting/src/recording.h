@@ -24,6 +24,7 @@ namespace gaitlab::scripting {
 
 class Guard;
 struct WorldBinding;
+struct RobotBinding;
 
 /// Adds a line to the logs of the open recordings of L (nothing if there are none).
 void log_to_recordings(lua_State* L, const std::string& line);
@@ -46,6 +47,9 @@ struct SimulationHandle {
     std::shared_ptr<Recorder> recorder;
     std::shared_ptr<WorldBinding> world;  ///< what it was compiled from (for sim:save)
     std::shared_ptr<Player> player;       ///< plays it against the wall clock (sim:play())
+    /// sim:robot(name)'s handles, per robot, made when a robot of the world is not linked to
+    /// this simulation (a later simulation of the same world, a clone)
+    std::vector<std::shared_ptr<RobotBinding>> robots;
 };
 
 /// What a script asks for with `record = ...` or sim:record(...).

@@ -57,4 +57,37 @@ std::shared_ptr<Simulation> WorldBinding::compile(const SimulationOptions& optio
     return sim;
 }
 
+bool drives_of(const RobotBinding& robot, const Simulation& sim, int index) {
+    const Actuation& there = sim.world().robots[static_cast<size_t>(index)].actuation;
+    if (robot.drives.size() != there.size()) return false;
+    for (size_t d = 0; d < there.size(); ++d) {
+        if (robot.drives[d].controller != there[d].controller) return false;
+    }
+    return true;
+}
+
+std::shared_ptr<RobotBinding> robot_of(const std::shared_ptr<Simulation>& sim, int index) {
+    auto robot = std::make_shared<RobotBinding>();
+    const PlacedRobot& placed = sim->world().robots[static_cast<size_t>(index)];
+    robot->spec = placed.robot;
+    robot->drives = placed.actuation;
+    robot->in_world = true;
+    robot->sim = sim;
+    robot->index = index;
+    return robot;
+}
+
+std::shared_ptr<WorldBinding> WorldBinding::of(const std::shared_ptr<Simulation>& sim,
+                                               const WorldBinding& like) {
+    auto world = std::make_shared<WorldBinding>();
+    world->spec = sim->world();
+    world->spec.robots.clear();
+    world->placements = like.placements;
+    for (int r = 0; r < sim->robot_count(); ++r) {
+        world->robots.push_back(
+            {robot_of(sim, r), sim->world().robots[static_cast<size_t>(r)].pose});
+    }
+    return world;
+}
+
 }  // namespace gaitlab::scripting

@@ -35,6 +35,12 @@ struct RobotBinding {
     void set_sensor_enabled(int k, bool on, Origin origin = Origin::script);
 };
 
+/// Whether `robot`'s drives are the controllers robot `index` of `sim` is driven by.
+bool drives_of(const RobotBinding& robot, const Simulation& sim, int index);
+
+/// A robot handle for robot `index` of `sim` (its spec and drives as they are there).
+std::shared_ptr<RobotBinding> robot_of(const std::shared_ptr<Simulation>& sim, int index);
+
 /// A world as Lua sees it: its spec without robots, and the robots added to it.
 struct WorldBinding {
     WorldSpec spec;
@@ -49,8 +55,14 @@ struct WorldBinding {
     /// Adds a robot at `pose`, or without one where `placements` puts a robot of its name, or
     /// else with its tail at the origin; throws Error if the robot is in a world already.
     void add(std::shared_ptr<RobotBinding> robot, std::optional<Pose> pose);
-    /// Compiles the world into a simulation and links every robot to it.
+    /// Compiles the world into a simulation and links every robot to it (robot:position()
+    /// reads the newest). A world compiled again makes a simulation whose groups are driven
+    /// by fresh copies of the robots' controllers, parameters as they are then (Simulation's
+    /// constructor): the controllers themselves, and their Lua handles, stay with the first.
     std::shared_ptr<Simulation> compile(const SimulationOptions& options) const;
+    /// The world of a simulation made without one (a clone): its robots linked to `sim`.
+    static std::shared_ptr<WorldBinding> of(const std::shared_ptr<Simulation>& sim,
+                                            const WorldBinding& like);
 };
 
 /// A controller handle: the instance, and whether a group already uses it.

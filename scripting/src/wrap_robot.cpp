@@ -327,6 +327,19 @@ int robot_actuate(lua_State* L) {
     });
 }
 
+// robot:controllers(): the controllers driving the robot's groups, in the order they were added
+int robot_controllers(lua_State* L) {
+    return protect(L, [&] {
+        const RobotBinding& r = check_robot(L, 1);
+        lua_createtable(L, static_cast<int>(r.drives.size()), 0);
+        for (size_t i = 0; i < r.drives.size(); ++i) {
+            push_controller(L, r.drives[i].controller, true);
+            lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+        }
+        return 1;
+    });
+}
+
 int group_drive(lua_State* L) {
     return protect(L, [&] {
         GroupHandle& g = check_object<GroupHandle>(L, 1, kGroupType);
@@ -389,6 +402,7 @@ void open_robot(lua_State* L) {
                                 {"save_urdf", robot_save_urdf},
                                 {"actuation", robot_actuation},
                                 {"actuate", robot_actuate},
+                                {"controllers", robot_controllers},
                                 {"sensor", robot_sensor},
                                 {"sensors", robot_sensors},
                                 {nullptr, nullptr}};

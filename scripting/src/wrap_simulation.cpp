@@ -10,6 +10,7 @@
 #include "gaitlab/checked.h"
 #include "gaitlab/controller.h"
 #include "gaitlab/files.h"
+#include "gaitlab/suggest.h"
 #include "guard.h"
 #include "hot_reload.h"
 #include "lua_util.h"
@@ -98,15 +99,34 @@ RecordRequest to_request(lua_State* L, int index, int arg, const std::string& pr
 // compiles `world` into a simulation with options `o` and pushes it: reports controller
 // failures through the host, reloads changed controller files between ticks, and records as
 // `request` and the host say
+void push_simulation(lua_State* L, std::shared_ptr<Simulation> sim,
+                     std::shared_ptr<WorldBinding> world, const RecordRequest& request);
+
 void push_new_simulation(lua_State* L, std::shared_ptr<WorldBinding> world,
                          const SimulationOptions& o, const RecordRequest& request) {
+    std::shared_ptr<Simulation> sim;
+    try {
+        validate(o);
+        sim = world->compile(o);
+    } catch (const SpecError& e) {
+        throw ArgError(1, e.what());
+    } catch (const std::bad_alloc&) {
+        // the world's spec is copied before the simulation builds (which says so itself)
+        throw Error("not enough memory to build the simulation");
+    }
+    for (const std::string& w : sim->warnings())
+        report(main_thread(L), "warning: " + w);
+    push_simulation(L, std::move(sim), std::move(world), request);
+}
+
+// pushes a handle for `sim` (new, or a clone), made from `world`: reports controller failures
+// through the host, reloads changed controller files between ticks, and records as `request`
+// and the host say
+void push_simulation(lua_State* L, std::shared_ptr<Simulation> sim,
+                     std::shared_ptr<WorldBinding> world, const RecordRequest& request) {
     SimulationHandle* h = nullptr;
     lua_State* main = main_thread(L);
     try {
-        validate(o);
-        std::shared_ptr<Simulation> sim = world->compile(o);
-        for (const std::string& w : sim->warnings())
-            report(main, "warning: " + w);
         // the simulation lives in this Lua state: reporting through it is safe
         sim->set_controller_error_handler([main](const Controller& c, const std::exception& e) {
             std::string message = fmt::format("controller '{}' failed: {}", c.name(), e.what());
@@ -526,6 +546,63 @@ int simulation_newindex(lua_State* L) {
     });
 }
 
+// sim:clone([{ record = }]): an independent copy of the simulation as it stands, whose future
+// is bit-identical to the original's (Simulation::clone); not recorded unless `record` says
+int simulation_clone(lua_State* L) {
+    return protect(L, [&] {
+        SimulationHandle& h = check_handle(L, 1);
+        RecordRequest request;
+        request.mode = RecordRequest::Mode::off;
+        if (!lua_isnoneornil(L, 2)) {
+            Fields f(L, 2, 2, {"record"});
+            if (f.push("record") != LUA_TNIL) request = to_request(L, -1, 2, "field 'record': ");
+            lua_pop(L, 1);
+        }
+        const std::shared_ptr<Simulation> kept = h.sim;
+        const std::shared_ptr<WorldBinding> world = h.world;
+        std::shared_ptr<Simulation> copy(kept->clone());
+        push_simulation(L, copy, WorldBinding::of(copy, *world), request);
+        return 1;
+    });
+}
+
+// sim:robot(name): the handle of this simulation's robot called `name` (its label: "snake",
+// "snake_2" ...)
+int simulation_robot(lua_State* L) {
+    return protect(L, [&] {
+        SimulationHandle& h = check_handle(L, 1);
+        const std::shared_ptr<Simulation> sim = h.sim;
+        const std::string name = check_string(L, 2);
+        std::vector<std::string> labels;
+        int r = -1;
+        for (int i = 0; i < sim->robot_count(); ++i) {
+            labels.push_back(sim->robot_label(i));
+            if (labels.back() == name) r = i;
+        }
+        if (r < 0) {
+            std::string message = "the simulation has no robot '" + name + "'" +
+                                  did_you_mean(name, labels) + " (its robots:";
+            for (size_t i = 0; i < labels.size(); ++i)
+                message += (i ? ", " : " ") + labels[i];
+            throw ArgError(2, message + (labels.empty() ? " none)" : ")"));
+        }
+        // the world's handle while it stands for this simulation's robot; else one of its own
+        if (h.world && static_cast<size_t>(r) < h.world->robots.size()) {
+            const std::shared_ptr<RobotBinding>& own =
+                h.world->robots[static_cast<size_t>(r)].robot;
+            if (own->sim.lock() == sim && own->index == r && drives_of(*own, *sim, r)) {
+                push_robot(L, own);
+                return 1;
+            }
+        }
+        h.robots.resize(static_cast<size_t>(sim->robot_count()));
+        std::shared_ptr<RobotBinding>& mine = h.robots[static_cast<size_t>(r)];
+        if (!mine || !drives_of(*mine, *sim, r)) mine = robot_of(sim, r);
+        push_robot(L, mine);
+        return 1;
+    });
+}
+
 int simulation_reset(lua_State* L) {
     return protect(L, [&] {
         check_sim(L, 1)->reset(default_origin(L));
@@ -630,6 +707,8 @@ void open_simulation(lua_State* L) {
     const luaL_Reg methods[] = {{"run", simulation_run},
                                 {"step", simulation_step},
                                 {"reset", simulation_reset},
+                                {"clone", simulation_clone},
+                                {"robot", simulation_robot},
                                 {"save", simulation_save},
                                 {"objects", simulation_objects},
                                 {"record", simulation_record},

@@ -199,7 +199,8 @@ TEST_CASE("a Lua controller may drive new groups from its step but not step its 
         const std::string verb = std::string(call).substr(4, std::string(call).find('(') - 4);
         CHECK(inner.error_of("sim:run(1)") ==
               "test:6: cannot step the simulation from inside its own tick (" + verb +
-                  " called from a controller's step: step, run and reset belong between ticks)");
+                  " called from a controller's step: step, run, reset and clone belong between "
+                  "ticks)");
         CHECK(inner.integer("sim.ticks") == 0);
     }
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -109,7 +110,6 @@ class Controller {
   public:
     explicit Controller(ControllerDef def);
     virtual ~Controller() = default;
-    Controller(const Controller&) = delete;
     Controller& operator=(const Controller&) = delete;
 
     const ControllerDef& def() const { return def_; }
@@ -161,7 +161,22 @@ class Controller {
     /// A built-in is named by name(); throws SpecError for a controller no file can name.
     virtual ControllerRef ref() const;
 
+    /// An independent copy with this controller's whole state: definition, parameters, the
+    /// group size it is bound to, per-joint values, failure, and whatever the subclass keeps
+    /// (oscillator states, a Lua controller's table). The copy has no parameter listener and
+    /// its future steps, given the same inputs, equal this one's bit for bit. Throws
+    /// SpecError naming the controller when it cannot be copied (a C++ subclass that does not
+    /// override clone(); a Lua controller holding a value that cannot be copied).
+    virtual std::unique_ptr<Controller> clone() const;
+    /// A copy as a new group would start it: unbound, its parameters at this controller's
+    /// current values, not failed (what a second simulation built from the same spec drives
+    /// its group with). By default clone() made unbound.
+    virtual std::unique_ptr<Controller> fresh_copy() const;
+
   protected:
+    /// Copies the kernel's state (not the parameter listener): for subclasses' copy
+    /// constructors, which clone() overrides use.
+    Controller(const Controller& other);
     std::vector<double>& value(int k) { return values_[k]; }
     /// Replaces the definition of a bound controller (a scripted controller whose code was
     /// reloaded): `params` holds one value per parameter of `def`, each inside its range. Values

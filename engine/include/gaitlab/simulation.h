@@ -38,7 +38,12 @@ class Sensing;
 
 class Simulation {
   public:
-    /// Validates and compiles `world`; throws SpecError.
+    /// Validates and compiles `world`; throws SpecError. A controller of `world` that
+    /// already drives a group of another simulation (built earlier from the same spec) is not
+    /// shared: this simulation drives that group with a fresh copy of it
+    /// (Controller::fresh_copy: parameters at their current values, state as just bound), so
+    /// one spec builds any number of simulations. The same controller object given to two
+    /// groups of `world` is an error, as before.
     Simulation(WorldSpec world, SimulationOptions options = default_simulation_options());
     ~Simulation();
     Simulation(const Simulation&) = delete;
@@ -72,6 +77,25 @@ class Simulation {
     /// a reset event stamped with the tick it happened at. Between ticks or from a pre-tick
     /// hook only (SpecError otherwise).
     void reset(Origin origin = Origin::script);
+
+    /// An independent copy of the simulation as it stands: spec, time and tick counter, every
+    /// body's and joint's state, the contact solver's warm-start state, servo commands,
+    /// controllers with all their state (Controller::clone), sensors with their switches,
+    /// readings and filters, robot headings, the paused flag. Given the same inputs from now
+    /// on, the copy and the original step bit-identically: the original continues in a physics
+    /// world rebuilt exactly as the copy's is (PhysicsWorld::copy_state_from), so both hold
+    /// the same Bullet state down to the order of contact pairs and manifolds.
+    ///
+    /// Not copied: observers, pre-tick hooks, event listeners and the controller error
+    /// handler (they belong to whoever added them: add them to the copy). The copy shares no
+    /// mutable state with the original and may step on another thread, as long as its
+    /// controllers may (built-in ones may; a Lua controller's copy lives in the same Lua state
+    /// as its original and steps on that state's thread).
+    ///
+    /// Between ticks only (SpecError from inside a tick). Throws SpecError naming a
+    /// controller that cannot be copied, and whatever rebuilding the physics throws (a
+    /// heightfield image that can no longer be read); the original is then unchanged.
+    std::unique_ptr<Simulation> clone();
 
     /// Adds a drive to robot r while the simulation exists; throws SpecError. After time 0 it
     /// posts a drive event.
@@ -186,6 +210,11 @@ class Simulation {
     void post_event(Event event);
 
   private:
+    struct Copying {};
+    // the copy clone() makes (its physics copies `from`'s current world)
+    Simulation(const Simulation& from, Copying);
+    // reports parameter changes of drive `index`'s controller as events of this simulation
+    void listen(int index);
     class Phases;
     struct RobotSlot {
         int first_body = 0;

@@ -7,8 +7,10 @@
 #include <cmath>
 #include <map>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
+#include "gaitlab/error.h"
 #include "gaitlab/geometry.h"
 #include "spec/random.h"
 
@@ -448,6 +450,103 @@ int PhysicsWorld::contact_count() const {
         n += d.getManifoldByIndexInternal(i)->getNumContacts();
     }
     return n;
+}
+
+void PhysicsWorld::copy_state_from(const PhysicsWorld& from) {
+    Impl& s = *impl_;
+    const Impl& o = *from.impl_;
+    if (s.bodies.size() != o.bodies.size() || s.fixed.size() != o.fixed.size() ||
+        s.joints.size() != o.joints.size()) {
+        throw Error(
+            "cannot copy a physics state between worlds of different bodies or joints (an "
+            "internal error: a copy is built from its original's spec)");
+    }
+    // the same body in both worlds: robots' bodies and dynamic objects, then fixed bodies, in
+    // build order
+    std::unordered_map<const btCollisionObject*, btCollisionObject*> same;
+    for (size_t i = 0; i < o.bodies.size(); ++i)
+        same[o.bodies[i].get()] = s.bodies[i].get();
+    for (size_t i = 0; i < o.fixed.size(); ++i)
+        same[o.fixed[i].get()] = s.fixed[i].get();
+
+    for (size_t i = 0; i < o.bodies.size(); ++i) {
+        const btRigidBody& a = *o.bodies[i];
+        btRigidBody& b = *s.bodies[i];
+        // the world inertia tensor is recomputed from the same transform: the same bits
+        b.setCenterOfMassTransform(a.getCenterOfMassTransform());
+        b.setLinearVelocity(a.getLinearVelocity());
+        b.setAngularVelocity(a.getAngularVelocity());
+        b.setInterpolationWorldTransform(a.getInterpolationWorldTransform());
+        b.setInterpolationLinearVelocity(a.getInterpolationLinearVelocity());
+        b.setInterpolationAngularVelocity(a.getInterpolationAngularVelocity());
+        b.setDeactivationTime(a.getDeactivationTime());
+        b.setHitFraction(a.getHitFraction());
+        b.forceActivationState(a.getActivationState());
+    }
+    for (size_t j = 0; j < o.joints.size(); ++j) {
+        btHingeConstraint& from_hinge = *o.joints[j].hinge;
+        s.joints[j].hinge->setMotorTargetVelocity(from_hinge.getMotorTargetVelocity());
+        s.joints[j].feedback = o.joints[j].feedback;
+        s.joints[j].hinge->internalSetAppliedImpulse(from_hinge.getAppliedImpulse());
+    }
+    s.solver.setRandSeed(o.solver.getRandSeed());
+
+    // the broadphase finds the pairs of the bodies where they are now; then they are put in
+    // the original's order, which is the order contacts are generated and solved in
+    s.world.updateAabbs();
+    btOverlappingPairCache& pairs = *s.world.getBroadphase()->getOverlappingPairCache();
+    for (const auto& list : {&s.bodies, &s.fixed}) {
+        for (const auto& b : *list)
+            pairs.removeOverlappingPairsContainingProxy(b->getBroadphaseHandle(), &s.dispatcher);
+    }
+    // Bullet offers no const access to the pairs; nothing here changes them
+    btBroadphaseInterface& from_broadphase = const_cast<btDbvtBroadphase&>(o.broadphase);
+    const btBroadphasePairArray& from_pairs =
+        from_broadphase.getOverlappingPairCache()->getOverlappingPairArray();
+    const auto proxy = [&](const btBroadphaseProxy* p) {
+        return same.at(static_cast<const btCollisionObject*>(p->m_clientObject))
+            ->getBroadphaseHandle();
+    };
+    for (int i = 0; i < from_pairs.size(); ++i) {
+        pairs.addOverlappingPair(proxy(from_pairs[i].m_pProxy0), proxy(from_pairs[i].m_pProxy1));
+    }
+    // one collision pass makes the algorithms and their contact manifolds, pair by pair;
+    // their points are then replaced by the original's (positions, normals, the impulses the
+    // next solve starts from, lifetimes), and the manifolds put in the original's order. A
+    // manifold the original does not have (a pair that begins to touch now) is emptied: the
+    // original's next step makes it then, at the end of the list, where it stays here
+    s.world.performDiscreteCollisionDetection();
+    const int n = s.dispatcher.getNumManifolds();
+    btPersistentManifold** mine = s.dispatcher.getInternalManifoldPointer();
+    std::vector<btPersistentManifold*> order;
+    std::vector<char> used(static_cast<size_t>(n), 0);
+    for (int i = 0; i < o.dispatcher.getNumManifolds(); ++i) {
+        const btPersistentManifold& from_m = *o.dispatcher.getManifoldByIndexInternal(i);
+        const btCollisionObject* b0 = same.at(from_m.getBody0());
+        const btCollisionObject* b1 = same.at(from_m.getBody1());
+        for (int k = 0; k < n; ++k) {
+            btPersistentManifold& m = *mine[k];
+            if (used[static_cast<size_t>(k)] || m.getBody0() != b0 || m.getBody1() != b1) continue;
+            used[static_cast<size_t>(k)] = 1;
+            m.clearManifold();
+            m.setNumContacts(from_m.getNumContacts());
+            for (int p = 0; p < from_m.getNumContacts(); ++p) {
+                m.getContactPoint(p) = from_m.getContactPoint(p);
+                m.getContactPoint(p).m_userPersistentData = nullptr;
+            }
+            order.push_back(&m);
+            break;
+        }
+    }
+    for (int k = 0; k < n; ++k) {
+        if (used[static_cast<size_t>(k)]) continue;
+        mine[k]->clearManifold();
+        order.push_back(mine[k]);
+    }
+    for (int k = 0; k < n; ++k) {
+        mine[k] = order[static_cast<size_t>(k)];
+        mine[k]->m_index1a = k;
+    }
 }
 
 btDiscreteDynamicsWorld& PhysicsWorld::bullet_world() const {

@@ -65,6 +65,15 @@ class PhysicsWorld {
     std::optional<Overlap> deepest_robot_overlap(double tolerance) const;
     int contact_count() const;
 
+    /// Makes this world, built from the same spec as `from`, continue as `from` would: every
+    /// body's state (pose, velocities and what Bullet interpolates), the joints' motor
+    /// commands and measured reactions, the broadphase's pairs in `from`'s order, and the
+    /// contact manifolds (points, their warm-start impulses and lifetimes) in `from`'s order.
+    /// Two worlds built from one spec and given the same `from` are identical in every part of
+    /// their state, so their futures are bit-identical (Simulation::clone). Throws Error if
+    /// the worlds do not have the same bodies and joints.
+    void copy_state_from(const PhysicsWorld& from);
+
     /// The Bullet world and bodies, for the other Bullet code of this folder (sensor_probes).
     btDiscreteDynamicsWorld& bullet_world() const;
     btRigidBody& bullet_body(int body) const;

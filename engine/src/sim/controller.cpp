@@ -50,6 +50,32 @@ Controller::Controller(ControllerDef def) : def_(std::move(def)) {
     values_.resize(def_.values.size());
 }
 
+Controller::Controller(const Controller& other)
+    : values_(other.values_),
+      def_(other.def_),
+      params_(other.params_),
+      param_version_(other.param_version_),
+      def_version_(other.def_version_),
+      joints_(other.joints_),
+      failed_(other.failed_),
+      failure_(other.failure_) {}
+
+std::unique_ptr<Controller> Controller::clone() const {
+    throw SpecError(
+        fmt::format("controller '{}' cannot be copied: its C++ class does not implement "
+                    "Controller::clone()",
+                    def_.name));
+}
+
+std::unique_ptr<Controller> Controller::fresh_copy() const {
+    std::unique_ptr<Controller> c = clone();
+    c->joints_ = 0;
+    c->set_failed(false);
+    for (auto& v : c->values_)
+        v.clear();
+    return c;
+}
+
 void ControlIO::bad_target(int m, double rad) const {
     throw SpecError(fmt::format("joint {} of the group: target must be a finite number (got {})",
                                 m + 1, std::isnan(rad) ? "nan" : fmt::format("{} rad", rad)));

@@ -66,6 +66,40 @@ Sensing::Sensing(const WorldSpec& world, double dt) : dt_(dt), gravity_(world.gr
 
 Sensing::~Sensing() = default;
 
+Sensing::Sensing(const Sensing& o)
+    : dt_(o.dt_),
+      gravity_(o.gravity_),
+      slots_(o.slots_),
+      body_joints_(o.body_joints_),
+      robot_bodies_(o.robot_bodies_),
+      active_(o.active_),
+      active_contacts_(o.active_contacts_),
+      contacts_by_joint_(o.contacts_by_joint_),
+      contact_bodies_(o.contact_bodies_) {
+    for (size_t r = 0; r < o.robots_.size(); ++r) {
+        const RobotInfo& from = o.robots_[r];
+        RobotInfo info;
+        info.first_body = from.first_body;
+        info.bodies = from.bodies;
+        info.first_joint = from.first_joint;
+        info.masses = from.masses;
+        info.total_mass = from.total_mass;
+        info.parents = from.parents;
+        info.children = from.children;
+        info.sensors = from.sensors;
+        info.reader = std::make_unique<Reader>(*this, static_cast<int>(r));
+        robots_.push_back(std::move(info));
+    }
+}
+
+std::unique_ptr<Sensing> Sensing::copy() const {
+    return std::unique_ptr<Sensing>(new Sensing(*this));
+}
+
+void Sensing::adopt(PhysicsWorld& physics) {
+    mark_robot_bodies(physics, robot_bodies_);
+}
+
 Sensing::Slot Sensing::compile(int robot, int local, const SensorSpec& spec) const {
     const RobotInfo& info = robots_[static_cast<size_t>(robot)];
     Slot s;

@@ -21,7 +21,6 @@ class Sensing {
     /// Compiles the sensors of every robot of `world` (validated) for a physics step of `dt` s.
     Sensing(const WorldSpec& world, double dt);
     ~Sensing();
-    Sensing(const Sensing&) = delete;
     Sensing& operator=(const Sensing&) = delete;
 
     int count() const { return static_cast<int>(slots_.size()); }
@@ -54,6 +53,12 @@ class Sensing {
     /// A new physics world (built or rebuilt): IMU accelerations restart from rest, and every
     /// sensor that is on reads the new state.
     void attach(PhysicsWorld& physics);
+    /// An independent copy: the same sensors, switches, readings and IMU history (for a copy
+    /// of the simulation; give it its physics world with adopt()).
+    std::unique_ptr<Sensing> copy() const;
+    /// A physics world that continues the state of the one before (a copy's, or the original
+    /// rebuilt by a copy): readings and IMU history are kept.
+    void adopt(PhysicsWorld& physics);
     /// Reads every sensor that is on; called once per tick, after the physics step.
     void update(const PhysicsWorld& physics);
 
@@ -85,6 +90,7 @@ class Sensing {
         int joint;
     };
     class Reader;
+    Sensing(const Sensing& other);
 
     Slot compile(int robot, int local, const SensorSpec& spec) const;
     void rebuild_active();

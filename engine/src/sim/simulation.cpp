@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <new>
+#include <set>
 #include <string_view>
 #include <utility>
 
@@ -183,12 +184,21 @@ void Simulation::compile() {
     commands_.assign(angles_.size(), 0.0);
     sensing_ = std::make_unique<Sensing>(world_, options_.dt);
 
-    // bind every drive of the spec; the spec keeps them so reset() and copies see them too
+    // bind every drive of the spec; the spec keeps them so reset() and copies see them too.
+    // A controller another simulation binds already (one spec built twice) is copied fresh
+    // for this one; one bound earlier in this loop (the same object in two groups) is not,
+    // and add_drive says so
+    std::set<const Controller*> mine;
     for (size_t r = 0; r < world_.robots.size(); ++r) {
         Actuation drives = std::move(world_.robots[r].actuation);
         world_.robots[r].actuation.clear();
-        for (Drive& d : drives)
+        for (Drive& d : drives) {
+            if (d.controller && d.controller->bound() && mine.count(d.controller.get()) == 0) {
+                d.controller = std::shared_ptr<Controller>(d.controller->fresh_copy());
+            }
+            if (d.controller) mine.insert(d.controller.get());
             add_drive(static_cast<int>(r), std::move(d));
+        }
     }
     build();
     check_start_overlaps();
@@ -266,18 +276,8 @@ void Simulation::add_drive(int robot, Drive drive, Origin origin) {
     for (int j : drive.joints)
         slot.global_joints.push_back(robots_[robot].first_joint + j);
     const int index = drive_count();
-    // parameter changes become events stamped with the tick they act from
-    drive.controller->set_param_listener([this, index](int param, double value, Origin o) {
-        Event e;
-        e.kind = EventKind::param;
-        e.origin = o;
-        e.name = drives_[static_cast<size_t>(index)].label + "." +
-                 drives_[static_cast<size_t>(index)].drive.controller->def().params[param].name;
-        e.value = value;
-        e.drive = index;
-        post_event(std::move(e));
-    });
     drives_.push_back(std::move(slot));
+    listen(index);
     world_.robots[static_cast<size_t>(robot)].actuation.push_back(std::move(drive));
     if (physics_) {  // not while the constructor binds the drives of the spec
         Event e;
@@ -287,6 +287,70 @@ void Simulation::add_drive(int robot, Drive drive, Origin origin) {
         e.drive = index;
         post_event(std::move(e));
     }
+}
+
+void Simulation::listen(int index) {
+    // parameter changes become events stamped with the tick they act from
+    Controller& c = *drives_[static_cast<size_t>(index)].drive.controller;
+    c.set_param_listener([this, index](int param, double value, Origin o) {
+        Event e;
+        e.kind = EventKind::param;
+        e.origin = o;
+        e.name = drives_[static_cast<size_t>(index)].label + "." +
+                 drives_[static_cast<size_t>(index)].drive.controller->def().params[param].name;
+        e.value = value;
+        e.drive = index;
+        post_event(std::move(e));
+    });
+}
+
+Simulation::Simulation(const Simulation& from, Copying)
+    : world_(from.world_), options_(from.options_), scheduler_(from.scheduler_) {
+    warnings_ = from.warnings_;
+    labels_ = from.labels_;
+    robots_ = from.robots_;
+    first_object_ = from.first_object_;
+    angles_ = from.angles_;
+    targets_ = from.targets_;
+    commands_ = from.commands_;
+    phases_ = std::make_unique<Phases>(*this);
+    phases_->servos_ = from.phases_->servos_;
+    phases_->min_ = from.phases_->min_;
+    phases_->max_ = from.phases_->max_;
+    // every drive with a copy of its controller; the copy's spec holds the same copies, in
+    // the same order
+    for (PlacedRobot& r : world_.robots)
+        r.actuation.clear();
+    for (const DriveSlot& d : from.drives_) {
+        DriveSlot slot = d;
+        slot.drive.controller = std::shared_ptr<Controller>(d.drive.controller->clone());
+        world_.robots[static_cast<size_t>(d.robot)].actuation.push_back(slot.drive);
+        drives_.push_back(std::move(slot));
+        listen(drive_count() - 1);
+    }
+    sensing_ = from.sensing_->copy();
+    physics_ = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations);
+    physics_->copy_state_from(*from.physics_);
+    sensing_->adopt(*physics_);
+    paused_ = from.paused_;
+}
+
+std::unique_ptr<Simulation> Simulation::clone() {
+    check_idle("clone");
+    std::unique_ptr<Simulation> copy;
+    std::unique_ptr<PhysicsWorld> rebuilt;
+    try {
+        copy.reset(new Simulation(*this, Copying{}));
+        // the original goes on in a world rebuilt as the copy's was: Bullet's internal state
+        // (broadphase trees, pair and manifold order) then matches the copy's exactly
+        rebuilt = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations);
+        rebuilt->copy_state_from(*physics_);
+    } catch (const std::bad_alloc&) {
+        throw out_of_memory();
+    }
+    physics_ = std::move(rebuilt);
+    sensing_->adopt(*physics_);
+    return copy;
 }
 
 const std::string& Simulation::robot_label(int robot) const {
@@ -367,8 +431,8 @@ void Simulation::check_idle(const char* what) const {
     const bool allowed = busy_ == kPreTick && std::string_view(what) == "reset";
     if (busy_ && !allowed) {
         throw SpecError(fmt::format(
-            "cannot step the simulation from inside its own tick ({} called from {}: step, run "
-            "and reset belong between ticks)",
+            "cannot step the simulation from inside its own tick ({} called from {}: step, run, "
+            "reset and clone belong between ticks)",
             what, busy_));
     }
 }

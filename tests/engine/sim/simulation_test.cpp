@@ -527,8 +527,8 @@ TEST_CASE("step, run and reset from inside the simulation's own tick are errors"
             CHECK_THROWS_WITH(
                 sim.step(5),
                 Equals(std::string(kInsideTick) + " (" + w +
-                       " called from a controller's step: step, run and reset belong between "
-                       "ticks)"));
+                       " called from a controller's step: step, run, reset and clone belong "
+                       "between ticks)"));
             CHECK(sim.ticks() == 0);  // the first tick stopped at its think phase
             CHECK(c->failed());
             // the simulation is usable again between ticks

@@ -21,8 +21,11 @@ class Rk4;
 class Distributed final : public Controller {
   public:
     Distributed();
+    /// A copy with this one's whole state (clone()).
+    Distributed(const Distributed& other);
     ~Distributed() override;
     void step(ControlIO& io) override;
+    std::unique_ptr<Controller> clone() const override;
 
     /// Parameter indices, in declaration order.
     enum Param { amplitude, frequency, phase, offset, coupling, detuning, failed, seed };

@@ -21,8 +21,11 @@ class Rk4;
 class HindmarshRose final : public Controller {
   public:
     HindmarshRose();
+    /// A copy with this one's whole state (clone()).
+    HindmarshRose(const HindmarshRose& other);
     ~HindmarshRose() override;
     void step(ControlIO& io) override;
+    std::unique_ptr<Controller> clone() const override;
 
     /// Parameter indices, in declaration order.
     enum Param {

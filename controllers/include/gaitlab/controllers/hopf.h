@@ -20,8 +20,11 @@ class Rk4;
 class Hopf final : public Controller {
   public:
     Hopf();
+    /// A copy with this one's whole state (clone()).
+    Hopf(const Hopf& other);
     ~Hopf() override;
     void step(ControlIO& io) override;
+    std::unique_ptr<Controller> clone() const override;
 
     /// Parameter indices, in declaration order.
     enum Param { amplitude, frequency, phase, offset, convergence, coupling, seed };

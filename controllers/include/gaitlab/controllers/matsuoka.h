@@ -20,8 +20,11 @@ class Rk4;
 class Matsuoka final : public Controller {
   public:
     Matsuoka();
+    /// A copy with this one's whole state (clone()).
+    Matsuoka(const Matsuoka& other);
     ~Matsuoka() override;
     void step(ControlIO& io) override;
+    std::unique_ptr<Controller> clone() const override;
 
     /// Parameter indices, in declaration order.
     enum Param {

@@ -2,6 +2,8 @@
 // a yaw offset turns a pitch-yaw robot.
 #pragma once
 
+#include <memory>
+
 #include "gaitlab/controller.h"
 
 namespace gaitlab::controllers {
@@ -10,6 +12,7 @@ class Offset final : public Controller {
   public:
     Offset();
     void step(ControlIO& io) override;
+    std::unique_ptr<Controller> clone() const override;
 
     /// Parameter indices.
     enum Param { angle };

@@ -21,8 +21,11 @@ class Rk4;
 class PhaseChain final : public Controller {
   public:
     PhaseChain();
+    /// A copy with this one's whole state (clone()).
+    PhaseChain(const PhaseChain& other);
     ~PhaseChain() override;
     void step(ControlIO& io) override;
+    std::unique_ptr<Controller> clone() const override;
 
     /// Parameter indices, in declaration order.
     enum Param { amplitude, frequency, phase, offset, coupling, gain, seed };

@@ -2,6 +2,8 @@
 //   angle_m(t) = amplitude * sin(2 pi frequency t + m * phase + phase0) + offset   [deg]
 #pragma once
 
+#include <memory>
+
 #include "gaitlab/controller.h"
 
 namespace gaitlab::controllers {
@@ -10,6 +12,7 @@ class Sine final : public Controller {
   public:
     Sine();
     void step(ControlIO& io) override;
+    std::unique_ptr<Controller> clone() const override;
 
     /// Parameter indices, in declaration order.
     enum Param { amplitude, frequency, phase, phase0, offset };

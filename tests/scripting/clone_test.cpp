@@ -1,0 +1,237 @@
+// sim:clone(), sim:robot(name), robot:controllers() and several simulations from one world
+// (scripting/src/wrap_simulation.cpp, lua_controller.cpp).
+#include <catch2/catch.hpp>
+
+#include "lua_fixture.h"
+
+using gaitlab::test::LuaFixture;
+
+namespace {
+
+// a snake driven by a built-in sine on its pitch joints and a Lua controller with state of
+// its own (a clock, a history table shared twice and cyclic) on its yaw joints; `state(sim)`
+// gives every body's pose and velocity, hexadecimal, so equal strings are equal bits
+const char* kSetUp = R"(
+    Wave = gaitlab.controller{
+      name = "wave", params = { amplitude = { 20, min = 0, max = 60 } },
+      values = { "angle" },
+      step = function(self, dt)
+        self.t = (self.t or 0) + dt
+        self.log = self.log or { count = 0 }
+        self.log.count = self.log.count + 1
+        self.log.self = self.log
+        self.same = self.log
+        for m = 1, self.joints do
+          -- the clock counted in the shared table: a copy sharing it with the original would
+          -- count twice as fast
+          self.angle[m] = self.amplitude * math.sin(2 * math.pi * 0.6 * self.same.count * dt + m)
+          self:set_angle(m, self.angle[m])
+        end
+      end,
+    }
+    robot = gaitlab.robot.chain{ name = "snake", modules = 8, connection = "pitch-yaw" }
+    sine = gaitlab.controllers.sine{ amplitude = 40 }
+    wave = Wave{}
+    robot:group("pitch"):drive(sine)
+    robot:group("yaw"):drive(wave)
+    world = gaitlab.world()
+    world:add(robot)
+    function state(sim)
+      local out = { string.format("%a %d", sim.time, sim.ticks) }
+      for _, b in ipairs(sim:robot("snake"):bodies()) do
+        for _, v in ipairs({ b.position.x, b.position.y, b.position.z, b.velocity.x,
+                             b.velocity.y, b.velocity.z, b.orientation.w, b.orientation.x,
+                             b.orientation.y, b.orientation.z }) do
+          out[#out + 1] = string.format("%a", v)
+        end
+      end
+      return table.concat(out, " ")
+    end
+)";
+
+}  // namespace
+
+TEST_CASE("sim:clone() mid-gait follows the original bit for bit", "[clone]") {
+    LuaFixture lua;
+    lua.run(kSetUp);
+    lua.run(R"(
+        sim = gaitlab.simulation{ world = world }
+        sim:run(1.3)
+        copy = sim:clone()
+        same_at_start = state(copy) == state(sim)
+        sim:run(2)
+        copy:run(2)
+    )");
+    CHECK(lua.boolean("same_at_start"));
+    CHECK(lua.boolean("state(copy) == state(sim)"));
+    CHECK(lua.number("copy.time") == Approx(3.3));
+    CHECK(lua.boolean("copy ~= sim"));
+    // the snake crawled: the comparison is of a gait, not of a robot at rest
+    CHECK(lua.number("sim:robot('snake'):displacement():norm()") > 0.02);
+    // the Lua controller's copy kept its state: its own clock and table, shared and cyclic
+    // as in the original
+    lua.run(R"(
+        c = copy:robot("snake"):controllers()
+        o = sim:robot("snake"):controllers()
+    )");
+    CHECK(lua.integer("#c") == 2);
+    CHECK(lua.string("c[1].name") == "sine");
+    CHECK(lua.string("c[2].name") == "wave");
+    CHECK(lua.boolean("c[1] ~= o[1]"));
+    CHECK(lua.boolean("c[2]:values().angle[3] == o[2]:values().angle[3]"));
+    CHECK(lua.boolean("c[2]:values().angle[3] ~= 0"));
+}
+
+TEST_CASE("a clone's parameters are its own", "[clone]") {
+    LuaFixture lua;
+    lua.run(kSetUp);
+    lua.run(R"(
+        sim = gaitlab.simulation{ world = world }
+        sim:run(1.3)
+        changed = sim:clone()
+        untouched = sim:clone()
+        changed:robot("snake"):controllers()[1].amplitude = 20
+        changed:robot("snake"):controllers()[2].amplitude = 5
+        sim:run(1)
+        changed:run(1)
+        untouched:run(1)
+    )");
+    CHECK(lua.number("sine.amplitude") == 40);
+    CHECK(lua.number("wave.amplitude") == 20);
+    CHECK(lua.number("untouched:robot('snake'):controllers()[1].amplitude") == 40);
+    CHECK(lua.boolean("state(untouched) == state(sim)"));
+    CHECK(lua.boolean("state(changed) ~= state(sim)"));
+    // the world's handles still act on the original
+    lua.run("sine.frequency = 1");
+    CHECK(lua.number("untouched:robot('snake'):controllers()[1].frequency") == 0.5);
+    CHECK(lua.boolean("sim:robot('snake') ~= nil"));
+    // a copy lives on when its original is gone
+    lua.run(R"(
+        sim = nil
+        collectgarbage()
+        untouched:run(0.5)
+    )");
+    CHECK(lua.number("untouched.time") == Approx(2.8));
+}
+
+TEST_CASE("one world builds several simulations", "[clone]") {
+    LuaFixture lua;
+    lua.run(kSetUp);
+    // was: "controller 'sine' already drives a group"
+    lua.run(R"(
+        a = gaitlab.simulation{ world = world }
+        a:run(0.5)
+        sine.amplitude = 30
+        b = gaitlab.simulation{ world = world }
+        c = gaitlab.simulation{ world = world }
+    )");
+    // the first drives with the world's controllers; later ones with fresh copies, parameters
+    // as they were when they were built
+    CHECK(lua.number("a:robot('snake'):controllers()[1].amplitude") == 30);
+    CHECK(lua.number("b:robot('snake'):controllers()[1].amplitude") == 30);
+    lua.run("sine.amplitude = 35");
+    CHECK(lua.number("a:robot('snake'):controllers()[1].amplitude") == 35);
+    CHECK(lua.number("b:robot('snake'):controllers()[1].amplitude") == 30);
+    CHECK(lua.number("c:robot('snake'):controllers()[1].amplitude") == 30);
+    CHECK(lua.number("b.time") == 0);
+    lua.run(R"(
+        b:run(1)
+        c:run(1)
+    )");
+    CHECK(lua.boolean("state(b) == state(c)"));
+    CHECK(lua.number("b:robot('snake'):displacement():norm()") > 0.005);
+    // the world's robot handle reads the newest simulation
+    CHECK(lua.boolean("robot:position() == c:robot('snake'):position()"));
+}
+
+TEST_CASE("clone: bad uses", "[clone]") {
+    LuaFixture lua;
+    lua.run(kSetUp);
+    lua.run("sim = gaitlab.simulation{ world = world }");
+    SECTION("unknown robot") {
+        CHECK(lua.error_of("sim:robot('snak')") ==
+              "test:1: bad argument #1 to 'robot' (the simulation has no robot 'snak'; did you "
+              "mean 'snake'? (its robots: snake))");
+    }
+    SECTION("bad options") {
+        CHECK(lua.error_of("sim:clone(3)") ==
+              "test:1: bad argument #1 to 'clone' (table expected, got number)");
+        CHECK(lua.error_of("sim:clone{ recrd = true }") ==
+              "test:1: bad argument #1 to 'clone' (unknown key 'recrd'; did you mean "
+              "'record'?)");
+    }
+    SECTION("from inside a tick") {
+        lua.run(R"(
+            Cloner = gaitlab.controller{ name = "cloner",
+              step = function(self) sim:clone() end }
+            other = gaitlab.robot.chain{ name = "other", modules = 2 }
+            w2 = gaitlab.world()
+            w2:add(other)
+            other:group("all"):drive(Cloner{})
+            sim = gaitlab.simulation{ world = w2 }
+        )");
+        CHECK(lua.error_of("sim:run(0.1)") ==
+              "test:3: cannot step the simulation from inside its own tick (clone called from a "
+              "controller's step: step, run, reset and clone belong between ticks)");
+    }
+    SECTION("a Lua controller holding what cannot be copied") {
+        lua.run(R"(
+            sim:run(0.2)
+            wave_in_sim = sim:robot("snake"):controllers()[2]
+        )");
+        // the instance table is reached through the class's step: put a coroutine in it
+        lua.run(R"(
+            Holder = gaitlab.controller{ name = "holder",
+              step = function(self)
+                self.plan = self.plan or { steps = { coroutine.create(function() end) } }
+                for m = 1, self.joints do self:set_angle(m, 0) end
+              end }
+            r3 = gaitlab.robot.chain{ name = "r3", modules = 3 }
+            w3 = gaitlab.world()
+            w3:add(r3)
+            r3:group("all"):drive(Holder{})
+            s3 = gaitlab.simulation{ world = w3 }
+            s3:step(1)
+        )");
+        CHECK(lua.error_of("s3:clone()") ==
+              "test:1: controller 'holder' cannot be copied: self.plan.steps[1] holds a "
+              "coroutine (only numbers, strings, booleans, tables and functions without "
+              "upvalues can be copied; the copy would share it with the original)");
+        // the original runs on
+        lua.run("s3:run(0.1)");
+        CHECK(lua.integer("s3.ticks") > 1);
+        lua.run(R"(
+            Closure = gaitlab.controller{ name = "closure",
+              step = function(self)
+                local n = 0
+                self.count = self.count or function() n = n + 1 return n end
+                for m = 1, self.joints do self:set_angle(m, 0) end
+              end }
+            r4 = gaitlab.robot.chain{ name = "r4", modules = 3 }
+            w4 = gaitlab.world()
+            w4:add(r4)
+            r4:group("all"):drive(Closure{})
+            s4 = gaitlab.simulation{ world = w4 }
+            s4:step(1)
+        )");
+        CHECK(lua.error_of("s4:clone()") ==
+              "test:1: controller 'closure' cannot be copied: self.count holds a function with "
+              "upvalues (only numbers, strings, booleans, tables and functions without "
+              "upvalues can be copied; the copy would share it with the original)");
+    }
+    SECTION("a failed simulation clones, failure and all") {
+        lua.run(R"(
+            Failing = gaitlab.controller{ name = "failing",
+              step = function(self) error("broken on purpose") end }
+            r5 = gaitlab.robot.chain{ name = "r5", modules = 3 }
+            w5 = gaitlab.world()
+            w5:add(r5)
+            r5:group("all"):drive(Failing{})
+            s5 = gaitlab.simulation{ world = w5, on_controller_error = "continue" }
+            s5:run(0.2)
+            c5 = s5:clone()
+        )");
+        CHECK(lua.boolean("c5:robot('r5'):controllers()[1].failed"));
+        CHECK(lua.string("c5:status().controllers[1].state") == "failed");
+    }
+}
