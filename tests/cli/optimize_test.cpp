@@ -1,0 +1,153 @@
+// `gaitlab optimize` (cli/optimize.cpp), run as users run it: a small spec end to end (the
+// progress lines, the results folder, the same evaluations with 1 and 2 workers), and bad
+// options and spec files (one line on stderr, no results folder).
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "run_gaitlab.h"
+
+using gaitlab::test::read_text;
+using gaitlab::test::run_gaitlab;
+using gaitlab::test::TempDir;
+using gaitlab::test::write_text;
+
+namespace {
+
+// a 3-module snake for half a second: quick evaluations
+const std::string kSpec = R"(return {
+  parameters = { amplitude = {10, 60, initial = 40}, phase = {30, 180, initial = 120} },
+  build = function(p)
+    local robot = gaitlab.robot.chain{ name = "snake", modules = 3, connection = "pitch-pitch" }
+    local world = gaitlab.world{}
+    world:add(robot)
+    robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = p.amplitude,
+                                                         phase = p.phase, frequency = 1 })
+    return gaitlab.simulation{ world = world }
+  end,
+  fitness = "distance",
+  duration = 0.5,
+  method = "ga",
+  population = 5,
+  generations = 3,
+}
+)";
+
+std::vector<std::string> lines(const std::string& text) {
+    std::istringstream in(text);
+    std::vector<std::string> out;
+    for (std::string line; std::getline(in, line);)
+        out.push_back(line);
+    return out;
+}
+
+// evaluations.jsonl without the fields that depend on timing and on the workers
+std::vector<std::string> timeless(const std::string& path) {
+    std::vector<std::string> out;
+    for (const std::string& line : lines(read_text(path)))
+        out.push_back(line.substr(0, line.find(",\"seconds\":")));
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("gaitlab optimize: a spec runs end to end and writes its results folder") {
+    TempDir dir("cli_optimize");
+    write_text(dir / "spec.lua", kSpec);
+    const auto r = run_gaitlab(
+        {"optimize", "spec.lua", "--workers", "2", "--seed", "5", "--out", "out2"}, dir.str());
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.empty());
+    const std::vector<std::string> out = lines(r.out);
+    REQUIRE(out.size() == 6);
+    CHECK(out[0] ==
+          "optimize spec.lua: 2 parameters (amplitude, phase), fitness distance, 2 workers, "
+          "results in out2");
+    CHECK(out[1].rfind("generation 1/3: best ", 0) == 0);
+    CHECK(out[3].rfind("generation 3/3: best ", 0) == 0);
+    CHECK(out[4].rfind("best distance ", 0) == 0);
+    CHECK(out[4].find(" after 11 evaluations (ga, seed 5): amplitude = ") != std::string::npos);
+    CHECK(out[5] == "results: out2/evaluations.jsonl, out2/best.json");
+    // 5 + 3 + 3 evaluations (2 elites carried over)
+    const std::vector<std::string> two = timeless(dir / "out2/evaluations.jsonl");
+    CHECK(two.size() == 11);
+    const std::string best = read_text(dir / "out2/best.json");
+    CHECK(best.find("\"method\": \"ga\"") != std::string::npos);
+    CHECK(best.find("\"seed\": 5") != std::string::npos);
+    CHECK(best.find("\"amplitude\": ") != std::string::npos);
+
+    // one worker: the same evaluations, in the same order
+    const auto r1 =
+        run_gaitlab({"optimize", "spec.lua", "--seed", "5", "--out", "out1"}, dir.str());
+    REQUIRE(r1.status == 0);
+    CHECK(timeless(dir / "out1/evaluations.jsonl") == two);
+    CHECK(lines(r1.out)[4] == out[4]);
+
+    // the command line overrides the spec's method, population and generations
+    const auto r2 = run_gaitlab({"optimize", "spec.lua", "--method", "pgpe", "--population", "4",
+                                 "--generations", "2", "--out", "pgpe"},
+                                dir.str());
+    REQUIRE(r2.status == 0);
+    CHECK(timeless(dir / "pgpe/evaluations.jsonl").size() == 8);
+    CHECK(r2.out.find("after 8 evaluations (pgpe, seed 0)") != std::string::npos);
+}
+
+TEST_CASE("gaitlab optimize: bad options and spec files give one line and no results") {
+    TempDir dir("cli_optimize_bad");
+    write_text(dir / "spec.lua", kSpec);
+    struct Case {
+        std::vector<std::string> args;
+        int status;
+        std::string err;
+    };
+    const std::vector<Case> cases = {
+        {{"optimize", "spec.lua", "--workers", "0"},
+         2,
+         "gaitlab: --workers: a whole number from 1 to 1024 expected (got '0') (see 'gaitlab "
+         "optimize --help')\n"},
+        {{"optimize", "spec.lua", "--generations", "x"},
+         2,
+         "gaitlab: --generations: a whole number from 1 to 1000000000 expected (got 'x') (see "
+         "'gaitlab optimize --help')\n"},
+        {{"optimize", "spec.lua", "--method", "sga"},
+         2,
+         "gaitlab: --method: unknown method 'sga' (expected ga, cmaes or pgpe) (see 'gaitlab "
+         "optimize --help')\n"},
+        {{"optimize", "spec.lua", "--generation", "3"},
+         2,
+         "gaitlab: unknown option '--generation' for 'gaitlab optimize'; did you mean "
+         "'--generations'? (see 'gaitlab optimize --help')\n"},
+        {{"optimize", "none.lua"},
+         1,
+         "gaitlab: none.lua: no such file (an optimization spec, FILE.lua, expected)\n"},
+    };
+    for (const Case& c : cases) {
+        const auto r = run_gaitlab(c.args, dir.str());
+        INFO(c.err);
+        CHECK(r.status == c.status);
+        CHECK(r.err == c.err);
+        CHECK(r.out.empty());
+    }
+    write_text(dir / "nobuild.lua",
+               "return { parameters = { a = {0, 1} }, fitness = 'speed', duration = 1 }");
+    const auto r = run_gaitlab({"optimize", "nobuild.lua", "--out", "out"}, dir.str());
+    CHECK(r.status == 1);
+    CHECK(r.err ==
+          "gaitlab: nobuild.lua: build: missing (a function(p) that returns a simulation "
+          "expected)\n");
+    CHECK_FALSE(std::filesystem::exists(dir / "out"));
+    // an evaluation that fails for every individual: the run ends and says so
+    write_text(dir / "fails.lua",
+               "return { parameters = { a = {0, 1} }, fitness = 'speed', duration = 1,\n"
+               "  build = function(p) error('cannot build') end, method = 'ga', population = 4,\n"
+               "  generations = 1 }\n");
+    const auto f = run_gaitlab({"optimize", "fails.lua", "--out", "fails"}, dir.str());
+    CHECK(f.status == 1);
+    CHECK(f.err == "gaitlab: every evaluation failed (see fails/evaluations.jsonl)\n");
+    CHECK(f.out.find("(4 failed: fails.lua:2: cannot build)") != std::string::npos);
+    CHECK(lines(read_text(dir / "fails/evaluations.jsonl")).size() == 4);
+}
