@@ -194,6 +194,12 @@ int OptimizeCommand::run(const std::string& command) {
                 number(r.best_fitness).c_str(), static_cast<long long>(r.evaluations),
                 r.method.c_str(), static_cast<unsigned long long>(o.seed), best.c_str());
     std::printf("results: %s/evaluations.jsonl, %s/best.json\n", o.out.c_str(), o.out.c_str());
+    if (!r.simulation.empty()) {
+        std::printf("the best as a simulation file: gaitlab run %s\n", r.simulation.c_str());
+    } else {
+        std::printf("the best could not be saved as a simulation file: %s\n",
+                    r.simulation_error.c_str());
+    }
     return 0;
 }
 

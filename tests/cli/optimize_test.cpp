@@ -63,7 +63,7 @@ TEST_CASE("gaitlab optimize: a spec runs end to end and writes its results folde
     REQUIRE(r.status == 0);
     CHECK(r.err.empty());
     const std::vector<std::string> out = lines(r.out);
-    REQUIRE(out.size() == 6);
+    REQUIRE(out.size() == 7);
     CHECK(out[0] ==
           "optimize spec.lua: 2 parameters (amplitude, phase), fitness distance, 2 workers, "
           "results in out2");
@@ -72,6 +72,11 @@ TEST_CASE("gaitlab optimize: a spec runs end to end and writes its results folde
     CHECK(out[4].rfind("best distance ", 0) == 0);
     CHECK(out[4].find(" after 11 evaluations (ga, seed 5): amplitude = ") != std::string::npos);
     CHECK(out[5] == "results: out2/evaluations.jsonl, out2/best.json");
+    CHECK(out[6] == "the best as a simulation file: gaitlab run out2/best/best.xml");
+    // which runs
+    const auto run = run_gaitlab({"run", "--no-record", "out2/best/best.xml"}, dir.str());
+    CHECK(run.status == 0);
+    CHECK(run.out.rfind("snake: moved ", 0) == 0);
     // 5 + 3 + 3 evaluations (2 elites carried over)
     const std::vector<std::string> two = timeless(dir / "out2/evaluations.jsonl");
     CHECK(two.size() == 11);

@@ -11,6 +11,7 @@
 
 #include "gaitlab/error.h"
 #include "gaitlab/optimize/runner.h"
+#include "gaitlab/scripting/lua_host.h"
 #include "temp_dir.h"
 
 using gaitlab::optimize::Evaluator;
@@ -125,6 +126,29 @@ TEST_CASE("runner: the same seed gives the same evaluations with 1 and 2 workers
     CHECK(runs[0][0].find("\"modules\":3,") + runs[0][0].find("\"modules\":4,") +
               runs[0][0].find("\"modules\":5,") !=
           3 * std::string::npos);
+    // the best individual's simulation file runs the same simulation: measured as the spec
+    // measures it, it gives the best fitness
+    const std::string best = dir / "w1/best/best.xml";
+    REQUIRE(std::filesystem::exists(best));
+    CHECK(std::filesystem::exists(dir / "w1/best/best.snake.actuation.xml"));
+    gaitlab::scripting::LuaHost host;
+    std::string printed;
+    host.set_output([&](const std::string& text) { printed += text; });
+    host.run_string("local sim = assert(gaitlab.simulation.load('" + best +
+                        "'))\n"
+                        "sim:run(0.2)\n"
+                        "local a = sim:status().robots[1].position\n"
+                        "sim:run(1)\n"
+                        "local b = sim:status().robots[1].position\n"
+                        "print(string.format('%.17g', math.sqrt((b.x - a.x)^2 + (b.y - a.y)^2)))",
+                    "check");
+    const std::string best_json = read_text(dir / "w1/best.json");
+    INFO(best_json);
+    const auto at = best_json.find("\"fitness\": ");
+    REQUIRE(at != std::string::npos);
+    CHECK(std::stod(printed) == std::stod(best_json.substr(at + 12)));
+    CHECK(best_json.find("\"simulation\": \"best/best.xml\"") != std::string::npos);
+
     // and a different seed gives different individuals
     RunOptions o;
     o.seed = 8;

@@ -477,6 +477,44 @@ double Evaluator::evaluate(const std::vector<double>& x) {
     }
 }
 
+void Evaluator::save(const std::vector<double>& x, const std::string& path) {
+    lua_State* L = host_->state();
+    const int top = lua_gettop(L);
+    struct Clean {
+        lua_State* L;
+        int top;
+        ~Clean() {
+            lua_settop(L, top);
+            lua_gc(L, LUA_GCCOLLECT);
+        }
+    } clean{L, top};
+    host_->seed(0);
+    lua_rawgeti(L, LUA_REGISTRYINDEX, spec_ref_);
+    lua_getfield(L, -1, "build");
+    push_parameters(L, spec_, x);
+    try {
+        scripting::protected_call(L, 1, 1);
+    } catch (const Error& e) {
+        throw Error(fmt::format("{}: build: {}", spec_.file, e.what()));
+    }
+    if (!luaL_testudata(L, -1, "gaitlab.Simulation")) {
+        throw Error(fmt::format("{}: build: a simulation expected as its result, got {}",
+                                spec_.file, lua_type_name(L, -1)));
+    }
+    const int sim = lua_gettop(L);
+    lua_getfield(L, sim, "save");
+    lua_pushvalue(L, sim);
+    lua_pushstring(L, path.c_str());
+    lua_createtable(L, 0, 1);
+    lua_pushnumber(L, spec_.settle + spec_.duration);
+    lua_setfield(L, -2, "duration");
+    scripting::protected_call(L, 3, 2);
+    if (lua_isnil(L, -2)) {
+        throw IoError(lua_isstring(L, -1) ? lua_tostring(L, -1)
+                                          : fmt::format("cannot write {}", path));
+    }
+}
+
 RunResult run_optimization(const Spec& spec, const RunOptions& options,
                            const std::function<void(const Progress&)>& on_generation,
                            const std::atomic<int>* stop) {
@@ -622,6 +660,18 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     result.best_fitness = method->best_fitness();
     result.evaluations = method->evaluations();
 
+    // the best individual as a simulation file that gaitlab run runs (and its parts: the
+    // actuation file holds the controllers' parameters)
+    if (!result.best.empty()) {
+        const fs::path path = fs::absolute(out / "best" / "best.xml");
+        try {
+            evaluators[0]->save(result.best, path.string());
+            result.simulation = (out / "best" / "best.xml").string();
+        } catch (const Error& e) {
+            result.simulation_error = e.what();
+        }
+    }
+
     nlohmann::ordered_json best;
     best["format"] = "gaitlab-optimize-best";
     best["version"] = 1;
@@ -635,6 +685,8 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     best["fitness"] = fitness_json(result.best_fitness);
     best["parameters"] =
         result.best.empty() ? nlohmann::ordered_json(nullptr) : parameters_json(spec, result.best);
+    if (!result.simulation.empty()) best["simulation"] = "best/best.xml";
+    if (!result.simulation_error.empty()) best["simulation_error"] = result.simulation_error;
     best["command"] = options.command;
     write_file(out / "best.json",
                best.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");

@@ -55,6 +55,12 @@ class Evaluator {
     /// depends on `x` only (math.random is seeded the same way before every evaluation).
     double evaluate(const std::vector<double>& x);
 
+    /// Builds the simulation for `x` and writes it as a simulation file `path` (absolute) with
+    /// its parts next to it (robot, actuation, environment: sim:save), for settle + duration
+    /// seconds: `gaitlab run PATH` runs it. Throws Error naming the spec file, or the file that
+    /// could not be written.
+    void save(const std::vector<double>& x, const std::string& path);
+
     /// Stops the evaluation under way (and every later one) as the signal would: the call
     /// throws. Async-signal-safe.
     void interrupt(int signal);
@@ -98,10 +104,14 @@ struct RunResult {
     std::string method;
     int generations = 0;
     int population = 0;
+    std::string simulation;        ///< OUT/best/best.xml; "" when it could not be saved
+    std::string simulation_error;  ///< why not
 };
 
 /// Runs the optimization a spec describes: the method, one Evaluator per worker, writing
-/// OUT/evaluations.jsonl as generations end and OUT/best.json at the end. Stops with Error
+/// OUT/evaluations.jsonl as generations end, and at the end OUT/best.json and the best
+/// individual's simulation, OUT/best/best.xml and its parts (when it can be saved: best.json
+/// says why not). Stops with Error
 /// ("interrupted (SIGINT)") when `stop` becomes non-zero (checked between evaluations; pass
 /// the signal's number). Throws SpecError for bad options, IoError when OUT cannot be written.
 RunResult run_optimization(const Spec& spec, const RunOptions& options,
