@@ -1,11 +1,19 @@
 // `gaitlab optimize` (cli/optimize.cpp), run as users run it: a small spec end to end (the
 // progress lines, the results folder, the same evaluations with 1 and 2 workers), and bad
-// options and spec files (one line on stderr, no results folder).
+// options and spec files (one line on stderr, no results folder), SIGINT.
 #include <catch2/catch.hpp>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <filesystem>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "run_gaitlab.h"
@@ -14,6 +22,8 @@ using gaitlab::test::read_text;
 using gaitlab::test::run_gaitlab;
 using gaitlab::test::TempDir;
 using gaitlab::test::write_text;
+
+extern char** environ;
 
 namespace {
 
@@ -155,4 +165,49 @@ TEST_CASE("gaitlab optimize: bad options and spec files give one line and no res
     CHECK(f.err == "gaitlab: every evaluation failed (see fails/evaluations.jsonl)\n");
     CHECK(f.out.find("(4 failed: fails.lua:2: cannot build)") != std::string::npos);
     CHECK(lines(read_text(dir / "fails/evaluations.jsonl")).size() == 4);
+}
+
+TEST_CASE("gaitlab optimize: SIGINT stops the evaluations under way and writes nothing half done") {
+    TempDir dir("cli_optimize_signal");
+    // long evaluations: a generation takes seconds, so the signal comes during one
+    std::string spec = kSpec;
+    spec.replace(spec.find("duration = 0.5"), 14, "duration = 30");
+    spec.replace(spec.find("generations = 3"), 15, "generations = 50");
+    write_text(dir / "long.lua", spec);
+    const std::string out = dir / "out";
+    std::vector<std::string> args_s{GAITLAB_BINARY, "optimize", dir / "long.lua", "--out", out,
+                                    "--population", "4"};
+    std::vector<char*> argv;
+    for (std::string& a : args_s)
+        argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    const std::string err_path = dir / "err", out_path = dir / "stdout";
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out_path.c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    pid_t pid = 0;
+    REQUIRE(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0);
+    posix_spawn_file_actions_destroy(&actions);
+    // wait until it evaluates (its folder exists), then a little into the first generation
+    const auto start = std::chrono::steady_clock::now();
+    while (!std::filesystem::exists(out + "/evaluations.jsonl") &&
+           std::chrono::steady_clock::now() - start < std::chrono::seconds(20))
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const auto signalled = std::chrono::steady_clock::now();
+    kill(pid, SIGINT);
+    int wstatus = 0;
+    REQUIRE(waitpid(pid, &wstatus, 0) == pid);
+    // the evaluations under way stop at once, not after their 30 simulated seconds
+    CHECK(std::chrono::steady_clock::now() - signalled < std::chrono::seconds(3));
+    REQUIRE(WIFEXITED(wstatus));
+    CHECK(WEXITSTATUS(wstatus) == 128 + SIGINT);
+    CHECK(read_text(err_path) ==
+          "gaitlab: interrupted; the evaluations so far are in " + out + "\n");
+    // nothing half-written: the generation under way is not in the file
+    CHECK(read_text(out + "/evaluations.jsonl").empty());
+    CHECK_FALSE(std::filesystem::exists(out + "/best.json"));
 }
