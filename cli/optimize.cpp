@@ -1,6 +1,7 @@
 // `gaitlab optimize` (see optimize.h).
 #include "optimize.h"
 
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -150,6 +151,39 @@ int OptimizeCommand::run(const std::string& command) {
                 a.spec.c_str(), spec.parameters.size(), names.c_str(), spec.fitness.c_str(),
                 o.workers, o.workers == 1 ? "" : "s", o.out.c_str());
     std::fflush(stdout);
+    // on a terminal, a line on stderr rewritten after each evaluation; taken away before the
+    // generation's summary line and at the end
+    const bool bar = ::isatty(STDERR_FILENO) == 1;
+    bool bar_shown = false;
+    auto last_bar = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+    const auto clear_bar = [&] {
+        if (!bar_shown) return;
+        std::fputs("\r\x1b[K", stderr);
+        std::fflush(stderr);
+        bar_shown = false;
+    };
+    const auto show_bar = [&](const optimize::Tick& t) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now - last_bar < std::chrono::milliseconds(200) && t.done < t.individuals) return;
+        last_bar = now;
+        const double rate = t.wall > 0 ? static_cast<double>(t.evaluations) / t.wall : 0;
+        const std::int64_t total = static_cast<std::int64_t>(t.generations) * t.individuals;
+        std::string line = fmt::format("generation {}/{}: {}/{} evaluated, best {}, {:.2g} per s",
+                                       t.generation + 1, t.generations, t.done, t.individuals,
+                                       number(t.best), rate);
+        if (rate > 0 && total > t.evaluations) {
+            line += fmt::format(", about {} left",
+                                duration(static_cast<double>(total - t.evaluations) / rate));
+        }
+        winsize ws{};
+        if (::ioctl(STDERR_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 1 &&
+            line.size() >= ws.ws_col) {
+            line.resize(ws.ws_col - 1U);
+        }
+        std::fprintf(stderr, "\r%s\x1b[K", line.c_str());
+        std::fflush(stderr);
+        bar_shown = true;
+    };
     optimize::RunResult r;
     try {
         r = optimize::run_optimization(
@@ -167,11 +201,14 @@ int OptimizeCommand::run(const std::string& command) {
                 if (p.failed > 0) {
                     line += fmt::format(" ({} failed: {})", p.failed, p.first_error);
                 }
+                clear_bar();
                 std::printf("%s\n", line.c_str());
                 std::fflush(stdout);
             },
-            &g_stop);
+            &g_stop, bar ? std::function<void(const optimize::Tick&)>(show_bar) : nullptr);
+        clear_bar();
     } catch (const Error& e) {
+        clear_bar();
         if (const int sig = g_stop.load(); sig != 0) {
             std::fprintf(stderr, "gaitlab: interrupted; the evaluations so far are in %s\n",
                          o.out.c_str());

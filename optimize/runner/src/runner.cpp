@@ -517,7 +517,8 @@ void Evaluator::save(const std::vector<double>& x, const std::string& path) {
 
 RunResult run_optimization(const Spec& spec, const RunOptions& options,
                            const std::function<void(const Progress&)>& on_generation,
-                           const std::atomic<int>* stop) {
+                           const std::atomic<int>* stop,
+                           const std::function<void(const Tick&)>& on_evaluation) {
     RunResult result;
     result.method = options.method.empty() ? spec.method : method_name(options.method, "--method");
     result.generations = options.generations > 0 ? options.generations : spec.generations;
@@ -607,13 +608,38 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     } stop_watcher{watch_mutex, watch_wake, watch_done, watcher};
 
     const auto started = std::chrono::steady_clock::now();
+    std::mutex tick_mutex;
+    Tick tick;
+    tick.generations = result.generations;
     const EvaluateFunction evaluate = [&](const std::vector<double>& x, int worker) {
+        struct Ticker {
+            std::mutex& m;
+            Tick& t;
+            const std::function<void(const Tick&)>& fn;
+            std::chrono::steady_clock::time_point started;
+            ~Ticker() {
+                if (!fn) return;
+                std::lock_guard<std::mutex> lock(m);
+                ++t.done;
+                ++t.evaluations;
+                t.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started)
+                             .count();
+                fn(t);
+            }
+        } ticker{tick_mutex, tick, on_evaluation, started};
         return evaluators[static_cast<size_t>(worker)]->evaluate(x);
     };
     std::size_t first_population = 0;
     for (int g = 0; g < result.generations; ++g) {
         const std::vector<std::vector<double>> xs = method->ask();
         if (g == 0) first_population = xs.size();
+        {
+            std::lock_guard<std::mutex> lock(tick_mutex);
+            tick.generation = g;
+            tick.done = 0;
+            tick.individuals = static_cast<int>(xs.size());
+            tick.best = method->best_fitness();
+        }
         const std::vector<Evaluation> ev = pool.evaluate(xs, evaluate);
         if (stop && stop->load() != 0) {
             throw Error(fmt::format("interrupted after {} generations", g));

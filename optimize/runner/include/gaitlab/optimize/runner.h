@@ -96,6 +96,17 @@ struct Progress {
     std::string first_error;       ///< the message of the first failed individual of the generation
 };
 
+/// After each evaluation (from the worker that ran it, one call at a time).
+struct Tick {
+    int generation = 0;            ///< the generation under way, from 0
+    int generations = 0;           ///< how many the run makes
+    int done = 0;                  ///< individuals of this generation evaluated so far
+    int individuals = 0;           ///< individuals in this generation
+    std::int64_t evaluations = 0;  ///< evaluated so far in the run
+    double best = 0;               ///< best fitness of the generations told (NaN: none yet)
+    double wall = 0;               ///< wall seconds since the run began
+};
+
 /// The outcome of a run.
 struct RunResult {
     std::vector<double> best;  ///< parameter units (empty: every individual failed)
@@ -116,6 +127,7 @@ struct RunResult {
 /// the signal's number). Throws SpecError for bad options, IoError when OUT cannot be written.
 RunResult run_optimization(const Spec& spec, const RunOptions& options,
                            const std::function<void(const Progress&)>& on_generation = {},
-                           const std::atomic<int>* stop = nullptr);
+                           const std::atomic<int>* stop = nullptr,
+                           const std::function<void(const Tick&)>& on_evaluation = {});
 
 }  // namespace gaitlab::optimize
