@@ -106,8 +106,9 @@ OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
         ->type_name("DIR");
     sub_->footer(
         "Writes DIR/evaluations.jsonl (one line per evaluation: generation, individual,\n"
-        "parameters, fitness, seconds, worker, error) and DIR/best.json. A failed evaluation\n"
-        "(an error, a NaN fitness, a diverging simulation) ranks last and the run goes on.");
+        "parameters, fitness, seconds, worker, error), DIR/best.json and the best as a\n"
+        "simulation file, DIR/best/best.xml. A failed evaluation (an error, a NaN fitness, a\n"
+        "diverging simulation) ranks last and the run goes on. See docs/optimization.md.");
 }
 
 OptimizeCommand::~OptimizeCommand() = default;
