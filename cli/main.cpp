@@ -1,7 +1,7 @@
 // The gaitlab executable: gaitlab run FILE.lua|FILE.xml (recorded to runs/ by default),
 // gaitlab FILE.lua, gaitlab data DIR (list, extract, export, plot recorded series), gaitlab
-// replay DIR, --help, --version; gaitlab alone and gaitlab -i FILE.lua open the console
-// (console_command.h).
+// replay DIR, gaitlab optimize SPEC.lua (optimize.h), --help, --version; gaitlab alone and
+// gaitlab -i FILE.lua open the console (console_command.h).
 //
 // The command line is strict: an option gaitlab does not know is an error (with the closest
 // one), wherever it stands; the script's own arguments follow FILE, after "--" as soon as one
@@ -42,6 +42,7 @@
 #include "gaitlab/version.h"
 #include "gaitlab/viewer/view.h"
 #include "make.h"
+#include "optimize.h"
 #include "wizard.h"
 
 namespace {
@@ -154,6 +155,7 @@ extern "C" void on_signal(int sig) {
     }
     g_signal = sig;
     if (gaitlab::scripting::LuaHost* host = g_host.load()) host->interrupt(sig);
+    gaitlab::cli::optimize_signal(sig);
 }
 
 const char* strsignal_name(int sig) {
@@ -844,6 +846,7 @@ int main(int argc, char** argv) {
 
     gaitlab::cli::NewCommand new_command(app);
     gaitlab::cli::MakeCommand make_command(app);
+    gaitlab::cli::OptimizeCommand optimize_command(app);
 
     std::vector<const char*> args{argv[0]};
     for (const std::string& a : argl)
@@ -898,6 +901,9 @@ int main(int argc, char** argv) {
             status = new_command.run();
         } else if (make_command.chosen()) {
             status = make_command.run();
+        } else if (optimize_command.chosen()) {
+            catch_signals();
+            status = optimize_command.run(command);
         } else if (*replay) {
             catch_signals();
             status = replay_command(replay_dir, replay_into);

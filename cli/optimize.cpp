@@ -1,0 +1,244 @@
+// `gaitlab optimize` (see optimize.h).
+#include "optimize.h"
+
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "gaitlab/error.h"
+#include "gaitlab/optimize/runner.h"
+
+namespace gaitlab::cli {
+
+namespace {
+
+std::atomic<int> g_stop{0};
+static_assert(std::atomic<int>::is_always_lock_free);
+
+// a whole number in [min, max]; SpecError naming the option otherwise
+std::uint64_t whole(const char* option, const std::string& text, std::uint64_t min,
+                    std::uint64_t max) {
+    std::uint64_t v = 0;
+    const char* end = text.data() + text.size();
+    const auto r = std::from_chars(text.data(), end, v);
+    if (text.empty() || r.ec != std::errc() || r.ptr != end || v < min || v > max) {
+        throw SpecError(fmt::format("{}: a whole number from {} to {} expected (got '{}')", option,
+                                    min, max, text));
+    }
+    return v;
+}
+
+std::string default_out(const std::string& spec) {
+    const std::time_t now = std::time(nullptr);
+    std::tm tm{};
+    localtime_r(&now, &tm);
+    char stamp[32];
+    std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
+    return fmt::format("runs/optimize-{}-{}", std::filesystem::path(spec).stem().string(), stamp);
+}
+
+std::string duration(double s) {
+    if (!(s >= 1)) return "<1 s";
+    const long n = std::lround(s);
+    if (n < 60) return fmt::format("{} s", n);
+    if (n < 3600) return fmt::format("{} min {:02} s", n / 60, n % 60);
+    return fmt::format("{} h {:02} min", n / 3600, n % 3600 / 60);
+}
+
+std::string number(double v) {
+    return std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string("none");
+}
+
+}  // namespace
+
+struct OptimizeCommand::Args {
+    std::string spec;
+    std::string method;
+    std::string generations;
+    std::string population;
+    std::string workers = "1";
+    std::string seed = "0";
+    std::string out;
+};
+
+void optimize_signal(int signal) {
+    int expected = 0;
+    g_stop.compare_exchange_strong(expected, signal);
+}
+
+OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
+    sub_ = app.add_subcommand("optimize",
+                              "Tune parameters with GA, CMA-ES or PGPE: each evaluation builds "
+                              "and runs a simulation (docs/optimization.md)");
+    sub_->allow_extras();
+    sub_->add_option("spec", a_->spec, "The optimization spec (SPEC.lua)")
+        ->required()
+        ->type_name("SPEC.lua");
+    sub_->add_option("--method", a_->method, "ga, cmaes or pgpe (default: the spec's, or cmaes)")
+        ->type_name("M");
+    sub_->add_option("--generations", a_->generations,
+                     "Generations to run (default: the spec's, or 20)")
+        ->type_name("N");
+    sub_->add_option("--population", a_->population,
+                     "Individuals per generation (default: the spec's, or the method's)")
+        ->type_name("N");
+    sub_->add_option("--workers", a_->workers,
+                     "Threads evaluating in parallel, each with its own Lua state (the result "
+                     "is the same for any number)")
+        ->type_name("N")
+        ->capture_default_str();
+    sub_->add_option("--seed", a_->seed, "Seed of the method's random stream: 0 to 2^64 - 1")
+        ->type_name("N")
+        ->capture_default_str();
+    sub_->add_option("--out", a_->out,
+                     "Results folder, new or empty (default: runs/optimize-SPEC-DATE-TIME)")
+        ->type_name("DIR");
+    sub_->footer(
+        "Writes DIR/evaluations.jsonl (one line per evaluation: generation, individual,\n"
+        "parameters, fitness, seconds, worker, error), DIR/best.json and the best as a\n"
+        "simulation file, DIR/best/best.xml. A failed evaluation (an error, a NaN fitness, a\n"
+        "diverging simulation) ranks last and the run goes on. See docs/optimization.md.");
+}
+
+OptimizeCommand::~OptimizeCommand() = default;
+
+bool OptimizeCommand::chosen() const {
+    return sub_->parsed();
+}
+
+int OptimizeCommand::run(const std::string& command) {
+    const Args& a = *a_;
+    optimize::RunOptions o;
+    optimize::Spec spec;
+    try {
+        if (!a.generations.empty())
+            o.generations = static_cast<int>(whole("--generations", a.generations, 1, 1000000000));
+        if (!a.population.empty())
+            o.population = static_cast<int>(whole("--population", a.population, 1, 1000000000));
+        o.workers = static_cast<int>(whole("--workers", a.workers, 1, 1024));
+        o.seed = whole("--seed", a.seed, 0, UINT64_MAX);
+        o.method = a.method;
+        if (!o.method.empty() && o.method != "ga" && o.method != "cmaes" && o.method != "pgpe") {
+            throw SpecError(fmt::format(
+                "--method: unknown method '{}' (expected ga, cmaes or pgpe)", o.method));
+        }
+    } catch (const Error& e) {
+        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab optimize --help')\n", e.what());
+        return 2;
+    }
+    o.out = a.out.empty() ? default_out(a.spec) : a.out;
+    o.command = command;
+    try {
+        spec = optimize::load_spec(a.spec);
+    } catch (const Error& e) {
+        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        return 1;
+    }
+    std::string names;
+    for (const auto& p : spec.parameters)
+        names += (names.empty() ? "" : ", ") + p.name;
+    std::printf("optimize %s: %zu parameters (%s), fitness %s, %d worker%s, results in %s\n",
+                a.spec.c_str(), spec.parameters.size(), names.c_str(), spec.fitness.c_str(),
+                o.workers, o.workers == 1 ? "" : "s", o.out.c_str());
+    std::fflush(stdout);
+    // on a terminal, a line on stderr rewritten after each evaluation; taken away before the
+    // generation's summary line and at the end
+    const bool bar = ::isatty(STDERR_FILENO) == 1;
+    bool bar_shown = false;
+    auto last_bar = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+    const auto clear_bar = [&] {
+        if (!bar_shown) return;
+        std::fputs("\r\x1b[K", stderr);
+        std::fflush(stderr);
+        bar_shown = false;
+    };
+    const auto show_bar = [&](const optimize::Tick& t) {
+        const auto now = std::chrono::steady_clock::now();
+        if (now - last_bar < std::chrono::milliseconds(200) && t.done < t.individuals) return;
+        last_bar = now;
+        const double rate = t.wall > 0 ? static_cast<double>(t.evaluations) / t.wall : 0;
+        const std::int64_t total = static_cast<std::int64_t>(t.generations) * t.individuals;
+        std::string line = fmt::format("generation {}/{}: {}/{} evaluated, best {}, {:.2g} per s",
+                                       t.generation + 1, t.generations, t.done, t.individuals,
+                                       number(t.best), rate);
+        if (rate > 0 && total > t.evaluations) {
+            line += fmt::format(", about {} left",
+                                duration(static_cast<double>(total - t.evaluations) / rate));
+        }
+        winsize ws{};
+        if (::ioctl(STDERR_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 1 &&
+            line.size() >= ws.ws_col) {
+            line.resize(ws.ws_col - 1U);
+        }
+        std::fprintf(stderr, "\r%s\x1b[K", line.c_str());
+        std::fflush(stderr);
+        bar_shown = true;
+    };
+    optimize::RunResult r;
+    try {
+        r = optimize::run_optimization(
+            spec, o,
+            [&](const optimize::Progress& p) {
+                const double rate = p.wall > 0 ? static_cast<double>(p.evaluations) / p.wall : 0;
+                const double left =
+                    p.generation + 1 < p.generations && p.generation >= 0
+                        ? p.wall / (p.generation + 1) * (p.generations - p.generation - 1)
+                        : 0;
+                std::string line = fmt::format(
+                    "generation {}/{}: best {}, mean {}, {} evaluations, {:.2g} per s, {} left",
+                    p.generation + 1, p.generations, number(p.best), number(p.mean), p.evaluations,
+                    rate, duration(left));
+                if (p.failed > 0) {
+                    line += fmt::format(" ({} failed: {})", p.failed, p.first_error);
+                }
+                clear_bar();
+                std::printf("%s\n", line.c_str());
+                std::fflush(stdout);
+            },
+            &g_stop, bar ? std::function<void(const optimize::Tick&)>(show_bar) : nullptr);
+        clear_bar();
+    } catch (const Error& e) {
+        clear_bar();
+        if (const int sig = g_stop.load(); sig != 0) {
+            std::fprintf(stderr, "gaitlab: interrupted; the evaluations so far are in %s\n",
+                         o.out.c_str());
+            return 128 + sig;
+        }
+        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        return 1;
+    }
+    if (r.best.empty()) {
+        std::fprintf(stderr, "gaitlab: every evaluation failed (see %s/evaluations.jsonl)\n",
+                     o.out.c_str());
+        return 1;
+    }
+    std::string best;
+    for (size_t i = 0; i < r.best.size(); ++i) {
+        best += fmt::format("{}{} = {}", i == 0 ? "" : ", ", spec.parameters[i].name,
+                            number(r.best[i]));
+    }
+    std::printf("best %s %s after %lld evaluations (%s, seed %llu): %s\n", spec.fitness.c_str(),
+                number(r.best_fitness).c_str(), static_cast<long long>(r.evaluations),
+                r.method.c_str(), static_cast<unsigned long long>(o.seed), best.c_str());
+    std::printf("results: %s/evaluations.jsonl, %s/best.json\n", o.out.c_str(), o.out.c_str());
+    if (!r.simulation.empty()) {
+        std::printf("the best as a simulation file: gaitlab run %s\n", r.simulation.c_str());
+    } else {
+        std::printf("the best could not be saved as a simulation file: %s\n",
+                    r.simulation_error.c_str());
+    }
+    return 0;
+}
+
+}  // namespace gaitlab::cli

@@ -1,0 +1,33 @@
+// `gaitlab optimize SPEC.lua [--method ga|cmaes|pgpe] [--generations N] [--population N]
+// [--workers N] [--seed N] [--out DIR]`: runs the optimization an optimization spec describes
+// (gaitlab/optimize/runner.h, docs/optimization.md) and writes its results folder.
+#pragma once
+
+#include <memory>
+
+#include <CLI/CLI.hpp>
+
+namespace gaitlab::cli {
+
+/// The `optimize` subcommand: registers itself on `app`; run() once `app` has parsed a command
+/// line that chose it.
+class OptimizeCommand {
+  public:
+    explicit OptimizeCommand(CLI::App& app);
+    ~OptimizeCommand();
+    /// True when the command line chose `gaitlab optimize`.
+    bool chosen() const;
+    /// Runs it; the exit status (0; 1 or 2 with one line on stderr; 128 + a signal).
+    int run(const std::string& command);
+
+  private:
+    struct Args;
+    std::unique_ptr<Args> a_;
+    CLI::App* sub_ = nullptr;
+};
+
+/// Stops a running `gaitlab optimize` as `signal` would (its evaluations are interrupted, the
+/// results written so far stay). Async-signal-safe: the command line's signal handler calls it.
+void optimize_signal(int signal);
+
+}  // namespace gaitlab::cli

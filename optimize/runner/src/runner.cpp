@@ -1,0 +1,722 @@
+// The optimization runner: spec files, evaluations in a Lua state per worker, the results
+// folder (see gaitlab/optimize/runner.h).
+#include "gaitlab/optimize/runner.h"
+
+#include <lua.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <mutex>
+#include <thread>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "gaitlab/error.h"
+#include "gaitlab/scripting/lua_host.h"
+#include "gaitlab/suggest.h"
+
+namespace gaitlab::optimize {
+
+namespace {
+
+namespace fs = std::filesystem;
+using scripting::LuaHost;
+
+const std::vector<std::string> kFields = {"parameters", "build",      "fitness",
+                                          "duration",   "settle",     "robot",
+                                          "method",     "population", "generations"};
+
+// The measuring part of an evaluation, run in the worker's Lua state with the simulation that
+// build returned: settle, measure the robot's position, run the duration, compute the fitness.
+// Errors are raised without a position (level 0): the runner adds the spec file's name.
+const char* const kMeasure = R"lua(
+local sim, settle, duration, kind, robot_name, fitness, p = ...
+local index
+if kind ~= "function" then
+  local robots = sim:status().robots
+  if robot_name ~= "" then
+    for i, r in ipairs(robots) do
+      if r.name == robot_name then index = i end
+    end
+    if not index then
+      local names = {}
+      for _, r in ipairs(robots) do names[#names + 1] = "'" .. r.name .. "'" end
+      error(string.format("robot: the simulation has no robot '%s' (it has %s)", robot_name,
+                          #names > 0 and table.concat(names, ", ") or "none"), 0)
+    end
+  elseif #robots ~= 1 then
+    error(string.format("fitness '%s' measures one robot, but the simulation has %d: name it " ..
+                        "with robot = \"NAME\"", kind, #robots), 0)
+  else
+    index = 1
+  end
+end
+if settle > 0 then sim:run(settle) end
+local start = index and sim:status().robots[index].position
+sim:run(duration)
+if kind == "function" then return fitness(sim, p) end
+local e = sim:status().robots[index].position
+local d = math.sqrt((e.x - start.x) ^ 2 + (e.y - start.y) ^ 2)
+if kind == "distance" then return d end
+return d / duration
+)lua";
+
+std::string lua_type_name(lua_State* L, int index) {
+    return luaL_typename(L, index);
+}
+
+// "FILE: FIELD: WHAT"
+[[noreturn]] void bad(const std::string& file, const std::string& field, const std::string& what) {
+    throw SpecError(fmt::format("{}: {}: {}", file, field, what));
+}
+
+// a LuaHost that evaluates: records nothing, prints nothing, reports nothing
+std::unique_ptr<LuaHost> make_host(const std::string& file) {
+    auto host = std::make_unique<LuaHost>();
+    scripting::RecordSettings rec;
+    rec.disabled = true;
+    host->set_recording(rec);
+    host->set_print(false);
+    host->set_reporter([](const std::string&) {});
+    host->set_args(file, {});
+    host->seed(0);
+    return host;
+}
+
+// runs the spec file in `host`; leaves what it returned (a table) on the stack
+void load_spec_table(LuaHost& host, const std::string& file) {
+    lua_State* L = host.state();
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) {
+        throw SpecError(fmt::format("{}: {}", file,
+                                    fs::exists(file, ec) ? "not a regular file"
+                                                         : "no such file (an optimization spec, "
+                                                           "FILE.lua, expected)"));
+    }
+    if (luaL_loadfilex(L, file.c_str(), "t") != LUA_OK) {
+        std::string message = lua_tostring(L, -1) ? lua_tostring(L, -1) : "cannot load";
+        lua_pop(L, 1);
+        throw SpecError(message);
+    }
+    scripting::protected_call(L, 0, 1);
+    if (!lua_istable(L, -1)) {
+        const std::string got = lua_type_name(L, -1);
+        lua_pop(L, 1);
+        throw SpecError(fmt::format(
+            "{}: the spec file must return a table {{ parameters =, build =, fitness =, "
+            "duration = ... }} (got {})",
+            file, got));
+    }
+}
+
+double number_field(lua_State* L, const std::string& file, const char* field, double fallback,
+                    bool required, const char* expected) {
+    lua_getfield(L, -1, field);
+    if (lua_isnil(L, -1)) {
+        lua_pop(L, 1);
+        if (required) bad(file, field, fmt::format("missing ({} expected)", expected));
+        return fallback;
+    }
+    if (!lua_isnumber(L, -1) || lua_type(L, -1) != LUA_TNUMBER) {
+        const std::string got = lua_type_name(L, -1);
+        lua_pop(L, 1);
+        bad(file, field, fmt::format("{} expected, got {}", expected, got));
+    }
+    const double v = lua_tonumber(L, -1);
+    lua_pop(L, 1);
+    if (!std::isfinite(v)) bad(file, field, fmt::format("{} expected, got {}", expected, v));
+    return v;
+}
+
+int count_field(lua_State* L, const std::string& file, const char* field, int fallback) {
+    lua_getfield(L, -1, field);
+    const bool absent = lua_isnil(L, -1);
+    lua_pop(L, 1);
+    if (absent) return fallback;
+    const double v = number_field(L, file, field, fallback, false, "a whole number >= 1");
+    if (v < 1 || v != std::floor(v) || v > 1e9) {
+        bad(file, field, fmt::format("a whole number >= 1 expected, got {}", v));
+    }
+    return static_cast<int>(v);
+}
+
+std::string method_name(const std::string& m, const std::string& where) {
+    if (m == "ga" || m == "cmaes" || m == "pgpe") return m;
+    throw SpecError(
+        fmt::format("{}: unknown method '{}'{} (expected \"ga\", \"cmaes\" or \"pgpe\")", where, m,
+                    did_you_mean(m, {"ga", "cmaes", "pgpe"})));
+}
+
+// reads the parameters table on top of the stack
+void read_parameters(lua_State* L, Spec& spec) {
+    const std::string& file = spec.file;
+    if (!lua_istable(L, -1)) {
+        bad(file, "parameters",
+            fmt::format("a table {{ NAME = {{MIN, MAX}}, ... }} expected, got {}",
+                        lua_type_name(L, -1)));
+    }
+    struct Entry {
+        Parameter p;
+        bool has_initial = false;
+        double initial = 0;
+    };
+    std::vector<Entry> entries;
+    lua_pushnil(L);
+    while (lua_next(L, -2) != 0) {
+        if (lua_type(L, -2) != LUA_TSTRING) {
+            bad(file, "parameters",
+                "names expected as keys ({ amplitude = {10, 60}, ... }), got a " +
+                    lua_type_name(L, -2) + " key");
+        }
+        Entry e;
+        e.p.name = lua_tostring(L, -2);
+        const std::string field = "parameters." + e.p.name;
+        if (!lua_istable(L, -1)) {
+            bad(file, field,
+                fmt::format("a range {{MIN, MAX}} expected (optionally integer = true, initial "
+                            "= VALUE), got {}",
+                            lua_type_name(L, -1)));
+        }
+        // the keys of one parameter
+        lua_pushnil(L);
+        while (lua_next(L, -2) != 0) {
+            const bool index = lua_type(L, -2) == LUA_TNUMBER && lua_isinteger(L, -2) &&
+                               (lua_tointeger(L, -2) == 1 || lua_tointeger(L, -2) == 2);
+            const std::string key = lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "";
+            if (!index && key != "integer" && key != "initial") {
+                bad(file, field,
+                    fmt::format("unknown key '{}' (expected {{MIN, MAX}}, integer = true, "
+                                "initial = VALUE)",
+                                key.empty() ? luaL_tolstring(L, -2, nullptr) : key));
+            }
+            lua_pop(L, 1);
+        }
+        for (int i = 1; i <= 2; ++i) {
+            lua_rawgeti(L, -1, i);
+            if (lua_type(L, -1) != LUA_TNUMBER) {
+                bad(file, field,
+                    fmt::format("{} of the range {{MIN, MAX}}: a number expected, got {}",
+                                i == 1 ? "MIN" : "MAX", lua_type_name(L, -1)));
+            }
+            (i == 1 ? e.p.min : e.p.max) = lua_tonumber(L, -1);
+            lua_pop(L, 1);
+        }
+        lua_getfield(L, -1, "integer");
+        if (!lua_isnil(L, -1) && !lua_isboolean(L, -1)) {
+            bad(file, field + ".integer", "true or false expected, got " + lua_type_name(L, -1));
+        }
+        e.p.integer = lua_toboolean(L, -1) != 0;
+        lua_pop(L, 1);
+        lua_getfield(L, -1, "initial");
+        if (!lua_isnil(L, -1)) {
+            if (lua_type(L, -1) != LUA_TNUMBER) {
+                bad(file, field + ".initial", "a number expected, got " + lua_type_name(L, -1));
+            }
+            e.has_initial = true;
+            e.initial = lua_tonumber(L, -1);
+        }
+        lua_pop(L, 1);
+        entries.push_back(e);
+        lua_pop(L, 1);
+    }
+    if (entries.empty()) {
+        bad(file, "parameters", "at least one parameter expected ({ amplitude = {10, 60} })");
+    }
+    // table order is not defined in Lua: sorted by name, the order is the same every time
+    std::sort(entries.begin(), entries.end(),
+              [](const Entry& a, const Entry& b) { return a.p.name < b.p.name; });
+    for (const Entry& e : entries)
+        spec.parameters.push_back(e.p);
+    try {
+        validate_parameters(spec.parameters);
+    } catch (const Error& error) {
+        throw SpecError(fmt::format("{}: parameters: {}", file, error.what()));
+    }
+    const bool any_initial =
+        std::any_of(entries.begin(), entries.end(), [](const Entry& e) { return e.has_initial; });
+    if (any_initial) {
+        for (const Entry& e : entries) {
+            const double v = e.has_initial ? e.initial : (e.p.min + e.p.max) / 2;
+            if (!(v >= e.p.min && v <= e.p.max)) {
+                bad(file, "parameters." + e.p.name + ".initial",
+                    fmt::format("{} is outside the range [{}, {}]", v, e.p.min, e.p.max));
+            }
+            spec.initial.push_back(v);
+        }
+    }
+}
+
+// reads the spec table on top of L's stack
+Spec read_spec(lua_State* L, const std::string& file) {
+    Spec spec;
+    spec.file = file;
+    // unknown fields first: a misspelt one would otherwise read as missing
+    lua_pushnil(L);
+    while (lua_next(L, -2) != 0) {
+        const std::string key = lua_type(L, -2) == LUA_TSTRING ? lua_tostring(L, -2) : "";
+        if (std::find(kFields.begin(), kFields.end(), key) == kFields.end()) {
+            const std::string shown = key.empty() ? luaL_tolstring(L, -2, nullptr) : key;
+            throw SpecError(fmt::format(
+                "{}: unknown field '{}'{} (expected parameters, build, fitness, duration, settle, "
+                "robot, method, population, generations)",
+                file, shown, did_you_mean(shown, kFields)));
+        }
+        lua_pop(L, 1);
+    }
+    lua_getfield(L, -1, "parameters");
+    if (lua_isnil(L, -1))
+        bad(file, "parameters", "missing (a table { NAME = {MIN, MAX}, ... } expected)");
+    read_parameters(L, spec);
+    lua_pop(L, 1);
+
+    lua_getfield(L, -1, "build");
+    if (!lua_isfunction(L, -1)) {
+        bad(file, "build",
+            lua_isnil(L, -1)
+                ? std::string("missing (a function(p) that returns a simulation "
+                              "expected)")
+                : "a function(p) that returns a simulation expected, got " + lua_type_name(L, -1));
+    }
+    lua_pop(L, 1);
+
+    lua_getfield(L, -1, "fitness");
+    if (lua_isfunction(L, -1)) {
+        spec.fitness = "function";
+    } else if (lua_type(L, -1) == LUA_TSTRING) {
+        spec.fitness = lua_tostring(L, -1);
+        if (spec.fitness != "distance" && spec.fitness != "speed") {
+            bad(file, "fitness",
+                fmt::format("unknown fitness '{}'{} (expected \"distance\", \"speed\" or a "
+                            "function(sim, p))",
+                            spec.fitness, did_you_mean(spec.fitness, {"distance", "speed"})));
+        }
+    } else {
+        bad(file, "fitness",
+            fmt::format("{} (expected \"distance\", \"speed\" or a function(sim, p))",
+                        lua_isnil(L, -1) ? "missing" : "got " + lua_type_name(L, -1)));
+    }
+    lua_pop(L, 1);
+
+    spec.duration = number_field(L, file, "duration", 0, true, "a number of seconds > 0");
+    if (!(spec.duration > 0)) {
+        bad(file, "duration",
+            fmt::format("a number of seconds > 0 expected, got {}", spec.duration));
+    }
+    spec.settle = number_field(L, file, "settle", 0, false, "a number of seconds >= 0");
+    if (!(spec.settle >= 0)) {
+        bad(file, "settle", fmt::format("a number of seconds >= 0 expected, got {}", spec.settle));
+    }
+
+    lua_getfield(L, -1, "robot");
+    if (!lua_isnil(L, -1)) {
+        if (lua_type(L, -1) != LUA_TSTRING)
+            bad(file, "robot", "a robot's name expected, got " + lua_type_name(L, -1));
+        spec.robot = lua_tostring(L, -1);
+    }
+    lua_pop(L, 1);
+
+    lua_getfield(L, -1, "method");
+    if (!lua_isnil(L, -1)) {
+        if (lua_type(L, -1) != LUA_TSTRING) {
+            bad(file, "method",
+                "\"ga\", \"cmaes\" or \"pgpe\" expected, got " + lua_type_name(L, -1));
+        }
+        spec.method = method_name(lua_tostring(L, -1), file + ": method");
+    }
+    lua_pop(L, 1);
+    spec.population = count_field(L, file, "population", 0);
+    spec.generations = count_field(L, file, "generations", spec.generations);
+    return spec;
+}
+
+// the parameters as a Lua table name -> value (integers as Lua integers)
+void push_parameters(lua_State* L, const Spec& spec, const std::vector<double>& x) {
+    lua_createtable(L, 0, static_cast<int>(x.size()));
+    for (size_t i = 0; i < x.size(); ++i) {
+        if (spec.parameters[i].integer) {
+            lua_pushinteger(L, static_cast<lua_Integer>(x[i]));
+        } else {
+            lua_pushnumber(L, x[i]);
+        }
+        lua_setfield(L, -2, spec.parameters[i].name.c_str());
+    }
+}
+
+nlohmann::ordered_json parameters_json(const Spec& spec, const std::vector<double>& x) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::object();
+    for (size_t i = 0; i < x.size(); ++i) {
+        if (spec.parameters[i].integer) {
+            j[spec.parameters[i].name] = static_cast<long long>(x[i]);
+        } else {
+            j[spec.parameters[i].name] = x[i];
+        }
+    }
+    return j;
+}
+
+nlohmann::ordered_json fitness_json(double f) {
+    return std::isfinite(f) ? nlohmann::ordered_json(f) : nlohmann::ordered_json(nullptr);
+}
+
+void write_file(const fs::path& path, const std::string& text) {
+    const fs::path tmp = path.string() + ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        out << text;
+        out.flush();
+        if (!out) throw IoError(fmt::format("{}: cannot write", tmp.string()));
+    }
+    std::error_code ec;
+    fs::rename(tmp, path, ec);
+    if (ec) throw IoError(fmt::format("{}: cannot write: {}", path.string(), ec.message()));
+}
+
+}  // namespace
+
+Spec load_spec(const std::string& path) {
+    std::unique_ptr<LuaHost> host = make_host(path);
+    load_spec_table(*host, path);
+    Spec spec = read_spec(host->state(), path);
+    lua_pop(host->state(), 1);
+    return spec;
+}
+
+Evaluator::Evaluator(const Spec& spec) : spec_(spec), host_(make_host(spec.file)) {
+    lua_State* L = host_->state();
+    load_spec_table(*host_, spec.file);
+    spec_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+    if (luaL_loadbufferx(L, kMeasure, std::strlen(kMeasure), "=(gaitlab optimize)", "t") !=
+        LUA_OK) {
+        const std::string message = lua_tostring(L, -1);
+        lua_pop(L, 1);
+        throw Error("optimize: " + message);
+    }
+    measure_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+}
+
+Evaluator::~Evaluator() = default;
+
+void Evaluator::interrupt(int signal) {
+    host_->interrupt(signal);
+}
+
+double Evaluator::evaluate(const std::vector<double>& x) {
+    lua_State* L = host_->state();
+    const int top = lua_gettop(L);
+    // what an evaluation leaves (its simulation, garbage) goes before the next one
+    struct Clean {
+        lua_State* L;
+        int top;
+        ~Clean() {
+            lua_settop(L, top);
+            lua_gc(L, LUA_GCCOLLECT);
+        }
+    } clean{L, top};
+    host_->seed(0);
+    try {
+        // build(p)
+        lua_rawgeti(L, LUA_REGISTRYINDEX, spec_ref_);
+        const int spec_index = lua_gettop(L);
+        lua_getfield(L, spec_index, "build");
+        push_parameters(L, spec_, x);
+        scripting::protected_call(L, 1, 1);
+        if (!luaL_testudata(L, -1, "gaitlab.Simulation")) {
+            throw Error(
+                fmt::format("build: a simulation expected as its result, got {} (return "
+                            "gaitlab.simulation{{ ... }})",
+                            lua_type_name(L, -1)));
+        }
+        const int sim_index = lua_gettop(L);
+        lua_rawgeti(L, LUA_REGISTRYINDEX, measure_ref_);
+        lua_pushvalue(L, sim_index);
+        lua_pushnumber(L, spec_.settle);
+        lua_pushnumber(L, spec_.duration);
+        lua_pushstring(L, spec_.fitness.c_str());
+        lua_pushstring(L, spec_.robot.c_str());
+        lua_getfield(L, spec_index, "fitness");
+        push_parameters(L, spec_, x);
+        scripting::protected_call(L, 7, 1);
+        if (lua_type(L, -1) != LUA_TNUMBER) {
+            throw Error(fmt::format("fitness: a number expected as its result, got {}",
+                                    lua_type_name(L, -1)));
+        }
+        const double f = lua_tonumber(L, -1);
+        if (!std::isfinite(f)) {
+            throw Error(fmt::format("fitness: a finite number expected as its result, got {}",
+                                    std::isnan(f) ? "nan"
+                                    : f > 0       ? "inf"
+                                                  : "-inf"));
+        }
+        return f;
+    } catch (const scripting::ScriptError& e) {
+        // Lua shortens long file names in its messages ("...ng/spec.lua:11: x"): the whole
+        // name and line the error carries, then what Lua said after its position
+        std::string message = e.what();
+        if (!e.file().empty() && e.line() > 0) {
+            const std::string at = fmt::format(":{}: ", e.line());
+            const auto pos = message.find(at);
+            if (pos != std::string::npos) message = message.substr(pos + at.size());
+            // the runner's own measuring code: the spec is what is wrong
+            if (e.file() == "(gaitlab optimize)") throw Error(spec_.file + ": " + message);
+            throw Error(fmt::format("{}:{}: {}", e.file(), e.line(), message));
+        }
+        if (message.rfind(spec_.file, 0) == 0) throw;
+        throw Error(fmt::format("{}: {}", spec_.file, message));
+    } catch (const Error& e) {
+        const std::string message = e.what();
+        // a message that names the spec file already says where
+        if (message.rfind(spec_.file, 0) == 0) throw;
+        throw Error(fmt::format("{}: {}", spec_.file, message));
+    }
+}
+
+void Evaluator::save(const std::vector<double>& x, const std::string& path) {
+    lua_State* L = host_->state();
+    const int top = lua_gettop(L);
+    struct Clean {
+        lua_State* L;
+        int top;
+        ~Clean() {
+            lua_settop(L, top);
+            lua_gc(L, LUA_GCCOLLECT);
+        }
+    } clean{L, top};
+    host_->seed(0);
+    lua_rawgeti(L, LUA_REGISTRYINDEX, spec_ref_);
+    lua_getfield(L, -1, "build");
+    push_parameters(L, spec_, x);
+    try {
+        scripting::protected_call(L, 1, 1);
+    } catch (const Error& e) {
+        throw Error(fmt::format("{}: build: {}", spec_.file, e.what()));
+    }
+    if (!luaL_testudata(L, -1, "gaitlab.Simulation")) {
+        throw Error(fmt::format("{}: build: a simulation expected as its result, got {}",
+                                spec_.file, lua_type_name(L, -1)));
+    }
+    const int sim = lua_gettop(L);
+    lua_getfield(L, sim, "save");
+    lua_pushvalue(L, sim);
+    lua_pushstring(L, path.c_str());
+    lua_createtable(L, 0, 1);
+    lua_pushnumber(L, spec_.settle + spec_.duration);
+    lua_setfield(L, -2, "duration");
+    scripting::protected_call(L, 3, 2);
+    if (lua_isnil(L, -2)) {
+        throw IoError(lua_isstring(L, -1) ? lua_tostring(L, -1)
+                                          : fmt::format("cannot write {}", path));
+    }
+}
+
+RunResult run_optimization(const Spec& spec, const RunOptions& options,
+                           const std::function<void(const Progress&)>& on_generation,
+                           const std::atomic<int>* stop,
+                           const std::function<void(const Tick&)>& on_evaluation) {
+    RunResult result;
+    result.method = options.method.empty() ? spec.method : method_name(options.method, "--method");
+    result.generations = options.generations > 0 ? options.generations : spec.generations;
+    result.population = options.population > 0 ? options.population : spec.population;
+    if (options.workers < 1) {
+        throw SpecError(
+            fmt::format("--workers: a whole number >= 1 expected, got {}", options.workers));
+    }
+    std::unique_ptr<Method> method;
+    if (result.method == "ga") {
+        GaOptions o;
+        if (result.population > 0) o.population = result.population;
+        o.initial = spec.initial;
+        method = make_ga(spec.parameters, o, options.seed);
+        result.population = o.population;
+    } else if (result.method == "cmaes") {
+        CmaesOptions o;
+        o.population = result.population;
+        o.initial = spec.initial;
+        method = make_cmaes(spec.parameters, o, options.seed);
+    } else {
+        PgpeOptions o;
+        if (result.population > 0) o.population = result.population;
+        o.initial = spec.initial;
+        method = make_pgpe(spec.parameters, o, options.seed);
+        result.population = o.population;
+    }
+
+    // the results folder: new, or empty (never overwrite an earlier run's results)
+    const fs::path out(options.out);
+    std::error_code ec;
+    if (fs::exists(out, ec)) {
+        if (!fs::is_directory(out, ec)) {
+            throw SpecError(fmt::format("--out {}: exists and is not a folder", options.out));
+        }
+        if (!fs::is_empty(out, ec)) {
+            throw SpecError(fmt::format(
+                "--out {}: the folder exists and is not empty (an earlier run's results are "
+                "kept: choose another folder)",
+                options.out));
+        }
+    }
+    fs::create_directories(out, ec);
+    if (ec)
+        throw IoError(fmt::format("{}: cannot create the folder: {}", options.out, ec.message()));
+    const fs::path jsonl_path = out / "evaluations.jsonl";
+    std::ofstream jsonl(jsonl_path, std::ios::binary | std::ios::trunc);
+    if (!jsonl) throw IoError(fmt::format("{}: cannot create", jsonl_path.string()));
+
+    // one Lua state per worker, each with the spec loaded
+    std::vector<std::unique_ptr<Evaluator>> evaluators;
+    for (int w = 0; w < options.workers; ++w)
+        evaluators.push_back(std::make_unique<Evaluator>(spec));
+    WorkerPool pool(options.workers);
+
+    // a signal (stop) interrupts the evaluations under way: watched from a thread of its own
+    std::mutex watch_mutex;
+    std::condition_variable watch_wake;
+    bool watch_done = false;
+    std::thread watcher;
+    if (stop) {
+        watcher = std::thread([&] {
+            std::unique_lock<std::mutex> lock(watch_mutex);
+            while (!watch_done) {
+                if (const int sig = stop->load(); sig != 0) {
+                    for (auto& e : evaluators)
+                        e->interrupt(sig);
+                    return;
+                }
+                watch_wake.wait_for(lock, std::chrono::milliseconds(50));
+            }
+        });
+    }
+    struct StopWatcher {
+        std::mutex& m;
+        std::condition_variable& cv;
+        bool& done;
+        std::thread& t;
+        ~StopWatcher() {
+            {
+                std::lock_guard<std::mutex> lock(m);
+                done = true;
+            }
+            cv.notify_all();
+            if (t.joinable()) t.join();
+        }
+    } stop_watcher{watch_mutex, watch_wake, watch_done, watcher};
+
+    const auto started = std::chrono::steady_clock::now();
+    std::mutex tick_mutex;
+    Tick tick;
+    tick.generations = result.generations;
+    const EvaluateFunction evaluate = [&](const std::vector<double>& x, int worker) {
+        struct Ticker {
+            std::mutex& m;
+            Tick& t;
+            const std::function<void(const Tick&)>& fn;
+            std::chrono::steady_clock::time_point started;
+            ~Ticker() {
+                if (!fn) return;
+                std::lock_guard<std::mutex> lock(m);
+                ++t.done;
+                ++t.evaluations;
+                t.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started)
+                             .count();
+                fn(t);
+            }
+        } ticker{tick_mutex, tick, on_evaluation, started};
+        return evaluators[static_cast<size_t>(worker)]->evaluate(x);
+    };
+    std::size_t first_population = 0;
+    for (int g = 0; g < result.generations; ++g) {
+        const std::vector<std::vector<double>> xs = method->ask();
+        if (g == 0) first_population = xs.size();
+        {
+            std::lock_guard<std::mutex> lock(tick_mutex);
+            tick.generation = g;
+            tick.done = 0;
+            tick.individuals = static_cast<int>(xs.size());
+            tick.best = method->best_fitness();
+        }
+        const std::vector<Evaluation> ev = pool.evaluate(xs, evaluate);
+        if (stop && stop->load() != 0) {
+            throw Error(fmt::format("interrupted after {} generations", g));
+        }
+        std::vector<double> fitness(ev.size());
+        Progress p;
+        p.generation = g;
+        p.generations = result.generations;
+        p.individuals = static_cast<int>(ev.size());
+        double sum = 0;
+        int ok = 0;
+        std::string lines;
+        for (size_t i = 0; i < ev.size(); ++i) {
+            fitness[i] = ev[i].failed() ? std::numeric_limits<double>::quiet_NaN() : ev[i].fitness;
+            nlohmann::ordered_json j;
+            j["generation"] = g;
+            j["individual"] = i;
+            j["parameters"] = parameters_json(spec, xs[i]);
+            j["fitness"] = fitness_json(fitness[i]);
+            j["seconds"] = ev[i].seconds;
+            j["worker"] = ev[i].worker;
+            if (ev[i].failed()) {
+                j["error"] = ev[i].error;
+                ++p.failed;
+                if (p.first_error.empty()) p.first_error = ev[i].error;
+            } else {
+                sum += fitness[i];
+                ++ok;
+            }
+            lines +=
+                j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+        }
+        jsonl << lines;
+        jsonl.flush();
+        if (!jsonl) throw IoError(fmt::format("{}: cannot write", jsonl_path.string()));
+        method->tell(fitness);
+        p.best = method->best_fitness();
+        p.mean = ok > 0 ? sum / ok : std::numeric_limits<double>::quiet_NaN();
+        p.evaluations = method->evaluations();
+        p.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        if (on_generation) on_generation(p);
+    }
+    result.best = method->best();
+    result.best_fitness = method->best_fitness();
+    result.evaluations = method->evaluations();
+
+    // the best individual as a simulation file that gaitlab run runs (and its parts: the
+    // actuation file holds the controllers' parameters)
+    if (!result.best.empty()) {
+        const fs::path path = fs::absolute(out / "best" / "best.xml");
+        try {
+            evaluators[0]->save(result.best, path.string());
+            result.simulation = (out / "best" / "best.xml").string();
+        } catch (const Error& e) {
+            result.simulation_error = e.what();
+        }
+    }
+
+    nlohmann::ordered_json best;
+    best["format"] = "gaitlab-optimize-best";
+    best["version"] = 1;
+    best["spec"] = spec.file;
+    best["method"] = result.method;
+    best["seed"] = options.seed;
+    best["generations"] = result.generations;
+    best["population"] = first_population;
+    best["evaluations"] = result.evaluations;
+    best["fitness_kind"] = spec.fitness;
+    best["fitness"] = fitness_json(result.best_fitness);
+    best["parameters"] =
+        result.best.empty() ? nlohmann::ordered_json(nullptr) : parameters_json(spec, result.best);
+    if (!result.simulation.empty()) best["simulation"] = "best/best.xml";
+    if (!result.simulation_error.empty()) best["simulation_error"] = result.simulation_error;
+    best["command"] = options.command;
+    write_file(out / "best.json",
+               best.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
+    return result;
+}
+
+}  // namespace gaitlab::optimize

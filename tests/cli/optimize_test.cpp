@@ -1,0 +1,213 @@
+// `gaitlab optimize` (cli/optimize.cpp), run as users run it: a small spec end to end (the
+// progress lines, the results folder, the same evaluations with 1 and 2 workers), and bad
+// options and spec files (one line on stderr, no results folder), SIGINT.
+#include <catch2/catch.hpp>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "run_gaitlab.h"
+
+using gaitlab::test::read_text;
+using gaitlab::test::run_gaitlab;
+using gaitlab::test::TempDir;
+using gaitlab::test::write_text;
+
+extern char** environ;
+
+namespace {
+
+// a 3-module snake for half a second: quick evaluations
+const std::string kSpec = R"(return {
+  parameters = { amplitude = {10, 60, initial = 40}, phase = {30, 180, initial = 120} },
+  build = function(p)
+    local robot = gaitlab.robot.chain{ name = "snake", modules = 3, connection = "pitch-pitch" }
+    local world = gaitlab.world{}
+    world:add(robot)
+    robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = p.amplitude,
+                                                         phase = p.phase, frequency = 1 })
+    return gaitlab.simulation{ world = world }
+  end,
+  fitness = "distance",
+  duration = 0.5,
+  method = "ga",
+  population = 5,
+  generations = 3,
+}
+)";
+
+std::vector<std::string> lines(const std::string& text) {
+    std::istringstream in(text);
+    std::vector<std::string> out;
+    for (std::string line; std::getline(in, line);)
+        out.push_back(line);
+    return out;
+}
+
+// evaluations.jsonl without the fields that depend on timing and on the workers
+std::vector<std::string> timeless(const std::string& path) {
+    std::vector<std::string> out;
+    for (const std::string& line : lines(read_text(path)))
+        out.push_back(line.substr(0, line.find(",\"seconds\":")));
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("gaitlab optimize: a spec runs end to end and writes its results folder") {
+    TempDir dir("cli_optimize");
+    write_text(dir / "spec.lua", kSpec);
+    const auto r = run_gaitlab(
+        {"optimize", "spec.lua", "--workers", "2", "--seed", "5", "--out", "out2"}, dir.str());
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(r.err.empty());
+    const std::vector<std::string> out = lines(r.out);
+    REQUIRE(out.size() == 7);
+    CHECK(out[0] ==
+          "optimize spec.lua: 2 parameters (amplitude, phase), fitness distance, 2 workers, "
+          "results in out2");
+    CHECK(out[1].rfind("generation 1/3: best ", 0) == 0);
+    CHECK(out[3].rfind("generation 3/3: best ", 0) == 0);
+    CHECK(out[4].rfind("best distance ", 0) == 0);
+    CHECK(out[4].find(" after 11 evaluations (ga, seed 5): amplitude = ") != std::string::npos);
+    CHECK(out[5] == "results: out2/evaluations.jsonl, out2/best.json");
+    CHECK(out[6] == "the best as a simulation file: gaitlab run out2/best/best.xml");
+    // which runs
+    const auto run = run_gaitlab({"run", "--no-record", "out2/best/best.xml"}, dir.str());
+    CHECK(run.status == 0);
+    CHECK(run.out.rfind("snake: moved ", 0) == 0);
+    // 5 + 3 + 3 evaluations (2 elites carried over)
+    const std::vector<std::string> two = timeless(dir / "out2/evaluations.jsonl");
+    CHECK(two.size() == 11);
+    const std::string best = read_text(dir / "out2/best.json");
+    CHECK(best.find("\"method\": \"ga\"") != std::string::npos);
+    CHECK(best.find("\"seed\": 5") != std::string::npos);
+    CHECK(best.find("\"amplitude\": ") != std::string::npos);
+
+    // one worker: the same evaluations, in the same order
+    const auto r1 =
+        run_gaitlab({"optimize", "spec.lua", "--seed", "5", "--out", "out1"}, dir.str());
+    REQUIRE(r1.status == 0);
+    CHECK(timeless(dir / "out1/evaluations.jsonl") == two);
+    CHECK(lines(r1.out)[4] == out[4]);
+
+    // the command line overrides the spec's method, population and generations
+    const auto r2 = run_gaitlab({"optimize", "spec.lua", "--method", "pgpe", "--population", "4",
+                                 "--generations", "2", "--out", "pgpe"},
+                                dir.str());
+    REQUIRE(r2.status == 0);
+    CHECK(timeless(dir / "pgpe/evaluations.jsonl").size() == 8);
+    CHECK(r2.out.find("after 8 evaluations (pgpe, seed 0)") != std::string::npos);
+}
+
+TEST_CASE("gaitlab optimize: bad options and spec files give one line and no results") {
+    TempDir dir("cli_optimize_bad");
+    write_text(dir / "spec.lua", kSpec);
+    struct Case {
+        std::vector<std::string> args;
+        int status;
+        std::string err;
+    };
+    const std::vector<Case> cases = {
+        {{"optimize", "spec.lua", "--workers", "0"},
+         2,
+         "gaitlab: --workers: a whole number from 1 to 1024 expected (got '0') (see 'gaitlab "
+         "optimize --help')\n"},
+        {{"optimize", "spec.lua", "--generations", "x"},
+         2,
+         "gaitlab: --generations: a whole number from 1 to 1000000000 expected (got 'x') (see "
+         "'gaitlab optimize --help')\n"},
+        {{"optimize", "spec.lua", "--method", "sga"},
+         2,
+         "gaitlab: --method: unknown method 'sga' (expected ga, cmaes or pgpe) (see 'gaitlab "
+         "optimize --help')\n"},
+        {{"optimize", "spec.lua", "--generation", "3"},
+         2,
+         "gaitlab: unknown option '--generation' for 'gaitlab optimize'; did you mean "
+         "'--generations'? (see 'gaitlab optimize --help')\n"},
+        {{"optimize", "none.lua"},
+         1,
+         "gaitlab: none.lua: no such file (an optimization spec, FILE.lua, expected)\n"},
+    };
+    for (const Case& c : cases) {
+        const auto r = run_gaitlab(c.args, dir.str());
+        INFO(c.err);
+        CHECK(r.status == c.status);
+        CHECK(r.err == c.err);
+        CHECK(r.out.empty());
+    }
+    write_text(dir / "nobuild.lua",
+               "return { parameters = { a = {0, 1} }, fitness = 'speed', duration = 1 }");
+    const auto r = run_gaitlab({"optimize", "nobuild.lua", "--out", "out"}, dir.str());
+    CHECK(r.status == 1);
+    CHECK(r.err ==
+          "gaitlab: nobuild.lua: build: missing (a function(p) that returns a simulation "
+          "expected)\n");
+    CHECK_FALSE(std::filesystem::exists(dir / "out"));
+    // an evaluation that fails for every individual: the run ends and says so
+    write_text(dir / "fails.lua",
+               "return { parameters = { a = {0, 1} }, fitness = 'speed', duration = 1,\n"
+               "  build = function(p) error('cannot build') end, method = 'ga', population = 4,\n"
+               "  generations = 1 }\n");
+    const auto f = run_gaitlab({"optimize", "fails.lua", "--out", "fails"}, dir.str());
+    CHECK(f.status == 1);
+    CHECK(f.err == "gaitlab: every evaluation failed (see fails/evaluations.jsonl)\n");
+    CHECK(f.out.find("(4 failed: fails.lua:2: cannot build)") != std::string::npos);
+    CHECK(lines(read_text(dir / "fails/evaluations.jsonl")).size() == 4);
+}
+
+TEST_CASE("gaitlab optimize: SIGINT stops the evaluations under way and writes nothing half done") {
+    TempDir dir("cli_optimize_signal");
+    // long evaluations: a generation takes seconds, so the signal comes during one
+    std::string spec = kSpec;
+    spec.replace(spec.find("duration = 0.5"), 14, "duration = 30");
+    spec.replace(spec.find("generations = 3"), 15, "generations = 50");
+    write_text(dir / "long.lua", spec);
+    const std::string out = dir / "out";
+    std::vector<std::string> args_s{GAITLAB_BINARY, "optimize", dir / "long.lua", "--out", out,
+                                    "--population", "4"};
+    std::vector<char*> argv;
+    for (std::string& a : args_s)
+        argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    const std::string err_path = dir / "err", out_path = dir / "stdout";
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out_path.c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    pid_t pid = 0;
+    REQUIRE(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0);
+    posix_spawn_file_actions_destroy(&actions);
+    // wait until it evaluates (its folder exists), then a little into the first generation
+    const auto start = std::chrono::steady_clock::now();
+    while (!std::filesystem::exists(out + "/evaluations.jsonl") &&
+           std::chrono::steady_clock::now() - start < std::chrono::seconds(20))
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const auto signalled = std::chrono::steady_clock::now();
+    kill(pid, SIGINT);
+    int wstatus = 0;
+    REQUIRE(waitpid(pid, &wstatus, 0) == pid);
+    // the evaluations under way stop at once, not after their 30 simulated seconds
+    CHECK(std::chrono::steady_clock::now() - signalled < std::chrono::seconds(3));
+    REQUIRE(WIFEXITED(wstatus));
+    CHECK(WEXITSTATUS(wstatus) == 128 + SIGINT);
+    CHECK(read_text(err_path) ==
+          "gaitlab: interrupted; the evaluations so far are in " + out + "\n");
+    // nothing half-written: the generation under way is not in the file
+    CHECK(read_text(out + "/evaluations.jsonl").empty());
+    CHECK_FALSE(std::filesystem::exists(out + "/best.json"));
+}
