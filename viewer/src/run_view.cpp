@@ -817,6 +817,7 @@ std::string render_video(const std::string& dir, const std::string& out, double 
     posix_spawn_file_actions_adddup2(&actions, 1, 2);
     posix_spawnattr_t attr;
     posix_spawnattr_init(&attr);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
     posix_spawnattr_setpgroup(&attr, 0);  // its own group: its helpers end with it
     pid_t pid = 0;
     const int rc = ::posix_spawn(&pid, chromium.c_str(), &actions, &attr, argv.data(), environ);
@@ -841,13 +842,16 @@ std::string render_video(const std::string& dir, const std::string& out, double 
     });
     if (!exited) {
         ::kill(-pid, SIGTERM);
+        ::kill(pid, SIGTERM);
         for (int i = 0; i < 50 && ::waitpid(pid, &status, WNOHANG) == 0; ++i)
             std::this_thread::sleep_for(std::chrono::milliseconds(100));
         if (::waitpid(pid, &status, WNOHANG) == 0) {
             ::kill(-pid, SIGKILL);
+            ::kill(pid, SIGKILL);
             ::waitpid(pid, &status, 0);
         }
     }
+    ::kill(-pid, SIGKILL);  // whatever of its helpers is left in its group
     std::string error;
     if (!view.video_done()) {
         std::string said;
