@@ -502,7 +502,8 @@ struct RunView::Impl {
                 }
                 const std::string path = j["path"];
                 bool listed = false;
-                for (const json& p : listing()["runs"])
+                const json offered = listing();
+                for (const json& p : offered["runs"])
                     listed = listed || p == path;
                 if (!listed) {
                     throw ServerError(fmt::format(

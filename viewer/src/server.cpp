@@ -308,7 +308,9 @@ Command Server::State::parse_command(const std::string& body, std::string& error
     }
     const auto name = j.find("command");
     if (name == j.end() || !name->is_string()) {
-        error = "field 'command' expected: play, pause, step, reset, speed, param, live or sensor";
+        error =
+            "field 'command' expected: play, pause, step, reset, speed, param, live, sensor or "
+            "seek";
         return c;
     }
     const std::string what = name->get<std::string>();
