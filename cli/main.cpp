@@ -668,12 +668,23 @@ struct ViewArgs {
     std::string host;
     std::string video;  // --video OUT.webm
     std::string speed = "1";
+    std::string size = "960x540";
 };
 
 int view_command(const ViewArgs& a) {
     gaitlab::viewer::ServerOptions server;
     double speed = 1;
+    int width = 0, height = 0;
     try {
+        char x = 0, rest = 0;
+        if (std::sscanf(a.size.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' ||
+            width < 64 || width > 3840 || height < 64 || height > 2160 || width % 2 != 0 ||
+            height % 2 != 0) {
+            throw gaitlab::SpecError(fmt::format(
+                "--size: WIDTHxHEIGHT in pixels expected, even numbers from 64x64 to 3840x2160 "
+                "(got '{}')",
+                printable(a.size)));
+        }
         if (!a.port.empty()) server.port = parse_port(a.port);
         if (!a.host.empty()) server.host = a.host;
         speed = parse_seconds("--speed", a.speed);
@@ -687,7 +698,8 @@ int view_command(const ViewArgs& a) {
     }
     if (!a.video.empty()) {
         const std::string error = gaitlab::viewer::render_video(
-            a.dir, a.video, speed, [] { return g_signal != 0; }, gaitlab::viewer::find_chromium());
+            a.dir, a.video, speed, [] { return g_signal != 0; }, gaitlab::viewer::find_chromium(),
+            width, height);
         if (g_signal != 0) {
             std::fprintf(stderr, "gaitlab: interrupted (%s)\n", strsignal_name(g_signal));
             return 128 + g_signal;
@@ -922,6 +934,9 @@ int main(int argc, char** argv) {
                       ->type_name("OUT.webm");
     view_app->add_option("--speed", va.speed, "With --video: the real-time factor of the video")
         ->type_name("X")
+        ->needs(video);
+    view_app->add_option("--size", va.size, "With --video: its size in pixels (default 960x540)")
+        ->type_name("WxH")
         ->needs(video);
     video->excludes(view_port);
     view_app->footer(

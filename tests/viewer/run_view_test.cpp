@@ -251,6 +251,9 @@ TEST_CASE("a live view refuses seek: only a recorded run has a timeline") {
     CHECK(r->body.find("only a recorded run has a timeline") != std::string::npos);
     auto g = c.Get("/api/run");
     REQUIRE(g);
+    CHECK(g->body == R"({"recorded":false})");
+    g = c.Get("/api/run/data?series=x");
+    REQUIRE(g);
     CHECK(g->status == 404);
 }
 
@@ -380,6 +383,9 @@ TEST_CASE("gaitlab view from the command line: bad folders and options and no ch
     r = run_gaitlab({"view", "walk", "--video", "out.webm", "--speed", "0"}, dir.str());
     CHECK(r.status == 2);
     CHECK(r.err.find("--speed: a real-time factor in (0, 100] expected") != std::string::npos);
+    r = run_gaitlab({"view", "walk", "--video", "out.webm", "--size", "big"}, dir.str());
+    CHECK(r.status == 2);
+    CHECK(r.err.find("--size: WIDTHxHEIGHT in pixels expected") != std::string::npos);
     // no chromium: how to install it, and no file
     ::setenv("GAITLAB_CHROMIUM", (dir / "no-chromium").c_str(), 1);
     r = run_gaitlab({"view", "walk", "--video", "out.webm"}, dir.str());

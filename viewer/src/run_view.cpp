@@ -321,7 +321,8 @@ std::shared_ptr<Recorded> load(const std::string& path, double seconds) {
     json series = json::array();
     for (const SeriesInfo& s : run.series())
         series.push_back(series_json(s));
-    r->info = {{"path", path},
+    r->info = {{"recorded", true},
+               {"path", path},
                {"name", m.name},
                {"state", run.state()},
                {"simulation", m.simulation},
@@ -446,8 +447,16 @@ struct RunView::Impl {
         json runs = json::array();
         for (const std::string& f : found)
             runs.push_back(f);
+        // the current run as the list names it
         const auto cur = now();
-        return {{"current", cur ? cur->path : ""}, {"runs", runs}};
+        std::string current = cur ? cur->path : "";
+        if (cur) {
+            const fs::path here = fs::weakly_canonical(cur->path, ec);
+            for (const std::string& f : found) {
+                if (!ec && fs::weakly_canonical(f, ec) == here) current = f;
+            }
+        }
+        return {{"current", current}, {"runs", runs}};
     }
 
     RunReply answer(const RunRequest& req) {
@@ -614,6 +623,14 @@ RunView::RunView(const std::string& dir, ServerOptions server, RunViewOptions op
     impl_->start_dir = fs::absolute(fs::path(dir), ec).lexically_normal().parent_path().string();
     Impl* impl = impl_.get();
     impl_->server.set_run_provider([impl](const RunRequest& req) { return impl->answer(req); });
+    // a recorded run has no live series: the page's live plots find none
+    impl_->server.set_live_provider([](const std::map<std::string, std::string>& query) {
+        if (query.count("list") != 0) {
+            return std::string(
+                R"({"series":[],"sample_every":1,"refresh":0.1,"size":2000,"recorded":true})");
+        }
+        return std::string(R"({"names":[],"time":[],"values":[],"restart":false})");
+    });
 }
 
 RunView::~RunView() {
@@ -774,7 +791,8 @@ std::string find_chromium() {
 }
 
 std::string render_video(const std::string& dir, const std::string& out, double speed,
-                         const std::function<bool()>& stop, const std::string& chromium) {
+                         const std::function<bool()>& stop, const std::string& chromium, int width,
+                         int height) {
     if (chromium.empty()) {
         return "--video needs chromium, which is not installed: install it with 'sudo apt "
                "install chromium' (or set GAITLAB_CHROMIUM to a chromium program)";
@@ -793,18 +811,23 @@ std::string render_video(const std::string& dir, const std::string& out, double 
     std::string tmp = (fs::temp_directory_path() / "gaitlab-chromium-XXXXXX").string();
     if (::mkdtemp(tmp.data()) == nullptr) return "cannot make a temporary folder for chromium";
     const std::string log = tmp + "/chromium.log";
-    const std::string url = fmt::format("{}?video=1&speed={}", view.url(), speed);
-    std::vector<std::string> args = {chromium,
-                                     "--headless",
-                                     "--no-first-run",
-                                     "--no-default-browser-check",
-                                     "--disable-extensions",
-                                     "--mute-audio",
-                                     "--use-angle=swiftshader",
-                                     "--enable-unsafe-swiftshader",
-                                     "--ignore-gpu-blocklist",
-                                     "--window-size=1280,720",
-                                     "--user-data-dir=" + tmp + "/profile"};
+    const std::string url =
+        fmt::format("{}?video=1&speed={}&size={}x{}", view.url(), speed, width, height);
+    std::fprintf(stderr, "gaitlab: drawing %.0f frames of %s in headless chromium\n",
+                 duration / speed * 25 + 1, dir.c_str());
+    std::vector<std::string> args = {
+        chromium,
+        "--headless",
+        "--no-first-run",
+        "--no-default-browser-check",
+        "--disable-extensions",
+        "--mute-audio",
+        "--use-angle=swiftshader",
+        "--enable-unsafe-swiftshader",
+        "--ignore-gpu-blocklist",
+        "--window-size=" + std::to_string(width + 40) + "," + std::to_string(height + 40),
+        "--hide-scrollbars",
+        "--user-data-dir=" + tmp + "/profile"};
     if (::geteuid() == 0) args.emplace_back("--no-sandbox");  // chromium refuses root otherwise
     args.push_back(url);
     std::vector<char*> argv;
@@ -832,7 +855,10 @@ std::string render_video(const std::string& dir, const std::string& out, double 
         cleanup();
         return fmt::format("cannot run {}: {}", chromium, std::strerror(rc));
     }
-    const double deadline = now_seconds() + duration / speed + 60;
+    // the page draws and encodes 25 frames a second of video: a second each at the most
+    const double frames = duration / speed * 25 + 1;
+    const double allowed = 60 + frames;
+    const double deadline = now_seconds() + allowed;
     int status = 0;
     bool exited = false;
     bool late = false;
@@ -868,8 +894,8 @@ std::string render_video(const std::string& dir, const std::string& out, double 
         if (stop()) {
             error = "interrupted: no video written";
         } else if (late) {
-            error = fmt::format("chromium did not send the video within {:.0f} s{}{}",
-                                duration / speed + 60, said.empty() ? "" : "; it said:\n", said);
+            error = fmt::format("chromium did not send the video within {:.0f} s{}{}", allowed,
+                                said.empty() ? "" : "; it said:\n", said);
         } else {
             error = fmt::format("chromium ended before it sent the video{}{}",
                                 said.empty() ? "" : "; it said:\n", said);

@@ -428,7 +428,9 @@ function addRecordedPlot(names) {
 async function loadRun() {
   const r = await fetch(api('api/run'));
   if (!r.ok) return false;
-  replay.info = await r.json();
+  const info = await r.json();
+  if (!info.recorded) return false;  // a live simulation
+  replay.info = info;
   if (!$('recorded-name')) return true;
   $('recorded-name').textContent = `${replay.info.name}: ${replay.info.state}, ` +
     `${replay.info.rows} rows`;
@@ -476,15 +478,21 @@ async function recordedMode() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// video mode: play the run from its start, record, post the WebM back
+// video mode: the run drawn frame by frame (seek, draw, encode), so the video keeps the run's
+// time however slowly the browser draws; VP8 through WebCodecs, put in WebM by webm-muxer;
+// the file is posted back in pieces
 
 async function until(test, what, seconds = 30) {
-  for (let i = 0; i < seconds * 20; ++i) {
+  for (let i = 0; i < seconds * 100; ++i) {
     if (test()) return;
-    await sleep(50);
+    await sleep(10);
   }
   throw new Error(`timed out waiting for ${what}`);
 }
+
+const animationFrame = () => new Promise((r) => requestAnimationFrame(r));
+
+export const videoFps = 25;
 
 async function videoMode() {
   const g = () => window.gaitlab;
@@ -492,31 +500,55 @@ async function videoMode() {
   try {
     replay.video = 'recording';
     await until(() => g().scene && g().frame && g().drawn > 0, 'the scene');
-    const start = replay.info.start;
-    const end = replay.info.end;
-    await post('api/command', { command: 'speed', value: speed });
-    await post('api/command', { command: 'seek', time: start });
-    await until(() => g().frame.time === start, 'the start of the run');
-    await sleep(500);  // the camera settles on the robot
-    const rec = recordCanvas();
-    await sleep(200);
-    await post('api/command', { command: 'play' });
-    await until(() => g().frame.state.playing, 'the playback to start');
-    await until(() => !g().frame.state.playing && g().frame.time >= end,
-      'the end of the run', (end - start) / speed + 30);
-    await sleep(300);
-    const blob = await rec.stop();
+    if (!window.VideoEncoder) throw new Error('this browser has no VideoEncoder (WebCodecs)');
+    const { Muxer, ArrayBufferTarget } = await import('./lib/webm-muxer.mjs');
+    await sleep(300);  // the camera settles on the robot
+    const width = canvas.width & ~1;
+    const height = canvas.height & ~1;
+    const muxer = new Muxer({
+      target: new ArrayBufferTarget(),
+      video: { codec: 'V_VP8', width, height, frameRate: videoFps },
+    });
+    let failure = null;
+    const encoder = new VideoEncoder({
+      output: (chunk, meta) => muxer.addVideoChunk(chunk, meta),
+      error: (e) => { failure = e; },
+    });
+    encoder.configure({ codec: 'vp8', width, height, bitrate: 4e6, framerate: videoFps });
+    const { start, end } = replay.info;
+    const frames = Math.max(1, Math.round(((end - start) / speed) * videoFps)) + 1;
+    for (let k = 0; k < frames; ++k) {
+      const t = Math.min(end, start + (k * speed) / videoFps);
+      await post('api/command', { command: 'seek', time: t });
+      await until(() => g().frame.time === t, `the frame at ${t} s`);
+      // app.js draws the latest frame at the next animation frame, before this module's
+      // callback (it asked first)
+      await animationFrame();
+      const frame = new VideoFrame(canvas, {
+        timestamp: Math.round((k * 1e6) / videoFps),
+        duration: Math.round(1e6 / videoFps),
+        visibleRect: { x: 0, y: 0, width, height },
+      });
+      encoder.encode(frame, { keyFrame: k % (2 * videoFps) === 0 });
+      frame.close();
+      if (failure) throw failure;
+      replay.video = `frame ${k + 1} of ${frames}`;
+      while (encoder.encodeQueueSize > 4) await sleep(5);
+    }
+    await encoder.flush();
+    if (failure) throw failure;
+    muxer.finalize();
+    const bytes = muxer.target.buffer;
     replay.video = 'sending';
     const piece = 60000;  // the server takes at most 64 KiB a request
-    for (let at = 0; at < blob.size; at += piece) {
-      const bytes = await blob.slice(at, at + piece).arrayBuffer();
-      await post(`api/run/video?offset=${at}`, bytes, 'application/octet-stream');
+    for (let at = 0; at < bytes.byteLength; at += piece) {
+      await post(`api/run/video?offset=${at}`, bytes.slice(at, at + piece), 'application/octet-stream');
     }
     await post('api/run/video/done', {});
     replay.video = 'sent';
   } catch (e) {
-    replay.video = e.message;
-    await post('api/run/video/done', { error: e.message }).catch(() => {});
+    replay.video = e.message || String(e);
+    await post('api/run/video/done', { error: replay.video }).catch(() => {});
   }
 }
 
@@ -532,6 +564,12 @@ if (await loadRun()) {
   await loadRun();
   if (params.get('video') === '1') {
     document.body.classList.add('video');
+    // the video's size: the 3D view's, in pixels (?size=WxH, even numbers)
+    const size = /^(\d+)x(\d+)$/.exec(params.get('size') || '960x540');
+    if (size) {
+      $('view').style.width = `${size[1]}px`;
+      $('view').style.height = `${size[2]}px`;
+    }
     videoMode();
   }
 }

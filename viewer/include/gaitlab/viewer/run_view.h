@@ -71,10 +71,12 @@ class RunView {
 std::string find_chromium();
 
 /// `gaitlab view RUN --video OUT.webm`: serves the run on a loopback port, runs headless
-/// `chromium` on the page in video mode and waits until the page has posted the WebM (at
-/// most the run's duration / speed + 60 s). Returns "" or what went wrong (no chromium, with
+/// `chromium` on the page in video mode, which draws the run frame by frame (25 a second of
+/// video, `width` x `height` pixels), and waits until the page has posted the WebM (at most
+/// 60 s and a second a frame). Returns "" or what went wrong (no chromium, with
 /// how to install it; chromium failed, with its last messages; the page's error).
 std::string render_video(const std::string& dir, const std::string& out, double speed,
-                         const std::function<bool()>& stop, const std::string& chromium);
+                         const std::function<bool()>& stop, const std::string& chromium,
+                         int width = 960, int height = 540);
 
 }  // namespace gaitlab::viewer
