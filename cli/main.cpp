@@ -922,11 +922,12 @@ int main(int argc, char** argv) {
     view_app->add_option("dir", va.dir, "The run folder")->required()->type_name("DIR");
     auto* view_port = view_app->add_option("--port", va.port, "The port (default: any free port)")
                           ->type_name("P");
-    view_app
-        ->add_option("--host", va.host,
-                     "The address to listen on (default 127.0.0.1, this machine only; any "
-                     "other needs the token of the printed address)")
-        ->type_name("ADDR");
+    auto* view_host =
+        view_app
+            ->add_option("--host", va.host,
+                         "The address to listen on (default 127.0.0.1, this machine only; any "
+                         "other needs the token of the printed address)")
+            ->type_name("ADDR");
     auto* video = view_app
                       ->add_option("--video", va.video,
                                    "Render the run to this WebM video in headless chromium "
@@ -938,7 +939,7 @@ int main(int argc, char** argv) {
     view_app->add_option("--size", va.size, "With --video: its size in pixels (default 960x540)")
         ->type_name("WxH")
         ->needs(video);
-    video->excludes(view_port);
+    video->excludes(view_port)->excludes(view_host);
     view_app->footer(
         "Serves a page on http://127.0.0.1:PORT that plays the run's bodies back in 3D on a\n"
         "timeline, plots its series and exports them (PNG, CSV). The 3D scene is rebuilt by\n"
