@@ -93,7 +93,7 @@ const browser = await playwright.chromium.launch({
     '--ignore-gpu-blocklist'],
 });
 try {
-  const page = await browser.newPage({ viewport: { width: 1200, height: 760 }, acceptDownloads: true });
+  const page = await browser.newPage({ viewport: { width: 1000, height: 660 }, acceptDownloads: true });
   const pageErrors = [];
   page.on('pageerror', (e) => pageErrors.push(e.message));
   page.on('console', (m) => { if (m.type() === 'error') pageErrors.push(m.text()); });
@@ -147,16 +147,14 @@ try {
     }, t);
     await page.waitForFunction((v) => Math.abs(window.gaitlab.frame.time - v) < 1e-9 &&
       window.gaitlab.drawn > 0, t, { timeout: 10000 });
-    await sleep(300);
+    await sleep(150);
   };
   await scrub(0);
   const p0 = await page.evaluate(() => window.gaitlab.frame.poses.slice());
   const img0 = await pixels();
-  await page.screenshot({ path: path.join(out, 'recorded-0.png') });
   await scrub(2.4);
   const p1 = await page.evaluate(() => window.gaitlab.frame.poses.slice());
   const img1 = await pixels();
-  await page.screenshot({ path: path.join(out, 'recorded-1.png') });
   let moved = 0;
   for (let i = 0; i < 7 * 7; ++i) moved = Math.max(moved, Math.abs(p0[i] - p1[i]));
   check(moved > 0.01, `scrubbing to 2.4 s moves the bodies (${moved.toFixed(4)} m)`);
@@ -223,7 +221,7 @@ try {
   await scrub(0);
   await page.click('#record-video');
   await page.click('#play');
-  await sleep(1500);
+  await sleep(1000);
   const video = await downloaded(() => page.click('#record-video'));
   const vi = webmInfo(video.bytes);
   check(vi.ok && video.bytes.length > 5000,
