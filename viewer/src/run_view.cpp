@@ -54,6 +54,8 @@ constexpr std::size_t kMaxPoseNumbers = std::size_t{32} << 20;
 constexpr std::size_t kMaxRequestSeries = 256;
 // the most run folders the picker lists
 constexpr std::size_t kMaxListed = 300;
+// the most folder entries the picker looks at
+constexpr std::size_t kMaxVisited = 20000;
 // the largest video the page may post
 constexpr std::uint64_t kMaxVideoBytes = std::uint64_t{2} << 30;
 
@@ -279,7 +281,7 @@ std::shared_ptr<Recorded> load(const std::string& path, double seconds) {
         r->notes.push_back(
             "this run recorded no body poses (series ROBOT.BODY.x ... qz): the 3D view shows the "
             "robots where they start; the plots show every recorded series");
-    } else if (columns.size() * 7 < names.size() || columns.size() < bodies.size()) {
+    } else if (columns.size() < bodies.size()) {
         r->notes.push_back(
             "some bodies have no recorded pose: they stay where they start in the 3D view");
     }
@@ -421,8 +423,10 @@ struct RunView::Impl {
         auto walk = [&](const fs::path& root, int depth, bool relative) {
             fs::recursive_directory_iterator it(root, fs::directory_options::skip_permission_denied,
                                                 ec);
+            std::size_t visited = 0;
             for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
-                if (found.size() >= kMaxListed) break;
+                // bounded however large the folder is
+                if (found.size() >= kMaxListed || ++visited > kMaxVisited) break;
                 const fs::path p = it->path();
                 const std::string name = p.filename().string();
                 if (!it->is_directory(ec) || it->is_symlink(ec) || name.empty() || name[0] == '.' ||
@@ -449,14 +453,14 @@ struct RunView::Impl {
             runs.push_back(f);
         // the current run as the list names it
         const auto cur = now();
-        std::string current = cur ? cur->path : "";
+        std::string shown = cur ? cur->path : "";
         if (cur) {
             const fs::path here = fs::weakly_canonical(cur->path, ec);
             for (const std::string& f : found) {
-                if (!ec && fs::weakly_canonical(f, ec) == here) current = f;
+                if (!ec && fs::weakly_canonical(f, ec) == here) shown = f;
             }
         }
-        return {{"current", current}, {"runs", runs}};
+        return {{"current", shown}, {"runs", runs}};
     }
 
     RunReply answer(const RunRequest& req) {
