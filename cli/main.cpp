@@ -713,10 +713,16 @@ int view_command(const ViewArgs& a) {
     }
     std::unique_ptr<gaitlab::viewer::RunView> view;
     try {
-        view = std::make_unique<gaitlab::viewer::RunView>(a.dir, server);
+        gaitlab::viewer::RunViewOptions options;
+        options.cancel = [] { return g_signal != 0; };
+        view = std::make_unique<gaitlab::viewer::RunView>(a.dir, server, options);
     } catch (const gaitlab::viewer::ServerError& e) {
         std::fprintf(stderr, "gaitlab: %s\n", e.what());
         return 1;
+    }
+    if (g_signal != 0) {
+        std::fprintf(stderr, "gaitlab: interrupted (%s)\n", strsignal_name(g_signal));
+        return 128 + g_signal;
     }
     for (const std::string& note : view->notes())
         std::fprintf(stderr, "gaitlab: %s\n", printable(note).c_str());

@@ -397,3 +397,23 @@ TEST_CASE("gaitlab view from the command line: bad folders and options and no ch
     CHECK(!fs::exists(dir / "out.webm"));
     CHECK(!fs::exists(dir / "out.webm.part"));
 }
+
+TEST_CASE("gaitlab view: a script that never steps is stopped and the run still opens") {
+    TempDir dir("run_view");
+    const std::string run = record_walk(dir, "walk", "0.2");
+    // the run folder's copy of the script now loops before it makes its simulation
+    write_text(dir / "walk/config/walk.lua", "while true do end\n");
+    const RunData data(run);
+    const auto start = std::chrono::steady_clock::now();
+    const RecordedScene slow = rebuild_scene(data, 0.5);
+    CHECK(slow.problem == "its script did not step simulation 1 within 0.5 s");
+    const RecordedScene cancelled = rebuild_scene(data, 30, [] { return true; });
+    CHECK(cancelled.problem == "interrupted");
+    CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(10));
+    // the view opens with the bodies of the pose series
+    RunViewOptions options;
+    options.rebuild_seconds = 0.5;
+    RunView view(run, {}, options);
+    REQUIRE(view.notes().size() == 1);
+    CHECK(view.notes()[0].find("did not step simulation 1 within 0.5 s") != std::string::npos);
+}

@@ -111,7 +111,8 @@ std::string fallback_scene(const RunData& run, std::vector<double>& poses) {
 
 }  // namespace
 
-RecordedScene rebuild_scene(const RunData& run, double seconds) {
+RecordedScene rebuild_scene(const RunData& run, double seconds,
+                            const std::function<bool()>& cancel) {
     RecordedScene out;
     const RunMeta& m = run.meta();
     std::string problem;
@@ -158,12 +159,21 @@ RecordedScene rebuild_scene(const RunData& run, double seconds) {
                 std::mutex mutex;
                 std::condition_variable cv;
                 bool done = false;
+                bool cancelled = false;
                 std::thread watchdog([&] {
+                    const double until = now_seconds() + seconds;
                     std::unique_lock<std::mutex> lock(mutex);
-                    if (!cv.wait_for(lock, std::chrono::duration<double>(seconds),
-                                     [&] { return done; })) {
-                        timed_out = true;
+                    while (
+                        !cv.wait_for(lock, std::chrono::milliseconds(50), [&] { return done; })) {
+                        if (cancel && cancel()) {
+                            cancelled = true;
+                        } else if (now_seconds() > until) {
+                            timed_out = true;
+                        } else {
+                            continue;
+                        }
                         host.interrupt(SIGALRM);
+                        return;
                     }
                 });
                 try {
@@ -183,9 +193,13 @@ RecordedScene rebuild_scene(const RunData& run, double seconds) {
                 }
                 cv.notify_all();
                 watchdog.join();
-                if (!captured && target && !timed_out) capture(target->simulation());
+                if (!captured && target && !timed_out && !cancelled) {
+                    capture(target->simulation());
+                }
                 if (!captured) {
-                    if (timed_out) {
+                    if (cancelled) {
+                        problem = "interrupted";
+                    } else if (timed_out) {
                         problem = fmt::format("its script did not step simulation {} within {} s",
                                               m.simulation, seconds);
                     } else if (!error.empty()) {
@@ -230,7 +244,8 @@ struct Recorded {
     json info;
 };
 
-std::shared_ptr<Recorded> load(const std::string& path, double seconds) {
+std::shared_ptr<Recorded> load(const std::string& path, double seconds,
+                               const std::function<bool()>& cancel = {}) {
     auto r = std::make_shared<Recorded>();
     r->path = path;
     r->run = std::make_unique<RunData>(path);
@@ -240,7 +255,7 @@ std::shared_ptr<Recorded> load(const std::string& path, double seconds) {
         r->notes.push_back(
             "data.csv ends in a line cut short (the run was killed): that line is left out");
     }
-    RecordedScene rs = rebuild_scene(run, seconds);
+    RecordedScene rs = rebuild_scene(run, seconds, cancel);
     if (!rs.problem.empty()) {
         r->notes.push_back(fmt::format(
             "the scene could not be rebuilt ({}): bodies are drawn as small boxes, without the "
@@ -620,7 +635,7 @@ struct RunView::Impl {
 
 RunView::RunView(const std::string& dir, ServerOptions server, RunViewOptions options) {
     // the folder first: a bad one is reported before anything listens
-    std::shared_ptr<Recorded> first = load(dir, options.rebuild_seconds);
+    std::shared_ptr<Recorded> first = load(dir, options.rebuild_seconds, options.cancel);
     impl_ = std::make_shared<Impl>(std::move(server), std::move(options));
     impl_->current = first;
     std::error_code ec;
@@ -810,7 +825,9 @@ std::string render_video(const std::string& dir, const std::string& out, double 
     RunViewOptions options;
     options.video = out;
     options.video_speed = speed;
+    options.cancel = stop;
     RunView view(dir, ServerOptions{}, options);
+    if (stop()) return "interrupted: no video written";
     const double duration = view.duration();
     std::string tmp = (fs::temp_directory_path() / "gaitlab-chromium-XXXXXX").string();
     if (::mkdtemp(tmp.data()) == nullptr) return "cannot make a temporary folder for chromium";

@@ -27,14 +27,16 @@ struct RecordedScene {
 /// recording nothing, printing nothing) until the run's simulation first steps, for at most
 /// `seconds` of wall time. When that fails (no script, a script error, a file outside the
 /// run folder that is gone), the scene is made of the bodies the pose series name, drawn as
-/// small boxes, and `problem` says why.
-RecordedScene rebuild_scene(const RunData& run, double seconds = 20);
+/// small boxes, and `problem` says why. `cancel` (checked every 50 ms) stops it early (Ctrl-C).
+RecordedScene rebuild_scene(const RunData& run, double seconds = 20,
+                            const std::function<bool()>& cancel = {});
 
 struct RunViewOptions {
     std::string video;       ///< "": serve the pages; else the WebM file the page records
     double video_speed = 1;  ///< the real-time factor of the video's playback
     double frame_rate = kFrameRate;
-    double rebuild_seconds = 20;  ///< wall time rebuilding a scene may take
+    double rebuild_seconds = 20;   ///< wall time rebuilding a scene may take
+    std::function<bool()> cancel;  ///< stops rebuilding the first scene (Ctrl-C); may be empty
 };
 
 class RunView {
