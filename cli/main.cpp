@@ -40,6 +40,7 @@
 #include "gaitlab/scripting/replay.h"
 #include "gaitlab/suggest.h"
 #include "gaitlab/version.h"
+#include "gaitlab/viewer/run_view.h"
 #include "gaitlab/viewer/view.h"
 #include "make.h"
 #include "optimize.h"
@@ -661,6 +662,84 @@ int replay_command(const std::string& dir, const std::string& into) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// gaitlab view
+
+struct ViewArgs {
+    std::string dir;
+    std::string port;
+    std::string host;
+    std::string video;  // --video OUT.webm
+    std::string speed = "1";
+    std::string size = "960x540";
+};
+
+int view_command(const ViewArgs& a) {
+    gaitlab::viewer::ServerOptions server;
+    double speed = 1;
+    int width = 0, height = 0;
+    try {
+        char x = 0, rest = 0;
+        if (std::sscanf(a.size.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' ||
+            width < 64 || width > 3840 || height < 64 || height > 2160 || width % 2 != 0 ||
+            height % 2 != 0) {
+            throw gaitlab::SpecError(fmt::format(
+                "--size: WIDTHxHEIGHT in pixels expected, even numbers from 64x64 to 3840x2160 "
+                "(got '{}')",
+                printable(a.size)));
+        }
+        if (!a.port.empty()) server.port = parse_port(a.port);
+        if (!a.host.empty()) server.host = a.host;
+        speed = parse_seconds("--speed", a.speed);
+        if (!(speed > 0 && speed <= 100)) {
+            throw gaitlab::SpecError(fmt::format(
+                "--speed: a real-time factor in (0, 100] expected (got '{}')", printable(a.speed)));
+        }
+    } catch (const gaitlab::Error& e) {
+        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab view --help')\n", e.what());
+        return 2;
+    }
+    if (!a.video.empty()) {
+        const std::string error = gaitlab::viewer::render_video(
+            a.dir, a.video, speed, [] { return g_signal != 0; }, gaitlab::viewer::find_chromium(),
+            width, height);
+        if (g_signal != 0) {
+            std::fprintf(stderr, "gaitlab: interrupted (%s)\n", strsignal_name(g_signal));
+            return 128 + g_signal;
+        }
+        if (!error.empty()) {
+            std::fprintf(stderr, "gaitlab: %s\n", printable(error).c_str());
+            return 1;
+        }
+        std::fprintf(stderr, "wrote %s\n", a.video.c_str());
+        return 0;
+    }
+    std::unique_ptr<gaitlab::viewer::RunView> view;
+    try {
+        gaitlab::viewer::RunViewOptions options;
+        options.cancel = [] { return g_signal != 0; };
+        view = std::make_unique<gaitlab::viewer::RunView>(a.dir, server, options);
+    } catch (const gaitlab::viewer::ServerError& e) {
+        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        return 1;
+    }
+    if (g_signal != 0) {
+        std::fprintf(stderr, "gaitlab: interrupted (%s)\n", strsignal_name(g_signal));
+        return 128 + g_signal;
+    }
+    for (const std::string& note : view->notes())
+        std::fprintf(stderr, "gaitlab: %s\n", printable(note).c_str());
+    std::fprintf(stderr, "viewer: %s\n  open it in a browser: the recorded run %s (Ctrl-C quits)\n",
+                 view->url().c_str(), a.dir.c_str());
+    if (server.host == "0.0.0.0" || server.host == "::") {
+        std::fprintf(stderr,
+                     "  from another machine: this machine's address in place of 127.0.0.1, "
+                     "with the token\n");
+    }
+    view->serve([] { return g_signal != 0; });
+    return 0;
+}
+
+// ---------------------------------------------------------------------------------------------
 // the command line
 
 // what the user typed that no part of the command line took, as one line: unknown options
@@ -844,6 +923,37 @@ int main(int argc, char** argv) {
         "the viewer\nor reloads from disk at their ticks. Exit status 0: identical. It runs "
         "the run's script:\nreplay only runs you trust.");
 
+    ViewArgs va;
+    CLI::App* view_app = app.add_subcommand(
+        "view", "Watch a recorded run in a browser: play it back, plot and export its series");
+    view_app->allow_extras();
+    view_app->add_option("dir", va.dir, "The run folder")->required()->type_name("DIR");
+    auto* view_port = view_app->add_option("--port", va.port, "The port (default: any free port)")
+                          ->type_name("P");
+    auto* view_host =
+        view_app
+            ->add_option("--host", va.host,
+                         "The address to listen on (default 127.0.0.1, this machine only; any "
+                         "other needs the token of the printed address)")
+            ->type_name("ADDR");
+    auto* video = view_app
+                      ->add_option("--video", va.video,
+                                   "Render the run to this WebM video in headless chromium "
+                                   "(no window), then exit")
+                      ->type_name("OUT.webm");
+    view_app->add_option("--speed", va.speed, "With --video: the real-time factor of the video")
+        ->type_name("X")
+        ->needs(video);
+    view_app->add_option("--size", va.size, "With --video: its size in pixels (default 960x540)")
+        ->type_name("WxH")
+        ->needs(video);
+    video->excludes(view_port)->excludes(view_host);
+    view_app->footer(
+        "Serves a page on http://127.0.0.1:PORT that plays the run's bodies back in 3D on a\n"
+        "timeline, plots its series and exports them (PNG, CSV). The 3D scene is rebuilt by\n"
+        "running the run's script (from DIR/config) up to its first step, recording nothing:\n"
+        "view only runs you trust. See docs/viewer.md.");
+
     gaitlab::cli::NewCommand new_command(app);
     gaitlab::cli::MakeCommand make_command(app);
     gaitlab::cli::OptimizeCommand optimize_command(app);
@@ -907,6 +1017,9 @@ int main(int argc, char** argv) {
         } else if (*replay) {
             catch_signals();
             status = replay_command(replay_dir, replay_into);
+        } else if (*view_app) {
+            catch_signals();
+            status = view_command(va);
         } else {
             Stdout::write(app.help());
         }

@@ -174,9 +174,10 @@ TEST_CASE("bad commands get a clear 4xx and change nothing") {
         {"{\"command\": ", 400, "malformed JSON at byte"},
         {"[1, 2]", 400, "(got array)"},
         {"{}", 400,
-         "field 'command' expected: play, pause, step, reset, speed, param, live or sensor"},
+         "field 'command' expected: play, pause, step, reset, speed, param, live, sensor or seek"},
         {R"({"command":"fly"})", 400,
-         "unknown command 'fly': play, pause, step, reset, speed, param, live or sensor expected"},
+         "unknown command 'fly': play, pause, step, reset, speed, param, live, sensor or seek "
+         "expected"},
         {R"({"command":"pause","ticks":3})", 400,
          "command 'pause' takes no field 'ticks' (it takes command, simulation)"},
         {R"({"command":"step","ticks":0})", 400, "a whole number of ticks in [1, 1000000]"},

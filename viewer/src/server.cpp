@@ -209,6 +209,8 @@ const char* to_string(Command::Kind kind) {
             return "live";
         case Command::Kind::sensor:
             return "sensor";
+        case Command::Kind::seek:
+            return "seek";
     }
     return "?";
 }
@@ -259,6 +261,7 @@ struct Server::State {
 
     std::mutex live_mutex;
     LiveProvider live;
+    RunProvider run;  // under live_mutex
     bool stopped = false;
 
     std::atomic<int> streams{0};
@@ -279,6 +282,7 @@ struct Server::State {
         return frame_event;
     }
 
+    bool seekable = false;  // a run provider is set (under mutex)
     Command parse_command(const std::string& body, std::string& error) const;
     void routes();
 };
@@ -304,7 +308,9 @@ Command Server::State::parse_command(const std::string& body, std::string& error
     }
     const auto name = j.find("command");
     if (name == j.end() || !name->is_string()) {
-        error = "field 'command' expected: play, pause, step, reset, speed, param, live or sensor";
+        error =
+            "field 'command' expected: play, pause, step, reset, speed, param, live, sensor or "
+            "seek";
         return c;
     }
     const std::string what = name->get<std::string>();
@@ -312,12 +318,13 @@ Command Server::State::parse_command(const std::string& body, std::string& error
         {"play", Command::Kind::play},   {"pause", Command::Kind::pause},
         {"step", Command::Kind::step},   {"reset", Command::Kind::reset},
         {"speed", Command::Kind::speed}, {"param", Command::Kind::param},
-        {"live", Command::Kind::live},   {"sensor", Command::Kind::sensor}};
+        {"live", Command::Kind::live},   {"sensor", Command::Kind::sensor},
+        {"seek", Command::Kind::seek}};
     const auto k =
         std::find_if(kinds.begin(), kinds.end(), [&](const auto& p) { return p.first == what; });
     if (k == kinds.end()) {
         error = fmt::format(
-            "unknown command '{}': play, pause, step, reset, speed, param, live or sensor "
+            "unknown command '{}': play, pause, step, reset, speed, param, live, sensor or seek "
             "expected",
             what.substr(0, 40));
         return c;
@@ -333,6 +340,7 @@ Command Server::State::parse_command(const std::string& body, std::string& error
     if (c.kind == Command::Kind::live)
         allowed.insert(allowed.end(), {"sample_every", "refresh", "size"});
     if (c.kind == Command::Kind::sensor) allowed.insert(allowed.end(), {"name", "enabled"});
+    if (c.kind == Command::Kind::seek) allowed.push_back("time");
     for (const auto& item : j.items()) {
         if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end()) {
             std::string list;
@@ -394,6 +402,18 @@ Command Server::State::parse_command(const std::string& body, std::string& error
                                 sensors.size() == 1 ? "is" : "are", names.empty() ? "none" : names);
             return c;
         }
+    }
+    if (c.kind == Command::Kind::seek) {
+        if (!seekable) {
+            error = "seek: only a recorded run has a timeline (gaitlab view RUN_FOLDER)";
+            return c;
+        }
+        const auto t = j.find("time");
+        if (t == j.end() || !t->is_number() || !std::isfinite(t->get<double>())) {
+            error = "field 'time': the time to go to, in s, expected";
+            return c;
+        }
+        c.value = t->get<double>();
     }
     if (c.kind == Command::Kind::live) {
         if (const auto v = j.find("sample_every"); v != j.end()) {
@@ -555,6 +575,50 @@ void Server::State::routes() {
     };
     http.Get("/api/live", live_route(false));
     http.Get("/api/live/series", live_route(true));
+
+    // a recorded run (run_view.cpp): answered on this thread by the provider
+    auto run_route = [this](const httplib::Request& req, httplib::Response& res) {
+        RunProvider fn;
+        {
+            std::lock_guard<std::mutex> lock(live_mutex);
+            fn = run;
+        }
+        if (!fn) {
+            // the page asks whether there is a recorded run: a live view says no
+            if (req.method == "GET" && req.path == "/api/run") {
+                res.set_content("{\"recorded\":false}", "application/json");
+                return;
+            }
+            refuse(res, 404, "no recorded run here (gaitlab view RUN_FOLDER serves one)");
+            return;
+        }
+        RunRequest r;
+        r.method = req.method;
+        r.path = req.path;
+        r.type = req.get_header_value("Content-Type");
+        if (r.method == "POST" && r.type.rfind("application/json", 0) != 0 &&
+            r.type.rfind("application/octet-stream", 0) != 0) {
+            refuse(res, 415, "send application/json (or application/octet-stream for data)");
+            return;
+        }
+        for (const auto& [key, value] : req.params)
+            if (key != "token") r.query[key] = value;
+        r.body = req.body;
+        try {
+            RunReply reply = fn(r);
+            res.status = reply.status;
+            if (reply.status >= 400) ++refused;
+            if (!reply.filename.empty()) {
+                res.set_header("Content-Disposition",
+                               "attachment; filename=\"" + reply.filename + "\"");
+            }
+            res.set_content(std::move(reply.body), reply.type);
+        } catch (const ServerError& e) {
+            refuse(res, 400, e.what());
+        }
+    };
+    http.Get(R"(/api/run(/[a-z]+)*)", run_route);
+    http.Post(R"(/api/run(/[a-z]+)*)", run_route);
 
     http.Get("/api/status", [this](const httplib::Request&, httplib::Response& res) {
         json j;
@@ -783,11 +847,21 @@ void Server::stop() {
     if (s.thread.joinable()) s.thread.join();
     std::lock_guard<std::mutex> lock(s.live_mutex);
     s.live = nullptr;
+    s.run = nullptr;
 }
 
 void Server::set_live_provider(LiveProvider fn) {
     std::lock_guard<std::mutex> lock(state_->live_mutex);
     state_->live = std::move(fn);
+}
+
+void Server::set_run_provider(RunProvider fn) {
+    {
+        std::lock_guard<std::mutex> lock(state_->mutex);
+        state_->seekable = static_cast<bool>(fn);
+    }
+    std::lock_guard<std::mutex> lock(state_->live_mutex);
+    state_->run = std::move(fn);
 }
 
 int Server::port() const {

@@ -535,6 +535,8 @@ struct View::Impl {
                     sim.set_sensor_enabled(i, c.value != 0, Origin::viewer);
                     break;
                 }
+                case Command::Kind::seek:  // the server refuses it: a view has no run provider
+                    break;
                 case Command::Kind::live:
                     if (s->live) {
                         if (c.sample_every > 0) s->live->set_sample_every(c.sample_every);

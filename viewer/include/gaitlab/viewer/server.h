@@ -64,6 +64,7 @@ struct Command {
         param,   ///< controller `drive`'s parameter `name` = `value`
         live,    ///< live buffers' settings: `sample_every`, `refresh`, `size` (0 / < 0: kept)
         sensor,  ///< switches sensor `name` ("<robot>.<sensor>") on (`value` 1) or off (0)
+        seek,    ///< a recorded run (set_run_provider): go to time `value`, s
     };
     Kind kind = Kind::play;
     int simulation = 0;  ///< creation index (0: the newest)
@@ -98,6 +99,25 @@ struct ServerStats {
     std::uint64_t commands = 0;  ///< commands accepted
     std::uint64_t refused = 0;   ///< requests answered with an error status
 };
+
+/// A request to /api/run... (Server::set_run_provider).
+struct RunRequest {
+    std::string method;  ///< "GET" or "POST"
+    std::string path;    ///< "/api/run", "/api/run/data" ...
+    std::map<std::string, std::string> query;
+    std::string body;
+    std::string type;  ///< the request's Content-Type
+};
+
+/// The answer to a RunRequest.
+struct RunReply {
+    int status = 200;
+    std::string body;
+    std::string type = "application/json";
+    std::string filename;  ///< not empty: a download (Content-Disposition: attachment)
+};
+
+using RunProvider = std::function<RunReply(const RunRequest&)>;
 
 class Server {
   public:
@@ -139,6 +159,13 @@ class Server {
     /// thread-safe. Without one, both answer 404.
     using LiveProvider = std::function<std::string(const std::map<std::string, std::string>&)>;
     void set_live_provider(LiveProvider fn);
+    /// Answers GET and POST requests to /api/run and the routes below it (a recorded run,
+    /// run_view.h): `fn` gets the request and returns the answer, or throws ServerError for a
+    /// 400 saying why. POSTs must be application/json or application/octet-stream (415
+    /// otherwise; neither can come from a page of another site without the browser asking) and
+    /// at most kMaxCommandBytes. Called on the server's threads: it must be thread-safe.
+    /// Without one, they answer 404 and the command `seek` is refused.
+    void set_run_provider(RunProvider fn);
     /// Stops serving now (the destructor does it too): pages are disconnected, the threads
     /// joined; nothing is called on the server's threads any more.
     void stop();
