@@ -163,6 +163,12 @@ int run_console(const ConsoleArgs& a, const std::string& command) {
                 o.wait_for_page = false;
                 o.console = true;
                 view = std::make_unique<viewer::View>(host, viewer::ServerOptions{}, o);
+                // "Edit world" saves beside the script (or in the current folder)
+                view->edit_world((a.file.empty()
+                                      ? fs::path("world")
+                                      : fs::path(a.file).parent_path() / fs::path(a.file).stem())
+                                     .string() +
+                                 ".environment.xml");
                 input.write(stderr, "viewer: " + view->url() +
                                         "\n  open it in a browser: the page and this console "
                                         "work together (sim:run plays at real time)\n");

@@ -33,6 +33,7 @@
 #include <CLI/CLI.hpp>
 
 #include "console_command.h"
+#include "edit.h"
 #include "gaitlab/error.h"
 #include "gaitlab/plot.h"
 #include "gaitlab/run_data.h"
@@ -41,6 +42,7 @@
 #include "gaitlab/suggest.h"
 #include "gaitlab/version.h"
 #include "gaitlab/viewer/view.h"
+#include "gaitlab/xml.h"
 #include "make.h"
 #include "wizard.h"
 
@@ -343,6 +345,19 @@ int run_script(const RunArgs& a, const std::string& command) {
                              "127.0.0.1, with the token (whoever has it can steer the "
                              "simulation)\n");
             }
+            // "Edit world" saves the simulation file's environment, or one beside the script
+            std::string world = (fs::path(a.file).parent_path() /
+                                 (fs::path(a.file).stem().string() + ".environment.xml"))
+                                    .string();
+            if (xml) {
+                try {
+                    world =
+                        gaitlab::resolve_path(a.file, gaitlab::read_simulation(a.file).environment);
+                } catch (const gaitlab::Error&) {
+                    // running the file says what is wrong with it
+                }
+            }
+            view->edit_world(world);
         }
         if (view) {
             // sim:view() shows that simulation (every one is shown already, the newest first)
@@ -844,6 +859,7 @@ int main(int argc, char** argv) {
 
     gaitlab::cli::NewCommand new_command(app);
     gaitlab::cli::MakeCommand make_command(app);
+    gaitlab::cli::EditCommand edit_command(app);
 
     std::vector<const char*> args{argv[0]};
     for (const std::string& a : argl)
@@ -898,6 +914,8 @@ int main(int argc, char** argv) {
             status = new_command.run();
         } else if (make_command.chosen()) {
             status = make_command.run();
+        } else if (edit_command.chosen()) {
+            status = edit_command.run();
         } else if (*replay) {
             catch_signals();
             status = replay_command(replay_dir, replay_into);
