@@ -266,15 +266,18 @@ TEST_CASE("editor: saves go into the file's folder only, and never over changes 
           "flat.xml changed on disk since the editor opened it: save with overwrite, or under "
           "another name");
     CHECK(read_text(path).find("by hand") != std::string::npos);
-    // a page that opened before another one did
+    // a page that opened the world before it changed (another page opened it since)
     json stale = json::parse(with(opened, [](json&) {}));
+    std::string other = kFlat;
+    other.replace(other.find("0.8"), 3, "0.7");
+    write_text(path, other);
     const json reopened = json::parse(ed.open());
     const int stale_status = refusal([&] { ed.save(stale.dump()); }).status();
     CHECK(stale_status == 409);
     stale["source"] = reopened["source"];
     stale["overwrite"] = true;
     CHECK(json::parse(ed.save(stale.dump()))["ok"] == true);
-    CHECK(read_text(path).find("by hand") == std::string::npos);
+    CHECK(read_environment(path).world.floor.friction == 0.8);
 }
 
 TEST_CASE("editor: a save that cannot be written leaves the old file as it was") {

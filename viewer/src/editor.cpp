@@ -641,9 +641,15 @@ std::string Editor::open() {
     EditorSource src = impl_->opener();
     Impl& m = *impl_;
     std::lock_guard<std::mutex> lock(m.mutex);
+    // a page that opens the same world again does not make another page's edits stale
+    const std::string before = m.version > 0 ? dump(m.environment_json(m.source.environment)) : "";
+    const std::string file_before = m.source.file;
     m.source = std::move(src);
     m.folder = fs::path(m.source.file).parent_path();
-    ++m.version;
+    if (m.version == 0 || file_before != m.source.file ||
+        before != dump(m.environment_json(m.source.environment))) {
+        ++m.version;
+    }
     std::error_code ec;
     m.disk_exists = fs::exists(m.source.file, ec);
     m.disk_text.clear();
