@@ -361,7 +361,15 @@ int run_script(const RunArgs& a, const std::string& command) {
         }
         if (view) {
             // sim:view() shows that simulation (every one is shown already, the newest first)
-            host.set_view_handler([&view](const std::shared_ptr<gaitlab::Player>& p, int index) {
+            host.set_view_handler([&view](const std::shared_ptr<gaitlab::Player>& p, int index,
+                                          const gaitlab::scripting::LuaHost::ViewRequest& r) {
+                // the viewer listens where --port and --host said, before the script ran
+                if ((r.port != 0 && r.port != view->server().port()) || !r.host.empty()) {
+                    throw gaitlab::Error(fmt::format(
+                        "sim:view(): the viewer serves {} already: under gaitlab run --view, "
+                        "choose its port and address with --port and --host",
+                        view->url()));
+                }
                 view->show(p, index);
                 return view->url();
             });
