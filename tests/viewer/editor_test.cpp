@@ -397,3 +397,28 @@ TEST_CASE("gaitlab edit: a missing file is made after saying so; unreadable ones
     CHECK(r.err.find("port " + std::to_string(taken.port()) + " is in use") != std::string::npos);
     CHECK(read_environment(dir / "new.xml").world.floor.enabled);
 }
+
+TEST_CASE("editor: a robot placed inside an object is warned of, as gaitlab run warns") {
+    TempDir dir("editor");
+    const std::string path = dir / "flat.xml";
+    write_text(path, kFlat);
+    EditorSource src = load_editor_source(path, {});
+    ChainSpec chain;
+    chain.name = "snake";
+    chain.modules = 4;
+    src.robots.push_back(make_chain(chain));
+    Editor ed([src] { return src; }, "edit");
+    const json opened = json::parse(ed.open());
+    // clear of everything: no warning
+    json r = json::parse(ed.check(with(opened, [](json&) {})));
+    CHECK(r["warnings"].empty());
+    // a box over its tail
+    r = json::parse(ed.check(with(opened, [](json& e) {
+        e["objects"][0]["position"] = {0.02, 0.1, 0.005};
+        e["objects"][0]["size"] = {0.1, 0.1, 0.1};
+        e["objects"][0]["position"][2] = 0.05;
+    })));
+    REQUIRE(r["warnings"].size() == 1);
+    CHECK(r["warnings"][0].get<std::string>().find("deep inside box 1: the contact solver will "
+                                                   "throw it out") != std::string::npos);
+}

@@ -138,6 +138,11 @@ try {
   await page.press('#editor-form input[data-field="position.2"]', 'Enter');
   await waitCheck(n);
 
+  const over = await page.textContent('#editor-status');
+  check(/^the engine takes it, but: body '.*' of robot 'snake' starts .* mm deep inside box 1/.test(over),
+    `on the robot, the box is warned of as gaitlab run would (${over})`);
+  await page.screenshot({ path: path.join(out, 'editor-overlap.png') });
+
   // drag it in the top view to x = 1, y = 0.1 (the grid snaps to 5 cm)
   box = await ed(() => window.gaitlab.editor.env.objects[0]);
   const from = await ed(([x, y, z]) => window.gaitlab.editor.toScreen('top', x, y, z), box.position);
@@ -153,6 +158,7 @@ try {
   await page.mouse.up();
   await waitCheck(n);
   box = await ed(() => window.gaitlab.editor.env.objects[0]);
+  check(await page.textContent('#editor-status') === 'the engine takes it: 1 solid', 'clear of the robot, no warning');
   check(Math.abs(box.position[0] - 1.0) < 1e-9 && Math.abs(box.position[1] - 0.1) < 1e-9 && box.position[2] === 0.04,
     `dragged in the top view, the box is at ${box.position.join(' ')} (1 0.1 0.04 expected)`);
 

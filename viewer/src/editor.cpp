@@ -12,6 +12,7 @@
 
 #include "gaitlab/files.h"
 #include "gaitlab/geometry.h"
+#include "gaitlab/simulation.h"
 
 namespace gaitlab::viewer {
 
@@ -22,6 +23,9 @@ using json = nlohmann::json;
 
 // images offered for new heightfields: at most this many PNG files of the folder
 constexpr std::size_t kMaxImages = 200;
+// a check builds the world with its robots (to say whether one starts inside an object) only
+// up to this many solids: a rubble field of 100 000 stones is checked, not built, on every edit
+constexpr long long kMaxBuiltSolids = 20000;
 
 // the kinds of objects, in the order the engine numbers and the file writes them
 const std::vector<std::string>& kind_names() {
@@ -803,7 +807,25 @@ std::string Editor::check(const std::string& body) const {
     Impl& m = *impl_;
     std::lock_guard<std::mutex> lock(m.mutex);
     const EnvironmentSpec env = m.environment(j);
-    return dump({{"ok", true}, {"solids", solid_count(env.world)}});
+    // the robots where they start, built as gaitlab run builds them: what it would warn of
+    json warnings = json::array();
+    WorldSpec world = env.world;
+    for (const Placement& p : env.placements) {
+        for (const RobotSpec& r : m.source.robots) {
+            if (r.name == p.robot) world.robots.push_back({r, p.pose, {}});
+        }
+    }
+    if (!world.robots.empty() && solid_count(world) <= kMaxBuiltSolids) {
+        try {
+            const Simulation sim(world);
+            for (const std::string& w : sim.warnings())
+                warnings.push_back(w);
+        } catch (const Error& e) {
+            // an image that cannot be read: the save says so
+            warnings.push_back(e.what());
+        }
+    }
+    return dump({{"ok", true}, {"solids", solid_count(env.world)}, {"warnings", warnings}});
 }
 
 std::string Editor::save(const std::string& body) {

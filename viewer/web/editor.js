@@ -636,6 +636,7 @@ async function changed(shape) {
   ed.checks++;
   ed.error = r.status === 200 ? null : r.data;
   if (ed.error) status(ed.error.error, 'error');
+  else if (r.data.warnings && r.data.warnings.length > 0) status(`the engine takes it, but: ${r.data.warnings.join('; ')}`, 'warning');
   else status(`the engine takes it: ${r.data.solids} solid${r.data.solids === 1 ? '' : 's'}`, 'ok');
   if (ed.selected && ed.selected.object !== undefined && (shape || !ed.error)) {
     await rebuild(ed.selected.object);
