@@ -503,7 +503,7 @@ struct View::Impl {
             std::lock_guard<std::mutex> lock(world_mutex);
             w = world;
         }
-        if (!w) throw EditError(404, "there is no simulation to edit yet");
+        if (!w) throw EditError(409, "there is no simulation to edit yet");
         EditorSource src;
         src.file = world_file;
         src.environment.world = *w;
