@@ -90,6 +90,7 @@ const world = path.join(out, 'world.xml');
 try {
   if (part !== 'view') {
   // ---- gaitlab edit: a new file ----
+  fs.copyFileSync(path.join(source, 'examples/terrain.png'), path.join(out, 'terrain.png'));
   const edit = await serve(['edit', 'world.xml', '--robot', robotFile], 'editor');
   check(/world\.xml does not exist: creating it/.test(edit.err) && fs.existsSync(world),
     'gaitlab edit says it creates the missing file, and does');
@@ -191,6 +192,18 @@ try {
   await page.press('#editor-floor-friction', 'Enter');
   await waitCheck(n);
   check(/the engine takes it/.test(await page.textContent('#editor-status')), 'friction 0.3 is taken');
+  // a heightfield from a PNG of the folder, put behind the robot
+  n = await checks();
+  await page.selectOption('#editor-kind', 'heightfield');
+  await page.click('#editor-add');
+  await waitCheck(n);
+  n = await checks();
+  await page.fill('#editor-form input[data-field="position.0"]', '-1');
+  await page.press('#editor-form input[data-field="position.0"]', 'Enter');
+  await waitCheck(n);
+  const terrain = await page.textContent('#editor-status');
+  check(terrain === 'the engine takes it: 2 solids' && await page.inputValue('#editor-form select[data-field="image"]') === 'terrain.png',
+    `a heightfield from terrain.png is added (${terrain})`);
   // a saved name outside the folder is refused
   await page.fill('#editor-name', '../elsewhere.xml');
   await page.click('#editor-save');
@@ -202,7 +215,7 @@ try {
   await page.screenshot({ path: path.join(out, 'editor.png') });
   const saved = fs.readFileSync(world, 'utf8');
   check(/<floor friction="0\.7"\/>/.test(saved) && /<box size="0\.2 0\.6 0\.08" position="1 0\.1 0\.04" friction="0\.3"\/>/.test(saved) &&
-    /<place robot="snake" position="0 0 0"\/>/.test(saved), `the file holds the box, the floor and the robot's place:\n${saved}`);
+    /<place robot="snake" position="0 0 0"\/>/.test(saved) && /<heightfield [^>]*position="-1 0 0"[^>]* image="terrain\.png"\/>/.test(saved), `the file holds the box, the floor and the robot's place:\n${saved}`);
   // the picture: the box drawn in the top view (blue: selected)
   const blue = await page.evaluate(() => {
     const c = document.getElementById('editor-top');
@@ -225,7 +238,7 @@ try {
   const lua = path.join(out, 'list.lua');
   fs.writeFileSync(lua, listing);
   const listed = spawnSync(gaitlab, ['run', '--no-record', lua, world], { encoding: 'utf8' });
-  check(listed.status === 0 && /box 1 from 0\.900 -0\.200 0\.000 to 1\.100 0\.400 0\.080/.test(listed.stdout),
+  check(listed.status === 0 && /1 boxes, 1 heightfields/.test(listed.stdout) && /box 1 from 0\.900 -0\.200 0\.000 to 1\.100 0\.400 0\.080/.test(listed.stdout),
     `gaitlab loads the saved world: ${listed.stdout.trim()} ${listed.stderr.trim()}`);
   const actuation = path.join(source, 'examples/walk/snake.actuation.xml');
   fs.writeFileSync(path.join(out, 'edited.xml'), `<?xml version="1.0"?>

@@ -602,8 +602,19 @@ function showForm() {
     form.appendChild(row);
   }
   if (isObject && target.kind === 'heightfield') {
-    form.appendChild(el('p', { className: 'small' }, target.image ? `image ${target.image}`
-      : `stored heights (${(target.samples || []).join(' × ')} samples)`));
+    if (target.image !== undefined) {
+      // its image: one of the PNG files of the folder (grey levels scaled to max_height)
+      const pick = el('select', {}, ...[...new Set([target.image, ...ed.info.images])].map((n) =>
+        el('option', { value: n, selected: n === target.image }, n)));
+      pick.dataset.field = 'image';
+      pick.addEventListener('change', () => { target.image = pick.value; changed(true); });
+      const row = el('div', { className: 'editor-field' }, el('label', {}, 'image'), pick);
+      if (bad && ed.error.field === 'image') row.classList.add('bad');
+      form.appendChild(row);
+    } else {
+      form.appendChild(el('p', { className: 'small' },
+        `heights stored in the file (${(target.samples || []).join(' × ')} samples)`));
+    }
   }
 }
 
