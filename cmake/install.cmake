@@ -21,15 +21,16 @@ set(GAITLAB_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/gaitlab)
 set(GAITLAB_DATA_DIR ${CMAKE_INSTALL_DATADIR}/gaitlab)
 
 install(TARGETS gaitlab RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(TARGETS gaitlab_engine gaitlab_controllers gaitlab_scripting
+install(TARGETS gaitlab_engine gaitlab_controllers gaitlab_scripting gaitlab_optimize
         EXPORT gaitlabTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT runtime NAMELINK_COMPONENT dev
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 # the public headers: include/gaitlab/*.h (engine), include/gaitlab/controllers/*.h,
-# include/gaitlab/scripting/*.h; they include only each other and the standard library
-foreach(dir engine controllers scripting)
+# include/gaitlab/scripting/*.h, include/gaitlab/optimize/*.h; they include only each other and
+# the standard library
+foreach(dir engine controllers scripting optimize)
     install(DIRECTORY ${PROJECT_SOURCE_DIR}/${dir}/include/
             DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT dev FILES_MATCHING PATTERN "*.h")
 endforeach()
@@ -53,7 +54,7 @@ set(GAITLAB_LUA_MODULE_DIR ${CMAKE_INSTALL_LIBDIR}/lua/5.4)
 install(TARGETS gaitlab_lua_module LIBRARY DESTINATION ${GAITLAB_LUA_MODULE_DIR})
 install(TARGETS gaitlab_lua_core LIBRARY DESTINATION ${GAITLAB_LUA_MODULE_DIR}/gaitlab)
 
-# pkg-config: one gaitlab.pc for the three libraries; its prefix is found from where it lies
+# pkg-config: one gaitlab.pc for the four libraries; its prefix is found from where it lies
 file(RELATIVE_PATH GAITLAB_PC_TO_PREFIX
      /prefix/${CMAKE_INSTALL_LIBDIR}/pkgconfig /prefix)
 string(REGEX REPLACE "/$" "" GAITLAB_PC_TO_PREFIX "${GAITLAB_PC_TO_PREFIX}")

@@ -13,7 +13,7 @@ packages=(
     liblua5.4-dev lua5.4
     lua5.3 lua5.1 luajit
     libbullet-dev libfmt-dev libtinyxml2-dev libpng-dev
-    catch2 libcli11-dev libbenchmark-dev libedit-dev nlohmann-json3-dev
+    catch2 libcli11-dev libbenchmark-dev libedit-dev nlohmann-json3-dev libeigen3-dev
     liburdfdom-tools gnuplot-nox valgrind tmux dpkg-dev file
     libcpp-httplib-dev chromium
 )

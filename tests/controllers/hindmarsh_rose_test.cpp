@@ -8,55 +8,32 @@
 #include <vector>
 
 #include "gaitlab/error.h"
+#include "rig.h"
 
 using namespace gaitlab;
+using namespace gaitlab::test;
 using Catch::Matchers::Equals;
 using gaitlab::controllers::HindmarshRose;
 
 namespace {
 
-class StillJoints final : public JointReader {
-  public:
-    double angle(int) const override { return 0; }
-    double velocity(int) const override { return 0; }
-    double torque(int) const override { return 0; }
-};
-
-// drives a controller alone, without physics, recording each joint's burst onsets and the
-// spike count of each finished burst
-struct Rig {
-    Rig(HindmarshRose& c, int n)
-        : ctl(c),
-          joints(static_cast<size_t>(n)),
-          targets(joints.size()),
-          onsets(joints.size()),
-          counts(joints.size()) {
-        for (int m = 0; m < n; ++m)
-            joints[static_cast<size_t>(m)] = m;
-        ctl.bind(n);
-    }
+// records each joint's burst onsets and the spike count of each finished burst
+struct BurstRig : Rig {
+    BurstRig(Controller& c, int n) : Rig(c, n), onsets(joints.size()), counts(joints.size()) {}
     void run(double seconds, double dt = 0.03) {
-        const long steps = std::lround(seconds / dt);
-        for (long k = 0; k < steps; ++k) {
-            const std::vector<double> was = ctl.values(HindmarshRose::bursting);
-            ControlIO io(dt, time, joints, reader, targets.data());
-            ctl.step(io);
-            time += dt;
+        std::vector<double> was = ctl.values(HindmarshRose::bursting);
+        run_each(seconds, dt, [&](double t) {
             for (size_t m = 0; m < joints.size(); ++m) {
                 const double now = ctl.values(HindmarshRose::bursting)[m];
-                if (was[m] == 0 && now == 1) onsets[m].push_back(time);
+                if (was[m] == 0 && now == 1) onsets[m].push_back(t + dt);
                 if (was[m] == 1 && now == 0)
                     counts[m].push_back(ctl.values(HindmarshRose::burst_spikes)[m]);
             }
-        }
+            was = ctl.values(HindmarshRose::bursting);
+        });
     }
-    HindmarshRose& ctl;
-    std::vector<int> joints;
-    std::vector<double> targets;
     std::vector<std::vector<double>> onsets;
     std::vector<std::vector<double>> counts;
-    StillJoints reader;
-    double time = 0;
 };
 
 }  // namespace
@@ -93,7 +70,7 @@ TEST_CASE("a hindmarsh_rose neuron fires more spikes per burst for a larger curr
     CAPTURE(k.current, dt);
     HindmarshRose c;
     c.set_param("current", k.current);
-    Rig rig(c, 1);
+    BurstRig rig(c, 1);
     rig.run(4, dt);  // past the first, longer burst
     const size_t skip = rig.counts[0].size();
     rig.run(12, dt);
@@ -108,7 +85,7 @@ TEST_CASE("a hindmarsh_rose neuron fires more spikes per burst for a larger curr
 TEST_CASE("a hindmarsh_rose neuron's output follows its bursts") {
     HindmarshRose c;
     c.set_param("offset", 10);
-    Rig rig(c, 1);
+    BurstRig rig(c, 1);
     CHECK(c.values(HindmarshRose::angle)[0] == -30);  // at rest: offset - amplitude
     double lo = 1e9, hi = -1e9;
     bool rose_in_burst = false;
@@ -134,7 +111,7 @@ TEST_CASE("a hindmarsh_rose neuron's output follows its bursts") {
 TEST_CASE("inhibitory synapses make neighbouring hindmarsh_rose neurons burst in turn") {
     HindmarshRose c;
     c.set_param("synapse", 0.5);
-    Rig rig(c, 2);
+    BurstRig rig(c, 2);
     rig.run(20);
     const auto& a = rig.onsets[0];
     const auto& b = rig.onsets[1];
@@ -151,7 +128,7 @@ TEST_CASE("inhibitory synapses make neighbouring hindmarsh_rose neurons burst in
 TEST_CASE("hindmarsh_rose's reset restarts it bit for bit") {
     HindmarshRose c;
     c.set_param("synapse", 0.5);
-    Rig rig(c, 3);
+    BurstRig rig(c, 3);
     rig.run(2);
     const std::vector<double> first = rig.targets;
     c.reset();

@@ -10,59 +10,39 @@
 #include <vector>
 
 #include "gaitlab/error.h"
+#include "rig.h"
 
 using namespace gaitlab;
+using namespace gaitlab::test;
 using Catch::Matchers::Equals;
 using gaitlab::controllers::Matsuoka;
 
 namespace {
 
-constexpr double kTestPi = 3.14159265358979323846;
-
-class StillJoints final : public JointReader {
-  public:
-    double angle(int) const override { return 0; }
-    double velocity(int) const override { return 0; }
-    double torque(int) const override { return 0; }
-};
-
-// drives a controller alone, without physics, and records upward zero crossings of each
-// joint's output (interpolated between control steps) after `record_from` seconds
-struct Rig {
-    Rig(Controller& c, int n)
-        : ctl(c), joints(static_cast<size_t>(n)), targets(joints.size()), ups(joints.size()) {
-        for (int m = 0; m < n; ++m)
-            joints[static_cast<size_t>(m)] = m;
-        ctl.bind(n);
-    }
+// records the upward zero crossings of each joint's output (interpolated between control
+// steps) after `record_from` seconds
+struct CrossingRig : Rig {
+    CrossingRig(Controller& c, int n) : Rig(c, n), ups(joints.size()) {}
     void run(double seconds, double record_from = 1e9, double dt = 0.03) {
-        const long steps = std::lround(seconds / dt);
         const int angle = ctl.find_value("angle");
-        for (long k = 0; k < steps; ++k) {
-            const std::vector<double> before = ctl.values(angle);
-            ControlIO io(dt, time, joints, reader, targets.data());
-            ctl.step(io);
+        std::vector<double> before = ctl.values(angle);
+        run_each(seconds, dt, [&](double t) {
             const std::vector<double>& now = ctl.values(angle);
             for (size_t m = 0; m < joints.size(); ++m) {
-                if (time >= record_from && before[m] < 0 && now[m] >= 0)
-                    ups[m].push_back(time + dt * before[m] / (before[m] - now[m]));
+                if (t >= record_from && before[m] < 0 && now[m] >= 0)
+                    ups[m].push_back(t + dt * before[m] / (before[m] - now[m]));
             }
-            time += dt;
-        }
+            before = now;
+        });
     }
     double period(size_t m) const {
         return (ups[m].back() - ups[m].front()) / static_cast<double>(ups[m].size() - 1);
     }
-    Controller& ctl;
-    std::vector<int> joints;
-    std::vector<double> targets;
     std::vector<std::vector<double>> ups;
-    StillJoints reader;
-    double time = 0;
 };
 
 // phase lead of joint m over joint m - 1 from their last upward zero crossings, (-180, 180] deg
-double lead_deg(const Rig& rig, size_t m) {
+double lead_deg(const CrossingRig& rig, size_t m) {
     const double dt = rig.ups[m - 1].back() - rig.ups[m].back();
     double d = std::fmod(360 * dt / rig.period(m), 360.0);
     if (d <= -180) d += 360;
@@ -108,7 +88,7 @@ TEST_CASE("a matsuoka half-centre oscillates near the frequency its time constan
     c.set_param("adaptation_time", k.big_t);
     c.set_param("inhibition", k.a);
     c.set_param("adaptation", k.b);
-    Rig rig(c, 1);
+    CrossingRig rig(c, 1);
     rig.run(40, 20);
     REQUIRE(rig.ups[0].size() >= 5);
     // Matsuoka (2011): omega ~ (1/T) sqrt(((tau + T) b - tau a) / (tau a)), an approximation
@@ -132,7 +112,7 @@ TEST_CASE("a matsuoka half-centre stops, one neuron winning, when adaptation is 
     Matsuoka c;
     c.set_param("adaptation", b);
     c.set_param("seed", seed);
-    Rig rig(c, 1);
+    CrossingRig rig(c, 1);
     rig.run(20);
     const double u1 = c.values(Matsuoka::u1)[0], u2 = c.values(Matsuoka::u2)[0];
     const double on = 1 / (1 + b), off = 1 - 2 * on;
@@ -152,7 +132,7 @@ TEST_CASE("a matsuoka half-centre decays to the symmetric rest when inhibition i
     Matsuoka c;
     c.set_param("inhibition", a);
     c.set_param("seed", 4);
-    Rig rig(c, 1);
+    CrossingRig rig(c, 1);
     rig.run(30);
     const double rest = 1 / (1 + a + 2.5);
     CHECK(c.values(Matsuoka::u1)[0] == Approx(rest).margin(1e-6));
@@ -167,7 +147,7 @@ TEST_CASE("inhibitory neighbour weights lock a matsuoka chain into a travelling 
     CAPTURE(ascending);
     Matsuoka c;
     c.set_param(ascending ? "ascending" : "descending", -0.5);
-    Rig rig(c, 6);
+    CrossingRig rig(c, 6);
     rig.run(60, 40);
     std::vector<double> leads;
     for (size_t m = 1; m < 6; ++m) {
@@ -188,7 +168,7 @@ TEST_CASE("inhibitory neighbour weights lock a matsuoka chain into a travelling 
 
 TEST_CASE("matsuoka's trajectory hardly depends on the control period, and reset restarts it") {
     Matsuoka fine_c, coarse_c;
-    Rig fine(fine_c, 3), coarse(coarse_c, 3);
+    CrossingRig fine(fine_c, 3), coarse(coarse_c, 3);
     fine.run(3, 1e9, 0.01);
     coarse.run(3, 1e9, 0.05);
     for (int k = 0; k < 3; ++k) {

@@ -10,17 +10,12 @@
 #include "gaitlab/controllers/sine.h"
 #include "gaitlab/simulation.h"
 #include "gaitlab/types.h"
+#include "rig.h"
 
 using namespace gaitlab;
+using gaitlab::test::StillJoints;
 
 namespace {
-
-class StillJoints final : public JointReader {
-  public:
-    double angle(int) const override { return 0; }
-    double velocity(int) const override { return 0; }
-    double torque(int) const override { return 0; }
-};
 
 // lateral displacement (m) of an 8-module pitch-yaw robot after 20 s of a pitch sine with the
 // yaw joints held at `offset` degrees

@@ -13,52 +13,14 @@
 #include "gaitlab/controllers/sine.h"
 #include "gaitlab/error.h"
 #include "gaitlab/simulation.h"
+#include "rig.h"
 
 using namespace gaitlab;
+using namespace gaitlab::test;
 using Catch::Matchers::Equals;
 using gaitlab::controllers::PhaseChain;
 
 namespace {
-
-constexpr double kTestPi = 3.14159265358979323846;
-
-class StillJoints final : public JointReader {
-  public:
-    double angle(int) const override { return 0; }
-    double velocity(int) const override { return 0; }
-    double torque(int) const override { return 0; }
-};
-
-// drives a controller alone, without physics
-struct Rig {
-    explicit Rig(Controller& c, int n)
-        : ctl(c), joints(static_cast<size_t>(n)), targets(joints.size()) {
-        for (int m = 0; m < n; ++m)
-            joints[static_cast<size_t>(m)] = m;
-        ctl.bind(n);
-    }
-    void run(double seconds, double dt = 0.03) {
-        const long steps = std::lround(seconds / dt);
-        for (long k = 0; k < steps; ++k) {
-            ControlIO io(dt, time, joints, reader, targets.data());
-            ctl.step(io);
-            time += dt;
-        }
-    }
-    Controller& ctl;
-    std::vector<int> joints;
-    std::vector<double> targets;
-    StillJoints reader;
-    double time = 0;
-};
-
-// a - b wrapped into (-180, 180], degrees
-double angle_diff_deg(double a, double b) {
-    double d = std::fmod(a - b, 360.0);
-    if (d <= -180) d += 360;
-    if (d > 180) d -= 360;
-    return d;
-}
 
 // largest |theta_m - theta_{m-1} - lag| over the chain, degrees
 double worst_lag_error(const PhaseChain& c, double lag) {
