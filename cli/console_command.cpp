@@ -133,6 +133,7 @@ int run_console(const ConsoleArgs& a, const std::string& command) {
         host.set_args(a.file, a.args);
         // the browser viewer, made by the first sim:view() (it goes before the host)
         std::unique_ptr<viewer::View> view;
+        std::string served_host;  // where it listens
 
         scripting::Console console(host);
         LineInput::Options options;
@@ -157,15 +158,40 @@ int run_console(const ConsoleArgs& a, const std::string& command) {
             if (view) view->message("error", m);
         });
         // sim:view(): the page and this console steer the simulation together
-        host.set_view_handler([&](const std::shared_ptr<Player>& player, int index) {
+        host.set_view_handler([&](const std::shared_ptr<Player>& player, int index,
+                                  const scripting::LuaHost::ViewRequest& request) {
+            if (view && ((request.port != 0 && request.port != view->server().port()) ||
+                         (!request.host.empty() && request.host != served_host))) {
+                throw Error(
+                    fmt::format("sim:view(): the viewer serves {} already (port and "
+                                "host choose where the first sim:view() serves it)",
+                                view->url()));
+            }
             if (!view) {
                 viewer::ViewOptions o;
                 o.wait_for_page = false;
                 o.console = true;
-                view = std::make_unique<viewer::View>(host, viewer::ServerOptions{}, o);
+                viewer::ServerOptions where;
+                where.port = request.port;
+                if (!request.host.empty()) where.host = request.host;
+                // the same rules as --view: beyond loopback, a token in every request
+                view = std::make_unique<viewer::View>(host, where, o);
+                served_host = where.host;
+                // "Edit world" saves beside the script (or in the current folder)
+                view->edit_world((a.file.empty()
+                                      ? fs::path("world")
+                                      : fs::path(a.file).parent_path() / fs::path(a.file).stem())
+                                     .string() +
+                                 ".environment.xml");
                 input.write(stderr, "viewer: " + view->url() +
                                         "\n  open it in a browser: the page and this console "
                                         "work together (sim:run plays at real time)\n");
+                if (where.host == "0.0.0.0" || where.host == "::") {
+                    input.write(stderr,
+                                "  from another machine: this machine's address in place of "
+                                "127.0.0.1, with the token (whoever has it can steer the "
+                                "simulation)\n");
+                }
             }
             view->show(player, index);
             return view->url();

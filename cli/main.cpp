@@ -33,6 +33,7 @@
 #include <CLI/CLI.hpp>
 
 #include "console_command.h"
+#include "edit.h"
 #include "gaitlab/error.h"
 #include "gaitlab/plot.h"
 #include "gaitlab/run_data.h"
@@ -42,6 +43,7 @@
 #include "gaitlab/version.h"
 #include "gaitlab/viewer/run_view.h"
 #include "gaitlab/viewer/view.h"
+#include "gaitlab/xml.h"
 #include "make.h"
 #include "optimize.h"
 #include "wizard.h"
@@ -346,10 +348,31 @@ int run_script(const RunArgs& a, const std::string& command) {
                              "127.0.0.1, with the token (whoever has it can steer the "
                              "simulation)\n");
             }
+            // "Edit world" saves the simulation file's environment, or one beside the script
+            std::string world = (fs::path(a.file).parent_path() /
+                                 (fs::path(a.file).stem().string() + ".environment.xml"))
+                                    .string();
+            if (xml) {
+                try {
+                    world =
+                        gaitlab::resolve_path(a.file, gaitlab::read_simulation(a.file).environment);
+                } catch (const gaitlab::Error&) {
+                    // running the file says what is wrong with it
+                }
+            }
+            view->edit_world(world);
         }
         if (view) {
             // sim:view() shows that simulation (every one is shown already, the newest first)
-            host.set_view_handler([&view](const std::shared_ptr<gaitlab::Player>& p, int index) {
+            host.set_view_handler([&view](const std::shared_ptr<gaitlab::Player>& p, int index,
+                                          const gaitlab::scripting::LuaHost::ViewRequest& r) {
+                // the viewer listens where --port and --host said, before the script ran
+                if ((r.port != 0 && r.port != view->server().port()) || !r.host.empty()) {
+                    throw gaitlab::Error(fmt::format(
+                        "sim:view(): the viewer serves {} already: under gaitlab run --view, "
+                        "choose its port and address with --port and --host",
+                        view->url()));
+                }
                 view->show(p, index);
                 return view->url();
             });
@@ -957,6 +980,7 @@ int main(int argc, char** argv) {
     gaitlab::cli::NewCommand new_command(app);
     gaitlab::cli::MakeCommand make_command(app);
     gaitlab::cli::OptimizeCommand optimize_command(app);
+    gaitlab::cli::EditCommand edit_command(app);
 
     std::vector<const char*> args{argv[0]};
     for (const std::string& a : argl)
@@ -1014,6 +1038,8 @@ int main(int argc, char** argv) {
         } else if (optimize_command.chosen()) {
             catch_signals();
             status = optimize_command.run(command);
+        } else if (edit_command.chosen()) {
+            status = edit_command.run();
         } else if (*replay) {
             catch_signals();
             status = replay_command(replay_dir, replay_into);

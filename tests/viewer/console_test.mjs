@@ -7,6 +7,7 @@
 // Usage: node console_test.mjs GAITLAB SOURCE_DIR OUT_DIR
 import { spawn, spawnSync } from 'node:child_process';
 import fs from 'node:fs';
+import net from 'node:net';
 import path from 'node:path';
 
 const [gaitlab, source, out] = process.argv.slice(2);
@@ -42,9 +43,21 @@ async function waitFor(what, test, ms = 20000) {
 }
 function type(line) { child.stdin.write(`${line}\n`); }
 
-type('print("at", sim:view())');
+// sim:view{port =}: a bad port is refused as Lua refuses bad arguments; a free one is used
+type('sim:view{port = 0}');
+await waitFor('the bad port', () => /bad argument/.test(stderr));
+check(/bad argument #1 to 'view' \(field 'port': a port number from 1 to 65535 expected \(got 0\)\)/.test(stderr),
+  `sim:view{port = 0} is refused (${stderr.trim()})`);
+const port = await new Promise((resolve) => {
+  const s = net.createServer().listen(0, '127.0.0.1', () => { const p = s.address().port; s.close(() => resolve(p)); });
+});
+type(`print("at", sim:view{port = ${port}})`);
 await waitFor('the address', () => /at\thttp:\/\/127\.0\.0\.1:\d+\//.test(stdout));
 const url = stdout.match(/at\t(http:\/\/\S+)/)[1];
+check(url === `http://127.0.0.1:${port}/`, `sim:view{port = ${port}} serves there (${url})`);
+type(`sim:view{port = ${port === 65535 ? port - 1 : port + 1}}`);
+await waitFor('another port refused', () => /serves http:\/\/127\.0\.0\.1:\d+\/ already/.test(stderr));
+check(true, 'a second sim:view with another port says where the viewer serves already');
 check(/viewer: http:\/\/127\.0\.0\.1:\d+\//.test(stderr), `sim:view() serves the viewer at ${url}`);
 const post = async (command) => {
   const r = await fetch(`${url}api/command`, {
@@ -85,6 +98,30 @@ check(/,viewer,param,sine\.amplitude,25,/.test(events), 'events.csv records the 
 const replay = spawnSync(gaitlab, ['replay', run], { encoding: 'utf8' });
 check(replay.status === 0 && /^replay identical/.test(replay.stdout),
   `the console session replays bit for bit (${(replay.stdout + replay.stderr).trim()})`);
+
+// sim:view{host = "0.0.0.0"}: beyond loopback, a token every request must carry
+{
+  const c = spawn(gaitlab, ['-i', path.join(source, 'tests/viewer/scripts/console.lua'), '--no-record'],
+    { stdio: ['pipe', 'pipe', 'pipe'] });
+  let o = '';
+  let e = '';
+  c.stdout.on('data', (d) => { o += d; });
+  c.stderr.on('data', (d) => { e += d; });
+  const done = new Promise((resolve) => c.on('exit', resolve));
+  c.stdin.write('print("at", sim:view{host = "0.0.0.0"})\n');
+  const end = Date.now() + 15000;
+  while (!/at\thttp/.test(o) && Date.now() < end) await sleep(50);
+  const m = o.match(/at\t(http:\/\/127\.0\.0\.1:(\d+)\/\?token=([0-9a-f]{32}))/);
+  check(m && /from another machine/.test(e), `sim:view{host = "0.0.0.0"} serves with a token (${o.trim()})`);
+  if (m) {
+    const without = await fetch(`http://127.0.0.1:${m[2]}/api/scene`);
+    const withToken = await fetch(`http://127.0.0.1:${m[2]}/api/scene?token=${m[3]}`);
+    check(without.status === 403 && withToken.status === 200,
+      `without the token 403, with it 200 (${without.status}, ${withToken.status})`);
+  }
+  c.stdin.end();
+  check(await done === 0, 'that console ends with status 0');
+}
 
 // without a viewer, sim:view() says where it works
 const bad = path.join(out, 'view.lua');

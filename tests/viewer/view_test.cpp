@@ -202,3 +202,20 @@ sim = gaitlab.simulation{ world = world }
                  "\"deg\"}") != std::string::npos);
     CHECK(view.server().stats().frames >= 1);
 }
+
+TEST_CASE("a page's delay adds wall time between the physics steps of a run") {
+    scripting::LuaHost host;
+    View view(host, {}, no_wait());
+    host.run_string(kSnake, "snake");
+    const int port = view.server().port();
+    // 2 ms a step: 100 ticks take at least 0.2 s of wall time instead of 0.1 s
+    REQUIRE(post(port, R"({"command": "delay", "value": 0.002})"));
+    auto start = Clock::now();
+    host.run_string("sim:run(0.1) assert(sim.ticks == 100)", "run");
+    CHECK(seconds_since(start) >= 0.19);
+    // back to none: the next 100 ticks are at real time again
+    REQUIRE(post(port, R"({"command": "delay", "value": 0})"));
+    start = Clock::now();
+    host.run_string("sim:run(0.1) assert(sim.ticks == 200)", "run");
+    CHECK(seconds_since(start) < 0.19);
+}

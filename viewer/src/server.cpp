@@ -91,7 +91,16 @@ std::string encode_frame(const Frame& f) {
             out += "null";
         }
     }
-    out += "],\"state\":";
+    out += ']';
+    if (f.with_contacts) {
+        out += ",\"contacts\":[";
+        for (std::size_t i = 0; i < f.contacts.size(); ++i) {
+            if (i > 0) out += ',';
+            append_number(out, f.contacts[i], i % 7 == 6 ? 3 : 4);
+        }
+        out += ']';
+    }
+    out += ",\"state\":";
     out += f.state.empty() ? "{}" : f.state;
     out += '}';
     return out;
@@ -211,6 +220,10 @@ const char* to_string(Command::Kind kind) {
             return "sensor";
         case Command::Kind::seek:
             return "seek";
+        case Command::Kind::delay:
+            return "delay";
+        case Command::Kind::contacts:
+            return "contacts";
     }
     return "?";
 }
@@ -261,7 +274,8 @@ struct Server::State {
 
     std::mutex live_mutex;
     LiveProvider live;
-    RunProvider run;  // under live_mutex
+    RunProvider run;      // under live_mutex
+    WorldProvider world;  // under live_mutex
     bool stopped = false;
 
     std::atomic<int> streams{0};
@@ -309,8 +323,8 @@ Command Server::State::parse_command(const std::string& body, std::string& error
     const auto name = j.find("command");
     if (name == j.end() || !name->is_string()) {
         error =
-            "field 'command' expected: play, pause, step, reset, speed, param, live, sensor or "
-            "seek";
+            "field 'command' expected: play, pause, step, reset, speed, delay, param, live, "
+            "sensor, contacts or seek";
         return c;
     }
     const std::string what = name->get<std::string>();
@@ -319,13 +333,14 @@ Command Server::State::parse_command(const std::string& body, std::string& error
         {"step", Command::Kind::step},   {"reset", Command::Kind::reset},
         {"speed", Command::Kind::speed}, {"param", Command::Kind::param},
         {"live", Command::Kind::live},   {"sensor", Command::Kind::sensor},
+        {"delay", Command::Kind::delay}, {"contacts", Command::Kind::contacts},
         {"seek", Command::Kind::seek}};
     const auto k =
         std::find_if(kinds.begin(), kinds.end(), [&](const auto& p) { return p.first == what; });
     if (k == kinds.end()) {
         error = fmt::format(
-            "unknown command '{}': play, pause, step, reset, speed, param, live, sensor or seek "
-            "expected",
+            "unknown command '{}': play, pause, step, reset, speed, delay, param, live, sensor, "
+            "contacts or seek expected",
             what.substr(0, 40));
         return c;
     }
@@ -333,7 +348,9 @@ Command Server::State::parse_command(const std::string& body, std::string& error
     // fields each command takes; any other is a mistake worth saying
     std::vector<std::string> allowed = {"command", "simulation"};
     if (c.kind == Command::Kind::step) allowed.push_back("ticks");
-    if (c.kind == Command::Kind::speed) allowed.push_back("value");
+    if (c.kind == Command::Kind::speed || c.kind == Command::Kind::delay)
+        allowed.push_back("value");
+    if (c.kind == Command::Kind::contacts) allowed.push_back("enabled");
     if (c.kind == Command::Kind::param) {
         allowed.insert(allowed.end(), {"controller", "name", "value"});
     }
@@ -382,6 +399,25 @@ Command Server::State::parse_command(const std::string& body, std::string& error
         } else {
             c.value = v->get<double>();
         }
+    }
+    if (c.kind == Command::Kind::delay) {
+        const auto v = j.find("value");
+        if (v == j.end() || !v->is_number() || !(v->get<double>() >= 0) ||
+            !(v->get<double>() <= kMaxDelay)) {
+            error = fmt::format(
+                "field 'value': wall seconds between two physics steps in [0, {}] expected",
+                shown(kMaxDelay));
+            return c;
+        }
+        c.value = v->get<double>();
+    }
+    if (c.kind == Command::Kind::contacts) {
+        const auto on = j.find("enabled");
+        if (on == j.end() || !on->is_boolean()) {
+            error = "field 'enabled': true (frames carry the contact points) or false expected";
+            return c;
+        }
+        c.value = on->get<bool>() ? 1 : 0;
     }
     if (c.kind == Command::Kind::sensor) {
         const auto n = j.find("name");
@@ -619,6 +655,33 @@ void Server::State::routes() {
     };
     http.Get(R"(/api/run(/[a-z]+)*)", run_route);
     http.Post(R"(/api/run(/[a-z]+)*)", run_route);
+    // the environment editor (editor.h): answered on this thread by its provider
+    auto world_route = [this](const char* action) {
+        return [this, action](const httplib::Request& req, httplib::Response& res) {
+            WorldProvider fn;
+            {
+                std::lock_guard<std::mutex> lock(live_mutex);
+                fn = world;
+            }
+            if (!fn) {
+                refuse(res, 404, "no world to edit here");
+                return;
+            }
+            if (req.method == "POST" &&
+                req.get_header_value("Content-Type").rfind("application/json", 0) != 0) {
+                refuse(res, 415, "an edit is sent as Content-Type: application/json");
+                return;
+            }
+            const Reply r = fn(action, req.body);
+            if (r.status != 200) ++refused;
+            res.status = r.status;
+            res.set_content(r.body, "application/json");
+        };
+    };
+    http.Get("/api/world", world_route("open"));
+    http.Post("/api/world/shape", world_route("shape"));
+    http.Post("/api/world/check", world_route("check"));
+    http.Post("/api/world/save", world_route("save"));
 
     http.Get("/api/status", [this](const httplib::Request&, httplib::Response& res) {
         json j;
@@ -637,6 +700,11 @@ void Server::State::routes() {
         const std::string type = req.get_header_value("Content-Type");
         if (type.rfind("application/json", 0) != 0) {
             refuse(res, 415, "a command is sent as Content-Type: application/json");
+            return;
+        }
+        // the payload limit is the world editor's; commands are small
+        if (req.body.size() > kMaxCommandBytes) {
+            refuse(res, 413, fmt::format("a command is at most {} bytes", kMaxCommandBytes));
             return;
         }
         std::string error;
@@ -742,13 +810,14 @@ void Server::State::routes() {
             ++refused;
             res.set_content(json_error(fmt::format("no such page: {} {} (the viewer serves /, "
                                                    "/api/events, /api/scene, /api/live, "
-                                                   "/api/status and POST /api/command)",
+                                                   "/api/world, /api/status and POST "
+                                                   "/api/command)",
                                                    req.method, req.path.substr(0, 80))),
                             "application/json");
         } else if (res.status == 413) {
             ++refused;
             res.set_content(
-                json_error(fmt::format("a command is at most {} bytes", kMaxCommandBytes)),
+                json_error(fmt::format("a request is at most {} bytes", kMaxWorldBytes)),
                 "application/json");
         } else {
             ++refused;
@@ -779,7 +848,7 @@ Server::Server(ServerOptions options) : state_(std::make_shared<State>()) {
     if (options.token.empty() && !is_loopback(options.host)) options.token = random_token();
     s.options = options;
     s.http.new_task_queue = [] { return new httplib::ThreadPool(kThreads); };
-    s.http.set_payload_max_length(kMaxCommandBytes);
+    s.http.set_payload_max_length(kMaxWorldBytes);
     s.http.set_keep_alive_max_count(1000);
     s.http.set_keep_alive_timeout(5);
     s.http.set_read_timeout(5, 0);
@@ -848,6 +917,7 @@ void Server::stop() {
     std::lock_guard<std::mutex> lock(s.live_mutex);
     s.live = nullptr;
     s.run = nullptr;
+    s.world = nullptr;
 }
 
 void Server::set_live_provider(LiveProvider fn) {
@@ -862,6 +932,11 @@ void Server::set_run_provider(RunProvider fn) {
     }
     std::lock_guard<std::mutex> lock(state_->live_mutex);
     state_->run = std::move(fn);
+}
+
+void Server::set_world_provider(WorldProvider fn) {
+    std::lock_guard<std::mutex> lock(state_->live_mutex);
+    state_->world = std::move(fn);
 }
 
 int Server::port() const {

@@ -8,6 +8,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+
 #include "gaitlab/controller.h"
 #include "gaitlab/geometry.h"
 #include "gaitlab/live.h"
@@ -15,8 +17,11 @@
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/sensor.h"
 #include "gaitlab/simulation.h"
+#include "gaitlab/viewer/editor.h"
 
 namespace gaitlab::viewer {
+
+static_assert(kMaxDelay == kMaxPlayDelay, "the page's delay is the player's");
 
 namespace {
 
@@ -236,7 +241,15 @@ struct View::Impl {
     Session* running = nullptr;  // the session a run steps now
     bool finished = false;       // the script has ended
     std::string script_error;
-    Frame frame;  // reused: its vectors keep their capacity
+    Frame frame;            // reused: its vectors keep their capacity
+    bool contacts = false;  // a page asked for the contact points
+    std::vector<ContactPoint> points;
+    // the environment editor ("Edit world"): the world of the shown simulation as its last
+    // scene had it, copied on the simulation's thread for the server's
+    std::mutex world_mutex;
+    std::shared_ptr<const WorldSpec> world;
+    std::string world_file;
+    std::unique_ptr<Editor> editor;
 
     Impl(scripting::LuaHost& h, ServerOptions s, ViewOptions o)
         : host(h), options(o), server(std::move(s)) {}
@@ -416,6 +429,7 @@ struct View::Impl {
             "\"speed\":",
             s.held, running == &s && !s.held && !waiting, playing, finished, options.console);
         out += std::isinf(p.speed()) ? std::string("\"max\"") : fmt::format("{}", p.speed());
+        out += fmt::format(",\"delay\":{},\"contacts\":{}", p.delay(), contacts);
         const double m = p.measured_speed();
         out += std::isfinite(m) ? fmt::format(",\"measured\":{}", m) : ",\"measured\":null";
         out += ",\"sensors\":[";
@@ -451,6 +465,11 @@ struct View::Impl {
             for (int i = 0; i < sim.sensor_count(); ++i)
                 sensors.push_back(sensor_label(sim, i));
             server.publish_scene(std::move(scene), std::move(controls), std::move(sensors));
+            if (editor) {
+                auto copy = std::make_shared<const WorldSpec>(sim.world());
+                std::lock_guard<std::mutex> lock(world_mutex);
+                world = std::move(copy);
+            }
         }
         frame.simulation = s.index;
         frame.tick = sim.ticks();
@@ -462,9 +481,43 @@ struct View::Impl {
             for (size_t i = 0; i < c.def().params.size(); ++i)
                 frame.params.push_back(c.param(static_cast<int>(i)));
         }
+        frame.with_contacts = contacts;
+        frame.contacts.clear();
+        if (contacts) {
+            sim.contacts(points);
+            for (const ContactPoint& c : points) {
+                frame.contacts.insert(frame.contacts.end(),
+                                      {c.position.x, c.position.y, c.position.z, c.normal.x,
+                                       c.normal.y, c.normal.z, c.force});
+            }
+        }
         frame.state = state_json(s);
         server.publish_frame(frame);
         s.next_frame = steady_seconds() + 1.0 / options.frame_rate;
+    }
+
+    // what "Edit world" opens: the shown simulation's world, its robots where they are
+    EditorSource world_source() {
+        std::shared_ptr<const WorldSpec> w;
+        {
+            std::lock_guard<std::mutex> lock(world_mutex);
+            w = world;
+        }
+        if (!w) throw EditError(409, "there is no simulation to edit yet");
+        EditorSource src;
+        src.file = world_file;
+        src.environment.world = *w;
+        src.environment.world.robots.clear();
+        for (const PlacedRobot& r : w->robots) {
+            // a file places each robot name once: the first robot of a name
+            bool placed = false;
+            for (const Placement& p : src.environment.placements)
+                placed = placed || p.robot == r.robot.name;
+            if (placed) continue;
+            src.environment.placements.push_back({r.robot.name, r.pose, 0});
+            src.robots.push_back(r.robot);
+        }
+        return src;
     }
 
     void check_interrupt() const {
@@ -524,6 +577,12 @@ struct View::Impl {
                     break;
                 case Command::Kind::speed:
                     p.set_speed(c.value);
+                    break;
+                case Command::Kind::delay:
+                    p.set_delay(c.value);
+                    break;
+                case Command::Kind::contacts:
+                    contacts = c.value != 0;
                     break;
                 case Command::Kind::sensor: {
                     const int i = sim.find_sensor(c.name);
@@ -686,7 +745,7 @@ View::View(scripting::LuaHost& host, ServerOptions server, ViewOptions options) 
 View::~View() {
     *alive_ = nullptr;
     impl_->host.set_runner({});
-    // no server thread reads the live buffers once they go
+    // no server thread reads the live buffers (or asks the editor) once they go
     impl_->server.stop();
     std::lock_guard<std::mutex> lock(impl_->live_mutex);
     for (const auto& s : impl_->sessions)
@@ -703,6 +762,21 @@ std::string View::url() const {
 
 void View::message(const std::string& level, const std::string& text) {
     impl_->server.publish_message(level, text);
+}
+
+void View::edit_world(const std::string& file) {
+    Impl& m = *impl_;
+    std::error_code ec;
+    m.world_file = std::filesystem::absolute(file, ec).lexically_normal().string();
+    if (!m.editor) {
+        m.editor = std::make_unique<Editor>([&m] { return m.world_source(); }, "view");
+        m.server.set_world_provider(m.editor->provider());
+    }
+    // the shown simulation's world, for the first page that opens the editor
+    if (Session* s = m.shown()) {
+        s->scene_dirty = true;
+        m.publish(*s);
+    }
 }
 
 void View::show(const std::shared_ptr<Player>& player, int index) {

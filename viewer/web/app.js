@@ -260,6 +260,9 @@ $('speed').addEventListener('change', (e) => {
   const v = e.target.value;
   send({ command: 'speed', value: v === 'max' ? 'max' : Number(v) });
 });
+$('delay').addEventListener('change', (e) => {
+  send({ command: 'delay', value: Number(e.target.value) / 1000 });
+});
 $('home').addEventListener('click', () => { $('follow').checked = false; viewAll(); });
 document.addEventListener('keydown', (e) => {
   if (e.target.tagName === 'INPUT' || e.target.tagName === 'SELECT') return;
@@ -378,6 +381,9 @@ function showFrame(f) {
   const speed = s.speed === 'max' ? 'as fast as possible' : `${s.speed}×`;
   $('measured').textContent = `target ${speed}` +
     (s.measured !== null && s.measured !== undefined ? `, measured ${s.measured.toFixed(2)}× real time` : '');
+  if (s.delay !== undefined && document.activeElement !== $('delay')) {
+    $('delay').value = Math.round(s.delay * 1e6) / 1e3;
+  }
   if (s.sensors && s.sensors.length === sensorBoxes.length) {
     s.sensors.forEach((on, i) => { sensorBoxes[i].checked = on; });
   }

@@ -147,6 +147,8 @@ class Simulation {
     BodyState object(int index) const;
     /// Contact points in the last physics step.
     int contact_count() const;
+    /// The contact points of the last physics step closer than 1 mm, into `out` (cleared first).
+    void contacts(std::vector<ContactPoint>& out) const;
 
     // Sensors (sensor.h, docs/sensors.md). They are numbered 0.. over the whole simulation:
     // robot by robot in the order of their specs' sensors, then those added later. Readings

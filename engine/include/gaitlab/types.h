@@ -91,4 +91,11 @@ struct JointError {
     double axis_angle = 0;  ///< angle between the axis seen from each body, rad
 };
 
+/// Where two solids touch (a robot body, the floor, an object).
+struct ContactPoint {
+    Vec3 position;     ///< m, world frame
+    Vec3 normal;       ///< unit, world frame
+    double force = 0;  ///< N: the normal force of the last physics step
+};
+
 }  // namespace gaitlab

@@ -549,6 +549,24 @@ void PhysicsWorld::copy_state_from(const PhysicsWorld& from) {
     }
 }
 
+void PhysicsWorld::contacts(std::vector<ContactPoint>& out, double dt) const {
+    out.clear();
+    btDispatcher& d = impl_->dispatcher;
+    for (int i = 0; i < d.getNumManifolds(); ++i) {
+        const btPersistentManifold* m = d.getManifoldByIndexInternal(i);
+        for (int k = 0; k < m->getNumContacts(); ++k) {
+            const btManifoldPoint& p = m->getContactPoint(k);
+            // Bullet keeps points a little apart too (they may touch next step): not contacts
+            if (p.getDistance() > 0.001) continue;
+            const btVector3& at = p.getPositionWorldOnB();
+            const btVector3& n = p.m_normalWorldOnB;
+            out.push_back({{at.x(), at.y(), at.z()},
+                           {n.x(), n.y(), n.z()},
+                           dt > 0 ? p.getAppliedImpulse() / dt : 0.0});
+        }
+    }
+}
+
 btDiscreteDynamicsWorld& PhysicsWorld::bullet_world() const {
     return impl_->world;
 }

@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 
+#include <vector>
+
 #include "gaitlab/types.h"
 #include "gaitlab/world.h"
 
@@ -64,6 +66,9 @@ class PhysicsWorld {
     /// collision pass).
     std::optional<Overlap> deepest_robot_overlap(double tolerance) const;
     int contact_count() const;
+    /// The contact points closer than 1 mm after the last step, their force the impulse over
+    /// `dt`, into `out` (cleared first).
+    void contacts(std::vector<ContactPoint>& out, double dt) const;
 
     /// Makes this world, built from the same spec as `from`, continue as `from` would: every
     /// body's state (pose, velocities and what Bullet interpolates), the joints' motor

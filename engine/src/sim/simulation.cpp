@@ -606,6 +606,10 @@ int Simulation::contact_count() const {
     return physics_->contact_count();
 }
 
+void Simulation::contacts(std::vector<ContactPoint>& out) const {
+    physics_->contacts(out, options_.dt);
+}
+
 void Simulation::check_sensor(int i) const {
     if (i < 0 || i >= sensor_count()) {
         throw SpecError(fmt::format("sensor index {} out of range [0, {})", i, sensor_count()));

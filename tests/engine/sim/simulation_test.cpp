@@ -745,3 +745,21 @@ TEST_CASE("100 000 static boxes build and step in well under a second each",
     CHECK(seconds(t1 - t0) < 5);  // was 6 s on an idle machine, and 3 ms more per step
     CHECK(seconds(t2 - t1) < 5);
 }
+
+TEST_CASE("contact points: a chain at rest on the floor carries its weight through them") {
+    Simulation sim(test::chain_world(4, Connection::pitch_pitch));
+    sim.run(1.0);
+    std::vector<ContactPoint> points;
+    sim.contacts(points);
+    REQUIRE(points.size() >= 4);
+    double force = 0;
+    for (const ContactPoint& c : points) {
+        CHECK(std::abs(c.position.z) < 0.002);  // on the floor
+        CHECK(std::abs(std::abs(c.normal.z) - 1) < 1e-6);
+        CHECK(c.force >= 0);
+        force += c.force;
+    }
+    // the floor carries the robot: the normal forces add up to its weight
+    const double weight = total_mass(sim.world().robots[0].robot) * 9.81;
+    CHECK(force == Approx(weight).epsilon(0.05));
+}

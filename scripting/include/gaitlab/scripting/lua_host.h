@@ -125,10 +125,17 @@ class LuaHost {
     /// them against the wall clock with the player and waits while its page holds them.
     using Runner = std::function<long(Player& player, int index, long ticks)>;
     void set_runner(Runner fn);
-    /// What sim:view() does: fn(player, index) shows the simulation in a viewer and returns
-    /// its address (a console makes the viewer on the first call). Without one, sim:view()
-    /// raises an error saying where it works.
-    using ViewHandler = std::function<std::string(const std::shared_ptr<Player>&, int index)>;
+    /// Where sim:view{port =, host =} asks the viewer to listen (0 and "": as the viewer
+    /// chooses; the first call makes it there).
+    struct ViewRequest {
+        int port = 0;
+        std::string host;
+    };
+    /// What sim:view() does: fn(player, index, request) shows the simulation in a viewer and
+    /// returns its address (a console makes the viewer on the first call). Without one,
+    /// sim:view() raises an error saying where it works.
+    using ViewHandler = std::function<std::string(const std::shared_ptr<Player>&, int index,
+                                                  const ViewRequest& request)>;
     void set_view_handler(ViewHandler fn);
     /// What an interrupt stops the host's code with ("interrupted (SIGINT)"); "" if none.
     std::string interrupt_message() const;

@@ -27,6 +27,8 @@ class ServerError : public Error {
 inline constexpr int kMaxStreams = 16;                      ///< pages (event streams) open at once
 inline constexpr int kMaxQueuedCommands = 256;              ///< commands waiting for the simulation
 inline constexpr std::size_t kMaxCommandBytes = 64 * 1024;  ///< body of one POST
+inline constexpr std::size_t kMaxWorldBytes = 16 * 1024 * 1024;  ///< body of one world edit
+inline constexpr double kMaxDelay = 10;  ///< s between two physics steps (Player's limit)
 
 struct ServerOptions {
     /// The address to listen on: "127.0.0.1" (the default) serves this machine only; any
@@ -56,15 +58,17 @@ struct ParamControl {
 /// One command from a page, checked against the published controls.
 struct Command {
     enum class Kind {
-        play,    ///< play at the simulation's speed
-        pause,   ///< hold
-        step,    ///< `count` ticks, then hold
-        reset,   ///< back to time 0
-        speed,   ///< `value`: real-time factor, > 0 (inf: as fast as possible)
-        param,   ///< controller `drive`'s parameter `name` = `value`
-        live,    ///< live buffers' settings: `sample_every`, `refresh`, `size` (0 / < 0: kept)
-        sensor,  ///< switches sensor `name` ("<robot>.<sensor>") on (`value` 1) or off (0)
-        seek,    ///< a recorded run (set_run_provider): go to time `value`, s
+        play,      ///< play at the simulation's speed
+        pause,     ///< hold
+        step,      ///< `count` ticks, then hold
+        reset,     ///< back to time 0
+        speed,     ///< `value`: real-time factor, > 0 (inf: as fast as possible)
+        param,     ///< controller `drive`'s parameter `name` = `value`
+        live,      ///< live buffers' settings: `sample_every`, `refresh`, `size` (0 / < 0: kept)
+        sensor,    ///< switches sensor `name` ("<robot>.<sensor>") on (`value` 1) or off (0)
+        delay,     ///< `value`: wall seconds between two physics steps, in [0, kMaxDelay]
+        contacts,  ///< frames carry the contact points (`value` 1) or not (0)
+        seek,      ///< a recorded run (set_run_provider): go to time `value`, s
     };
     Kind kind = Kind::play;
     int simulation = 0;  ///< creation index (0: the newest)
@@ -88,6 +92,10 @@ struct Frame {
     std::vector<double> poses;   ///< 7 per body (x y z, m; qw qx qy qz), in the scene's order
     std::vector<double> params;  ///< every parameter of every controller, in the scene's order
     std::string state;           ///< a JSON object: playing, speed, measured speed ...
+    /// Contact points, 7 numbers each (x y z, m; normal x y z; force, N); sent only when
+    /// `with_contacts` (a page asked for them).
+    std::vector<double> contacts;
+    bool with_contacts = false;
 };
 
 /// Counters for tests and for the status route.
@@ -166,6 +174,18 @@ class Server {
     /// at most kMaxCommandBytes. Called on the server's threads: it must be thread-safe.
     /// Without one, they answer 404 and the command `seek` is refused.
     void set_run_provider(RunProvider fn);
+
+    /// Answers the environment editor's routes (editor.h): GET /api/world (`action` "open")
+    /// and POST /api/world/shape, /api/world/check, /api/world/save (`action` "shape",
+    /// "check", "save", `body` the request's JSON): `fn` returns the HTTP status and the JSON
+    /// body. Called on the server's threads: it must be thread-safe. Without one, they answer
+    /// 404.
+    struct Reply {
+        int status = 200;
+        std::string body;
+    };
+    using WorldProvider = std::function<Reply(const std::string& action, const std::string& body)>;
+    void set_world_provider(WorldProvider fn);
     /// Stops serving now (the destructor does it too): pages are disconnected, the threads
     /// joined; nothing is called on the server's threads any more.
     void stop();

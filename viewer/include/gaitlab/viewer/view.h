@@ -52,6 +52,11 @@ class View {
     /// A message for the pages' console panel.
     void message(const std::string& level, const std::string& text);
 
+    /// Lets the pages edit the shown simulation's world ("Edit world", editor.h) and save it
+    /// as the environment file `file`, or under another name in its folder; the simulation
+    /// itself does not change.
+    void edit_world(const std::string& file);
+
     /// Shows a simulation that exists already (sim:view()): the pages show it from now on.
     void show(const std::shared_ptr<Player>& player, int index);
 
