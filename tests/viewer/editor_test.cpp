@@ -331,7 +331,13 @@ TEST_CASE("editor: through the server, edits need JSON, and the token beyond loo
     {
         Server plain({});
         httplib::Client c("127.0.0.1", plain.port());
-        CHECK(c.Get("/api/world")->status == 404);  // no editor here
+        {  // no editor here: the page is told so, the editing routes are not there
+            auto none = c.Get("/api/world");
+            REQUIRE(none);
+            CHECK(none->status == 200);
+            CHECK(json::parse(none->body) == json{{"editable", false}});
+            CHECK(c.Post("/api/world/check", "{}", "application/json")->status == 404);
+        }
         plain.set_world_provider(ed.provider());
         auto r = c.Get("/api/world");
         REQUIRE(r);

@@ -638,6 +638,8 @@ RunView::RunView(const std::string& dir, ServerOptions server, RunViewOptions op
     std::shared_ptr<Recorded> first = load(dir, options.rebuild_seconds, options.cancel);
     impl_ = std::make_shared<Impl>(std::move(server), std::move(options));
     impl_->current = first;
+    // the scene from the start: a page may ask for it before serve() has run once
+    impl_->server.publish_scene(first->scene, {}, {});
     std::error_code ec;
     impl_->start_dir = fs::absolute(fs::path(dir), ec).lexically_normal().parent_path().string();
     Impl* impl = impl_.get();

@@ -664,6 +664,11 @@ void Server::State::routes() {
                 fn = world;
             }
             if (!fn) {
+                // the page asks whether there is a world to edit: a recorded run says no
+                if (req.method == "GET") {
+                    res.set_content("{\"editable\":false}", "application/json");
+                    return;
+                }
                 refuse(res, 404, "no world to edit here");
                 return;
             }

@@ -827,5 +827,5 @@ draw();
 // gaitlab edit: the page is the editor
 request('api/world').then((r) => {
   if (r.status === 200 && r.data.mode === 'edit') openEditor();
-  else if (r.status === 404) $('edit-world').hidden = true;   // nothing to edit here
+  else if (r.status === 200 && r.data.editable === false) $('edit-world').hidden = true;  // nothing to edit here
 });
