@@ -1,0 +1,88 @@
+// The viewer's frame rate in the browser: `gaitlab run bench/lua/crowd.lua --view` with N
+// snakes (8 modules each, at real time), Debian's headless chromium (software WebGL,
+// SwiftShader) on the page through playwright-core, and for 10 s: how often the page paints
+// (requestAnimationFrame callbacks per second), how many new simulation frames it draws per
+// second (window.gaitlab.drawn) and receives (window.gaitlab.frames). Prints a markdown table
+// (docs/performance.md §9).
+//
+// Usage: [VIEWPORT=WxH] node bench/viewer_fps.mjs GAITLAB SOURCE_DIR [ROBOTS...]
+// (default 1 10 40 80 robots, a 1200x720 page)
+import { spawn } from 'node:child_process';
+import { createRequire } from 'node:module';
+import fs from 'node:fs';
+import path from 'node:path';
+
+const [gaitlab, source, ...counts] = process.argv.slice(2);
+if (!gaitlab || !source) {
+  console.error('usage: node bench/viewer_fps.mjs GAITLAB SOURCE_DIR [ROBOTS...]');
+  process.exit(2);
+}
+const robots = counts.length ? counts.map(Number) : [1, 10, 40, 80];
+const chromium = process.env.CHROMIUM || '/usr/bin/chromium';
+if (!fs.existsSync(chromium)) {
+  console.error(`no chromium at ${chromium} (apt-get install chromium; tools/setup.sh does)`);
+  process.exit(1);
+}
+const require = createRequire(path.resolve(source, 'viewer/web/package.json'));
+const playwright = require('playwright-core');
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+const seconds = 10;
+// the page's size (VIEWPORT=WxH, default 1200x720): software WebGL's cost grows with its pixels
+const [width, height] = (process.env.VIEWPORT || '1200x720').split('x').map(Number);
+
+async function measure(n) {
+  const child = spawn(gaitlab, ['run', path.join(source, 'bench/lua/crowd.lua'), '--view',
+    '--no-record', '--no-progress', '--', String(n), '8', '600'],
+  { stdio: ['ignore', 'ignore', 'pipe'] });
+  let stderr = '';
+  child.stderr.on('data', (d) => { stderr += d; });
+  try {
+    let url = null;
+    for (let i = 0; i < 300 && !url; ++i) {
+      const m = stderr.match(/viewer: (http:\/\/\S+)/);
+      if (m) url = m[1];
+      else await sleep(100);
+    }
+    if (!url) throw new Error(`gaitlab printed no address:\n${stderr}`);
+    const browser = await playwright.chromium.launch({
+      executablePath: chromium,
+      args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+        '--ignore-gpu-blocklist'],
+    });
+    try {
+      const page = await browser.newPage({ viewport: { width, height } });
+      await page.goto(url);
+      await page.waitForFunction((k) => window.gaitlab.scene &&
+        window.gaitlab.scene.bodies.length >= k && window.gaitlab.drawn > 10, n * 8,
+      { timeout: 60000 });
+      await page.evaluate(() => {
+        window.paints = 0;
+        const count = () => { window.paints++; requestAnimationFrame(count); };
+        requestAnimationFrame(count);
+      });
+      await sleep(1000);
+      const read = () => page.evaluate(() => ({ paints: window.paints,
+        drawn: window.gaitlab.drawn, frames: window.gaitlab.frames,
+        time: window.gaitlab.frame.time, wall: performance.now() / 1000 }));
+      const a = await read();
+      await sleep(seconds * 1000);
+      const b = await read();
+      const wall = b.wall - a.wall;
+      return { bodies: (await page.evaluate(() => window.gaitlab.scene.bodies.length)),
+        paints: (b.paints - a.paints) / wall, drawn: (b.drawn - a.drawn) / wall,
+        frames: (b.frames - a.frames) / wall, rate: (b.time - a.time) / wall };
+    } finally {
+      await browser.close();
+    }
+  } finally {
+    child.kill('SIGINT');
+  }
+}
+
+console.log('| robots | bodies | paints / s | new frames drawn / s | frames received / s | simulated s per wall s |');
+console.log('|---|---|---|---|---|---|');
+for (const n of robots) {
+  const r = await measure(n);
+  console.log(`| ${n} | ${r.bodies} | ${r.paints.toFixed(1)} | ${r.drawn.toFixed(1)} | ` +
+    `${r.frames.toFixed(1)} | ${r.rate.toFixed(2)} |`);
+}
