@@ -7,74 +7,25 @@
 //
 // Usage: node browser_test.mjs GAITLAB SOURCE_DIR OUT_DIR
 // Exit 77 (ctest: skipped) only when no chromium is installed.
-import { spawn, spawnSync } from 'node:child_process';
-import { createRequire } from 'node:module';
+import { spawnSync } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
+import { checker, findChromium, freshDir, launchChromium, loadPlaywright, serve, sleep, testArgs } from './browser_lib.mjs';
 
-const [gaitlab, source, out] = process.argv.slice(2);
-if (!gaitlab || !source || !out) {
-  console.error('usage: node browser_test.mjs GAITLAB SOURCE_DIR OUT_DIR');
-  process.exit(2);
-}
-const chromium = process.env.CHROMIUM || '/usr/bin/chromium';
-if (!fs.existsSync(chromium)) {
-  console.log(`SKIP: no chromium at ${chromium} (apt-get install chromium; tools/setup.sh does)`);
-  process.exit(77);
-}
-const require = createRequire(path.join(source, 'viewer/web/package.json'));
-let playwright;
-try {
-  playwright = require('playwright-core');
-} catch (e) {
-  console.error('FAIL: playwright-core is missing: run tools/setup.sh (npm ci in viewer/web)');
-  process.exit(1);
-}
-
-fs.rmSync(out, { recursive: true, force: true });
-fs.mkdirSync(out, { recursive: true });
+const [gaitlab, source, out] = testArgs('browser_test.mjs');
+const chromium = findChromium();
+const playwright = loadPlaywright(source);
+freshDir(out);
 const run = path.join(out, 'run');
-let failures = 0;
-let passed = 0;
-function check(ok, what) {
-  if (ok) {
-    passed++;
-    console.log(`ok   ${what}`);
-  } else {
-    failures++;
-    console.log(`FAIL ${what}`);
-  }
-}
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+const { check, finish } = checker();
 
 // gaitlab, and the address it prints
-const child = spawn(gaitlab, ['run', path.join(source, 'tests/viewer/scripts/walk.lua'), '--view',
-  '--record', run, '--no-progress', '--', '120'], { stdio: ['ignore', 'pipe', 'pipe'] });
-let stderr = '';
-let stdout = '';
-child.stdout.on('data', (d) => { stdout += d; });
-child.stderr.on('data', (d) => { stderr += d; });
-const exited = new Promise((resolve) => child.on('exit', (code, signal) => resolve({ code, signal })));
-// whatever happens to the test (a failed wait throws), gaitlab does not outlive it
-process.on('exit', () => { if (child.exitCode === null) child.kill('SIGKILL'); });
-let url = null;
-for (let i = 0; i < 100 && !url; ++i) {
-  const m = stderr.match(/viewer: (http:\/\/\S+)/);
-  if (m) url = m[1];
-  else await sleep(100);
-}
-if (!url) {
-  console.error(`FAIL: gaitlab printed no address:\n${stderr}`);
-  child.kill('SIGKILL');
-  process.exit(1);
-}
+const served = await serve(gaitlab, ['run', path.join(source, 'tests/viewer/scripts/walk.lua'), '--view',
+  '--record', run, '--no-progress', '--', '120'], 'viewer');
+const { child, url } = served;
 console.log(`gaitlab serves ${url}`);
 
-const browser = await playwright.chromium.launch({
-  executablePath: chromium,
-  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-    '--ignore-gpu-blocklist'],
-});
+const browser = await launchChromium(playwright, chromium);
 try {
   const page = await browser.newPage({ viewport: { width: 1200, height: 720 } });
   const pageErrors = [];
@@ -209,7 +160,7 @@ try {
   await page.waitForFunction(() => window.gaitlab.frame.state.finished === true, null, { timeout: 60000 });
   const tEnd = await time();
   check(Math.abs(tEnd - 120) < 1e-9, `the script's run ends at its 120 s (t = ${tEnd})`);
-  check(/the script has finished/.test(stderr), 'gaitlab says the script has finished and still serves');
+  check(/the script has finished/.test(served.err), 'gaitlab says the script has finished and still serves');
   await page.click('#reset');
   await page.waitForFunction(() => window.gaitlab.frame.time < 0.5);
   check(true, 'reset brings time back to 0');
@@ -221,9 +172,9 @@ try {
 
 // Ctrl-C quits; the run is closed as finished, and replays bit for bit
 child.kill('SIGINT');
-const end = await exited;
+const end = await served.exited;
 check(end.code === 0, `Ctrl-C after the script quits with status 0 (got ${end.code ?? end.signal})`);
-check(/moved \d/.test(stdout), `the script printed its result (${stdout.trim()})`);
+check(/moved \d/.test(served.out), `the script printed its result (${served.out.trim()})`);
 const events = fs.readFileSync(path.join(run, 'events.csv'), 'utf8');
 check(/,viewer,param,sine\.amplitude,20,/.test(events), 'events.csv records sine.amplitude = 20 from the viewer');
 check(/,viewer,reset,/.test(events), 'events.csv records the reset from the viewer');
@@ -234,5 +185,4 @@ const replay = spawnSync(gaitlab, ['replay', run], { encoding: 'utf8' });
 check(replay.status === 0 && /^replay identical/.test(replay.stdout),
   `gaitlab replay reproduces the session bit for bit (${(replay.stdout + replay.stderr).trim()})`);
 
-console.log(`${passed} passed, ${failures} failed`);
-process.exit(failures === 0 ? 0 : 1);
+finish();

@@ -9,18 +9,12 @@ import { spawn, spawnSync } from 'node:child_process';
 import fs from 'node:fs';
 import net from 'node:net';
 import path from 'node:path';
+import { checker, freshDir, sleep } from './browser_lib.mjs';
 
 const [gaitlab, source, out] = process.argv.slice(2);
-fs.rmSync(out, { recursive: true, force: true });
-fs.mkdirSync(out, { recursive: true });
+freshDir(out);
 const run = path.join(out, 'run');
-let passed = 0;
-let failed = 0;
-function check(ok, what) {
-  if (ok) passed++; else failed++;
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
-}
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+const { check, finish } = checker();
 
 const child = spawn(gaitlab, ['-i', path.join(source, 'tests/viewer/scripts/console.lua'),
   '--record', run], { stdio: ['pipe', 'pipe', 'pipe'] });
@@ -130,5 +124,4 @@ const noview = spawnSync(gaitlab, ['run', '--no-record', bad], { encoding: 'utf8
 check(noview.status === 1 && /sim:view\(\): no viewer here: run the script with gaitlab run FILE --view/.test(noview.stderr),
   `sim:view() without a viewer is a clear error (${noview.stderr.trim()})`);
 
-console.log(`${passed} passed, ${failed} failed`);
-process.exit(failed === 0 ? 0 : 1);
+finish();

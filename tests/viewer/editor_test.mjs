@@ -10,66 +10,20 @@
 // Usage: node editor_test.mjs GAITLAB SOURCE_DIR OUT_DIR [edit|view]
 // (edit: gaitlab edit and loading what it saved; view: under --view; both by default)
 // Exit 77 (ctest: skipped) only when no chromium is installed.
-import { spawn, spawnSync } from 'node:child_process';
-import { createRequire } from 'node:module';
+import { spawnSync } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
+import { checker, findChromium, freshDir, launchChromium, loadPlaywright, serve as serveAt, sleep, testArgs } from './browser_lib.mjs';
 
-const [gaitlab, source, out, part] = process.argv.slice(2);
-if (!gaitlab || !source || !out) {
-  console.error('usage: node editor_test.mjs GAITLAB SOURCE_DIR OUT_DIR');
-  process.exit(2);
-}
-const chromium = process.env.CHROMIUM || '/usr/bin/chromium';
-if (!fs.existsSync(chromium)) {
-  console.log(`SKIP: no chromium at ${chromium} (apt-get install chromium; tools/setup.sh does)`);
-  process.exit(77);
-}
-const require = createRequire(path.join(source, 'viewer/web/package.json'));
-let playwright;
-try {
-  playwright = require('playwright-core');
-} catch (e) {
-  console.error('FAIL: playwright-core is missing: run tools/setup.sh (npm ci in viewer/web)');
-  process.exit(1);
-}
+const [gaitlab, source, out, part] = testArgs('editor_test.mjs');
+const chromium = findChromium();
+const playwright = loadPlaywright(source);
+freshDir(out);
+const { check, finish } = checker();
+// starts gaitlab in OUT_DIR and waits for the address it prints after `label`
+const serve = (args, label) => serveAt(gaitlab, args, label, { cwd: out });
 
-fs.rmSync(out, { recursive: true, force: true });
-fs.mkdirSync(out, { recursive: true });
-let failures = 0;
-let passed = 0;
-function check(ok, what) {
-  if (ok) passed++; else failures++;
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
-}
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
-const children = [];
-// whatever happens to the test (a failed wait throws), gaitlab does not outlive it
-process.on('exit', () => { for (const c of children) if (c.exitCode === null) c.kill('SIGKILL'); });
-
-// starts gaitlab and waits for the address it prints after `label`
-async function serve(args, label) {
-  const child = spawn(gaitlab, args, { cwd: out, stdio: ['ignore', 'pipe', 'pipe'] });
-  children.push(child);
-  const io = { out: '', err: '', child };
-  child.stdout.on('data', (d) => { io.out += d; });
-  child.stderr.on('data', (d) => { io.err += d; });
-  io.exited = new Promise((resolve) => child.on('exit', (code) => resolve(code)));
-  for (let i = 0; i < 100 && !io.url; ++i) {
-    const m = io.err.match(new RegExp(`${label}: (http://\\S+)`));
-    if (m) io.url = m[1]; else await sleep(100);
-  }
-  if (!io.url) {
-    console.log(`FAIL: gaitlab printed no address:\n${io.err}`);
-    process.exit(1);
-  }
-  return io;
-}
-
-const browser = await playwright.chromium.launch({
-  executablePath: chromium,
-  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
-});
+const browser = await launchChromium(playwright, chromium);
 // prints where "box 1" of the environment file arg[1] is, and the world
 const listing = `local w = assert(gaitlab.world.load(arg[1]))
 local lo, hi = { math.huge, math.huge, math.huge }, { -math.huge, -math.huge, -math.huge }
@@ -232,7 +186,7 @@ try {
   check(pageErrors.length === 0, `no errors in the page (${pageErrors.join('; ')})`);
   await page.close();
   edit.child.kill('SIGINT');
-  check(await edit.exited === 0, 'Ctrl-C ends gaitlab edit with status 0');
+  check((await edit.exited).code === 0, 'Ctrl-C ends gaitlab edit with status 0');
 
   // ---- gaitlab loads it: the world's listing, and a headless run ----
   const lua = path.join(out, 'list.lua');
@@ -323,5 +277,4 @@ try {
 } finally {
   await browser.close();
 }
-console.log(`${passed} passed, ${failures} failed`);
-process.exit(failures === 0 ? 0 : 1);
+finish();

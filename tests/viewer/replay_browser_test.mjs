@@ -8,45 +8,17 @@
 //
 // Usage: node replay_browser_test.mjs GAITLAB SOURCE_DIR OUT_DIR
 // Exit 77 (ctest: skipped) only when no chromium is installed.
-import { spawn, spawnSync } from 'node:child_process';
-import { createRequire } from 'node:module';
+import { spawnSync } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
+import { checker, findChromium, freshDir, launchChromium, loadPlaywright, serve, sleep, testArgs } from './browser_lib.mjs';
 import { webmInfo } from './webm.mjs';
 
-const [gaitlab, source, out] = process.argv.slice(2);
-if (!gaitlab || !source || !out) {
-  console.error('usage: node replay_browser_test.mjs GAITLAB SOURCE_DIR OUT_DIR');
-  process.exit(2);
-}
-const chromium = process.env.CHROMIUM || '/usr/bin/chromium';
-if (!fs.existsSync(chromium)) {
-  console.log(`SKIP: no chromium at ${chromium} (apt-get install chromium; tools/setup.sh does)`);
-  process.exit(77);
-}
-const require = createRequire(path.join(source, 'viewer/web/package.json'));
-let playwright;
-try {
-  playwright = require('playwright-core');
-} catch (e) {
-  console.error('FAIL: playwright-core is missing: run tools/setup.sh (npm ci in viewer/web)');
-  process.exit(1);
-}
-
-fs.rmSync(out, { recursive: true, force: true });
-fs.mkdirSync(out, { recursive: true });
-let failures = 0;
-let passed = 0;
-function check(ok, what) {
-  if (ok) {
-    passed++;
-    console.log(`ok   ${what}`);
-  } else {
-    failures++;
-    console.log(`FAIL ${what}`);
-  }
-}
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+const [gaitlab, source, out] = testArgs('replay_browser_test.mjs');
+const chromium = findChromium();
+const playwright = loadPlaywright(source);
+freshDir(out);
+const { check, finish } = checker();
 
 // two recorded runs side by side
 const walk = path.join(source, 'tests/viewer/scripts/walk.lua');
@@ -60,22 +32,8 @@ for (const [name, seconds] of [['walk', '3'], ['short', '1']]) {
 }
 const run = path.join(out, 'walk');
 
-const child = spawn(gaitlab, ['view', run], { cwd: out, stdio: ['ignore', 'pipe', 'pipe'] });
-let stderr = '';
-child.stderr.on('data', (d) => { stderr += d; });
-const exited = new Promise((resolve) => child.on('exit', (code, signal) => resolve({ code, signal })));
-process.on('exit', () => { if (child.exitCode === null) child.kill('SIGKILL'); });
-let url = null;
-for (let i = 0; i < 100 && !url; ++i) {
-  const m = stderr.match(/viewer: (http:\/\/\S+)/);
-  if (m) url = m[1];
-  else await sleep(100);
-}
-if (!url) {
-  console.error(`FAIL: gaitlab printed no address:\n${stderr}`);
-  child.kill('SIGKILL');
-  process.exit(1);
-}
+const served = await serve(gaitlab, ['view', run], 'viewer', { cwd: out });
+const { child, url } = served;
 console.log(`gaitlab serves ${url}`);
 
 // data.csv's columns as written: the strings, not numbers read back
@@ -87,11 +45,7 @@ function columns(file, names) {
     ...lines.slice(1).map((l) => { const f = l.split(','); return at.map((i) => f[i]).join(','); })];
 }
 
-const browser = await playwright.chromium.launch({
-  executablePath: chromium,
-  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-    '--ignore-gpu-blocklist'],
-});
+const browser = await launchChromium(playwright, chromium);
 try {
   const page = await browser.newPage({ viewport: { width: 1000, height: 660 }, acceptDownloads: true });
   const pageErrors = [];
@@ -254,10 +208,9 @@ try {
 }
 
 child.kill('SIGINT');
-const end = await exited;
+const end = await served.exited;
 check(end.code === 130 || end.code === 0, `Ctrl-C quits gaitlab view (status ${end.code ?? end.signal})`);
 const runJson = JSON.parse(fs.readFileSync(path.join(run, 'run.json'), 'utf8'));
 check(runJson.status === 'finished', 'the run folder is as it was (finished)');
 
-console.log(`${passed} passed, ${failures} failed`);
-process.exit(failures === 0 ? 0 : 1);
+finish();

@@ -9,31 +9,13 @@
 import { spawnSync } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
+import { checker, findChromium, freshDir, testArgs } from './browser_lib.mjs';
 import { webmInfo } from './webm.mjs';
 
-const [gaitlab, source, out] = process.argv.slice(2);
-if (!gaitlab || !source || !out) {
-  console.error('usage: node video_test.mjs GAITLAB SOURCE_DIR OUT_DIR');
-  process.exit(2);
-}
-const chromium = process.env.CHROMIUM || '/usr/bin/chromium';
-if (!fs.existsSync(chromium)) {
-  console.log(`SKIP: no chromium at ${chromium} (apt-get install chromium; tools/setup.sh does)`);
-  process.exit(77);
-}
-fs.rmSync(out, { recursive: true, force: true });
-fs.mkdirSync(out, { recursive: true });
-let failures = 0;
-let passed = 0;
-function check(ok, what) {
-  if (ok) {
-    passed++;
-    console.log(`ok   ${what}`);
-  } else {
-    failures++;
-    console.log(`FAIL ${what}`);
-  }
-}
+const [gaitlab, source, out] = testArgs('video_test.mjs');
+const chromium = findChromium();
+freshDir(out);
+const { check, finish } = checker();
 
 const walk = path.join(source, 'tests/viewer/scripts/walk.lua');
 const rec = spawnSync(gaitlab, ['run', walk, '--record', 'walk', '--', '1'], { cwd: out, encoding: 'utf8' });
@@ -71,5 +53,4 @@ const bad = spawnSync(gaitlab, ['view', 'empty', '--video', 'bad.webm'],
 check(bad.status === 1 && /run\.json/.test(bad.stderr) && !fs.existsSync(path.join(out, 'bad.webm')),
   `a folder that is not a run: status ${bad.status}, ${bad.stderr.trim()}`);
 
-console.log(`${passed} passed, ${failures} failed`);
-process.exit(failures === 0 ? 0 : 1);
+finish();

@@ -73,6 +73,13 @@ bool to_number(const json& v, double& out) {
 
 // the fields of each kind, walked to describe, read and write them (as environment_xml.cpp
 // walks them for the file); names are the file's attributes
+// where the kinds placed by a position and a yaw about z stand
+template <class V, class S>
+void placed(V& v, S& s) {
+    v.vec3("position", s.position, "m");
+    v.angle("yaw", s.yaw);
+}
+
 template <class V, class S>
 void fields(V& v, S& s, BoxSpec*) {
     v.vec3("size", s.size, "m");
@@ -87,8 +94,7 @@ void fields(V& v, S& s, WallSpec*) {
     v.number("length", s.length, "m");
     v.number("height", s.height, "m");
     v.number("thickness", s.thickness, "m");
-    v.vec3("position", s.position, "m");
-    v.angle("yaw", s.yaw);
+    placed(v, s);
     v.number("friction", s.friction, "");
 }
 
@@ -97,8 +103,7 @@ void fields(V& v, S& s, RampSpec*) {
     v.angle("slope", s.slope);
     v.number("length", s.length, "m");
     v.number("width", s.width, "m");
-    v.vec3("position", s.position, "m");
-    v.angle("yaw", s.yaw);
+    placed(v, s);
     v.number("friction", s.friction, "");
 }
 
@@ -109,8 +114,7 @@ void fields(V& v, S& s, StairsSpec*) {
     v.number("step_depth", s.step_depth, "m");
     v.number("width", s.width, "m");
     v.number("landing", s.landing, "m");
-    v.vec3("position", s.position, "m");
-    v.angle("yaw", s.yaw);
+    placed(v, s);
     v.number("friction", s.friction, "");
 }
 
@@ -119,8 +123,7 @@ void fields(V& v, S& s, CylinderSpec*) {
     v.number("radius", s.radius, "m");
     v.number("length", s.length, "m");
     v.flag("lying", s.lying);
-    v.vec3("position", s.position, "m");
-    v.angle("yaw", s.yaw);
+    placed(v, s);
     v.number("mass", s.mass, "kg");
     v.number("friction", s.friction, "");
 }
@@ -131,8 +134,7 @@ void fields(V& v, S& s, PipeSpec*) {
     v.number("thickness", s.thickness, "m");
     v.number("length", s.length, "m");
     v.count("sides", s.sides);
-    v.vec3("position", s.position, "m");
-    v.angle("yaw", s.yaw);
+    placed(v, s);
     v.number("friction", s.friction, "");
 }
 
@@ -146,8 +148,7 @@ void fields(V& v, S& s, RubbleSpec*) {
     v.number("min_height", s.min_height, "m");
     v.number("max_height", s.max_height, "m");
     v.seed("seed", s.seed);
-    v.vec3("position", s.position, "m");
-    v.angle("yaw", s.yaw);
+    placed(v, s);
     v.number("friction", s.friction, "");
 }
 
@@ -157,8 +158,7 @@ void fields(V& v, S& s, HeightfieldSpec*) {
     v.number("length", s.length, "m");
     v.number("width", s.width, "m");
     v.number("max_height", s.max_height, "m");
-    v.vec3("position", s.position, "m");
-    v.angle("yaw", s.yaw);
+    placed(v, s);
     v.number("friction", s.friction, "");
 }
 

@@ -378,6 +378,23 @@ void write_file(const fs::path& path, const std::string& text) {
     if (ec) throw IoError(fmt::format("{}: cannot write: {}", path.string(), ec.message()));
 }
 
+// what an evaluation leaves on the Lua stack (its simulation, garbage) goes when it ends, before
+// the next one
+class Clean {
+  public:
+    explicit Clean(lua_State* L) : L_(L), top_(lua_gettop(L)) {}
+    Clean(const Clean&) = delete;
+    Clean& operator=(const Clean&) = delete;
+    ~Clean() {
+        lua_settop(L_, top_);
+        lua_gc(L_, LUA_GCCOLLECT);
+    }
+
+  private:
+    lua_State* L_;
+    int top_;
+};
+
 }  // namespace
 
 Spec load_spec(const std::string& path) {
@@ -409,16 +426,7 @@ void Evaluator::interrupt(int signal) {
 
 double Evaluator::evaluate(const std::vector<double>& x) {
     lua_State* L = host_->state();
-    const int top = lua_gettop(L);
-    // what an evaluation leaves (its simulation, garbage) goes before the next one
-    struct Clean {
-        lua_State* L;
-        int top;
-        ~Clean() {
-            lua_settop(L, top);
-            lua_gc(L, LUA_GCCOLLECT);
-        }
-    } clean{L, top};
+    const Clean clean(L);
     host_->seed(0);
     try {
         // build(p)
@@ -479,15 +487,7 @@ double Evaluator::evaluate(const std::vector<double>& x) {
 
 void Evaluator::save(const std::vector<double>& x, const std::string& path) {
     lua_State* L = host_->state();
-    const int top = lua_gettop(L);
-    struct Clean {
-        lua_State* L;
-        int top;
-        ~Clean() {
-            lua_settop(L, top);
-            lua_gc(L, LUA_GCCOLLECT);
-        }
-    } clean{L, top};
+    const Clean clean(L);
     host_->seed(0);
     lua_rawgeti(L, LUA_REGISTRYINDEX, spec_ref_);
     lua_getfield(L, -1, "build");
