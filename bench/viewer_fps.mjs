@@ -5,8 +5,12 @@
 // second (window.gaitlab.drawn) and receives (window.gaitlab.frames). Prints a markdown table
 // (docs/performance.md §9).
 //
-// Usage: [VIEWPORT=WxH] node bench/viewer_fps.mjs GAITLAB SOURCE_DIR [ROBOTS...]
-// (default 1 10 40 80 robots, a 1200x720 page)
+// With RUNS=K each count is measured K times (the counts interleaved) and the medians printed;
+// the last column is the drawing resolution the page settled on (its adaptive resolution,
+// docs/viewer.md; "-" for a page without it) at the end of the last run.
+//
+// Usage: [VIEWPORT=WxH] [RUNS=K] node bench/viewer_fps.mjs GAITLAB SOURCE_DIR [ROBOTS...]
+// (default 1 10 40 80 robots, a 1200x720 page, one run)
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
 import fs from 'node:fs';
@@ -68,7 +72,11 @@ async function measure(n) {
       await sleep(seconds * 1000);
       const b = await read();
       const wall = b.wall - a.wall;
-      return { bodies: (await page.evaluate(() => window.gaitlab.scene.bodies.length)),
+      const scale = await page.evaluate(() => {
+        const t = window.gaitlab.three;
+        return t && t.adaptive ? t.adaptive.scale : null;
+      });
+      return { scale, bodies: (await page.evaluate(() => window.gaitlab.scene.bodies.length)),
         paints: (b.paints - a.paints) / wall, drawn: (b.drawn - a.drawn) / wall,
         frames: (b.frames - a.frames) / wall, rate: (b.time - a.time) / wall };
     } finally {
@@ -79,10 +87,22 @@ async function measure(n) {
   }
 }
 
-console.log('| robots | bodies | paints / s | new frames drawn / s | frames received / s | simulated s per wall s |');
-console.log('|---|---|---|---|---|---|');
+const runs = Number(process.env.RUNS || 1);
+const results = new Map(robots.map((n) => [n, []]));
+for (let k = 0; k < runs; ++k) {
+  for (const n of robots) results.get(n).push(await measure(n));
+}
+const median = (list, key) => {
+  const v = list.map((r) => r[key]).sort((a, b) => a - b);
+  return v.length % 2 ? v[(v.length - 1) / 2] : (v[v.length / 2 - 1] + v[v.length / 2]) / 2;
+};
+console.log(`page ${width}x${height}, ${runs === 1 ? 'one run' : `median of ${runs} runs`}`);
+console.log('| robots | bodies | paints / s | new frames drawn / s | frames received / s | simulated s per wall s | resolution |');
+console.log('|---|---|---|---|---|---|---|');
 for (const n of robots) {
-  const r = await measure(n);
-  console.log(`| ${n} | ${r.bodies} | ${r.paints.toFixed(1)} | ${r.drawn.toFixed(1)} | ` +
-    `${r.frames.toFixed(1)} | ${r.rate.toFixed(2)} |`);
+  const list = results.get(n);
+  const last = list[list.length - 1];
+  console.log(`| ${n} | ${last.bodies} | ${median(list, 'paints').toFixed(1)} | ` +
+    `${median(list, 'drawn').toFixed(1)} | ${median(list, 'frames').toFixed(1)} | ` +
+    `${median(list, 'rate').toFixed(2)} | ${last.scale === null ? '-' : `${Math.round(last.scale * 100)} %`} |`);
 }

@@ -2,8 +2,7 @@
 // controllers' parameters. The scene comes once (and again when it changes), then frames of
 // poses, over one server-sent event stream (/api/events); commands go back as JSON posts
 // (/api/command). docs/viewer.md describes the protocol.
-import * as THREE from 'three';
-import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { createView } from './scene.js';
 import uPlot from 'uplot';
 
 const token = new URLSearchParams(location.search).get('token');
@@ -33,188 +32,23 @@ const $ = (id) => document.getElementById(id);
 const canvas = $('scene');
 
 // ---------------------------------------------------------------------------------------------
-// the 3D view: z up, as gaitlab's frames are
+// the 3D view (scene.js): bodies, objects, camera, picking, adaptive resolution
 
-const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
-renderer.setPixelRatio(window.devicePixelRatio);
-const world = new THREE.Scene();
-world.background = new THREE.Color(0xdfe6ee);
-const camera = new THREE.PerspectiveCamera(45, 1, 0.005, 500);
-camera.up.set(0, 0, 1);
-camera.position.set(-0.6, -1.1, 0.7);
-const controls = new OrbitControls(camera, canvas);
-controls.target.set(0.3, 0, 0);
-controls.enableDamping = true;
-controls.update();
-
-world.add(new THREE.HemisphereLight(0xffffff, 0x8d8d8d, 2.2));
-const sun = new THREE.DirectionalLight(0xffffff, 2.0);
-sun.position.set(2, -3, 5);
-world.add(sun);
-
-let sceneGroup = new THREE.Group();   // what one scene message builds
-gaitlab.three = { THREE, world, camera, controls, renderer };
-world.add(sceneGroup);
-let bodyMeshes = [];                  // robots' bodies, then dynamic objects: frame order
-let robots = [];
-
-const robotColours = [0xe07b24, 0x2a7fbf, 0x3f9e4d, 0x9b4fb3];
-const objectMaterial = new THREE.MeshStandardMaterial({ color: 0x8e98a6, roughness: 0.8 });
-const dynamicMaterial = new THREE.MeshStandardMaterial({ color: 0xb59b6a, roughness: 0.7 });
-
-function resize() {
-  const w = canvas.clientWidth, h = canvas.clientHeight;
-  if (canvas.width !== Math.floor(w * renderer.getPixelRatio()) ||
-      canvas.height !== Math.floor(h * renderer.getPixelRatio())) {
-    renderer.setSize(w, h, false);
-    camera.aspect = w / Math.max(h, 1);
-    camera.updateProjectionMatrix();
-  }
-}
-
-function setPose(object, p, k = 0) {
-  if (p[k] === null) return;   // a value JSON cannot hold (the simulation diverged)
-  object.position.set(p[k], p[k + 1], p[k + 2]);
-  object.quaternion.set(p[k + 4], p[k + 5], p[k + 6], p[k + 3]);
-}
-
-function gridTexture() {
-  const n = 512;
-  const c = document.createElement('canvas');
-  c.width = c.height = n;
-  const g = c.getContext('2d');
-  g.fillStyle = '#f4f6f8';
-  g.fillRect(0, 0, n, n);
-  g.fillStyle = '#c3cad4';
-  for (let i = 0; i < 10; ++i) {
-    g.fillRect(Math.round(i * n / 10), 0, 2, n);
-    g.fillRect(0, Math.round(i * n / 10), n, 2);
-  }
-  g.fillStyle = '#7d8898';
-  g.fillRect(0, 0, 4, n);
-  g.fillRect(0, 0, n, 4);
-  const t = new THREE.CanvasTexture(c);
-  t.wrapS = t.wrapT = THREE.RepeatWrapping;
-  t.repeat.set(200, 200);
-  t.anisotropy = renderer.capabilities.getMaxAnisotropy();
-  t.colorSpace = THREE.SRGBColorSpace;
-  return t;
-}
-
-// a box or a cylinder whose axis is its local x, as gaitlab's bodies and solids are
-function shapeGeometry(shape, size) {
-  if (shape === 'cylinder') {
-    const g = new THREE.CylinderGeometry(size[1] / 2, size[1] / 2, size[0], 24);
-    g.rotateZ(-Math.PI / 2);
-    return g;
-  }
-  return new THREE.BoxGeometry(size[0], size[1], size[2]);
-}
+const view = createView(gaitlab, canvas, { follow: $('follow'), status: $('drawing') });
+gaitlab.three = view;
+gaitlab.picked = null;   // the body or object clicked last: { kind, name, ... }
+view.onpick = (p) => { $('picked').textContent = p ? `${p.robot ? `${p.robot} ` : ''}${p.name}` : ''; };
+let unpin = null;
+$('full-quality').addEventListener('change', (e) => {
+  if (e.target.checked && !unpin) unpin = view.pin();
+  if (!e.target.checked && unpin) { unpin(); unpin = null; }
+});
 
 function buildScene(scene) {
-  world.remove(sceneGroup);
-  sceneGroup.traverse((o) => { if (o.geometry) o.geometry.dispose(); });
-  sceneGroup = new THREE.Group();
-  world.add(sceneGroup);
-  bodyMeshes = [];
-  robots = scene.robots;
-
-  if (scene.floor.enabled) {
-    // the grid is a texture of the floor (lines drawn as lines vanish on some GPUs): one
-    // square metre per repeat, a strong line each metre, a light one each 10 cm
-    const floor = new THREE.Mesh(new THREE.PlaneGeometry(200, 200),
-      new THREE.MeshStandardMaterial({ map: gridTexture(), roughness: 1 }));
-    sceneGroup.add(floor);
-  }
-  sceneGroup.add(new THREE.AxesHelper(0.1));
-
-  scene.bodies.forEach((b, i) => {
-    const robotBody = i - scene.robots[b.robot].first_body;
-    const base = new THREE.Color(robotColours[b.robot % robotColours.length]);
-    // alternate shades make the modules countable
-    const colour = robotBody % 2 ? base.clone().multiplyScalar(0.8) : base;
-    const mesh = new THREE.Mesh(shapeGeometry(b.shape, b.size),
-      new THREE.MeshStandardMaterial({ color: colour, roughness: 0.55 }));
-    mesh.name = b.name;
-    sceneGroup.add(mesh);
-    bodyMeshes.push(mesh);
-  });
-  const dynamic = [];
-  for (const o of scene.objects) {
-    let mesh;
-    if (o.kind === 'mesh') {
-      const g = new THREE.BufferGeometry();
-      g.setAttribute('position', new THREE.Float32BufferAttribute(o.positions, 3));
-      g.computeVertexNormals();
-      mesh = new THREE.Mesh(g, objectMaterial);
-      mesh.material.side = THREE.DoubleSide;
-    } else {
-      mesh = new THREE.Mesh(shapeGeometry(o.kind, o.size),
-        o.dynamic >= 0 ? dynamicMaterial : objectMaterial);
-      setPose(mesh, o.pose);
-    }
-    mesh.name = o.name;
-    sceneGroup.add(mesh);
-    if (o.dynamic >= 0) dynamic[o.dynamic] = mesh;
-  }
-  bodyMeshes.push(...dynamic);
-
+  view.build(scene);
   $('sim-name').textContent = `simulation ${scene.simulation}`;
   buildParams(scene);
   buildSensors(scene);
-}
-
-// the centre of robot r's bodies, for following it
-function robotCentre(r) {
-  const robot = robots[r];
-  const c = new THREE.Vector3();
-  if (!robot || robot.bodies === 0) return null;
-  for (let i = 0; i < robot.bodies; ++i) c.add(bodyMeshes[robot.first_body + i].position);
-  return c.divideScalar(robot.bodies);
-}
-
-let needsViewAll = false;
-function viewAll() {
-  const box = new THREE.Box3();
-  for (const m of bodyMeshes) box.expandByObject(m);
-  if (box.isEmpty()) box.set(new THREE.Vector3(-0.5, -0.5, 0), new THREE.Vector3(0.5, 0.5, 0.2));
-  const centre = box.getCenter(new THREE.Vector3());
-  const size = Math.max(box.getSize(new THREE.Vector3()).length(), 0.3);
-  controls.target.copy(centre);
-  camera.position.copy(centre).add(new THREE.Vector3(-0.55, -1, 0.65).multiplyScalar(size));
-  controls.update();
-}
-
-let drawnFrame = null;
-let lastCentre = null;
-function draw() {
-  requestAnimationFrame(draw);
-  resize();
-  const f = gaitlab.frame;
-  if (f && f !== drawnFrame && gaitlab.scene && f.simulation === gaitlab.scene.simulation &&
-      f.poses.length === bodyMeshes.length * 7) {
-    drawnFrame = f;
-    bodyMeshes.forEach((m, i) => setPose(m, f.poses, i * 7));
-    if (needsViewAll) {
-      needsViewAll = false;
-      viewAll();
-    }
-    if ($('follow').checked) {
-      const c = robotCentre(0);
-      if (c && lastCentre) {
-        // the camera keeps its place relative to the robot
-        const d = c.clone().sub(lastCentre);
-        controls.target.add(d);
-        camera.position.add(d);
-      }
-      lastCentre = c;
-    } else {
-      lastCentre = robotCentre(0);
-    }
-    gaitlab.drawn++;
-  }
-  controls.update();
-  renderer.render(world, camera);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -263,7 +97,7 @@ $('speed').addEventListener('change', (e) => {
 $('delay').addEventListener('change', (e) => {
   send({ command: 'delay', value: Number(e.target.value) / 1000 });
 });
-$('home').addEventListener('click', () => { $('follow').checked = false; viewAll(); });
+$('home').addEventListener('click', () => { $('follow').checked = false; view.viewAll(); });
 document.addEventListener('keydown', (e) => {
   if (e.target.tagName === 'INPUT' || e.target.tagName === 'SELECT') return;
   if (e.key === ' ') { e.preventDefault(); $('play').click(); }
@@ -415,7 +249,7 @@ function connect() {
     const first = gaitlab.scene === null;
     gaitlab.scene = JSON.parse(e.data);
     buildScene(gaitlab.scene);
-    if (first) needsViewAll = true;
+    if (first) view.viewAllSoon();
     loadSeries();
   });
   events.addEventListener('frame', (e) => {
@@ -656,5 +490,4 @@ async function pollLive() {
 }
 
 connect();
-draw();
 pollLive();

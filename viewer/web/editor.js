@@ -8,6 +8,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { TransformControls } from 'three/addons/controls/TransformControls.js';
+import { shapeGeometry } from './bodies.js';
 
 const token = new URLSearchParams(location.search).get('token');
 const api = (path) => (token ? `${path}?token=${encodeURIComponent(token)}` : path);
@@ -257,14 +258,7 @@ function solidMesh(s, material) {
     g.computeVertexNormals();
     mesh = new THREE.Mesh(g, material);
   } else {
-    let g;
-    if (s.kind === 'cylinder') {
-      g = new THREE.CylinderGeometry(s.size[1] / 2, s.size[1] / 2, s.size[0], 24);
-      g.rotateZ(-Math.PI / 2);
-    } else {
-      g = new THREE.BoxGeometry(s.size[0], s.size[1], s.size[2]);
-    }
-    mesh = new THREE.Mesh(g, material);
+    mesh = new THREE.Mesh(shapeGeometry(s.kind, s.size), material);
     const p = s.pose;
     mesh.position.set(p[0], p[1], p[2]);
     mesh.quaternion.set(p[4], p[5], p[6], p[3]);

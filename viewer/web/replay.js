@@ -71,11 +71,16 @@ function stamp() {
 // ---------------------------------------------------------------------------------------------
 // pictures and video of the 3D view (live or recorded)
 
+// the 3D view at its full size, whatever resolution it draws with to keep up (scene.js)
+const three = () => window.gaitlab.three;
+
 function screenshot() {
+  const release = three().pin();
+  three().render();
   return new Promise((resolve) => canvas.toBlob((b) => {
     download(b, `gaitlab-${stamp()}.png`);
     resolve(b);
-  }, 'image/png'));
+  }, 'image/png')).finally(release);
 }
 
 function webmType() {
@@ -96,11 +101,17 @@ function recordCanvas() {
   rec.ondataavailable = (e) => { if (e.data.size > 0) chunks.push(e.data); };
   const done = new Promise((resolve, reject) => {
     rec.onstop = () => {
+      release();
       stream.getTracks().forEach((t) => t.stop());
       resolve(new Blob(chunks, { type: 'video/webm' }));
     };
-    rec.onerror = (e) => reject(new Error(e.error ? e.error.message : 'recording failed'));
+    rec.onerror = (e) => {
+      release();
+      reject(new Error(e.error ? e.error.message : 'recording failed'));
+    };
   });
+  // recorded at the full size (pinned until it stops)
+  const release = three().pin();
   rec.start(1000);
   return { stop: () => { rec.stop(); return done; } };
 }
@@ -500,6 +511,7 @@ async function videoMode() {
   const speed = Number(params.get('speed')) || 1;
   try {
     replay.video = 'recording';
+    three().pin();   // every frame at the requested size, however long it takes to draw
     await until(() => g().scene && g().frame && g().drawn > 0, 'the scene');
     if (!window.VideoEncoder) throw new Error('this browser has no VideoEncoder (WebCodecs)');
     const { Muxer, ArrayBufferTarget } = await import('./lib/webm-muxer.mjs');

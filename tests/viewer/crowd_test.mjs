@@ -1,0 +1,177 @@
+// Many robots in the browser: `gaitlab run bench/lua/crowd.lua --view` with 40 snakes of 8
+// modules (360 bodies) in Debian's headless chromium (software WebGL, far slower than a GPU).
+// Checks what a student would see: every robot is drawn where the engine says it is, in its
+// colour (the pixels at each robot's projected bodies); the drawing stays cheap (a handful of
+// draw calls for 360 bodies); a click on a body names it; when frames are slow the view is
+// drawn at a lower resolution, while a screenshot, "Full quality" and a recording are at the
+// full size.
+//
+// Usage: node crowd_test.mjs GAITLAB SOURCE_DIR OUT_DIR
+// Exit 77 (ctest: skipped) only when no chromium is installed.
+import fs from 'node:fs';
+import path from 'node:path';
+import { checker, findChromium, freshDir, launchChromium, loadPlaywright, serve, sleep, testArgs } from './browser_lib.mjs';
+
+const [gaitlab, source, out] = testArgs('crowd_test.mjs');
+const chromium = findChromium();
+const playwright = loadPlaywright(source);
+freshDir(out);
+const { check, finish } = checker();
+const robots = 40;
+const modules = 8;
+
+const served = await serve(gaitlab, ['run', path.join(source, 'bench/lua/crowd.lua'), '--view',
+  '--no-record', '--no-progress', '--', String(robots), String(modules), '600'], 'viewer');
+console.log(`gaitlab serves ${served.url}`);
+
+// the robots' colours (scene.js), as hue classes of a pixel: orange, blue, green, purple
+const kinds = ['orange', 'blue', 'green', 'purple'];
+function hueOf([r, g, b]) {
+  const max = Math.max(r, g, b), min = Math.min(r, g, b);
+  if (max - min < 40) return 'grey';   // the floor, the sky, the grid
+  if (r === max && b === min && g < r - 40) return 'orange';
+  if (b === max && r === min) return 'blue';
+  if (g === max && b < g - 20 && r < g - 20) return 'green';
+  if (r > g + 30 && b > g + 30) return 'purple';
+  return 'other';
+}
+
+const browser = await launchChromium(playwright, chromium);
+try {
+  const page = await browser.newPage({ viewport: { width: 1200, height: 720 }, acceptDownloads: true });
+  const pageErrors = [];
+  page.on('pageerror', (e) => pageErrors.push(e.message));
+  page.on('console', (m) => { if (m.type() === 'error') pageErrors.push(m.text()); });
+  await page.goto(served.url, { timeout: 90000 });
+  await page.waitForFunction((n) => window.gaitlab.scene && window.gaitlab.scene.robots.length === n &&
+    window.gaitlab.drawn > 5, robots, { timeout: 60000 });
+  const bodies = await page.evaluate(() => window.gaitlab.scene.bodies.length);
+  // the whole crowd in view, still: pause, no following
+  await page.uncheck('#follow');
+  await page.click('#play');
+  await page.waitForFunction(() => window.gaitlab.frame.state.playing === false);
+  await page.click('#home');
+  await sleep(1500);
+
+  // where each robot's bodies are on the page (the engine's poses through the page's camera),
+  // and the colour of the canvas there (read back at the canvas's own resolution)
+  const look = () => page.evaluate(() => {
+    const g = window.gaitlab;
+    const { THREE, camera, renderer } = g.three;
+    g.three.render();
+    const c = renderer.domElement;
+    const s = document.createElement('canvas');
+    s.width = c.clientWidth; s.height = c.clientHeight;
+    const x2 = s.getContext('2d');
+    x2.drawImage(c, 0, 0, s.width, s.height);
+    const img = x2.getImageData(0, 0, s.width, s.height).data;
+    const p = g.frame.poses;
+    const v = new THREE.Vector3();
+    const bodies = g.scene.bodies.map((b, i) => {
+      v.set(p[7 * i], p[7 * i + 1], p[7 * i + 2]).project(camera);
+      const x = Math.round((v.x + 1) / 2 * s.width), y = Math.round((1 - v.y) / 2 * s.height);
+      const k = 4 * (y * s.width + x);
+      const inside = x >= 0 && y >= 0 && x < s.width && y < s.height;
+      return { robot: b.robot, name: b.name, x, y, inside, rgb: inside ? [img[k], img[k + 1], img[k + 2]] : null };
+    });
+    return { bodies, calls: renderer.info.render.calls, width: c.width, height: c.height,
+      cssWidth: c.clientWidth, cssHeight: c.clientHeight, dpr: window.devicePixelRatio,
+      scale: g.three.adaptive.scale };
+  });
+  const seen = await look();
+  await page.screenshot({ path: path.join(out, 'crowd.png') });
+  const inside = seen.bodies.filter((b) => b.inside).length;
+  check(inside === bodies && bodies >= robots * modules, `every body projects inside the view (${inside} of ${bodies})`);
+  // a robot is drawn where it is when most of its bodies' centres have its colour there
+  let drawn = 0;
+  const wrong = [];
+  for (let r = 0; r < robots; ++r) {
+    const mine = seen.bodies.filter((b) => b.robot === r && b.inside);
+    const right = mine.filter((b) => hueOf(b.rgb) === kinds[r % 4]).length;
+    if (right >= mine.length / 2) drawn++; else wrong.push(`${r}: ${right}/${mine.length}`);
+  }
+  check(drawn === robots, `all ${robots} robots are drawn in their colours where the engine puts them ` +
+    `(${drawn}${wrong.length ? `; not: ${wrong.slice(0, 5).join(', ')}` : ''})`);
+  // and nothing of theirs where there is no body: the sky above the crowd is grey
+  const sky = await page.evaluate(() => {
+    const c = window.gaitlab.three.renderer.domElement;
+    const s = document.createElement('canvas');
+    s.width = c.clientWidth; s.height = c.clientHeight;
+    const x2 = s.getContext('2d');
+    x2.drawImage(c, 0, 0, s.width, s.height);
+    return Array.from(x2.getImageData(Math.round(s.width / 2), 2, 1, 1).data).slice(0, 3);
+  });
+  check(hueOf(sky) === 'grey', `the sky is not painted with robots (${sky})`);
+  check(seen.calls > 0 && seen.calls <= 10, `${bodies} bodies take ${seen.calls} draw calls`);
+
+  // a click on a body names it
+  const target = seen.bodies.find((b, i) => b.robot === 13 && i === seen.bodies.findIndex((x) => x.robot === 13) + 3);
+  const robotName = await page.evaluate((r) => window.gaitlab.scene.robots[r].name, target.robot);
+  const box = await page.locator('#scene').boundingBox();
+  await page.mouse.click(box.x + target.x, box.y + target.y);
+  await page.waitForFunction(() => window.gaitlab.picked !== null, null, { timeout: 5000 }).catch(() => {});
+  const picked = await page.evaluate(() => window.gaitlab.picked);
+  // the pixel's neighbours may be another module of the same snake: the robot counts
+  check(picked && picked.kind === 'body' && picked.robot === robotName,
+    `a click on ${robotName}'s 4th body picks a body of ${robotName} (${picked ? `${picked.robot} ${picked.name}` : 'nothing'})`);
+  const label = await page.textContent('#picked');
+  check(picked && label.includes(`${picked.robot} ${picked.name}`), `the overlay names it (${label})`);
+  await page.mouse.click(box.x + box.width / 2, box.y + 3);
+  await page.waitForFunction(() => window.gaitlab.picked === null, null, { timeout: 5000 }).catch(() => {});
+  check(await page.evaluate(() => window.gaitlab.picked === null), 'a click on the sky picks nothing');
+
+  // slow frames (software WebGL, 1200x720): the resolution goes down, the page keeps its size
+  await page.click('#play');
+  await page.waitForFunction(() => window.gaitlab.three.adaptive.scale < 1, null, { timeout: 30000 })
+    .catch(() => {});
+  const low = await page.evaluate(() => {
+    const { adaptive, renderer } = window.gaitlab.three;
+    const c = renderer.domElement;
+    return { scale: adaptive.scale, width: c.width, css: c.clientWidth * window.devicePixelRatio,
+      text: document.getElementById('drawing').textContent };
+  });
+  check(low.scale < 1 && low.width < low.css,
+    `slow frames lower the drawing resolution (${low.scale}: ${low.width} of ${low.css} pixels wide; "${low.text}")`);
+
+  // a screenshot is at the full size anyway
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#screenshot')]);
+  const file = path.join(out, 'screenshot.png');
+  await download.saveAs(file);
+  const png = fs.readFileSync(file);
+  const pw = png.readUInt32BE(16), ph = png.readUInt32BE(20);
+  check(png.subarray(1, 4).toString() === 'PNG' && pw === Math.floor(seen.cssWidth * seen.dpr) &&
+    ph === Math.floor(seen.cssHeight * seen.dpr),
+    `the screenshot has the view's full size (${pw}x${ph} for ${seen.cssWidth}x${seen.cssHeight} at ${seen.dpr})`);
+
+  // "Full quality": the full size, and it stays
+  await page.check('#full-quality');
+  await sleep(2000);
+  const full = await page.evaluate(() => {
+    const c = window.gaitlab.three.renderer.domElement;
+    return { width: c.width, css: c.clientWidth * window.devicePixelRatio,
+      text: document.getElementById('drawing').textContent };
+  });
+  check(full.width === Math.floor(full.css), `"Full quality" draws at the full size (${full.width} of ${full.css}; "${full.text}")`);
+  await page.uncheck('#full-quality');
+  await page.waitForFunction(() => window.gaitlab.three.adaptive.scale < 1, null, { timeout: 30000 })
+    .catch(() => {});
+  check(await page.evaluate(() => window.gaitlab.three.adaptive.scale < 1), 'unticked, it adapts again');
+
+  // a recording is at the full size while it runs
+  await page.click('#record-video');
+  await sleep(1500);
+  const rec = await page.evaluate(() => {
+    const c = window.gaitlab.three.renderer.domElement;
+    return { width: c.width, css: c.clientWidth * window.devicePixelRatio };
+  });
+  const [video] = await Promise.all([page.waitForEvent('download'), page.click('#record-video')]);
+  await video.saveAs(path.join(out, 'recording.webm'));
+  check(rec.width === Math.floor(rec.css), `a recording draws at the full size (${rec.width} of ${rec.css})`);
+  check(pageErrors.length === 0, `no errors in the page (${pageErrors.join('; ')})`);
+} finally {
+  await browser.close();
+}
+served.child.kill('SIGINT');
+const end = await Promise.race([served.exited, sleep(10000).then(() => null)]);
+check(end !== null, `Ctrl-C quits gaitlab (status ${end ? end.code ?? end.signal : 'none after 10 s'})`);
+finish();

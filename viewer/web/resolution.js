@@ -1,0 +1,107 @@
+// Adaptive drawing resolution for a three.js renderer (docs/viewer.md, "Drawing"). When frames
+// take longer than the budget (33 ms: 30 frames per second), the view is drawn with fewer
+// pixels, step by step (the canvas keeps its size on the page; the browser scales the picture
+// up), and with more again when there is room. Pinned (the page's "Full quality" box, a
+// screenshot, a recording, a video), it draws at the full size and does not adapt.
+//
+// How it decides: over windows of at least half a second (and 8 frames), the mean time between
+// two animation frames. Above the budget: one step down. Below 60 % of it for two windows in a
+// row: one step up, unless that step went down again soon after the last time it was tried
+// (then it waits twice as long before trying again, up to a minute), so it does not oscillate.
+
+export const kScales = [1, 0.8, 0.64, 0.5, 0.4, 0.32, 0.25];
+
+export class AdaptiveResolution {
+  // renderer: a THREE.WebGLRenderer; budgetMs: the longest frame wanted
+  constructor(renderer, { budgetMs = 1000 / 30, base = () => window.devicePixelRatio || 1 } = {}) {
+    this.renderer = renderer;
+    this.budget = budgetMs;
+    this.base = base;
+    this.level = 0;          // index in kScales
+    this.pins = 0;           // how many ask for full size now
+    this.fps = null;         // the last window's frames per second
+    this.changes = 0;        // steps taken, for tests and curious users
+    this.windowStart = null;
+    this.windowFrames = 0;
+    this.last = null;
+    this.roomy = 0;          // windows in a row with room
+    this.wait = new Array(kScales.length).fill(4000);   // ms before retrying a step up
+    this.blockedUntil = new Array(kScales.length).fill(0);
+    this.raisedAt = -Infinity;
+    this.onchange = null;
+  }
+
+  get scale() { return this.pins > 0 ? 1 : kScales[this.level]; }
+  get pinned() { return this.pins > 0; }
+
+  // the pixel ratio to draw with now
+  pixelRatio() { return this.base() * this.scale; }
+
+  // full size until the function returned is called (each call once)
+  pin() {
+    this.pins++;
+    this.restart();
+    this.changed();
+    let done = false;
+    return () => {
+      if (done) return;
+      done = true;
+      this.pins--;
+      this.restart();
+      this.changed();
+    };
+  }
+
+  restart() {
+    this.windowStart = null;
+    this.last = null;
+    this.roomy = 0;
+  }
+
+  changed() {
+    if (this.onchange) this.onchange(this.scale);
+  }
+
+  // called at every animation frame with its timestamp (ms); true when the scale changed
+  frame(now) {
+    if (this.last !== null && now - this.last > 1000) this.restart();   // a hidden tab, a stall
+    this.last = now;
+    if (this.windowStart === null) {
+      this.windowStart = now;
+      this.windowFrames = 0;
+      return false;
+    }
+    this.windowFrames++;
+    const span = now - this.windowStart;
+    if (span < 500 || this.windowFrames < 8) return false;
+    const mean = span / this.windowFrames;
+    this.fps = 1000 / mean;
+    this.windowStart = now;
+    this.windowFrames = 0;
+    if (this.pinned) return false;
+    if (mean > this.budget && this.level < kScales.length - 1) {
+      // a step up to this level that did not hold: wait longer before the next try
+      if (now - this.raisedAt < 3000) this.wait[this.level] = Math.min(this.wait[this.level] * 2, 60000);
+      this.blockedUntil[this.level] = now + this.wait[this.level];
+      this.level++;
+      this.roomy = 0;
+      this.changes++;
+      this.changed();
+      return true;
+    }
+    if (mean < 0.6 * this.budget && this.level > 0) {
+      this.roomy++;
+      if (this.roomy >= 2 && now >= this.blockedUntil[this.level - 1]) {
+        this.level--;
+        this.raisedAt = now;
+        this.roomy = 0;
+        this.changes++;
+        this.changed();
+        return true;
+      }
+    } else {
+      this.roomy = 0;
+    }
+    return false;
+  }
+}

@@ -1,0 +1,262 @@
+// The live 3D view of the viewer's page (docs/viewer.md): z up, as gaitlab's frames are. The
+// scene message builds it; each frame moves the bodies (robots' bodies drawn instanced by
+// bodies.js, moving objects as meshes); the camera orbits, pans, zooms and follows the first
+// robot; a click on a body or object names it; the drawing resolution adapts to keep 30 frames
+// per second (resolution.js) unless pinned. app.js owns the page around it.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { Bodies, shapeGeometry } from './bodies.js';
+import { AdaptiveResolution } from './resolution.js';
+
+const robotColours = [0xe07b24, 0x2a7fbf, 0x3f9e4d, 0x9b4fb3];
+
+// The floor's grid, computed per pixel from the world position (no texture: sampling a texture
+// repeated 200 times at grazing angles cost more than everything else put together in software
+// WebGL): a strong line each metre, a light one each 10 cm, their width kept at least a pixel,
+// and where lines crowd closer than a few pixels, their mean colour instead of moiré. Colours
+// are sRGB, as the lit floor looked.
+function gridMaterial() {
+  return new THREE.ShaderMaterial({
+    uniforms: {
+      base: { value: [237 / 255, 239 / 255, 241 / 255] },
+      minor: { value: [190 / 255, 197 / 255, 206 / 255] },
+      major: { value: [123 / 255, 133 / 255, 149 / 255] },
+    },
+    vertexShader: `
+      varying vec2 vXY;
+      void main() {
+        vec4 w = modelMatrix * vec4(position, 1.0);
+        vXY = w.xy;
+        gl_Position = projectionMatrix * viewMatrix * w;
+      }`,
+    fragmentShader: `
+      uniform vec3 base;
+      uniform vec3 minor;
+      uniform vec3 major;
+      varying vec2 vXY;
+      // how much of this pixel lines of 'width' m every 'spacing' m cover
+      float lines(float spacing, float width) {
+        vec2 c = vXY / spacing;
+        vec2 w = fwidth(c);                        // cells per pixel
+        vec2 half_ = vec2(0.5 * width / spacing);  // half the line, in cells
+        vec2 hw = max(half_, 0.5 * w);             // at least a pixel wide ...
+        vec2 d = abs(fract(c + 0.5) - 0.5);
+        vec2 a = (1.0 - smoothstep(hw - 0.5 * w, hw + 0.5 * w, d)) * (half_ / hw);   // ... fainter
+        a = mix(a, 2.0 * half_, smoothstep(0.2, 0.5, w));   // crowded: the mean
+        return 1.0 - (1.0 - a.x) * (1.0 - a.y);
+      }
+      void main() {
+        vec3 c = mix(base, minor, lines(0.1, 0.004));
+        gl_FragColor = vec4(mix(c, major, lines(1.0, 0.008)), 1.0);
+      }`,
+  });
+}
+
+function setPose(object, p, k = 0) {
+  if (p[k] === null || p[k + 3] === null) return;   // a value JSON cannot hold (diverged)
+  object.position.set(p[k], p[k + 1], p[k + 2]);
+  object.quaternion.set(p[k + 4], p[k + 5], p[k + 6], p[k + 3]);
+}
+
+// gaitlab: the page's window.gaitlab (scene, frame, drawn); follow: the "Follow the robot" box
+export function createView(gaitlab, canvas, { follow, status }) {
+  // no antialiasing: edges are smoothed by drawing at the screen's full pixel ratio, and
+  // multisampling costs about as much as the rest of the drawing without a GPU
+  const renderer = new THREE.WebGLRenderer({ canvas, antialias: false, preserveDrawingBuffer: true,
+    powerPreference: 'high-performance' });
+  const adaptive = new AdaptiveResolution(renderer);
+  renderer.setPixelRatio(adaptive.pixelRatio());
+  const world = new THREE.Scene();
+  world.background = new THREE.Color(0xdfe6ee);
+  const camera = new THREE.PerspectiveCamera(45, 1, 0.005, 500);
+  camera.up.set(0, 0, 1);
+  camera.position.set(-0.6, -1.1, 0.7);
+  const controls = new OrbitControls(camera, canvas);
+  controls.target.set(0.3, 0, 0);
+  controls.enableDamping = true;
+  controls.update();
+
+  // Lambert shading (diffuse light only): a fraction of the physically based material's cost
+  // per pixel, and the same look for matte modules and floors
+  world.add(new THREE.HemisphereLight(0xffffff, 0x8d8d8d, 2.2));
+  const sun = new THREE.DirectionalLight(0xffffff, 2.0);
+  sun.position.set(2, -3, 5);
+  world.add(sun);
+  const bodyMaterial = new THREE.MeshLambertMaterial({ color: 0xffffff });
+  const objectMaterial = new THREE.MeshLambertMaterial({ color: 0x8e98a6 });
+  const meshMaterial = new THREE.MeshLambertMaterial({ color: 0x8e98a6, side: THREE.DoubleSide });
+  const dynamicMaterial = new THREE.MeshLambertMaterial({ color: 0xb59b6a });
+  let floorMaterial = null;
+
+  let group = new THREE.Group();   // what one scene message builds, but the robots' bodies
+  world.add(group);
+  const bodies = new Bodies(world, bodyMaterial);
+  let dynamic = [];                // moving objects' meshes, in frame order
+  let objects = [];                // every world object's mesh (for picking)
+  let robots = [];
+
+  function build(scene) {
+    world.remove(group);
+    group.traverse((o) => { if (o.geometry) o.geometry.dispose(); });
+    group = new THREE.Group();
+    world.add(group);
+    robots = scene.robots;
+    dynamic = [];
+    objects = [];
+
+    if (scene.floor.enabled) {
+      // the grid is drawn by the floor's material (lines drawn as lines vanish on some GPUs)
+      if (!floorMaterial) floorMaterial = gridMaterial();
+      const floor = new THREE.Mesh(new THREE.PlaneGeometry(200, 200), floorMaterial);
+      floor.name = 'floor';
+      group.add(floor);
+    }
+    group.add(new THREE.AxesHelper(0.1));
+
+    bodies.build(scene.bodies.map((b, i) => {
+      const robotBody = i - scene.robots[b.robot].first_body;
+      const colour = new THREE.Color(robotColours[b.robot % robotColours.length]);
+      // alternate shades make the modules countable
+      if (robotBody % 2) colour.multiplyScalar(0.8);
+      return { name: b.name, shape: b.shape, size: b.size, colour };
+    }));
+    for (const o of scene.objects) {
+      let mesh;
+      if (o.kind === 'mesh') {
+        const g = new THREE.BufferGeometry();
+        g.setAttribute('position', new THREE.Float32BufferAttribute(o.positions, 3));
+        g.computeVertexNormals();
+        mesh = new THREE.Mesh(g, meshMaterial);
+      } else {
+        mesh = new THREE.Mesh(shapeGeometry(o.kind, o.size), o.dynamic >= 0 ? dynamicMaterial : objectMaterial);
+        setPose(mesh, o.pose);
+      }
+      mesh.name = o.name;
+      group.add(mesh);
+      objects.push(mesh);
+      if (o.dynamic >= 0) dynamic[o.dynamic] = mesh;
+    }
+  }
+
+  // the centre of robot r's bodies into out, or null
+  const centre = new THREE.Vector3();
+  const lastCentre = new THREE.Vector3();
+  const v = new THREE.Vector3();
+  let haveCentre = false;
+  function robotCentre(r, out) {
+    const robot = robots[r];
+    if (!robot || robot.bodies === 0) return null;
+    out.set(0, 0, 0);
+    for (let i = 0; i < robot.bodies; ++i) out.add(bodies.position(robot.first_body + i, v));
+    return out.divideScalar(robot.bodies);
+  }
+
+  function viewAll() {
+    const box = new THREE.Box3();
+    bodies.expandBox(box);
+    for (const m of dynamic) box.expandByObject(m);
+    if (box.isEmpty()) box.set(new THREE.Vector3(-0.5, -0.5, 0), new THREE.Vector3(0.5, 0.5, 0.2));
+    const c = box.getCenter(new THREE.Vector3());
+    const size = Math.max(box.getSize(new THREE.Vector3()).length(), 0.3);
+    controls.target.copy(c);
+    camera.position.copy(c).add(new THREE.Vector3(-0.55, -1, 0.65).multiplyScalar(size));
+    controls.update();
+  }
+
+  function resize() {
+    const w = canvas.clientWidth, h = canvas.clientHeight;
+    const ratio = adaptive.pixelRatio();
+    if (renderer.getPixelRatio() !== ratio) renderer.setPixelRatio(ratio);
+    if (canvas.width !== Math.floor(w * ratio) || canvas.height !== Math.floor(h * ratio)) {
+      renderer.setSize(w, h, false);
+      camera.aspect = w / Math.max(h, 1);
+      camera.updateProjectionMatrix();
+    }
+  }
+
+  let needsViewAll = false;
+  let drawnFrame = null;
+  let shown = '';
+  function render() {
+    resize();
+    const f = gaitlab.frame;
+    if (f && f !== drawnFrame && gaitlab.scene && f.simulation === gaitlab.scene.simulation &&
+        f.poses.length === (bodies.count + dynamic.length) * 7) {
+      drawnFrame = f;
+      bodies.setPoses(f.poses);
+      for (let i = 0; i < dynamic.length; ++i) setPose(dynamic[i], f.poses, (bodies.count + i) * 7);
+      if (needsViewAll) {
+        needsViewAll = false;
+        viewAll();
+      }
+      const c = robotCentre(0, centre);
+      if (follow.checked && c && haveCentre) {
+        // the camera keeps its place relative to the robot
+        v.copy(c).sub(lastCentre);
+        controls.target.add(v);
+        camera.position.add(v);
+      }
+      haveCentre = c !== null;
+      if (c) lastCentre.copy(c);
+      gaitlab.drawn++;
+    }
+    controls.update();
+    renderer.render(world, camera);
+  }
+
+  function draw(now) {
+    requestAnimationFrame(draw);
+    adaptive.frame(now);
+    render();
+    if (status && adaptive.fps !== null) {
+      const text = `drawing ${adaptive.fps.toFixed(0)} frames/s at ` +
+        `${Math.round(adaptive.scale * 100)} % resolution${adaptive.pinned ? ' (full quality)' : ''}`;
+      if (text !== shown) status.textContent = shown = text;
+    }
+  }
+
+  // a click (not a drag) on a body or an object: its name
+  const raycaster = new THREE.Raycaster();
+  const pointer = new THREE.Vector2();
+  let down = null;
+  function pick(clientX, clientY) {
+    const r = canvas.getBoundingClientRect();
+    pointer.set(((clientX - r.left) / r.width) * 2 - 1, -((clientY - r.top) / r.height) * 2 + 1);
+    raycaster.setFromCamera(pointer, camera);
+    const body = bodies.pick(raycaster);
+    const hit = raycaster.intersectObjects(objects, false)[0];
+    if (body && (!hit || body.distance <= hit.distance)) {
+      const b = gaitlab.scene.bodies[body.body];
+      return { kind: 'body', name: b.name, robot: robots[b.robot].name, index: body.body,
+        point: body.point.toArray() };
+    }
+    if (hit) return { kind: 'object', name: hit.object.name, point: hit.point.toArray() };
+    return null;
+  }
+  canvas.addEventListener('pointerdown', (e) => { down = { x: e.clientX, y: e.clientY }; });
+  canvas.addEventListener('pointerup', (e) => {
+    if (!down || Math.hypot(e.clientX - down.x, e.clientY - down.y) > 4) return;
+    down = null;
+    gaitlab.picked = pick(e.clientX, e.clientY);
+    if (view.onpick) view.onpick(gaitlab.picked);
+  });
+
+  const view = {
+    THREE, world, camera, controls, renderer, adaptive, bodies,
+    build,
+    viewAll,
+    viewAllSoon() { needsViewAll = true; },
+    pick,
+    // full size until the function returned is called: screenshots and recordings
+    pin() {
+      const release = adaptive.pin();
+      resize();
+      return release;
+    },
+    // draws now (at the resolution in force), e.g. right before reading the canvas
+    render,
+    onpick: null,
+  };
+  requestAnimationFrame(draw);
+  return view;
+}
