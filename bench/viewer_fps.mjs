@@ -55,10 +55,10 @@ async function measure(n) {
     });
     try {
       const page = await browser.newPage({ viewport: { width, height } });
-      await page.goto(url);
+      await page.goto(url, { timeout: 120000 });
       await page.waitForFunction((k) => window.gaitlab.scene &&
         window.gaitlab.scene.bodies.length >= k && window.gaitlab.drawn > 10, n * 8,
-      { timeout: 60000 });
+      { timeout: 120000 });
       await page.evaluate(() => {
         window.paints = 0;
         const count = () => { window.paints++; requestAnimationFrame(count); };

@@ -167,6 +167,27 @@ try {
   const [video] = await Promise.all([page.waitForEvent('download'), page.click('#record-video')]);
   await video.saveAs(path.join(out, 'recording.webm'));
   check(rec.width === Math.floor(rec.css), `a recording draws at the full size (${rec.width} of ${rec.css})`);
+
+  // bad frames: a body whose pose is null (a diverged simulation: JSON has no NaN) stays where
+  // it was while the others move; a frame with the wrong number of poses moves nothing
+  const bad = await page.evaluate(() => {
+    const g = window.gaitlab;
+    const { THREE, bodies } = g.three;
+    const at = (i) => bodies.position(i, new THREE.Vector3()).toArray();
+    const before = [at(0), at(1)];
+    const f = { ...g.frame, poses: g.frame.poses.slice() };
+    f.poses.fill(null, 0, 7);
+    f.poses[7] += 0.5;
+    g.frame = f;
+    g.three.render();
+    const after = [at(0), at(1)];
+    g.frame = { ...f, poses: f.poses.slice(0, 14).map((v) => (v === null ? v : v + 1)) };
+    g.three.render();
+    return { before, after, short: at(1) };
+  });
+  check(bad.after[0].join() === bad.before[0].join() && Math.abs(bad.after[1][0] - bad.before[1][0] - 0.5) < 1e-9,
+    `a null pose keeps its body in place while the others move (${bad.after[0].map((v) => v.toFixed(3))})`);
+  check(bad.short.join() === bad.after[1].join(), 'a frame with too few poses moves nothing');
   check(pageErrors.length === 0, `no errors in the page (${pageErrors.join('; ')})`);
 } finally {
   await browser.close();
