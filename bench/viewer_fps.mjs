@@ -9,7 +9,7 @@
 // the last column is the drawing resolution the page settled on (its adaptive resolution,
 // docs/viewer.md; "-" for a page without it) at the end of the last run.
 //
-// Usage: [VIEWPORT=WxH] [RUNS=K] node bench/viewer_fps.mjs GAITLAB SOURCE_DIR [ROBOTS...]
+// Usage: [VIEWPORT=WxH] [RUNS=K] [FULL_QUALITY=1] node bench/viewer_fps.mjs GAITLAB SOURCE_DIR [ROBOTS...]
 // (default 1 10 40 80 robots, a 1200x720 page, one run)
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
@@ -59,6 +59,8 @@ async function measure(n) {
       await page.waitForFunction((k) => window.gaitlab.scene &&
         window.gaitlab.scene.bodies.length >= k && window.gaitlab.drawn > 10, n * 8,
       { timeout: 120000 });
+      // FULL_QUALITY=1: the page's "Full quality" box ticked (no adaptive resolution)
+      if (process.env.FULL_QUALITY === '1') await page.check('#full-quality');
       await page.evaluate(() => {
         window.paints = 0;
         const count = () => { window.paints++; requestAnimationFrame(count); };

@@ -204,11 +204,16 @@ export function createView(gaitlab, canvas, { follow, status }) {
     renderer.render(world, camera);
   }
 
+  let shownFps = null;
+  let shownScale = null;
   function draw(now) {
     requestAnimationFrame(draw);
     adaptive.frame(now);
     render();
-    if (status && adaptive.fps !== null) {
+    // the line under "Full quality", rewritten only when what it says changes
+    if (status && adaptive.fps !== null && (adaptive.fps !== shownFps || adaptive.scale !== shownScale)) {
+      shownFps = adaptive.fps;
+      shownScale = adaptive.scale;
       const text = `drawing ${adaptive.fps.toFixed(0)} frames/s at ` +
         `${Math.round(adaptive.scale * 100)} % resolution${adaptive.pinned ? ' (full quality)' : ''}`;
       if (text !== shown) status.textContent = shown = text;

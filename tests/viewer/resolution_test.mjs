@@ -1,0 +1,100 @@
+// The page's adaptive drawing resolution (viewer/web/resolution.js) on simulated frame times,
+// without a browser: slow frames lower the resolution step by step down to the last step, fast
+// ones raise it back to full; a scene that is slow only at full size settles one step below
+// instead of flickering; pinned, it stays at full size whatever the frames take; a stall (a
+// hidden tab) changes nothing.
+//
+// Usage: node resolution_test.mjs SOURCE_DIR
+import path from 'node:path';
+import { pathToFileURL } from 'node:url';
+
+const source = process.argv[2];
+if (!source) {
+  console.error('usage: node resolution_test.mjs SOURCE_DIR');
+  process.exit(2);
+}
+const { AdaptiveResolution, kScales } = await import(
+  pathToFileURL(path.join(source, 'viewer/web/resolution.js')).href);
+
+let passed = 0;
+let failed = 0;
+function check(ok, what) {
+  if (ok) passed++; else failed++;
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
+}
+
+// frames of cost(scale) ms each for `seconds`; the scales seen, one per frame
+function play(a, clock, seconds, cost) {
+  const seen = [];
+  const end = clock.now + seconds * 1000;
+  while (clock.now < end) {
+    clock.now += Math.max(1000 / 60, cost(a.scale));   // a 60 Hz screen at best
+    a.frame(clock.now);
+    seen.push(a.scale);
+  }
+  return seen;
+}
+
+const renderer = {};   // the class only keeps it
+{
+  const clock = { now: 0 };
+  const a = new AdaptiveResolution(renderer, { base: () => 2 });
+  // 120 ms a frame at any size (8 fps): down to the last step
+  const seen = play(a, clock, 20, () => 120);
+  check(a.scale === kScales[kScales.length - 1] && a.pixelRatio() === 2 * a.scale,
+    `slow frames lower the resolution to ${a.scale} (pixel ratio ${a.pixelRatio()} on a 2x screen)`);
+  const steps = seen.filter((s, i) => i > 0 && s !== seen[i - 1]);
+  check(steps.length === kScales.length - 1 && steps.every((s, i) => s === kScales[i + 1]),
+    `one step at a time (${steps.join(', ')})`);
+  // then fast frames: back to full size, one step at a time
+  play(a, clock, 120, () => 8);
+  check(a.scale === 1, `fast frames raise it back to full size (${a.scale})`);
+}
+{
+  // pixels cost: 60 ms a frame at full size, proportional to the pixels (scale squared)
+  const clock = { now: 0 };
+  const a = new AdaptiveResolution(renderer, { base: () => 1 });
+  const cost = (s) => 60 * s * s;
+  play(a, clock, 30, cost);
+  const seen = play(a, clock, 60, cost);
+  check(seen.length / 60 >= 30, `a scene too slow at full size is drawn at 30 frames/s or more (${(seen.length / 60).toFixed(1)})`);
+  check(seen.every((s) => s === seen[0]) && 60 * seen[0] ** 2 <= 1000 / 30,
+    `it stays at the largest size that keeps up (${seen[0]})`);
+}
+{
+  // a scene that is fast one step below full size and slow at full size: each try of full
+  // size costs a slow half second, and the tries get rarer (4 s, 8 s, 16 s ... a minute)
+  const clock = { now: 0 };
+  const a = new AdaptiveResolution(renderer, { base: () => 1 });
+  const cost = (s) => (s === 1 ? 80 : 10);
+  const seen = play(a, clock, 300, cost);
+  const changes = seen.filter((s, i) => i > 0 && s !== seen[i - 1]).length;
+  const last = seen.slice(-Math.round(seen.length / 5));   // the last minute
+  const lastChanges = last.filter((s, i) => i > 0 && s !== last[i - 1]).length;
+  check(changes <= 16 && lastChanges <= 2,
+    `it does not flicker (${changes} changes in 5 minutes, ${lastChanges} in the last one)`);
+  const full = seen.filter((s) => s === 1).length;
+  check(full < seen.length / 50, `it draws at the slow size rarely (${full} of ${seen.length} frames)`);
+}
+{
+  const clock = { now: 0 };
+  const a = new AdaptiveResolution(renderer, { base: () => 1 });
+  let changes = 0;
+  a.onchange = () => { changes++; };
+  const release = a.pin();
+  const seen = play(a, clock, 10, () => 200);
+  check(seen.every((s) => s === 1) && a.pinned, 'pinned, it draws at full size however slow the frames are');
+  release();
+  release();   // a second call changes nothing
+  check(!a.pinned && a.pins === 0, 'released once and for all');
+  play(a, clock, 5, () => 200);
+  check(a.scale < 1 && changes >= 3, `released, it adapts again (${a.scale})`);
+  // a stall of 5 s (a hidden tab) is not a slow frame
+  const before = a.scale;
+  clock.now += 5000;
+  a.frame(clock.now);
+  play(a, clock, 0.4, () => 10);
+  check(a.scale === before, `a stall changes nothing (${a.scale})`);
+}
+console.log(`${passed} passed, ${failed} failed`);
+process.exit(failed === 0 ? 0 : 1);
