@@ -9,7 +9,10 @@
 // the last column is the drawing resolution the page settled on (its adaptive resolution,
 // docs/viewer.md; "-" for a page without it) at the end of the last run.
 //
-// Usage: [VIEWPORT=WxH] [RUNS=K] [FULL_QUALITY=1] node bench/viewer_fps.mjs GAITLAB SOURCE_DIR [ROBOTS...]
+// DRAW_COST=1 measures instead how long one drawing of the view at its full size takes (the
+// page's own renderer, waited for), which depends less on what else the machine runs.
+//
+// Usage: [VIEWPORT=WxH] [RUNS=K] [FULL_QUALITY=1] [DRAW_COST=1] node bench/viewer_fps.mjs GAITLAB SOURCE_DIR [ROBOTS...]
 // (default 1 10 40 80 robots, a 1200x720 page, one run)
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
@@ -59,6 +62,27 @@ async function measure(n) {
       await page.waitForFunction((k) => window.gaitlab.scene &&
         window.gaitlab.scene.bodies.length >= k && window.gaitlab.drawn > 10, n * 8,
       { timeout: 120000 });
+      if (process.env.DRAW_COST === '1') {
+        // the time of one drawing of the view at its full size, waited for (a one-pixel
+        // read-back): the median of 15, after 3 to warm up
+        const ms = await page.evaluate(() => {
+          const { renderer, world, camera } = window.gaitlab.three;
+          const release = window.gaitlab.three.pin ? window.gaitlab.three.pin() : () => {};
+          const gl = renderer.getContext();
+          const px = new Uint8Array(4);
+          const times = [];
+          for (let i = 0; i < 18; ++i) {
+            const t0 = performance.now();
+            renderer.render(world, camera);
+            gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
+            if (i >= 3) times.push(performance.now() - t0);
+          }
+          release();
+          times.sort((x, y) => x - y);
+          return times[Math.floor(times.length / 2)];
+        });
+        return { drawMs: ms, bodies: await page.evaluate(() => window.gaitlab.scene.bodies.length) };
+      }
       // FULL_QUALITY=1: the page's "Full quality" box ticked (no adaptive resolution)
       if (process.env.FULL_QUALITY === '1') await page.check('#full-quality');
       await page.evaluate(() => {
@@ -99,6 +123,15 @@ const median = (list, key) => {
   return v.length % 2 ? v[(v.length - 1) / 2] : (v[v.length / 2 - 1] + v[v.length / 2]) / 2;
 };
 console.log(`page ${width}x${height}, ${runs === 1 ? 'one run' : `median of ${runs} runs`}`);
+if (process.env.DRAW_COST === '1') {
+  console.log('| robots | bodies | ms per full-size drawing |');
+  console.log('|---|---|---|');
+  for (const n of robots) {
+    const list = results.get(n);
+    console.log(`| ${n} | ${list[0].bodies} | ${median(list, 'drawMs').toFixed(1)} |`);
+  }
+  process.exit(0);
+}
 console.log('| robots | bodies | paints / s | new frames drawn / s | frames received / s | simulated s per wall s | resolution |');
 console.log('|---|---|---|---|---|---|---|');
 for (const n of robots) {

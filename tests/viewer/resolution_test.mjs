@@ -1,8 +1,9 @@
 // The page's adaptive drawing resolution (viewer/web/resolution.js) on simulated frame times,
-// without a browser: slow frames lower the resolution step by step down to the last step, fast
-// ones raise it back to full; a scene that is slow only at full size settles one step below
-// instead of flickering; pinned, it stays at full size whatever the frames take; a stall (a
-// hidden tab) changes nothing.
+// without a browser: frames slow in proportion to their pixels lower the resolution step by
+// step down to the last step, fast ones raise it back to full; a scene that is slow only at
+// full size settles one step below instead of flickering; frames that fewer pixels do not
+// speed up keep the full resolution; pinned, it stays at full size whatever the frames take; a
+// stall (a hidden tab) changes nothing.
 //
 // Usage: node resolution_test.mjs SOURCE_DIR
 import path from 'node:path';
@@ -39,12 +40,12 @@ const renderer = {};   // the class only keeps it
 {
   const clock = { now: 0 };
   const a = new AdaptiveResolution(renderer, { base: () => 2 });
-  // 120 ms a frame at any size (8 fps): down to the last step
-  const seen = play(a, clock, 20, () => 120);
+  // slow in proportion to the pixels: 400 ms a frame at full size, down to the last step
+  const seen = play(a, clock, 30, (x) => 400 * x * x);
   check(a.scale === kScales[kScales.length - 1] && a.pixelRatio() === 2 * a.scale,
     `slow frames lower the resolution to ${a.scale} (pixel ratio ${a.pixelRatio()} on a 2x screen)`);
-  const steps = seen.filter((s, i) => i > 0 && s !== seen[i - 1]);
-  check(steps.length === kScales.length - 1 && steps.every((s, i) => s === kScales[i + 1]),
+  const steps = seen.filter((x, i) => i > 0 && x !== seen[i - 1]);
+  check(steps.length === kScales.length - 1 && steps.every((x, i) => x === kScales[i + 1]),
     `one step at a time (${steps.join(', ')})`);
   // then fast frames: back to full size, one step at a time
   play(a, clock, 120, () => 8);
@@ -77,17 +78,28 @@ const renderer = {};   // the class only keeps it
   check(full < seen.length / 50, `it draws at the slow size rarely (${full} of ${seen.length} frames)`);
 }
 {
+  // slow whatever the size (a busy machine): fewer pixels do not help, so it keeps the full
+  // resolution nearly all the time, trying lower ones ever more rarely
+  const clock = { now: 0 };
+  const a = new AdaptiveResolution(renderer, { base: () => 1 });
+  const seen = play(a, clock, 180, () => 120);
+  const full = seen.filter((x) => x === 1).length;
+  const changes = seen.filter((x, i) => i > 0 && x !== seen[i - 1]).length;
+  check(full > 0.9 * seen.length && changes <= 12,
+    `slow frames that fewer pixels do not speed up keep the full resolution (${full} of ${seen.length} frames, ${changes} changes in 3 minutes)`);
+}
+{
   const clock = { now: 0 };
   const a = new AdaptiveResolution(renderer, { base: () => 1 });
   let changes = 0;
   a.onchange = () => { changes++; };
   const release = a.pin();
-  const seen = play(a, clock, 10, () => 200);
+  const seen = play(a, clock, 10, (x) => 200 * x * x);
   check(seen.every((s) => s === 1) && a.pinned, 'pinned, it draws at full size however slow the frames are');
   release();
   release();   // a second call changes nothing
   check(!a.pinned && a.pins === 0, 'released once and for all');
-  play(a, clock, 5, () => 200);
+  play(a, clock, 5, (x) => 200 * x * x);
   check(a.scale < 1 && changes >= 3, `released, it adapts again (${a.scale})`);
   // a stall of 5 s (a hidden tab) is not a slow frame
   const before = a.scale;

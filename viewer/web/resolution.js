@@ -5,9 +5,11 @@
 // screenshot, a recording, a video), it draws at the full size and does not adapt.
 //
 // How it decides: over windows of at least half a second (and 8 frames), the mean time between
-// two animation frames. Above the budget: one step down. Below 60 % of it for two windows in a
-// row: one step up, unless that step went down again soon after the last time it was tried
-// (then it waits twice as long before trying again, up to a minute), so it does not oscillate.
+// two animation frames. Above the budget: one step down; if the frames are not at least 15 %
+// shorter after it, pixels are not what is slow, and it goes back up and does not try lower
+// for a while. Below 60 % of the budget for two windows in a row: one step up, unless that
+// step went down again soon after the last time it was tried (then it waits twice as long
+// before trying again, up to a minute), so it does not oscillate.
 
 export const kScales = [1, 0.8, 0.64, 0.5, 0.4, 0.32, 0.25];
 
@@ -28,6 +30,10 @@ export class AdaptiveResolution {
     this.wait = new Array(kScales.length).fill(4000);   // ms before retrying a step up
     this.blockedUntil = new Array(kScales.length).fill(0);
     this.raisedAt = -Infinity;
+    this.before = null;      // the level and mean frame time before the last step down
+    this.gain = 0.85;        // a step down must make frames at least this much shorter
+    this.hold = 10000;       // ms without stepping down after a step that did not help
+    this.holdUntil = 0;
     this.onchange = null;
   }
 
@@ -79,7 +85,21 @@ export class AdaptiveResolution {
     this.windowStart = now;
     this.windowFrames = 0;
     if (this.pinned) return false;
-    if (mean > this.budget && this.level < kScales.length - 1) {
+    const before = this.before;
+    this.before = null;
+    if (before && before.level === this.level - 1 && mean > this.budget && mean > this.gain * before.mean) {
+      // fewer pixels did not make the frames faster: pixels are not what is slow (a busy
+      // machine, the page's other work). Back to the resolution before, and no lower for a
+      // while (10 s, then twice as long each time, up to a minute)
+      this.level = before.level;
+      this.holdUntil = now + this.hold;
+      this.hold = Math.min(this.hold * 2, 60000);
+      this.changes++;
+      this.changed();
+      return true;
+    }
+    if (mean > this.budget && this.level < kScales.length - 1 && now >= this.holdUntil) {
+      this.before = { level: this.level, mean };
       // a step up to this level that did not hold: wait longer before the next try
       if (now - this.raisedAt < 3000) this.wait[this.level] = Math.min(this.wait[this.level] * 2, 60000);
       this.blockedUntil[this.level] = now + this.wait[this.level];
