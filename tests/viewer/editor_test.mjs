@@ -52,7 +52,7 @@ try {
   const page = await browser.newPage({ viewport: { width: 1280, height: 760 } });
   const pageErrors = [];
   page.on('pageerror', (e) => pageErrors.push(e.message));
-  await page.goto(edit.url, { timeout: 30000 });
+  await page.goto(edit.url, { timeout: 90000 });
   await page.waitForFunction(() => window.gaitlab.editor && window.gaitlab.editor.open, null, { timeout: 20000 });
   check(await page.isVisible('#editor-top') && !(await page.isVisible('#scene')),
     'the page opens in the editor: top, side and 3D views');
@@ -216,7 +216,7 @@ try {
   const view = await serve(['run', 'walk.lua', '--view', '--no-record', '--no-progress', '--', '30'], 'viewer');
   const p2 = await browser.newPage({ viewport: { width: 1280, height: 760 } });
   p2.on('pageerror', (e) => pageErrors.push(e.message));
-  await p2.goto(view.url, { timeout: 30000 });
+  await p2.goto(view.url, { timeout: 90000 });
   await p2.waitForFunction(() => window.gaitlab && window.gaitlab.drawn > 5, null, { timeout: 30000 });
   const f0 = await p2.evaluate(() => window.gaitlab.frame);
   check(f0.contacts === undefined && f0.state.contacts === false, 'frames carry no contact points while the box is off');

@@ -72,7 +72,7 @@ try {
   };
 
   const started = Date.now();
-  await page.goto(url, { timeout: 60000 });
+  await page.goto(url, { timeout: 90000 });
   await page.waitForFunction(() => window.gaitlab && window.gaitlab.replay && window.gaitlab.replay.info &&
     window.gaitlab.drawn > 0, null, { timeout: 60000 });
   check(true, `the recorded run loads and is drawn (${Date.now() - started} ms)`);
