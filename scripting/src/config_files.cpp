@@ -259,6 +259,13 @@ EnvironmentSpec environment_of(const WorldBinding& world) {
         }
         env.placements.push_back({name, e.pose});
     }
+    // where robots of other names go (world:place, a loaded environment file) is kept too
+    for (const Placement& p : world.placements) {
+        bool placed = false;
+        for (const Placement& q : env.placements)
+            placed = placed || q.robot == p.robot;
+        if (!placed) env.placements.push_back({p.robot, p.pose});
+    }
     return env;
 }
 
@@ -291,16 +298,18 @@ std::string normalized_config(const std::string& master, std::vector<ConfigFile>
 }
 
 void save_simulation(const std::string& path, const WorldBinding& world,
-                     const SimulationOptions& options, double duration) {
+                     const SimulationOptions& options, double duration,
+                     const std::string& simulation_name, const RecordSpec& record) {
     const fs::path master(path);
     const std::string stem = master.stem().string();
     const auto next_to = [&](const std::string& name) {
         return (master.parent_path() / name).string();
     };
     SimulationFile file;
-    file.name = stem;
+    file.name = simulation_name.empty() ? stem : simulation_name;
     file.options = options;
     file.duration = duration;
+    file.record = record;
     file.environment = stem + ".environment.xml";
     // every part is built and checked before the first file is written
     const EnvironmentSpec env = environment_of(world);

@@ -71,7 +71,10 @@ std::string normalized_config(const std::string& master, std::vector<ConfigFile>
 /// the folder of `path`. Checks everything (unique robot names, nameable controllers)
 /// before writing anything. Creates the folder of `path` if missing (as `mkdir -p`); a failure
 /// is a WriteError naming `path` (and the part, if a part failed).
+/// `simulation_name` ("" : the stem of `path`) and `record` are written as the simulation's name
+/// and <record>.
 void save_simulation(const std::string& path, const WorldBinding& world,
-                     const SimulationOptions& options, double duration);
+                     const SimulationOptions& options, double duration,
+                     const std::string& simulation_name = "", const RecordSpec& record = {});
 
 }  // namespace gaitlab::scripting

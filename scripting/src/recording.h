@@ -10,6 +10,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,6 +20,7 @@
 #include "gaitlab/replay.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/simulation.h"
+#include "gaitlab/xml.h"
 
 namespace gaitlab::scripting {
 
@@ -50,6 +52,12 @@ struct SimulationHandle {
     /// sim:robot(name)'s handles, per robot, made when a robot of the world is not linked to
     /// this simulation (a later simulation of the same world, a clone)
     std::vector<std::shared_ptr<RobotBinding>> robots;
+    /// What sim:save writes besides the world (gaitlab.simulation{ name, duration, record }):
+    /// the name ("" : the saved file's stem), the duration (unset: the time simulated so far)
+    /// and the recording settings
+    std::string name;
+    std::optional<double> duration;
+    RecordSpec record;
 };
 
 /// What a script asks for with `record = ...` or sim:record(...).

@@ -1,10 +1,14 @@
 // gaitlab.actuation: actuation specs (which controller drives which joint group, with which
 // parameter values), read from and written to actuation files, taken from a robot's live
 // controllers and applied to a robot.
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "config_files.h"
 #include "gaitlab/files.h"
+#include "gaitlab/robot.h"
+#include "gaitlab/xml.h"
 #include "lua_util.h"
 #include "recording.h"
 #include "wrap.h"
@@ -15,6 +19,135 @@ namespace {
 
 ActuationSpec& check_actuation(lua_State* L, int index) {
     return check_object<ActuationSpec>(L, index, kActuationType);
+}
+
+// one group of gaitlab.actuation{ groups = {...} } at the top of the stack, as a file's <group>
+GroupSpec read_group(lua_State* L) {
+    GroupSpec g;
+    const Fields f(L, -1, 1, {"joints", "controller"});
+    const int jt = f.push("joints");
+    std::string text;
+    if (jt == LUA_TSTRING) {
+        text = lua_tostring(L, -1);
+    } else if (jt == LUA_TTABLE) {
+        const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));
+        for (lua_Integer i = 1; i <= n; ++i) {
+            lua_rawgeti(L, -1, i);
+            int ok = 0;
+            const lua_Integer j = lua_tointegerx(L, -1, &ok);
+            lua_pop(L, 1);
+            if (!ok) {
+                lua_pop(L, 1);
+                f.fail("joints", fmt::format("entry {} is not a joint number", i));
+            }
+            text += (text.empty() ? "" : " ") + std::to_string(j);
+        }
+    } else {
+        const std::string t = type_name(L, -1);
+        lua_pop(L, 1);
+        f.fail("joints",
+               "a role ('pitch', 'yaw', 'all') or a list of joint numbers expected, got " + t);
+    }
+    lua_pop(L, 1);
+    try {
+        parse_group_joints(text, g);
+    } catch (const SpecError& e) {
+        f.fail("joints", e.what());
+    }
+    if (f.push("controller") != LUA_TTABLE) {
+        const std::string t = type_name(L, -1);
+        lua_pop(L, 1);
+        f.fail("controller",
+               "table expected ({ builtin|file|template = name, params = {...} }), got " + t);
+    }
+    const Fields c(L, -1, 1, {"builtin", "file", "template", "params"});
+    int kinds = 0;
+    const char* names[] = {"builtin", "file", "template"};
+    for (int k = 0; k < 3; ++k) {
+        if (!c.has(names[k])) continue;
+        ++kinds;
+        g.controller.kind = static_cast<ControllerRef::Kind>(k);
+        g.controller.name = c.string(names[k], "");
+        if (g.controller.name.empty()) {
+            lua_pop(L, 1);
+            f.fail("controller", fmt::format("'{}' is empty", names[k]));
+        }
+        // a Lua controller file is relative to the script, as every path a script gives
+        if (k == 1) g.controller.name = script_path(L, g.controller.name);
+    }
+    if (kinds != 1) {
+        lua_pop(L, 1);
+        f.fail("controller",
+               "exactly one of 'builtin', 'file' or 'template' expected (which controller)");
+    }
+    const int pt = c.push("params");
+    if (pt == LUA_TTABLE) {
+        lua_pushnil(L);
+        while (lua_next(L, -2) != 0) {
+            int ok = 0;
+            const double v = lua_tonumberx(L, -1, &ok);
+            if (lua_type(L, -2) != LUA_TSTRING) {
+                lua_pop(L, 4);
+                f.fail("controller", "params: { name = number, ... } expected (named values)");
+            }
+            if (!ok) {
+                const std::string message = fmt::format("params: '{}' must be a number, got {}",
+                                                        lua_tostring(L, -2), type_name(L, -1));
+                lua_pop(L, 4);
+                f.fail("controller", message);
+            }
+            g.controller.params.emplace_back(lua_tostring(L, -2), v);
+            lua_pop(L, 1);
+        }
+        // in name order: a table has none of its own
+        std::sort(g.controller.params.begin(), g.controller.params.end());
+    } else if (pt != LUA_TNIL) {
+        const std::string t = type_name(L, -1);
+        lua_pop(L, 2);
+        f.fail("controller", "params: { name = number, ... } expected, got " + t);
+    }
+    lua_pop(L, 2);
+    return g;
+}
+
+// gaitlab.actuation{ groups = { { joints =, controller = }, ... } }: an actuation spec, as an
+// actuation file says it (parameter names are checked when a robot is actuated with it)
+int actuation_new(lua_State* L) {
+    // called as gaitlab.actuation{...}: argument 1 is the gaitlab.actuation table itself
+    return protect(L, [&] {
+        const Fields f(L, 2, 1, {"groups"});
+        ActuationSpec a;
+        const int t = f.push("groups");
+        if (t != LUA_TTABLE) {
+            const std::string n = type_name(L, -1);
+            lua_pop(L, 1);
+            f.fail("groups", "list of groups expected, got " + n);
+        }
+        const int list = lua_gettop(L);
+        const auto n = static_cast<lua_Integer>(lua_rawlen(L, list));
+        if (n > kMaxRobotBodies) {
+            lua_pop(L, 1);
+            f.fail("groups", fmt::format("an actuation has at most {} groups", kMaxRobotBodies));
+        }
+        for (lua_Integer i = 1; i <= n; ++i) {
+            const std::string prefix = fmt::format("groups[{}]: ", i);
+            if (lua_rawgeti(L, list, i) != LUA_TTABLE) {
+                const std::string tn = type_name(L, -1);
+                lua_settop(L, list - 1);
+                throw ArgError(1, prefix + "table expected, got " + tn);
+            }
+            try {
+                a.groups.push_back(read_group(L));
+            } catch (const ArgError& e) {
+                lua_settop(L, list - 1);
+                throw ArgError(1, prefix + e.what());
+            }
+            lua_pop(L, 1);
+        }
+        lua_pop(L, 1);
+        new_object<ActuationSpec>(L, kActuationType, std::move(a));
+        return 1;
+    });
 }
 
 // gaitlab.actuation.load(path): the actuation file's spec, or nil and a message
@@ -98,6 +231,10 @@ void open_actuation(lua_State* L) {
     register_type<ActuationSpec>(L, kActuationType, methods, meta);
 
     lua_newtable(L);
+    lua_createtable(L, 0, 1);
+    lua_pushcfunction(L, actuation_new);
+    lua_setfield(L, -2, "__call");
+    lua_setmetatable(L, -2);
     lua_pushcfunction(L, actuation_load);
     lua_setfield(L, -2, "load");
     lua_setfield(L, -2, "actuation");

@@ -50,7 +50,7 @@ int module_new(lua_State* L) {
     return protect(L, [&] {
         Fields f(L, 2, 1,
                  {"name", "base", "shape", "length", "width", "height", "radius", "mass", "axis",
-                  "range", "max_speed", "max_torque", "kp", "friction"});
+                  "range", "min", "max", "max_speed", "max_torque", "kp", "friction"});
         if (!f.has("name")) f.fail("name", "string expected, got nil");
         const std::string name = f.string("name", "");
         if (name.empty()) f.fail("name", "a module type needs a name");
@@ -106,6 +106,12 @@ int module_new(lua_State* L) {
         } else {
             lua_pop(L, 1);
         }
+        // min and max (degrees), as a robot file's <module min= max=>
+        if (f.has("range") && (f.has("min") || f.has("max"))) {
+            f.fail(f.has("min") ? "min" : "max", "give range or min and max, not both");
+        }
+        if (f.has("min")) m.min_angle = deg_to_rad(f.number("min", 0));
+        if (f.has("max")) m.max_angle = deg_to_rad(f.number("max", 0));
         // degrees per second at the Lua boundary, like every angle users type
         const double max_speed = f.number("max_speed", rad_to_deg(m.servo.max_speed));
         if (!(std::isfinite(max_speed) && max_speed > 0)) {

@@ -7,6 +7,7 @@
 #include "lua_util.h"
 #include "recording.h"
 #include "scene.h"
+#include "spec_fields.h"
 #include "wrap.h"
 
 namespace gaitlab::scripting {
@@ -21,8 +22,9 @@ RobotBinding& check_robot(lua_State* L, int index) {
 
 int robot_chain(lua_State* L) {
     return protect(L, [&] {
-        Fields f(L, 1, 1, {"name", "modules", "connection", "module"});
+        Fields f(L, 1, 1, {"name", "modules", "connection", "module", "self_collision"});
         ChainSpec spec;
+        const bool self_collision = f.boolean("self_collision", false);
         spec.name = f.string("name", "robot");
         if (!f.has("modules")) f.fail("modules", "number of modules expected, got nil");
         // checked before it becomes an int (make_chain's words for make_chain's range), so a
@@ -49,6 +51,7 @@ int robot_chain(lua_State* L) {
             spec.connection = parse_connection(f.string("connection", "pitch-pitch"));
             auto robot = std::make_shared<RobotBinding>();
             robot->spec = make_chain(spec);
+            robot->spec.self_collision = self_collision;
             push_robot(L, std::move(robot));
         } catch (const SpecError& e) {
             throw ArgError(1, e.what());
@@ -419,6 +422,8 @@ void open_robot(lua_State* L) {
     lua_newtable(L);
     lua_pushcfunction(L, robot_chain);
     lua_setfield(L, -2, "chain");
+    lua_pushcfunction(L, robot_new);
+    lua_setfield(L, -2, "new");
     lua_pushcfunction(L, robot_load);
     lua_setfield(L, -2, "load");
     lua_pushcfunction(L, robot_load_urdf);

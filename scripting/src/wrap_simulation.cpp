@@ -54,8 +54,23 @@ RecordRequest to_request(lua_State* L, int index, int arg, const std::string& pr
         fail("false, true, a run folder or a table expected, got " + type_name(L, index));
     }
     try {
-        Fields f(L, index, arg, {"dir", "record_every", "flush_seconds", "series"});
+        Fields f(L, index, arg,
+                 {"enabled", "dir", "every", "record_every", "flush_seconds", "series"});
+        // enabled = false: as record = false (a simulation file's <record enabled="false">)
+        if (!f.boolean("enabled", true)) r.mode = RecordRequest::Mode::off;
         r.dir = f.string("dir", "");
+        if (f.has("every") && f.has("record_every")) {
+            f.fail("every", "give 'every' or 'record_every', not both");
+        }
+        // every: as a simulation file's <record every> (0: the control period)
+        if (f.has("every")) {
+            try {
+                r.options.record_every =
+                    checked_int("every", f.integer("every", 0), 0, kMaxControlEvery);
+            } catch (const SpecError& e) {
+                fail(e.what());
+            }
+        }
         if (f.has("record_every")) {
             try {
                 r.options.record_every =
@@ -144,7 +159,8 @@ void push_simulation(lua_State* L, std::shared_ptr<Simulation> sim,
         });
         auto player = std::make_shared<Player>(sim);
         h = new_object<SimulationHandle>(
-            L, kSimulationType, SimulationHandle{sim, 0, {}, std::move(world), std::move(player)});
+            L, kSimulationType,
+            SimulationHandle{sim, 0, {}, std::move(world), std::move(player), {}, {}, {}, {}});
     } catch (const SpecError& e) {
         throw ArgError(1, e.what());
     } catch (const std::bad_alloc&) {
@@ -174,8 +190,16 @@ int simulation_new(lua_State* L) {
     // called as gaitlab.simulation{...}: argument 1 is the gaitlab.simulation table itself
     return protect(L, [&] {
         Fields f(L, 2, 1,
-                 {"world", "dt", "control_every", "record", "seed", "solver_iterations",
-                  "on_controller_error"});
+                 {"world", "name", "duration", "dt", "control_every", "record", "seed",
+                  "solver_iterations", "on_controller_error"});
+        // name and duration: what sim:save writes (a simulation file's name and duration)
+        SimulationFile file;
+        file.name = f.string("name", file.name);
+        if (file.name.empty()) f.fail("name", "a non-empty name expected");
+        file.duration = f.number("duration", file.duration);
+        if (!(std::isfinite(file.duration) && file.duration >= 0)) {
+            f.fail("duration", "non-negative number of seconds expected");
+        }
         if (f.push("world") == LUA_TNIL) f.fail("world", "gaitlab.World expected, got nil");
         if (!luaL_testudata(L, -1, kWorldType)) {
             f.fail("world", "gaitlab.World expected, got " + type_name(L, -1));
@@ -190,6 +214,8 @@ int simulation_new(lua_State* L) {
             o.control_every = checked_int("control_every", every, 1, kMaxControlEvery);
             o.solver_iterations =
                 checked_int("solver_iterations", iterations, 1, kMaxSolverIterations);
+            // as a simulation file's duration: a run of round(duration / dt) ticks must fit
+            if (f.has("duration")) checked_ticks("duration", file.duration, o.dt);
         } catch (const SpecError& e) {
             throw ArgError(1, e.what());
         }
@@ -208,8 +234,19 @@ int simulation_new(lua_State* L) {
         f.push("record");
         const RecordRequest request = to_request(L, -1, 1, "field 'record': ");
         lua_pop(L, 1);
+        const bool has_duration = f.has("duration");
+        if (request.mode != RecordRequest::Mode::absent) {
+            file.record.enabled = request.mode == RecordRequest::Mode::on;
+        }
+        file.record.dir = request.dir;
+        file.record.every = request.options.record_every;
+        file.record.flush_seconds = request.options.flush_seconds;
         raw_getfield(L, 2, "world");
         push_new_simulation(L, to_world(L, -1), o, request);
+        SimulationHandle& h = check_handle(L, -1);
+        if (f.has("name")) h.name = file.name;
+        if (has_duration) h.duration = file.duration;
+        h.record = file.record;
         return 1;
     });
 }
@@ -262,7 +299,7 @@ int simulation_save(lua_State* L) {
         SimulationHandle& h = check_handle(L, 1);
         const Simulation& sim = *h.sim;
         const ScriptPath path(L, check_string(L, 2));
-        double duration = sim.time() > 0 ? sim.time() : 10;
+        double duration = h.duration ? *h.duration : sim.time() > 0 ? sim.time() : 10;
         if (!lua_isnoneornil(L, 3)) {
             Fields f(L, 3, 3, {"duration"});
             duration = f.number("duration", duration);
@@ -270,8 +307,9 @@ int simulation_save(lua_State* L) {
                 f.fail("duration", "non-negative number of seconds expected");
             }
         }
-        return file_written(
-            L, path, [&] { save_simulation(path.path(), *h.world, sim.options(), duration); });
+        return file_written(L, path, [&] {
+            save_simulation(path.path(), *h.world, sim.options(), duration, h.name, h.record);
+        });
     });
 }
 
@@ -317,6 +355,13 @@ int simulation_load(lua_State* L) {
         if (!failed.empty()) {
             lua_settop(L, world - 1);
             return push_fail(L, failed);
+        }
+        {
+            // saved again, it keeps the file's name, duration and <record>
+            SimulationHandle& made = check_handle(L, -1);
+            made.name = loaded.file.name;
+            made.duration = loaded.file.duration;
+            made.record = rec;
         }
         lua_createtable(L, 0, 7);
         lua_pushinteger(L, loaded.file.line);
@@ -561,7 +606,14 @@ int simulation_clone(lua_State* L) {
         const std::shared_ptr<Simulation> kept = h.sim;
         const std::shared_ptr<WorldBinding> world = h.world;
         std::shared_ptr<Simulation> copy(kept->clone());
+        const std::string name = h.name;
+        const std::optional<double> duration = h.duration;
+        const RecordSpec record = h.record;
         push_simulation(L, copy, WorldBinding::of(copy, *world), request);
+        SimulationHandle& made = check_handle(L, -1);
+        made.name = name;
+        made.duration = duration;
+        made.record = record;
         return 1;
     });
 }
@@ -675,6 +727,20 @@ int simulation_index(lua_State* L) {
             lua_pushnumber(L, check_handle(L, 1).player->speed());
         } else if (k == "delay") {
             lua_pushnumber(L, check_handle(L, 1).player->delay());
+        } else if (k == "name") {
+            const SimulationHandle& h = check_handle(L, 1);
+            if (h.name.empty()) {
+                lua_pushnil(L);
+            } else {
+                lua_pushstring(L, h.name.c_str());
+            }
+        } else if (k == "duration") {
+            const SimulationHandle& h = check_handle(L, 1);
+            if (h.duration) {
+                lua_pushnumber(L, *h.duration);
+            } else {
+                lua_pushnil(L);
+            }
         } else if (k == "seed") {
             lua_pushinteger(L, static_cast<lua_Integer>(sim.options().seed));
         } else if (k == "record_dir") {

@@ -15,6 +15,7 @@
 #include "lua_util.h"
 #include "recording.h"
 #include "scene.h"
+#include "spec_fields.h"
 #include "wrap.h"
 
 namespace gaitlab::scripting {
@@ -42,7 +43,8 @@ int world_new(lua_State* L) {
             if (t == LUA_TBOOLEAN) {
                 world->spec.floor.enabled = lua_toboolean(L, -1);
             } else if (t == LUA_TTABLE) {
-                Fields floor(L, -1, 1, {"friction"});
+                Fields floor(L, -1, 1, {"enabled", "friction"});
+                world->spec.floor.enabled = floor.boolean("enabled", true);
                 world->spec.floor.friction = floor.number("friction", 1.0);
             } else if (t != LUA_TNIL) {
                 f.fail("floor", "table or boolean expected, got " + type_name(L, -1));
@@ -95,6 +97,30 @@ int world_add(lua_State* L) {
     });
 }
 
+// world:place{ robot =, position =, yaw = | orientation = }: where a robot of that name goes
+// when added without a pose, as an environment file's <place> says
+int world_place(lua_State* L) {
+    return protect(L, [&] {
+        WorldBinding& w = check_world(L, 1);
+        Fields f(L, 2, 2, {"robot", "position", "yaw", "orientation"});
+        if (!f.has("robot")) f.fail("robot", "robot name expected, got nil");
+        Placement p;
+        p.robot = f.string("robot", "");
+        for (const Placement& other : w.placements) {
+            if (other.robot == p.robot)
+                f.fail("robot", fmt::format("robot '{}' is placed twice", p.robot));
+        }
+        p.pose.position = f.vec3("position", {});
+        for (double c : {p.pose.position.x, p.pose.position.y, p.pose.position.z}) {
+            if (!std::isfinite(c)) f.fail("position", "finite numbers expected");
+        }
+        p.pose.orientation = orientation_field(L, f);
+        w.placements.push_back(p);
+        lua_settop(L, 1);
+        return 1;
+    });
+}
+
 // Validates `spec` as the next object of its kind in `objects` (so messages number it as the
 // world does), appends it, and returns the world for chained calls.
 template <class Spec>
@@ -132,7 +158,7 @@ void read_placement(const Fields& f, Spec& s, const Vec3& default_position) {
 int world_box(lua_State* L) {
     return protect(L, [&] {
         WorldBinding& w = check_world(L, 1);
-        Fields f(L, 2, 2, {"size", "position", "yaw", "mass", "friction"});
+        Fields f(L, 2, 2, {"size", "position", "yaw", "orientation", "mass", "friction"});
         BoxSpec box;
         box.size = f.vec3("size", box.size);
         box.pose.position = f.vec3("position", {0, 0, box.size.z / 2});
@@ -142,7 +168,7 @@ int world_box(lua_State* L) {
             throw ArgError(
                 2, fmt::format("box {} yaw must be a finite number", w.spec.boxes.size() + 1));
         }
-        box.pose.orientation = yaw_rotation(yaw);
+        box.pose.orientation = orientation_field(L, f);
         box.mass = f.number("mass", 0);
         box.friction = f.number("friction", 1.0);
         return add_object(L, w.spec.boxes, box);
@@ -568,6 +594,7 @@ std::shared_ptr<WorldBinding> to_world(lua_State* L, int index) {
 
 void open_world(lua_State* L) {
     const luaL_Reg methods[] = {{"add", world_add},
+                                {"place", world_place},
                                 {"box", world_box},
                                 {"wall", world_wall},
                                 {"ramp", world_ramp},

@@ -15,8 +15,8 @@ TEST_CASE("simulation rejects bad options with Lua-worded messages", "[wrap_simu
           bad + "unknown key 'control_evry'; did you mean 'control_every'?)");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, record = 3 }") ==
           bad + "field 'record': false, true, a run folder or a table expected, got number)");
-    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { every = 3 } }") ==
-          bad + "field 'record': unknown key 'every')");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { each = 3 } }") ==
+          bad + "field 'record': unknown key 'each')");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { record_every = 0 } }") ==
           bad + "field 'record': record_every must be in [1, 1000000] (got 0))");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { flush_seconds = -1 } }") ==

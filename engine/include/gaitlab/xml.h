@@ -65,6 +65,10 @@ RobotSpec read_robot(const std::string& path);
 RobotSpec parse_robot(std::string_view text, const std::string& file);
 ActuationSpec read_actuation(const std::string& path);
 ActuationSpec parse_actuation(std::string_view text, const std::string& file);
+/// A group's joints as an actuation file's <group joints="..."> gives them: a role ("pitch",
+/// "yaw", "all") or joint numbers from 1, each once. Throws SpecError (without the attribute's
+/// name, which the caller adds).
+void parse_group_joints(const std::string& text, GroupSpec& group);
 EnvironmentSpec read_environment(const std::string& path);
 EnvironmentSpec parse_environment(std::string_view text, const std::string& file);
 SimulationFile read_simulation(const std::string& path);

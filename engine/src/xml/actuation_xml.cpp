@@ -18,16 +18,26 @@ namespace {
 
 using xml::Element;
 
-constexpr const char* kRefKinds[] = {"builtin", "file", "template"};
-
 void read_joints(const Element& e, GroupSpec& g) {
     const std::string text = e.required_string("joints");
+    e.check([&] {
+        try {
+            parse_group_joints(text, g);
+        } catch (const SpecError& err) {
+            throw SpecError(fmt::format("attribute 'joints': {}", err.what()));
+        }
+    });
+}
+
+}  // namespace
+
+void parse_group_joints(const std::string& text, GroupSpec& g) {
     std::istringstream in(text);
     std::string word;
     std::vector<std::string> words;
     while (in >> word)
         words.push_back(word);
-    if (words.empty()) e.fail("attribute 'joints': a role or joint numbers expected, got ''");
+    if (words.empty()) throw SpecError("a role or joint numbers expected, got ''");
     if (words.size() == 1 && (words[0] == "pitch" || words[0] == "yaw" || words[0] == "all")) {
         g.role = words[0];
         return;
@@ -39,22 +49,22 @@ void read_joints(const Element& e, GroupSpec& g) {
         errno = 0;
         const long n = std::strtol(w.c_str(), &end, 10);
         if (*end != '\0' || errno == ERANGE || n < 1) {
-            e.fail(fmt::format(
-                "attribute 'joints': 'pitch', 'yaw', 'all' or joint numbers (from 1) expected, "
-                "got '{}'",
-                text));
+            throw SpecError(fmt::format(
+                "'pitch', 'yaw', 'all' or joint numbers (from 1) expected, got '{}'", text));
         }
         if (n > kMaxRobotBodies) {
-            e.fail(fmt::format("attribute 'joints': joint numbers must be in [1, {}] (got {})",
-                               kMaxRobotBodies, n));
+            throw SpecError(
+                fmt::format("joint numbers must be in [1, {}] (got {})", kMaxRobotBodies, n));
         }
         if (listed[static_cast<size_t>(n - 1)]) {
-            e.fail(fmt::format("attribute 'joints': joint {} is listed twice", n));
+            throw SpecError(fmt::format("joint {} is listed twice", n));
         }
         listed[static_cast<size_t>(n - 1)] = true;
         g.joints.push_back(static_cast<int>(n - 1));
     }
 }
+
+namespace {
 
 ControllerRef read_controller(const Element& e) {
     e.children({});
@@ -64,8 +74,8 @@ ControllerRef read_controller(const Element& e) {
     int kinds = 0;
     for (const std::string& a : e.attribute_names()) {
         bool is_kind = false;
-        for (size_t k = 0; k < std::size(kRefKinds); ++k) {
-            if (a == kRefKinds[k]) {
+        for (size_t k = 0; k < xml::attrs::controller.size(); ++k) {
+            if (a == xml::attrs::controller[k]) {
                 ref.kind = static_cast<ControllerRef::Kind>(k);
                 ref.name = e.string(a.c_str(), "");
                 is_kind = true;
@@ -84,14 +94,14 @@ ControllerRef read_controller(const Element& e) {
 }
 
 ActuationSpec read_actuation_element(const Element& root) {
-    root.allow({});
+    root.allow(xml::attrs::actuation);
     ActuationSpec a;
     for (const Element& g : root.children({"group"})) {
         // each group makes a controller: as many as a robot can have joints
         if (a.groups.size() >= static_cast<size_t>(kMaxRobotBodies)) {
             g.fail(fmt::format("an actuation has at most {} groups", kMaxRobotBodies));
         }
-        g.allow({"joints"});
+        g.allow(xml::attrs::group);
         GroupSpec group;
         read_joints(g, group);
         const std::vector<Element> kids = g.children({"controller"});

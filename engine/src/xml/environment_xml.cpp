@@ -173,7 +173,7 @@ void fields(V& v, S& s, HeightfieldSpec*) {
 }
 
 template <class S>
-std::vector<const char*> names_of(std::initializer_list<const char*> extra = {}) {
+std::vector<const char*> names_of(const std::vector<const char*>& extra = {}) {
     Names n;
     S probe;
     fields(n, probe, static_cast<S*>(nullptr));
@@ -204,7 +204,7 @@ void write_objects(xml::Writer& w, const char* element, const std::vector<S>& ob
 }
 
 void read_heightfield(const Element& e, std::vector<HeightfieldSpec>& out) {
-    e.allow(names_of<HeightfieldSpec>({"image", "samples"}));
+    e.allow(names_of<HeightfieldSpec>(xml::attrs::heightfield_source));
     HeightfieldSpec h;
     Read r{e};
     fields(r, h, static_cast<HeightfieldSpec*>(nullptr));
@@ -269,7 +269,7 @@ void write_heightfields(xml::Writer& w, const std::vector<HeightfieldSpec>& all,
 }
 
 EnvironmentSpec read_environment_element(const Element& root) {
-    root.allow({"gravity"});
+    root.allow(xml::attrs::environment);
     EnvironmentSpec env;
     WorldSpec& world = env.world;
     world.gravity = root.vec3("gravity", world.gravity);
@@ -281,7 +281,7 @@ EnvironmentSpec read_environment_element(const Element& root) {
             k.children({});
             if (floor_seen) k.fail("one <floor> per environment expected");
             floor_seen = true;
-            k.allow({"enabled", "friction"});
+            k.allow(xml::attrs::floor);
             world.floor.enabled = k.boolean("enabled", true);
             world.floor.friction = k.number("friction", world.floor.friction);
             WorldSpec probe;
@@ -289,7 +289,7 @@ EnvironmentSpec read_environment_element(const Element& root) {
             k.check([&] { validate(probe); });
         } else if (kind == "box") {
             k.children({});
-            k.allow({"size", "position", "yaw", "orientation", "mass", "friction"});
+            k.allow(xml::attrs::box);
             BoxSpec b;
             b.size = k.vec3("size", b.size);
             b.pose.position = k.vec3("position", {0, 0, b.size.z / 2});
@@ -314,7 +314,7 @@ EnvironmentSpec read_environment_element(const Element& root) {
             read_heightfield(k, world.heightfields);
         } else {
             k.children({});
-            k.allow({"robot", "position", "yaw", "orientation"});
+            k.allow(xml::attrs::place);
             Placement p;
             p.line = k.line();
             p.robot = k.required_string("robot");
@@ -333,6 +333,19 @@ EnvironmentSpec read_environment_element(const Element& root) {
 }
 
 }  // namespace
+
+std::vector<XmlElementSchema> xml::environment_object_schema() {
+    auto entry = [](const char* element, const std::vector<const char*>& names) {
+        return XmlElementSchema{"environment", element, {names.begin(), names.end()}};
+    };
+    return {entry("wall", names_of<WallSpec>()),
+            entry("ramp", names_of<RampSpec>()),
+            entry("stairs", names_of<StairsSpec>()),
+            entry("cylinder", names_of<CylinderSpec>()),
+            entry("pipe", names_of<PipeSpec>()),
+            entry("rubble", names_of<RubbleSpec>()),
+            entry("heightfield", names_of<HeightfieldSpec>(xml::attrs::heightfield_source))};
+}
 
 std::string relative_path(const std::string& path, const std::string& from_file) {
     namespace fs = std::filesystem;

@@ -31,8 +31,7 @@ Shape parse_shape(const Element& e, Shape fallback) {
 }
 
 ModuleDef read_module(const Element& e, ModuleDef m) {
-    e.allow({"name", "shape", "length", "width", "height", "radius", "mass", "axis", "min", "max",
-             "friction", "kp", "max_speed", "max_torque"});
+    e.allow(xml::attrs::module);
     e.children({});
     m.name = e.string("name", m.name);
     m.shape = parse_shape(e, m.shape);
@@ -59,7 +58,7 @@ ModuleDef read_module(const Element& e, ModuleDef m) {
 }
 
 RobotSpec read_chain(const Element& e, const std::string& name) {
-    e.allow({"modules", "connection", "module"});
+    e.allow(xml::attrs::chain);
     ChainSpec chain;
     chain.name = name;
     if (!e.has("modules")) e.fail("attribute 'modules' is required (the number of modules)");
@@ -103,19 +102,19 @@ SensorSpec read_sensor(const Element& e) {
     e.check([&] { s.kind = parse_sensor_kind(e.required_string("kind")); });
     switch (s.kind) {
         case SensorKind::joint:
-            e.allow({"kind", "name", "joint", "enabled"});
+            e.allow(xml::attrs::sensor_joint);
             break;
         case SensorKind::imu:
-            e.allow({"kind", "name", "module", "half", "enabled"});
+            e.allow(xml::attrs::sensor_imu);
             break;
         case SensorKind::contact:
-            e.allow({"kind", "name", "module", "enabled"});
+            e.allow(xml::attrs::sensor_contact);
             break;
         case SensorKind::range:
-            e.allow({"kind", "name", "module", "half", "direction", "max_range", "enabled"});
+            e.allow(xml::attrs::sensor_range);
             break;
         case SensorKind::position:
-            e.allow({"kind", "name", "enabled"});
+            e.allow(xml::attrs::sensor_position);
             break;
     }
     e.children({});
@@ -163,7 +162,7 @@ void write_sensor(xml::Writer& w, const SensorSpec& s) {
 }
 
 RobotSpec read_robot_element(const Element& root) {
-    root.allow({"name", "self_collision"});
+    root.allow(xml::attrs::robot);
     const std::string name = root.string("name", "robot");
     const bool self_collision = root.boolean("self_collision", false);
     const std::vector<Element> kids = root.children({"chain", "body", "joint", "sensor"});
@@ -192,7 +191,7 @@ RobotSpec read_robot_element(const Element& root) {
         if (chain) k.fail("a robot is one <chain>, or <body> and <joint> elements (and <sensor>s)");
         parts = true;
         if (kind == "body") {
-            k.allow({"name", "shape", "size", "mass", "position", "orientation", "friction"});
+            k.allow(xml::attrs::body);
             k.children({});
             if (robot.bodies.size() >= static_cast<size_t>(kMaxRobotBodies)) {
                 k.fail(fmt::format("a robot has at most {} bodies", kMaxRobotBodies));
@@ -214,8 +213,7 @@ RobotSpec read_robot_element(const Element& root) {
             body_names.emplace(b.name, static_cast<int>(robot.bodies.size()));
             robot.bodies.push_back(b);
         } else {
-            k.allow({"name", "role", "parent", "child", "pivot", "axis", "min", "max", "kp",
-                     "max_speed", "max_torque"});
+            k.allow(xml::attrs::joint);
             k.children({});
             if (robot.joints.size() >= static_cast<size_t>(kMaxRobotBodies)) {
                 k.fail(fmt::format("a robot has at most {} joints", kMaxRobotBodies));

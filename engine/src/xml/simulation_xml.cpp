@@ -40,8 +40,7 @@ ControllerErrorPolicy parse_policy(const Element& e) {
 }
 
 SimulationFile read_simulation_element(const Element& root) {
-    root.allow({"name", "duration", "dt", "control_every", "solver_iterations", "seed",
-                "on_controller_error"});
+    root.allow(xml::attrs::simulation);
     SimulationFile s;
     s.line = root.line();
     s.name = root.string("name", s.name);
@@ -70,10 +69,10 @@ SimulationFile read_simulation_element(const Element& root) {
         if (kind == "environment") {
             if (env) k.fail("one <environment> per simulation expected");
             env = true;
-            k.allow({"file"});
+            k.allow(xml::attrs::simulation_environment);
             s.environment = read_ref(k, "file", true);
         } else if (kind == "robot") {
-            k.allow({"file", "actuation"});
+            k.allow(xml::attrs::simulation_robot);
             RobotEntry r;
             r.line = k.line();
             r.robot = read_ref(k, "file", true);
@@ -82,7 +81,7 @@ SimulationFile read_simulation_element(const Element& root) {
         } else {
             if (record) k.fail("one <record> per simulation expected");
             record = true;
-            k.allow({"enabled", "dir", "every", "flush_seconds"});
+            k.allow(xml::attrs::record);
             if (k.has("enabled")) s.record.enabled = k.boolean("enabled", true);
             s.record.dir = k.string("dir", "");
             const long long every = k.integer("every", 0);

@@ -17,6 +17,7 @@
 
 #include "gaitlab/types.h"
 #include "gaitlab/xml.h"
+#include "gaitlab/xml_schema.h"
 
 namespace gaitlab::xml {
 
@@ -149,5 +150,19 @@ double degrees_for(double rad);
 /// Degrees near rad_to_deg(rad) for which `exact` holds, preferring the shortest decimal a
 /// person would type; rad_to_deg(rad) if none does.
 double degrees_for(double rad, const std::function<bool(double)>& exact);
+
+/// The attributes each reader allows (xml_schema.cpp): the one list gaitlab::xml_schema()
+/// exports.
+namespace attrs {
+extern const std::vector<const char*> robot, chain, module, body, joint, sensor_joint, sensor_imu,
+    sensor_contact, sensor_range, sensor_position;
+extern const std::vector<const char*> environment, floor, box, heightfield_source, place;
+extern const std::vector<const char*> simulation, simulation_environment, simulation_robot, record;
+extern const std::vector<const char*> actuation, group, controller;
+}  // namespace attrs
+
+/// The environment's library objects (wall, ramp, ..., heightfield) and their attributes, from
+/// the field lists their reader and writer walk (environment_xml.cpp).
+std::vector<XmlElementSchema> environment_object_schema();
 
 }  // namespace gaitlab::xml
