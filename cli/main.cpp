@@ -46,6 +46,7 @@
 #include "gaitlab/xml.h"
 #include "make.h"
 #include "optimize.h"
+#include "sweep.h"
 #include "wizard.h"
 
 namespace {
@@ -159,6 +160,7 @@ extern "C" void on_signal(int sig) {
     g_signal = sig;
     if (gaitlab::scripting::LuaHost* host = g_host.load()) host->interrupt(sig);
     gaitlab::cli::optimize_signal(sig);
+    gaitlab::cli::sweep_signal(sig);
 }
 
 const char* strsignal_name(int sig) {
@@ -980,6 +982,7 @@ int main(int argc, char** argv) {
     gaitlab::cli::NewCommand new_command(app);
     gaitlab::cli::MakeCommand make_command(app);
     gaitlab::cli::OptimizeCommand optimize_command(app);
+    gaitlab::cli::SweepCommand sweep_command(app);
     gaitlab::cli::EditCommand edit_command(app);
 
     std::vector<const char*> args{argv[0]};
@@ -1038,6 +1041,9 @@ int main(int argc, char** argv) {
         } else if (optimize_command.chosen()) {
             catch_signals();
             status = optimize_command.run(command);
+        } else if (sweep_command.chosen()) {
+            catch_signals();
+            status = sweep_command.run(command);
         } else if (edit_command.chosen()) {
             status = edit_command.run();
         } else if (*replay) {

@@ -2,6 +2,7 @@
 // gaitlab/optimize/runner.h).
 #include <chrono>
 #include <condition_variable>
+#include <limits>
 #include <thread>
 
 #include "gaitlab/optimize/runner.h"
@@ -50,18 +51,22 @@ EvaluationPool::~EvaluationPool() {
 }
 
 std::vector<Evaluation> EvaluationPool::evaluate(const std::vector<std::vector<double>>& xs,
-                                                 const std::function<void()>& on_each) {
+                                                 const std::function<void(double)>& on_each) {
     return pool_.evaluate(xs, [&](const std::vector<double>& x, int worker) {
+        // on_each is told the fitness, or NaN when the evaluation throws (and still throws)
+        double fitness = std::numeric_limits<double>::quiet_NaN();
         struct Each {
             std::mutex& m;
-            const std::function<void()>& fn;
+            const std::function<void(double)>& fn;
+            const double& fitness;
             ~Each() {
                 if (!fn) return;
                 std::lock_guard<std::mutex> lock(m);
-                fn();
+                fn(fitness);
             }
-        } each{each_mutex_, on_each};
-        return evaluators_[static_cast<std::size_t>(worker)]->evaluate(x);
+        } each{each_mutex_, on_each, fitness};
+        fitness = evaluators_[static_cast<std::size_t>(worker)]->evaluate(x);
+        return fitness;
     });
 }
 

@@ -536,7 +536,7 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     Tick tick;
     tick.generations = result.generations;
     // after each evaluation, from the worker that ran it
-    const std::function<void()> ticked = [&] {
+    const std::function<void(double)> ticked = [&](double) {
         if (!on_evaluation) return;
         std::lock_guard<std::mutex> lock(tick_mutex);
         ++tick.done;

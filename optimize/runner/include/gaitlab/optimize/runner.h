@@ -90,9 +90,10 @@ class EvaluationPool {
 
     int workers() const { return pool_.workers(); }
     /// Evaluates every point of `xs` (parameter units, spec order); `on_each` (if set) is
-    /// called after each evaluation from the worker that ran it, one call at a time.
+    /// called after each evaluation with its fitness (NaN: it failed) from the worker that ran
+    /// it, one call at a time.
     std::vector<Evaluation> evaluate(const std::vector<std::vector<double>>& xs,
-                                     const std::function<void()>& on_each = {});
+                                     const std::function<void(double)>& on_each = {});
     /// Worker `w`'s evaluator (e.g. to save the best as a simulation file between calls).
     Evaluator& evaluator(int w) { return *evaluators_.at(static_cast<std::size_t>(w)); }
 
