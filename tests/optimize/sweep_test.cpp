@@ -290,3 +290,30 @@ TEST_CASE("examples/optimize/snake_sweep.lua takes the grid its comment shows") 
     CHECK(g.point(0) == std::vector<double>{40, 0.25, 0});  // amplitude, frequency, phase
     CHECK(g.point(51) == std::vector<double>{40, 1, 180});
 }
+
+TEST_CASE("--seed seeds math.random before every evaluation") {
+    TempDir dir("sweep_seed");
+    write_text(dir / "spec.lua",
+               "return { parameters = { a = {0, 1} }, duration = 0.01,\n"
+               "  build = function(p) return gaitlab.simulation{ world = gaitlab.world{} } end,\n"
+               "  fitness = function(sim, p) return math.random() end }\n");
+    const Spec spec = load_spec(dir / "spec.lua");
+    const Grid grid = parse_grid(spec, {"a=0:1:0.5"});
+    const auto table = [&](std::uint64_t seed, int workers, const std::string& out) {
+        SweepOptions o;
+        o.seed = seed;
+        o.workers = workers;
+        o.out = dir / out;
+        run_sweep(spec, grid, o);
+        return lines(read_text(dir / out + "/sweep.csv"));
+    };
+    const std::vector<std::string> zero = table(0, 1, "zero");
+    REQUIRE(zero.size() == 4);
+    // the same draw before every evaluation: each point's fitness is the seed's first number
+    CHECK(zero[1].substr(2) == zero[2].substr(4));
+    CHECK(table(0, 2, "zero2") == zero);
+    const std::vector<std::string> seven = table(7, 1, "seven");
+    CHECK(seven != zero);
+    CHECK(table(7, 2, "seven2") == seven);
+    CHECK(read_text(dir / "seven/best.json").find("\"seed\": 7,") != std::string::npos);
+}
