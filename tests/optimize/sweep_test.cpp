@@ -229,7 +229,8 @@ TEST_CASE("a sweep evaluates every point, the best wins, a failed point is marke
     CHECK(png.width == 1000);
     CHECK(png.height == 700);
     CHECK(colours(png) > 50);
-    CHECK(read_text(dir / "two/sweep.gp").find("with image") != std::string::npos);
+    CHECK(read_text(dir / "two/sweep.gp").find("using 1:2:3 skip 1 with image") !=
+          std::string::npos);
 
     // one worker: the same table and evaluations
     o.workers = 1;
@@ -316,4 +317,21 @@ TEST_CASE("--seed seeds math.random before every evaluation") {
     CHECK(seven != zero);
     CHECK(table(7, 2, "seven2") == seven);
     CHECK(read_text(dir / "seven/best.json").find("\"seed\": 7,") != std::string::npos);
+}
+
+TEST_CASE("odd parameter names reach the table and the plot as data") {
+    TempDir dir("sweep_names");
+    write_text(dir / "spec.lua",
+               "return { parameters = { ['a,\"b\"\\n`c`'] = {0, 1} }, duration = 0.01,\n"
+               "  build = function(p) return gaitlab.simulation{ world = gaitlab.world{} } end,\n"
+               "  fitness = function(sim, p) return p['a,\"b\"\\n`c`'] end }\n");
+    const Spec spec = load_spec(dir / "spec.lua");
+    SweepOptions o;
+    o.out = dir / "out";
+    const auto r = run_sweep(spec, parse_grid(spec, {"a,\"b\"\n`c`=0:1:0.5"}), o);
+    CHECK(r.best == std::vector<double>{1});
+    CHECK(read_text(dir / "out/sweep.csv").rfind("\"a,\"\"b\"\"\n`c`\",fitness,error\n0,0,\n", 0) ==
+          0);
+    REQUIRE(r.plot == dir / "out/sweep.png");  // gnuplot ran the script
+    CHECK(read_text(dir / "out/sweep.gp").find("skip 2") != std::string::npos);
 }

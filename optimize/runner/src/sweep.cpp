@@ -99,6 +99,13 @@ std::string plot_script(const Spec& spec, const Grid& grid, const std::vector<do
     gp += "set output \"sweep.png\"\n";
     gp += "set datafile separator \",\"\n";
     gp += "set title " + gp_string(title) + "\n";
+    // the table's header is one line unless a name holds a line end (quoted, as CSV does)
+    std::size_t header_lines = 1;
+    for (const Axis& a : grid.axes) {
+        const std::string& name = spec.parameters[a.parameter].name;
+        header_lines += static_cast<std::size_t>(std::count(name.begin(), name.end(), '\n'));
+    }
+    const std::string skip = std::to_string(header_lines);
     const Axis& x = grid.axes[0];
     const std::string& xname = spec.parameters[x.parameter].name;
     gp += "set xlabel " + gp_string(xname) + "\n";
@@ -108,7 +115,7 @@ std::string plot_script(const Spec& spec, const Grid& grid, const std::vector<do
         gp += fmt::format(
             "set label 1 \"\" at {:.17g},{:.17g} point pt 6 ps 2 lw 2 lc rgb \"#d62728\"\n", bx,
             best_fitness);
-        gp += "plot \"sweep.csv\" using 1:2 skip 1 with linespoints pt 7 ps 0.6 title " +
+        gp += "plot \"sweep.csv\" using 1:2 skip " + skip + " with linespoints pt 7 ps 0.6 title " +
               gp_string(spec.fitness) + "\n";
         return gp;
     }
@@ -127,7 +134,7 @@ std::string plot_script(const Spec& spec, const Grid& grid, const std::vector<do
     gp += fmt::format(
         "set label 1 \"\" at {:.17g},{:.17g} point pt 6 ps 2 lw 2 lc rgb \"#d62728\" front\n", bx,
         by);
-    gp += "plot \"sweep.csv\" using 1:2:3 skip 1 with image notitle\n";
+    gp += "plot \"sweep.csv\" using 1:2:3 skip " + skip + " with image notitle\n";
     return gp;
 }
 
