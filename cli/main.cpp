@@ -1,7 +1,7 @@
 // The gaitlab executable: gaitlab run FILE.lua|FILE.xml (recorded to runs/ by default),
 // gaitlab FILE.lua, gaitlab data DIR (list, extract, export, plot recorded series), gaitlab
-// replay DIR, gaitlab optimize SPEC.lua (optimize.h), --help, --version; gaitlab alone and
-// gaitlab -i FILE.lua open the console (console_command.h).
+// replay DIR, gaitlab optimize SPEC.lua (optimize.h), gaitlab sweep SPEC.lua (sweep.h), --help,
+// --version; gaitlab alone and gaitlab -i FILE.lua open the console (console_command.h).
 //
 // The command line is strict: an option gaitlab does not know is an error (with the closest
 // one), wherever it stands; the script's own arguments follow FILE, after "--" as soon as one

@@ -48,7 +48,7 @@ SweepCommand::SweepCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
                      "centre")
         ->required()
         ->expected(1, -1)
-        ->type_name("NAME=FROM:TO:STEP...");
+        ->type_name("NAME=FROM:TO:STEP");
     sub_->add_option("--workers", a_->workers,
                      "Threads evaluating in parallel, each with its own Lua state (the results "
                      "are the same for any number)")
