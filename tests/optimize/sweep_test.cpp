@@ -292,7 +292,7 @@ TEST_CASE("examples/optimize/snake_sweep.lua takes the grid its comment shows") 
     CHECK(g.point(51) == std::vector<double>{40, 1, 180});
 }
 
-TEST_CASE("--seed seeds math.random before every evaluation") {
+TEST_CASE("the seed seeds math.random before every evaluation, for any number of workers") {
     TempDir dir("sweep_seed");
     write_text(dir / "spec.lua",
                "return { parameters = { a = {0, 1} }, duration = 0.01,\n"
