@@ -1,7 +1,7 @@
 // The gaitlab executable: gaitlab run FILE.lua|FILE.xml (recorded to runs/ by default),
 // gaitlab FILE.lua, gaitlab data DIR (list, extract, export, plot recorded series), gaitlab
-// replay DIR, gaitlab optimize SPEC.lua (optimize.h), --help, --version; gaitlab alone and
-// gaitlab -i FILE.lua open the console (console_command.h).
+// replay DIR, gaitlab optimize SPEC.lua (optimize.h), gaitlab sweep SPEC.lua (sweep.h), --help,
+// --version; gaitlab alone and gaitlab -i FILE.lua open the console (console_command.h).
 //
 // The command line is strict: an option gaitlab does not know is an error (with the closest
 // one), wherever it stands; the script's own arguments follow FILE, after "--" as soon as one
@@ -46,6 +46,7 @@
 #include "gaitlab/xml.h"
 #include "make.h"
 #include "optimize.h"
+#include "sweep.h"
 #include "wizard.h"
 
 namespace {
@@ -159,6 +160,7 @@ extern "C" void on_signal(int sig) {
     g_signal = sig;
     if (gaitlab::scripting::LuaHost* host = g_host.load()) host->interrupt(sig);
     gaitlab::cli::optimize_signal(sig);
+    gaitlab::cli::sweep_signal(sig);
 }
 
 const char* strsignal_name(int sig) {
@@ -980,6 +982,7 @@ int main(int argc, char** argv) {
     gaitlab::cli::NewCommand new_command(app);
     gaitlab::cli::MakeCommand make_command(app);
     gaitlab::cli::OptimizeCommand optimize_command(app);
+    gaitlab::cli::SweepCommand sweep_command(app);
     gaitlab::cli::EditCommand edit_command(app);
 
     std::vector<const char*> args{argv[0]};
@@ -1038,6 +1041,9 @@ int main(int argc, char** argv) {
         } else if (optimize_command.chosen()) {
             catch_signals();
             status = optimize_command.run(command);
+        } else if (sweep_command.chosen()) {
+            catch_signals();
+            status = sweep_command.run(command);
         } else if (edit_command.chosen()) {
             status = edit_command.run();
         } else if (*replay) {

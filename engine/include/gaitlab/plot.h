@@ -2,8 +2,10 @@
 // it plots are kept next to the PNG, so the plot can be edited and redrawn by hand.
 #pragma once
 
+#include <filesystem>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gaitlab {
@@ -37,5 +39,14 @@ struct PlotFiles {
 /// or has no numbers in the time range) or IoError (files, or gnuplot missing or failing: the
 /// script and data stay, to run by hand).
 PlotFiles plot(const RunData& run, const PlotOptions& options);
+
+/// `s` as a gnuplot string literal, whatever its bytes (every byte but letters, digits and a few
+/// punctuation marks as an octal escape): for scripts that hold file names, titles, labels.
+std::string gp_string(std::string_view s);
+
+/// Runs `gnuplot SCRIPT` in the folder `dir` (no shell; gnuplot's output to /dev/null); returns
+/// "" or what went wrong ("cannot run gnuplot (install the gnuplot-nox package)", "gnuplot
+/// failed: ITS MESSAGE").
+std::string run_gnuplot(const std::filesystem::path& dir, const std::string& script);
 
 }  // namespace gaitlab

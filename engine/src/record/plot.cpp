@@ -27,6 +27,8 @@ namespace {
 // more curves than this make no readable plot, and would keep gnuplot busy for long
 constexpr size_t kMaxPlotSeries = 1000;
 
+}  // namespace
+
 // a gnuplot string literal holding `s` as data, whatever its bytes: only letters, digits and a
 // few punctuation marks appear as themselves; every other byte is an octal escape, so the
 // script never holds a quote, backslash, backquote (command substitution), '@' (macros), '$',
@@ -111,8 +113,6 @@ std::string run_gnuplot(const fs::path& dir, const std::string& script) {
     }
     return "";
 }
-
-}  // namespace
 
 namespace {
 

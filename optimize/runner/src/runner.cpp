@@ -7,13 +7,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <mutex>
-#include <thread>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -21,12 +19,15 @@
 #include "gaitlab/error.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/suggest.h"
+#include "results.h"
 
 namespace gaitlab::optimize {
 
 namespace {
 
 namespace fs = std::filesystem;
+using detail::fitness_json;
+using detail::parameters_json;
 using scripting::LuaHost;
 
 const std::vector<std::string> kFields = {"parameters", "build",      "fitness",
@@ -349,35 +350,6 @@ void push_parameters(lua_State* L, const Spec& spec, const std::vector<double>& 
     }
 }
 
-nlohmann::ordered_json parameters_json(const Spec& spec, const std::vector<double>& x) {
-    nlohmann::ordered_json j = nlohmann::ordered_json::object();
-    for (size_t i = 0; i < x.size(); ++i) {
-        if (spec.parameters[i].integer) {
-            j[spec.parameters[i].name] = static_cast<long long>(x[i]);
-        } else {
-            j[spec.parameters[i].name] = x[i];
-        }
-    }
-    return j;
-}
-
-nlohmann::ordered_json fitness_json(double f) {
-    return std::isfinite(f) ? nlohmann::ordered_json(f) : nlohmann::ordered_json(nullptr);
-}
-
-void write_file(const fs::path& path, const std::string& text) {
-    const fs::path tmp = path.string() + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out << text;
-        out.flush();
-        if (!out) throw IoError(fmt::format("{}: cannot write", tmp.string()));
-    }
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) throw IoError(fmt::format("{}: cannot write: {}", path.string(), ec.message()));
-}
-
 // what an evaluation leaves on the Lua stack (its simulation, garbage) goes when it ends, before
 // the next one
 class Clean {
@@ -405,7 +377,8 @@ Spec load_spec(const std::string& path) {
     return spec;
 }
 
-Evaluator::Evaluator(const Spec& spec) : spec_(spec), host_(make_host(spec.file)) {
+Evaluator::Evaluator(const Spec& spec, std::uint64_t seed)
+    : spec_(spec), host_(make_host(spec.file)), seed_(seed) {
     lua_State* L = host_->state();
     load_spec_table(*host_, spec.file);
     spec_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
@@ -427,7 +400,7 @@ void Evaluator::interrupt(int signal) {
 double Evaluator::evaluate(const std::vector<double>& x) {
     lua_State* L = host_->state();
     const Clean clean(L);
-    host_->seed(0);
+    host_->seed(seed_);
     try {
         // build(p)
         lua_rawgeti(L, LUA_REGISTRYINDEX, spec_ref_);
@@ -488,7 +461,7 @@ double Evaluator::evaluate(const std::vector<double>& x) {
 void Evaluator::save(const std::vector<double>& x, const std::string& path) {
     lua_State* L = host_->state();
     const Clean clean(L);
-    host_->seed(0);
+    host_->seed(seed_);
     lua_rawgeti(L, LUA_REGISTRYINDEX, spec_ref_);
     lua_getfield(L, -1, "build");
     push_parameters(L, spec_, x);
@@ -549,85 +522,26 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
 
     // the results folder: new, or empty (never overwrite an earlier run's results)
     const fs::path out(options.out);
-    std::error_code ec;
-    if (fs::exists(out, ec)) {
-        if (!fs::is_directory(out, ec)) {
-            throw SpecError(fmt::format("--out {}: exists and is not a folder", options.out));
-        }
-        if (!fs::is_empty(out, ec)) {
-            throw SpecError(fmt::format(
-                "--out {}: the folder exists and is not empty (an earlier run's results are "
-                "kept: choose another folder)",
-                options.out));
-        }
-    }
-    fs::create_directories(out, ec);
-    if (ec)
-        throw IoError(fmt::format("{}: cannot create the folder: {}", options.out, ec.message()));
+    detail::open_results_folder(options.out);
     const fs::path jsonl_path = out / "evaluations.jsonl";
     std::ofstream jsonl(jsonl_path, std::ios::binary | std::ios::trunc);
     if (!jsonl) throw IoError(fmt::format("{}: cannot create", jsonl_path.string()));
 
-    // one Lua state per worker, each with the spec loaded
-    std::vector<std::unique_ptr<Evaluator>> evaluators;
-    for (int w = 0; w < options.workers; ++w)
-        evaluators.push_back(std::make_unique<Evaluator>(spec));
-    WorkerPool pool(options.workers);
-
-    // a signal (stop) interrupts the evaluations under way: watched from a thread of its own
-    std::mutex watch_mutex;
-    std::condition_variable watch_wake;
-    bool watch_done = false;
-    std::thread watcher;
-    if (stop) {
-        watcher = std::thread([&] {
-            std::unique_lock<std::mutex> lock(watch_mutex);
-            while (!watch_done) {
-                if (const int sig = stop->load(); sig != 0) {
-                    for (auto& e : evaluators)
-                        e->interrupt(sig);
-                    return;
-                }
-                watch_wake.wait_for(lock, std::chrono::milliseconds(50));
-            }
-        });
-    }
-    struct StopWatcher {
-        std::mutex& m;
-        std::condition_variable& cv;
-        bool& done;
-        std::thread& t;
-        ~StopWatcher() {
-            {
-                std::lock_guard<std::mutex> lock(m);
-                done = true;
-            }
-            cv.notify_all();
-            if (t.joinable()) t.join();
-        }
-    } stop_watcher{watch_mutex, watch_wake, watch_done, watcher};
+    EvaluationPool pool(spec, options.workers, 0, stop);
 
     const auto started = std::chrono::steady_clock::now();
     std::mutex tick_mutex;
     Tick tick;
     tick.generations = result.generations;
-    const EvaluateFunction evaluate = [&](const std::vector<double>& x, int worker) {
-        struct Ticker {
-            std::mutex& m;
-            Tick& t;
-            const std::function<void(const Tick&)>& fn;
-            std::chrono::steady_clock::time_point started;
-            ~Ticker() {
-                if (!fn) return;
-                std::lock_guard<std::mutex> lock(m);
-                ++t.done;
-                ++t.evaluations;
-                t.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started)
-                             .count();
-                fn(t);
-            }
-        } ticker{tick_mutex, tick, on_evaluation, started};
-        return evaluators[static_cast<size_t>(worker)]->evaluate(x);
+    // after each evaluation, from the worker that ran it
+    const std::function<void(double)> ticked = [&](double) {
+        if (!on_evaluation) return;
+        std::lock_guard<std::mutex> lock(tick_mutex);
+        ++tick.done;
+        ++tick.evaluations;
+        tick.wall =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        on_evaluation(tick);
     };
     std::size_t first_population = 0;
     for (int g = 0; g < result.generations; ++g) {
@@ -640,7 +554,7 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
             tick.individuals = static_cast<int>(xs.size());
             tick.best = method->best_fitness();
         }
-        const std::vector<Evaluation> ev = pool.evaluate(xs, evaluate);
+        const std::vector<Evaluation> ev = pool.evaluate(xs, ticked);
         if (stop && stop->load() != 0) {
             throw Error(fmt::format("interrupted after {} generations", g));
         }
@@ -654,23 +568,14 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
         std::string lines;
         for (size_t i = 0; i < ev.size(); ++i) {
             fitness[i] = ev[i].failed() ? std::numeric_limits<double>::quiet_NaN() : ev[i].fitness;
-            nlohmann::ordered_json j;
-            j["generation"] = g;
-            j["individual"] = i;
-            j["parameters"] = parameters_json(spec, xs[i]);
-            j["fitness"] = fitness_json(fitness[i]);
-            j["seconds"] = ev[i].seconds;
-            j["worker"] = ev[i].worker;
             if (ev[i].failed()) {
-                j["error"] = ev[i].error;
                 ++p.failed;
                 if (p.first_error.empty()) p.first_error = ev[i].error;
             } else {
                 sum += fitness[i];
                 ++ok;
             }
-            lines +=
-                j.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+            lines += detail::evaluation_line(spec, g, i, xs[i], ev[i]);
         }
         jsonl << lines;
         jsonl.flush();
@@ -691,7 +596,7 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     if (!result.best.empty()) {
         const fs::path path = fs::absolute(out / "best" / "best.xml");
         try {
-            evaluators[0]->save(result.best, path.string());
+            pool.evaluator(0).save(result.best, path.string());
             result.simulation = (out / "best" / "best.xml").string();
         } catch (const Error& e) {
             result.simulation_error = e.what();
@@ -714,8 +619,7 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     if (!result.simulation.empty()) best["simulation"] = "best/best.xml";
     if (!result.simulation_error.empty()) best["simulation_error"] = result.simulation_error;
     best["command"] = options.command;
-    write_file(out / "best.json",
-               best.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
+    detail::write_file((out / "best.json").string(), detail::json_text(best, 2) + "\n");
     return result;
 }
 

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -44,7 +45,8 @@ Spec load_spec(const std::string& path);
 /// thread-safe itself.
 class Evaluator {
   public:
-    explicit Evaluator(const Spec& spec);
+    /// `seed` seeds math.random before every evaluation (gaitlab optimize: 0).
+    explicit Evaluator(const Spec& spec, std::uint64_t seed = 0);
     ~Evaluator();
     Evaluator(const Evaluator&) = delete;
     Evaluator& operator=(const Evaluator&) = delete;
@@ -70,6 +72,37 @@ class Evaluator {
     std::unique_ptr<scripting::LuaHost> host_;
     int spec_ref_ = 0;     // registry reference of the spec table
     int measure_ref_ = 0;  // registry reference of the measuring function
+    std::uint64_t seed_ = 0;
+};
+
+/// Evaluates lists of parameter sets of a spec on `workers` threads, each with its own
+/// Evaluator (Lua state): what run_optimization does with each generation and run_sweep with a
+/// grid. Result i is for xs[i] whatever the number of workers or the order they finish in.
+class EvaluationPool {
+  public:
+    /// `seed` seeds math.random before every evaluation. When `stop` becomes non-zero (a
+    /// signal's number), the evaluations under way and later ones are interrupted: they fail.
+    EvaluationPool(const Spec& spec, int workers, std::uint64_t seed,
+                   const std::atomic<int>* stop = nullptr);
+    ~EvaluationPool();
+    EvaluationPool(const EvaluationPool&) = delete;
+    EvaluationPool& operator=(const EvaluationPool&) = delete;
+
+    int workers() const { return pool_.workers(); }
+    /// Evaluates every point of `xs` (parameter units, spec order); `on_each` (if set) is
+    /// called after each evaluation with its fitness (NaN: it failed) from the worker that ran
+    /// it, one call at a time.
+    std::vector<Evaluation> evaluate(const std::vector<std::vector<double>>& xs,
+                                     const std::function<void(double)>& on_each = {});
+    /// Worker `w`'s evaluator (e.g. to save the best as a simulation file between calls).
+    Evaluator& evaluator(int w) { return *evaluators_.at(static_cast<std::size_t>(w)); }
+
+  private:
+    std::vector<std::unique_ptr<Evaluator>> evaluators_;
+    WorkerPool pool_;
+    struct Watcher;
+    std::unique_ptr<Watcher> watcher_;
+    std::mutex each_mutex_;
 };
 
 /// How run_optimization runs (the command line's options).

@@ -1,0 +1,45 @@
+// What `gaitlab optimize` and `gaitlab sweep` share on the command line: reading whole-number
+// options, the default results folder, numbers and durations as the progress lines show them,
+// and the progress line itself (on a terminal only).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+namespace gaitlab::cli {
+
+/// A whole number in [min, max]; SpecError "OPTION: a whole number from MIN to MAX expected
+/// (got 'TEXT')" otherwise.
+std::uint64_t whole_option(const char* option, const std::string& text, std::uint64_t min,
+                           std::uint64_t max);
+
+/// runs/KIND-SPEC-YYYYmmdd-HHMMSS (SPEC: the spec file's name without folder and extension).
+std::string default_results_folder(const std::string& kind, const std::string& spec);
+
+/// "<1 s", "42 s", "3 min 05 s", "2 h 10 min".
+std::string duration_text(double seconds);
+
+/// A fitness as the progress lines show it ("0.105722"; "none" when not finite).
+std::string fitness_text(double v);
+
+/// A line on stderr rewritten in place, when stderr is a terminal (nothing otherwise).
+class ProgressLine {
+  public:
+    ProgressLine();
+    ~ProgressLine();
+    ProgressLine(const ProgressLine&) = delete;
+    ProgressLine& operator=(const ProgressLine&) = delete;
+    bool shown_on_a_terminal() const { return terminal_; }
+    /// Shows `line` (cut to the terminal's width), at most every 200 ms unless `now` is set.
+    void show(std::string line, bool now = false);
+    /// Takes the line away (before other output, and at the end).
+    void clear();
+
+  private:
+    bool terminal_ = false;
+    bool shown_ = false;
+    std::chrono::steady_clock::time_point last_;
+};
+
+}  // namespace gaitlab::cli

@@ -1,0 +1,187 @@
+// `gaitlab sweep` (see sweep.h).
+#include "sweep.h"
+
+#include <atomic>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "gaitlab/error.h"
+#include "gaitlab/optimize/sweep.h"
+#include "progress.h"
+
+namespace gaitlab::cli {
+
+namespace {
+
+std::atomic<int> g_stop{0};
+static_assert(std::atomic<int>::is_always_lock_free);
+
+}  // namespace
+
+struct SweepCommand::Args {
+    std::string spec;
+    std::vector<std::string> grid;
+    std::string workers = "1";
+    std::string seed = "0";
+    std::string out;
+};
+
+void sweep_signal(int signal) {
+    int expected = 0;
+    g_stop.compare_exchange_strong(expected, signal);
+}
+
+SweepCommand::SweepCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
+    sub_ = app.add_subcommand("sweep",
+                              "Evaluate an optimization spec on a grid of parameter values: a "
+                              "table, a heat map (docs/optimization.md)");
+    sub_->allow_extras();
+    sub_->add_option("spec", a_->spec, "The optimization spec (SPEC.lua), as gaitlab optimize's")
+        ->required()
+        ->type_name("SPEC.lua");
+    sub_->add_option("--grid", a_->grid,
+                     "The swept parameters, each NAME=FROM:TO:STEP (FROM, FROM + STEP, ... up "
+                     "to TO); the others stay at the spec's initial value or their range's "
+                     "centre")
+        ->required()
+        ->expected(1, -1)
+        ->type_name("NAME=FROM:TO:STEP");
+    sub_->add_option("--workers", a_->workers,
+                     "Threads evaluating in parallel, each with its own Lua state (the results "
+                     "are the same for any number)")
+        ->type_name("N")
+        ->capture_default_str();
+    sub_->add_option("--seed", a_->seed,
+                     "Seed of math.random before every evaluation: 0 to 2^64 - 1")
+        ->type_name("N")
+        ->capture_default_str();
+    sub_->add_option("--out", a_->out,
+                     "Results folder, new or empty (default: runs/sweep-SPEC-DATE-TIME)")
+        ->type_name("DIR");
+    sub_->footer(
+        "Writes DIR/sweep.csv (one column per swept parameter, fitness, error; one row per\n"
+        "point), DIR/sweep.png (a line plot for one swept parameter, a heat map for two),\n"
+        "DIR/evaluations.jsonl (as gaitlab optimize's), DIR/best.json and the best point as a\n"
+        "simulation file, DIR/best/best.xml. A grid has at most 100000 points. A failed point\n"
+        "(an error, a NaN fitness, a diverging simulation) is marked in the table and the sweep\n"
+        "goes on. See docs/optimization.md.");
+}
+
+SweepCommand::~SweepCommand() = default;
+
+bool SweepCommand::chosen() const {
+    return sub_->parsed();
+}
+
+int SweepCommand::run(const std::string& command) {
+    const Args& a = *a_;
+    optimize::SweepOptions o;
+    try {
+        o.workers = static_cast<int>(whole_option("--workers", a.workers, 1, 1024));
+        o.seed = whole_option("--seed", a.seed, 0, UINT64_MAX);
+    } catch (const Error& e) {
+        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab sweep --help')\n", e.what());
+        return 2;
+    }
+    o.out = a.out.empty() ? default_results_folder("sweep", a.spec) : a.out;
+    o.command = command;
+    optimize::Spec spec;
+    try {
+        spec = optimize::load_spec(a.spec);
+    } catch (const Error& e) {
+        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        return 1;
+    }
+    optimize::Grid grid;
+    try {
+        grid = optimize::parse_grid(spec, a.grid);
+    } catch (const Error& e) {
+        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab sweep --help')\n", e.what());
+        return 2;
+    }
+    std::string swept, sizes, fixed;
+    for (const optimize::Axis& ax : grid.axes) {
+        swept += (swept.empty() ? "" : ", ") + spec.parameters[ax.parameter].name;
+        sizes += fmt::format("{}{}", sizes.empty() ? "" : " x ", ax.values.size());
+    }
+    for (std::size_t i = 0; i < spec.parameters.size(); ++i) {
+        bool on_grid = false;
+        for (const optimize::Axis& ax : grid.axes)
+            on_grid = on_grid || ax.parameter == i;
+        if (!on_grid) {
+            fixed += fmt::format("{}{} = {}", fixed.empty() ? "" : ", ", spec.parameters[i].name,
+                                 fitness_text(grid.base[i]));
+        }
+    }
+    const std::string shape =
+        grid.axes.size() == 1
+            ? fmt::format("{} at {} values", swept, grid.points())
+            : fmt::format("{} on a {} grid ({} points)", swept, sizes, grid.points());
+    std::printf("sweep %s: %s%s, fitness %s, %d worker%s, results in %s\n", a.spec.c_str(),
+                shape.c_str(), fixed.empty() ? "" : (", " + fixed).c_str(), spec.fitness.c_str(),
+                o.workers, o.workers == 1 ? "" : "s", o.out.c_str());
+    std::fflush(stdout);
+    ProgressLine bar;
+    const auto show = [&](const optimize::SweepTick& t) {
+        const double rate = t.wall > 0 ? static_cast<double>(t.done) / t.wall : 0;
+        std::string line = fmt::format("sweep: {}/{} evaluated, best {}, {:.2g} per s", t.done,
+                                       t.points, fitness_text(t.best), rate);
+        if (rate > 0 && t.points > t.done) {
+            line += fmt::format(", about {} left",
+                                duration_text(static_cast<double>(t.points - t.done) / rate));
+        }
+        bar.show(line, t.done == t.points);
+    };
+    optimize::SweepResult r;
+    try {
+        r = optimize::run_sweep(spec, grid, o, &g_stop,
+                                bar.shown_on_a_terminal()
+                                    ? std::function<void(const optimize::SweepTick&)>(show)
+                                    : nullptr);
+        bar.clear();
+    } catch (const Error& e) {
+        bar.clear();
+        if (const int sig = g_stop.load(); sig != 0) {
+            std::fprintf(stderr, "gaitlab: interrupted; the evaluations so far are in %s\n",
+                         o.out.c_str());
+            return 128 + sig;
+        }
+        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        return 1;
+    }
+    if (r.failed > 0) {
+        std::printf("%zu of %zu points failed (the first: %s)\n", r.failed, r.points,
+                    r.first_error.c_str());
+    }
+    if (r.best.empty()) {
+        std::fflush(stdout);
+        std::fprintf(stderr, "gaitlab: every point failed (see %s)\n", r.table.c_str());
+        return 1;
+    }
+    std::string best;
+    for (std::size_t i = 0; i < r.best.size(); ++i) {
+        best += fmt::format("{}{} = {}", i == 0 ? "" : ", ", spec.parameters[i].name,
+                            fitness_text(r.best[i]));
+    }
+    std::printf("best %s %s at point %zu of %zu: %s\n", spec.fitness.c_str(),
+                fitness_text(r.best_fitness).c_str(), r.best_point + 1, r.points, best.c_str());
+    std::printf("results: %s, %s/evaluations.jsonl, %s/best.json\n", r.table.c_str(), o.out.c_str(),
+                o.out.c_str());
+    if (!r.plot.empty()) {
+        std::printf("plot: %s\n", r.plot.c_str());
+    } else {
+        std::printf("no plot: %s\n", r.plot_error.c_str());
+    }
+    if (!r.simulation.empty()) {
+        std::printf("the best as a simulation file: gaitlab run %s\n", r.simulation.c_str());
+    } else {
+        std::printf("the best could not be saved as a simulation file: %s\n",
+                    r.simulation_error.c_str());
+    }
+    return 0;
+}
+
+}  // namespace gaitlab::cli

@@ -1,0 +1,36 @@
+// The results folder's pieces that `gaitlab optimize` and `gaitlab sweep` share: the folder
+// itself (new or empty), one evaluations.jsonl line per evaluation, parameters and fitness as
+// JSON, files written whole or not at all. Internal to the runner library.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "gaitlab/optimize/runner.h"
+
+namespace gaitlab::optimize::detail {
+
+/// Creates the results folder `out`; one that exists must be an empty folder (an earlier run's
+/// results are never overwritten). Throws SpecError naming --out, IoError.
+void open_results_folder(const std::string& out);
+
+/// name -> value in spec order, integers as JSON integers.
+nlohmann::ordered_json parameters_json(const Spec& spec, const std::vector<double>& x);
+
+/// the number, or null when it is not finite (a failed evaluation).
+nlohmann::ordered_json fitness_json(double f);
+
+/// One line of evaluations.jsonl (with its line end): generation, individual, parameters,
+/// fitness, seconds, worker and, for a failed evaluation, error.
+std::string evaluation_line(const Spec& spec, int generation, std::size_t individual,
+                            const std::vector<double>& x, const Evaluation& ev);
+
+/// JSON text as the results folder holds it (indented or one line; invalid UTF-8 replaced).
+std::string json_text(const nlohmann::ordered_json& j, int indent);
+
+/// Writes `text` to `path` through a temporary file renamed over it. Throws IoError.
+void write_file(const std::string& path, const std::string& text);
+
+}  // namespace gaitlab::optimize::detail
