@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gaitlab/error.h"
+#include "gaitlab/optimize/backend.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/suggest.h"
 
@@ -568,11 +569,13 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     std::ofstream jsonl(jsonl_path, std::ios::binary | std::ios::trunc);
     if (!jsonl) throw IoError(fmt::format("{}: cannot create", jsonl_path.string()));
 
-    // one Lua state per worker, each with the spec loaded
-    std::vector<std::unique_ptr<Evaluator>> evaluators;
-    for (int w = 0; w < options.workers; ++w)
-        evaluators.push_back(std::make_unique<Evaluator>(spec));
-    WorkerPool pool(options.workers);
+    // the given backend (MPI ranks), or one Lua state per worker thread here
+    std::unique_ptr<EvaluationBackend> own_backend;
+    EvaluationBackend* backend = options.backend;
+    if (!backend) {
+        own_backend = make_thread_backend(spec, options.workers);
+        backend = own_backend.get();
+    }
 
     // a signal (stop) interrupts the evaluations under way: watched from a thread of its own
     std::mutex watch_mutex;
@@ -584,8 +587,7 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
             std::unique_lock<std::mutex> lock(watch_mutex);
             while (!watch_done) {
                 if (const int sig = stop->load(); sig != 0) {
-                    for (auto& e : evaluators)
-                        e->interrupt(sig);
+                    backend->interrupt(sig);
                     return;
                 }
                 watch_wake.wait_for(lock, std::chrono::milliseconds(50));
@@ -611,23 +613,14 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     std::mutex tick_mutex;
     Tick tick;
     tick.generations = result.generations;
-    const EvaluateFunction evaluate = [&](const std::vector<double>& x, int worker) {
-        struct Ticker {
-            std::mutex& m;
-            Tick& t;
-            const std::function<void(const Tick&)>& fn;
-            std::chrono::steady_clock::time_point started;
-            ~Ticker() {
-                if (!fn) return;
-                std::lock_guard<std::mutex> lock(m);
-                ++t.done;
-                ++t.evaluations;
-                t.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started)
-                             .count();
-                fn(t);
-            }
-        } ticker{tick_mutex, tick, on_evaluation, started};
-        return evaluators[static_cast<size_t>(worker)]->evaluate(x);
+    const EvaluationDone evaluated = [&](std::size_t, const Evaluation&) {
+        if (!on_evaluation) return;
+        std::lock_guard<std::mutex> lock(tick_mutex);
+        ++tick.done;
+        ++tick.evaluations;
+        tick.wall =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        on_evaluation(tick);
     };
     std::size_t first_population = 0;
     for (int g = 0; g < result.generations; ++g) {
@@ -640,7 +633,7 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
             tick.individuals = static_cast<int>(xs.size());
             tick.best = method->best_fitness();
         }
-        const std::vector<Evaluation> ev = pool.evaluate(xs, evaluate);
+        const std::vector<Evaluation> ev = backend->evaluate(xs, evaluated);
         if (stop && stop->load() != 0) {
             throw Error(fmt::format("interrupted after {} generations", g));
         }
@@ -661,6 +654,7 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
             j["fitness"] = fitness_json(fitness[i]);
             j["seconds"] = ev[i].seconds;
             j["worker"] = ev[i].worker;
+            if (ev[i].rank >= 0) j["rank"] = ev[i].rank;
             if (ev[i].failed()) {
                 j["error"] = ev[i].error;
                 ++p.failed;
@@ -691,7 +685,7 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     if (!result.best.empty()) {
         const fs::path path = fs::absolute(out / "best" / "best.xml");
         try {
-            evaluators[0]->save(result.best, path.string());
+            Evaluator(spec).save(result.best, path.string());
             result.simulation = (out / "best" / "best.xml").string();
         } catch (const Error& e) {
             result.simulation_error = e.what();

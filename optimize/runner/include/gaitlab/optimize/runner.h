@@ -22,6 +22,8 @@ class LuaHost;
 
 namespace gaitlab::optimize {
 
+class EvaluationBackend;
+
 /// What a spec file holds, checked (see load_spec). Parameters are sorted by name.
 struct Spec {
     std::string file;                   ///< the spec file, as given
@@ -81,6 +83,9 @@ struct RunOptions {
     std::uint64_t seed = 0;
     std::string out;      ///< the results folder: created; must not exist or be empty
     std::string command;  ///< the command line, kept in best.json
+    /// evaluates the generations (MPI ranks: gaitlab/optimize/mpi.h); null: `workers` threads
+    /// in this process
+    EvaluationBackend* backend = nullptr;
 };
 
 /// After each generation.
