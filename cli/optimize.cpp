@@ -182,8 +182,7 @@ int OptimizeCommand::run(const std::string& command) {
     for (const auto& p : spec.parameters)
         names += (names.empty() ? "" : ", ") + p.name;
     const std::string workers =
-        ranks ? fmt::format("{} MPI ranks evaluating, {} worker{} in all", mpi->size() - 1,
-                            ranks->workers(), ranks->workers() == 1 ? "" : "s")
+        ranks ? ranks->describe()
               : fmt::format("{} worker{}", o.workers, o.workers == 1 ? "" : "s");
     std::printf("optimize %s: %zu parameters (%s), fitness %s, %s, results in %s\n", a.spec.c_str(),
                 spec.parameters.size(), names.c_str(), spec.fitness.c_str(), workers.c_str(),

@@ -17,7 +17,7 @@ packages=(
     catch2 libcli11-dev libbenchmark-dev libedit-dev nlohmann-json3-dev libeigen3-dev
     liburdfdom-tools gnuplot-nox valgrind tmux dpkg-dev file
     libcpp-httplib-dev chromium
-    libopenmpi-dev openmpi-bin
+    libopenmpi-dev openmpi-bin time
 )
 # Node.js and npm build the viewer's page; a Node.js from elsewhere that brings its own npm will do
 command -v npm >/dev/null || packages+=(nodejs npm)

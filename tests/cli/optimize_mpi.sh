@@ -4,7 +4,10 @@
 #   same   3 ranks (rank 0 hands out, 2 evaluate) give the evaluations and best of 2 threads
 #   dies   rank 2 kills itself at its first evaluation: rank 1 does its evaluations, same result
 #   all    every evaluating rank kills itself: the run ends, saying so
+#   broken the spec does not load on rank 2: rank 0 says so, rank 1 evaluates, same result
+#   badopt a bad --rank-timeout is refused before anything runs (no mpirun needed)
 set -eu
+export GAITLAB_TEST_DYING_RANK="" GAITLAB_TEST_BROKEN_RANK=""
 case_=$1 mpiexec=$2 gaitlab=$3 src=$4 work=$5
 rm -rf "$work"
 mkdir -p "$work"
@@ -37,7 +40,8 @@ same_results() {
 }
 mpi() {
     # --enable-recovery: a rank that dies does not end the job (mpirun's default)
-    "$mpiexec" --oversubscribe --enable-recovery -x GAITLAB_TEST_DYING_RANK -n 3 "$gaitlab" \
+    "$mpiexec" --oversubscribe --enable-recovery -x GAITLAB_TEST_DYING_RANK -x GAITLAB_TEST_BROKEN_RANK \
+        -n 3 "$gaitlab" \
         optimize "$@"
 }
 
@@ -72,6 +76,30 @@ all)
     grep -q "gaitlab: every evaluating MPI rank is lost (rank 1: no word for .* s; rank 2: no word for .* s): 5 evaluations of this generation cannot be made" "$work/mpi.err" ||
         fail "rank 0 does not say that the run cannot go on"
     [ ! -e "$work/mpi/best.json" ] || fail "a best.json was written"
+    ;;
+broken)
+    spec=$src/tests/cli/scripts/optimize_rank_dies.lua
+    "$gaitlab" optimize "$spec" --seed 7 --out "$work/threads" > /dev/null
+    GAITLAB_TEST_BROKEN_RANK=2 mpi "$spec" --seed 7 --out "$work/mpi" > "$work/mpi.out" \
+        2> "$work/mpi.err" || true
+    cat "$work/mpi.out" "$work/mpi.err"
+    grep -q "gaitlab: rank 2 does not evaluate: .*optimize_rank_dies.lua:[0-9]*: this rank cannot load the spec" \
+        "$work/mpi.err" || fail "rank 0 does not say why rank 2 does not evaluate"
+    grep -q "1 MPI rank evaluating, 1 worker in all" "$work/mpi.out" ||
+        fail "rank 0 does not report 1 evaluating rank"
+    same_results "$work/threads" "$work/mpi"
+    ;;
+badopt)
+    spec=$src/tests/cli/scripts/optimize_small.lua
+    for bad in 0 -1 abc nan ""; do
+        status=0
+        "$gaitlab" optimize "$spec" --rank-timeout "$bad" --out "$work/bad" > "$work/bad.out" \
+            2> "$work/bad.err" || status=$?
+        [ "$status" = 2 ] || fail "--rank-timeout '$bad': exit status $status, expected 2"
+        grep -q "gaitlab: --rank-timeout: a number of seconds > 0 expected (got '$bad')" \
+            "$work/bad.err" || fail "--rank-timeout '$bad': $(cat "$work/bad.err")"
+        [ ! -e "$work/bad" ] || fail "--rank-timeout '$bad': a results folder was made"
+    done
     ;;
 *)
     fail "unknown case $case_"

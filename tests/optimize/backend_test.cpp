@@ -71,6 +71,7 @@ TEST_CASE("thread backend: a failed evaluation's broken Lua state does not reach
         INFO(workers << " workers");
         auto backend = make_thread_backend(spec, workers);
         CHECK(backend->workers() == workers);
+        CHECK(backend->describe() == (workers == 1 ? "1 worker" : "2 workers"));
         std::vector<std::size_t> done;
         const auto r =
             backend->evaluate(kXs, [&](std::size_t i, const Evaluation&) { done.push_back(i); });

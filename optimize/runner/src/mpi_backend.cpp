@@ -156,6 +156,13 @@ class MpiBackend : public EvaluationBackend {
 
     int workers() const override { return workers_; }
 
+    std::string describe() const override {
+        const auto ranks = std::count_if(peers_.begin(), peers_.end(),
+                                         [](const Peer& p) { return p.threads > 0; });
+        return fmt::format("{} MPI rank{} evaluating, {} worker{} in all", ranks,
+                           ranks == 1 ? "" : "s", workers_, workers_ == 1 ? "" : "s");
+    }
+
     void interrupt(int signal) override { signal_.store(signal); }
 
     std::vector<Evaluation> evaluate(const std::vector<std::vector<double>>& xs,

@@ -80,6 +80,10 @@ class ThreadBackend : public EvaluationBackend {
 
     int workers() const override { return pool_.workers(); }
 
+    std::string describe() const override {
+        return fmt::format("{} worker{}", workers(), workers() == 1 ? "" : "s");
+    }
+
     std::vector<Evaluation> evaluate(const std::vector<std::vector<double>>& xs,
                                      const EvaluationDone& on_done) override {
         return pool_.evaluate(

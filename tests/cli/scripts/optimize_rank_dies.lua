@@ -1,7 +1,11 @@
 -- tests/cli: an optimization spec whose evaluations kill their own process on one MPI rank (the
--- rank named by GAITLAB_TEST_DYING_RANK; all of them when it is "all"), as a node lost would
+-- rank named by GAITLAB_TEST_DYING_RANK; all of them when it is "all"), as a node lost would,
+-- and that does not load on the rank named by GAITLAB_TEST_BROKEN_RANK
 local dying = os.getenv("GAITLAB_TEST_DYING_RANK")
 local rank = os.getenv("OMPI_COMM_WORLD_RANK") or os.getenv("PMIX_RANK")
+if rank and os.getenv("GAITLAB_TEST_BROKEN_RANK") == rank then
+  error("this rank cannot load the spec")
+end
 
 local function die()
   local stat = io.open("/proc/self/stat"):read("l")

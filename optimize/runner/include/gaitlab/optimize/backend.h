@@ -24,6 +24,10 @@ class EvaluationBackend {
     /// How many evaluations run at the same time (threads, over every rank).
     virtual int workers() const = 0;
 
+    /// Who evaluates, for a progress line: "2 workers", "3 MPI ranks evaluating, 6 workers in
+    /// all".
+    virtual std::string describe() const = 0;
+
     /// Evaluates every individual of `xs` (parameter units, in spec order); returns when all
     /// are done, result i for individual i. A failed evaluation has its message in `error` and
     /// a NaN fitness. Throws Error when the batch cannot be finished (every MPI rank lost).
