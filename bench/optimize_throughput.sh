@@ -2,10 +2,11 @@
 # gaitlab optimize's throughput and memory (docs/performance.md, section 10):
 #   - evaluations per second with 1 and 2 worker threads, and under mpirun with 2 evaluating
 #     ranks of 1 thread (mpirun -n 3: rank 0 only hands out), median of REPEATS interleaved runs;
-#   - the runner's own cost: a 1-worker run's wall time less the sum of its evaluations' times,
-#     over that sum (it holds the process start, the spec loaded, the methods' ask/tell, the
-#     results written and the best saved);
-#   - the peak resident memory of runs of 1 000 and 10 000 short evaluations.
+#   - the runner's own cost with 1 worker: wall time less the sum of the evaluations' own times,
+#     (a) per generation, from the difference between a run of G generations and one of 1 (the
+#     method's ask/tell, handing out, evaluations.jsonl), over the evaluations' time; (b) once
+#     per run (process start, the spec loaded, the best saved as a simulation file);
+#   - the peak resident memory of runs of about 1 000 and 10 000 short evaluations.
 #
 #   bench/optimize_throughput.sh [--quick] [--no-mpi] [--only throughput|memory]
 #
@@ -15,10 +16,10 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 gaitlab=${GAITLAB:-$root/build/gaitlab}
 spec=$root/bench/lua/optimize_short.lua
-repeats=5 generations=4 memory_gens=200 mpi=1 only=""
+repeats=5 generations=4 memory_gens=209 mpi=1 only=""
 while [ $# -gt 0 ]; do
     case "$1" in
-        --quick) repeats=3 generations=2 memory_gens=100 ;;
+        --quick) repeats=3 generations=2 memory_gens=105 ;;
         --no-mpi) mpi=0 ;;
         --only) only=$2; shift ;;
         *) echo "usage: bench/optimize_throughput.sh [--quick] [--no-mpi] [--only throughput|memory]" >&2; exit 2 ;;
@@ -40,22 +41,26 @@ evaluations() { wc -l < "$1/evaluations.jsonl"; }
 echo "machine: $(nproc) cores, load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
 
 if [ -z "$only" ] || [ "$only" = throughput ]; then
-    # each run: "evaluations/s runner-overhead"
-    run() {  # NAME COMMAND...
-        local name=$1 out=$work/$1-$r; shift
+    # each run: "evaluations/s wall evaluation-seconds"
+    run() {  # NAME GENERATIONS COMMAND...
+        local name=$1 gens=$2 out=$work/$1-$r; shift 2
         local t0 t1 n s
         t0=$(now)
-        "$@" --generations "$generations" --seed 1 --out "$out" > /dev/null
+        "$@" --generations "$gens" --seed 1 --out "$out" > /dev/null
         t1=$(now)
         n=$(evaluations "$out")
         s=$(eval_seconds "$out")
         awk -v n="$n" -v t0="$t0" -v t1="$t1" -v s="$s" \
-            'BEGIN {w = t1 - t0; printf "%.4f %.5f\n", n / w, (w - s) / s}' >> "$work/$name.txt"
+            'BEGIN {w = t1 - t0; printf "%.4f %.6f %.6f\n", n / w, w, s}' >> "$work/$name.txt"
     }
     for r in $(seq 1 "$repeats"); do
-        run w1 "$gaitlab" optimize "$spec" --workers 1
-        run w2 "$gaitlab" optimize "$spec" --workers 2
-        [ "$mpi" = 1 ] && run mpi2 mpirun --oversubscribe -n 3 "$gaitlab" optimize "$spec" --workers 1
+        run one 1 "$gaitlab" optimize "$spec" --workers 1
+        run w1 "$generations" "$gaitlab" optimize "$spec" --workers 1
+        run w2 "$generations" "$gaitlab" optimize "$spec" --workers 2
+        if [ "$mpi" = 1 ]; then
+            run mpi2 "$generations" mpirun --oversubscribe -n 3 "$gaitlab" optimize "$spec" \
+                --workers 1
+        fi
     done
     per=$((generations * 16))
     echo
@@ -76,8 +81,14 @@ if [ -z "$only" ] || [ "$only" = throughput ]; then
         echo "| $label | $m | $all| $(awk -v a="$m" -v b="$m1" 'BEGIN {printf "%.2fx", a / b}') |"
     done
     echo
-    o=$(cut -d' ' -f2 "$work/w1.txt" | median)
-    echo "runner's own cost, 1 worker (wall - sum of evaluation times) / sum: median $(awk -v o="$o" 'BEGIN {printf "%.2f %%", 100 * o}') (runs: $(cut -d' ' -f2 "$work/w1.txt" | awk '{printf "%.2f%% ", 100 * $1}'))"
+    # per repeat: (a) ((wG - w1) - (sG - s1)) / (sG - s1); (b) w1 - s1
+    paste -d' ' "$work/w1.txt" "$work/one.txt" |
+        awk '{dw = $2 - $5; ds = $3 - $6; print (dw - ds) / ds, $5 - $6}' > "$work/overhead.txt"
+    a=$(cut -d' ' -f1 "$work/overhead.txt" | median)
+    b=$(cut -d' ' -f2 "$work/overhead.txt" | median)
+    echo "the runner's own cost, 1 worker, median of $repeats:"
+    echo "- per generation, over the evaluations' time: $(awk -v a="$a" 'BEGIN {printf "%.3f %%", 100 * a}') (runs: $(cut -d' ' -f1 "$work/overhead.txt" | awk '{printf "%.3f%% ", 100 * $1}'))"
+    echo "- once per run (start, spec, best saved): $(awk -v b="$b" 'BEGIN {printf "%.3f s", b}') (runs: $(cut -d' ' -f2 "$work/overhead.txt" | awk '{printf "%.3f ", $1}'))"
 fi
 
 if [ -z "$only" ] || [ "$only" = memory ]; then

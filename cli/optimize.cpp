@@ -164,7 +164,7 @@ int OptimizeCommand::run(const std::string& command) {
     try {
         if (optimize::mpi_launched()) {
             mpi = std::make_unique<optimize::MpiSession>();
-            if (mpi->rank() > 0) return optimize::mpi_serve(*mpi, a.spec, mpi_options);
+            if (mpi->rank() > 0) return optimize::mpi_serve(*mpi, a.spec, mpi_options, &g_stop);
             if (mpi->size() > 1) {
                 mpi_options.warn = [](const std::string& m) {
                     std::fprintf(stderr, "gaitlab: %s\n", m.c_str());

@@ -317,9 +317,11 @@ struct Done {
     Evaluation e;
 };
 
-// rank 0 says stop: waits for it without spinning (after a spec that did not load)
-void wait_for_stop() {
+// rank 0 says stop (or a signal does): waits for it without spinning (after a spec that did
+// not load)
+void wait_for_stop(const std::atomic<int>* signal) {
     for (;;) {
+        if (signal && signal->load() != 0) return;
         MPI_Status status;
         int flag = 0;
         if (MPI_Iprobe(0, MPI_ANY_TAG, g_comm, &flag, &status) != MPI_SUCCESS) return;
@@ -377,7 +379,8 @@ std::unique_ptr<EvaluationBackend> make_mpi_backend(MpiSession& session,
     return std::make_unique<MpiBackend>(session, options);
 }
 
-int mpi_serve(MpiSession& session, const std::string& spec_file, const MpiOptions& options) {
+int mpi_serve(MpiSession& session, const std::string& spec_file, const MpiOptions& options,
+              const std::atomic<int>* stop_signal) {
     if (session.rank() == 0) throw Error("MPI: rank 0 does not serve evaluations");
     std::unique_ptr<WorkerStates> states;
     try {
@@ -394,7 +397,7 @@ int mpi_serve(MpiSession& session, const std::string& spec_file, const MpiOption
         send_bytes(hello, 0, kHello);
         // rank 0 reports it and ends the run; a rank that ended with an error would make
         // mpirun end the job before rank 0 has said why
-        wait_for_stop();
+        wait_for_stop(stop_signal);
         return 0;
     }
     std::string hello;
@@ -424,21 +427,23 @@ int mpi_serve(MpiSession& session, const std::string& spec_file, const MpiOption
             }
         });
     }
-    const auto join = [&] {
+    const auto join = [&](int signal) {
         {
             std::lock_guard<std::mutex> lock(mutex);
             stop = true;
         }
         // the evaluations under way end at once (their results are not wanted)
-        states->interrupt(15);
+        states->interrupt(signal);
         work_cv.notify_all();
         for (std::thread& t : threads)
             t.join();
     };
     double alive = now();
     std::vector<Done> sending;
+    int signal = 0;
     try {
         for (;;) {
+            if (stop_signal && (signal = stop_signal->load()) != 0) break;
             bool stopping = false;
             for (;;) {
                 MPI_Status status;
@@ -491,11 +496,11 @@ int mpi_serve(MpiSession& session, const std::string& spec_file, const MpiOption
             }
         }
     } catch (...) {
-        join();
+        join(15);
         throw;
     }
-    join();
-    return 0;
+    join(signal != 0 ? signal : 15);
+    return signal != 0 ? 128 + signal : 0;
 }
 
 }  // namespace gaitlab::optimize

@@ -26,7 +26,7 @@ std::unique_ptr<EvaluationBackend> make_mpi_backend(MpiSession&, const MpiOption
     not_built();
 }
 
-int mpi_serve(MpiSession&, const std::string&, const MpiOptions&) {
+int mpi_serve(MpiSession&, const std::string&, const MpiOptions&, const std::atomic<int>*) {
     not_built();
 }
 

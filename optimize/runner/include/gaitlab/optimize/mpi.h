@@ -7,6 +7,7 @@
 // libopenmpi-dev); without one, mpi_launched() is false and the rest throws Error.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <memory>
 #include <string>
@@ -58,7 +59,9 @@ std::unique_ptr<EvaluationBackend> make_mpi_backend(MpiSession& session, const M
 
 /// On ranks 1 .. size-1: loads the spec, evaluates what rank 0 sends until it says stop, and
 /// returns 0. A spec that does not load is reported to rank 0 (which ends the run with the
-/// message), then it waits for stop.
-int mpi_serve(MpiSession& session, const std::string& spec_file, const MpiOptions& options);
+/// message), then it waits for stop. When `stop` becomes non-zero (a signal's number), the
+/// evaluations under way are interrupted and it returns 128 + that number.
+int mpi_serve(MpiSession& session, const std::string& spec_file, const MpiOptions& options,
+              const std::atomic<int>* stop = nullptr);
 
 }  // namespace gaitlab::optimize
