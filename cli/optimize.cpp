@@ -10,6 +10,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <string>
@@ -17,6 +18,7 @@
 #include <fmt/format.h>
 
 #include "gaitlab/error.h"
+#include "gaitlab/optimize/mpi.h"
 #include "gaitlab/optimize/runner.h"
 
 namespace gaitlab::cli {
@@ -70,6 +72,7 @@ struct OptimizeCommand::Args {
     std::string workers = "1";
     std::string seed = "0";
     std::string out;
+    std::string rank_timeout = "30";
 };
 
 void optimize_signal(int signal) {
@@ -101,6 +104,11 @@ OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     sub_->add_option("--seed", a_->seed, "Seed of the method's random stream: 0 to 2^64 - 1")
         ->type_name("N")
         ->capture_default_str();
+    sub_->add_option("--rank-timeout", a_->rank_timeout,
+                     "Under mpirun: seconds without a word from a rank before its evaluations "
+                     "go to the others")
+        ->type_name("S")
+        ->capture_default_str();
     sub_->add_option("--out", a_->out,
                      "Results folder, new or empty (default: runs/optimize-SPEC-DATE-TIME)")
         ->type_name("DIR");
@@ -108,7 +116,9 @@ OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
         "Writes DIR/evaluations.jsonl (one line per evaluation: generation, individual,\n"
         "parameters, fitness, seconds, worker, error), DIR/best.json and the best as a\n"
         "simulation file, DIR/best/best.xml. A failed evaluation (an error, a NaN fitness, a\n"
-        "diverging simulation) ranks last and the run goes on. See docs/optimization.md.");
+        "diverging simulation) ranks last and the run goes on. Under mpirun -n K, rank 0\n"
+        "runs the method and ranks 1 .. K-1 evaluate, each on --workers threads.\n"
+        "See docs/optimization.md.");
 }
 
 OptimizeCommand::~OptimizeCommand() = default;
@@ -120,6 +130,7 @@ bool OptimizeCommand::chosen() const {
 int OptimizeCommand::run(const std::string& command) {
     const Args& a = *a_;
     optimize::RunOptions o;
+    optimize::MpiOptions mpi_options;
     optimize::Spec spec;
     try {
         if (!a.generations.empty())
@@ -133,13 +144,35 @@ int OptimizeCommand::run(const std::string& command) {
             throw SpecError(fmt::format(
                 "--method: unknown method '{}' (expected ga, cmaes or pgpe)", o.method));
         }
+        mpi_options.workers = o.workers;
+        char* end = nullptr;
+        mpi_options.rank_timeout = std::strtod(a.rank_timeout.c_str(), &end);
+        if (a.rank_timeout.empty() || *end != '\0' || !(mpi_options.rank_timeout > 0) ||
+            !std::isfinite(mpi_options.rank_timeout)) {
+            throw SpecError(fmt::format(
+                "--rank-timeout: a number of seconds > 0 expected (got '{}')", a.rank_timeout));
+        }
     } catch (const Error& e) {
         std::fprintf(stderr, "gaitlab: %s (see 'gaitlab optimize --help')\n", e.what());
         return 2;
     }
     o.out = a.out.empty() ? default_out(a.spec) : a.out;
     o.command = command;
+    // under mpirun: rank 0 runs the method, the other ranks evaluate (docs/optimization.md)
+    std::unique_ptr<optimize::MpiSession> mpi;
+    std::unique_ptr<optimize::EvaluationBackend> ranks;
     try {
+        if (optimize::mpi_launched()) {
+            mpi = std::make_unique<optimize::MpiSession>();
+            if (mpi->rank() > 0) return optimize::mpi_serve(*mpi, a.spec, mpi_options, &g_stop);
+            if (mpi->size() > 1) {
+                mpi_options.warn = [](const std::string& m) {
+                    std::fprintf(stderr, "gaitlab: %s\n", m.c_str());
+                };
+                ranks = optimize::make_mpi_backend(*mpi, mpi_options);
+                o.backend = ranks.get();
+            }
+        }
         spec = optimize::load_spec(a.spec);
     } catch (const Error& e) {
         std::fprintf(stderr, "gaitlab: %s\n", e.what());
@@ -148,9 +181,12 @@ int OptimizeCommand::run(const std::string& command) {
     std::string names;
     for (const auto& p : spec.parameters)
         names += (names.empty() ? "" : ", ") + p.name;
-    std::printf("optimize %s: %zu parameters (%s), fitness %s, %d worker%s, results in %s\n",
-                a.spec.c_str(), spec.parameters.size(), names.c_str(), spec.fitness.c_str(),
-                o.workers, o.workers == 1 ? "" : "s", o.out.c_str());
+    const std::string workers =
+        ranks ? ranks->describe()
+              : fmt::format("{} worker{}", o.workers, o.workers == 1 ? "" : "s");
+    std::printf("optimize %s: %zu parameters (%s), fitness %s, %s, results in %s\n", a.spec.c_str(),
+                spec.parameters.size(), names.c_str(), spec.fitness.c_str(), workers.c_str(),
+                o.out.c_str());
     std::fflush(stdout);
     // on a terminal, a line on stderr rewritten after each evaluation; taken away before the
     // generation's summary line and at the end

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "gaitlab/error.h"
+#include "gaitlab/optimize/mpi.h"
 #include "gaitlab/optimize/sweep.h"
 #include "progress.h"
 
@@ -88,6 +89,13 @@ int SweepCommand::run(const std::string& command) {
     }
     o.out = a.out.empty() ? default_results_folder("sweep", a.spec) : a.out;
     o.command = command;
+    // every rank would sweep the whole grid into the same folder: refused (docs/optimization.md)
+    if (optimize::mpi_launched()) {
+        std::fprintf(stderr,
+                     "gaitlab: sweep does not run under mpirun yet: run it on one machine with "
+                     "--workers N (gaitlab optimize runs under mpirun)\n");
+        return 2;
+    }
     optimize::Spec spec;
     try {
         spec = optimize::load_spec(a.spec);

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages gaitlab builds, tests, benchmarks and packages with (dpkg-dev and
 # file: dpkg-shlibdeps computes the .deb's dependencies, tools/package.sh; lua5.3, lua5.1 and
-# luajit: the tests check that `require "gaitlab"` refuses them), and the viewer page's npm
+# luajit: the tests check that `require "gaitlab"` refuses them; OpenMPI: `mpirun gaitlab
+# optimize` spreads evaluations over ranks, optional for the build), and the viewer page's npm
 # packages (three.js, uPlot, playwright-core for the browser tests: `npm ci` in viewer/web,
 # pinned by its package-lock.json); `tools/setup.sh fuzz` also installs clang and libFuzzer
 # (tools/fuzz.sh).
@@ -16,6 +17,7 @@ packages=(
     catch2 libcli11-dev libbenchmark-dev libedit-dev nlohmann-json3-dev libeigen3-dev
     liburdfdom-tools gnuplot-nox valgrind tmux dpkg-dev file
     libcpp-httplib-dev chromium
+    libopenmpi-dev openmpi-bin time
 )
 # Node.js and npm build the viewer's page; a Node.js from elsewhere that brings its own npm will do
 command -v npm >/dev/null || packages+=(nodejs npm)

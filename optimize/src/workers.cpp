@@ -28,7 +28,8 @@ WorkerPool::~WorkerPool() {
 }
 
 std::vector<Evaluation> WorkerPool::evaluate(const std::vector<std::vector<double>>& xs,
-                                             const EvaluateFunction& evaluate) {
+                                             const EvaluateFunction& evaluate,
+                                             const EvaluationDone& on_done) {
     std::vector<Evaluation> results(xs.size());
     if (xs.empty()) return results;
     std::unique_lock<std::mutex> lock(mutex_);
@@ -37,6 +38,7 @@ std::vector<Evaluation> WorkerPool::evaluate(const std::vector<std::vector<doubl
     if (xs_) throw Error("WorkerPool::evaluate: a batch is already under way (one call at a time)");
     xs_ = &xs;
     evaluate_ = &evaluate;
+    on_done_ = on_done ? &on_done : nullptr;
     results_ = &results;
     next_ = 0;
     remaining_ = xs.size();
@@ -45,6 +47,7 @@ std::vector<Evaluation> WorkerPool::evaluate(const std::vector<std::vector<doubl
     done_.wait(lock, [this] { return remaining_ == 0; });
     xs_ = nullptr;
     evaluate_ = nullptr;
+    on_done_ = nullptr;
     results_ = nullptr;
     return results;
 }
@@ -76,6 +79,13 @@ void WorkerPool::work(int worker) {
         e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         lock.lock();
         (*results_)[i] = std::move(e);
+        if (on_done_) {
+            try {
+                (*on_done_)(i, (*results_)[i]);
+            } catch (...) {
+                // a report that fails must not take the worker down: the result is kept
+            }
+        }
         if (--remaining_ == 0) done_.notify_all();
     }
 }

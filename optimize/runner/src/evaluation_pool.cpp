@@ -1,10 +1,11 @@
-// Evaluating lists of parameter sets on worker threads, a Lua state each (see
-// gaitlab/optimize/runner.h).
+// Evaluating lists of parameter sets on a backend: worker threads with a Lua state each, or
+// MPI ranks (see gaitlab/optimize/runner.h).
 #include <chrono>
 #include <condition_variable>
-#include <limits>
+#include <mutex>
 #include <thread>
 
+#include "gaitlab/optimize/backend.h"
 #include "gaitlab/optimize/runner.h"
 
 namespace gaitlab::optimize {
@@ -26,19 +27,21 @@ struct EvaluationPool::Watcher {
 };
 
 EvaluationPool::EvaluationPool(const Spec& spec, int workers, std::uint64_t seed,
-                               const std::atomic<int>* stop)
-    : pool_(workers) {
-    for (int w = 0; w < workers; ++w)
-        evaluators_.push_back(std::make_unique<Evaluator>(spec, seed));
+                               const std::atomic<int>* stop, EvaluationBackend* backend)
+    : backend_(backend) {
+    if (!backend_) {
+        own_ = make_thread_backend(spec, workers, seed);
+        backend_ = own_.get();
+    }
     if (!stop) return;
     watcher_ = std::make_unique<Watcher>();
     Watcher* w = watcher_.get();
-    w->thread = std::thread([this, w, stop] {
+    EvaluationBackend* b = backend_;
+    w->thread = std::thread([w, b, stop] {
         std::unique_lock<std::mutex> lock(w->mutex);
         while (!w->done) {
             if (const int sig = stop->load(); sig != 0) {
-                for (auto& e : evaluators_)
-                    e->interrupt(sig);
+                b->interrupt(sig);
                 return;
             }
             w->wake.wait_for(lock, std::chrono::milliseconds(50));
@@ -47,27 +50,16 @@ EvaluationPool::EvaluationPool(const Spec& spec, int workers, std::uint64_t seed
 }
 
 EvaluationPool::~EvaluationPool() {
-    watcher_.reset();  // joined before the evaluators go
+    watcher_.reset();  // joined before the backend goes
 }
 
+int EvaluationPool::workers() const { return backend_->workers(); }
+
+std::string EvaluationPool::describe() const { return backend_->describe(); }
+
 std::vector<Evaluation> EvaluationPool::evaluate(const std::vector<std::vector<double>>& xs,
-                                                 const std::function<void(double)>& on_each) {
-    return pool_.evaluate(xs, [&](const std::vector<double>& x, int worker) {
-        // on_each is told the fitness, or NaN when the evaluation throws (and still throws)
-        double fitness = std::numeric_limits<double>::quiet_NaN();
-        struct Each {
-            std::mutex& m;
-            const std::function<void(double)>& fn;
-            const double& fitness;
-            ~Each() {
-                if (!fn) return;
-                std::lock_guard<std::mutex> lock(m);
-                fn(fitness);
-            }
-        } each{each_mutex_, on_each, fitness};
-        fitness = evaluators_[static_cast<std::size_t>(worker)]->evaluate(x);
-        return fitness;
-    });
+                                                 const EvaluationDone& on_done) {
+    return backend_->evaluate(xs, on_done);
 }
 
 }  // namespace gaitlab::optimize

@@ -55,6 +55,7 @@ std::string evaluation_line(const Spec& spec, int generation, std::size_t indivi
     j["fitness"] = fitness_json(ev.failed() ? std::nan("") : ev.fitness);
     j["seconds"] = ev.seconds;
     j["worker"] = ev.worker;
+    if (ev.rank >= 0) j["rank"] = ev.rank;  // under MPI: the rank that evaluated it
     if (ev.failed()) j["error"] = ev.error;
     return json_text(j, -1) + "\n";
 }

@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gaitlab/error.h"
+#include "gaitlab/optimize/backend.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/suggest.h"
 #include "results.h"
@@ -527,14 +528,15 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     std::ofstream jsonl(jsonl_path, std::ios::binary | std::ios::trunc);
     if (!jsonl) throw IoError(fmt::format("{}: cannot create", jsonl_path.string()));
 
-    EvaluationPool pool(spec, options.workers, 0, stop);
+    // the given backend (MPI ranks), or one Lua state per worker thread here
+    EvaluationPool pool(spec, options.workers, 0, stop, options.backend);
 
     const auto started = std::chrono::steady_clock::now();
     std::mutex tick_mutex;
     Tick tick;
     tick.generations = result.generations;
-    // after each evaluation, from the worker that ran it
-    const std::function<void(double)> ticked = [&](double) {
+    // after each evaluation (one call at a time)
+    const EvaluationDone evaluated = [&](std::size_t, const Evaluation&) {
         if (!on_evaluation) return;
         std::lock_guard<std::mutex> lock(tick_mutex);
         ++tick.done;
@@ -554,7 +556,7 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
             tick.individuals = static_cast<int>(xs.size());
             tick.best = method->best_fitness();
         }
-        const std::vector<Evaluation> ev = pool.evaluate(xs, ticked);
+        const std::vector<Evaluation> ev = pool.evaluate(xs, evaluated);
         if (stop && stop->load() != 0) {
             throw Error(fmt::format("interrupted after {} generations", g));
         }
@@ -596,7 +598,7 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     if (!result.best.empty()) {
         const fs::path path = fs::absolute(out / "best" / "best.xml");
         try {
-            pool.evaluator(0).save(result.best, path.string());
+            Evaluator(spec).save(result.best, path.string());
             result.simulation = (out / "best" / "best.xml").string();
         } catch (const Error& e) {
             result.simulation_error = e.what();

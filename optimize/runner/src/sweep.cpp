@@ -289,8 +289,9 @@ SweepResult run_sweep(const Spec& spec, const Grid& grid, const SweepOptions& op
     SweepTick tick;
     tick.points = result.points;
     tick.best = result.best_fitness;
-    const std::function<void(double)> ticked = [&](double fitness) {
+    const EvaluationDone ticked = [&](std::size_t, const Evaluation& e) {
         if (!on_evaluation) return;
+        const double fitness = e.failed() ? std::numeric_limits<double>::quiet_NaN() : e.fitness;
         ++tick.done;
         if (std::isfinite(fitness) && !(fitness <= tick.best)) tick.best = fitness;
         tick.wall =
@@ -349,7 +350,7 @@ SweepResult run_sweep(const Spec& spec, const Grid& grid, const SweepOptions& op
     if (!result.best.empty()) {
         const fs::path path = fs::absolute(out / "best" / "best.xml");
         try {
-            pool.evaluator(0).save(result.best, path.string());
+            Evaluator(spec, options.seed).save(result.best, path.string());
             result.simulation = (out / "best" / "best.xml").string();
         } catch (const Error& e) {
             result.simulation_error = e.what();

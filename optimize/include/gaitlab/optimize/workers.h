@@ -21,13 +21,18 @@ struct Evaluation {
     double fitness = 0.0;  ///< the value returned; NaN when the evaluation failed
     std::string error;     ///< why it failed (the exception's message); empty when it did not
     double seconds = 0.0;  ///< wall-clock time the evaluation took, s
-    int worker = -1;       ///< the worker that ran it, in [0, workers)
+    int worker = -1;       ///< the worker that ran it, in [0, workers) (of its rank)
+    int rank = -1;         ///< the MPI rank that ran it; -1: this process
     bool failed() const { return !error.empty(); }
 };
 
 /// Evaluates one individual (parameter units) on worker `worker` and returns its fitness. An
 /// exception, or a result that is NaN or infinite, marks the individual failed.
 using EvaluateFunction = std::function<double(const std::vector<double>& x, int worker)>;
+
+/// Called after each evaluation of a batch, one call at a time: the individual's index in the
+/// batch and its result.
+using EvaluationDone = std::function<void(std::size_t individual, const Evaluation& result)>;
 
 /// A fixed set of worker threads that evaluate generations.
 class WorkerPool {
@@ -44,8 +49,10 @@ class WorkerPool {
     /// Evaluates every individual of `xs` with `evaluate`, spread over the workers; returns
     /// when all are done, result i for individual i. One call at a time: a call while another
     /// is under way (from another thread, or from inside an evaluation) throws Error.
+    /// `on_done` (if set) is called after each evaluation, one call at a time.
     std::vector<Evaluation> evaluate(const std::vector<std::vector<double>>& xs,
-                                     const EvaluateFunction& evaluate);
+                                     const EvaluateFunction& evaluate,
+                                     const EvaluationDone& on_done = {});
 
   private:
     void work(int worker);
@@ -57,6 +64,7 @@ class WorkerPool {
     // the batch under way: read by the workers while `remaining_` > 0
     const std::vector<std::vector<double>>* xs_ = nullptr;
     const EvaluateFunction* evaluate_ = nullptr;
+    const EvaluationDone* on_done_ = nullptr;
     std::vector<Evaluation>* results_ = nullptr;
     std::size_t next_ = 0;
     std::size_t remaining_ = 0;

@@ -23,6 +23,8 @@ class LuaHost;
 
 namespace gaitlab::optimize {
 
+class EvaluationBackend;
+
 /// What a spec file holds, checked (see load_spec). Parameters are sorted by name.
 struct Spec {
     std::string file;                   ///< the spec file, as given
@@ -75,34 +77,34 @@ class Evaluator {
     std::uint64_t seed_ = 0;
 };
 
-/// Evaluates lists of parameter sets of a spec on `workers` threads, each with its own
-/// Evaluator (Lua state): what run_optimization does with each generation and run_sweep with a
-/// grid. Result i is for xs[i] whatever the number of workers or the order they finish in.
+/// Evaluates lists of parameter sets of a spec: on `workers` threads, each with its own
+/// Evaluator (Lua state), or on a given backend (MPI ranks, gaitlab/optimize/backend.h). What
+/// run_optimization does with each generation and run_sweep with a grid. Result i is for xs[i]
+/// whatever the number of workers or the order they finish in.
 class EvaluationPool {
   public:
-    /// `seed` seeds math.random before every evaluation. When `stop` becomes non-zero (a
-    /// signal's number), the evaluations under way and later ones are interrupted: they fail.
+    /// `seed` seeds math.random before every evaluation (thread workers). When `stop` becomes
+    /// non-zero (a signal's number), the evaluations under way and later ones are interrupted:
+    /// they fail. With `backend` (not owned), it evaluates and `workers` and `seed` are its.
     EvaluationPool(const Spec& spec, int workers, std::uint64_t seed,
-                   const std::atomic<int>* stop = nullptr);
+                   const std::atomic<int>* stop = nullptr, EvaluationBackend* backend = nullptr);
     ~EvaluationPool();
     EvaluationPool(const EvaluationPool&) = delete;
     EvaluationPool& operator=(const EvaluationPool&) = delete;
 
-    int workers() const { return pool_.workers(); }
-    /// Evaluates every point of `xs` (parameter units, spec order); `on_each` (if set) is
-    /// called after each evaluation with its fitness (NaN: it failed) from the worker that ran
-    /// it, one call at a time.
+    int workers() const;
+    /// Who evaluates, for a progress line ("2 workers", "3 MPI ranks ...").
+    std::string describe() const;
+    /// Evaluates every point of `xs` (parameter units, spec order); `on_done` (if set) is
+    /// called after each evaluation with its individual and result, one call at a time.
     std::vector<Evaluation> evaluate(const std::vector<std::vector<double>>& xs,
-                                     const std::function<void(double)>& on_each = {});
-    /// Worker `w`'s evaluator (e.g. to save the best as a simulation file between calls).
-    Evaluator& evaluator(int w) { return *evaluators_.at(static_cast<std::size_t>(w)); }
+                                     const EvaluationDone& on_done = {});
 
   private:
-    std::vector<std::unique_ptr<Evaluator>> evaluators_;
-    WorkerPool pool_;
+    std::unique_ptr<EvaluationBackend> own_;
+    EvaluationBackend* backend_ = nullptr;
     struct Watcher;
     std::unique_ptr<Watcher> watcher_;
-    std::mutex each_mutex_;
 };
 
 /// How run_optimization runs (the command line's options).
@@ -114,6 +116,9 @@ struct RunOptions {
     std::uint64_t seed = 0;
     std::string out;      ///< the results folder: created; must not exist or be empty
     std::string command;  ///< the command line, kept in best.json
+    /// evaluates the generations (MPI ranks: gaitlab/optimize/mpi.h); null: `workers` threads
+    /// in this process
+    EvaluationBackend* backend = nullptr;
 };
 
 /// After each generation.
