@@ -5,6 +5,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import uPlot from 'uplot';
+import { csvText, download, exportButtons, plotPng } from './plotexport.js';
 
 const token = new URLSearchParams(location.search).get('token');
 const query = token ? `?token=${encodeURIComponent(token)}` : '';
@@ -526,10 +527,11 @@ function addPlot(names = []) {
   const pause = document.createElement('button');
   pause.textContent = 'Pause';
   pause.title = 'Freeze this plot (the others go on)';
+  const { png, csv } = exportButtons();
   const close = document.createElement('button');
   close.textContent = '×';
   close.title = 'Remove this plot';
-  header.append(title, pause, close);
+  header.append(title, pause, png, csv, close);
   const pickHolder = document.createElement('div');
   const chart = document.createElement('div');
   const hint = document.createElement('div');
@@ -595,7 +597,33 @@ function addPlot(names = []) {
     update() {
       if (plot.u && !plot.paused) plot.u.setData(plot.data());
     },
+    // the file name of an export: the simulation, the plot and the time shown last
+    exportName(ext) {
+      const sim = gaitlab.scene ? gaitlab.scene.name || `simulation${gaitlab.scene.simulation}` : 'simulation';
+      const t = plot.u && plot.u.data[0].length > 0 ? plot.u.data[0][plot.u.data[0].length - 1] : 0;
+      return `${sim}-plot${id}-t${t.toFixed(3)}.${ext}`;
+    },
+    // what is drawn (a paused plot: what it froze), as a PNG and as CSV; false when nothing is
+    exportable() {
+      if (plot.u && plot.u.data[0].length > 0) return true;
+      message('error', `plot ${id}: nothing to export yet (${plot.names.size === 0
+        ? 'choose a series first' : 'no samples yet'})`);
+      return false;
+    },
+    png() {
+      if (!plot.exportable()) return Promise.resolve(null);
+      const sim = gaitlab.scene ? gaitlab.scene.name || `simulation ${gaitlab.scene.simulation}` : '';
+      return plotPng(plot.u, `${sim} (live plot ${id})`, plot.exportName('png'));
+    },
+    csv() {
+      if (!plot.exportable()) return null;
+      const text = csvText([...plot.names], plot.u.data);
+      download(new Blob([text], { type: 'text/csv' }), plot.exportName('csv'));
+      return text;
+    },
   };
+  png.addEventListener('click', () => plot.png());
+  csv.addEventListener('click', () => plot.csv());
   pause.addEventListener('click', () => {
     plot.paused = !plot.paused;
     pause.textContent = plot.paused ? 'Play' : 'Pause';
