@@ -273,6 +273,29 @@ document.addEventListener('keydown', (e) => {
 });
 
 // ---------------------------------------------------------------------------------------------
+// the simulations of the script: the page shows (and its controls, sliders and plots address)
+// the one chosen here; the list comes from the server as the event `simulations`
+
+function showSimulations(list) {
+  gaitlab.simulations = list;
+  const select = $('simulation');
+  select.textContent = '';
+  for (const s of list.simulations) {
+    const o = document.createElement('option');
+    o.value = s.simulation;
+    const robots = s.robots.length > 0 ? s.robots.join(', ') : 'no robot';
+    const ctls = s.controllers.length > 0 ? ` (${s.controllers.join(', ')})` : '';
+    o.textContent = `${s.simulation}: ${robots}${ctls}`;
+    o.selected = s.shown;
+    select.appendChild(o);
+  }
+  $('simulations-row').hidden = list.simulations.length < 2;
+  $('simulation-follow').textContent = list.chosen ? '' : '(the newest)';
+}
+$('simulation').addEventListener('change', (e) =>
+  send({ command: 'show', simulation: Number(e.target.value) }));
+
+// ---------------------------------------------------------------------------------------------
 // parameters: one slider each, with its range and unit
 
 let sliders = [];   // in frame.params order: { input, output, param }
@@ -413,10 +436,11 @@ function connect() {
     $('connection').textContent = 'gaitlab does not answer: is it still running? (retrying)';
   });
   events.addEventListener('scene', (e) => {
-    const first = gaitlab.scene === null;
+    const before = gaitlab.scene;
     gaitlab.scene = JSON.parse(e.data);
     buildScene(gaitlab.scene);
-    if (first) needsViewAll = true;
+    // the first scene, or another simulation chosen: look at it all
+    if (before === null || before.simulation !== gaitlab.scene.simulation) needsViewAll = true;
     loadSeries();
   });
   events.addEventListener('frame', (e) => {
@@ -425,6 +449,7 @@ function connect() {
     gaitlab.frames++;
     showFrame(f);
   });
+  events.addEventListener('simulations', (e) => showSimulations(JSON.parse(e.data)));
   events.addEventListener('message', (e) => {
     const m = JSON.parse(e.data);
     message(m.level, m.text);
