@@ -192,6 +192,10 @@ try {
   const numbers = await page.textContent('#editor-status');
   check(/^the engine takes it/.test(numbers) && grid.length === 0.6 && grid.width === 0.4 && grid.heights.length === 3,
     `a 3 × 4 grid of heights with 0.2 m cells is taken (${numbers}; ${grid.length} × ${grid.width} m)`);
+  // the box selected again (the picture below looks for it)
+  await page.selectOption('#editor-list', 'o0');
+  await page.waitForFunction(() => window.gaitlab.editor.selected && window.gaitlab.editor.selected.object === 0);
+  await sleep(200);
   // a saved name outside the folder is refused
   await page.fill('#editor-name', '../elsewhere.xml');
   await page.click('#editor-save');
