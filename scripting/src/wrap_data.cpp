@@ -167,7 +167,8 @@ int run_get(lua_State* L) {
                 const std::string k = f.string("kind", "");
                 SeriesKind kind;
                 if (!parse_series_kind(k, kind)) {
-                    f.fail("kind", "'robot', 'controller' or 'sensor' expected, got '" + k + "'");
+                    f.fail("kind",
+                           "'robot', 'controller', 'sensor' or 'object' expected, got '" + k + "'");
                 }
                 if (!f.has("value")) f.fail("value", "string expected, got nil");
                 const long long joint = f.integer("joint", 0);

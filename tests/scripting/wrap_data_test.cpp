@@ -84,7 +84,8 @@ TEST_CASE("a run folder opens and gives its series", "[wrap_data]") {
     CHECK(lua.error_of("run:get{ kind = 'robot', value = 'angel', joint = 2 }") ==
           bad + "no robot series 'angel' of joint 2; did you mean 'angle'?)");
     CHECK(lua.error_of("run:get{ kind = 'robots', value = 'angle' }") ==
-          bad + "field 'kind': 'robot', 'controller' or 'sensor' expected, got 'robots')");
+          bad +
+              "field 'kind': 'robot', 'controller', 'sensor' or 'object' expected, got 'robots')");
     CHECK(lua.error_of("run:get(3)") ==
           bad + "series name or {kind =, value =, joint =} expected, got number)");
     CHECK(lua.error_of("run:get('snake.com.x', { form = 1 })") ==

@@ -27,7 +27,7 @@ console.log(`gaitlab serves ${url}`);
 
 const browser = await launchChromium(playwright, chromium);
 try {
-  const page = await browser.newPage({ viewport: { width: 1200, height: 720 } });
+  const page = await browser.newPage({ viewport: { width: 1200, height: 720 }, acceptDownloads: true });
   const pageErrors = [];
   page.on('pageerror', (e) => pageErrors.push(e.message));
   page.on('console', (m) => { if (m.type() === 'error') pageErrors.push(m.text()); });
@@ -111,6 +111,61 @@ try {
   }, null, { timeout: 10000 });
   check(true, 'the sampling rate is set from the page (one sample every 10 ticks)');
   await page.locator('#plot-1 summary', { hasText: 'series' }).click();  // fold the checkboxes
+
+  // the live plot's exports: paused, so the CSV holds exactly what is drawn
+  const downloaded = async (click) => {
+    const [d] = await Promise.all([page.waitForEvent('download', { timeout: 15000 }), click()]);
+    const file = path.join(out, d.suggestedFilename());
+    await d.saveAs(file);
+    return { file, name: d.suggestedFilename(), bytes: fs.readFileSync(file) };
+  };
+  await page.click('#plot-1 header button:has-text("Pause")');
+  await sleep(300);
+  const shown = await page.evaluate(() => window.gaitlab.plots[0].u.data.map((c) => c.slice()));
+  const csv = await downloaded(() => page.click('#plot-1 .export-csv'));
+  const lines = csv.bytes.toString('utf8').trimEnd().split('\n');
+  check(/^simulation1-plot1-t[0-9.]+\.csv$/.test(csv.name) && lines[0] === 'time,snake.com.x,sine.angle[1]',
+    `the live plot's CSV (${csv.name}) has the plotted series' columns (${lines[0]})`);
+  const rows = lines.slice(1).map((l) => l.split(',').map((f) => (f === '' ? null : Number(f))));
+  check(rows.length === shown[0].length && rows.length > 30 &&
+    rows.every((r, i) => r.length === 3 && r.every((v, k) => v === shown[k][i])),
+    `the CSV has the plot's ${shown[0].length} samples, row by row, exactly as plotted (${rows.length} rows)`);
+  const png = await downloaded(() => page.click('#plot-1 .export-png'));
+  const isPng = png.bytes.length > 8 && png.bytes.subarray(0, 8).equals(Buffer.from([0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a]));
+  const pic = isPng ? await page.evaluate(async (b64) => {
+    const bm = await createImageBitmap(await (await fetch(`data:image/png;base64,${b64}`)).blob());
+    const c = new OffscreenCanvas(bm.width, bm.height);
+    const g = c.getContext('2d');
+    g.drawImage(bm, 0, 0);
+    const d = g.getImageData(0, 0, bm.width, bm.height).data;
+    const colours = new Set();
+    let ink = 0;
+    for (let i = 0; i < d.length; i += 4) {
+      colours.add((d[i] >> 4) * 256 + (d[i + 1] >> 4) * 16 + (d[i + 2] >> 4));
+      if (d[i] < 200 || d[i + 1] < 200 || d[i + 2] < 200) ink++;
+    }
+    return { width: bm.width, height: bm.height, colours: colours.size, ink };
+  }, png.bytes.toString('base64')) : { colours: 0, ink: 0 };
+  check(isPng && /\.png$/.test(png.name) && pic.width > 300 && pic.colours > 8 && pic.ink > 1000,
+    `the live plot's PNG (${png.name}, ${pic.width}x${pic.height}) is a picture: ${pic.colours} colours, ${pic.ink} pixels of ink`);
+  fs.copyFileSync(png.file, path.join(out, 'viewer-live-plot.png'));
+  await page.click('#plot-1 header button:has-text("Play")');
+  // a plot with no series has nothing to export: a message, no download
+  await page.click('#add-plot');
+  await page.waitForFunction(() => window.gaitlab.plots.length === 2);
+  await page.evaluate(() => {
+    const p = window.gaitlab.plots[1];
+    p.names.clear();
+    p.rebuild();
+  });
+  let empty = null;
+  page.once('download', (d) => { empty = d.suggestedFilename(); });
+  await page.click('#plot-2 .export-csv');
+  await page.click('#plot-2 .export-png');
+  await page.waitForFunction(() => window.gaitlab.messages.filter((m) => /plot 2: nothing to export yet \(choose a series first\)/.test(m.text)).length === 2);
+  await sleep(300);
+  check(empty === null, `an empty plot's exports say "nothing to export yet" and download nothing (${empty})`);
+  await page.click('#plot-2 header button:has-text("×")');
   await page.screenshot({ path: path.join(out, 'viewer-plot.png') });
 
   // pause stops time

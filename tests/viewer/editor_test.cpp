@@ -428,3 +428,78 @@ TEST_CASE("editor: a robot placed inside an object is warned of, as gaitlab run 
     CHECK(r["warnings"][0].get<std::string>().find("deep inside box 1: the contact solver will "
                                                    "throw it out") != std::string::npos);
 }
+
+TEST_CASE(
+    "editor: a heightfield from numbers saves as the engine reads it, and its heights round-trip") {
+    TempDir dir("editor");
+    const std::string path = dir / "flat.xml";
+    write_text(path, kFlat);
+    Editor ed = editor_of(path);
+    const json opened = json::parse(ed.open());
+    // the stored grid comes as numbers: rows along y
+    CHECK(opened["environment"]["objects"][2]["heights"] ==
+          json::parse("[[0, 0.003, 0.006], [0.002, 0.005, 0.008]]"));
+    // a new one of 3 rows of 4, 0.1 m cells; and the stored one edited by its numbers
+    const json rows = json::parse(
+        "[[0, 0.01, 0.02, 0.03], [0.005, 0.015, 0.025, 0.035], "
+        "[-0.01, 0, 0.0125, 0.1]]");
+    const json r = json::parse(ed.save(with(opened, [&rows](json& env) {
+        env["objects"][2]["heights"][1][2] = 0.02;
+        env["objects"].push_back({{"kind", "heightfield"},
+                                  {"length", 0.3},
+                                  {"width", 0.2},
+                                  {"position", {1, 1, 0}},
+                                  {"heights", rows}});
+    })));
+    CHECK(r["ok"] == true);
+    const EnvironmentSpec back = read_environment(path);
+    REQUIRE(back.world.heightfields.size() == 2);
+    CHECK(back.world.heightfields[0].heights ==
+          std::vector<double>{0, 0.003, 0.006, 0.002, 0.005, 0.02});
+    const HeightfieldSpec& made = back.world.heightfields[1];
+    CHECK(made.samples_x == 4);
+    CHECK(made.samples_y == 3);
+    CHECK(made.length == 0.3);
+    CHECK(made.width == 0.2);
+    std::vector<double> flat;
+    for (const json& row : rows)
+        for (const json& v : row)
+            flat.push_back(v.get<double>());
+    CHECK(made.heights == flat);
+    // opened again, the numbers are the same
+    const json again = json::parse(ed.open());
+    CHECK(again["environment"]["objects"][3]["heights"] == rows);
+
+    // bad grids: the object, the field and what is expected; nothing is saved
+    const std::string saved = read_text(path);
+    struct Case {
+        json heights;
+        const char* says;
+    };
+    const Case cases[] = {
+        {json::parse("[[0, 1, 2]]"), "heightfield 3 heights: rows of heights in m expected"},
+        {json::parse("[[0, 1], [2]]"), "heightfield 3 heights: row 2 has 1 heights, row 1 has 2"},
+        {json::parse("[[0, 1], [2, \"x\"]]"),
+         "heightfield 3 heights: row 2 column 2: a height in m expected (got \"x\")"},
+        {json::parse("[[0], [1]]"), "at least 2 by 2) (got [[0],[1]])"},
+        {json::parse("\"1 2 3\""), "heightfield 3 heights: rows of heights in m expected"},
+    };
+    for (const Case& c : cases) {
+        const EditError e = refusal([&] {
+            ed.save(with(again, [&c](json& env) {
+                env["objects"].push_back(
+                    {{"kind", "heightfield"}, {"position", {2, 2, 0}}, {"heights", c.heights}});
+            }));
+        });
+        INFO(e.what());
+        CHECK(std::string(e.what()).find(c.says) != std::string::npos);
+        CHECK(e.field() == "heights");
+        CHECK(e.object() == 4);
+    }
+    // an image and heights: one of them
+    const EditError both = refusal([&] {
+        ed.save(with(again, [](json& env) { env["objects"][3]["image"] = "terrain.png"; }));
+    });
+    CHECK(std::string(both.what()).find("one of them") != std::string::npos);
+    CHECK(read_text(path) == saved);
+}

@@ -158,6 +158,44 @@ try {
   const terrain = await page.textContent('#editor-status');
   check(terrain === 'the engine takes it: 2 solids' && await page.inputValue('#editor-form select[data-field="image"]') === 'terrain.png',
     `a heightfield from terrain.png is added (${terrain})`);
+  // a heightfield from numbers: added from the PNG, switched to numbers, a bad grid refused
+  n = await checks();
+  await page.click('#editor-add');
+  await waitCheck(n);
+  n = await checks();
+  await page.click('#editor-heights-numbers');
+  await waitCheck(n);
+  n = await checks();
+  await page.fill('#editor-form input[data-field="position.1"]', '2');
+  await page.press('#editor-form input[data-field="position.1"]', 'Enter');
+  await waitCheck(n);
+  n = await checks();
+  await page.fill('#editor-heights', '0 0 0\n0 x 0\n0 0');
+  await page.locator('#editor-heights').dispatchEvent('change');
+  await waitCheck(n);
+  const ragged = await page.textContent('#editor-status');
+  check(/^heightfield 2 heights: row 2 column 2: a height in m expected \(got "x"\)$/.test(ragged) &&
+    await page.isVisible('.editor-heights.bad'), `a height that is not a number is refused by row and column (${ragged})`);
+  n = await checks();
+  await page.fill('#editor-heights', '0 0 0\n0 0.03 0');
+  await page.locator('#editor-heights').dispatchEvent('change');
+  await waitCheck(n);
+  n = await checks();
+  await page.fill('#editor-heights', '0 0.01 0.02 0.03\n0.005 0.015 0.025 0.035\n-0.01 0 0.0125 0.1');
+  await page.locator('#editor-heights').dispatchEvent('change');
+  await waitCheck(n);
+  n = await checks();
+  await page.fill('#editor-heights-cell', '0.2');
+  await page.press('#editor-heights-cell', 'Enter');
+  await waitCheck(n);
+  const grid = await page.evaluate(() => window.gaitlab.editor.env.objects.filter((o) => o.kind === 'heightfield')[1]);
+  const numbers = await page.textContent('#editor-status');
+  check(/^the engine takes it/.test(numbers) && grid.length === 0.6 && grid.width === 0.4 && grid.heights.length === 3,
+    `a 3 × 4 grid of heights with 0.2 m cells is taken (${numbers}; ${grid.length} × ${grid.width} m)`);
+  // the box selected again (the picture below looks for it)
+  await page.selectOption('#editor-list', 'o0');
+  await page.waitForFunction(() => window.gaitlab.editor.selected && window.gaitlab.editor.selected.object === 0);
+  await sleep(200);
   // a saved name outside the folder is refused
   await page.fill('#editor-name', '../elsewhere.xml');
   await page.click('#editor-save');
@@ -170,6 +208,11 @@ try {
   const saved = fs.readFileSync(world, 'utf8');
   check(/<floor friction="0\.7"\/>/.test(saved) && /<box size="0\.2 0\.6 0\.08" position="1 0\.1 0\.04" friction="0\.3"\/>/.test(saved) &&
     /<place robot="snake" position="0 0 0"\/>/.test(saved) && /<heightfield [^>]*position="-1 0 0"[^>]* image="terrain\.png"\/>/.test(saved), `the file holds the box, the floor and the robot's place:\n${saved}`);
+  // the grid's heights, as typed
+  const stored = saved.match(/<heightfield length="0\.6" width="0\.4"[^>]*samples="4 3"[^>]*>\s*<heights>([^<]*)<\/heights>/);
+  const back = stored ? stored[1].trim().split(/\s+/).map(Number) : [];
+  const typedIn = [0, 0.01, 0.02, 0.03, 0.005, 0.015, 0.025, 0.035, -0.01, 0, 0.0125, 0.1];
+  check(back.length === 12 && back.every((v, i) => v === typedIn[i]), `the file holds the grid's 12 heights as typed (${back.join(' ')})`);
   // the picture: the box drawn in the top view (blue: selected)
   const blue = await page.evaluate(() => {
     const c = document.getElementById('editor-top');
@@ -192,7 +235,7 @@ try {
   const lua = path.join(out, 'list.lua');
   fs.writeFileSync(lua, listing);
   const listed = spawnSync(gaitlab, ['run', '--no-record', lua, world], { encoding: 'utf8' });
-  check(listed.status === 0 && /1 boxes, 1 heightfields/.test(listed.stdout) && /box 1 from 0\.900 -0\.200 0\.000 to 1\.100 0\.400 0\.080/.test(listed.stdout),
+  check(listed.status === 0 && /1 boxes, 2 heightfields/.test(listed.stdout) && /box 1 from 0\.900 -0\.200 0\.000 to 1\.100 0\.400 0\.080/.test(listed.stdout),
     `gaitlab loads the saved world: ${listed.stdout.trim()} ${listed.stderr.trim()}`);
   const actuation = path.join(source, 'examples/walk/snake.actuation.xml');
   fs.writeFileSync(path.join(out, 'edited.xml'), `<?xml version="1.0"?>

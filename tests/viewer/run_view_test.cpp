@@ -417,3 +417,77 @@ TEST_CASE("gaitlab view: a script that never steps is stopped and the run still 
     REQUIRE(view.notes().size() == 1);
     CHECK(view.notes()[0].find("did not step simulation 1 within 0.5 s") != std::string::npos);
 }
+
+TEST_CASE("gaitlab view plays the moving objects back at their recorded poses") {
+    TempDir dir("run_view");
+    // a box dropped from 0.3 m falls to the floor; a static box and a rolling cylinder
+    write_text(dir / "drop.lua", R"(
+local robot = gaitlab.robot.chain{ name = "snake", modules = 3, connection = "pitch-pitch" }
+local world = gaitlab.world{}
+world:box{ size = { 0.1, 0.1, 0.1 }, position = { 1, 1, 0.05 } }
+world:box{ size = { 0.1, 0.1, 0.1 }, position = { 0.5, 0.5, 0.3 }, mass = 0.1 }
+world:cylinder{ radius = 0.05, length = 0.1, position = { -0.5, 0.5, 0.4 }, mass = 0.1 }
+world:add(robot)
+robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 30 })
+local series = arg[1] == "old" and { "robot", "controller" } or nil
+local sim = gaitlab.simulation{ world = world, record = { dir = arg[1], series = series } }
+sim:run(1)
+)");
+    REQUIRE(run_gaitlab({"run", "drop.lua", "--", "drop"}, dir.str()).status == 0);
+    const RunData data(dir / "drop");
+    // the recording has the moving objects' poses: box 2 (box 1 is static) and cylinder 1
+    const std::vector<SeriesInfo>& series = data.series();
+    auto has = [&series](const std::string& name) {
+        for (const SeriesInfo& s : series)
+            if (s.name == name) return s.kind == SeriesKind::object;
+        return false;
+    };
+    CHECK(has("box_2.x"));
+    CHECK(has("box_2.qz"));
+    CHECK(has("cylinder_1.z"));
+    CHECK_FALSE(has("box_1.x"));
+    {
+        RunView view(dir / "drop", {});
+        CHECK(view.notes().empty());
+        Serving serving(view);
+        const int port = view.server().port();
+        const json scene = json::parse(get(port, "/api/scene").body);
+        const std::size_t bodies = scene["bodies"].size();
+        REQUIRE(scene["dynamic"] == 2);
+        const std::vector<double> t = data.times();
+        const std::vector<double> z = data.get("box_2.z").values;
+        const std::vector<double> cz = data.get("cylinder_1.z").values;
+        const json start = frame_at(view, 0);
+        REQUIRE(start["poses"].size() == (bodies + 2) * 7);
+        CHECK(start["poses"][bodies * 7 + 2].get<double>() == Approx(z[0]).margin(1e-9));
+        CHECK(z[0] > 0.25);
+        REQUIRE(post(port, "/api/command", R"({"command": "seek", "time": 0.9})").status == 200);
+        const json f = frame_at(view, 0.9);
+        const auto row =
+            static_cast<size_t>(std::upper_bound(t.begin(), t.end(), 0.9) - t.begin() - 1);
+        // on the floor now, as recorded: the box and the cylinder both fell
+        CHECK(z[row] == Approx(0.05).margin(0.005));
+        CHECK(f["poses"][bodies * 7 + 2].get<double>() == Approx(z[row]).margin(1e-9));
+        CHECK(f["poses"][(bodies + 1) * 7 + 2].get<double>() == Approx(cz[row]).margin(1e-9));
+        CHECK(cz[row] < 0.3);
+        CHECK(f["poses"][(bodies + 1) * 7 + 0].get<double>() ==
+              Approx(data.get("cylinder_1.x").values[row]).margin(1e-9));
+    }
+
+    // a recording without them (as folders from before gaitlab recorded them): they stay where
+    // the script put them, and the view says so
+    REQUIRE(run_gaitlab({"run", "drop.lua", "--", "old"}, dir.str()).status == 0);
+    RunView view(dir / "old", {});
+    REQUIRE(view.notes().size() == 1);
+    CHECK(view.notes()[0] ==
+          "2 of the world's 2 moving objects have no recorded pose (box 2, cylinder 1; series "
+          "OBJECT.x ... qz, recorded since gaitlab records them): they stay where the script put "
+          "them");
+    Serving serving(view);
+    const int port = view.server().port();
+    const std::size_t bodies = json::parse(get(port, "/api/scene").body)["bodies"].size();
+    REQUIRE(post(port, "/api/command", R"({"command": "seek", "time": 0.9})").status == 200);
+    const json f = frame_at(view, 0.9);
+    CHECK(f["poses"][bodies * 7 + 2].get<double>() == Approx(0.3).margin(1e-9));
+    CHECK(f["poses"][bodies * 7 + 0].get<double>() == Approx(0.5).margin(1e-9));
+}

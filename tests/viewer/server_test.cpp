@@ -175,10 +175,10 @@ TEST_CASE("bad commands get a clear 4xx and change nothing") {
         {"[1, 2]", 400, "(got array)"},
         {"{}", 400,
          "field 'command' expected: play, pause, step, reset, speed, delay, param, live, sensor, "
-         "contacts or seek"},
+         "contacts, seek or show"},
         {R"({"command":"fly"})", 400,
          "unknown command 'fly': play, pause, step, reset, speed, delay, param, live, sensor, "
-         "contacts or seek expected"},
+         "contacts, seek or show expected"},
         {R"({"command":"pause","ticks":3})", 400,
          "command 'pause' takes no field 'ticks' (it takes command, simulation)"},
         {R"({"command":"step","ticks":0})", 400, "a whole number of ticks in [1, 1000000]"},
@@ -485,4 +485,60 @@ TEST_CASE("a port in use or an address that is not this machine's: a clear messa
     ServerOptions port;
     port.port = 70000;
     CHECK_THROWS_WITH(Server(port), Catch::Contains("a port number in [1, 65535] expected"));
+}
+
+TEST_CASE("the pages choose among the published simulations: show is checked against the list") {
+    Server server({});
+    httplib::Client c("127.0.0.1", server.port());
+    // nothing published yet (a recorded run never publishes a list)
+    auto r = post(c, R"({"command":"show","simulation":1})");
+    REQUIRE(r);
+    CHECK(r->status == 400);
+    CHECK(r->body.find("show: there are no simulations to choose from here") != std::string::npos);
+    r = c.Get("/api/simulations");
+    REQUIRE(r);
+    CHECK(r->body == R"({"simulations":[]})");
+
+    const int fd = open_stream(server.port());
+    const std::string list =
+        R"({"shown":3,"simulations":[{"simulation":1},{"simulation":2},{"simulation":3}]})";
+    server.publish_simulations(list, {1, 2, 3});
+    CHECK(read_until(fd, "event: simulations\ndata: " + list + "\n\n", 5));
+    ::close(fd);
+    r = c.Get("/api/simulations");
+    REQUIRE(r);
+    CHECK(r->body == list);
+
+    struct Bad {
+        std::string body;
+        std::string says;
+    };
+    for (const Bad& b : std::vector<Bad>{
+             {R"({"command":"show"})",
+              "show: field 'simulation' expected: the number of the simulation to show (1, 2, 3)"},
+             {R"({"command":"show","simulation":7})",
+              "show: there is no simulation 7 (there are 1, 2, 3)"},
+             {R"({"command":"show","simulation":"2"})",
+              "field 'simulation': a simulation number (from 1) expected"},
+             {R"({"command":"show","simulation":2,"name":"x"})",
+              "command 'show' takes no field 'name' (it takes command, simulation)"}}) {
+        r = post(c, b.body);
+        REQUIRE(r);
+        INFO(b.body << " -> " << r->body);
+        CHECK(r->status == 400);
+        CHECK(r->body.find(b.says) != std::string::npos);
+    }
+    CHECK_FALSE(server.has_commands());
+    r = post(c, R"({"command":"show","simulation":2})");
+    REQUIRE(r);
+    CHECK(r->status == 200);
+    const std::vector<Command> cs = server.take_commands();
+    REQUIRE(cs.size() == 1);
+    CHECK(cs[0].kind == Command::Kind::show);
+    CHECK(cs[0].simulation == 2);
+    // a list of one: the message says "is"
+    server.publish_simulations(R"({"simulations":[{"simulation":4}]})", {4});
+    r = post(c, R"({"command":"show","simulation":2})");
+    REQUIRE(r);
+    CHECK(r->body.find("there is no simulation 2 (there is 4)") != std::string::npos);
 }

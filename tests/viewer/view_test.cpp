@@ -220,3 +220,78 @@ TEST_CASE("a page's delay adds wall time between the physics steps of a run") {
     host.run_string("sim:run(0.1) assert(sim.ticks == 200)", "run");
     CHECK(seconds_since(start) < 0.19);
 }
+
+TEST_CASE("a page chooses which of a script's simulations it shows and addresses") {
+    scripting::LuaHost host;
+    View view(host, {}, no_wait());
+    // simulation 1, its clone 2, and 3 with another robot
+    host.run_string(R"(
+local robot = gaitlab.robot.chain{ name = "snake", modules = 4, connection = "pitch-pitch" }
+local world = gaitlab.world{}
+world:add(robot)
+robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 40, frequency = 1, phase = 120 })
+sim = gaitlab.simulation{ world = world }
+sim:step(10)
+copy = sim:clone()
+local worm = gaitlab.robot.chain{ name = "worm", modules = 2 }
+local other = gaitlab.world{}
+other:add(worm)
+worm:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 10 })
+third = gaitlab.simulation{ world = other }
+)",
+                    "three");
+    httplib::Client c("127.0.0.1", view.server().port());
+    auto scene_of = [&c] {
+        auto r = c.Get("/api/scene");
+        REQUIRE(r);
+        return r->body;
+    };
+    auto r = c.Get("/api/simulations");
+    REQUIRE(r);
+    INFO(r->body);
+    CHECK(r->body.find(R"({"controllers":["sine"],"robots":["snake"],"shown":false,)"
+                       R"("simulation":1})") != std::string::npos);
+    CHECK(r->body.find(R"("robots":["snake"],"shown":false,"simulation":2})") != std::string::npos);
+    CHECK(r->body.find(R"("robots":["worm"],"shown":true,"simulation":3})") != std::string::npos);
+    CHECK(r->body.find(R"("chosen":false)") != std::string::npos);
+    CHECK(scene_of().find("\"simulation\":3") != std::string::npos);
+
+    // the page chooses the clone: the scene, the frames and commands without a number go to it
+    REQUIRE(post(view.server().port(), R"({"command":"show","simulation":2})"));
+    view.poll();
+    const std::string scene = scene_of();
+    CHECK(scene.find("\"simulation\":2") != std::string::npos);
+    CHECK(scene.find("\"name\":\"snake\"") != std::string::npos);
+    r = c.Get("/api/simulations");
+    REQUIRE(r);
+    CHECK(r->body.find(R"("shown":true,"simulation":2})") != std::string::npos);
+    CHECK(r->body.find(R"("chosen":true)") != std::string::npos);
+    REQUIRE(post(view.server().port(),
+                 R"({"command":"param","controller":"sine","name":"amplitude","value":25})"));
+    view.poll();
+    host.run_string(R"(
+assert(copy:robot("snake"):controllers()[1].amplitude == 25, "the clone's amplitude")
+assert(sim:robot("snake"):controllers()[1].amplitude == 40, "the original's amplitude")
+)",
+                    "check");
+    // the live series are the clone's
+    r = c.Get("/api/live/series");
+    REQUIRE(r);
+    CHECK(r->body.find("\"simulation\":2") != std::string::npos);
+
+    // a simulation made now does not take the page's choice away; it is listed
+    host.run_string("fourth = gaitlab.simulation{ world = gaitlab.world{} }", "fourth");
+    CHECK(scene_of().find("\"simulation\":2") != std::string::npos);
+    r = c.Get("/api/simulations");
+    REQUIRE(r);
+    CHECK(r->body.find(R"("simulation":4})") != std::string::npos);
+
+    // one that is not there: refused with the list, nothing changes
+    httplib::Client p("127.0.0.1", view.server().port());
+    auto bad = p.Post("/api/command", R"({"command":"show","simulation":9})", "application/json");
+    REQUIRE(bad);
+    CHECK(bad->status == 400);
+    CHECK(bad->body.find("there is no simulation 9 (there are 1, 2, 3, 4)") != std::string::npos);
+    view.poll();
+    CHECK(scene_of().find("\"simulation\":2") != std::string::npos);
+}

@@ -23,6 +23,8 @@ using json = nlohmann::json;
 
 // images offered for new heightfields: at most this many PNG files of the folder
 constexpr std::size_t kMaxImages = 200;
+// a stored grid goes to the page as numbers (to edit) up to this many samples
+constexpr std::size_t kMaxEditedHeights = 256 * 256;
 // a check builds the world with its robots (to say whether one starts inside an object) only
 // up to this many solids: a rubble field of 100 000 stones is checked, not built, on every edit
 constexpr long long kMaxBuiltSolids = 20000;
@@ -411,6 +413,15 @@ struct Editor::Impl {
             } else {
                 o["grid"] = k;
                 o["samples"] = {h.samples_x, h.samples_y};
+                // its heights by rows along y, each row along x, m
+                if (h.heights.size() <= kMaxEditedHeights) {
+                    json rows = json::array();
+                    for (int j = 0; j < h.samples_y; ++j) {
+                        const auto first = h.heights.begin() + static_cast<long>(j) * h.samples_x;
+                        rows.push_back(std::vector<double>(first, first + h.samples_x));
+                    }
+                    o["heights"] = std::move(rows);
+                }
             }
             objects.push_back(std::move(o));
         }
@@ -446,13 +457,14 @@ struct Editor::Impl {
         HeightfieldSpec h;
         Read r{o, fmt::format("heightfield {}", number), index, {"kind"}};
         fields(r, h, static_cast<HeightfieldSpec*>(nullptr));
-        r.finish({"image", "grid", "samples"});
+        r.finish({"image", "grid", "samples", "heights"});
         const auto image = o.find("image");
         const auto grid = o.find("grid");
-        if ((image == o.end()) == (grid == o.end())) {
+        const auto heights = o.find("heights");
+        if ((image == o.end()) == (grid == o.end() && heights == o.end())) {
             r.fail("image",
-                   "an image (a PNG file of the folder) or the grid it was loaded with "
-                   "expected, one of them");
+                   "an image (a PNG file of the folder), heights (rows of numbers) or the grid it "
+                   "was loaded with expected, one of them");
         }
         if (grid != o.end()) {
             const std::vector<HeightfieldSpec>& base = source.environment.world.heightfields;
@@ -467,7 +479,45 @@ struct Editor::Impl {
             h.heights = g.heights;
             h.samples_x = g.samples_x;
             h.samples_y = g.samples_y;
-        } else {
+        }
+        if (heights != o.end()) {
+            // rows along y, each of the heights along x, m; they replace a grid's
+            const char* expected =
+                "rows of heights in m expected ([[h, h, ...], [h, h, ...], "
+                "...]: a row per y, the same number in each, at least 2 by 2)";
+            if (!heights->is_array() || heights->size() < 2 || !heights->at(0).is_array() ||
+                heights->at(0).size() < 2) {
+                r.fail("heights", fmt::format("{} (got {})", expected, quoted(*heights)));
+            }
+            const std::size_t columns = heights->at(0).size();
+            if (heights->size() > kMaxEditedHeights / 2 || columns > kMaxEditedHeights / 2 ||
+                heights->size() * columns > kMaxEditedHeights) {
+                r.fail("heights", fmt::format("at most {} heights expected (got {} rows of {})",
+                                              kMaxEditedHeights, heights->size(), columns));
+            }
+            h.heights.clear();  // the numbers replace the grid's
+            h.heights.reserve(heights->size() * columns);
+            for (std::size_t j = 0; j < heights->size(); ++j) {
+                const json& row = heights->at(j);
+                if (!row.is_array() || row.size() != columns) {
+                    r.fail("heights",
+                           fmt::format("row {} has {} heights, row 1 has {}: {}", j + 1,
+                                       row.is_array() ? row.size() : 0, columns, expected));
+                }
+                for (std::size_t i = 0; i < columns; ++i) {
+                    const json& v = row[i];
+                    if (!v.is_number() || !std::isfinite(v.get<double>())) {
+                        r.fail("heights", fmt::format("row {} column {}: a height in m expected "
+                                                      "(got {})",
+                                                      j + 1, i + 1, quoted(v)));
+                    }
+                    h.heights.push_back(v.get<double>());
+                }
+            }
+            h.samples_x = static_cast<int>(columns);
+            h.samples_y = static_cast<int>(heights->size());
+        }
+        if (image != o.end()) {
             if (!image->is_string()) {
                 r.fail("image", fmt::format("a PNG file name expected (got {})", quoted(*image)));
             }

@@ -267,7 +267,8 @@ std::shared_ptr<Recorded> load(const std::string& path, double seconds,
     r->stride = rs.poses.size();
     // the seven pose series of every body of the scene
     std::vector<std::string> names;
-    std::vector<std::pair<std::size_t, std::size_t>> columns;  // body, first of its names
+    // the pose slot (bodies, then moving objects) and the first of its seven names
+    std::vector<std::pair<std::size_t, std::size_t>> columns;
     const json& robots = scene["robots"];
     const json& bodies = scene["bodies"];
     static const char* const parts[] = {"x", "y", "z", "qw", "qx", "qy", "qz"};
@@ -288,6 +289,32 @@ std::shared_ptr<Recorded> load(const std::string& path, double seconds,
         columns.emplace_back(b, names.size());
         names.insert(names.end(), seven.begin(), seven.end());
     }
+    const std::size_t body_columns = columns.size();
+    // and of every moving object (series of kind object, recorded since gaitlab records them)
+    std::vector<std::string> unrecorded;  // moving objects without their seven series
+    int moving = 0;
+    for (const json& o : scene["objects"]) {
+        const int dynamic = o.value("dynamic", -1);
+        if (dynamic < 0) continue;
+        ++moving;
+        const std::string object = o["name"];
+        std::vector<std::string> seven;
+        for (const char* part : parts) {
+            for (const SeriesInfo& s : run.series()) {
+                if (s.kind == SeriesKind::object && s.source == object && s.value == part) {
+                    seven.push_back(s.name);
+                    break;
+                }
+            }
+        }
+        const std::size_t slot = bodies.size() + static_cast<std::size_t>(dynamic);
+        if (seven.size() != 7 || slot * 7 + 7 > rs.poses.size()) {
+            unrecorded.push_back(object);
+            continue;
+        }
+        columns.emplace_back(slot, names.size());
+        names.insert(names.end(), seven.begin(), seven.end());
+    }
     std::vector<SeriesData> data;
     if (!names.empty()) data = run.get(names);
     r->has_poses = !data.empty();
@@ -296,9 +323,20 @@ std::shared_ptr<Recorded> load(const std::string& path, double seconds,
         r->notes.push_back(
             "this run recorded no body poses (series ROBOT.BODY.x ... qz): the 3D view shows the "
             "robots where they start; the plots show every recorded series");
-    } else if (columns.size() < bodies.size()) {
+    } else if (body_columns < bodies.size()) {
         r->notes.push_back(
             "some bodies have no recorded pose: they stay where they start in the 3D view");
+    }
+    if (!unrecorded.empty()) {
+        std::string list;
+        for (const std::string& o : unrecorded)
+            list += (list.empty() ? "" : ", ") + o;
+        r->notes.push_back(fmt::format(
+            "{} of the world's {} moving objects {} no recorded pose ({}; series OBJECT.x ... qz, "
+            "recorded since gaitlab records them): {} where the script put {}",
+            unrecorded.size(), moving, unrecorded.size() == 1 ? "has" : "have", list,
+            unrecorded.size() == 1 ? "it stays" : "they stay",
+            unrecorded.size() == 1 ? "it" : "them"));
     }
     if (r->times.empty()) {
         r->notes.push_back("data.csv holds no complete row yet: there is nothing to play");
@@ -322,14 +360,14 @@ std::shared_ptr<Recorded> load(const std::string& path, double seconds,
         r->poses.insert(r->poses.end(), rs.poses.begin(), rs.poses.end());
         if (!r->has_poses) continue;
         double* p = r->poses.data() + row * r->stride;
-        for (const auto& [b, first] : columns) {
+        for (const auto& [slot, first] : columns) {
             double v[7];
             bool ok = true;
             for (int k = 0; k < 7; ++k) {
                 v[k] = data[first + static_cast<std::size_t>(k)].values[i];
                 ok = ok && std::isfinite(v[k]);
             }
-            if (ok) std::copy(v, v + 7, p + b * 7);
+            if (ok) std::copy(v, v + 7, p + slot * 7);
         }
     }
     r->times = std::move(kept);

@@ -220,6 +220,8 @@ const char* to_string(Command::Kind kind) {
             return "sensor";
         case Command::Kind::seek:
             return "seek";
+        case Command::Kind::show:
+            return "show";
         case Command::Kind::delay:
             return "delay";
         case Command::Kind::contacts:
@@ -259,6 +261,9 @@ struct Server::State {
     bool stopping = false;
     std::uint64_t scene_version = 0;
     std::shared_ptr<const std::string> scene;  // as an SSE event
+    std::uint64_t simulations_version = 0;
+    std::string simulations_json;  // the list the pages choose from ("" until published)
+    std::vector<int> simulation_numbers;
     std::vector<ParamControl> controls;
     std::vector<std::string> sensors;
     std::uint64_t frame_version = 0;
@@ -324,7 +329,7 @@ Command Server::State::parse_command(const std::string& body, std::string& error
     if (name == j.end() || !name->is_string()) {
         error =
             "field 'command' expected: play, pause, step, reset, speed, delay, param, live, "
-            "sensor, contacts or seek";
+            "sensor, contacts, seek or show";
         return c;
     }
     const std::string what = name->get<std::string>();
@@ -334,13 +339,13 @@ Command Server::State::parse_command(const std::string& body, std::string& error
         {"speed", Command::Kind::speed}, {"param", Command::Kind::param},
         {"live", Command::Kind::live},   {"sensor", Command::Kind::sensor},
         {"delay", Command::Kind::delay}, {"contacts", Command::Kind::contacts},
-        {"seek", Command::Kind::seek}};
+        {"seek", Command::Kind::seek},   {"show", Command::Kind::show}};
     const auto k =
         std::find_if(kinds.begin(), kinds.end(), [&](const auto& p) { return p.first == what; });
     if (k == kinds.end()) {
         error = fmt::format(
             "unknown command '{}': play, pause, step, reset, speed, delay, param, live, sensor, "
-            "contacts or seek expected",
+            "contacts, seek or show expected",
             what.substr(0, 40));
         return c;
     }
@@ -436,6 +441,30 @@ Command Server::State::parse_command(const std::string& body, std::string& error
                 names += (names.empty() ? "" : ", ") + x;
             error = fmt::format("there is no sensor '{}' (there {} {})", c.name.substr(0, 60),
                                 sensors.size() == 1 ? "is" : "are", names.empty() ? "none" : names);
+            return c;
+        }
+    }
+    if (c.kind == Command::Kind::show) {
+        std::string numbers;
+        for (int n : simulation_numbers)
+            numbers += (numbers.empty() ? "" : ", ") + std::to_string(n);
+        if (simulation_numbers.empty()) {
+            error =
+                "show: there are no simulations to choose from here (a recorded run, or no "
+                "simulation yet)";
+            return c;
+        }
+        if (c.simulation == 0) {
+            error = fmt::format(
+                "show: field 'simulation' expected: the number of the simulation "
+                "to show ({})",
+                numbers);
+            return c;
+        }
+        if (std::find(simulation_numbers.begin(), simulation_numbers.end(), c.simulation) ==
+            simulation_numbers.end()) {
+            error = fmt::format("show: there is no simulation {} (there {} {})", c.simulation,
+                                simulation_numbers.size() == 1 ? "is" : "are", numbers);
             return c;
         }
     }
@@ -583,6 +612,12 @@ void Server::State::routes() {
         const std::string& s = *scene;
         const std::size_t start = s.find("data: ") + 6;
         res.set_content(s.substr(start, s.size() - start - 2), "application/json");
+    });
+
+    http.Get("/api/simulations", [this](const httplib::Request&, httplib::Response& res) {
+        std::unique_lock<std::mutex> lock(mutex);
+        res.set_content(simulations_json.empty() ? "{\"simulations\":[]}" : simulations_json,
+                        "application/json");
     });
 
     // live series: answered on this thread by the provider (the view reads the live buffers,
@@ -750,7 +785,7 @@ void Server::State::routes() {
         page_seen.store(true);
         // what this stream has sent
         struct Sent {
-            std::uint64_t scene = 0, frame = 0, message = 0;
+            std::uint64_t scene = 0, frame = 0, message = 0, simulations = 0;
             bool hello = false;
             bool counted = true;
         };
@@ -770,7 +805,7 @@ void Server::State::routes() {
                     std::unique_lock<std::mutex> lock(mutex);
                     const auto fresh = [&] {
                         return stopping || scene_version != s.scene || frame_version != s.frame ||
-                               message_version != s.message;
+                               message_version != s.message || simulations_version != s.simulations;
                     };
                     if (out.empty() &&
                         !changed.wait_for(lock, std::chrono::duration<double>(kHeartbeatSeconds),
@@ -778,6 +813,10 @@ void Server::State::routes() {
                         out += ": still here\n\n";  // a heartbeat finds a page that went away
                     }
                     if (stopping) return false;
+                    if (simulations_version != s.simulations) {
+                        s.simulations = simulations_version;
+                        if (!simulations_json.empty()) out += sse("simulations", simulations_json);
+                    }
                     if (scene_version != s.scene) {
                         s.scene = scene_version;
                         if (scene) out += *scene;
@@ -814,8 +853,8 @@ void Server::State::routes() {
         if (res.status == 404) {
             ++refused;
             res.set_content(json_error(fmt::format("no such page: {} {} (the viewer serves /, "
-                                                   "/api/events, /api/scene, /api/live, "
-                                                   "/api/world, /api/status and POST "
+                                                   "/api/events, /api/scene, /api/simulations, "
+                                                   "/api/live, /api/world, /api/status and POST "
                                                    "/api/command)",
                                                    req.method, req.path.substr(0, 80))),
                             "application/json");
@@ -972,6 +1011,17 @@ void Server::publish_scene(std::string json_text, std::vector<ParamControl> cont
         s.controls = std::move(controls);
         s.sensors = std::move(sensors);
         ++s.scene_version;
+    }
+    s.changed.notify_all();
+}
+
+void Server::publish_simulations(std::string json_text, std::vector<int> simulations) {
+    State& s = *state_;
+    {
+        std::lock_guard<std::mutex> lock(s.mutex);
+        s.simulations_json = std::move(json_text);
+        s.simulation_numbers = std::move(simulations);
+        ++s.simulations_version;
     }
     s.changed.notify_all();
 }

@@ -106,6 +106,14 @@ const char* kind_name(Solid::Kind k) {
     return "?";
 }
 
+// "snake, snake_2": the robots of a simulation, for messages
+std::string robots_of(const Simulation& sim) {
+    std::string out;
+    for (int r = 0; r < sim.robot_count(); ++r)
+        out += (out.empty() ? "" : ", ") + sim.robot_label(r);
+    return out.empty() ? "no robot" : out;
+}
+
 }  // namespace
 
 std::string scene_json(const Simulation& sim, int index, std::vector<ParamControl>* controls) {
@@ -238,6 +246,9 @@ struct View::Impl {
     // which the server's threads take to read live series
     std::vector<std::unique_ptr<Session>> sessions;
     mutable std::mutex live_mutex;
+    // the session a page chose to show (the command `show`), or none: then the newest. Set on
+    // the simulation's thread under live_mutex
+    Session* chosen = nullptr;
     Session* running = nullptr;  // the session a run steps now
     bool finished = false;       // the script has ended
     std::string script_error;
@@ -254,7 +265,36 @@ struct View::Impl {
     Impl(scripting::LuaHost& h, ServerOptions s, ViewOptions o)
         : host(h), options(o), server(std::move(s)) {}
 
-    Session* shown() const { return sessions.empty() ? nullptr : sessions.back().get(); }
+    Session* shown() const {
+        if (chosen) return chosen;
+        return sessions.empty() ? nullptr : sessions.back().get();
+    }
+
+    // the list of simulations the pages choose from: each one's number, robots and
+    // controllers and whether it is shown
+    void publish_list() {
+        json list = json::array();
+        std::vector<int> numbers;
+        const Session* on = shown();
+        for (const auto& s : sessions) {
+            const Simulation& sim = s->sim();
+            json robots = json::array();
+            for (int r = 0; r < sim.robot_count(); ++r)
+                robots.push_back(sim.robot_label(r));
+            json drives = json::array();
+            for (int d = 0; d < sim.drive_count(); ++d)
+                drives.push_back(sim.drive_label(d));
+            list.push_back({{"simulation", s->index},
+                            {"robots", robots},
+                            {"controllers", drives},
+                            {"shown", s.get() == on}});
+            numbers.push_back(s->index);
+        }
+        json j = {
+            {"shown", on ? on->index : 0}, {"chosen", chosen != nullptr}, {"simulations", list}};
+        server.publish_simulations(j.dump(-1, ' ', false, json::error_handler_t::replace),
+                                   std::move(numbers));
+    }
 
     Session* find(int index) const {
         if (index == 0) return shown();
@@ -292,11 +332,19 @@ struct View::Impl {
             remake_live(*raw);
             // scripts that make many simulations: the view keeps the newest
             while (sessions.size() > static_cast<size_t>(kMaxViewed)) {
+                if (chosen == sessions.front().get()) chosen = nullptr;
                 detach(*sessions.front());
                 sessions.erase(sessions.begin());
             }
         }
         raw->scene_dirty = true;
+        publish_list();
+        if (chosen && chosen != raw) {
+            server.publish_message(
+                "info", fmt::format("simulation {} is new; the page still shows simulation {} "
+                                    "(choose it in the list to see it)",
+                                    index, chosen->index));
+        }
         try {
             publish(*raw);
         } catch (const std::exception& e) {
@@ -315,7 +363,9 @@ struct View::Impl {
                 std::unique_ptr<Session> s = std::move(sessions[k]);
                 sessions.erase(sessions.begin() + static_cast<long>(k));
                 sessions.push_back(std::move(s));
+                chosen = nullptr;  // the script names it: the pages follow the script again
             }
+            publish_list();
             sessions.back()->scene_dirty = true;
             publish(*sessions.back());
             return;
@@ -595,6 +645,16 @@ struct View::Impl {
                     break;
                 }
                 case Command::Kind::seek:  // the server refuses it: a view has no run provider
+                    break;
+                case Command::Kind::show: {
+                    // shown from now on, whatever the script makes next
+                    std::lock_guard<std::mutex> lock(live_mutex);
+                    chosen = s;
+                }
+                    s->scene_dirty = true;
+                    publish_list();
+                    server.publish_message("info", fmt::format("the pages show simulation {} ({})",
+                                                               s->index, robots_of(sim)));
                     break;
                 case Command::Kind::live:
                     if (s->live) {

@@ -4,6 +4,7 @@
 // (/api/command). docs/viewer.md describes the protocol.
 import { createView } from './scene.js';
 import uPlot from 'uplot';
+import { csvText, download, exportButtons, plotPng } from './plotexport.js';
 
 const token = new URLSearchParams(location.search).get('token');
 const query = token ? `?token=${encodeURIComponent(token)}` : '';
@@ -104,6 +105,29 @@ document.addEventListener('keydown', (e) => {
   if (e.key === 's') $('step').click();
   if (e.key === 'r') $('reset').click();
 });
+
+// ---------------------------------------------------------------------------------------------
+// the simulations of the script: the page shows (and its controls, sliders and plots address)
+// the one chosen here; the list comes from the server as the event `simulations`
+
+function showSimulations(list) {
+  gaitlab.simulations = list;
+  const select = $('simulation');
+  select.textContent = '';
+  for (const s of list.simulations) {
+    const o = document.createElement('option');
+    o.value = s.simulation;
+    const robots = s.robots.length > 0 ? s.robots.join(', ') : 'no robot';
+    const ctls = s.controllers.length > 0 ? ` (${s.controllers.join(', ')})` : '';
+    o.textContent = `${s.simulation}: ${robots}${ctls}`;
+    o.selected = s.shown;
+    select.appendChild(o);
+  }
+  $('simulations-row').hidden = list.simulations.length < 2;
+  $('simulation-follow').textContent = list.chosen ? '' : '(the newest)';
+}
+$('simulation').addEventListener('change', (e) =>
+  send({ command: 'show', simulation: Number(e.target.value) }));
 
 // ---------------------------------------------------------------------------------------------
 // parameters: one slider each, with its range and unit
@@ -246,10 +270,11 @@ function connect() {
     $('connection').textContent = 'gaitlab does not answer: is it still running? (retrying)';
   });
   events.addEventListener('scene', (e) => {
-    const first = gaitlab.scene === null;
+    const before = gaitlab.scene;
     gaitlab.scene = JSON.parse(e.data);
     buildScene(gaitlab.scene);
-    if (first) view.viewAllSoon();
+    // the first scene, or another simulation chosen: look at it all
+    if (before === null || before.simulation !== gaitlab.scene.simulation) view.viewAllSoon();
     loadSeries();
   });
   events.addEventListener('frame', (e) => {
@@ -258,6 +283,7 @@ function connect() {
     gaitlab.frames++;
     showFrame(f);
   });
+  events.addEventListener('simulations', (e) => showSimulations(JSON.parse(e.data)));
   events.addEventListener('message', (e) => {
     const m = JSON.parse(e.data);
     message(m.level, m.text);
@@ -360,10 +386,11 @@ function addPlot(names = []) {
   const pause = document.createElement('button');
   pause.textContent = 'Pause';
   pause.title = 'Freeze this plot (the others go on)';
+  const { png, csv } = exportButtons();
   const close = document.createElement('button');
   close.textContent = '×';
   close.title = 'Remove this plot';
-  header.append(title, pause, close);
+  header.append(title, pause, png, csv, close);
   const pickHolder = document.createElement('div');
   const chart = document.createElement('div');
   const hint = document.createElement('div');
@@ -429,7 +456,33 @@ function addPlot(names = []) {
     update() {
       if (plot.u && !plot.paused) plot.u.setData(plot.data());
     },
+    // the file name of an export: the simulation, the plot and the time shown last
+    exportName(ext) {
+      const sim = gaitlab.scene ? gaitlab.scene.name || `simulation${gaitlab.scene.simulation}` : 'simulation';
+      const t = plot.u && plot.u.data[0].length > 0 ? plot.u.data[0][plot.u.data[0].length - 1] : 0;
+      return `${sim}-plot${id}-t${t.toFixed(3)}.${ext}`;
+    },
+    // what is drawn (a paused plot: what it froze), as a PNG and as CSV; false when nothing is
+    exportable() {
+      if (plot.u && plot.u.data[0].length > 0) return true;
+      message('error', `plot ${id}: nothing to export yet (${plot.names.size === 0
+        ? 'choose a series first' : 'no samples yet'})`);
+      return false;
+    },
+    png() {
+      if (!plot.exportable()) return Promise.resolve(null);
+      const sim = gaitlab.scene ? gaitlab.scene.name || `simulation ${gaitlab.scene.simulation}` : '';
+      return plotPng(plot.u, `${sim} (live plot ${id})`, plot.exportName('png'));
+    },
+    csv() {
+      if (!plot.exportable()) return null;
+      const text = csvText([...plot.names], plot.u.data);
+      download(new Blob([text], { type: 'text/csv' }), plot.exportName('csv'));
+      return text;
+    },
   };
+  png.addEventListener('click', () => plot.png());
+  csv.addEventListener('click', () => plot.csv());
   pause.addEventListener('click', () => {
     plot.paused = !plot.paused;
     pause.textContent = plot.paused ? 'Play' : 'Pause';

@@ -605,11 +605,70 @@ function showForm() {
       const row = el('div', { className: 'editor-field' }, el('label', {}, 'image'), pick);
       if (bad && ed.error.field === 'image') row.classList.add('bad');
       form.appendChild(row);
+      const numbers = el('button', { id: 'editor-heights-numbers', title: 'Give its heights as numbers instead of an image' }, 'heights from numbers');
+      numbers.addEventListener('click', () => {
+        delete target.image;
+        target.heights = flatGrid(5, 5);
+        target.length = 0.4;
+        target.width = 0.4;
+        changed(true);
+      });
+      form.appendChild(numbers);
+    } else if (target.heights !== undefined) {
+      form.appendChild(heightsForm(target, bad));
     } else {
       form.appendChild(el('p', { className: 'small' },
-        `heights stored in the file (${(target.samples || []).join(' × ')} samples)`));
+        `heights stored in the file (${(target.samples || []).join(' × ')} samples; too many to edit as numbers)`));
     }
   }
+}
+
+// rows × columns heights of 0 m
+const flatGrid = (rows, columns) => Array.from({ length: rows }, () => new Array(columns).fill(0));
+
+// a heightfield's heights as numbers: one line per row (along y, the first at -width/2), the
+// heights of a row along x separated by spaces, in m; and the cell size, which sets the length
+// and width. gaitlab checks them (rows of the same length, numbers, at least 2 × 2)
+function heightsForm(target, bad) {
+  const box = el('div', { className: 'editor-heights' });
+  const rows = target.heights.length;
+  const columns = rows > 0 && Array.isArray(target.heights[0]) ? target.heights[0].length : 0;
+  const cell = columns > 1 ? target.length / (columns - 1) : 0.1;
+  const text = el('textarea', { id: 'editor-heights', rows: Math.min(Math.max(rows, 3), 12), cols: 34, spellcheck: false });
+  text.value = target.heights.map((r) => (Array.isArray(r) ? r.join(' ') : String(r))).join('\n');
+  text.dataset.field = 'heights';
+  const cellInput = input(Math.round(cell * 1e6) / 1e6, (t) => {
+    const c = typed(t);
+    if (typeof c !== 'number' || !(c > 0)) {
+      status(`cell size: a positive number of m expected (got '${t}')`, 'error');
+      return;
+    }
+    const n = target.heights.length;
+    const m = n > 0 && Array.isArray(target.heights[0]) ? target.heights[0].length : 0;
+    target.length = mm((m - 1) * c);
+    target.width = mm((n - 1) * c);
+    changed(true);
+  }, 'cell');
+  cellInput.id = 'editor-heights-cell';
+  text.addEventListener('change', () => {
+    // a word that is not a number goes as typed: gaitlab says where it is
+    const lines = text.value.split('\n').map((l) => l.trim()).filter((l) => l !== '');
+    const grid = lines.map((l) => l.split(/[\s,;]+/).map(typed));
+    const c = Number(cellInput.value) > 0 ? Number(cellInput.value) : cell;
+    target.heights = grid;
+    if (grid.length > 1 && grid[0].length > 1) {
+      target.length = mm((grid[0].length - 1) * c);
+      target.width = mm((grid.length - 1) * c);
+    }
+    changed(true);
+  });
+  box.append(
+    el('div', { className: 'editor-field' }, el('label', {}, 'cell'), cellInput, el('span', { className: 'unit' }, 'm')),
+    el('p', { className: 'small', id: 'editor-heights-size' },
+      `heights (m): ${rows} rows (along y) × ${columns} columns (along x), a line per row`),
+    text);
+  if (bad && ed.error.field === 'heights') box.classList.add('bad');
+  return box;
 }
 
 function showFloor() {
@@ -665,11 +724,15 @@ async function add() {
   if (kind === 'box') o.position[2] = mm(o.size[2] / 2);
   if (kind === 'cylinder') o.position[2] = mm(o.length / 2);
   if (kind === 'heightfield') {
-    if (ed.info.images.length === 0) {
-      status(`a heightfield needs a PNG image in ${ed.info.folder} (grey levels: heights)`, 'error');
-      return;
+    // a PNG of the folder when there is one (its form can switch to numbers), else numbers
+    if (ed.info.images.length > 0) {
+      o.image = ed.info.images[0];
+    } else {
+      delete o.image;
+      o.heights = flatGrid(5, 5);
+      o.length = 0.4;
+      o.width = 0.4;
     }
-    o.image = ed.info.images[0];
   }
   // after the others of its kind: the engine numbers them (and the file writes them) that way
   const order = ed.info.order;

@@ -9,6 +9,7 @@
 //   the run from its start while recording the 3D view, and posts the WebM back.
 // app.js draws the scene and frames; this module only reads window.gaitlab.
 import uPlot from 'uplot';
+import { download, exportButtons, plotPng } from './plotexport.js';
 
 const params = new URLSearchParams(location.search);
 const token = params.get('token');
@@ -51,16 +52,6 @@ async function post(path, body, type = 'application/json') {
     throw new Error(b.error);
   }
   return r.json();
-}
-
-function download(blob, name) {
-  const a = document.createElement('a');
-  a.href = URL.createObjectURL(blob);
-  a.download = name;
-  document.body.appendChild(a);
-  a.click();
-  a.remove();
-  setTimeout(() => URL.revokeObjectURL(a.href), 10000);
 }
 
 function stamp() {
@@ -306,14 +297,7 @@ function addRecordedPlot(names) {
   const title = document.createElement('span');
   title.className = 'title';
   title.textContent = `recorded plot ${id}`;
-  const png = document.createElement('button');
-  png.textContent = 'PNG';
-  png.className = 'export-png';
-  png.title = 'Download this plot as a PNG picture';
-  const csv = document.createElement('button');
-  csv.textContent = 'CSV';
-  csv.className = 'export-csv';
-  csv.title = 'Download the plotted series as CSV (time, then one column per series)';
+  const { png, csv } = exportButtons();
   const close = document.createElement('button');
   close.textContent = '×';
   close.title = 'Remove this plot';
@@ -380,39 +364,10 @@ function addRecordedPlot(names) {
         if (l >= 0 && plot.u.select.width === 0) seek(plot.u.posToVal(l, 'x'));
       });
     },
-    // the plot as a picture: its canvas on white, the title and the legend
+    // the plot as a picture: its canvas on white, the run's name and the legend
     png() {
       if (!plot.u) return Promise.resolve(null);
-      const src = plot.u.ctx.canvas;
-      const lines = plot.names.length;
-      const out = document.createElement('canvas');
-      const dpr = src.width / plot.u.width || 1;
-      out.width = src.width;
-      out.height = src.height + (28 + 18 * lines) * dpr;
-      const c = out.getContext('2d');
-      c.fillStyle = '#fff';
-      c.fillRect(0, 0, out.width, out.height);
-      c.scale(dpr, dpr);
-      c.fillStyle = '#1d2430';
-      c.font = 'bold 13px sans-serif';
-      c.fillText(`${replay.info.name}`, 8, 18);
-      c.drawImage(src, 0, 24, src.width / dpr, src.height / dpr);
-      c.font = '12px sans-serif';
-      plot.u.series.slice(1).forEach((s, i) => {
-        const y = 24 + src.height / dpr + 16 + 18 * i;
-        c.strokeStyle = s.stroke();
-        c.lineWidth = 2;
-        c.beginPath();
-        c.moveTo(8, y - 4);
-        c.lineTo(30, y - 4);
-        c.stroke();
-        c.fillStyle = '#1d2430';
-        c.fillText(s.label, 36, y);
-      });
-      return new Promise((resolve) => out.toBlob((b) => {
-        download(b, `${replay.info.name}-plot${id}.png`);
-        resolve(b);
-      }, 'image/png'));
+      return plotPng(plot.u, replay.info.name, `${replay.info.name}-plot${id}.png`);
     },
     csv() {
       if (plot.names.length === 0) return;

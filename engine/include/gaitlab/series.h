@@ -1,12 +1,14 @@
 // Series: the named, sampled quantities of a simulation that the recorder writes and the live
 // buffers keep. They come from sources: the robots (poses, centre of mass, joints, power and
-// energy), the controllers (parameters and per-joint values) and the sensors (every channel).
+// energy), the controllers (parameters and per-joint values), the sensors (every channel) and
+// the world's moving objects (their poses).
 // docs/data.md lists every name.
 //
 // Naming: "<label>.<quantity>" with a 1-based joint in brackets for per-joint quantities:
 //   robot       snake.com.x  snake.com.vx  snake.head.qw  snake.angle[3]  snake.power
 //   snake.energy[2] controller  sine.amplitude  sine.angle[3]  hopf.x[3]   (joint numbers within
 //   the group)   sensor  snake.imu3.roll  snake.contact1.force  snake.joint2.angle
+//   object      box_2.x  box_2.qw  cylinder_1.z  (the object's name, spaces as '_')
 // Labels are the robot and controller names made unique within a simulation
 // (Simulation::robot_label, Simulation::drive_label): a second "sine" is "sine_2".
 #pragma once
@@ -21,9 +23,9 @@ namespace gaitlab {
 class Simulation;
 
 /// Where a series comes from.
-enum class SeriesKind { robot, controller, sensor };
+enum class SeriesKind { robot, controller, sensor, object };
 
-/// "robot", "controller", "sensor".
+/// "robot", "controller", "sensor", "object".
 const char* to_string(SeriesKind kind);
 /// Parses a kind name; returns false if it is not one.
 bool parse_series_kind(std::string_view name, SeriesKind& kind);
@@ -32,7 +34,7 @@ bool parse_series_kind(std::string_view name, SeriesKind& kind);
 struct SeriesInfo {
     std::string name;  ///< unique within the simulation, e.g. "snake.angle[3]"
     SeriesKind kind = SeriesKind::robot;
-    std::string source;  ///< robot or controller label ("snake", "sine_2")
+    std::string source;  ///< robot or controller label ("snake", "sine_2"), or object ("box 2")
     std::string value;   ///< the quantity: "angle", "com.x", "x", "amplitude" ...
     int joint = 0;       ///< 1-based joint (within the group for controllers); 0: none
     std::string body;    ///< body name for body poses, "" otherwise
@@ -55,7 +57,8 @@ class SeriesSource {
 };
 
 /// The sources of every kind for `sim`: one per robot, one per drive, one per robot with
-/// sensors (docs/data.md, "Adding a kind of series", says how to add a kind).
+/// sensors, one for the moving objects if there are any (docs/data.md, "Adding a kind of
+/// series", says how to add a kind).
 std::vector<std::unique_ptr<SeriesSource>> make_sources(const Simulation& sim);
 
 /// Does `name` match `pattern`? '*' matches any run of characters, '?' one character; every

@@ -185,7 +185,7 @@ SeriesInfo series_from(const std::vector<std::string>& f, const std::string& whe
     s.name = f[0];
     if (!parse_series_kind(f[1], s.kind)) {
         throw FormatError(
-            fmt::format("{}: kind 'robot', 'controller' or 'sensor' expected, got "
+            fmt::format("{}: kind 'robot', 'controller', 'sensor' or 'object' expected, got "
                         "'{}'",
                         where, f[1]));
     }

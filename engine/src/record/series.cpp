@@ -22,12 +22,15 @@ const char* to_string(SeriesKind kind) {
             return "controller";
         case SeriesKind::sensor:
             return "sensor";
+        case SeriesKind::object:
+            return "object";
     }
     return "?";
 }
 
 bool parse_series_kind(std::string_view name, SeriesKind& kind) {
-    for (SeriesKind k : {SeriesKind::robot, SeriesKind::controller, SeriesKind::sensor}) {
+    for (SeriesKind k :
+         {SeriesKind::robot, SeriesKind::controller, SeriesKind::sensor, SeriesKind::object}) {
         if (name == to_string(k)) {
             kind = k;
             return true;
@@ -263,6 +266,58 @@ class SensorSource final : public SeriesSource {
 
 }  // namespace
 
+namespace {
+
+// the world's moving objects (boxes and cylinders with a mass): the pose of each, as
+// Simulation::object numbers them; named after the object ("box 2" -> box_2.x ... box_2.qz)
+class ObjectSource final : public SeriesSource {
+  public:
+    explicit ObjectSource(const Simulation& sim) : count_(sim.object_count()) {
+        std::vector<std::string> names;
+        const WorldSpec& w = sim.world();
+        for (size_t i = 0; i < w.boxes.size(); ++i)
+            if (w.boxes[i].mass > 0) names.push_back(fmt::format("box {}", i + 1));
+        for (size_t i = 0; i < w.cylinders.size(); ++i)
+            if (w.cylinders[i].mass > 0) names.push_back(fmt::format("cylinder {}", i + 1));
+        if (static_cast<int>(names.size()) != count_) {
+            throw SpecError(fmt::format("the world has {} moving objects, the simulation {}",
+                                        names.size(), count_));
+        }
+        for (const std::string& object : names) {
+            std::string prefix = object;
+            std::replace(prefix.begin(), prefix.end(), ' ', '_');
+            const std::pair<const char*, const char*> parts[] = {
+                {"x", "m"}, {"y", "m"}, {"z", "m"}, {"qw", ""}, {"qx", ""}, {"qy", ""}, {"qz", ""}};
+            for (const auto& [value, unit] : parts) {
+                SeriesInfo s;
+                s.kind = SeriesKind::object;
+                s.source = object;
+                s.name = prefix + "." + value;
+                s.value = value;
+                s.unit = unit;
+                series_.push_back(std::move(s));
+            }
+        }
+    }
+
+    const std::vector<SeriesInfo>& series() const override { return series_; }
+
+    void sample(const Simulation& sim, double* out) override {
+        for (int k = 0; k < count_; ++k) {
+            const Pose p = sim.object(k).pose;
+            for (double x : {p.position.x, p.position.y, p.position.z, p.orientation.w,
+                             p.orientation.x, p.orientation.y, p.orientation.z})
+                *out++ = x;
+        }
+    }
+
+  private:
+    int count_ = 0;
+    std::vector<SeriesInfo> series_;
+};
+
+}  // namespace
+
 std::vector<std::unique_ptr<SeriesSource>> make_sources(const Simulation& sim) {
     std::vector<std::unique_ptr<SeriesSource>> sources;
     for (int r = 0; r < sim.robot_count(); ++r)
@@ -272,6 +327,19 @@ std::vector<std::unique_ptr<SeriesSource>> make_sources(const Simulation& sim) {
     for (int r = 0; r < sim.robot_count(); ++r) {
         auto sensors = std::make_unique<SensorSource>(sim, r);
         if (!sensors->empty()) sources.push_back(std::move(sensors));
+    }
+    if (sim.object_count() > 0) {
+        // the objects' poses are for playing a run back: a robot or controller whose series
+        // would have one of their names keeps it, and the objects are not recorded
+        auto objects = std::make_unique<ObjectSource>(sim);
+        std::set<std::string> taken;
+        for (const auto& src : sources)
+            for (const SeriesInfo& i : src->series())
+                taken.insert(i.name);
+        bool clash = false;
+        for (const SeriesInfo& i : objects->series())
+            clash = clash || taken.count(i.name) > 0;
+        if (!clash) sources.push_back(std::move(objects));
     }
     return sources;
 }

@@ -53,9 +53,13 @@ EvaluationPool::~EvaluationPool() {
     watcher_.reset();  // joined before the backend goes
 }
 
-int EvaluationPool::workers() const { return backend_->workers(); }
+int EvaluationPool::workers() const {
+    return backend_->workers();
+}
 
-std::string EvaluationPool::describe() const { return backend_->describe(); }
+std::string EvaluationPool::describe() const {
+    return backend_->describe();
+}
 
 std::vector<Evaluation> EvaluationPool::evaluate(const std::vector<std::vector<double>>& xs,
                                                  const EvaluationDone& on_done) {

@@ -69,6 +69,7 @@ struct Command {
         delay,     ///< `value`: wall seconds between two physics steps, in [0, kMaxDelay]
         contacts,  ///< frames carry the contact points (`value` 1) or not (0)
         seek,      ///< a recorded run (set_run_provider): go to time `value`, s
+        show,      ///< the pages show `simulation` (one of publish_simulations' list)
     };
     Kind kind = Kind::play;
     int simulation = 0;  ///< creation index (0: the newest)
@@ -151,6 +152,11 @@ class Server {
     /// "<robot>.<sensor>" names); every page gets it, then frames.
     void publish_scene(std::string json, std::vector<ParamControl> controls,
                        std::vector<std::string> sensors = {});
+    /// Replaces the list of simulations the pages may choose from (a JSON object, view.cpp
+    /// describes it) and their numbers, which the command `show` is checked against; every page
+    /// gets it (the event `simulations`, and GET /api/simulations). Until it is published
+    /// `show` is refused (a recorded run has one simulation).
+    void publish_simulations(std::string json, std::vector<int> simulations);
     /// Makes `frame` the latest; pages that are ready get it, the others get a later one.
     void publish_frame(Frame frame);
     /// A message for the pages' console panel ("info", "error" ...), kept in a bounded log.

@@ -41,9 +41,9 @@ class EvaluationBackend {
 };
 
 /// `workers` threads in this process (>= 1; SpecError otherwise), each with an Evaluator (its
-/// own Lua state) of `spec`; `seed` seeds math.random before every evaluation. An evaluation that fails leaves its Lua state behind: the worker
-/// goes on in a fresh one, so what a failed evaluation did to its state (a global changed or
-/// removed) never reaches the next individual.
+/// own Lua state) of `spec`; `seed` seeds math.random before every evaluation. An evaluation that
+/// fails leaves its Lua state behind: the worker goes on in a fresh one, so what a failed
+/// evaluation did to its state (a global changed or removed) never reaches the next individual.
 std::unique_ptr<EvaluationBackend> make_thread_backend(const Spec& spec, int workers,
                                                        std::uint64_t seed = 0);
 
