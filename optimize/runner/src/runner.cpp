@@ -21,6 +21,8 @@
 #include "gaitlab/error.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/suggest.h"
+#include "results.h"
+#include "run_state.h"
 
 namespace gaitlab::optimize {
 
@@ -547,10 +549,39 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
         result.population = o.population;
     }
 
-    // the results folder: new, or empty (never overwrite an earlier run's results)
+    // the run's state, written after each generation: what --resume goes on from
     const fs::path out(options.out);
+    detail::RunState state;
+    state.spec_file = spec.file;
+    state.spec_text = detail::read_text_file(spec.file);
+    state.method = result.method;
+    state.population = result.population;
+    state.generations = result.generations;
+    state.seed = options.seed;
+    state.command = options.command;
+    if (options.resume) {
+        const detail::RunState saved = detail::read_run_state(out);
+        detail::check_resumable(saved, state, out);
+        method = load_method(saved.method_state, (out / "state.json").string());
+        state = saved;
+    }
+
+    // the results folder: new, or empty (never overwrite an earlier run's results)
     std::error_code ec;
-    if (fs::exists(out, ec)) {
+    if (options.resume) {
+        // what was written after the last state (a generation cut short) goes: it is evaluated
+        // again, the same way
+        const fs::path path = out / "evaluations.jsonl";
+        const auto size = fs::file_size(path, ec);
+        if (ec || size < state.jsonl_bytes) {
+            throw SpecError(fmt::format(
+                "--resume: {}: {} (the run's state says {} bytes were written): not resumed",
+                path.string(), ec ? "cannot read it" : fmt::format("only {} bytes", size),
+                state.jsonl_bytes));
+        }
+        fs::resize_file(path, state.jsonl_bytes, ec);
+        if (ec) throw IoError(fmt::format("{}: cannot truncate: {}", path.string(), ec.message()));
+    } else if (fs::exists(out, ec)) {
         if (!fs::is_directory(out, ec)) {
             throw SpecError(fmt::format("--out {}: exists and is not a folder", options.out));
         }
@@ -565,8 +596,11 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     if (ec)
         throw IoError(fmt::format("{}: cannot create the folder: {}", options.out, ec.message()));
     const fs::path jsonl_path = out / "evaluations.jsonl";
-    std::ofstream jsonl(jsonl_path, std::ios::binary | std::ios::trunc);
+    std::ofstream jsonl(jsonl_path,
+                        std::ios::binary | (options.resume ? std::ios::app : std::ios::trunc));
     if (!jsonl) throw IoError(fmt::format("{}: cannot create", jsonl_path.string()));
+    state.method_state = method->save();
+    if (!options.resume) detail::write_run_state(out, state);
 
     // one Lua state per worker, each with the spec loaded
     std::vector<std::unique_ptr<Evaluator>> evaluators;
@@ -607,10 +641,14 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
         }
     } stop_watcher{watch_mutex, watch_wake, watch_done, watcher};
 
-    const auto started = std::chrono::steady_clock::now();
+    // wall time counts the earlier sessions of a resumed run
+    const auto started = std::chrono::steady_clock::now() -
+                         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                             std::chrono::duration<double>(state.wall));
     std::mutex tick_mutex;
     Tick tick;
     tick.generations = result.generations;
+    tick.mean = std::numeric_limits<double>::quiet_NaN();
     const EvaluateFunction evaluate = [&](const std::vector<double>& x, int worker) {
         struct Ticker {
             std::mutex& m;
@@ -629,8 +667,8 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
         } ticker{tick_mutex, tick, on_evaluation, started};
         return evaluators[static_cast<size_t>(worker)]->evaluate(x);
     };
-    std::size_t first_population = 0;
-    for (int g = 0; g < result.generations; ++g) {
+    std::size_t first_population = static_cast<std::size_t>(state.first_population);
+    for (int g = method->generation(); g < result.generations; ++g) {
         const std::vector<std::vector<double>> xs = method->ask();
         if (g == 0) first_population = xs.size();
         {
@@ -680,6 +718,16 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
         p.mean = ok > 0 ? sum / ok : std::numeric_limits<double>::quiet_NaN();
         p.evaluations = method->evaluations();
         p.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        state.first_population = static_cast<int>(first_population);
+        state.generation = method->generation();
+        state.jsonl_bytes += lines.size();
+        state.wall = p.wall;
+        state.method_state = method->save();
+        detail::write_run_state(out, state);
+        {
+            std::lock_guard<std::mutex> lock(tick_mutex);
+            tick.mean = p.mean;
+        }
         if (on_generation) on_generation(p);
     }
     result.best = method->best();
@@ -697,6 +745,17 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
             result.simulation_error = e.what();
         }
     }
+    // ... recorded, a run folder that gaitlab data and gaitlab view show
+    if (!result.simulation.empty()) {
+        result.run_error = detail::record_run(fs::absolute(result.simulation).string(), out / "run",
+                                              state.command);
+        if (result.run_error.empty()) result.run = (out / "run").string();
+    }
+    result.plot_error = detail::plot_convergence(
+        out,
+        fmt::format("{}: {} ({}, seed {})", spec.file, spec.fitness, result.method, options.seed),
+        spec.fitness);
+    if (result.plot_error.empty()) result.plot = (out / "convergence.png").string();
 
     nlohmann::ordered_json best;
     best["format"] = "gaitlab-optimize-best";
@@ -713,7 +772,11 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
         result.best.empty() ? nlohmann::ordered_json(nullptr) : parameters_json(spec, result.best);
     if (!result.simulation.empty()) best["simulation"] = "best/best.xml";
     if (!result.simulation_error.empty()) best["simulation_error"] = result.simulation_error;
-    best["command"] = options.command;
+    if (!result.run.empty()) best["run"] = "run";
+    if (!result.run_error.empty()) best["run_error"] = result.run_error;
+    if (!result.plot.empty()) best["plot"] = "convergence.png";
+    if (!result.plot_error.empty()) best["plot_error"] = result.plot_error;
+    best["command"] = state.command;  // the one that began the run
     write_file(out / "best.json",
                best.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
     return result;

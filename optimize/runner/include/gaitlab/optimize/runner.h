@@ -81,6 +81,9 @@ struct RunOptions {
     std::uint64_t seed = 0;
     std::string out;      ///< the results folder: created; must not exist or be empty
     std::string command;  ///< the command line, kept in best.json
+    /// Continue the run in `out` (OUT/state.json) with the same spec and options: ends as the
+    /// uninterrupted run would have.
+    bool resume = false;
 };
 
 /// After each generation.
@@ -104,7 +107,8 @@ struct Tick {
     int individuals = 0;           ///< individuals in this generation
     std::int64_t evaluations = 0;  ///< evaluated so far in the run
     double best = 0;               ///< best fitness of the generations told (NaN: none yet)
-    double wall = 0;               ///< wall seconds since the run began
+    double mean = 0;  ///< mean fitness of the last generation told (NaN: none yet, or all failed)
+    double wall = 0;  ///< wall seconds since the run began
 };
 
 /// The outcome of a run.
@@ -117,6 +121,10 @@ struct RunResult {
     int population = 0;
     std::string simulation;        ///< OUT/best/best.xml; "" when it could not be saved
     std::string simulation_error;  ///< why not
+    std::string plot;              ///< OUT/convergence.png; "" when it could not be drawn
+    std::string plot_error;        ///< why not
+    std::string run;               ///< OUT/run, the best individual's run recorded; "": none
+    std::string run_error;         ///< why not
 };
 
 /// Runs the optimization a spec describes: the method, one Evaluator per worker, writing
