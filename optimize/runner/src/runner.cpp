@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "fitness.h"
 #include "gaitlab/error.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/suggest.h"
@@ -35,40 +36,10 @@ const std::vector<std::string> kFields = {"parameters", "build",      "fitness",
                                           "duration",   "settle",     "robot",
                                           "method",     "population", "generations"};
 
-// The measuring part of an evaluation, run in the worker's Lua state with the simulation that
-// build returned: settle, measure the robot's position, run the duration, compute the fitness.
-// Errors are raised without a position (level 0): the runner adds the spec file's name.
-const char* const kMeasure = R"lua(
-local sim, settle, duration, kind, robot_name, fitness, p = ...
-local index
-if kind ~= "function" then
-  local robots = sim:status().robots
-  if robot_name ~= "" then
-    for i, r in ipairs(robots) do
-      if r.name == robot_name then index = i end
-    end
-    if not index then
-      local names = {}
-      for _, r in ipairs(robots) do names[#names + 1] = "'" .. r.name .. "'" end
-      error(string.format("robot: the simulation has no robot '%s' (it has %s)", robot_name,
-                          #names > 0 and table.concat(names, ", ") or "none"), 0)
-    end
-  elseif #robots ~= 1 then
-    error(string.format("fitness '%s' measures one robot, but the simulation has %d: name it " ..
-                        "with robot = \"NAME\"", kind, #robots), 0)
-  else
-    index = 1
-  end
-end
-if settle > 0 then sim:run(settle) end
-local start = index and sim:status().robots[index].position
-sim:run(duration)
-if kind == "function" then return fitness(sim, p) end
-local e = sim:status().robots[index].position
-local d = math.sqrt((e.x - start.x) ^ 2 + (e.y - start.y) ^ 2)
-if kind == "distance" then return d end
-return d / duration
-)lua";
+// the measuring part of an evaluation: fitness.cpp
+const char* const kMeasure = detail::measure_chunk();
+// the registry key of the energy meter's energy(simulation, robot)
+const char* const kEnergy = "gaitlab.optimize.energy";
 
 std::string lua_type_name(lua_State* L, int index) {
     return luaL_typename(L, index);
@@ -289,21 +260,7 @@ Spec read_spec(lua_State* L, const std::string& file) {
     lua_pop(L, 1);
 
     lua_getfield(L, -1, "fitness");
-    if (lua_isfunction(L, -1)) {
-        spec.fitness = "function";
-    } else if (lua_type(L, -1) == LUA_TSTRING) {
-        spec.fitness = lua_tostring(L, -1);
-        if (spec.fitness != "distance" && spec.fitness != "speed") {
-            bad(file, "fitness",
-                fmt::format("unknown fitness '{}'{} (expected \"distance\", \"speed\" or a "
-                            "function(sim, p))",
-                            spec.fitness, did_you_mean(spec.fitness, {"distance", "speed"})));
-        }
-    } else {
-        bad(file, "fitness",
-            fmt::format("{} (expected \"distance\", \"speed\" or a function(sim, p))",
-                        lua_isnil(L, -1) ? "missing" : "got " + lua_type_name(L, -1)));
-    }
+    detail::read_fitness(L, spec);
     lua_pop(L, 1);
 
     spec.duration = number_field(L, file, "duration", 0, true, "a number of seconds > 0");
@@ -418,6 +375,8 @@ Evaluator::Evaluator(const Spec& spec) : spec_(spec), host_(make_host(spec.file)
         throw Error("optimize: " + message);
     }
     measure_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+    detail::push_energy_meter(*host_);
+    lua_setfield(L, LUA_REGISTRYINDEX, kEnergy);
 }
 
 Evaluator::~Evaluator() = default;
@@ -452,7 +411,10 @@ double Evaluator::evaluate(const std::vector<double>& x) {
         lua_pushstring(L, spec_.robot.c_str());
         lua_getfield(L, spec_index, "fitness");
         push_parameters(L, spec_, x);
-        scripting::protected_call(L, 7, 1);
+        lua_getfield(L, LUA_REGISTRYINDEX, kEnergy);
+        lua_pushnumber(L, spec_.direction.empty() ? 0.0 : spec_.direction[0]);
+        lua_pushnumber(L, spec_.direction.empty() ? 0.0 : spec_.direction[1]);
+        scripting::protected_call(L, 10, 1);
         if (lua_type(L, -1) != LUA_TNUMBER) {
             throw Error(fmt::format("fitness: a number expected as its result, got {}",
                                     lua_type_name(L, -1)));

@@ -27,13 +27,16 @@ struct Spec {
     std::string file;                   ///< the spec file, as given
     std::vector<Parameter> parameters;  ///< sorted by name
     std::vector<double> initial;        ///< parameter units, one per parameter; empty: none given
-    std::string fitness;                ///< "distance", "speed", or "function" (a Lua function)
-    std::string robot;             ///< the robot the built-in fitness measures; "": the only one
-    double duration = 0;           ///< measured simulated seconds, > 0
-    double settle = 0;             ///< simulated seconds run before measuring, >= 0
-    std::string method = "cmaes";  ///< default method: "ga", "cmaes" or "pgpe"
-    int population = 0;            ///< default population; 0: the method's own default
-    int generations = 20;          ///< default number of generations, >= 1
+    /// "distance", "speed", "cost_of_transport", "heading", "direction" or "function" (a Lua
+    /// function)
+    std::string fitness;
+    std::vector<double> direction;  ///< fitness "direction": the unit vector {x, y}
+    std::string robot;              ///< the robot the built-in fitness measures; "": the only one
+    double duration = 0;            ///< measured simulated seconds, > 0
+    double settle = 0;              ///< simulated seconds run before measuring, >= 0
+    std::string method = "cmaes";   ///< default method: "ga", "cmaes" or "pgpe"
+    int population = 0;             ///< default population; 0: the method's own default
+    int generations = 20;           ///< default number of generations, >= 1
 };
 
 /// Loads and checks a spec file in a Lua state of its own. Throws SpecError "FILE: FIELD: what
