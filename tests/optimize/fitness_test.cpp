@@ -183,3 +183,77 @@ TEST_CASE("fitness: bad fitness fields are refused naming the file and what is e
         CHECK(spec_error(file) == file + ": fitness: " + cases[i].message);
     }
 }
+
+namespace {
+
+// a 3-module snake on floors of the friction each world gives, its amplitude jittered by
+// math.random (seeded per run)
+std::string averaged(const std::string& worlds, const std::string& seeds) {
+    return R"(return {
+  parameters = { amplitude = {10, 60} },
+  build = function(p, w, seed)
+    local robot = gaitlab.robot.chain{ name = "snake", modules = 3, connection = "pitch-pitch" }
+    local world = gaitlab.world{ floor = { friction = w and w.friction or 0.8 } }
+    if w and w.fail then error("no such floor") end
+    world:add(robot)
+    robot:group("pitch"):drive(gaitlab.controllers.sine{
+      amplitude = p.amplitude + 10 * math.random(), phase = 120, frequency = 1 })
+    return gaitlab.simulation{ world = world }
+  end,
+  fitness = "distance",
+  duration = 1,
+)" + (worlds.empty() ? "" : "  worlds = " + worlds + ",\n") +
+           (seeds.empty() ? "" : "  seeds = " + seeds + ",\n") + "}\n";
+}
+
+}  // namespace
+
+TEST_CASE("fitness: averaged over several worlds and seeds") {
+    TempDir dir("optimize_fitness_average");
+    const auto one = [&](const std::string& worlds, const std::string& seeds) {
+        return evaluate(dir, "a.lua", averaged(worlds, seeds), 30);
+    };
+    const double slippery = one("{ { friction = 0.3 } }", "");
+    const double rough = one("{ { friction = 1.0 } }", "");
+    CHECK(slippery != rough);
+    CHECK(one("{ { friction = 0.3 }, { friction = 1.0 } }", "") == (slippery + rough) / 2);
+    // each seed its own math.random stream
+    const double s1 = one("", "{ 1 }"), s2 = one("", "{ 2 }"), s3 = one("", "{ 3 }");
+    CHECK(s1 != s2);
+    CHECK(one("", "{ 1, 2, 3 }") == (s1 + s2 + s3) / 3);
+    // worlds times seeds: every pair
+    const double w1 = one("{ { friction = 0.3 } }", "{ 1, 2 }");
+    const double w2 = one("{ { friction = 1.0 } }", "{ 1, 2 }");
+    CHECK(one("{ { friction = 0.3 }, { friction = 1.0 } }", "{ 1, 2 }") ==
+          Approx((w1 + w2) / 2).epsilon(1e-14));
+    // one run that fails fails the individual, saying which
+    write_text(dir / "fail.lua", averaged("{ { friction = 0.3 }, { fail = true } }", "{ 4, 5 }"));
+    Evaluator e(load_spec(dir / "fail.lua"));
+    CHECK_THROWS_WITH(e.evaluate({30}), dir / "fail.lua" + ":6: no such floor (world 2, seed 4)");
+}
+
+TEST_CASE("fitness: bad worlds and seeds are refused naming the file and what is expected") {
+    TempDir dir("optimize_fitness_average_bad");
+    struct Case {
+        std::string worlds, seeds, message;
+    };
+    const std::string worlds = "a list of one or more worlds { W1, W2, ... } expected";
+    const std::string seeds =
+        "a list of one or more seeds { 1, 2, 3 } (whole numbers >= 0) expected";
+    const std::vector<Case> cases = {
+        {"{}", "", "worlds: " + worlds + ", got an empty table"},
+        {"5", "", "worlds: " + worlds + ", got number"},
+        {"{ a = 1 }", "", "worlds: " + worlds + " (a list: no other keys, no holes)"},
+        {"", "{}", "seeds: " + seeds + ", got an empty table"},
+        {"", "'1'", "seeds: " + seeds + ", got string"},
+        {"", "{ 1, 2.5 }", "seeds[2]: a whole number >= 0 expected, got 2.5"},
+        {"", "{ -1 }", "seeds[1]: a whole number >= 0 expected, got -1"},
+        {"", "{ 3, 3 }", "seeds[2]: 3 is given twice (each seed once)"},
+    };
+    for (size_t i = 0; i < cases.size(); ++i) {
+        const std::string file = dir / ("bad" + std::to_string(i) + ".lua");
+        write_text(file, averaged(cases[i].worlds, cases[i].seeds));
+        INFO(cases[i].worlds << " " << cases[i].seeds);
+        CHECK(spec_error(file) == file + ": " + cases[i].message);
+    }
+}

@@ -160,6 +160,66 @@ void read_fitness(lua_State* L, Spec& spec) {
     }
 }
 
+void read_cases(lua_State* L, Spec& spec) {
+    const std::string& file = spec.file;
+    // a sequence {v1, v2, ...}, no other keys; returns its length
+    const auto sequence = [&](const char* field, const char* expected) -> lua_Integer {
+        if (!lua_istable(L, -1)) {
+            throw SpecError(fmt::format("{}: {}: {} expected, got {}", file, field, expected,
+                                        luaL_typename(L, -1)));
+        }
+        const lua_Integer n = static_cast<lua_Integer>(lua_rawlen(L, -1));
+        lua_Integer keys = 0;
+        lua_pushnil(L);
+        while (lua_next(L, -2) != 0) {
+            ++keys;
+            lua_pop(L, 1);
+        }
+        if (n == 0 || keys != n) {
+            throw SpecError(fmt::format("{}: {}: {} expected{}", file, field, expected,
+                                        n == 0 && keys == 0
+                                            ? ", got an empty table"
+                                            : " (a list: no other keys, no holes)"));
+        }
+        return n;
+    };
+    lua_getfield(L, -1, "worlds");
+    if (!lua_isnil(L, -1)) {
+        const lua_Integer n = sequence("worlds", "a list of one or more worlds { W1, W2, ... }");
+        if (n > 1000) {
+            throw SpecError(fmt::format("{}: worlds: at most 1000 expected, got {}", file, n));
+        }
+        spec.worlds = static_cast<int>(n);
+    }
+    lua_pop(L, 1);
+    lua_getfield(L, -1, "seeds");
+    if (!lua_isnil(L, -1)) {
+        const char* expected = "a list of one or more seeds { 1, 2, 3 } (whole numbers >= 0)";
+        const lua_Integer n = sequence("seeds", expected);
+        if (n > 1000) {
+            throw SpecError(fmt::format("{}: seeds: at most 1000 expected, got {}", file, n));
+        }
+        for (lua_Integer i = 1; i <= n; ++i) {
+            lua_rawgeti(L, -1, i);
+            if (!lua_isinteger(L, -1) || lua_tointeger(L, -1) < 0) {
+                const std::string got = lua_type(L, -1) == LUA_TNUMBER
+                                            ? fmt::format("{}", lua_tonumber(L, -1))
+                                            : luaL_typename(L, -1);
+                throw SpecError(fmt::format("{}: seeds[{}]: a whole number >= 0 expected, got {}",
+                                            file, i, got));
+            }
+            const auto seed = static_cast<std::uint64_t>(lua_tointeger(L, -1));
+            lua_pop(L, 1);
+            if (std::find(spec.seeds.begin(), spec.seeds.end(), seed) != spec.seeds.end()) {
+                throw SpecError(fmt::format("{}: seeds[{}]: {} is given twice (each seed once)",
+                                            file, i, seed));
+            }
+            spec.seeds.push_back(seed);
+        }
+    }
+    lua_pop(L, 1);
+}
+
 const char* measure_chunk() {
     return kMeasure;
 }

@@ -21,6 +21,10 @@ namespace gaitlab::optimize::detail {
 /// Throws SpecError "FILE: fitness: ..." naming what is expected.
 void read_fitness(lua_State* L, Spec& spec);
 
+/// Reads the `worlds` and `seeds` fields of the spec table on top of L's stack into spec.
+/// Throws SpecError "FILE: worlds: ..." naming what is expected.
+void read_cases(lua_State* L, Spec& spec);
+
 /// The measuring chunk's text. Called with (sim, settle, duration, kind, robot, fitness, p,
 /// energy, dx, dy), it runs settle, then duration, and returns the fitness; its errors have
 /// no position (level 0).

@@ -32,9 +32,9 @@ namespace {
 namespace fs = std::filesystem;
 using scripting::LuaHost;
 
-const std::vector<std::string> kFields = {"parameters", "build",      "fitness",
-                                          "duration",   "settle",     "robot",
-                                          "method",     "population", "generations"};
+const std::vector<std::string> kFields = {"parameters",  "build",  "fitness", "duration",
+                                          "settle",      "robot",  "method",  "population",
+                                          "generations", "worlds", "seeds"};
 
 // the measuring part of an evaluation: fitness.cpp
 const char* const kMeasure = detail::measure_chunk();
@@ -238,7 +238,7 @@ Spec read_spec(lua_State* L, const std::string& file) {
             const std::string shown = key.empty() ? luaL_tolstring(L, -2, nullptr) : key;
             throw SpecError(fmt::format(
                 "{}: unknown field '{}'{} (expected parameters, build, fitness, duration, settle, "
-                "robot, method, population, generations)",
+                "robot, method, population, generations, worlds, seeds)",
                 file, shown, did_you_mean(shown, kFields)));
         }
         lua_pop(L, 1);
@@ -263,6 +263,7 @@ Spec read_spec(lua_State* L, const std::string& file) {
     detail::read_fitness(L, spec);
     lua_pop(L, 1);
 
+    detail::read_cases(L, spec);
     spec.duration = number_field(L, file, "duration", 0, true, "a number of seconds > 0");
     if (!(spec.duration > 0)) {
         bad(file, "duration",
@@ -386,16 +387,47 @@ void Evaluator::interrupt(int signal) {
 }
 
 double Evaluator::evaluate(const std::vector<double>& x) {
+    if (spec_.worlds == 0 && spec_.seeds.empty()) return evaluate_case(x, 0, 0);
+    // several worlds or seeds: the mean of the runs; one that fails fails the individual
+    const std::vector<std::uint64_t> seeds =
+        spec_.seeds.empty() ? std::vector<std::uint64_t>{0} : spec_.seeds;
+    double sum = 0;
+    for (int w = spec_.worlds > 0 ? 1 : 0; w <= spec_.worlds; ++w) {
+        for (const std::uint64_t seed : seeds) {
+            try {
+                sum += evaluate_case(x, w, seed);
+            } catch (const Error& e) {
+                std::string where = w > 0 ? fmt::format("world {}", w) : "";
+                if (!spec_.seeds.empty())
+                    where += fmt::format("{}seed {}", where.empty() ? "" : ", ", seed);
+                throw Error(fmt::format("{} ({})", e.what(), where));
+            }
+        }
+    }
+    return sum /
+           (static_cast<double>(std::max(spec_.worlds, 1)) * static_cast<double>(seeds.size()));
+}
+
+double Evaluator::evaluate_case(const std::vector<double>& x, int world, std::uint64_t seed) {
     lua_State* L = host_->state();
     const Clean clean(L);
-    host_->seed(0);
+    host_->seed(seed);
     try {
-        // build(p)
+        // build(p, world, seed)
         lua_rawgeti(L, LUA_REGISTRYINDEX, spec_ref_);
         const int spec_index = lua_gettop(L);
         lua_getfield(L, spec_index, "build");
         push_parameters(L, spec_, x);
-        scripting::protected_call(L, 1, 1);
+        lua_getfield(L, spec_index, "worlds");
+        if (world > 0 && lua_istable(L, -1)) {
+            lua_rawgeti(L, -1, world);
+            lua_remove(L, -2);
+        } else {
+            lua_pop(L, 1);
+            lua_pushnil(L);
+        }
+        lua_pushinteger(L, static_cast<lua_Integer>(seed));
+        scripting::protected_call(L, 3, 1);
         if (!luaL_testudata(L, -1, "gaitlab.Simulation")) {
             throw Error(
                 fmt::format("build: a simulation expected as its result, got {} (return "
@@ -452,12 +484,20 @@ double Evaluator::evaluate(const std::vector<double>& x) {
 void Evaluator::save(const std::vector<double>& x, const std::string& path) {
     lua_State* L = host_->state();
     const Clean clean(L);
-    host_->seed(0);
+    // several worlds or seeds: the first of each
+    const std::uint64_t seed = spec_.seeds.empty() ? 0 : spec_.seeds[0];
+    host_->seed(seed);
     lua_rawgeti(L, LUA_REGISTRYINDEX, spec_ref_);
     lua_getfield(L, -1, "build");
     push_parameters(L, spec_, x);
+    lua_getfield(L, -3, "worlds");
+    if (lua_istable(L, -1)) {
+        lua_rawgeti(L, -1, 1);
+        lua_remove(L, -2);
+    }
+    lua_pushinteger(L, static_cast<lua_Integer>(seed));
     try {
-        scripting::protected_call(L, 1, 1);
+        scripting::protected_call(L, 3, 1);
     } catch (const Error& e) {
         throw Error(fmt::format("{}: build: {}", spec_.file, e.what()));
     }

@@ -31,12 +31,16 @@ struct Spec {
     /// function)
     std::string fitness;
     std::vector<double> direction;  ///< fitness "direction": the unit vector {x, y}
-    std::string robot;              ///< the robot the built-in fitness measures; "": the only one
-    double duration = 0;            ///< measured simulated seconds, > 0
-    double settle = 0;              ///< simulated seconds run before measuring, >= 0
-    std::string method = "cmaes";   ///< default method: "ga", "cmaes" or "pgpe"
-    int population = 0;             ///< default population; 0: the method's own default
-    int generations = 20;           ///< default number of generations, >= 1
+    /// runs averaged per evaluation: `worlds` (how many; 0: none given) times `seeds` (empty:
+    /// none given, one run with seed 0)
+    int worlds = 0;
+    std::vector<std::uint64_t> seeds;
+    std::string robot;             ///< the robot the built-in fitness measures; "": the only one
+    double duration = 0;           ///< measured simulated seconds, > 0
+    double settle = 0;             ///< simulated seconds run before measuring, >= 0
+    std::string method = "cmaes";  ///< default method: "ga", "cmaes" or "pgpe"
+    int population = 0;            ///< default population; 0: the method's own default
+    int generations = 20;          ///< default number of generations, >= 1
 };
 
 /// Loads and checks a spec file in a Lua state of its own. Throws SpecError "FILE: FIELD: what
@@ -69,6 +73,9 @@ class Evaluator {
     void interrupt(int signal);
 
   private:
+    // one run: build(p, the spec's worlds[world] (nil for 0), seed) with math.random seeded
+    double evaluate_case(const std::vector<double>& x, int world, std::uint64_t seed);
+
     Spec spec_;
     std::unique_ptr<scripting::LuaHost> host_;
     int spec_ref_ = 0;     // registry reference of the spec table
