@@ -249,7 +249,8 @@ TEST_CASE("runner: bad spec files are refused naming the file and the field") {
          "\"heading\", { direction = {X, Y} } or a function(sim, p))"},
         {"return { parameters = { a = {0, 1} }, " + good_build + ", generation = 3 }",
          "unknown field 'generation'; did you mean 'generations'? (expected parameters, build, "
-         "fitness, duration, settle, robot, method, population, generations, worlds, seeds)"},
+         "fitness, duration, settle, robot, method, population, generations, worlds, seeds, "
+         "simulation, set)"},
         {"return { parameters = { a = {0, 1} }, build = function() end, fitness = 'speed' }",
          "duration: missing (a number of seconds > 0 expected)"},
         {"return { parameters = { a = {0, 1} }, " + good_build + ", settle = -1 }",

@@ -24,6 +24,7 @@
 #include "gaitlab/suggest.h"
 #include "results.h"
 #include "run_state.h"
+#include "simulation_spec.h"
 
 namespace gaitlab::optimize {
 
@@ -32,9 +33,9 @@ namespace {
 namespace fs = std::filesystem;
 using scripting::LuaHost;
 
-const std::vector<std::string> kFields = {"parameters",  "build",  "fitness", "duration",
-                                          "settle",      "robot",  "method",  "population",
-                                          "generations", "worlds", "seeds"};
+const std::vector<std::string> kFields = {
+    "parameters", "build",       "fitness", "duration", "settle",     "robot", "method",
+    "population", "generations", "worlds",  "seeds",    "simulation", "set"};
 
 // the measuring part of an evaluation: fitness.cpp
 const char* const kMeasure = detail::measure_chunk();
@@ -87,6 +88,8 @@ void load_spec_table(LuaHost& host, const std::string& file) {
             "duration = ... }} (got {})",
             file, got));
     }
+    // simulation = "FILE.xml": its build function
+    detail::install_simulation_build(host, file);
 }
 
 double number_field(lua_State* L, const std::string& file, const char* field, double fallback,
@@ -238,7 +241,7 @@ Spec read_spec(lua_State* L, const std::string& file) {
             const std::string shown = key.empty() ? luaL_tolstring(L, -2, nullptr) : key;
             throw SpecError(fmt::format(
                 "{}: unknown field '{}'{} (expected parameters, build, fitness, duration, settle, "
-                "robot, method, population, generations, worlds, seeds)",
+                "robot, method, population, generations, worlds, seeds, simulation, set)",
                 file, shown, did_you_mean(shown, kFields)));
         }
         lua_pop(L, 1);
