@@ -73,6 +73,7 @@ struct OptimizeCommand::Args {
     std::string seed = "0";
     std::string out;
     std::string rank_timeout = "30";
+    bool resume = false;
 };
 
 void optimize_signal(int signal) {
@@ -112,13 +113,17 @@ OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     sub_->add_option("--out", a_->out,
                      "Results folder, new or empty (default: runs/optimize-SPEC-DATE-TIME)")
         ->type_name("DIR");
+    sub_->add_flag("--resume", a_->resume,
+                   "Continue the interrupted run in --out DIR (the same spec and options; "
+                   "--workers may differ)");
     sub_->footer(
         "Writes DIR/evaluations.jsonl (one line per evaluation: generation, individual,\n"
         "parameters, fitness, seconds, worker, error), DIR/best.json and the best as a\n"
-        "simulation file, DIR/best/best.xml. A failed evaluation (an error, a NaN fitness, a\n"
-        "diverging simulation) ranks last and the run goes on. Under mpirun -n K, rank 0\n"
-        "runs the method and ranks 1 .. K-1 evaluate, each on --workers threads.\n"
-        "See docs/optimization.md.");
+        "simulation file, DIR/best/best.xml, its run recorded in DIR/run, a convergence plot\n"
+        "DIR/convergence.png and the state to --resume from, DIR/state.json. A failed\n"
+        "evaluation (an error, a NaN fitness, a diverging simulation) ranks last and the run\n"
+        "goes on. Under mpirun -n K, rank 0 runs the method and ranks 1 .. K-1 evaluate, each\n"
+        "on --workers threads. See docs/optimization.md.");
 }
 
 OptimizeCommand::~OptimizeCommand() = default;
@@ -140,6 +145,12 @@ int OptimizeCommand::run(const std::string& command) {
         o.workers = static_cast<int>(whole("--workers", a.workers, 1, 1024));
         o.seed = whole("--seed", a.seed, 0, UINT64_MAX);
         o.method = a.method;
+        o.resume = a.resume;
+        if (a.resume && a.out.empty()) {
+            throw SpecError(
+                "--resume: --out DIR expected (the results folder of the run to "
+                "resume)");
+        }
         if (!o.method.empty() && o.method != "ga" && o.method != "cmaes" && o.method != "pgpe") {
             throw SpecError(fmt::format(
                 "--method: unknown method '{}' (expected ga, cmaes or pgpe)", o.method));
@@ -205,9 +216,9 @@ int OptimizeCommand::run(const std::string& command) {
         last_bar = now;
         const double rate = t.wall > 0 ? static_cast<double>(t.evaluations) / t.wall : 0;
         const std::int64_t total = static_cast<std::int64_t>(t.generations) * t.individuals;
-        std::string line = fmt::format("generation {}/{}: {}/{} evaluated, best {}, {:.2g} per s",
-                                       t.generation + 1, t.generations, t.done, t.individuals,
-                                       number(t.best), rate);
+        std::string line = fmt::format(
+            "generation {}/{}: {}/{} evaluated, best {}, mean {}, {:.2g} per s", t.generation + 1,
+            t.generations, t.done, t.individuals, number(t.best), number(t.mean), rate);
         if (rate > 0 && total > t.evaluations) {
             line += fmt::format(", about {} left",
                                 duration(static_cast<double>(total - t.evaluations) / rate));
@@ -247,8 +258,10 @@ int OptimizeCommand::run(const std::string& command) {
     } catch (const Error& e) {
         clear_bar();
         if (const int sig = g_stop.load(); sig != 0) {
-            std::fprintf(stderr, "gaitlab: interrupted; the evaluations so far are in %s\n",
-                         o.out.c_str());
+            std::fprintf(stderr,
+                         "gaitlab: interrupted; the evaluations so far are in %s (go on with "
+                         "--resume --out %s)\n",
+                         o.out.c_str(), o.out.c_str());
             return 128 + sig;
         }
         std::fprintf(stderr, "gaitlab: %s\n", e.what());
@@ -273,6 +286,17 @@ int OptimizeCommand::run(const std::string& command) {
     } else {
         std::printf("the best could not be saved as a simulation file: %s\n",
                     r.simulation_error.c_str());
+    }
+    if (!r.run.empty()) {
+        std::printf("the best's run recorded: gaitlab view %s, gaitlab data %s --list\n",
+                    r.run.c_str(), r.run.c_str());
+    } else if (!r.run_error.empty()) {
+        std::printf("the best's run could not be recorded: %s\n", r.run_error.c_str());
+    }
+    if (!r.plot.empty()) {
+        std::printf("convergence plot: %s\n", r.plot.c_str());
+    } else {
+        std::printf("the convergence plot could not be drawn: %s\n", r.plot_error.c_str());
     }
     return 0;
 }

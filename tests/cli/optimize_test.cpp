@@ -73,7 +73,7 @@ TEST_CASE("gaitlab optimize: a spec runs end to end and writes its results folde
     REQUIRE(r.status == 0);
     CHECK(r.err.empty());
     const std::vector<std::string> out = lines(r.out);
-    REQUIRE(out.size() == 7);
+    REQUIRE(out.size() == 9);
     CHECK(out[0] ==
           "optimize spec.lua: 2 parameters (amplitude, phase), fitness distance, 2 workers, "
           "results in out2");
@@ -83,6 +83,33 @@ TEST_CASE("gaitlab optimize: a spec runs end to end and writes its results folde
     CHECK(out[4].find(" after 11 evaluations (ga, seed 5): amplitude = ") != std::string::npos);
     CHECK(out[5] == "results: out2/evaluations.jsonl, out2/best.json");
     CHECK(out[6] == "the best as a simulation file: gaitlab run out2/best/best.xml");
+    CHECK(out[7] == "the best's run recorded: gaitlab view out2/run, gaitlab data out2/run --list");
+    CHECK(out[8] == "convergence plot: out2/convergence.png");
+    // the best's run, recorded: a run folder gaitlab data reads
+    const auto data = run_gaitlab({"data", "out2/run"}, dir.str());
+    CHECK(data.status == 0);
+    CHECK(data.out.find("status   finished\n") != std::string::npos);
+    CHECK(data.out.find("rows     17, t = 0 .. 0.48 s") != std::string::npos);
+    const auto com = run_gaitlab({"data", "out2/run", "--series", "snake.com.x"}, dir.str());
+    CHECK(com.status == 0);
+    CHECK(lines(com.out).size() == 18);
+    // the convergence plot: a PNG, and its data, one row per generation, the best so far
+    // never falling and ending at the run's best
+    const std::string png = read_text(dir / "out2/convergence.png");
+    CHECK(png.substr(0, 8) == "\x89PNG\r\n\x1a\n");
+    CHECK(png.size() > 5000);
+    const std::vector<std::string> rows = lines(read_text(dir / "out2/convergence.csv"));
+    REQUIRE(rows.size() == 4);
+    CHECK(rows[0] == "generation,best so far,generation mean");
+    double previous = 0;
+    std::string last_best;
+    for (size_t i = 1; i < rows.size(); ++i) {
+        CHECK(rows[i].rfind(std::to_string(i) + ",", 0) == 0);
+        const size_t a = rows[i].find(','), b = rows[i].find(',', a + 1);
+        last_best = rows[i].substr(a + 1, b - a - 1);
+        CHECK(std::stod(last_best) >= previous);
+        previous = std::stod(last_best);
+    }
     // which runs
     const auto run = run_gaitlab({"run", "--no-record", "out2/best/best.xml"}, dir.str());
     CHECK(run.status == 0);
@@ -94,6 +121,9 @@ TEST_CASE("gaitlab optimize: a spec runs end to end and writes its results folde
     CHECK(best.find("\"method\": \"ga\"") != std::string::npos);
     CHECK(best.find("\"seed\": 5") != std::string::npos);
     CHECK(best.find("\"amplitude\": ") != std::string::npos);
+    CHECK(best.find("\"fitness\": " + last_best + ",\n") != std::string::npos);
+    CHECK(best.find("\"plot\": \"convergence.png\"") != std::string::npos);
+    CHECK(best.find("\"run\": \"run\"") != std::string::npos);
 
     // one worker: the same evaluations, in the same order
     const auto r1 =
@@ -205,8 +235,8 @@ TEST_CASE("gaitlab optimize: SIGINT stops the evaluations under way and writes n
     CHECK(std::chrono::steady_clock::now() - signalled < std::chrono::seconds(3));
     REQUIRE(WIFEXITED(wstatus));
     CHECK(WEXITSTATUS(wstatus) == 128 + SIGINT);
-    CHECK(read_text(err_path) ==
-          "gaitlab: interrupted; the evaluations so far are in " + out + "\n");
+    CHECK(read_text(err_path) == "gaitlab: interrupted; the evaluations so far are in " + out +
+                                     " (go on with --resume --out " + out + ")\n");
     // nothing half-written: the generation under way is not in the file
     CHECK(read_text(out + "/evaluations.jsonl").empty());
     CHECK_FALSE(std::filesystem::exists(out + "/best.json"));

@@ -242,12 +242,15 @@ TEST_CASE("runner: bad spec files are refused naming the file and the field") {
         {"return { parameters = { a = {0, 1} }, build = function() end, fitness = 'sped', "
          "duration = 1 }",
          "fitness: unknown fitness 'sped'; did you mean 'speed'? (expected \"distance\", "
-         "\"speed\" or a function(sim, p))"},
+         "\"speed\", \"cost_of_transport\", \"heading\", { direction = {X, Y} } or a "
+         "function(sim, p))"},
         {"return { parameters = { a = {0, 1} }, build = function() end, duration = 1 }",
-         "fitness: missing (expected \"distance\", \"speed\" or a function(sim, p))"},
+         "fitness: missing (expected \"distance\", \"speed\", \"cost_of_transport\", "
+         "\"heading\", { direction = {X, Y} } or a function(sim, p))"},
         {"return { parameters = { a = {0, 1} }, " + good_build + ", generation = 3 }",
          "unknown field 'generation'; did you mean 'generations'? (expected parameters, build, "
-         "fitness, duration, settle, robot, method, population, generations)"},
+         "fitness, duration, settle, robot, method, population, generations, worlds, seeds, "
+         "simulation, set)"},
         {"return { parameters = { a = {0, 1} }, build = function() end, fitness = 'speed' }",
          "duration: missing (a number of seconds > 0 expected)"},
         {"return { parameters = { a = {0, 1} }, " + good_build + ", settle = -1 }",

@@ -48,5 +48,19 @@ std::string gp_string(std::string_view s);
 /// "" or what went wrong ("cannot run gnuplot (install the gnuplot-nox package)", "gnuplot
 /// failed: ITS MESSAGE").
 std::string run_gnuplot(const std::filesystem::path& dir, const std::string& script);
+/// A line plot of columns against the first one (not against time), e.g. an optimization's
+/// generation against its best and mean fitness.
+struct TablePlot {
+    std::string output;  ///< the PNG to write; NAME.gp and NAME.csv go next to it
+    std::string title, xlabel, ylabel;
+    std::vector<std::string> columns;       ///< x first, then one curve each; at least two
+    std::vector<std::vector<double>> rows;  ///< one value per column; NaN: no point there
+    int width = 1000;                       ///< pixels
+    int height = 600;                       ///< pixels
+};
+
+/// Writes the data and the gnuplot script, then runs `gnuplot` on it, as plot() does. Throws
+/// SpecError (a bad output name, fewer than two columns, a row of another length) or IoError.
+PlotFiles plot_table(const TablePlot& table);
 
 }  // namespace gaitlab

@@ -274,4 +274,81 @@ PlotFiles plot(const RunData& run, const PlotOptions& o) {
     return files;
 }
 
+PlotFiles plot_table(const TablePlot& t) {
+    const fs::path png(t.output);
+    if (png.extension() != ".png" || png.stem().empty()) {
+        throw SpecError(fmt::format("plot output must be a .png file (got '{}')", t.output));
+    }
+    if (t.columns.size() < 2) {
+        throw SpecError(
+            fmt::format("a table plot needs an x column and at least one curve (got "
+                        "{} columns)",
+                        t.columns.size()));
+    }
+    if (t.width < 100 || t.height < 100 || t.width > 10000 || t.height > 10000) {
+        throw SpecError(fmt::format("plot size must be 100 to 10000 pixels each way (got {}x{})",
+                                    t.width, t.height));
+    }
+    PlotFiles files;
+    files.png = t.output;
+    files.script = (png.parent_path() / (png.stem().string() + ".gp")).string();
+    files.data = (png.parent_path() / (png.stem().string() + ".csv")).string();
+    // one header line: names with a line end would make two
+    std::string csv;
+    for (size_t i = 0; i < t.columns.size(); ++i) {
+        if (t.columns[i].find_first_of("\r\n") != std::string::npos) {
+            throw SpecError(
+                fmt::format("table plot column {}: a name without line ends expected", i + 1));
+        }
+        if (i > 0) csv += ',';
+        formats::append_field(csv, t.columns[i]);
+    }
+    csv += '\n';
+    for (size_t r = 0; r < t.rows.size(); ++r) {
+        if (t.rows[r].size() != t.columns.size()) {
+            throw SpecError(
+                fmt::format("table plot row {}: {} values expected (one per column), "
+                            "got {}",
+                            r + 1, t.columns.size(), t.rows[r].size()));
+        }
+        for (size_t i = 0; i < t.rows[r].size(); ++i) {
+            const double v = t.rows[r][i];
+            csv += i > 0 ? "," : "";
+            // gnuplot leaves a NaN out of the curve
+            csv += std::isfinite(v) ? fmt::format("{}", v) : std::string("NaN");
+        }
+        csv += '\n';
+    }
+    write_file_atomic(files.data, csv, MissingFolders::create);
+
+    // every text that comes from the caller goes through gp_string
+    std::string gp =
+        "# gaitlab plot: edit this file, then run gnuplot on it in this folder to redraw the PNG\n"
+        "# from the CSV file next to it (x in column 1, then one column per curve)\n";
+    gp += fmt::format("set terminal pngcairo size {},{} noenhanced font \"sans,10\"\n", t.width,
+                      t.height);
+    gp += "set output " + gp_string(png.filename().string()) + "\n";
+    gp += "set datafile separator \",\"\n";
+    gp += "set key outside right top noenhanced\nset grid\n";
+    gp += "set title " + gp_string(t.title) + "\n";
+    gp += "set xlabel " + gp_string(t.xlabel) + "\n";
+    gp += "set ylabel " + gp_string(t.ylabel) + "\n";
+    const std::string data_name = gp_string(png.stem().string() + ".csv");
+    for (size_t i = 1; i < t.columns.size(); ++i) {
+        gp += i == 1 ? "plot " : ", \\\n     ";
+        gp += fmt::format("{} using 1:{} skip 1 with linespoints title {}",
+                          i == 1 ? data_name : "\"\"", i + 1, gp_string(t.columns[i]));
+    }
+    gp += "\n";
+    write_file_atomic(files.script, gp);
+
+    const fs::path dir = png.parent_path().empty() ? fs::path(".") : png.parent_path();
+    const std::string error = run_gnuplot(dir, png.stem().string() + ".gp");
+    if (!error.empty()) {
+        throw IoError(fmt::format("{} (the script and data are in {} and {})", error, files.script,
+                                  files.data));
+    }
+    return files;
+}
+
 }  // namespace gaitlab

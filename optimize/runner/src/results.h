@@ -1,8 +1,11 @@
 // The results folder's pieces that `gaitlab optimize` and `gaitlab sweep` share: the folder
 // itself (new or empty), one evaluations.jsonl line per evaluation, parameters and fitness as
-// JSON, files written whole or not at all. Internal to the runner library.
+// JSON, files written whole or not at all; and what an optimization writes at its end besides
+// best.json: the convergence plot and the best individual's run recorded (docs/optimization.md).
+// Internal to the runner library.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -32,5 +35,17 @@ std::string json_text(const nlohmann::ordered_json& j, int indent);
 
 /// Writes `text` to `path` through a temporary file renamed over it. Throws IoError.
 void write_file(const std::string& path, const std::string& text);
+
+
+/// OUT/convergence.png (with convergence.gp and convergence.csv): generation against the best
+/// fitness so far and the generation's mean, read from OUT/evaluations.jsonl. Returns "" or
+/// what went wrong (gnuplot missing ...).
+std::string plot_convergence(const std::filesystem::path& out, const std::string& title,
+                             const std::string& fitness);
+
+/// Runs the simulation file `simulation` recorded into the run folder `dir` (replaced if it
+/// exists), as `gaitlab run SIMULATION --record DIR` does. Returns "" or what went wrong.
+std::string record_run(const std::string& simulation, const std::filesystem::path& dir,
+                       const std::string& command);
 
 }  // namespace gaitlab::optimize::detail

@@ -16,11 +16,14 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "fitness.h"
 #include "gaitlab/error.h"
 #include "gaitlab/optimize/backend.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/suggest.h"
 #include "results.h"
+#include "run_state.h"
+#include "simulation_spec.h"
 
 namespace gaitlab::optimize {
 
@@ -31,44 +34,14 @@ using detail::fitness_json;
 using detail::parameters_json;
 using scripting::LuaHost;
 
-const std::vector<std::string> kFields = {"parameters", "build",      "fitness",
-                                          "duration",   "settle",     "robot",
-                                          "method",     "population", "generations"};
+const std::vector<std::string> kFields = {
+    "parameters", "build",       "fitness", "duration", "settle",     "robot", "method",
+    "population", "generations", "worlds",  "seeds",    "simulation", "set"};
 
-// The measuring part of an evaluation, run in the worker's Lua state with the simulation that
-// build returned: settle, measure the robot's position, run the duration, compute the fitness.
-// Errors are raised without a position (level 0): the runner adds the spec file's name.
-const char* const kMeasure = R"lua(
-local sim, settle, duration, kind, robot_name, fitness, p = ...
-local index
-if kind ~= "function" then
-  local robots = sim:status().robots
-  if robot_name ~= "" then
-    for i, r in ipairs(robots) do
-      if r.name == robot_name then index = i end
-    end
-    if not index then
-      local names = {}
-      for _, r in ipairs(robots) do names[#names + 1] = "'" .. r.name .. "'" end
-      error(string.format("robot: the simulation has no robot '%s' (it has %s)", robot_name,
-                          #names > 0 and table.concat(names, ", ") or "none"), 0)
-    end
-  elseif #robots ~= 1 then
-    error(string.format("fitness '%s' measures one robot, but the simulation has %d: name it " ..
-                        "with robot = \"NAME\"", kind, #robots), 0)
-  else
-    index = 1
-  end
-end
-if settle > 0 then sim:run(settle) end
-local start = index and sim:status().robots[index].position
-sim:run(duration)
-if kind == "function" then return fitness(sim, p) end
-local e = sim:status().robots[index].position
-local d = math.sqrt((e.x - start.x) ^ 2 + (e.y - start.y) ^ 2)
-if kind == "distance" then return d end
-return d / duration
-)lua";
+// the measuring part of an evaluation: fitness.cpp
+const char* const kMeasure = detail::measure_chunk();
+// the registry key of the energy meter's energy(simulation, robot)
+const char* const kEnergy = "gaitlab.optimize.energy";
 
 std::string lua_type_name(lua_State* L, int index) {
     return luaL_typename(L, index);
@@ -116,6 +89,8 @@ void load_spec_table(LuaHost& host, const std::string& file) {
             "duration = ... }} (got {})",
             file, got));
     }
+    // simulation = "FILE.xml": its build function
+    detail::install_simulation_build(host, file);
 }
 
 double number_field(lua_State* L, const std::string& file, const char* field, double fallback,
@@ -267,7 +242,7 @@ Spec read_spec(lua_State* L, const std::string& file) {
             const std::string shown = key.empty() ? luaL_tolstring(L, -2, nullptr) : key;
             throw SpecError(fmt::format(
                 "{}: unknown field '{}'{} (expected parameters, build, fitness, duration, settle, "
-                "robot, method, population, generations)",
+                "robot, method, population, generations, worlds, seeds, simulation, set)",
                 file, shown, did_you_mean(shown, kFields)));
         }
         lua_pop(L, 1);
@@ -289,23 +264,10 @@ Spec read_spec(lua_State* L, const std::string& file) {
     lua_pop(L, 1);
 
     lua_getfield(L, -1, "fitness");
-    if (lua_isfunction(L, -1)) {
-        spec.fitness = "function";
-    } else if (lua_type(L, -1) == LUA_TSTRING) {
-        spec.fitness = lua_tostring(L, -1);
-        if (spec.fitness != "distance" && spec.fitness != "speed") {
-            bad(file, "fitness",
-                fmt::format("unknown fitness '{}'{} (expected \"distance\", \"speed\" or a "
-                            "function(sim, p))",
-                            spec.fitness, did_you_mean(spec.fitness, {"distance", "speed"})));
-        }
-    } else {
-        bad(file, "fitness",
-            fmt::format("{} (expected \"distance\", \"speed\" or a function(sim, p))",
-                        lua_isnil(L, -1) ? "missing" : "got " + lua_type_name(L, -1)));
-    }
+    detail::read_fitness(L, spec);
     lua_pop(L, 1);
 
+    detail::read_cases(L, spec);
     spec.duration = number_field(L, file, "duration", 0, true, "a number of seconds > 0");
     if (!(spec.duration > 0)) {
         bad(file, "duration",
@@ -390,6 +352,8 @@ Evaluator::Evaluator(const Spec& spec, std::uint64_t seed)
         throw Error("optimize: " + message);
     }
     measure_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
+    detail::push_energy_meter(*host_);
+    lua_setfield(L, LUA_REGISTRYINDEX, kEnergy);
 }
 
 Evaluator::~Evaluator() = default;
@@ -399,16 +363,48 @@ void Evaluator::interrupt(int signal) {
 }
 
 double Evaluator::evaluate(const std::vector<double>& x) {
+    // math.random's seed: the spec's seeds, or this evaluator's (a sweep's --seed; 0)
+    if (spec_.worlds == 0 && spec_.seeds.empty()) return evaluate_case(x, 0, seed_);
+    // several worlds or seeds: the mean of the runs; one that fails fails the individual
+    const std::vector<std::uint64_t> seeds =
+        spec_.seeds.empty() ? std::vector<std::uint64_t>{seed_} : spec_.seeds;
+    double sum = 0;
+    for (int w = spec_.worlds > 0 ? 1 : 0; w <= spec_.worlds; ++w) {
+        for (const std::uint64_t seed : seeds) {
+            try {
+                sum += evaluate_case(x, w, seed);
+            } catch (const Error& e) {
+                std::string where = w > 0 ? fmt::format("world {}", w) : "";
+                if (!spec_.seeds.empty())
+                    where += fmt::format("{}seed {}", where.empty() ? "" : ", ", seed);
+                throw Error(fmt::format("{} ({})", e.what(), where));
+            }
+        }
+    }
+    return sum /
+           (static_cast<double>(std::max(spec_.worlds, 1)) * static_cast<double>(seeds.size()));
+}
+
+double Evaluator::evaluate_case(const std::vector<double>& x, int world, std::uint64_t seed) {
     lua_State* L = host_->state();
     const Clean clean(L);
-    host_->seed(seed_);
+    host_->seed(seed);
     try {
-        // build(p)
+        // build(p, world, seed)
         lua_rawgeti(L, LUA_REGISTRYINDEX, spec_ref_);
         const int spec_index = lua_gettop(L);
         lua_getfield(L, spec_index, "build");
         push_parameters(L, spec_, x);
-        scripting::protected_call(L, 1, 1);
+        lua_getfield(L, spec_index, "worlds");
+        if (world > 0 && lua_istable(L, -1)) {
+            lua_rawgeti(L, -1, world);
+            lua_remove(L, -2);
+        } else {
+            lua_pop(L, 1);
+            lua_pushnil(L);
+        }
+        lua_pushinteger(L, static_cast<lua_Integer>(seed));
+        scripting::protected_call(L, 3, 1);
         if (!luaL_testudata(L, -1, "gaitlab.Simulation")) {
             throw Error(
                 fmt::format("build: a simulation expected as its result, got {} (return "
@@ -424,7 +420,10 @@ double Evaluator::evaluate(const std::vector<double>& x) {
         lua_pushstring(L, spec_.robot.c_str());
         lua_getfield(L, spec_index, "fitness");
         push_parameters(L, spec_, x);
-        scripting::protected_call(L, 7, 1);
+        lua_getfield(L, LUA_REGISTRYINDEX, kEnergy);
+        lua_pushnumber(L, spec_.direction.empty() ? 0.0 : spec_.direction[0]);
+        lua_pushnumber(L, spec_.direction.empty() ? 0.0 : spec_.direction[1]);
+        scripting::protected_call(L, 10, 1);
         if (lua_type(L, -1) != LUA_TNUMBER) {
             throw Error(fmt::format("fitness: a number expected as its result, got {}",
                                     lua_type_name(L, -1)));
@@ -462,12 +461,20 @@ double Evaluator::evaluate(const std::vector<double>& x) {
 void Evaluator::save(const std::vector<double>& x, const std::string& path) {
     lua_State* L = host_->state();
     const Clean clean(L);
-    host_->seed(seed_);
+    // several worlds or seeds: the first of each
+    const std::uint64_t seed = spec_.seeds.empty() ? seed_ : spec_.seeds[0];
+    host_->seed(seed);
     lua_rawgeti(L, LUA_REGISTRYINDEX, spec_ref_);
     lua_getfield(L, -1, "build");
     push_parameters(L, spec_, x);
+    lua_getfield(L, -3, "worlds");
+    if (lua_istable(L, -1)) {
+        lua_rawgeti(L, -1, 1);
+        lua_remove(L, -2);
+    }
+    lua_pushinteger(L, static_cast<lua_Integer>(seed));
     try {
-        scripting::protected_call(L, 1, 1);
+        scripting::protected_call(L, 3, 1);
     } catch (const Error& e) {
         throw Error(fmt::format("{}: build: {}", spec_.file, e.what()));
     }
@@ -521,20 +528,62 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
         result.population = o.population;
     }
 
-    // the results folder: new, or empty (never overwrite an earlier run's results)
+    // the run's state, written after each generation: what --resume goes on from
     const fs::path out(options.out);
-    detail::open_results_folder(options.out);
+    detail::RunState state;
+    state.spec_file = spec.file;
+    state.spec_text = detail::read_text_file(spec.file);
+    state.method = result.method;
+    state.population = result.population;
+    state.generations = result.generations;
+    state.seed = options.seed;
+    state.command = options.command;
+    if (options.resume) {
+        const detail::RunState saved = detail::read_run_state(out);
+        detail::check_resumable(saved, state, out);
+        method = load_method(saved.method_state, (out / "state.json").string());
+        state = saved;
+    }
+
+    // the results folder: new, or empty (never overwrite an earlier run's results)
+    std::error_code ec;
+    if (options.resume) {
+        // what was written after the last state (a generation cut short) goes: it is evaluated
+        // again, the same way
+        const fs::path path = out / "evaluations.jsonl";
+        const auto size = fs::file_size(path, ec);
+        if (ec || size < state.jsonl_bytes) {
+            throw SpecError(fmt::format(
+                "--resume: {}: {} (the run's state says {} bytes were written): not resumed",
+                path.string(), ec ? "cannot read it" : fmt::format("only {} bytes", size),
+                state.jsonl_bytes));
+        }
+        fs::resize_file(path, state.jsonl_bytes, ec);
+        if (ec) throw IoError(fmt::format("{}: cannot truncate: {}", path.string(), ec.message()));
+    } else {
+        detail::open_results_folder(options.out);
+    }
+    fs::create_directories(out, ec);
+    if (ec)
+        throw IoError(fmt::format("{}: cannot create the folder: {}", options.out, ec.message()));
     const fs::path jsonl_path = out / "evaluations.jsonl";
-    std::ofstream jsonl(jsonl_path, std::ios::binary | std::ios::trunc);
+    std::ofstream jsonl(jsonl_path,
+                        std::ios::binary | (options.resume ? std::ios::app : std::ios::trunc));
     if (!jsonl) throw IoError(fmt::format("{}: cannot create", jsonl_path.string()));
+    state.method_state = method->save();
+    if (!options.resume) detail::write_run_state(out, state);
 
     // the given backend (MPI ranks), or one Lua state per worker thread here
     EvaluationPool pool(spec, options.workers, 0, stop, options.backend);
 
-    const auto started = std::chrono::steady_clock::now();
+    // wall time counts the earlier sessions of a resumed run
+    const auto started = std::chrono::steady_clock::now() -
+                         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                             std::chrono::duration<double>(state.wall));
     std::mutex tick_mutex;
     Tick tick;
     tick.generations = result.generations;
+    tick.mean = std::numeric_limits<double>::quiet_NaN();
     // after each evaluation (one call at a time)
     const EvaluationDone evaluated = [&](std::size_t, const Evaluation&) {
         if (!on_evaluation) return;
@@ -545,8 +594,8 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
             std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
         on_evaluation(tick);
     };
-    std::size_t first_population = 0;
-    for (int g = 0; g < result.generations; ++g) {
+    std::size_t first_population = static_cast<std::size_t>(state.first_population);
+    for (int g = method->generation(); g < result.generations; ++g) {
         const std::vector<std::vector<double>> xs = method->ask();
         if (g == 0) first_population = xs.size();
         {
@@ -587,6 +636,16 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
         p.mean = ok > 0 ? sum / ok : std::numeric_limits<double>::quiet_NaN();
         p.evaluations = method->evaluations();
         p.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        state.first_population = static_cast<int>(first_population);
+        state.generation = method->generation();
+        state.jsonl_bytes += lines.size();
+        state.wall = p.wall;
+        state.method_state = method->save();
+        detail::write_run_state(out, state);
+        {
+            std::lock_guard<std::mutex> lock(tick_mutex);
+            tick.mean = p.mean;
+        }
         if (on_generation) on_generation(p);
     }
     result.best = method->best();
@@ -604,6 +663,17 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
             result.simulation_error = e.what();
         }
     }
+    // ... recorded, a run folder that gaitlab data and gaitlab view show
+    if (!result.simulation.empty()) {
+        result.run_error = detail::record_run(fs::absolute(result.simulation).string(), out / "run",
+                                              state.command);
+        if (result.run_error.empty()) result.run = (out / "run").string();
+    }
+    result.plot_error = detail::plot_convergence(
+        out,
+        fmt::format("{}: {} ({}, seed {})", spec.file, spec.fitness, result.method, options.seed),
+        spec.fitness);
+    if (result.plot_error.empty()) result.plot = (out / "convergence.png").string();
 
     nlohmann::ordered_json best;
     best["format"] = "gaitlab-optimize-best";
@@ -620,7 +690,11 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
         result.best.empty() ? nlohmann::ordered_json(nullptr) : parameters_json(spec, result.best);
     if (!result.simulation.empty()) best["simulation"] = "best/best.xml";
     if (!result.simulation_error.empty()) best["simulation_error"] = result.simulation_error;
-    best["command"] = options.command;
+    if (!result.run.empty()) best["run"] = "run";
+    if (!result.run_error.empty()) best["run_error"] = result.run_error;
+    if (!result.plot.empty()) best["plot"] = "convergence.png";
+    if (!result.plot_error.empty()) best["plot_error"] = result.plot_error;
+    best["command"] = state.command;  // the one that began the run
     detail::write_file((out / "best.json").string(), detail::json_text(best, 2) + "\n");
     return result;
 }

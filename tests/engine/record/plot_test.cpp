@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <set>
 #include <sstream>
 
@@ -374,4 +375,53 @@ TEST_CASE("names in a path plot are data: no name runs a command", "[plot]") {
         CHECK(read_text(f.data).rfind("time,", 0) == 0);
         CHECK(run.get(o.y).values.size() > 0);
     }
+}
+
+TEST_CASE("a table plot draws columns against the first, leaving out NaN", "[plot]") {
+    TempDir tmp("plot_table");
+    TablePlot t;
+    t.output = tmp / "out/convergence.png";
+    t.title = "spec.lua: speed";
+    t.xlabel = "generation";
+    t.ylabel = "speed";
+    t.columns = {"generation", "best so far", "generation mean"};
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    t.rows = {{1, 0.5, 0.25}, {2, 0.75, nan}, {3, 0.75, 0.5}};
+    t.width = 640;
+    t.height = 400;
+    const PlotFiles f = plot_table(t);
+    CHECK(f.script == tmp / "out/convergence.gp");
+    const Image img = load_png(f.png);
+    CHECK(img.width == 640);
+    CHECK(img.height == 400);
+    std::set<std::uint32_t> colours(img.rgba.begin(), img.rgba.end());
+    CHECK(colours.size() > 20);
+    CHECK(read_text(f.data) ==
+          "generation,best so far,generation mean\n1,0.5,0.25\n2,0.75,NaN\n3,0.75,0.5\n");
+    const std::string gp = read_text(f.script);
+    CHECK_THAT(gp, Catch::Contains("plot \"convergence.csv\" using 1:2 skip 1"));
+    CHECK_THAT(gp, Catch::Contains("using 1:3 skip 1 with linespoints title \"generation mean\""));
+}
+
+TEST_CASE("table plot options are checked", "[plot]") {
+    TempDir tmp("plot_table_bad");
+    TablePlot t;
+    t.output = tmp / "c.svg";
+    t.columns = {"x", "y"};
+    CHECK_THROWS_WITH(plot_table(t), "plot output must be a .png file (got '" + t.output + "')");
+    t.output = tmp / "c.png";
+    t.columns = {"x"};
+    CHECK_THROWS_WITH(plot_table(t),
+                      "a table plot needs an x column and at least one curve (got 1 columns)");
+    t.columns = {"x", "y"};
+    t.rows = {{1, 2}, {3}};
+    CHECK_THROWS_WITH(plot_table(t), "table plot row 2: 2 values expected (one per column), got 1");
+    t.rows = {{1, 2}};
+    t.columns = {"x", "two\nlines"};
+    CHECK_THROWS_WITH(plot_table(t), "table plot column 2: a name without line ends expected");
+    t.columns = {"x", "y"};
+    t.height = 20000;
+    CHECK_THROWS_WITH(plot_table(t),
+                      "plot size must be 100 to 10000 pixels each way (got 1000x20000)");
+    CHECK_FALSE(std::filesystem::exists(tmp / "c.csv"));
 }

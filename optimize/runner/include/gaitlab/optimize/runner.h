@@ -30,7 +30,14 @@ struct Spec {
     std::string file;                   ///< the spec file, as given
     std::vector<Parameter> parameters;  ///< sorted by name
     std::vector<double> initial;        ///< parameter units, one per parameter; empty: none given
-    std::string fitness;                ///< "distance", "speed", or "function" (a Lua function)
+    /// "distance", "speed", "cost_of_transport", "heading", "direction" or "function" (a Lua
+    /// function)
+    std::string fitness;
+    std::vector<double> direction;  ///< fitness "direction": the unit vector {x, y}
+    /// runs averaged per evaluation: `worlds` (how many; 0: none given) times `seeds` (empty:
+    /// none given, one run with seed 0)
+    int worlds = 0;
+    std::vector<std::uint64_t> seeds;
     std::string robot;             ///< the robot the built-in fitness measures; "": the only one
     double duration = 0;           ///< measured simulated seconds, > 0
     double settle = 0;             ///< simulated seconds run before measuring, >= 0
@@ -70,6 +77,9 @@ class Evaluator {
     void interrupt(int signal);
 
   private:
+    // one run: build(p, the spec's worlds[world] (nil for 0), seed) with math.random seeded
+    double evaluate_case(const std::vector<double>& x, int world, std::uint64_t seed);
+
     Spec spec_;
     std::unique_ptr<scripting::LuaHost> host_;
     int spec_ref_ = 0;     // registry reference of the spec table
@@ -119,6 +129,9 @@ struct RunOptions {
     /// evaluates the generations (MPI ranks: gaitlab/optimize/mpi.h); null: `workers` threads
     /// in this process
     EvaluationBackend* backend = nullptr;
+    /// Continue the run in `out` (OUT/state.json) with the same spec and options: ends as the
+    /// uninterrupted run would have.
+    bool resume = false;
 };
 
 /// After each generation.
@@ -142,7 +155,8 @@ struct Tick {
     int individuals = 0;           ///< individuals in this generation
     std::int64_t evaluations = 0;  ///< evaluated so far in the run
     double best = 0;               ///< best fitness of the generations told (NaN: none yet)
-    double wall = 0;               ///< wall seconds since the run began
+    double mean = 0;  ///< mean fitness of the last generation told (NaN: none yet, or all failed)
+    double wall = 0;  ///< wall seconds since the run began
 };
 
 /// The outcome of a run.
@@ -155,6 +169,10 @@ struct RunResult {
     int population = 0;
     std::string simulation;        ///< OUT/best/best.xml; "" when it could not be saved
     std::string simulation_error;  ///< why not
+    std::string plot;              ///< OUT/convergence.png; "" when it could not be drawn
+    std::string plot_error;        ///< why not
+    std::string run;               ///< OUT/run, the best individual's run recorded; "": none
+    std::string run_error;         ///< why not
 };
 
 /// Runs the optimization a spec describes: the method, one Evaluator per worker, writing
