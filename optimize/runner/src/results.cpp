@@ -81,6 +81,7 @@ void write_file(const std::string& path, const std::string& text) {
     std::error_code ec;
     fs::rename(tmp, path, ec);
     if (ec) throw IoError(fmt::format("{}: cannot write: {}", path, ec.message()));
+}
 
 std::string plot_convergence(const fs::path& out, const std::string& title,
                              const std::string& fitness) {

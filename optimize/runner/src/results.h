@@ -36,7 +36,6 @@ std::string json_text(const nlohmann::ordered_json& j, int indent);
 /// Writes `text` to `path` through a temporary file renamed over it. Throws IoError.
 void write_file(const std::string& path, const std::string& text);
 
-
 /// OUT/convergence.png (with convergence.gp and convergence.csv): generation against the best
 /// fitness so far and the generation's mean, read from OUT/evaluations.jsonl. Returns "" or
 /// what went wrong (gnuplot missing ...).
