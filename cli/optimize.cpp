@@ -1,18 +1,14 @@
 // `gaitlab optimize` (see optimize.h).
 #include "optimize.h"
 
-#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <atomic>
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
-#include <filesystem>
 #include <string>
 
 #include <fmt/format.h>
@@ -20,6 +16,7 @@
 #include "gaitlab/error.h"
 #include "gaitlab/optimize/mpi.h"
 #include "gaitlab/optimize/runner.h"
+#include "progress.h"
 
 namespace gaitlab::cli {
 
@@ -27,40 +24,6 @@ namespace {
 
 std::atomic<int> g_stop{0};
 static_assert(std::atomic<int>::is_always_lock_free);
-
-// a whole number in [min, max]; SpecError naming the option otherwise
-std::uint64_t whole(const char* option, const std::string& text, std::uint64_t min,
-                    std::uint64_t max) {
-    std::uint64_t v = 0;
-    const char* end = text.data() + text.size();
-    const auto r = std::from_chars(text.data(), end, v);
-    if (text.empty() || r.ec != std::errc() || r.ptr != end || v < min || v > max) {
-        throw SpecError(fmt::format("{}: a whole number from {} to {} expected (got '{}')", option,
-                                    min, max, text));
-    }
-    return v;
-}
-
-std::string default_out(const std::string& spec) {
-    const std::time_t now = std::time(nullptr);
-    std::tm tm{};
-    localtime_r(&now, &tm);
-    char stamp[32];
-    std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
-    return fmt::format("runs/optimize-{}-{}", std::filesystem::path(spec).stem().string(), stamp);
-}
-
-std::string duration(double s) {
-    if (!(s >= 1)) return "<1 s";
-    const long n = std::lround(s);
-    if (n < 60) return fmt::format("{} s", n);
-    if (n < 3600) return fmt::format("{} min {:02} s", n / 60, n % 60);
-    return fmt::format("{} h {:02} min", n / 3600, n % 3600 / 60);
-}
-
-std::string number(double v) {
-    return std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string("none");
-}
 
 }  // namespace
 
@@ -139,11 +102,13 @@ int OptimizeCommand::run(const std::string& command) {
     optimize::Spec spec;
     try {
         if (!a.generations.empty())
-            o.generations = static_cast<int>(whole("--generations", a.generations, 1, 1000000000));
+            o.generations =
+                static_cast<int>(whole_option("--generations", a.generations, 1, 1000000000));
         if (!a.population.empty())
-            o.population = static_cast<int>(whole("--population", a.population, 1, 1000000000));
-        o.workers = static_cast<int>(whole("--workers", a.workers, 1, 1024));
-        o.seed = whole("--seed", a.seed, 0, UINT64_MAX);
+            o.population =
+                static_cast<int>(whole_option("--population", a.population, 1, 1000000000));
+        o.workers = static_cast<int>(whole_option("--workers", a.workers, 1, 1024));
+        o.seed = whole_option("--seed", a.seed, 0, UINT64_MAX);
         o.method = a.method;
         o.resume = a.resume;
         if (a.resume && a.out.empty()) {
@@ -167,7 +132,7 @@ int OptimizeCommand::run(const std::string& command) {
         std::fprintf(stderr, "gaitlab: %s (see 'gaitlab optimize --help')\n", e.what());
         return 2;
     }
-    o.out = a.out.empty() ? default_out(a.spec) : a.out;
+    o.out = a.out.empty() ? default_results_folder("optimize", a.spec) : a.out;
     o.command = command;
     // under mpirun: rank 0 runs the method, the other ranks evaluate (docs/optimization.md)
     std::unique_ptr<optimize::MpiSession> mpi;
@@ -201,36 +166,19 @@ int OptimizeCommand::run(const std::string& command) {
     std::fflush(stdout);
     // on a terminal, a line on stderr rewritten after each evaluation; taken away before the
     // generation's summary line and at the end
-    const bool bar = ::isatty(STDERR_FILENO) == 1;
-    bool bar_shown = false;
-    auto last_bar = std::chrono::steady_clock::now() - std::chrono::seconds(1);
-    const auto clear_bar = [&] {
-        if (!bar_shown) return;
-        std::fputs("\r\x1b[K", stderr);
-        std::fflush(stderr);
-        bar_shown = false;
-    };
+    ProgressLine bar;
+    const auto clear_bar = [&] { bar.clear(); };
     const auto show_bar = [&](const optimize::Tick& t) {
-        const auto now = std::chrono::steady_clock::now();
-        if (now - last_bar < std::chrono::milliseconds(200) && t.done < t.individuals) return;
-        last_bar = now;
         const double rate = t.wall > 0 ? static_cast<double>(t.evaluations) / t.wall : 0;
         const std::int64_t total = static_cast<std::int64_t>(t.generations) * t.individuals;
         std::string line = fmt::format(
             "generation {}/{}: {}/{} evaluated, best {}, mean {}, {:.2g} per s", t.generation + 1,
-            t.generations, t.done, t.individuals, number(t.best), number(t.mean), rate);
+            t.generations, t.done, t.individuals, fitness_text(t.best), fitness_text(t.mean), rate);
         if (rate > 0 && total > t.evaluations) {
             line += fmt::format(", about {} left",
-                                duration(static_cast<double>(total - t.evaluations) / rate));
+                                duration_text(static_cast<double>(total - t.evaluations) / rate));
         }
-        winsize ws{};
-        if (::ioctl(STDERR_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 1 &&
-            line.size() >= ws.ws_col) {
-            line.resize(ws.ws_col - 1U);
-        }
-        std::fprintf(stderr, "\r%s\x1b[K", line.c_str());
-        std::fflush(stderr);
-        bar_shown = true;
+        bar.show(std::move(line), t.done >= t.individuals);
     };
     optimize::RunResult r;
     try {
@@ -244,8 +192,8 @@ int OptimizeCommand::run(const std::string& command) {
                         : 0;
                 std::string line = fmt::format(
                     "generation {}/{}: best {}, mean {}, {} evaluations, {:.2g} per s, {} left",
-                    p.generation + 1, p.generations, number(p.best), number(p.mean), p.evaluations,
-                    rate, duration(left));
+                    p.generation + 1, p.generations, fitness_text(p.best), fitness_text(p.mean),
+                    p.evaluations, rate, duration_text(left));
                 if (p.failed > 0) {
                     line += fmt::format(" ({} failed: {})", p.failed, p.first_error);
                 }
@@ -253,7 +201,9 @@ int OptimizeCommand::run(const std::string& command) {
                 std::printf("%s\n", line.c_str());
                 std::fflush(stdout);
             },
-            &g_stop, bar ? std::function<void(const optimize::Tick&)>(show_bar) : nullptr);
+            &g_stop,
+            bar.shown_on_a_terminal() ? std::function<void(const optimize::Tick&)>(show_bar)
+                                      : nullptr);
         clear_bar();
     } catch (const Error& e) {
         clear_bar();
@@ -275,10 +225,10 @@ int OptimizeCommand::run(const std::string& command) {
     std::string best;
     for (size_t i = 0; i < r.best.size(); ++i) {
         best += fmt::format("{}{} = {}", i == 0 ? "" : ", ", spec.parameters[i].name,
-                            number(r.best[i]));
+                            fitness_text(r.best[i]));
     }
     std::printf("best %s %s after %lld evaluations (%s, seed %llu): %s\n", spec.fitness.c_str(),
-                number(r.best_fitness).c_str(), static_cast<long long>(r.evaluations),
+                fitness_text(r.best_fitness).c_str(), static_cast<long long>(r.evaluations),
                 r.method.c_str(), static_cast<unsigned long long>(o.seed), best.c_str());
     std::printf("results: %s/evaluations.jsonl, %s/best.json\n", o.out.c_str(), o.out.c_str());
     if (!r.simulation.empty()) {
