@@ -52,6 +52,26 @@ std::vector<Evaluation> WorkerPool::evaluate(const std::vector<std::vector<doubl
     return results;
 }
 
+Evaluation evaluate_one(const EvaluateFunction& evaluate, const std::vector<double>& x,
+                        int worker) {
+    Evaluation e;
+    e.worker = worker;
+    const auto start = std::chrono::steady_clock::now();
+    try {
+        e.fitness = evaluate(x, worker);
+        if (!std::isfinite(e.fitness))
+            e.error = fmt::format("the fitness is {} (expected a finite number)", e.fitness);
+    } catch (const std::exception& ex) {
+        e.error = ex.what();
+        if (e.error.empty()) e.error = "the evaluation failed (an exception without a message)";
+    } catch (...) {
+        e.error = "the evaluation failed (an exception that is not a std::exception)";
+    }
+    if (!e.error.empty()) e.fitness = std::numeric_limits<double>::quiet_NaN();
+    e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return e;
+}
+
 void WorkerPool::work(int worker) {
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
@@ -61,22 +81,8 @@ void WorkerPool::work(int worker) {
         const std::size_t i = next_++;
         const std::vector<double>& x = (*xs_)[i];
         const EvaluateFunction& f = *evaluate_;
-        Evaluation e;
-        e.worker = worker;
         lock.unlock();
-        const auto start = std::chrono::steady_clock::now();
-        try {
-            e.fitness = f(x, worker);
-            if (!std::isfinite(e.fitness))
-                e.error = fmt::format("the fitness is {} (expected a finite number)", e.fitness);
-        } catch (const std::exception& ex) {
-            e.error = ex.what();
-            if (e.error.empty()) e.error = "the evaluation failed (an exception without a message)";
-        } catch (...) {
-            e.error = "the evaluation failed (an exception that is not a std::exception)";
-        }
-        if (!e.error.empty()) e.fitness = std::numeric_limits<double>::quiet_NaN();
-        e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        Evaluation e = evaluate_one(f, x, worker);
         lock.lock();
         (*results_)[i] = std::move(e);
         if (on_done_) {

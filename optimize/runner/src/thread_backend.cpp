@@ -34,22 +34,8 @@ double WorkerStates::evaluate(const std::vector<double>& x, int worker) {
 }
 
 Evaluation WorkerStates::run(const std::vector<double>& x, int worker) {
-    Evaluation e;
-    e.worker = worker;
-    const auto start = std::chrono::steady_clock::now();
-    try {
-        e.fitness = evaluate(x, worker);
-        if (!std::isfinite(e.fitness))
-            e.error = fmt::format("the fitness is {} (expected a finite number)", e.fitness);
-    } catch (const std::exception& ex) {
-        e.error = ex.what();
-        if (e.error.empty()) e.error = "the evaluation failed (an exception without a message)";
-    } catch (...) {
-        e.error = "the evaluation failed (an exception that is not a std::exception)";
-    }
-    if (!e.error.empty()) e.fitness = std::numeric_limits<double>::quiet_NaN();
-    e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return e;
+    return evaluate_one([this](const std::vector<double>& p, int w) { return evaluate(p, w); }, x,
+                        worker);
 }
 
 void WorkerStates::renew(int worker) {

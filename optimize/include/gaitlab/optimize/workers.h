@@ -32,6 +32,10 @@ using EvaluateFunction = std::function<double(const std::vector<double>& x, int 
 
 /// Called after each evaluation of a batch, one call at a time: the individual's index in the
 /// batch and its result.
+/// Evaluates `x` as a WorkerPool's worker does: the fitness, or the message of what failed (an
+/// exception, a result that is not finite: fitness NaN), and the seconds it took.
+Evaluation evaluate_one(const EvaluateFunction& evaluate, const std::vector<double>& x, int worker);
+
 using EvaluationDone = std::function<void(std::size_t individual, const Evaluation& result)>;
 
 /// A fixed set of worker threads that evaluate generations.
