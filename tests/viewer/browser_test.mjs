@@ -177,8 +177,10 @@ try {
   const t2 = await time();
   check(t1 === t2, `pause stops time (t = ${t1} then ${t2})`);
   // a step: one control period
+  // (frames are published while the step runs, so wait for its end, then check it stays there)
   await page.click('#step');
-  await page.waitForFunction((t) => window.gaitlab.frame.time > t, t2);
+  await page.waitForFunction((t) => window.gaitlab.frame.time >= t + 0.03 - 1e-9, t2, { timeout: 30000 });
+  await sleep(500);
   const t3 = await time();
   check(Math.abs(t3 - t2 - 0.03) < 1e-9, `step advances one control period (${t2} -> ${t3})`);
 
