@@ -6,6 +6,8 @@
 #include <cmath>
 #include <vector>
 
+#include "bullet/coulomb_solver.h"
+
 namespace gaitlab_bench {
 
 namespace {
@@ -33,7 +35,7 @@ struct RawSnake::Impl {
     btDefaultCollisionConfiguration config;
     btCollisionDispatcher dispatcher{&config};
     btDbvtBroadphase broadphase;
-    btSequentialImpulseConstraintSolver solver;
+    gaitlab::CoulombSolver solver;  // the engine's contact model
     btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
     std::vector<std::unique_ptr<btCollisionShape>> shapes;
     std::vector<std::unique_ptr<btRigidBody>> bodies;  // floor first, then tail to head
@@ -81,7 +83,6 @@ RawSnake::RawSnake(const Scenario& sc) : impl_(std::make_unique<Impl>()) {
     btDiscreteDynamicsWorld& world = s.world;
     world.setGravity(btVector3(0, 0, btScalar(-9.81)));
     world.getSolverInfo().m_numIterations = sc.solver_iterations;
-    world.getSolverInfo().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;  // as the engine
 
     auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), btScalar(0));
     btRigidBody::btRigidBodyConstructionInfo floor_info(0, nullptr, plane.get());
