@@ -5,6 +5,10 @@
 
 #include <btBulletDynamicsCommon.h>
 
+#include <algorithm>
+#include <tuple>
+#include <vector>
+
 namespace gaitlab {
 
 // The contact model: Coulomb friction where a contact slides, a static constraint where it
@@ -22,6 +26,38 @@ namespace gaitlab {
 inline constexpr btScalar kSlideSpeed = btScalar(0.001);  // m/s
 
 class CoulombSolver : public btSequentialImpulseConstraintSolver {
+  public:
+    // Solves the contacts and joints of a group in an order of their own (by the bodies'
+    // user indices, then the contact's parts; joints by their user constraint id), not in the
+    // order Bullet hands them over. Bullet's order comes from an unstable sort by simulation
+    // island of every manifold the dispatcher holds, empty ones included, and islands are
+    // merged by every pair of the broadphase, including pairs whose bounding boxes no longer
+    // overlap but which its incremental clean-up has not reached yet. So it depends on the
+    // broadphase's history, which a world rebuilt by PhysicsWorld::copy_state_from does not
+    // share with one that was never rebuilt: a clone and its original would agree with each
+    // other but not with a twin that was never cloned. Each contact's and joint's rows depend
+    // only on its bodies, so solving groups together or apart gives the same bits once the
+    // order within each group is fixed.
+    btScalar solveGroup(btCollisionObject** bodies, int body_count,
+                        btPersistentManifold** manifolds, int manifold_count,
+                        btTypedConstraint** constraints, int constraint_count,
+                        const btContactSolverInfo& info, btIDebugDraw* draw,
+                        btDispatcher* dispatcher) override {
+        sorted_manifolds_.assign(manifolds, manifolds + manifold_count);
+        std::stable_sort(sorted_manifolds_.begin(), sorted_manifolds_.end(),
+                         [](const btPersistentManifold* x, const btPersistentManifold* y) {
+                             return key(*x) < key(*y);
+                         });
+        sorted_constraints_.assign(constraints, constraints + constraint_count);
+        std::stable_sort(sorted_constraints_.begin(), sorted_constraints_.end(),
+                         [](const btTypedConstraint* x, const btTypedConstraint* y) {
+                             return x->getUserConstraintId() < y->getUserConstraintId();
+                         });
+        return btSequentialImpulseConstraintSolver::solveGroup(
+            bodies, body_count, sorted_manifolds_.data(), manifold_count,
+            sorted_constraints_.data(), constraint_count, info, draw, dispatcher);
+    }
+
   protected:
     void convertContacts(btPersistentManifold** manifolds, int count,
                          const btContactSolverInfo& info) override {
@@ -51,6 +87,25 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     }
 
   private:
+    // a manifold's place: its bodies, then the parts of a compound or triangle mesh its points
+    // are on (one manifold per child of a compound); empty manifolds add no rows
+    static std::tuple<int, int, int, int, int, int, int> key(const btPersistentManifold& m) {
+        const int n = m.getNumContacts();
+        if (n == 0)
+            return {0, m.getBody0()->getUserIndex(), m.getBody1()->getUserIndex(), 0, 0, 0, 0};
+        const btManifoldPoint& p = m.getContactPoint(0);
+        return {1,
+                m.getBody0()->getUserIndex(),
+                m.getBody1()->getUserIndex(),
+                p.m_index0,
+                p.m_index1,
+                p.m_partId0,
+                p.m_partId1};
+    }
+
+    std::vector<btPersistentManifold*> sorted_manifolds_;
+    std::vector<btTypedConstraint*> sorted_constraints_;
+
     void convert(btPersistentManifold& manifold, const btContactSolverInfo& info) {
         // Bullet's solver takes non-const bodies; it changes only their solver data
         auto* a = const_cast<btCollisionObject*>(manifold.getBody0());

@@ -257,6 +257,8 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
             hinge->setLimit(btScalar(j.min_angle), btScalar(j.max_angle));
             hinge->enableAngularMotor(true, 0, btScalar(j.servo.max_torque * dt));
             joint.hinge = hinge.get();
+            // the solver's order of joints (CoulombSolver::solveGroup)
+            hinge->setUserConstraintId(static_cast<int>(s.joints.size()));
             s.world.addConstraint(hinge.get(), /*disableCollisionsBetweenLinkedBodies=*/true);
             s.hinges.push_back(std::move(hinge));
             s.joints.push_back(joint);
