@@ -6,6 +6,8 @@
 #include <cmath>
 #include <vector>
 
+#include "bullet/coulomb_solver.h"
+
 namespace gaitlab_bench {
 
 namespace {
@@ -33,7 +35,7 @@ struct RawSnake::Impl {
     btDefaultCollisionConfiguration config;
     btCollisionDispatcher dispatcher{&config};
     btDbvtBroadphase broadphase;
-    btSequentialImpulseConstraintSolver solver;
+    gaitlab::CoulombSolver solver;  // the engine's contact model
     btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
     std::vector<std::unique_ptr<btCollisionShape>> shapes;
     std::vector<std::unique_ptr<btRigidBody>> bodies;  // floor first, then tail to head
@@ -81,12 +83,12 @@ RawSnake::RawSnake(const Scenario& sc) : impl_(std::make_unique<Impl>()) {
     btDiscreteDynamicsWorld& world = s.world;
     world.setGravity(btVector3(0, 0, btScalar(-9.81)));
     world.getSolverInfo().m_numIterations = sc.solver_iterations;
-    world.getSolverInfo().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;  // as the engine
 
     auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), btScalar(0));
     btRigidBody::btRigidBodyConstructionInfo floor_info(0, nullptr, plane.get());
     floor_info.m_friction = btScalar(sc.floor_friction);
     s.bodies.push_back(std::make_unique<btRigidBody>(floor_info));
+    s.bodies.back()->setUserIndex(-2);  // the engine's numbering, which its solver orders by
     world.addRigidBody(s.bodies.back().get(), btBroadphaseProxy::StaticFilter,
                        btBroadphaseProxy::AllFilter);
     s.shapes.push_back(std::move(plane));
@@ -108,6 +110,7 @@ RawSnake::RawSnake(const Scenario& sc) : impl_(std::make_unique<Impl>()) {
         info.m_restitution = 0;
         s.bodies.push_back(std::make_unique<btRigidBody>(info));
         btRigidBody* body = s.bodies.back().get();
+        body->setUserIndex(static_cast<int>(s.bodies.size()) - 2);  // 0 for the first module
         body->setActivationState(DISABLE_DEACTIVATION);
         world.addRigidBody(body, kRobotBit, btBroadphaseProxy::AllFilter & ~kRobotBit);
         s.shapes.push_back(std::move(box));
@@ -135,6 +138,7 @@ RawSnake::RawSnake(const Scenario& sc) : impl_(std::make_unique<Impl>()) {
             tc.getBasis().transpose() * axis, tp.getBasis().transpose() * axis);
         hinge->setLimit(btScalar(-kMaxAngle), btScalar(kMaxAngle));
         hinge->enableAngularMotor(true, 0, btScalar(kMaxTorque * sc.dt));
+        hinge->setUserConstraintId(j);  // the solver visits joints in this order, as the engine's
         world.addConstraint(hinge.get(), true);
         s.hinges.push_back(std::move(hinge));
         s.amplitude.push_back(yaw ? sc.yaw_amplitude : sc.pitch_amplitude);

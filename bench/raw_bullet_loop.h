@@ -1,6 +1,7 @@
 // The baseline of the overhead benchmark: the benchmark snake written directly against Bullet,
-// with no gaitlab code. It builds the same bodies, hinges, floor and solver settings as the
-// engine, applies the same servo law every tick and the same sine gait every control_every
+// with no gaitlab code but the engine's constraint solver (engine/src/bullet/coulomb_solver.h,
+// the contact model, header-only). It builds the same bodies, hinges, floor and solver settings
+// as the engine, applies the same servo law every tick and the same sine gait every control_every
 // ticks, so it steps the same trajectory; the difference in run time is what gaitlab adds.
 #pragma once
 

@@ -251,7 +251,7 @@ TEST_CASE("robot:heading() and robot:turned() measure a turn", "[wrap_robot]") {
     CHECK(lua.number("straight:heading()") == Approx(0).margin(1e-5));
     CHECK(lua.number("robot:heading()") == Approx(170).margin(1e-5));
     CHECK(lua.number("robot:turned()") == 0);
-    lua.run("sim:run(6)");
+    lua.run("sim:run(24)");
     // past +180 the heading wraps to -180 and on; the turn goes on counting
     const double heading = lua.number("robot:heading()");
     const double turned = lua.number("robot:turned()");

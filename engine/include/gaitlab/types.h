@@ -96,6 +96,13 @@ struct ContactPoint {
     Vec3 position;     ///< m, world frame
     Vec3 normal;       ///< unit, world frame
     double force = 0;  ///< N: the normal force of the last physics step
+    /// N, world frame: the friction force of the last physics step on the body the normal
+    /// points into (tangent to the surface; |friction| <= friction coefficient × force where
+    /// the contact slides, docs/architecture.md "Contact model")
+    Vec3 friction;
+    /// m/s, world frame: that body's velocity relative to the other at the point, along the
+    /// surface (the slip), after the last step
+    Vec3 slip;
 };
 
 }  // namespace gaitlab

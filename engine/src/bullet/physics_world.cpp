@@ -1,5 +1,7 @@
 #include "bullet/physics_world.h"
 
+#include "bullet/coulomb_solver.h"
+
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
 #include <btBulletDynamicsCommon.h>
 
@@ -109,7 +111,7 @@ struct PhysicsWorld::Impl {
     btDefaultCollisionConfiguration config;
     btCollisionDispatcher dispatcher{&config};
     btDbvtBroadphase broadphase;
-    btSequentialImpulseConstraintSolver solver;
+    CoulombSolver solver;
     btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
     std::vector<std::unique_ptr<btCollisionShape>> shapes;
     std::vector<std::unique_ptr<btRigidBody>> bodies;  // robots' bodies, then dynamic boxes
@@ -200,10 +202,7 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
     Impl& s = *impl_;
     s.world.setGravity(to_bt(spec.gravity));
     s.world.getSolverInfo().m_numIterations = solver_iterations;
-    // two friction directions per contact (a friction pyramid): with Bullet's default single
-    // direction, a contact that is not sliding resists motion along one axis only, so a robot
-    // at rest creeps along the other and gaits drift
-    s.world.getSolverInfo().m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
+    // friction: CoulombSolver (one row where a contact slides, two where it does not)
     // only bodies that move get their bounding boxes updated each step. Bullet's default
     // updates every body's, static ones included, and each update of a static body moves its
     // broadphase proxy from the fixed tree back to the dynamic one and collides it with
@@ -258,6 +257,8 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
             hinge->setLimit(btScalar(j.min_angle), btScalar(j.max_angle));
             hinge->enableAngularMotor(true, 0, btScalar(j.servo.max_torque * dt));
             joint.hinge = hinge.get();
+            // the solver's order of joints (CoulombSolver::solveGroup)
+            hinge->setUserConstraintId(static_cast<int>(s.joints.size()));
             s.world.addConstraint(hinge.get(), /*disableCollisionsBetweenLinkedBodies=*/true);
             s.hinges.push_back(std::move(hinge));
             s.joints.push_back(joint);
@@ -560,9 +561,24 @@ void PhysicsWorld::contacts(std::vector<ContactPoint>& out, double dt) const {
             if (p.getDistance() > 0.001) continue;
             const btVector3& at = p.getPositionWorldOnB();
             const btVector3& n = p.m_normalWorldOnB;
-            out.push_back({{at.x(), at.y(), at.z()},
-                           {n.x(), n.y(), n.z()},
-                           dt > 0 ? p.getAppliedImpulse() / dt : 0.0});
+            // the normal points from body B into body A: the friction on A, A's slip over B
+            const btVector3 f = p.m_lateralFrictionDir1 * p.m_appliedImpulseLateral1 +
+                                p.m_lateralFrictionDir2 * p.m_appliedImpulseLateral2;
+            const auto* a = btRigidBody::upcast(m->getBody0());
+            const auto* b = btRigidBody::upcast(m->getBody1());
+            btVector3 v(0, 0, 0);
+            if (a)
+                v += a->getVelocityInLocalPoint(p.getPositionWorldOnA() -
+                                                a->getCenterOfMassPosition());
+            if (b) v -= b->getVelocityInLocalPoint(at - b->getCenterOfMassPosition());
+            const btVector3 slip = v - n * n.dot(v);
+            ContactPoint c;
+            c.position = from_bt(at);
+            c.normal = from_bt(n);
+            c.force = dt > 0 ? p.getAppliedImpulse() / dt : 0.0;
+            c.friction = dt > 0 ? from_bt(f / btScalar(dt)) : Vec3{};
+            c.slip = from_bt(slip);
+            out.push_back(c);
         }
     }
 }

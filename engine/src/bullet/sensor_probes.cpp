@@ -1,5 +1,6 @@
 #include "bullet/sensor_probes.h"
 
+#include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
 #include <btBulletDynamicsCommon.h>
 
 #include "bullet/physics_world.h"
@@ -24,6 +25,11 @@ RayHit cast_ray(const PhysicsWorld& physics, int body, const Vec3& origin, const
     const btBroadphaseProxy* proxy = physics.bullet_body(body).getBroadphaseHandle();
     cb.m_collisionFilterGroup = proxy->m_collisionFilterGroup;
     cb.m_collisionFilterMask = btBroadphaseProxy::AllFilter & ~proxy->m_collisionFilterGroup;
+    // Bullet's default ray-convex test (btSubsimplexConvexCast) is approximate: against a box
+    // it may stop up to about 2 mm short, depending on the last bits of the ray's origin, so
+    // a sensor at rest would read a distance that flickers between two values. The GJK cast
+    // hits the face within a micrometre
+    cb.m_flags |= btTriangleRaycastCallback::kF_UseGjkConvexCastRaytest;
     physics.bullet_world().rayTest(from, to, cb);
     RayHit h;
     h.hit = cb.hasHit();
