@@ -17,6 +17,7 @@
 #include "gaitlab/optimize/mpi.h"
 #include "gaitlab/optimize/runner.h"
 #include "progress.h"
+#include "ranks.h"
 
 namespace gaitlab::cli {
 
@@ -121,13 +122,7 @@ int OptimizeCommand::run(const std::string& command) {
                 "--method: unknown method '{}' (expected ga, cmaes or pgpe)", o.method));
         }
         mpi_options.workers = o.workers;
-        char* end = nullptr;
-        mpi_options.rank_timeout = std::strtod(a.rank_timeout.c_str(), &end);
-        if (a.rank_timeout.empty() || *end != '\0' || !(mpi_options.rank_timeout > 0) ||
-            !std::isfinite(mpi_options.rank_timeout)) {
-            throw SpecError(fmt::format(
-                "--rank-timeout: a number of seconds > 0 expected (got '{}')", a.rank_timeout));
-        }
+        mpi_options.rank_timeout = rank_timeout_option(a.rank_timeout);
     } catch (const Error& e) {
         std::fprintf(stderr, "gaitlab: %s (see 'gaitlab optimize --help')\n", e.what());
         return 2;
@@ -135,20 +130,11 @@ int OptimizeCommand::run(const std::string& command) {
     o.out = a.out.empty() ? default_results_folder("optimize", a.spec) : a.out;
     o.command = command;
     // under mpirun: rank 0 runs the method, the other ranks evaluate (docs/optimization.md)
-    std::unique_ptr<optimize::MpiSession> mpi;
-    std::unique_ptr<optimize::EvaluationBackend> ranks;
+    Ranks mpi;
     try {
-        if (optimize::mpi_launched()) {
-            mpi = std::make_unique<optimize::MpiSession>();
-            if (mpi->rank() > 0) return optimize::mpi_serve(*mpi, a.spec, mpi_options, &g_stop);
-            if (mpi->size() > 1) {
-                mpi_options.warn = [](const std::string& m) {
-                    std::fprintf(stderr, "gaitlab: %s\n", m.c_str());
-                };
-                ranks = optimize::make_mpi_backend(*mpi, mpi_options);
-                o.backend = ranks.get();
-            }
-        }
+        mpi = start_ranks(a.spec, mpi_options, &g_stop);
+        if (mpi.served >= 0) return mpi.served;
+        o.backend = mpi.backend.get();
         spec = optimize::load_spec(a.spec);
     } catch (const Error& e) {
         std::fprintf(stderr, "gaitlab: %s\n", e.what());
@@ -158,8 +144,8 @@ int OptimizeCommand::run(const std::string& command) {
     for (const auto& p : spec.parameters)
         names += (names.empty() ? "" : ", ") + p.name;
     const std::string workers =
-        ranks ? ranks->describe()
-              : fmt::format("{} worker{}", o.workers, o.workers == 1 ? "" : "s");
+        mpi.backend ? mpi.backend->describe()
+                    : fmt::format("{} worker{}", o.workers, o.workers == 1 ? "" : "s");
     std::printf("optimize %s: %zu parameters (%s), fitness %s, %s, results in %s\n", a.spec.c_str(),
                 spec.parameters.size(), names.c_str(), spec.fitness.c_str(), workers.c_str(),
                 o.out.c_str());

@@ -9,9 +9,9 @@
 #include <fmt/format.h>
 
 #include "gaitlab/error.h"
-#include "gaitlab/optimize/mpi.h"
 #include "gaitlab/optimize/sweep.h"
 #include "progress.h"
+#include "ranks.h"
 
 namespace gaitlab::cli {
 
@@ -27,6 +27,7 @@ struct SweepCommand::Args {
     std::vector<std::string> grid;
     std::string workers = "1";
     std::string seed = "0";
+    std::string rank_timeout = "30";
     std::string out;
 };
 
@@ -59,6 +60,11 @@ SweepCommand::SweepCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
                      "Seed of math.random before every evaluation: 0 to 2^64 - 1")
         ->type_name("N")
         ->capture_default_str();
+    sub_->add_option("--rank-timeout", a_->rank_timeout,
+                     "Under mpirun: seconds without a word from a rank before its evaluations "
+                     "go to the others")
+        ->type_name("S")
+        ->capture_default_str();
     sub_->add_option("--out", a_->out,
                      "Results folder, new or empty (default: runs/sweep-SPEC-DATE-TIME)")
         ->type_name("DIR");
@@ -68,7 +74,9 @@ SweepCommand::SweepCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
         "DIR/evaluations.jsonl (as gaitlab optimize's), DIR/best.json and the best point as a\n"
         "simulation file, DIR/best/best.xml. A grid has at most 100000 points. A failed point\n"
         "(an error, a NaN fitness, a diverging simulation) is marked in the table and the sweep\n"
-        "goes on. See docs/optimization.md.");
+        "goes on. Under mpirun -n K, rank 0 writes the results and ranks 1 .. K-1 evaluate, each\n"
+        "on --workers threads (the results are those of a run on one machine). See\n"
+        "docs/optimization.md.");
 }
 
 SweepCommand::~SweepCommand() = default;
@@ -80,24 +88,26 @@ bool SweepCommand::chosen() const {
 int SweepCommand::run(const std::string& command) {
     const Args& a = *a_;
     optimize::SweepOptions o;
+    optimize::MpiOptions mpi_options;
     try {
         o.workers = static_cast<int>(whole_option("--workers", a.workers, 1, 1024));
         o.seed = whole_option("--seed", a.seed, 0, UINT64_MAX);
+        mpi_options.workers = o.workers;
+        mpi_options.seed = o.seed;
+        mpi_options.rank_timeout = rank_timeout_option(a.rank_timeout);
     } catch (const Error& e) {
         std::fprintf(stderr, "gaitlab: %s (see 'gaitlab sweep --help')\n", e.what());
         return 2;
     }
     o.out = a.out.empty() ? default_results_folder("sweep", a.spec) : a.out;
     o.command = command;
-    // every rank would sweep the whole grid into the same folder: refused (docs/optimization.md)
-    if (optimize::mpi_launched()) {
-        std::fprintf(stderr,
-                     "gaitlab: sweep does not run under mpirun yet: run it on one machine with "
-                     "--workers N (gaitlab optimize runs under mpirun)\n");
-        return 2;
-    }
+    // under mpirun: rank 0 sweeps, the other ranks evaluate (docs/optimization.md)
+    Ranks mpi;
     optimize::Spec spec;
     try {
+        mpi = start_ranks(a.spec, mpi_options, &g_stop);
+        if (mpi.served >= 0) return mpi.served;
+        o.backend = mpi.backend.get();
         spec = optimize::load_spec(a.spec);
     } catch (const Error& e) {
         std::fprintf(stderr, "gaitlab: %s\n", e.what());
@@ -128,9 +138,12 @@ int SweepCommand::run(const std::string& command) {
         grid.axes.size() == 1
             ? fmt::format("{} at {} values", swept, grid.points())
             : fmt::format("{} on a {} grid ({} points)", swept, sizes, grid.points());
-    std::printf("sweep %s: %s%s, fitness %s, %d worker%s, results in %s\n", a.spec.c_str(),
-                shape.c_str(), fixed.empty() ? "" : (", " + fixed).c_str(), spec.fitness.c_str(),
-                o.workers, o.workers == 1 ? "" : "s", o.out.c_str());
+    const std::string workers =
+        mpi.backend ? mpi.backend->describe()
+                    : fmt::format("{} worker{}", o.workers, o.workers == 1 ? "" : "s");
+    std::printf("sweep %s: %s%s, fitness %s, %s, results in %s\n", a.spec.c_str(), shape.c_str(),
+                fixed.empty() ? "" : (", " + fixed).c_str(), spec.fitness.c_str(), workers.c_str(),
+                o.out.c_str());
     std::fflush(stdout);
     ProgressLine bar;
     const auto show = [&](const optimize::SweepTick& t) {

@@ -389,7 +389,7 @@ int mpi_serve(MpiSession& session, const std::string& spec_file, const MpiOption
                 fmt::format("--workers: a whole number >= 1 expected, got {}", options.workers));
         }
         const Spec spec = load_spec(spec_file);
-        states = std::make_unique<WorkerStates>(spec, options.workers);
+        states = std::make_unique<WorkerStates>(spec, options.workers, options.seed);
     } catch (const std::exception& e) {
         std::string hello;
         put<std::int32_t>(hello, 0);

@@ -284,7 +284,7 @@ SweepResult run_sweep(const Spec& spec, const Grid& grid, const SweepOptions& op
     std::ofstream jsonl(jsonl_path, std::ios::binary | std::ios::trunc);
     if (!jsonl) throw IoError(fmt::format("{}: cannot create", jsonl_path.string()));
 
-    EvaluationPool pool(spec, options.workers, options.seed, stop);
+    EvaluationPool pool(spec, options.workers, options.seed, stop, options.backend);
     const auto started = std::chrono::steady_clock::now();
     SweepTick tick;
     tick.points = result.points;
@@ -300,7 +300,7 @@ SweepResult run_sweep(const Spec& spec, const Grid& grid, const SweepOptions& op
     };
     // in chunks, each written to evaluations.jsonl when it ends (an interrupted sweep keeps the
     // chunks done); the chunks' size changes nothing in the results
-    const std::size_t chunk = 16 * static_cast<std::size_t>(options.workers);
+    const std::size_t chunk = 16 * static_cast<std::size_t>(pool.workers());
     std::vector<std::vector<double>> all;
     std::vector<Evaluation> evaluations;
     for (std::size_t first = 0; first < result.points; first += chunk) {

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -47,6 +48,7 @@ class MpiSession {
 struct MpiOptions {
     int workers = 1;           ///< threads per evaluating rank, >= 1
     double rank_timeout = 30;  ///< seconds without a word from a rank before it is given up
+    std::uint64_t seed = 0;    ///< seeds math.random before every evaluation (a sweep's --seed)
     /// on rank 0: told when a rank is given up ("rank 2: no word for 30 s: its 2 evaluations
     /// go to the other ranks")
     std::function<void(const std::string&)> warn;

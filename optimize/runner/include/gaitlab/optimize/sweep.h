@@ -46,6 +46,8 @@ struct SweepOptions {
     std::uint64_t seed = 0;  ///< seeds math.random before every evaluation
     std::string out;         ///< the results folder: created; must not exist or be empty
     std::string command;     ///< the command line, kept in best.json
+    /// Who evaluates (not owned; MPI ranks): nullptr for `workers` threads in this process.
+    EvaluationBackend* backend = nullptr;
 };
 
 /// After each evaluation (from the worker that ran it, one call at a time).

@@ -1,0 +1,42 @@
+// gaitlab optimize and gaitlab sweep under mpirun (see ranks.h).
+#include "ranks.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include <fmt/format.h>
+
+#include "gaitlab/error.h"
+
+namespace gaitlab::cli {
+
+double rank_timeout_option(const std::string& text) {
+    char* end = nullptr;
+    const double seconds = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !(seconds > 0) || !std::isfinite(seconds)) {
+        throw SpecError(
+            fmt::format("--rank-timeout: a number of seconds > 0 expected (got '{}')", text));
+    }
+    return seconds;
+}
+
+Ranks start_ranks(const std::string& spec, optimize::MpiOptions options,
+                  const std::atomic<int>* stop) {
+    Ranks r;
+    if (!optimize::mpi_launched()) return r;
+    r.session = std::make_unique<optimize::MpiSession>();
+    if (r.session->rank() > 0) {
+        r.served = optimize::mpi_serve(*r.session, spec, options, stop);
+        return r;
+    }
+    if (r.session->size() > 1) {
+        options.warn = [](const std::string& m) {
+            std::fprintf(stderr, "gaitlab: %s\n", m.c_str());
+        };
+        r.backend = optimize::make_mpi_backend(*r.session, options);
+    }
+    return r;
+}
+
+}  // namespace gaitlab::cli

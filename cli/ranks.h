@@ -1,0 +1,34 @@
+// What `gaitlab optimize` and `gaitlab sweep` do under mpirun (gaitlab/optimize/mpi.h,
+// docs/optimization.md "On a cluster: MPI"): rank 0 runs the command and hands its evaluations
+// to ranks 1 .. K-1, which evaluate them on their own threads until rank 0 says stop.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <string>
+
+#include "gaitlab/optimize/mpi.h"
+
+namespace gaitlab::cli {
+
+/// --rank-timeout's text: seconds > 0; SpecError "--rank-timeout: a number of seconds > 0
+/// expected (got 'TEXT')" otherwise.
+double rank_timeout_option(const std::string& text);
+
+/// MPI for one command. Not under mpirun: nothing (no backend, not serving).
+struct Ranks {
+    std::unique_ptr<optimize::MpiSession> session;
+    /// On rank 0 of two or more ranks: hands the evaluations out (destroyed before the session:
+    /// it tells the ranks to stop)
+    std::unique_ptr<optimize::EvaluationBackend> backend;
+    /// On ranks 1 .. K-1: the exit status once rank 0 said stop (-1 on rank 0 or without MPI)
+    int served = -1;
+};
+
+/// Starts MPI when this process was started by mpirun: ranks >= 1 load `spec` and evaluate
+/// until rank 0 says stop (or `stop` becomes non-zero), rank 0 gets the backend. Rank 0 warns on
+/// stderr when a rank is given up. Throws Error (MPI not built in, the spec not loaded).
+Ranks start_ranks(const std::string& spec, optimize::MpiOptions options,
+                  const std::atomic<int>* stop);
+
+}  // namespace gaitlab::cli
