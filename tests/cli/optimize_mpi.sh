@@ -39,6 +39,13 @@ same_results() {
         fail "best.json of $1 and $2 differ"
     }
 }
+# rank 0 says 2 ranks evaluate, and each did
+both_ranks_evaluated() {
+    grep -q "2 MPI ranks evaluating, 2 workers in all" "$work/mpi.out" ||
+        fail "rank 0 does not report 2 evaluating ranks"
+    grep -q '"rank":1' "$work/mpi/evaluations.jsonl" || fail "rank 1 evaluated nothing"
+    grep -q '"rank":2' "$work/mpi/evaluations.jsonl" || fail "rank 2 evaluated nothing"
+}
 mpi() {
     # --enable-recovery: a rank that dies does not end the job (mpirun's default)
     "$mpiexec" --oversubscribe --enable-recovery -x GAITLAB_TEST_DYING_RANK -x GAITLAB_TEST_BROKEN_RANK \
@@ -51,10 +58,7 @@ same)
     "$gaitlab" optimize "$spec" --workers 2 --seed 7 --out "$work/threads" > /dev/null
     GAITLAB_TEST_DYING_RANK="" mpi optimize "$spec" --seed 7 --out "$work/mpi" > "$work/mpi.out"
     cat "$work/mpi.out"
-    grep -q "2 MPI ranks evaluating, 2 workers in all" "$work/mpi.out" ||
-        fail "rank 0 does not report 2 evaluating ranks"
-    grep -q '"rank":1' "$work/mpi/evaluations.jsonl" || fail "rank 1 evaluated nothing"
-    grep -q '"rank":2' "$work/mpi/evaluations.jsonl" || fail "rank 2 evaluated nothing"
+    both_ranks_evaluated
     same_results "$work/threads" "$work/mpi"
     ;;
 dies)
@@ -96,10 +100,7 @@ sweep)
     "$gaitlab" sweep "$spec" --grid $grid --workers 2 --seed 8 --out "$work/other" > /dev/null
     mpi sweep "$spec" --grid $grid --seed 7 --out "$work/mpi" > "$work/mpi.out"
     cat "$work/mpi.out"
-    grep -q "2 MPI ranks evaluating, 2 workers in all" "$work/mpi.out" ||
-        fail "rank 0 does not report 2 evaluating ranks"
-    grep -q '"rank":1' "$work/mpi/evaluations.jsonl" || fail "rank 1 evaluated nothing"
-    grep -q '"rank":2' "$work/mpi/evaluations.jsonl" || fail "rank 2 evaluated nothing"
+    both_ranks_evaluated
     same_results "$work/threads" "$work/mpi"
     cmp -s "$work/threads/sweep.csv" "$work/mpi/sweep.csv" || fail "the sweep tables differ"
     # the seed matters to this spec: another seed, another table
