@@ -6,9 +6,13 @@
 #     (a) per generation, from the difference between a run of G generations and one of 1 (the
 #     method's ask/tell, handing out, evaluations.jsonl), over the evaluations' time; (b) once
 #     per run (process start, the spec loaded, the best saved as a simulation file);
+#   - the machine's own ceiling: two independent `--workers 1` runs at the same time, whose
+#     evaluations per second over one run's say what any parallel run can reach here;
 #   - the peak resident memory of runs of about 1 000 and 10 000 short evaluations.
 #
-#   bench/optimize_throughput.sh [--quick] [--no-mpi] [--only throughput|memory]
+#   bench/optimize_throughput.sh [--quick] [--long] [--no-mpi] [--only throughput|memory]
+#
+# --long: evaluations of 4 simulated s instead of 1 (the fixed cost of a run weighs less).
 #
 # GAITLAB (default build/gaitlab) is the binary; bench/lua/optimize_short.lua the spec. Prints
 # markdown tables; the machine's load average before and after, so that a loaded machine shows.
@@ -16,13 +20,14 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 gaitlab=${GAITLAB:-$root/build/gaitlab}
 spec=$root/bench/lua/optimize_short.lua
-repeats=5 generations=4 memory_gens=209 mpi=1 only=""
+repeats=5 generations=4 memory_gens=209 mpi=1 only="" duration=1
 while [ $# -gt 0 ]; do
     case "$1" in
         --quick) repeats=3 generations=2 memory_gens=105 ;;
+        --long) duration=4 ;;
         --no-mpi) mpi=0 ;;
         --only) only=$2; shift ;;
-        *) echo "usage: bench/optimize_throughput.sh [--quick] [--no-mpi] [--only throughput|memory]" >&2; exit 2 ;;
+        *) echo "usage: bench/optimize_throughput.sh [--quick] [--long] [--no-mpi] [--only throughput|memory]" >&2; exit 2 ;;
     esac
     shift
 done
@@ -53,6 +58,20 @@ if [ -z "$only" ] || [ "$only" = throughput ]; then
         awk -v n="$n" -v t0="$t0" -v t1="$t1" -v s="$s" \
             'BEGIN {w = t1 - t0; printf "%.4f %.6f %.6f\n", n / w, w, s}' >> "$work/$name.txt"
     }
+    # two independent runs at once: "evaluations/s of both" into pair.txt
+    pair() {
+        local t0 t1 n
+        t0=$(now)
+        "$gaitlab" optimize "$spec" --workers 1 --generations "$generations" --seed 1 \
+            --out "$work/pa-$r" > /dev/null &
+        "$gaitlab" optimize "$spec" --workers 1 --generations "$generations" --seed 1 \
+            --out "$work/pb-$r" > /dev/null
+        wait
+        t1=$(now)
+        n=$(( $(evaluations "$work/pa-$r") + $(evaluations "$work/pb-$r") ))
+        awk -v n="$n" -v t0="$t0" -v t1="$t1" 'BEGIN {printf "%.4f\n", n / (t1 - t0)}' >> "$work/pair.txt"
+    }
+    export GAITLAB_BENCH_DURATION=$duration
     for r in $(seq 1 "$repeats"); do
         run one 1 "$gaitlab" optimize "$spec" --workers 1
         run w1 "$generations" "$gaitlab" optimize "$spec" --workers 1
@@ -61,15 +80,16 @@ if [ -z "$only" ] || [ "$only" = throughput ]; then
             run mpi2 "$generations" mpirun --oversubscribe -n 3 "$gaitlab" optimize "$spec" \
                 --workers 1
         fi
+        pair
     done
     per=$((generations * 16))
     echo
-    echo "### Evaluations per second ($per evaluations of 1 simulated s of the 8-module snake per run, median of $repeats interleaved runs)"
+    echo "### Evaluations per second ($per evaluations of $duration simulated s of the 8-module snake per run, median of $repeats interleaved runs)"
     echo
     echo "| run | evaluations / s (median) | runs | vs 1 worker |"
     echo "|---|---|---|---|"
     m1=$(cut -d' ' -f1 "$work/w1.txt" | median)
-    for name in w1 w2 mpi2; do
+    for name in w1 w2 mpi2 pair; do
         [ -f "$work/$name.txt" ] || continue
         m=$(cut -d' ' -f1 "$work/$name.txt" | median)
         all=$(cut -d' ' -f1 "$work/$name.txt" | tr '\n' ' ')
@@ -77,6 +97,7 @@ if [ -z "$only" ] || [ "$only" = throughput ]; then
             w1) label="--workers 1" ;;
             w2) label="--workers 2" ;;
             mpi2) label="mpirun -n 3 (2 evaluating ranks x 1 worker)" ;;
+            pair) label="the ceiling: two --workers 1 runs at once, both counted" ;;
         esac
         echo "| $label | $m | $all| $(awk -v a="$m" -v b="$m1" 'BEGIN {printf "%.2fx", a / b}') |"
     done
