@@ -224,14 +224,18 @@ export function createView(gaitlab, canvas, { follow, status }) {
     return false;
   }
 
+  function drawNow() {
+    renderer.render(world, camera);
+    dirty = false;
+    gaitlab.drawings++;
+  }
+
   // draws the view now, whatever changed
   function render() {
     resize();
     applyFrame();
     controls.update();
-    renderer.render(world, camera);
-    dirty = false;
-    gaitlab.drawings = (gaitlab.drawings || 0) + 1;
+    drawNow();
   }
 
   // At every animation frame the view is drawn only when something changed: a new frame, the
@@ -250,7 +254,7 @@ export function createView(gaitlab, canvas, { follow, status }) {
     const fresh = applyFrame();
     controls.update();   // dispatches 'change' (invalidate) when the camera moved
     drewLast = dirty || fresh;
-    if (drewLast) render();
+    if (drewLast) drawNow();
     // the line under "Full quality", rewritten only when what it says changes
     if (status && adaptive.fps !== null && (adaptive.fps !== shownFps || adaptive.scale !== shownScale)) {
       shownFps = adaptive.fps;
