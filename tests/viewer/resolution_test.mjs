@@ -3,7 +3,8 @@
 // step down to the last step, fast ones raise it back to full; a scene that is slow only at
 // full size settles one step below instead of flickering; frames that fewer pixels do not
 // speed up keep the full resolution; pinned, it stays at full size whatever the frames take; a
-// stall (a hidden tab) changes nothing.
+// stall (a hidden tab) changes nothing; animation frames that draw nothing (idle) neither count
+// as fast frames nor change anything.
 //
 // Usage: node resolution_test.mjs SOURCE_DIR
 import path from 'node:path';
@@ -107,6 +108,32 @@ const renderer = {};   // the class only keeps it
   a.frame(clock.now);
   play(a, clock, 0.4, () => 10);
   check(a.scale === before, `a stall changes nothing (${a.scale})`);
+}
+{
+  // a page that draws only what changed (scene.js): animation frames that draw nothing are idle
+  const clock = { now: 0 };
+  const a = new AdaptiveResolution(renderer, { base: () => 1 });
+  // slow drawings (200 ms at full size) with an idle 60 Hz frame after each: still lowered
+  const end = clock.now + 30000;
+  while (clock.now < end) {
+    clock.now += 200 * a.scale * a.scale;
+    a.frame(clock.now);
+    clock.now += 1000 / 60;
+    a.idle(clock.now);
+  }
+  check(a.scale < 0.5, `slow drawings between idle frames lower the resolution (${a.scale})`);
+  // then paused: a minute of idle frames changes nothing, however fast they are
+  const before = a.scale;
+  let changes = 0;
+  a.onchange = () => { changes++; };
+  for (let t = 0; t < 60000; t += 1000 / 60) {
+    clock.now += 1000 / 60;
+    a.idle(clock.now);
+  }
+  check(a.scale === before && changes === 0, `a minute of idle frames changes nothing (${a.scale})`);
+  // and drawing again, slow: the idle minute did not count as fast frames
+  play(a, clock, 2, (x) => 200 * x * x);
+  check(a.scale <= before, `drawing again after it keeps the resolution low (${a.scale})`);
 }
 console.log(`${passed} passed, ${failed} failed`);
 process.exit(failed === 0 ? 0 : 1);

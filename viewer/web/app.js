@@ -22,6 +22,7 @@ const gaitlab = {
   frame: null,      // the latest frame
   frames: 0,        // frames received
   drawn: 0,         // frames drawn
+  drawings: 0,      // drawings of the 3D view (it draws only when something changed)
   messages: [],     // {level, text}
   errors: [],       // command errors
   connected: false,
@@ -224,10 +225,17 @@ function buildSensors(scene) {
   }
 }
 
+// a text or an input's value written only when it changes: every write makes the browser lay
+// out and paint the page again, and frames come up to 60 times a second (with 40 robots, the
+// sliders' 120 labels rewritten at every frame cost more than drawing the 3D view)
+function setText(el, text) {
+  if (el.textContent !== text) el.textContent = text;
+}
+
 function showFrame(f) {
-  $('time').textContent = f.time.toFixed(3);
+  setText($('time'), f.time.toFixed(3));
   const s = f.state || {};
-  $('play').textContent = s.playing ? 'Pause' : 'Play';
+  setText($('play'), s.playing ? 'Pause' : 'Play');
   let state = '';
   if (s.failure) state = s.failure;
   else if (s.console && s.finished) state = s.playing ? '(playing)' : '(paused: the console has it)';
@@ -235,22 +243,23 @@ function showFrame(f) {
   else if (s.finished) state = s.playing ? '(script finished, playing on)' : '(script finished)';
   else if (!s.running && !s.held) state = '(waiting for the script)';
   else if (s.held) state = '(paused)';
-  $('state').textContent = state;
+  setText($('state'), state);
   const speed = s.speed === 'max' ? 'as fast as possible' : `${s.speed}×`;
-  $('measured').textContent = `target ${speed}` +
-    (s.measured !== null && s.measured !== undefined ? `, measured ${s.measured.toFixed(2)}× real time` : '');
+  setText($('measured'), `target ${speed}` +
+    (s.measured !== null && s.measured !== undefined ? `, measured ${s.measured.toFixed(2)}× real time` : ''));
   if (s.delay !== undefined && document.activeElement !== $('delay')) {
-    $('delay').value = Math.round(s.delay * 1e6) / 1e3;
+    const delay = Math.round(s.delay * 1e6) / 1e3;
+    if (Number($('delay').value) !== delay || $('delay').value === '') $('delay').value = delay;
   }
   if (s.sensors && s.sensors.length === sensorBoxes.length) {
-    s.sensors.forEach((on, i) => { sensorBoxes[i].checked = on; });
+    s.sensors.forEach((on, i) => { if (sensorBoxes[i].checked !== on) sensorBoxes[i].checked = on; });
   }
   if (f.params.length === sliders.length) {
     f.params.forEach((v, i) => {
       const sl = sliders[i];
       if (sl === dragging || v === null) return;
       if (Number(sl.input.value) !== v) sl.input.value = v;
-      sl.output.textContent = `${format(v)} ${sl.param.unit}`;
+      setText(sl.output, `${format(v)} ${sl.param.unit}`);
     });
   }
 }

@@ -53,5 +53,6 @@ function update() {
   dots.count = n;
   dots.instanceMatrix.needsUpdate = true;
   gaitlab.contacts = n;
+  gaitlab.three.invalidate();   // the view draws only what changed (scene.js)
 }
 update();

@@ -101,8 +101,18 @@ function recordCanvas() {
       reject(new Error(e.error ? e.error.message : 'recording failed'));
     };
   });
-  // recorded at the full size (pinned until it stops)
+  // recorded at the full size (pinned until it stops), and drawn at every animation frame so
+  // the video has a steady frame rate even while nothing moves (scene.js draws only changes)
   const release = three().pin();
+  let recording = true;
+  const keepDrawing = () => {
+    if (!recording) return;
+    three().invalidate();
+    requestAnimationFrame(keepDrawing);
+  };
+  requestAnimationFrame(keepDrawing);
+  rec.addEventListener('stop', () => { recording = false; });
+  rec.addEventListener('error', () => { recording = false; });
   rec.start(1000);
   return { stop: () => { rec.stop(); return done; } };
 }

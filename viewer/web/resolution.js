@@ -9,7 +9,9 @@
 // shorter after it, pixels are not what is slow, and it goes back up and does not try lower
 // for a while. Below 60 % of the budget for two windows in a row: one step up, unless that
 // step went down again soon after the last time it was tried (then it waits twice as long
-// before trying again, up to a minute), so it does not oscillate.
+// before trying again, up to a minute), so it does not oscillate. Animation frames that draw
+// nothing (nothing changed: a paused simulation, a still camera) are told with idle(): the
+// time up to them is not drawing time, so it leaves the window, and a pause changes nothing.
 
 export const kScales = [1, 0.8, 0.64, 0.5, 0.4, 0.32, 0.25];
 
@@ -68,7 +70,15 @@ export class AdaptiveResolution {
     if (this.onchange) this.onchange(this.scale);
   }
 
-  // called at every animation frame with its timestamp (ms); true when the scale changed
+  // called at an animation frame that drew nothing, with its timestamp (ms)
+  idle(now) {
+    if (this.last !== null && now - this.last > 1000) this.restart();   // a hidden tab, a stall
+    else if (this.windowStart !== null && this.last !== null) this.windowStart += now - this.last;
+    this.last = now;
+  }
+
+  // called at every animation frame that draws, with its timestamp (ms); true when the scale
+  // changed
   frame(now) {
     if (this.last !== null && now - this.last > 1000) this.restart();   // a hidden tab, a stall
     this.last = now;

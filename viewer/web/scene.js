@@ -88,6 +88,10 @@ export function createView(gaitlab, canvas, { follow, status }) {
   const dynamicMaterial = new THREE.MeshLambertMaterial({ color: 0xb59b6a });
   let floorMaterial = null;
 
+  let dirty = true;                // something changed since the view was drawn last
+  const invalidate = () => { dirty = true; };
+  controls.addEventListener('change', invalidate);
+
   let group = new THREE.Group();   // what one scene message builds, but the robots' bodies
   world.add(group);
   const bodies = new Bodies(world, bodyMaterial);
@@ -96,6 +100,7 @@ export function createView(gaitlab, canvas, { follow, status }) {
   let robots = [];
 
   function build(scene) {
+    dirty = true;
     world.remove(group);
     group.traverse((o) => { if (o.geometry) o.geometry.dispose(); });
     group = new THREE.Group();
@@ -161,24 +166,39 @@ export function createView(gaitlab, canvas, { follow, status }) {
     controls.target.copy(c);
     camera.position.copy(c).add(new THREE.Vector3(-0.55, -1, 0.65).multiplyScalar(size));
     controls.update();
+    dirty = true;
   }
 
+  // the canvas's size on the page, kept by a ResizeObserver: reading clientWidth at every frame
+  // would make the browser lay out the page right then whenever anything on it changed
+  let cssWidth = canvas.clientWidth, cssHeight = canvas.clientHeight;
+  // (it is called after the page's layout, where reading them costs nothing)
+  new ResizeObserver(() => {
+    cssWidth = canvas.clientWidth;
+    cssHeight = canvas.clientHeight;
+  }).observe(canvas);
+
   function resize() {
-    const w = canvas.clientWidth, h = canvas.clientHeight;
+    const w = cssWidth, h = cssHeight;
     const ratio = adaptive.pixelRatio();
-    if (renderer.getPixelRatio() !== ratio) renderer.setPixelRatio(ratio);
+    if (renderer.getPixelRatio() !== ratio) {
+      renderer.setPixelRatio(ratio);
+      dirty = true;
+    }
     if (canvas.width !== Math.floor(w * ratio) || canvas.height !== Math.floor(h * ratio)) {
       renderer.setSize(w, h, false);
       camera.aspect = w / Math.max(h, 1);
       camera.updateProjectionMatrix();
+      dirty = true;
     }
   }
 
   let needsViewAll = false;
   let drawnFrame = null;
   let shown = '';
-  function render() {
-    resize();
+  // the latest frame's poses into the scene (and the camera after the robot); false when there
+  // is no new frame of this scene
+  function applyFrame() {
     const f = gaitlab.frame;
     if (f && f !== drawnFrame && gaitlab.scene && f.simulation === gaitlab.scene.simulation &&
         f.poses.length === (bodies.count + dynamic.length) * 7) {
@@ -199,17 +219,42 @@ export function createView(gaitlab, canvas, { follow, status }) {
       haveCentre = c !== null;
       if (c) lastCentre.copy(c);
       gaitlab.drawn++;
+      return true;
     }
-    controls.update();
-    renderer.render(world, camera);
+    return false;
   }
 
+  function drawNow() {
+    renderer.render(world, camera);
+    dirty = false;
+    gaitlab.drawings++;
+  }
+
+  // draws the view now, whatever changed
+  function render() {
+    resize();
+    applyFrame();
+    controls.update();
+    drawNow();
+  }
+
+  // At every animation frame the view is drawn only when something changed: a new frame, the
+  // camera (a drag, its damping, following the robot), the size or resolution, a new scene,
+  // or whatever calls invalidate() (the contact points). A paused simulation under a still
+  // camera costs nothing; the canvas keeps its last drawing (preserveDrawingBuffer), so
+  // screenshots and recordings read it as shown.
   let shownFps = null;
   let shownScale = null;
+  let drewLast = false;
   function draw(now) {
     requestAnimationFrame(draw);
-    adaptive.frame(now);
-    render();
+    // the time since the last animation frame was drawing time only if that frame drew
+    if (drewLast) adaptive.frame(now); else adaptive.idle(now);
+    resize();
+    const fresh = applyFrame();
+    controls.update();   // dispatches 'change' (invalidate) when the camera moved
+    drewLast = dirty || fresh;
+    if (drewLast) drawNow();
     // the line under "Full quality", rewritten only when what it says changes
     if (status && adaptive.fps !== null && (adaptive.fps !== shownFps || adaptive.scale !== shownScale)) {
       shownFps = adaptive.fps;
@@ -260,6 +305,8 @@ export function createView(gaitlab, canvas, { follow, status }) {
     },
     // draws now (at the resolution in force), e.g. right before reading the canvas
     render,
+    // draws again at the next animation frame (after a change to the scene made elsewhere)
+    invalidate,
     onpick: null,
   };
   requestAnimationFrame(draw);

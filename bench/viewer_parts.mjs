@@ -1,0 +1,148 @@
+// Where the drawing time of the viewer's page goes (docs/performance.md §9): one page of
+// `gaitlab run bench/lua/crowd.lua --view` (N snakes of 8 modules) in Debian's headless
+// chromium (software WebGL, SwiftShader), its resolution held fixed, and parts of it switched
+// off in turn, each for a few seconds, round after round (so every part sees the same machine
+// load). For each: drawings per second and the CPU time per drawing of chromium's GPU process
+// (WebGL in SwiftShader, compositing the page) and of its renderer (JavaScript, style, layout).
+// CPU time per drawing depends far less on what else the machine runs than frame rates do.
+//
+// Parts (PARTS=name:scale,...; scale: the resolution, one of the adaptive steps):
+//   full      everything, as the page draws it
+//   nofloor   without the floor
+//   nobodies  without the robots' bodies
+//   empty     nothing in the 3D scene (the background colour only)
+//   ...nodom  (suffix) the panel, the plots and the overlay hidden: the 3D view alone on the page
+//
+// Usage: [PARTS=...] [ROUNDS=2] [SECONDS=6] node bench/viewer_parts.mjs GAITLAB SOURCE_DIR [ROBOTS]
+import { spawn } from 'node:child_process';
+import { createRequire } from 'node:module';
+import fs from 'node:fs';
+import path from 'node:path';
+
+const [gaitlab, source, robots = '40'] = process.argv.slice(2);
+if (!gaitlab || !source || !/^[1-9]\d*$/.test(robots)) {
+  console.error('usage: node bench/viewer_parts.mjs GAITLAB SOURCE_DIR [ROBOTS]');
+  process.exit(2);
+}
+const chromium = process.env.CHROMIUM || '/usr/bin/chromium';
+if (!fs.existsSync(chromium)) {
+  console.error(`no chromium at ${chromium} (apt-get install chromium; tools/setup.sh does)`);
+  process.exit(1);
+}
+const scales = [1, 0.8, 0.64, 0.5, 0.4, 0.32, 0.25];
+const parts = (process.env.PARTS || 'full:1,full:0.5,full:0.25,nofloor:0.5,nobodies:0.5,empty:0.5,fullnodom:0.5,emptynodom:0.5')
+  .split(',').map((p) => {
+    const [what, scale] = p.split(':');
+    if (!/^(full|nofloor|nobodies|empty)(nodom)?$/.test(what) || !scales.includes(Number(scale))) {
+      console.error(`PARTS: ${p} is not PART:SCALE (PART full, nofloor, nobodies, empty, each with or ` +
+        `without the suffix nodom; SCALE one of ${scales.join(', ')})`);
+      process.exit(2);
+    }
+    return { name: p, what, scale: Number(scale) };
+  });
+const rounds = Number(process.env.ROUNDS || 2);
+const seconds = Number(process.env.SECONDS || 6);
+const require = createRequire(path.resolve(source, 'viewer/web/package.json'));
+const playwright = require('playwright-core');
+const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+
+// CPU ms of a process so far (USER_HZ 100), 0 when it is gone
+function cpu(pid) {
+  try {
+    const stat = fs.readFileSync(`/proc/${pid}/stat`, 'utf8');
+    const f = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
+    return (Number(f[11]) + Number(f[12])) * 10;
+  } catch (e) {
+    return 0;
+  }
+}
+// chromium's renderer and GPU processes under this one
+function chromiumProcesses() {
+  const parent = new Map();
+  for (const d of fs.readdirSync('/proc')) {
+    if (!/^\d+$/.test(d)) continue;
+    try {
+      const stat = fs.readFileSync(`/proc/${d}/stat`, 'utf8');
+      parent.set(Number(d), Number(stat.slice(stat.lastIndexOf(')') + 2).split(' ')[1]));
+    } catch (e) { /* gone */ }
+  }
+  const found = { renderer: [], gpu: [] };
+  for (const pid of parent.keys()) {
+    let p = pid;
+    while (p > 1 && p !== process.pid) p = parent.get(p);
+    if (p !== process.pid) continue;
+    let cmd = '';
+    try { cmd = fs.readFileSync(`/proc/${pid}/cmdline`, 'utf8'); } catch (e) { continue; }
+    if (cmd.includes('--type=renderer')) found.renderer.push(pid);
+    if (cmd.includes('--type=gpu-process')) found.gpu.push(pid);
+  }
+  return found;
+}
+
+const child = spawn(gaitlab, ['run', path.join(source, 'bench/lua/crowd.lua'), '--view',
+  '--no-record', '--no-progress', '--', robots, '8', '600'], { stdio: ['ignore', 'ignore', 'pipe'] });
+let stderr = '';
+child.stderr.on('data', (d) => { stderr += d; });
+const browser = await playwright.chromium.launch({ executablePath: chromium,
+  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'] });
+try {
+  let url = null;
+  for (let i = 0; i < 300 && !url; ++i) {
+    const m = stderr.match(/viewer: (http:\/\/\S+)/);
+    if (m) url = m[1]; else await sleep(100);
+  }
+  if (!url) throw new Error(`gaitlab printed no address:\n${stderr}`);
+  const page = await browser.newPage({ viewport: { width: 1200, height: 720 } });
+  await page.goto(url, { timeout: 120000 });
+  await page.waitForFunction(() => window.gaitlab.scene && window.gaitlab.drawn > 10, null, { timeout: 120000 });
+  await page.evaluate((steps) => {
+    const g = window.gaitlab;
+    const t = g.three;
+    // every animation frame draws (a page that draws only what changed: invalidated each time)
+    window.drawings = 0;
+    const count = () => {
+      window.drawings++;
+      if (t.invalidate) t.invalidate();
+      requestAnimationFrame(count);
+    };
+    requestAnimationFrame(count);
+    t.adaptive.frame = () => false;   // the resolution stays where it is put
+    if (t.adaptive.idle) t.adaptive.idle = () => {};
+    g.showPart = (what, scale) => {
+      t.adaptive.level = steps.indexOf(scale);
+      t.world.traverse((o) => { o.visible = true; });
+      if (what.startsWith('nofloor')) t.world.traverse((o) => { if (o.name === 'floor') o.visible = false; });
+      if (what.startsWith('nobodies')) for (const m of t.bodies.meshes) m.visible = false;
+      if (what.startsWith('empty')) t.world.traverse((o) => { if (o !== t.world) o.visible = false; });
+      for (const id of ['panel', 'plots-section', 'overlay']) {
+        document.getElementById(id).style.display = what.endsWith('nodom') ? 'none' : '';
+      }
+    };
+  }, scales);
+  const procs = chromiumProcesses();
+  const sum = (list) => list.reduce((s, p) => s + cpu(p), 0);
+  const results = new Map(parts.map((p) => [p.name, []]));
+  for (let r = 0; r < rounds; ++r) {
+    for (const part of parts) {
+      await page.evaluate(([w, s]) => window.gaitlab.showPart(w, s), [part.what, part.scale]);
+      await sleep(1500);
+      const a = { n: await page.evaluate(() => window.drawings), gpu: sum(procs.gpu), ren: sum(procs.renderer), t: Date.now() };
+      const load = fs.readFileSync('/proc/loadavg', 'utf8').split(' ')[0];
+      await sleep(seconds * 1000);
+      const b = { n: await page.evaluate(() => window.drawings), gpu: sum(procs.gpu), ren: sum(procs.renderer), t: Date.now() };
+      const n = Math.max(b.n - a.n, 1);
+      results.get(part.name).push({ fps: n / ((b.t - a.t) / 1000), gpu: (b.gpu - a.gpu) / n, ren: (b.ren - a.ren) / n, load });
+    }
+  }
+  console.log(`${robots} robots, page 1200x720, ${rounds} rounds of ${seconds} s per part`);
+  console.log('| part | resolution | drawings / s | GPU process CPU ms per drawing | renderer CPU ms per drawing | load |');
+  console.log('|---|---|---|---|---|---|');
+  for (const part of parts) {
+    const list = results.get(part.name);
+    const all = (k, d) => list.map((x) => x[k].toFixed(d)).join(', ');
+    console.log(`| ${part.what} | ${Math.round(part.scale * 100)} % | ${all('fps', 1)} | ${all('gpu', 1)} | ${all('ren', 1)} | ${list.map((x) => x.load).join(', ')} |`);
+  }
+} finally {
+  await browser.close();
+  child.kill('SIGINT');
+}
