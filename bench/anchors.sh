@@ -248,7 +248,7 @@ if [ "$only" != accuracy ] && [ "$only" != none ]; then
         fi
         for row in "${order[@]}"; do
             read -r e conn dtms it pms <<< "$row"
-            # shellcheck disable=SC2046
+            # shellcheck disable=SC2091  # runs the command it prints
             out=$($(command_for "$e" "$conn" "$dtms" "$it" "$pms" 10 0 0) 2>&1 | tail -1) || out="status=FAILED"
             echo "tags=$e:$conn:$dtms:$it:$pms round=$r $out" >> "$tim"
         done
