@@ -142,7 +142,8 @@ RawSnake::RawSnake(const Scenario& sc) : impl_(std::make_unique<Impl>()) {
         world.addConstraint(hinge.get(), true);
         s.hinges.push_back(std::move(hinge));
         s.amplitude.push_back(yaw ? sc.yaw_amplitude : sc.pitch_amplitude);
-        s.lag.push_back(static_cast<double>(yaw ? yaw_index++ : pitch_index++) * dphi);
+        s.lag.push_back(static_cast<double>(yaw ? yaw_index++ : pitch_index++) * dphi +
+                        sc.phase0 * (kPi / 180));
     }
     s.feedback.resize(s.hinges.size());
     for (size_t j = 0; j < s.hinges.size(); ++j) {
@@ -223,6 +224,10 @@ int RawSnake::contact_count() const {
         count += d.getManifoldByIndexInternal(i)->getNumContacts();
     }
     return count;
+}
+
+btContactSolverInfo& RawSnake::solver_info() {
+    return impl_->world.getSolverInfo();
 }
 
 }  // namespace gaitlab_bench

@@ -9,6 +9,8 @@
 
 #include "scenario.h"
 
+struct btContactSolverInfo;
+
 namespace gaitlab_bench {
 
 struct Vec {
@@ -32,6 +34,8 @@ class RawSnake {
     double max_separation() const;
     double max_axis_angle() const;
     int contact_count() const;
+    /// The Bullet world's solver settings, to try other ones than the engine's (solver_knobs).
+    btContactSolverInfo& solver_info();
 
   private:
     struct Impl;

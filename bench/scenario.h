@@ -17,6 +17,7 @@ struct Scenario {
     double yaw_amplitude = 20;    ///< deg
     double frequency = 0.5;       ///< Hz
     double phase = 120;           ///< deg, between neighbours of a group
+    double phase0 = 0;            ///< deg, added to every joint's sine (raw loop only)
     double floor_friction = 0.8;
     double dt = 0.001;       ///< s
     int control_every = 10;  ///< ticks between controller steps
