@@ -1,0 +1,23 @@
+-- Gait gallery (docs/gaits.md): the rolling gait of the 8-module pitch-yaw robot: every joint of
+-- a plane in phase, the yaw joints 90 degrees behind the pitch joints. The body bends into an arc
+-- whose plane turns about the body axis once a cycle, so the robot rolls about its axis and moves
+-- sideways. At 90 degrees the real robot folds into a square and stops; this prints what
+-- gaitlab's robot does at 40 and at 90 degrees.
+--
+--   gaitlab run examples/gaits/py8_rolling.lua
+package.path = (debug.getinfo(1, "S").source:match("^@(.*)/") or ".") .. "/?.lua;" .. package.path
+local gait = require "gait"
+
+local source = 'Gonzalez-Gomez, Zhang, Boemo, Zhang, "Locomotion capabilities of a modular robot with eight pitch-yaw-connecting modules", CLAWAR 2006'
+return {
+  gait.run{ name = "py8_rolling_40", modules = 8, connection = "pitch-yaw",
+            groups = { pitch = { amplitude = 40, frequency = 0.5, phase = 0 },
+                       yaw = { amplitude = 40, frequency = 0.5, phase = 0, phase0 = -90 } },
+            paper = { source = source,
+                      outcome = "all joints in phase, yaw 90 deg from pitch: it rolls about its body axis" } },
+  gait.run{ name = "py8_rolling_90", modules = 8, connection = "pitch-yaw",
+            groups = { pitch = { amplitude = 90, frequency = 0.5, phase = 0 },
+                       yaw = { amplitude = 90, frequency = 0.5, phase = 0, phase0 = -90 } },
+            paper = { source = source, along = "0 (stops)", across = "0 (stops)",
+                      outcome = "at 90 deg the robot folds into a square and stops (as issue 14 cites the paper)" } },
+}
