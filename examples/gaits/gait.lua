@@ -2,8 +2,7 @@
 -- with sine generators, lets the gait settle, then measures it cycle by cycle and prints what it
 -- measured beside what the paper reports. Every example of examples/gaits/ requires it:
 --
---   package.path = (debug.getinfo(1, "S").source:match("^@(.*)/") or ".") .. "/?.lua;" .. package.path
---   local gait = require "gait"
+--   local gait = require "gait"   (found beside the requiring script)
 --   return gait.run{ name = ..., modules = ..., connection = ..., groups = { ... }, paper = { ... } }
 --
 -- What it measures, per cycle of the sine (T = 1 / frequency), averaged over `cycles` cycles

@@ -4,7 +4,6 @@
 -- and the worm go the other way (docs/conventions.md, "Which way a robot moves").
 --
 --   gaitlab run examples/gaits/pitch_pitch.lua
-package.path = (debug.getinfo(1, "S").source:match("^@(.*)/") or ".") .. "/?.lua;" .. package.path
 local gait = require "gait"
 
 local source = "Gonzalez-Gomez et al., Cube Revolutions (CLAWAR 2004-2006): the 8-module pitch-pitch worm of Y1 modules"

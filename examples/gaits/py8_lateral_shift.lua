@@ -4,7 +4,6 @@
 -- rolling it.
 --
 --   gaitlab run examples/gaits/py8_lateral_shift.lua
-package.path = (debug.getinfo(1, "S").source:match("^@(.*)/") or ".") .. "/?.lua;" .. package.path
 local gait = require "gait"
 
 return {

@@ -5,7 +5,6 @@
 -- gaitlab's robot does at 40 and at 90 degrees.
 --
 --   gaitlab run examples/gaits/py8_rolling.lua
-package.path = (debug.getinfo(1, "S").source:match("^@(.*)/") or ".") .. "/?.lua;" .. package.path
 local gait = require "gait"
 
 local source = 'Gonzalez-Gomez, Zhang, Boemo, Zhang, "Locomotion capabilities of a modular robot with eight pitch-yaw-connecting modules", CLAWAR 2006'

@@ -4,7 +4,6 @@
 -- on the spot.
 --
 --   gaitlab run examples/gaits/py8_rotating.lua
-package.path = (debug.getinfo(1, "S").source:match("^@(.*)/") or ".") .. "/?.lua;" .. package.path
 local gait = require "gait"
 
 return {

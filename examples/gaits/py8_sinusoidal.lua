@@ -3,7 +3,6 @@
 -- along its body axis like a pitch-pitch worm.
 --
 --   gaitlab run examples/gaits/py8_sinusoidal.lua
-package.path = (debug.getinfo(1, "S").source:match("^@(.*)/") or ".") .. "/?.lua;" .. package.path
 local gait = require "gait"
 
 return {

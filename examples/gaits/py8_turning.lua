@@ -4,7 +4,6 @@
 -- it to the left (counter-clockwise), and it turns left.
 --
 --   gaitlab run examples/gaits/py8_turning.lua
-package.path = (debug.getinfo(1, "S").source:match("^@(.*)/") or ".") .. "/?.lua;" .. package.path
 local gait = require "gait"
 
 return {

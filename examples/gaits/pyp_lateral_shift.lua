@@ -3,7 +3,6 @@
 -- over but shuffles sideways.
 --
 --   gaitlab run examples/gaits/pyp_lateral_shift.lua
-package.path = (debug.getinfo(1, "S").source:match("^@(.*)/") or ".") .. "/?.lua;" .. package.path
 local gait = require "gait"
 
 return {

@@ -4,7 +4,6 @@
 -- the same pattern does not roll: it is the lateral shift, pyp_lateral_shift.lua.)
 --
 --   gaitlab run examples/gaits/pyp_rolling.lua
-package.path = (debug.getinfo(1, "S").source:match("^@(.*)/") or ".") .. "/?.lua;" .. package.path
 local gait = require "gait"
 
 return {

@@ -4,7 +4,6 @@
 -- spot.
 --
 --   gaitlab run examples/gaits/pyp_rotating.lua
-package.path = (debug.getinfo(1, "S").source:match("^@(.*)/") or ".") .. "/?.lua;" .. package.path
 local gait = require "gait"
 
 return {

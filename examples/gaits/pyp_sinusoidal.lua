@@ -3,7 +3,6 @@
 -- straight; it crawls along its body axis, head first.
 --
 --   gaitlab run examples/gaits/pyp_sinusoidal.lua
-package.path = (debug.getinfo(1, "S").source:match("^@(.*)/") or ".") .. "/?.lua;" .. package.path
 local gait = require "gait"
 
 return {

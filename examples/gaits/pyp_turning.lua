@@ -3,7 +3,6 @@
 -- left so that it crawls along an arc, turning left.
 --
 --   gaitlab run examples/gaits/pyp_turning.lua
-package.path = (debug.getinfo(1, "S").source:match("^@(.*)/") or ".") .. "/?.lua;" .. package.path
 local gait = require "gait"
 
 return {

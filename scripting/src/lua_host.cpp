@@ -2,6 +2,7 @@
 
 #include <lua.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -22,9 +23,45 @@ namespace gaitlab::scripting {
 
 namespace {
 
-// what a new host's state starts with: Lua's libraries, and gaitlab as the global `gaitlab`
+// package.searchers' second entry in a host: `require "name"` finds name.lua (a dotted name in
+// folders: "gait.util" is gait/util.lua) in the folder of the Lua file that requires it, before
+// package.path, so a script's own modules travel with it (`gaitlab run` from any folder finds
+// them). The file is read as the script's other inputs: a recorded run keeps a copy in its
+// config/, and its replay loads that copy. Lua's own searchers come after it.
+int script_folder_searcher(lua_State* L) {
+    return protect(L, [&] {
+        std::string relative = luaL_checkstring(L, 1);
+        std::replace(relative.begin(), relative.end(), '.', '/');
+        relative += ".lua";
+        const std::string path = script_path(L, relative);
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(path, ec)) {
+            lua_pushfstring(L, "no file '%s' (beside the requiring script)", path.c_str());
+            return 1;
+        }
+        const std::string read = input_path(L, relative);  // noted; a replay's copy
+        const std::string text = read_file(read);
+        const std::string chunk = "@" + read;
+        if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") != LUA_OK)
+            throw Error(lua_tostring(L, -1));  // a syntax error, at its file and line
+        lua_pushstring(L, read.c_str());
+        return 2;
+    });
+}
+
+// what a new host's state starts with: Lua's libraries, the searcher above, and gaitlab as the
+// global `gaitlab`
 int open_host_libraries(lua_State* L) {
     luaL_openlibs(L);
+    lua_getglobal(L, "package");
+    lua_getfield(L, -1, "searchers");
+    for (lua_Integer i = static_cast<lua_Integer>(luaL_len(L, -1)); i >= 2; --i) {
+        lua_rawgeti(L, -1, i);
+        lua_rawseti(L, -2, i + 1);
+    }
+    lua_pushcfunction(L, script_folder_searcher);
+    lua_rawseti(L, -2, 2);
+    lua_pop(L, 2);
     luaL_requiref(L, "gaitlab", luaopen_gaitlab, 1);
     return 0;
 }

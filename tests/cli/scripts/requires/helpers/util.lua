@@ -1,0 +1,2 @@
+-- required by ../main.lua
+return { answer = 42 }
