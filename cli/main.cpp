@@ -400,6 +400,8 @@ int run_script(const RunArgs& a, const std::string& command) {
         host.set_recording(rec);
         host.seed(seed);
         host.set_args(a.file, a.args);
+        // gaitlab.optimize{...}: stopped by the signal that interrupts the host
+        host.set_optimize_handler(gaitlab::cli::lua_optimize_handler());
         // from here a signal interrupts the host (one that came earlier does so now), until
         // the host goes
         struct Interruptible {
@@ -1026,7 +1028,10 @@ int main(int argc, char** argv) {
             script_tail.erase(script_tail.begin());
         }
         ca.args.insert(ca.args.end(), script_tail.begin(), script_tail.end());
-        return Stdout::finish(gaitlab::cli::run_console(ca, command));
+        return Stdout::finish(
+            gaitlab::cli::run_console(ca, command, [](gaitlab::scripting::LuaHost& host) {
+                host.set_optimize_handler(gaitlab::cli::lua_optimize_handler());
+            }));
     }
     da.has_from = from->count() > 0;
     da.has_to = to->count() > 0;

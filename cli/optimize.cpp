@@ -9,12 +9,15 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <functional>
 #include <string>
 
 #include <fmt/format.h>
 
 #include "gaitlab/error.h"
 #include "gaitlab/optimize/mpi.h"
+#include "gaitlab/optimize/options.h"
 #include "gaitlab/optimize/runner.h"
 #include "progress.h"
 
@@ -24,6 +27,45 @@ namespace {
 
 std::atomic<int> g_stop{0};
 static_assert(std::atomic<int>::is_always_lock_free);
+
+// the progress line after an evaluation: "generation 2/10: 5/8 evaluated, best 0.105722, mean
+// 0.0389433, 1.6 per s, about 45 s left"
+std::string tick_line(const optimize::Tick& t) {
+    const double rate = t.wall > 0 ? static_cast<double>(t.evaluations) / t.wall : 0;
+    const std::int64_t total = static_cast<std::int64_t>(t.generations) * t.individuals;
+    std::string line = fmt::format(
+        "generation {}/{}: {}/{} evaluated, best {}, mean {}, {:.2g} per s", t.generation + 1,
+        t.generations, t.done, t.individuals, fitness_text(t.best), fitness_text(t.mean), rate);
+    if (rate > 0 && total > t.evaluations) {
+        line += fmt::format(", about {} left",
+                            duration_text(static_cast<double>(total - t.evaluations) / rate));
+    }
+    return line;
+}
+
+std::string signal_name(int sig) {
+    switch (sig) {
+        case SIGINT:
+            return "SIGINT";
+        case SIGTERM:
+            return "SIGTERM";
+        case SIGHUP:
+            return "SIGHUP";
+        default:
+            return fmt::format("signal {}", sig);
+    }
+}
+
+// the default results folder of gaitlab.optimize{}: a script may run several optimizations
+// within a second, so a taken name gets -2, -3 ... as run folders do
+std::string new_results_folder(const std::string& spec) {
+    const std::string base = default_results_folder("optimize", spec);
+    std::string out = base;
+    std::error_code ec;
+    for (int n = 2; std::filesystem::exists(out, ec); ++n)
+        out = fmt::format("{}-{}", base, n);
+    return out;
+}
 
 }  // namespace
 
@@ -101,25 +143,15 @@ int OptimizeCommand::run(const std::string& command) {
     optimize::MpiOptions mpi_options;
     optimize::Spec spec;
     try {
-        if (!a.generations.empty())
-            o.generations =
-                static_cast<int>(whole_option("--generations", a.generations, 1, 1000000000));
-        if (!a.population.empty())
-            o.population =
-                static_cast<int>(whole_option("--population", a.population, 1, 1000000000));
-        o.workers = static_cast<int>(whole_option("--workers", a.workers, 1, 1024));
-        o.seed = whole_option("--seed", a.seed, 0, UINT64_MAX);
-        o.method = a.method;
-        o.resume = a.resume;
-        if (a.resume && a.out.empty()) {
-            throw SpecError(
-                "--resume: --out DIR expected (the results folder of the run to "
-                "resume)");
-        }
-        if (!o.method.empty() && o.method != "ga" && o.method != "cmaes" && o.method != "pgpe") {
-            throw SpecError(fmt::format(
-                "--method: unknown method '{}' (expected ga, cmaes or pgpe)", o.method));
-        }
+        optimize::GivenOptions given;
+        given.method = a.method;
+        given.generations = a.generations;
+        given.population = a.population;
+        given.workers = a.workers;
+        given.seed = a.seed;
+        given.out = a.out;
+        given.resume = a.resume;
+        o = optimize::check_options(given, optimize::OptionGiver::command_line);
         mpi_options.workers = o.workers;
         char* end = nullptr;
         mpi_options.rank_timeout = std::strtod(a.rank_timeout.c_str(), &end);
@@ -169,16 +201,7 @@ int OptimizeCommand::run(const std::string& command) {
     ProgressLine bar;
     const auto clear_bar = [&] { bar.clear(); };
     const auto show_bar = [&](const optimize::Tick& t) {
-        const double rate = t.wall > 0 ? static_cast<double>(t.evaluations) / t.wall : 0;
-        const std::int64_t total = static_cast<std::int64_t>(t.generations) * t.individuals;
-        std::string line = fmt::format(
-            "generation {}/{}: {}/{} evaluated, best {}, mean {}, {:.2g} per s", t.generation + 1,
-            t.generations, t.done, t.individuals, fitness_text(t.best), fitness_text(t.mean), rate);
-        if (rate > 0 && total > t.evaluations) {
-            line += fmt::format(", about {} left",
-                                duration_text(static_cast<double>(total - t.evaluations) / rate));
-        }
-        bar.show(std::move(line), t.done >= t.individuals);
+        bar.show(tick_line(t), t.done >= t.individuals);
     };
     optimize::RunResult r;
     try {
@@ -249,6 +272,80 @@ int OptimizeCommand::run(const std::string& command) {
         std::printf("the convergence plot could not be drawn: %s\n", r.plot_error.c_str());
     }
     return 0;
+}
+
+scripting::LuaHost::OptimizeHandler lua_optimize_handler() {
+    return [](const scripting::LuaHost::OptimizeRequest& request) {
+        optimize::GivenOptions given;
+        given.method = request.method;
+        given.generations = request.generations;
+        given.population = request.population;
+        given.workers = request.workers;
+        given.seed = request.seed;
+        given.out = request.out;
+        given.resume = request.resume;
+        optimize::RunOptions o;
+        try {
+            o = optimize::check_options(given, optimize::OptionGiver::lua);
+        } catch (const optimize::OptionError& e) {
+            throw scripting::FieldError(e.option(), e.problem());
+        }
+        if (o.out.empty()) o.out = new_results_folder(request.spec);
+        o.command = fmt::format("gaitlab.optimize{{ spec = \"{}\" }}", request.spec);
+        const optimize::Spec spec = optimize::load_spec(request.spec);
+        // on a terminal, one line on stderr rewritten after each evaluation, gone at the end
+        ProgressLine bar;
+        optimize::RunResult r;
+        try {
+            r = optimize::run_optimization(
+                spec, o, {}, request.stop,
+                bar.shown_on_a_terminal()
+                    ? std::function<void(const optimize::Tick&)>([&bar](const optimize::Tick& t) {
+                          bar.show(tick_line(t), t.done >= t.individuals);
+                      })
+                    : nullptr);
+        } catch (const Error& e) {
+            bar.clear();
+            if (const int sig = request.stop ? request.stop->load() : 0; sig != 0) {
+                // the host's interrupt stops the script with its own message ("interrupted
+                // (SIGINT)"): where the evaluations went is said here
+                std::fprintf(stderr,
+                             "gaitlab: optimization interrupted: the evaluations so far are in "
+                             "%s (go on with gaitlab.optimize{ ..., out = \"%s\", resume = true "
+                             "})\n",
+                             o.out.c_str(), o.out.c_str());
+                std::fflush(stderr);
+                throw Error(fmt::format("gaitlab.optimize: interrupted ({})", signal_name(sig)));
+            }
+            throw;
+        }
+        bar.clear();
+        if (r.best.empty()) {
+            throw Error(fmt::format(
+                "gaitlab.optimize: every evaluation failed (see {}/evaluations.jsonl)", o.out));
+        }
+        scripting::LuaHost::OptimizeResult result;
+        for (size_t i = 0; i < r.best.size(); ++i) {
+            result.parameters.push_back(
+                {spec.parameters[i].name, r.best[i], spec.parameters[i].integer});
+        }
+        result.fitness = r.best_fitness;
+        result.evaluations = r.evaluations;
+        result.method = r.method;
+        result.generations = r.generations;
+        result.population = r.population;
+        // absolute: the script's own functions take relative paths from its folder, not the
+        // current one (gaitlab.simulation.load(r.simulation) must find the file)
+        const auto absolute = [](const std::string& path) {
+            return path.empty() ? path
+                                : std::filesystem::absolute(path).lexically_normal().string();
+        };
+        result.folder = absolute(o.out);
+        result.simulation = absolute(r.simulation);
+        result.run = absolute(r.run);
+        result.plot = absolute(r.plot);
+        return result;
+    };
 }
 
 }  // namespace gaitlab::cli

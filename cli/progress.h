@@ -1,5 +1,5 @@
-// What `gaitlab optimize` and `gaitlab sweep` share on the command line: reading whole-number
-// options, the default results folder, numbers and durations as the progress lines show them,
+// What `gaitlab optimize` and `gaitlab sweep` share on the command line: the default results
+// folder, numbers and durations as the progress lines show them,
 // and the progress line itself (on a terminal only).
 #pragma once
 
@@ -8,11 +8,6 @@
 #include <string>
 
 namespace gaitlab::cli {
-
-/// A whole number in [min, max]; SpecError "OPTION: a whole number from MIN to MAX expected
-/// (got 'TEXT')" otherwise.
-std::uint64_t whole_option(const char* option, const std::string& text, std::uint64_t min,
-                           std::uint64_t max);
 
 /// runs/KIND-SPEC-YYYYmmdd-HHMMSS (SPEC: the spec file's name without folder and extension).
 std::string default_results_folder(const std::string& kind, const std::string& spec);

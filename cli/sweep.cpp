@@ -10,6 +10,7 @@
 
 #include "gaitlab/error.h"
 #include "gaitlab/optimize/mpi.h"
+#include "gaitlab/optimize/options.h"
 #include "gaitlab/optimize/sweep.h"
 #include "progress.h"
 
@@ -81,8 +82,8 @@ int SweepCommand::run(const std::string& command) {
     const Args& a = *a_;
     optimize::SweepOptions o;
     try {
-        o.workers = static_cast<int>(whole_option("--workers", a.workers, 1, 1024));
-        o.seed = whole_option("--seed", a.seed, 0, UINT64_MAX);
+        o.workers = static_cast<int>(optimize::whole_number("workers", a.workers, 1, 1024));
+        o.seed = optimize::whole_number("seed", a.seed, 0, UINT64_MAX);
     } catch (const Error& e) {
         std::fprintf(stderr, "gaitlab: %s (see 'gaitlab sweep --help')\n", e.what());
         return 2;
