@@ -46,6 +46,7 @@
 #include "gaitlab/xml.h"
 #include "make.h"
 #include "optimize.h"
+#include "progress.h"
 #include "sweep.h"
 #include "wizard.h"
 
@@ -159,8 +160,7 @@ extern "C" void on_signal(int sig) {
     }
     g_signal = sig;
     if (gaitlab::scripting::LuaHost* host = g_host.load()) host->interrupt(sig);
-    gaitlab::cli::optimize_signal(sig);
-    gaitlab::cli::sweep_signal(sig);
+    gaitlab::cli::stop_evaluations(sig);
 }
 
 const char* strsignal_name(int sig) {

@@ -25,9 +25,6 @@ namespace gaitlab::cli {
 
 namespace {
 
-std::atomic<int> g_stop{0};
-static_assert(std::atomic<int>::is_always_lock_free);
-
 // the progress line after an evaluation: "generation 2/10: 5/8 evaluated, best 0.105722, mean
 // 0.0389433, 1.6 per s, about 45 s left"
 std::string tick_line(const optimize::Tick& t) {
@@ -41,19 +38,6 @@ std::string tick_line(const optimize::Tick& t) {
                             duration_text(static_cast<double>(total - t.evaluations) / rate));
     }
     return line;
-}
-
-std::string signal_name(int sig) {
-    switch (sig) {
-        case SIGINT:
-            return "SIGINT";
-        case SIGTERM:
-            return "SIGTERM";
-        case SIGHUP:
-            return "SIGHUP";
-        default:
-            return fmt::format("signal {}", sig);
-    }
 }
 
 // the default results folder of gaitlab.optimize{}: a script may run several optimizations
@@ -71,20 +55,15 @@ std::string new_results_folder(const std::string& spec) {
 
 struct OptimizeCommand::Args {
     std::string spec;
-    std::string method;
-    std::string generations;
-    std::string population;
-    std::string workers = "1";
-    std::string seed = "0";
-    std::string out;
+    // checked by optimize::check_options, as gaitlab.optimize{}'s are
+    optimize::GivenOptions given = [] {
+        optimize::GivenOptions g;
+        g.workers = "1";  // the defaults, for --help
+        g.seed = "0";
+        return g;
+    }();
     std::string rank_timeout = "30";
-    bool resume = false;
 };
-
-void optimize_signal(int signal) {
-    int expected = 0;
-    g_stop.compare_exchange_strong(expected, signal);
-}
 
 OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     sub_ = app.add_subcommand("optimize",
@@ -94,20 +73,21 @@ OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     sub_->add_option("spec", a_->spec, "The optimization spec (SPEC.lua)")
         ->required()
         ->type_name("SPEC.lua");
-    sub_->add_option("--method", a_->method, "ga, cmaes or pgpe (default: the spec's, or cmaes)")
+    sub_->add_option("--method", a_->given.method,
+                     "ga, cmaes or pgpe (default: the spec's, or cmaes)")
         ->type_name("M");
-    sub_->add_option("--generations", a_->generations,
+    sub_->add_option("--generations", a_->given.generations,
                      "Generations to run (default: the spec's, or 20)")
         ->type_name("N");
-    sub_->add_option("--population", a_->population,
+    sub_->add_option("--population", a_->given.population,
                      "Individuals per generation (default: the spec's, or the method's)")
         ->type_name("N");
-    sub_->add_option("--workers", a_->workers,
+    sub_->add_option("--workers", a_->given.workers,
                      "Threads evaluating in parallel, each with its own Lua state (the result "
                      "is the same for any number)")
         ->type_name("N")
         ->capture_default_str();
-    sub_->add_option("--seed", a_->seed, "Seed of the method's random stream: 0 to 2^64 - 1")
+    sub_->add_option("--seed", a_->given.seed, "Seed of the method's random stream: 0 to 2^64 - 1")
         ->type_name("N")
         ->capture_default_str();
     sub_->add_option("--rank-timeout", a_->rank_timeout,
@@ -115,10 +95,10 @@ OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
                      "go to the others")
         ->type_name("S")
         ->capture_default_str();
-    sub_->add_option("--out", a_->out,
+    sub_->add_option("--out", a_->given.out,
                      "Results folder, new or empty (default: runs/optimize-SPEC-DATE-TIME)")
         ->type_name("DIR");
-    sub_->add_flag("--resume", a_->resume,
+    sub_->add_flag("--resume", a_->given.resume,
                    "Continue the interrupted run in --out DIR (the same spec and options; "
                    "--workers may differ)");
     sub_->footer(
@@ -143,15 +123,7 @@ int OptimizeCommand::run(const std::string& command) {
     optimize::MpiOptions mpi_options;
     optimize::Spec spec;
     try {
-        optimize::GivenOptions given;
-        given.method = a.method;
-        given.generations = a.generations;
-        given.population = a.population;
-        given.workers = a.workers;
-        given.seed = a.seed;
-        given.out = a.out;
-        given.resume = a.resume;
-        o = optimize::check_options(given, optimize::OptionGiver::command_line);
+        o = optimize::check_options(a.given, optimize::OptionGiver::command_line);
         mpi_options.workers = o.workers;
         char* end = nullptr;
         mpi_options.rank_timeout = std::strtod(a.rank_timeout.c_str(), &end);
@@ -164,7 +136,7 @@ int OptimizeCommand::run(const std::string& command) {
         std::fprintf(stderr, "gaitlab: %s (see 'gaitlab optimize --help')\n", e.what());
         return 2;
     }
-    o.out = a.out.empty() ? default_results_folder("optimize", a.spec) : a.out;
+    o.out = o.out.empty() ? default_results_folder("optimize", a.spec) : o.out;
     o.command = command;
     // under mpirun: rank 0 runs the method, the other ranks evaluate (docs/optimization.md)
     std::unique_ptr<optimize::MpiSession> mpi;
@@ -172,7 +144,8 @@ int OptimizeCommand::run(const std::string& command) {
     try {
         if (optimize::mpi_launched()) {
             mpi = std::make_unique<optimize::MpiSession>();
-            if (mpi->rank() > 0) return optimize::mpi_serve(*mpi, a.spec, mpi_options, &g_stop);
+            if (mpi->rank() > 0)
+                return optimize::mpi_serve(*mpi, a.spec, mpi_options, &evaluations_stop());
             if (mpi->size() > 1) {
                 mpi_options.warn = [](const std::string& m) {
                     std::fprintf(stderr, "gaitlab: %s\n", m.c_str());
@@ -224,13 +197,13 @@ int OptimizeCommand::run(const std::string& command) {
                 std::printf("%s\n", line.c_str());
                 std::fflush(stdout);
             },
-            &g_stop,
+            &evaluations_stop(),
             bar.shown_on_a_terminal() ? std::function<void(const optimize::Tick&)>(show_bar)
                                       : nullptr);
         clear_bar();
     } catch (const Error& e) {
         clear_bar();
-        if (const int sig = g_stop.load(); sig != 0) {
+        if (const int sig = evaluations_stop().load(); sig != 0) {
             std::fprintf(stderr,
                          "gaitlab: interrupted; the evaluations so far are in %s (go on with "
                          "--resume --out %s)\n",
@@ -306,7 +279,7 @@ scripting::LuaHost::OptimizeHandler lua_optimize_handler() {
                     : nullptr);
         } catch (const Error& e) {
             bar.clear();
-            if (const int sig = request.stop ? request.stop->load() : 0; sig != 0) {
+            if (request.stop && request.stop->load() != 0) {
                 // the host's interrupt stops the script with its own message ("interrupted
                 // (SIGINT)"): where the evaluations went is said here
                 std::fprintf(stderr,
@@ -315,7 +288,7 @@ scripting::LuaHost::OptimizeHandler lua_optimize_handler() {
                              "})\n",
                              o.out.c_str(), o.out.c_str());
                 std::fflush(stderr);
-                throw Error(fmt::format("gaitlab.optimize: interrupted ({})", signal_name(sig)));
+                throw Error("gaitlab.optimize: interrupted");
             }
             throw;
         }

@@ -34,8 +34,4 @@ class OptimizeCommand {
 /// process, stopped by the host's interrupt; a progress line on stderr when it is a terminal.
 scripting::LuaHost::OptimizeHandler lua_optimize_handler();
 
-/// Stops a running `gaitlab optimize` as `signal` would (its evaluations are interrupted, the
-/// results written so far stay). Async-signal-safe: the command line's signal handler calls it.
-void optimize_signal(int signal);
-
 }  // namespace gaitlab::cli

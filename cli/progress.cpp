@@ -13,6 +13,22 @@
 
 namespace gaitlab::cli {
 
+namespace {
+
+std::atomic<int> g_stop{0};
+static_assert(std::atomic<int>::is_always_lock_free);
+
+}  // namespace
+
+const std::atomic<int>& evaluations_stop() {
+    return g_stop;
+}
+
+void stop_evaluations(int signal) {
+    int expected = 0;
+    g_stop.compare_exchange_strong(expected, signal);
+}
+
 std::string default_results_folder(const std::string& kind, const std::string& spec) {
     const std::time_t now = std::time(nullptr);
     std::tm tm{};

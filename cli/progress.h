@@ -1,13 +1,22 @@
-// What `gaitlab optimize` and `gaitlab sweep` share on the command line: the default results
-// folder, numbers and durations as the progress lines show them,
+// What `gaitlab optimize` and `gaitlab sweep` share on the command line: the signal that stops
+// them, the default results folder, numbers and durations as the progress lines show them,
 // and the progress line itself (on a terminal only).
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <string>
 
 namespace gaitlab::cli {
+
+/// The signal that stops a running `gaitlab optimize` or `gaitlab sweep` (0: none yet): their
+/// evaluations are interrupted, what was written so far stays.
+const std::atomic<int>& evaluations_stop();
+
+/// Sets it to `signal` (the first one stays). Async-signal-safe: the command line's signal
+/// handler calls it.
+void stop_evaluations(int signal);
 
 /// runs/KIND-SPEC-YYYYmmdd-HHMMSS (SPEC: the spec file's name without folder and extension).
 std::string default_results_folder(const std::string& kind, const std::string& spec);

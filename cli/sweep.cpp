@@ -16,13 +16,6 @@
 
 namespace gaitlab::cli {
 
-namespace {
-
-std::atomic<int> g_stop{0};
-static_assert(std::atomic<int>::is_always_lock_free);
-
-}  // namespace
-
 struct SweepCommand::Args {
     std::string spec;
     std::vector<std::string> grid;
@@ -30,11 +23,6 @@ struct SweepCommand::Args {
     std::string seed = "0";
     std::string out;
 };
-
-void sweep_signal(int signal) {
-    int expected = 0;
-    g_stop.compare_exchange_strong(expected, signal);
-}
 
 SweepCommand::SweepCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     sub_ = app.add_subcommand("sweep",
@@ -146,14 +134,14 @@ int SweepCommand::run(const std::string& command) {
     };
     optimize::SweepResult r;
     try {
-        r = optimize::run_sweep(spec, grid, o, &g_stop,
+        r = optimize::run_sweep(spec, grid, o, &evaluations_stop(),
                                 bar.shown_on_a_terminal()
                                     ? std::function<void(const optimize::SweepTick&)>(show)
                                     : nullptr);
         bar.clear();
     } catch (const Error& e) {
         bar.clear();
-        if (const int sig = g_stop.load(); sig != 0) {
+        if (const int sig = evaluations_stop().load(); sig != 0) {
             std::fprintf(stderr, "gaitlab: interrupted; the evaluations so far are in %s\n",
                          o.out.c_str());
             return 128 + sig;
