@@ -10,22 +10,10 @@ tmp=$(mktemp -d)
 cd "$tmp"
 . "$here/tmux_lib.sh"
 
-# a 3-module snake: short evaluations for the run to its end, long ones (many generations) for
-# the one Ctrl-C stops
-cat > small.lua <<'LUA'
-return {
-  parameters = { amplitude = {10, 60, initial = 40}, phase = {30, 180, initial = 120} },
-  build = function(p)
-    local robot = gaitlab.robot.chain{ name = "snake", modules = 3, connection = "pitch-pitch" }
-    local world = gaitlab.world{}
-    world:add(robot)
-    robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = p.amplitude,
-                                                         phase = p.phase, frequency = 1 })
-    return gaitlab.simulation{ world = world }
-  end,
-  fitness = "distance", duration = 0.5, method = "ga", population = 5, generations = 3,
-}
-LUA
+# tests/cli's small spec (a 3-module snake, GA, 5 + 3 + 3 evaluations of half a second) for the
+# run to its end, and the same with long evaluations and many generations for the one Ctrl-C
+# stops
+cp "$here/../cli/scripts/optimize_small.lua" small.lua
 sed -e 's/duration = 0.5/duration = 5/' -e 's/generations = 3/generations = 200/' small.lua > long.lua
 
 start console --no-record
