@@ -99,7 +99,8 @@ CLI::App* add_console_command(CLI::App& app, ConsoleArgs& a) {
     return c;
 }
 
-int run_console(const ConsoleArgs& a, const std::string& command) {
+int run_console(const ConsoleArgs& a, const std::string& command,
+                const std::function<void(scripting::LuaHost&)>& prepare) {
     std::uint64_t seed = 0;
     {
         const char* end = a.seed.data() + a.seed.size();
@@ -131,6 +132,7 @@ int run_console(const ConsoleArgs& a, const std::string& command) {
         host.set_recording(rec);
         host.seed(seed);
         host.set_args(a.file, a.args);
+        if (prepare) prepare(host);
         // the browser viewer, made by the first sim:view() (it goes before the host)
         std::unique_ptr<viewer::View> view;
         std::string served_host;  // where it listens

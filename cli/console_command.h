@@ -2,11 +2,16 @@
 // interactive console (docs/console.md).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace CLI {
 class App;
+}
+
+namespace gaitlab::scripting {
+class LuaHost;
 }
 
 namespace gaitlab::cli {
@@ -24,7 +29,9 @@ CLI::App* add_console_command(CLI::App& app, ConsoleArgs& args);
 
 /// Runs the console until Ctrl-D (0), SIGTERM or SIGHUP (128 + the signal); `command` is the
 /// command line, kept by the recordings. Installs its own handlers for SIGINT, SIGTERM and
-/// SIGHUP.
-int run_console(const ConsoleArgs& args, const std::string& command);
+/// SIGHUP. `prepare` (if set) is called with the console's host before anything runs in it
+/// (the command line installs gaitlab.optimize's handler there).
+int run_console(const ConsoleArgs& args, const std::string& command,
+                const std::function<void(scripting::LuaHost&)>& prepare = {});
 
 }  // namespace gaitlab::cli

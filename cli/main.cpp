@@ -46,6 +46,7 @@
 #include "gaitlab/xml.h"
 #include "make.h"
 #include "optimize.h"
+#include "progress.h"
 #include "sweep.h"
 #include "wizard.h"
 
@@ -159,8 +160,7 @@ extern "C" void on_signal(int sig) {
     }
     g_signal = sig;
     if (gaitlab::scripting::LuaHost* host = g_host.load()) host->interrupt(sig);
-    gaitlab::cli::optimize_signal(sig);
-    gaitlab::cli::sweep_signal(sig);
+    gaitlab::cli::stop_evaluations(sig);
 }
 
 const char* strsignal_name(int sig) {
@@ -400,6 +400,8 @@ int run_script(const RunArgs& a, const std::string& command) {
         host.set_recording(rec);
         host.seed(seed);
         host.set_args(a.file, a.args);
+        // gaitlab.optimize{...}: stopped by the signal that interrupts the host
+        host.set_optimize_handler(gaitlab::cli::lua_optimize_handler());
         // from here a signal interrupts the host (one that came earlier does so now), until
         // the host goes
         struct Interruptible {
@@ -1026,7 +1028,10 @@ int main(int argc, char** argv) {
             script_tail.erase(script_tail.begin());
         }
         ca.args.insert(ca.args.end(), script_tail.begin(), script_tail.end());
-        return Stdout::finish(gaitlab::cli::run_console(ca, command));
+        return Stdout::finish(
+            gaitlab::cli::run_console(ca, command, [](gaitlab::scripting::LuaHost& host) {
+                host.set_optimize_handler(gaitlab::cli::lua_optimize_handler());
+            }));
     }
     da.has_from = from->count() > 0;
     da.has_to = to->count() > 0;

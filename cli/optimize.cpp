@@ -9,12 +9,15 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <functional>
 #include <string>
 
 #include <fmt/format.h>
 
 #include "gaitlab/error.h"
 #include "gaitlab/optimize/mpi.h"
+#include "gaitlab/optimize/options.h"
 #include "gaitlab/optimize/runner.h"
 #include "progress.h"
 #include "ranks.h"
@@ -23,27 +26,45 @@ namespace gaitlab::cli {
 
 namespace {
 
-std::atomic<int> g_stop{0};
-static_assert(std::atomic<int>::is_always_lock_free);
+// the progress line after an evaluation: "generation 2/10: 5/8 evaluated, best 0.105722, mean
+// 0.0389433, 1.6 per s, about 45 s left"
+std::string tick_line(const optimize::Tick& t) {
+    const double rate = t.wall > 0 ? static_cast<double>(t.evaluations) / t.wall : 0;
+    const std::int64_t total = static_cast<std::int64_t>(t.generations) * t.individuals;
+    std::string line = fmt::format(
+        "generation {}/{}: {}/{} evaluated, best {}, mean {}, {:.2g} per s", t.generation + 1,
+        t.generations, t.done, t.individuals, fitness_text(t.best), fitness_text(t.mean), rate);
+    if (rate > 0 && total > t.evaluations) {
+        line += fmt::format(", about {} left",
+                            duration_text(static_cast<double>(total - t.evaluations) / rate));
+    }
+    return line;
+}
+
+// the default results folder of gaitlab.optimize{}: a script may run several optimizations
+// within a second, so a taken name gets -2, -3 ... as run folders do
+std::string new_results_folder(const std::string& spec) {
+    const std::string base = default_results_folder("optimize", spec);
+    std::string out = base;
+    std::error_code ec;
+    for (int n = 2; std::filesystem::exists(out, ec); ++n)
+        out = fmt::format("{}-{}", base, n);
+    return out;
+}
 
 }  // namespace
 
 struct OptimizeCommand::Args {
     std::string spec;
-    std::string method;
-    std::string generations;
-    std::string population;
-    std::string workers = "1";
-    std::string seed = "0";
-    std::string out;
+    // checked by optimize::check_options, as gaitlab.optimize{}'s are
+    optimize::GivenOptions given = [] {
+        optimize::GivenOptions g;
+        g.workers = "1";  // the defaults, for --help
+        g.seed = "0";
+        return g;
+    }();
     std::string rank_timeout = "30";
-    bool resume = false;
 };
-
-void optimize_signal(int signal) {
-    int expected = 0;
-    g_stop.compare_exchange_strong(expected, signal);
-}
 
 OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     sub_ = app.add_subcommand("optimize",
@@ -53,20 +74,21 @@ OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     sub_->add_option("spec", a_->spec, "The optimization spec (SPEC.lua)")
         ->required()
         ->type_name("SPEC.lua");
-    sub_->add_option("--method", a_->method, "ga, cmaes or pgpe (default: the spec's, or cmaes)")
+    sub_->add_option("--method", a_->given.method,
+                     "ga, cmaes or pgpe (default: the spec's, or cmaes)")
         ->type_name("M");
-    sub_->add_option("--generations", a_->generations,
+    sub_->add_option("--generations", a_->given.generations,
                      "Generations to run (default: the spec's, or 20)")
         ->type_name("N");
-    sub_->add_option("--population", a_->population,
+    sub_->add_option("--population", a_->given.population,
                      "Individuals per generation (default: the spec's, or the method's)")
         ->type_name("N");
-    sub_->add_option("--workers", a_->workers,
+    sub_->add_option("--workers", a_->given.workers,
                      "Threads evaluating in parallel, each with its own Lua state (the result "
                      "is the same for any number)")
         ->type_name("N")
         ->capture_default_str();
-    sub_->add_option("--seed", a_->seed, "Seed of the method's random stream: 0 to 2^64 - 1")
+    sub_->add_option("--seed", a_->given.seed, "Seed of the method's random stream: 0 to 2^64 - 1")
         ->type_name("N")
         ->capture_default_str();
     sub_->add_option("--rank-timeout", a_->rank_timeout,
@@ -74,10 +96,10 @@ OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
                      "go to the others")
         ->type_name("S")
         ->capture_default_str();
-    sub_->add_option("--out", a_->out,
+    sub_->add_option("--out", a_->given.out,
                      "Results folder, new or empty (default: runs/optimize-SPEC-DATE-TIME)")
         ->type_name("DIR");
-    sub_->add_flag("--resume", a_->resume,
+    sub_->add_flag("--resume", a_->given.resume,
                    "Continue the interrupted run in --out DIR (the same spec and options; "
                    "--workers may differ)");
     sub_->footer(
@@ -102,37 +124,19 @@ int OptimizeCommand::run(const std::string& command) {
     optimize::MpiOptions mpi_options;
     optimize::Spec spec;
     try {
-        if (!a.generations.empty())
-            o.generations =
-                static_cast<int>(whole_option("--generations", a.generations, 1, 1000000000));
-        if (!a.population.empty())
-            o.population =
-                static_cast<int>(whole_option("--population", a.population, 1, 1000000000));
-        o.workers = static_cast<int>(whole_option("--workers", a.workers, 1, 1024));
-        o.seed = whole_option("--seed", a.seed, 0, UINT64_MAX);
-        o.method = a.method;
-        o.resume = a.resume;
-        if (a.resume && a.out.empty()) {
-            throw SpecError(
-                "--resume: --out DIR expected (the results folder of the run to "
-                "resume)");
-        }
-        if (!o.method.empty() && o.method != "ga" && o.method != "cmaes" && o.method != "pgpe") {
-            throw SpecError(fmt::format(
-                "--method: unknown method '{}' (expected ga, cmaes or pgpe)", o.method));
-        }
+        o = optimize::check_options(a.given, optimize::OptionGiver::command_line);
         mpi_options.workers = o.workers;
         mpi_options.rank_timeout = rank_timeout_option(a.rank_timeout);
     } catch (const Error& e) {
         std::fprintf(stderr, "gaitlab: %s (see 'gaitlab optimize --help')\n", e.what());
         return 2;
     }
-    o.out = a.out.empty() ? default_results_folder("optimize", a.spec) : a.out;
+    o.out = o.out.empty() ? default_results_folder("optimize", a.spec) : o.out;
     o.command = command;
     // under mpirun: rank 0 runs the method, the other ranks evaluate (docs/optimization.md)
     Ranks mpi;
     try {
-        mpi = start_ranks(a.spec, mpi_options, &g_stop);
+        mpi = start_ranks(a.spec, mpi_options, &evaluations_stop());
         if (mpi.served >= 0) return mpi.served;
         o.backend = mpi.backend.get();
         spec = optimize::load_spec(a.spec);
@@ -155,16 +159,7 @@ int OptimizeCommand::run(const std::string& command) {
     ProgressLine bar;
     const auto clear_bar = [&] { bar.clear(); };
     const auto show_bar = [&](const optimize::Tick& t) {
-        const double rate = t.wall > 0 ? static_cast<double>(t.evaluations) / t.wall : 0;
-        const std::int64_t total = static_cast<std::int64_t>(t.generations) * t.individuals;
-        std::string line = fmt::format(
-            "generation {}/{}: {}/{} evaluated, best {}, mean {}, {:.2g} per s", t.generation + 1,
-            t.generations, t.done, t.individuals, fitness_text(t.best), fitness_text(t.mean), rate);
-        if (rate > 0 && total > t.evaluations) {
-            line += fmt::format(", about {} left",
-                                duration_text(static_cast<double>(total - t.evaluations) / rate));
-        }
-        bar.show(std::move(line), t.done >= t.individuals);
+        bar.show(tick_line(t), t.done >= t.individuals);
     };
     optimize::RunResult r;
     try {
@@ -187,13 +182,13 @@ int OptimizeCommand::run(const std::string& command) {
                 std::printf("%s\n", line.c_str());
                 std::fflush(stdout);
             },
-            &g_stop,
+            &evaluations_stop(),
             bar.shown_on_a_terminal() ? std::function<void(const optimize::Tick&)>(show_bar)
                                       : nullptr);
         clear_bar();
     } catch (const Error& e) {
         clear_bar();
-        if (const int sig = g_stop.load(); sig != 0) {
+        if (const int sig = evaluations_stop().load(); sig != 0) {
             std::fprintf(stderr,
                          "gaitlab: interrupted; the evaluations so far are in %s (go on with "
                          "--resume --out %s)\n",
@@ -235,6 +230,80 @@ int OptimizeCommand::run(const std::string& command) {
         std::printf("the convergence plot could not be drawn: %s\n", r.plot_error.c_str());
     }
     return 0;
+}
+
+scripting::LuaHost::OptimizeHandler lua_optimize_handler() {
+    return [](const scripting::LuaHost::OptimizeRequest& request) {
+        optimize::GivenOptions given;
+        given.method = request.method;
+        given.generations = request.generations;
+        given.population = request.population;
+        given.workers = request.workers;
+        given.seed = request.seed;
+        given.out = request.out;
+        given.resume = request.resume;
+        optimize::RunOptions o;
+        try {
+            o = optimize::check_options(given, optimize::OptionGiver::lua);
+        } catch (const optimize::OptionError& e) {
+            throw scripting::FieldError(e.option(), e.problem());
+        }
+        if (o.out.empty()) o.out = new_results_folder(request.spec);
+        o.command = fmt::format("gaitlab.optimize{{ spec = \"{}\" }}", request.spec);
+        const optimize::Spec spec = optimize::load_spec(request.spec);
+        // on a terminal, one line on stderr rewritten after each evaluation, gone at the end
+        ProgressLine bar;
+        optimize::RunResult r;
+        try {
+            r = optimize::run_optimization(
+                spec, o, {}, request.stop,
+                bar.shown_on_a_terminal()
+                    ? std::function<void(const optimize::Tick&)>([&bar](const optimize::Tick& t) {
+                          bar.show(tick_line(t), t.done >= t.individuals);
+                      })
+                    : nullptr);
+        } catch (const Error& e) {
+            bar.clear();
+            if (request.stop && request.stop->load() != 0) {
+                // the host's interrupt stops the script with its own message ("interrupted
+                // (SIGINT)"): where the evaluations went is said here
+                std::fprintf(stderr,
+                             "gaitlab: optimization interrupted: the evaluations so far are in "
+                             "%s (go on with gaitlab.optimize{ ..., out = \"%s\", resume = true "
+                             "})\n",
+                             o.out.c_str(), o.out.c_str());
+                std::fflush(stderr);
+                throw Error("gaitlab.optimize: interrupted");
+            }
+            throw;
+        }
+        bar.clear();
+        if (r.best.empty()) {
+            throw Error(fmt::format(
+                "gaitlab.optimize: every evaluation failed (see {}/evaluations.jsonl)", o.out));
+        }
+        scripting::LuaHost::OptimizeResult result;
+        for (size_t i = 0; i < r.best.size(); ++i) {
+            result.parameters.push_back(
+                {spec.parameters[i].name, r.best[i], spec.parameters[i].integer});
+        }
+        result.fitness = r.best_fitness;
+        result.evaluations = r.evaluations;
+        result.method = r.method;
+        result.generations = r.generations;
+        result.population = r.population;
+        // absolute: the script's own functions take relative paths from its folder, not the
+        // current one (gaitlab.simulation.load(r.simulation) must find the file)
+        const auto absolute = [](const std::string& path) {
+            return path.empty() ? path
+                                : std::filesystem::absolute(path).lexically_normal().string();
+        };
+        result.folder = absolute(o.out);
+        result.simulation = absolute(r.simulation);
+        result.run = absolute(r.run);
+        result.plot = absolute(r.plot);
+        return result;
+    };
 }
 
 }  // namespace gaitlab::cli

@@ -1,11 +1,14 @@
 // `gaitlab optimize SPEC.lua [--method ga|cmaes|pgpe] [--generations N] [--population N]
 // [--workers N] [--seed N] [--out DIR]`: runs the optimization an optimization spec describes
-// (gaitlab/optimize/runner.h, docs/optimization.md) and writes its results folder.
+// (gaitlab/optimize/runner.h, docs/optimization.md) and writes its results folder; and the same
+// run for gaitlab.optimize{...} in the command line's Lua hosts.
 #pragma once
 
 #include <memory>
 
 #include <CLI/CLI.hpp>
+
+#include "gaitlab/scripting/lua_host.h"
 
 namespace gaitlab::cli {
 
@@ -26,8 +29,9 @@ class OptimizeCommand {
     CLI::App* sub_ = nullptr;
 };
 
-/// Stops a running `gaitlab optimize` as `signal` would (its evaluations are interrupted, the
-/// results written so far stay). Async-signal-safe: the command line's signal handler calls it.
-void optimize_signal(int signal);
+/// What gaitlab.optimize{...} runs in the command line's hosts (`gaitlab run`, the console): the
+/// optimization, its options checked as `gaitlab optimize` checks its own, on threads of this
+/// process, stopped by the host's interrupt; a progress line on stderr when it is a terminal.
+scripting::LuaHost::OptimizeHandler lua_optimize_handler();
 
 }  // namespace gaitlab::cli

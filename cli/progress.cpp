@@ -4,7 +4,6 @@
 #include <sys/ioctl.h>
 #include <unistd.h>
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -12,20 +11,22 @@
 
 #include <fmt/format.h>
 
-#include "gaitlab/error.h"
-
 namespace gaitlab::cli {
 
-std::uint64_t whole_option(const char* option, const std::string& text, std::uint64_t min,
-                           std::uint64_t max) {
-    std::uint64_t v = 0;
-    const char* end = text.data() + text.size();
-    const auto r = std::from_chars(text.data(), end, v);
-    if (text.empty() || r.ec != std::errc() || r.ptr != end || v < min || v > max) {
-        throw SpecError(fmt::format("{}: a whole number from {} to {} expected (got '{}')", option,
-                                    min, max, text));
-    }
-    return v;
+namespace {
+
+std::atomic<int> g_stop{0};
+static_assert(std::atomic<int>::is_always_lock_free);
+
+}  // namespace
+
+const std::atomic<int>& evaluations_stop() {
+    return g_stop;
+}
+
+void stop_evaluations(int signal) {
+    int expected = 0;
+    g_stop.compare_exchange_strong(expected, signal);
 }
 
 std::string default_results_folder(const std::string& kind, const std::string& spec) {

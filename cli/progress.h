@@ -1,18 +1,22 @@
-// What `gaitlab optimize` and `gaitlab sweep` share on the command line: reading whole-number
-// options, the default results folder, numbers and durations as the progress lines show them,
+// What `gaitlab optimize` and `gaitlab sweep` share on the command line: the signal that stops
+// them, the default results folder, numbers and durations as the progress lines show them,
 // and the progress line itself (on a terminal only).
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <string>
 
 namespace gaitlab::cli {
 
-/// A whole number in [min, max]; SpecError "OPTION: a whole number from MIN to MAX expected
-/// (got 'TEXT')" otherwise.
-std::uint64_t whole_option(const char* option, const std::string& text, std::uint64_t min,
-                           std::uint64_t max);
+/// The signal that stops a running `gaitlab optimize` or `gaitlab sweep` (0: none yet): their
+/// evaluations are interrupted, what was written so far stays.
+const std::atomic<int>& evaluations_stop();
+
+/// Sets it to `signal` (the first one stays). Async-signal-safe: the command line's signal
+/// handler calls it.
+void stop_evaluations(int signal);
 
 /// runs/KIND-SPEC-YYYYmmdd-HHMMSS (SPEC: the spec file's name without folder and extension).
 std::string default_results_folder(const std::string& kind, const std::string& spec);

@@ -9,18 +9,12 @@
 #include <fmt/format.h>
 
 #include "gaitlab/error.h"
+#include "gaitlab/optimize/options.h"
 #include "gaitlab/optimize/sweep.h"
 #include "progress.h"
 #include "ranks.h"
 
 namespace gaitlab::cli {
-
-namespace {
-
-std::atomic<int> g_stop{0};
-static_assert(std::atomic<int>::is_always_lock_free);
-
-}  // namespace
 
 struct SweepCommand::Args {
     std::string spec;
@@ -30,11 +24,6 @@ struct SweepCommand::Args {
     std::string rank_timeout = "30";
     std::string out;
 };
-
-void sweep_signal(int signal) {
-    int expected = 0;
-    g_stop.compare_exchange_strong(expected, signal);
-}
 
 SweepCommand::SweepCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     sub_ = app.add_subcommand("sweep",
@@ -90,8 +79,8 @@ int SweepCommand::run(const std::string& command) {
     optimize::SweepOptions o;
     optimize::MpiOptions mpi_options;
     try {
-        o.workers = static_cast<int>(whole_option("--workers", a.workers, 1, 1024));
-        o.seed = whole_option("--seed", a.seed, 0, UINT64_MAX);
+        o.workers = static_cast<int>(optimize::whole_number("workers", a.workers, 1, 1024));
+        o.seed = optimize::whole_number("seed", a.seed, 0, UINT64_MAX);
         mpi_options.workers = o.workers;
         mpi_options.seed = o.seed;
         mpi_options.rank_timeout = rank_timeout_option(a.rank_timeout);
@@ -105,7 +94,7 @@ int SweepCommand::run(const std::string& command) {
     Ranks mpi;
     optimize::Spec spec;
     try {
-        mpi = start_ranks(a.spec, mpi_options, &g_stop);
+        mpi = start_ranks(a.spec, mpi_options, &evaluations_stop());
         if (mpi.served >= 0) return mpi.served;
         o.backend = mpi.backend.get();
         spec = optimize::load_spec(a.spec);
@@ -158,14 +147,14 @@ int SweepCommand::run(const std::string& command) {
     };
     optimize::SweepResult r;
     try {
-        r = optimize::run_sweep(spec, grid, o, &g_stop,
+        r = optimize::run_sweep(spec, grid, o, &evaluations_stop(),
                                 bar.shown_on_a_terminal()
                                     ? std::function<void(const optimize::SweepTick&)>(show)
                                     : nullptr);
         bar.clear();
     } catch (const Error& e) {
         bar.clear();
-        if (const int sig = g_stop.load(); sig != 0) {
+        if (const int sig = evaluations_stop().load(); sig != 0) {
             std::fprintf(stderr, "gaitlab: interrupted; the evaluations so far are in %s\n",
                          o.out.c_str());
             return 128 + sig;

@@ -28,8 +28,4 @@ class SweepCommand {
     CLI::App* sub_ = nullptr;
 };
 
-/// Stops a running `gaitlab sweep` as `signal` would (its evaluations are interrupted, the
-/// points written so far stay). Async-signal-safe: the command line's signal handler calls it.
-void sweep_signal(int signal);
-
 }  // namespace gaitlab::cli

@@ -46,6 +46,7 @@ int open_gaitlab(lua_State* L, StateOwner owner) {
         open_sensor(L);      // gaitlab.sensor, robot:sensor{...}
         open_simulation(L);  // gaitlab.simulation (and the recordings)
         open_data(L);        // gaitlab.data
+        open_optimize(L);    // gaitlab.optimize (after open_simulation: its handler)
         guard_patterns(L);   // what sandboxes copy (after open_simulation's print), guarded
 
         open_stdlib(L, lua_gettop(L));  // vec3.lua, worlds.lua (gaitlab.worlds) ...

@@ -55,6 +55,8 @@ class Guard {
     bool stopping() const;
     /// The signal given to interrupt() (SIGINT ...), 0 if none.
     int interrupted() const { return signal_.load(); }
+    /// The same, for a thread that watches it (an optimization the host runs stops on it).
+    const std::atomic<int>& interrupt_signal() const { return signal_; }
     /// Forgets an interrupt (a console back at its prompt); `L` is the state's main thread.
     void clear_interrupt(lua_State* L);
     /// "interrupted (SIGINT)": the error Lua code stops with.

@@ -1,5 +1,6 @@
 // What LuaHost gives a front end that drives simulations from outside the script (a viewer):
-// the players of new simulations, the runner of sim:run and sim:step, the interrupt's message.
+// the players of new simulations, the runner of sim:run and sim:step, the handlers of sim:view()
+// and gaitlab.optimize{}, the interrupt's message.
 #include "gaitlab/scripting/lua_host.h"
 
 #include "guard.h"
@@ -17,6 +18,10 @@ void LuaHost::set_runner(Runner fn) {
 
 void LuaHost::set_view_handler(ViewHandler fn) {
     Playback::of(L_).view = std::move(fn);
+}
+
+void LuaHost::set_optimize_handler(OptimizeHandler fn) {
+    Playback::of(L_).optimize = std::move(fn);
 }
 
 std::string LuaHost::interrupt_message() const {

@@ -33,6 +33,8 @@ class Playback {
     LuaHost::Runner runner;
     /// What sim:view() calls (LuaHost::set_view_handler); empty: sim:view() is an error.
     LuaHost::ViewHandler view;
+    /// What gaitlab.optimize{} calls (LuaHost::set_optimize_handler); empty: it is an error.
+    LuaHost::OptimizeHandler optimize;
     /// Called with every new simulation's player (LuaHost::on_player).
     std::vector<std::function<void(const std::shared_ptr<Player>&, int)>> on_player;
 

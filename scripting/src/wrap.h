@@ -51,6 +51,8 @@ int robot_sensor(lua_State* L);
 int robot_sensors(lua_State* L);
 void open_module(lua_State* L);
 void open_data(lua_State* L);
+/// gaitlab.optimize{...} (wrap_optimize.cpp): runs an optimization through the host's handler.
+void open_optimize(lua_State* L);
 
 /// sim:live{...} (wrap_data.cpp): live buffers of a simulation.
 int live_new(lua_State* L);

@@ -21,12 +21,14 @@
 
 #include "run_gaitlab.h"
 
+using gaitlab::test::interrupt_while_evaluating;
+using gaitlab::test::lines;
 using gaitlab::test::read_text;
 using gaitlab::test::run_gaitlab;
+using gaitlab::test::spawn_gaitlab;
 using gaitlab::test::TempDir;
+using gaitlab::test::timeless;
 using gaitlab::test::write_text;
-
-extern char** environ;
 
 namespace {
 
@@ -49,22 +51,6 @@ const std::string kSpec = R"(return {
 }
 )";
 
-std::vector<std::string> lines(const std::string& text) {
-    std::istringstream in(text);
-    std::vector<std::string> out;
-    for (std::string line; std::getline(in, line);)
-        out.push_back(line);
-    return out;
-}
-
-// evaluations.jsonl without the fields that depend on timing and on the workers
-std::vector<std::string> timeless(const std::string& path) {
-    std::vector<std::string> out;
-    for (const std::string& line : lines(read_text(path)))
-        out.push_back(line.substr(0, line.find(",\"seconds\":")));
-    return out;
-}
-
 // the line of `text` that begins with `start`
 std::string line_starting(const std::string& text, const std::string& start) {
     for (const std::string& line : lines(text))
@@ -85,19 +71,8 @@ std::string best_of(const std::string& path) {
 // status as waitpid gives it
 int interrupt_after(const std::vector<std::string>& args, const std::string& out,
                     size_t lines_written, int signal) {
-    std::vector<std::string> args_s{GAITLAB_BINARY};
-    args_s.insert(args_s.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& a : args_s)
-        argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-    pid_t pid = 0;
-    REQUIRE(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0);
-    posix_spawn_file_actions_destroy(&actions);
+    const pid_t pid = spawn_gaitlab(args, "", "/dev/null", "/dev/null", "/dev/null");
+    REQUIRE(pid != 0);
     const auto start = std::chrono::steady_clock::now();
     while (std::chrono::steady_clock::now() - start < std::chrono::seconds(60)) {
         std::error_code ec;

@@ -4,9 +4,7 @@
 // results folder), SIGINT.
 #include <catch2/catch.hpp>
 
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,12 +17,14 @@
 
 #include "run_gaitlab.h"
 
+using gaitlab::test::interrupt_while_evaluating;
+using gaitlab::test::lines;
 using gaitlab::test::read_text;
 using gaitlab::test::run_gaitlab;
+using gaitlab::test::spawn_gaitlab;
 using gaitlab::test::TempDir;
+using gaitlab::test::timeless;
 using gaitlab::test::write_text;
-
-extern char** environ;
 
 namespace {
 
@@ -44,22 +44,6 @@ const std::string kSpec = R"(return {
   duration = 0.5,
 }
 )";
-
-std::vector<std::string> lines(const std::string& text) {
-    std::istringstream in(text);
-    std::vector<std::string> out;
-    for (std::string line; std::getline(in, line);)
-        out.push_back(line);
-    return out;
-}
-
-// evaluations.jsonl without the fields that depend on timing and on the workers
-std::vector<std::string> timeless(const std::string& path) {
-    std::vector<std::string> out;
-    for (const std::string& line : lines(read_text(path)))
-        out.push_back(line.substr(0, line.find(",\"seconds\":")));
-    return out;
-}
 
 }  // namespace
 
@@ -202,34 +186,13 @@ TEST_CASE("gaitlab sweep: SIGINT stops the evaluations under way") {
     spec.replace(spec.find("duration = 0.5"), 14, "duration = 30");
     write_text(dir / "long.lua", spec);
     const std::string out = dir / "out";
-    std::vector<std::string> args_s{
-        GAITLAB_BINARY, "sweep", dir / "long.lua", "--grid", "amplitude=10:60:1", "--out", out};
-    std::vector<char*> argv;
-    for (std::string& a : args_s)
-        argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    const std::string err_path = dir / "err", out_path = dir / "stdout";
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out_path.c_str(),
-                                     O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(),
-                                     O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    pid_t pid = 0;
-    REQUIRE(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) == 0);
-    posix_spawn_file_actions_destroy(&actions);
-    const auto start = std::chrono::steady_clock::now();
-    while (!std::filesystem::exists(out + "/evaluations.jsonl") &&
-           std::chrono::steady_clock::now() - start < std::chrono::seconds(20))
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
-    const auto signalled = std::chrono::steady_clock::now();
-    kill(pid, SIGINT);
-    int wstatus = 0;
-    REQUIRE(waitpid(pid, &wstatus, 0) == pid);
-    CHECK(std::chrono::steady_clock::now() - signalled < std::chrono::seconds(3));
-    REQUIRE(WIFEXITED(wstatus));
-    CHECK(WEXITSTATUS(wstatus) == 128 + SIGINT);
+    const std::string err_path = dir / "err";
+    const auto stopped = interrupt_while_evaluating(
+        {"sweep", dir / "long.lua", "--grid", "amplitude=10:60:1", "--out", out}, "", out,
+        dir / "stdout", err_path);
+    CHECK(stopped.seconds < 3);
+    REQUIRE(WIFEXITED(stopped.wstatus));
+    CHECK(WEXITSTATUS(stopped.wstatus) == 128 + SIGINT);
     CHECK(read_text(err_path) ==
           "gaitlab: interrupted; the evaluations so far are in " + out + "\n");
     CHECK(read_text(out + "/evaluations.jsonl").empty());

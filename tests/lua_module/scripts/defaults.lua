@@ -19,6 +19,8 @@ print("print and os.exit are the interpreter's", print == original.print, os.exi
 print("guarded: xpcall, coroutine.resume, string.find", xpcall ~= original.xpcall,
       coroutine.resume ~= original.resume, string.find ~= original.find)
 print("string.find still finds", ("gaitlab"):find("lab"))
+-- no optimizer in an interpreter's state: gaitlab.optimize says where there is one
+print("optimize", select(2, pcall(function() return gaitlab.optimize{ spec = "spec.lua" } end)))
 -- a recording asked for: runs/defaults-<time>/, closed as finished when lua5.4 closes the state
 local robot = gaitlab.robot.chain{ name = "snake", modules = 2 }
 local world = gaitlab.world()

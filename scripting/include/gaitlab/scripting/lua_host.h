@@ -2,6 +2,7 @@
 // call into Lua goes through.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -71,6 +72,18 @@ class ScriptError : public Error {
     std::string traceback_;
 };
 
+/// A bad field of a table a script gave, found by a handler the host calls for it (the
+/// OptimizeHandler): the script sees "bad argument #1 to 'optimize' (field 'KEY': MESSAGE)".
+class FieldError : public SpecError {
+  public:
+    FieldError(std::string key, const std::string& message)
+        : SpecError(message), key_(std::move(key)) {}
+    const std::string& key() const { return key_; }
+
+  private:
+    std::string key_;
+};
+
 /// Calls the function below `nargs` arguments on top of L's stack in protected mode, with a
 /// message handler that records file, line and traceback. On failure the stack is as if the
 /// call returned nothing and ScriptError is thrown.
@@ -137,6 +150,42 @@ class LuaHost {
     using ViewHandler = std::function<std::string(const std::shared_ptr<Player>&, int index,
                                                   const ViewRequest& request)>;
     void set_view_handler(ViewHandler fn);
+    /// What gaitlab.optimize{...} asks for (docs/lua-api.md, "Optimization"): the spec file and
+    /// the options of `gaitlab optimize` as given, each as text ("" : not given; numbers as
+    /// decimal text), for the handler to check as the command line's are checked.
+    struct OptimizeRequest {
+        std::string spec;  ///< the spec file, relative to the calling script's folder resolved
+        std::string method, generations, population, workers, seed;
+        std::string out;  ///< as given ("" : the handler chooses a new folder)
+        bool resume = false;
+        /// non-zero (the signal's number) once the host is interrupted (LuaHost::interrupt):
+        /// the optimization stops
+        const std::atomic<int>* stop = nullptr;
+    };
+    /// What gaitlab.optimize{...} returns to the script.
+    struct OptimizeResult {
+        struct Parameter {
+            std::string name;
+            double value = 0;
+            bool integer = false;  ///< given to Lua as an integer
+        };
+        std::vector<Parameter> parameters;  ///< the best, in the spec's order (by name)
+        double fitness = 0;                 ///< the best fitness
+        std::int64_t evaluations = 0;
+        std::string method;
+        int generations = 0;
+        int population = 0;
+        // absolute paths: a script reads relative ones from its own folder
+        std::string folder;      ///< the results folder
+        std::string simulation;  ///< the best as a simulation file ("" : it could not be saved)
+        std::string run;         ///< its run recorded ("" : none)
+        std::string plot;        ///< the convergence plot ("" : none)
+    };
+    /// What gaitlab.optimize{...} does: runs the optimization (it sits above scripting: the
+    /// command line installs it) and returns its result; throws FieldError for a bad option,
+    /// Error for the rest. Without one, gaitlab.optimize raises an error saying where it works.
+    using OptimizeHandler = std::function<OptimizeResult(const OptimizeRequest&)>;
+    void set_optimize_handler(OptimizeHandler fn);
     /// What an interrupt stops the host's code with ("interrupted (SIGINT)"); "" if none.
     std::string interrupt_message() const;
     /// Who makes the changes that code run from now on makes without naming an origin
