@@ -32,7 +32,7 @@ constexpr int kRobotBit = 1 << 8;
 }  // namespace
 
 struct RawSnake::Impl {
-    btDefaultCollisionConfiguration config;
+    gaitlab::ContactConfiguration config;  // the engine's contact generation
     btCollisionDispatcher dispatcher{&config};
     btDbvtBroadphase broadphase;
     gaitlab::CoulombSolver solver;  // the engine's contact model

@@ -108,7 +108,7 @@ struct PhysicsWorld::Impl {
         btVector3 pivot_in_child, pivot_in_parent, axis_in_child, axis_in_parent;
     };
 
-    btDefaultCollisionConfiguration config;
+    ContactConfiguration config;
     btCollisionDispatcher dispatcher{&config};
     btDbvtBroadphase broadphase;
     CoulombSolver solver;

@@ -39,6 +39,38 @@ constexpr double kMaxSpeed = 1e4;     // m/s
 // than the 1 mm margin convex hulls (ramps) add to a surface a robot rests on.
 constexpr double kMaxStartOverlap = 0.005;  // m
 
+// the settings beyond which even the pitch-pitch travelling wave (8 modules, 40 deg, 0.5 Hz,
+// floor 1.0), which the defaults keep 2.1 % from a converged reference (dt 0.25 ms, 80
+// iterations), moves by more than 3 % from it: 10 iterations 3.3 % (15: 2.6 %), dt 4 ms 3.3 %
+// (3 ms: 2.6 %). docs/performance.md, "Convergence"
+constexpr int kMinAccurateIterations = 15;
+constexpr double kMaxAccurateDt = 0.003;  // s
+
+// the warnings of dt or solver_iterations that cannot keep a gait's speed within 3 % of a
+// converged reference (docs/performance.md, "Convergence"), if the world has joints
+std::vector<std::string> accuracy_warnings(const WorldSpec& world,
+                                           const SimulationOptions& options) {
+    std::vector<std::string> warnings;
+    bool joints = false;
+    for (const PlacedRobot& r : world.robots)
+        joints = joints || !r.robot.joints.empty();
+    if (!joints) return warnings;  // rigid bodies alone: nothing measured
+    const auto warn = [&](const std::string& setting) {
+        warnings.push_back(fmt::format(
+            "{}: gaits then move more than 3 % faster or slower than with a converged solver "
+            "(dt <= {:g} ms and solver_iterations >= {} keep a pitch-pitch travelling wave "
+            "within 3 %; docs/performance.md, \"Convergence\")",
+            setting, kMaxAccurateDt * 1000, kMinAccurateIterations));
+    };
+    if (options.solver_iterations < kMinAccurateIterations)
+        warn(fmt::format("solver_iterations = {} is below {}", options.solver_iterations,
+                         kMinAccurateIterations));
+    if (options.dt > kMaxAccurateDt * (1 + 1e-9))
+        warn(
+            fmt::format("dt = {:g} ms is above {:g} ms", options.dt * 1000, kMaxAccurateDt * 1000));
+    return warnings;
+}
+
 }  // namespace
 
 // marks the simulation busy running `what` for the lifetime of the guard (nested guards give
@@ -202,6 +234,8 @@ void Simulation::compile() {
     }
     build();
     check_start_overlaps();
+    for (std::string& w : accuracy_warnings(world_, options_))
+        warnings_.push_back(std::move(w));
 }
 
 void Simulation::check_start_overlaps() {

@@ -700,6 +700,54 @@ TEST_CASE("a world of 100 000 stones builds and steps in well under a second eac
     CHECK(sim.warnings().empty());
 }
 
+TEST_CASE("settings too coarse for a 3 % accurate gait get one warning naming the setting",
+          "[simulation][warning]") {
+    using Catch::Matchers::Contains;
+    using Catch::Matchers::StartsWith;
+    const WorldSpec w = test::chain_world(8, Connection::pitch_pitch);
+    SimulationOptions o = default_simulation_options();
+    SECTION("the defaults and the limits themselves are quiet") {
+        CHECK(Simulation(w, o).warnings().empty());
+        o.solver_iterations = 15;
+        o.dt = 0.003;
+        CHECK(Simulation(w, o).warnings().empty());
+    }
+    SECTION("too few iterations") {
+        o.solver_iterations = 10;
+        Simulation sim(w, o);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0],
+                   StartsWith("solver_iterations = 10 is below 15: gaits then move more than "
+                              "3 %") &&
+                       Contains("docs/performance.md"));
+        // warned, not refused, and not repeated as the run goes on
+        sim.run(0.1);
+        CHECK(sim.warnings().size() == 1);
+    }
+    SECTION("too large a dt") {
+        o.dt = 0.004;
+        Simulation sim(w, o);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0], StartsWith("dt = 4 ms is above 3 ms: gaits then move"));
+    }
+    SECTION("both: one warning each") {
+        o.dt = 0.01;
+        o.solver_iterations = 5;
+        Simulation sim(w, o);
+        REQUIRE(sim.warnings().size() == 2);
+        CHECK_THAT(sim.warnings()[0], StartsWith("solver_iterations = 5 is below 15"));
+        CHECK_THAT(sim.warnings()[1], StartsWith("dt = 10 ms is above 3 ms"));
+    }
+    SECTION("a world without joints (boxes falling) is not warned about") {
+        WorldSpec boxes;
+        boxes.boxes.resize(1);
+        boxes.boxes[0].mass = 0.1;
+        boxes.boxes[0].pose.position = {0, 0, 0.5};
+        o.solver_iterations = 4;
+        CHECK(Simulation(boxes, o).warnings().empty());
+    }
+}
+
 TEST_CASE("a robot started inside a stone of a rubble field is warned about by the field's name",
           "[simulation][overlap]") {
     WorldSpec w = test::chain_world(4, Connection::pitch_pitch);

@@ -1,0 +1,137 @@
+-- Convergence and drift of the standard gaits (docs/performance.md, "Convergence"; issue 14,
+-- points 2 and 3): how much a gait's per-cycle speed changes from the default settings
+-- (dt 1 ms, 20 iterations) to dt/4, to 4x the iterations and to both (the converged
+-- reference), and how far a planar gait drifts sideways.
+--
+--   gaitlab run bench/lua/convergence.lua --no-record             the tables of performance.md
+--   gaitlab run bench/lua/convergence.lua --no-record GAIT N MU   one row (GAIT: pp, py-roll, py-wave)
+--
+-- CONV_CYCLES (default 5) sets the cycles measured, CONV_MODULES (default "2 8 32") and
+-- CONV_FRICTION (default "0.3 1.0") the grid. Each run starts at time 0 (the same start every
+-- time), settles for 2 s, then measures; the control period stays 10 ms at every dt.
+local cycles = tonumber(os.getenv("CONV_CYCLES") or "5")
+local frequency = 0.5
+local settle = 2
+
+local function numbers(text)
+  local out = {}
+  for w in text:gmatch("%S+") do out[#out + 1] = tonumber(w) end
+  return out
+end
+
+-- the gaits: pp, the travelling wave of a pitch-pitch chain (Cube Revolutions), 40 deg and 120
+-- deg between neighbours (`direction` -1 reverses the wave); py-roll, the rolling gait of a
+-- pitch-yaw chain (Gonzalez-Gomez et al., CLAWAR 2006: all joints of a plane in phase, the yaw
+-- joints 90 deg behind); py-wave, the benchmark's pitch-yaw gait (docs/performance.md,
+-- "Workload": a 40 deg pitch wave and a 20 deg yaw wave, 120 deg between neighbours)
+local function drive(robot, gait, direction)
+  local sine = gaitlab.controllers.sine
+  if gait == "pp" then
+    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = frequency, phase = 120 * direction })
+  elseif gait == "py-roll" then
+    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = frequency, phase = 0 })
+    robot:group("yaw"):drive(sine{ amplitude = 40, frequency = frequency, phase = 0, phase0 = -90 })
+  elseif gait == "py-wave" then
+    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = frequency, phase = 120 })
+    robot:group("yaw"):drive(sine{ amplitude = 20, frequency = frequency, phase = 120 })
+  else
+    error("unknown gait '" .. gait .. "' (expected pp, py-roll or py-wave)")
+  end
+end
+
+-- one run: mm per cycle along the body's axis at the start (x) and across it (y), CPU seconds
+local function run(gait, modules, friction, dt, iterations, direction)
+  local connection = gait == "pp" and "pitch-pitch" or "pitch-yaw"
+  local robot = gaitlab.robot.chain{ name = "snake", modules = modules, connection = connection }
+  local world = gaitlab.world{ floor = { friction = friction } }
+  world:add(robot)
+  drive(robot, gait, direction or 1)
+  local sim = gaitlab.simulation{ world = world, dt = dt,
+                                  control_every = math.floor(0.01 / dt + 0.5),
+                                  solver_iterations = iterations, record = false }
+  local r = sim:robot("snake")
+  local t0 = os.clock()
+  sim:run(settle)
+  local p0 = r:position()
+  sim:run(cycles / frequency)
+  local d = r:position() - p0
+  return { x = 1000 * d.x / cycles, y = 1000 * d.y / cycles, cpu = os.clock() - t0 }
+end
+
+-- change of a per-cycle displacement from `base`, in % of base's length
+local function change(a, base)
+  local ex, ey = a.x - base.x, a.y - base.y
+  return 100 * math.sqrt(ex * ex + ey * ey) / math.sqrt(base.x * base.x + base.y * base.y)
+end
+
+local settings = {
+  { name = "default", dt = 0.001, iterations = 20 },
+  { name = "dt/4", dt = 0.00025, iterations = 20 },
+  { name = "4x it", dt = 0.001, iterations = 80 },
+  { name = "ref", dt = 0.00025, iterations = 80 },
+}
+
+local function mark(p)
+  return p < 3 and string.format("%.1f", p) or string.format("**%.1f**", p)
+end
+
+local function convergence_row(gait, modules, friction)
+  local r = {}
+  for i, s in ipairs(settings) do r[i] = run(gait, modules, friction, s.dt, s.iterations) end
+  local cells = {}
+  for i = 1, #settings do cells[#cells + 1] = string.format("%+.1f / %+.1f", r[i].x, r[i].y) end
+  print(string.format("| %s | %d | %.1f | %s | %s | %s | %s | %.1f / %.1f / %.1f / %.1f |", gait,
+                      modules, friction, table.concat(cells, " | "), mark(change(r[2], r[1])),
+                      mark(change(r[3], r[1])), mark(change(r[1], r[4])), r[1].cpu, r[2].cpu,
+                      r[3].cpu, r[4].cpu))
+  io.stdout:flush()
+  return r
+end
+
+local header = "| gait | N | μ | default (1 ms, 20 it) | dt/4 | 4× it | ref (dt/4, 4× it) "
+    .. "| Δ dt/4 % | Δ 4× it % | default vs ref % | CPU s |"
+local rule = "|---|---|---|---|---|---|---|---|---|---|---|"
+
+if arg[1] then
+  print(header)
+  print(rule)
+  convergence_row(arg[1], tonumber(arg[2] or "8"), tonumber(arg[3] or "0.5"))
+  return
+end
+
+local modules_grid = numbers(os.getenv("CONV_MODULES") or "2 8 32")
+local friction_grid = numbers(os.getenv("CONV_FRICTION") or "0.3 1.0")
+print(string.format("%d cycles of %g s after %g s; mm per cycle along x / across y", cycles,
+                    1 / frequency, settle))
+print(header)
+print(rule)
+local drift = {}
+for _, gait in ipairs{ "pp", "py-roll", "py-wave" } do
+  for _, n in ipairs(modules_grid) do
+    for _, mu in ipairs(friction_grid) do
+      local r = convergence_row(gait, n, mu)
+      if gait == "pp" then drift[#drift + 1] = { n = n, mu = mu, forward = r } end
+    end
+  end
+end
+
+-- drift: the pitch-pitch wave both ways, at every setting (the forward runs are the ones above)
+print()
+print("| N | μ | wave | travel (mm/cycle) | drift % default / dt/4 / 4× it / ref |")
+print("|---|---|---|---|---|")
+for _, d in ipairs(drift) do
+  local backward = {}
+  for i, s in ipairs(settings) do
+    backward[i] = run("pp", d.n, d.mu, s.dt, s.iterations, -1)
+  end
+  for _, w in ipairs{ { "forward", d.forward }, { "backward", backward } } do
+    local r = w[2]
+    local cells = {}
+    for i = 1, #settings do
+      cells[i] = mark(100 * math.abs(r[i].y) / math.abs(r[i].x))
+    end
+    print(string.format("| %d | %.1f | %s | %+.1f | %s |", d.n, d.mu, w[1], r[1].x,
+                        table.concat(cells, " / ")))
+    io.stdout:flush()
+  end
+end
