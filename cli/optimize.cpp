@@ -91,11 +91,7 @@ OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     sub_->add_option("--seed", a_->given.seed, "Seed of the method's random stream: 0 to 2^64 - 1")
         ->type_name("N")
         ->capture_default_str();
-    sub_->add_option("--rank-timeout", a_->rank_timeout,
-                     "Under mpirun: seconds without a word from a rank before its evaluations "
-                     "go to the others")
-        ->type_name("S")
-        ->capture_default_str();
+    add_rank_timeout_option(*sub_, a_->rank_timeout);
     sub_->add_option("--out", a_->given.out,
                      "Results folder, new or empty (default: runs/optimize-SPEC-DATE-TIME)")
         ->type_name("DIR");

@@ -11,6 +11,15 @@
 
 namespace gaitlab::cli {
 
+void add_rank_timeout_option(CLI::App& command, std::string& text) {
+    command
+        .add_option("--rank-timeout", text,
+                    "Under mpirun: seconds without a word from a rank before its evaluations "
+                    "go to the others")
+        ->type_name("S")
+        ->capture_default_str();
+}
+
 double rank_timeout_option(const std::string& text) {
     char* end = nullptr;
     const double seconds = std::strtod(text.c_str(), &end);

@@ -7,9 +7,15 @@
 #include <memory>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "gaitlab/optimize/mpi.h"
 
 namespace gaitlab::cli {
+
+/// Adds --rank-timeout to `command` (gaitlab optimize, gaitlab sweep), read into `text` (its
+/// default shown in --help); rank_timeout_option reads it.
+void add_rank_timeout_option(CLI::App& command, std::string& text);
 
 /// --rank-timeout's text: seconds > 0; SpecError "--rank-timeout: a number of seconds > 0
 /// expected (got 'TEXT')" otherwise.

@@ -49,11 +49,7 @@ SweepCommand::SweepCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
                      "Seed of math.random before every evaluation: 0 to 2^64 - 1")
         ->type_name("N")
         ->capture_default_str();
-    sub_->add_option("--rank-timeout", a_->rank_timeout,
-                     "Under mpirun: seconds without a word from a rank before its evaluations "
-                     "go to the others")
-        ->type_name("S")
-        ->capture_default_str();
+    add_rank_timeout_option(*sub_, a_->rank_timeout);
     sub_->add_option("--out", a_->out,
                      "Results folder, new or empty (default: runs/sweep-SPEC-DATE-TIME)")
         ->type_name("DIR");

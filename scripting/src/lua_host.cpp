@@ -33,13 +33,14 @@ int script_folder_searcher(lua_State* L) {
         std::string relative = luaL_checkstring(L, 1);
         std::replace(relative.begin(), relative.end(), '.', '/');
         relative += ".lua";
-        const std::string path = script_path(L, relative);
+        // the file beside the script, or in a replay the run folder's copy of it; noted as an
+        // input when it can be read
+        const std::string read = input_path(L, relative);
         std::error_code ec;
-        if (!std::filesystem::is_regular_file(path, ec)) {
-            lua_pushfstring(L, "no file '%s' (beside the requiring script)", path.c_str());
+        if (!std::filesystem::is_regular_file(read, ec)) {
+            lua_pushfstring(L, "no file '%s' (beside the requiring script)", read.c_str());
             return 1;
         }
-        const std::string read = input_path(L, relative);  // noted; a replay's copy
         const std::string text = read_file(read);
         const std::string chunk = "@" + read;
         if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") != LUA_OK)
