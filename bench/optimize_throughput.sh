@@ -10,9 +10,13 @@
 #     evaluations per second over one run's say what any parallel run can reach here;
 #   - the peak resident memory of runs of about 1 000 and 10 000 short evaluations.
 #
-#   bench/optimize_throughput.sh [--quick] [--long] [--no-mpi] [--only throughput|memory]
+#   bench/optimize_throughput.sh [--quick] [--long] [--generations N] [--no-mpi]
+#                                [--only throughput|memory]
 #
 # --long: evaluations of 4 simulated s instead of 1 (the fixed cost of a run weighs less).
+# --generations N: generations of 16 evaluations per run (default 4); a longer run weighs the
+#   once-per-run cost (start, the best run recorded) as a real optimization of hundreds of
+#   evaluations does.
 #
 # GAITLAB (default build/gaitlab) is the binary; bench/lua/optimize_short.lua the spec. Prints
 # markdown tables; the machine's load average before and after, so that a loaded machine shows.
@@ -25,9 +29,12 @@ while [ $# -gt 0 ]; do
     case "$1" in
         --quick) repeats=3 generations=2 memory_gens=105 ;;
         --long) duration=4 ;;
+        --generations)
+            [[ "${2:-}" =~ ^[1-9][0-9]*$ ]] || { echo "bench: --generations: a whole number >= 1 expected, got '${2:-}'" >&2; exit 2; }
+            generations=$2; shift ;;
         --no-mpi) mpi=0 ;;
         --only) only=$2; shift ;;
-        *) echo "usage: bench/optimize_throughput.sh [--quick] [--long] [--no-mpi] [--only throughput|memory]" >&2; exit 2 ;;
+        *) echo "usage: bench/optimize_throughput.sh [--quick] [--long] [--generations N] [--no-mpi] [--only throughput|memory]" >&2; exit 2 ;;
     esac
     shift
 done
