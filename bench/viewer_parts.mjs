@@ -12,8 +12,15 @@
 //   nobodies  without the robots' bodies
 //   empty     nothing in the 3D scene (the background colour only)
 //   ...nodom  (suffix) the panel, the plots and the overlay hidden: the 3D view alone on the page
+//   ...-ID    (suffix) the page's element with that id hidden (e.g. full-overlay, full-panel,
+//             full-plots-section, full-params-section)
+// PAUSED=1: the simulation paused (the view still drawn at every animation frame, the page's
+// texts unchanged).
 //
-// Usage: [PARTS=...] [ROUNDS=2] [SECONDS=6] node bench/viewer_parts.mjs GAITLAB SOURCE_DIR [ROBOTS]
+// WEB=DIR: the page's own files (index.html, *.js, style.css) served from DIR instead of those
+// built into gaitlab (as in bench/viewer_fps.mjs).
+//
+// Usage: [PARTS=...] [ROUNDS=2] [SECONDS=6] [PAUSED=1] [WEB=DIR] node bench/viewer_parts.mjs GAITLAB SOURCE_DIR [ROBOTS]
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
 import fs from 'node:fs';
@@ -33,9 +40,9 @@ const scales = [1, 0.8, 0.64, 0.5, 0.4, 0.32, 0.25];
 const parts = (process.env.PARTS || 'full:1,full:0.5,full:0.25,nofloor:0.5,nobodies:0.5,empty:0.5,fullnodom:0.5,emptynodom:0.5')
   .split(',').map((p) => {
     const [what, scale] = p.split(':');
-    if (!/^(full|nofloor|nobodies|empty)(nodom)?$/.test(what) || !scales.includes(Number(scale))) {
+    if (!/^(full|nofloor|nobodies|empty)(nodom|-[a-z][a-z0-9-]*)?$/.test(what) || !scales.includes(Number(scale))) {
       console.error(`PARTS: ${p} is not PART:SCALE (PART full, nofloor, nobodies, empty, each with or ` +
-        `without the suffix nodom; SCALE one of ${scales.join(', ')})`);
+        `without the suffix nodom or -ID; SCALE one of ${scales.join(', ')})`);
       process.exit(2);
     }
     return { name: p, what, scale: Number(scale) };
@@ -93,8 +100,24 @@ try {
   }
   if (!url) throw new Error(`gaitlab printed no address:\n${stderr}`);
   const page = await browser.newPage({ viewport: { width: 1200, height: 720 } });
+  const web = process.env.WEB;
+  if (web) {
+    if (!fs.existsSync(path.join(web, 'index.html'))) throw new Error(`WEB: ${web} has no index.html`);
+    const types = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css' };
+    const file = (url) => path.basename(url.pathname) || 'index.html';
+    await page.route((url) => !url.pathname.includes('/lib/') && !url.pathname.includes('/api/') &&
+      fs.existsSync(path.join(web, file(url))) && types[path.extname(file(url))] !== undefined,
+    (route) => {
+      const f = file(new URL(route.request().url()));
+      route.fulfill({ body: fs.readFileSync(path.join(web, f)), contentType: types[path.extname(f)] });
+    });
+  }
   await page.goto(url, { timeout: 120000 });
   await page.waitForFunction(() => window.gaitlab.scene && window.gaitlab.drawn > 10, null, { timeout: 120000 });
+  if (process.env.PAUSED === '1') {
+    await page.click('#play');
+    await page.waitForFunction(() => window.gaitlab.frame.state.playing === false);
+  }
   await page.evaluate((steps) => {
     const g = window.gaitlab;
     const t = g.three;
@@ -117,6 +140,17 @@ try {
       for (const id of ['panel', 'plots-section', 'overlay']) {
         document.getElementById(id).style.display = what.endsWith('nodom') ? 'none' : '';
       }
+      for (const el of document.querySelectorAll('[data-hidden-part]')) {
+        el.style.display = '';
+        delete el.dataset.hiddenPart;
+      }
+      const dash = what.indexOf('-');
+      if (dash > 0) {
+        const el = document.getElementById(what.slice(dash + 1));
+        if (!el) throw new Error(`no element with the id ${what.slice(dash + 1)} on the page`);
+        el.style.display = 'none';
+        el.dataset.hiddenPart = '1';
+      }
     };
   }, scales);
   const procs = chromiumProcesses();
@@ -134,7 +168,8 @@ try {
       results.get(part.name).push({ fps: n / ((b.t - a.t) / 1000), gpu: (b.gpu - a.gpu) / n, ren: (b.ren - a.ren) / n, load });
     }
   }
-  console.log(`${robots} robots, page 1200x720, ${rounds} rounds of ${seconds} s per part`);
+  console.log(`${robots} robots, page 1200x720${web ? ` (page from ${web})` : ''}, ${rounds} rounds of ${seconds} s per part` +
+    `${process.env.PAUSED === '1' ? ', simulation paused' : ''}`);
   console.log('| part | resolution | drawings / s | GPU process CPU ms per drawing | renderer CPU ms per drawing | load |');
   console.log('|---|---|---|---|---|---|');
   for (const part of parts) {

@@ -1,8 +1,9 @@
 // Many robots in the browser: `gaitlab run bench/lua/crowd.lua --view` with 40 snakes of 8
 // modules (360 bodies) in Debian's headless chromium (software WebGL, far slower than a GPU).
 // Checks what a student would see: every robot is drawn where the engine says it is, in its
-// colour (the pixels at each robot's projected bodies); the drawing stays cheap (a handful of
-// draw calls for 360 bodies; nothing drawn again while nothing moves, no slider label rewritten
+// colour (the pixels at each robot's projected bodies), also after they moved (robots lifted in
+// a frame made by the test, and after a while of playing); the drawing stays cheap (the 360
+// bodies in one draw call; nothing drawn again while nothing moves, no slider label rewritten
 // while its value stays); a click on a body names it; when frames are slow the view is
 // drawn at a lower resolution, while a screenshot, "Full quality" and a recording are at the
 // full size.
@@ -104,6 +105,68 @@ try {
   });
   check(hueOf(sky) === 'grey', `the sky is not painted with robots (${sky})`);
   check(seen.calls > 0 && seen.calls <= 10, `${bodies} bodies take ${seen.calls} draw calls`);
+  // the bodies are one mesh drawn with one call: hiding them takes exactly one draw call away
+  const calls = await page.evaluate(() => {
+    const { bodies, renderer } = window.gaitlab.three;
+    const count = () => { window.gaitlab.three.render(); return renderer.info.render.calls; };
+    const shown = count();
+    for (const m of bodies.meshes) m.visible = false;
+    const hidden = count();
+    for (const m of bodies.meshes) m.visible = true;
+    return { shown, hidden, again: count() };
+  });
+  check(calls.shown - calls.hidden === 1 && calls.again === calls.shown,
+    `the ${bodies} bodies are drawn with one draw call (${calls.shown} with them, ${calls.hidden} without)`);
+
+  // the bodies move with their poses and keep their colours: in a frame made here, robots 0 to
+  // 3 (one of each colour) lifted 0.25 m; the pixels at their bodies' new places turn to their
+  // colours, and every other robot stays where it was in its colour
+  const lift = await page.evaluate(() => {
+    const g = window.gaitlab;
+    const { THREE, camera, renderer } = g.three;
+    const c = renderer.domElement;
+    const s = document.createElement('canvas');
+    s.width = c.clientWidth; s.height = c.clientHeight;
+    const x2 = s.getContext('2d');
+    const picture = () => {
+      g.three.render();
+      x2.drawImage(c, 0, 0, s.width, s.height);
+      return x2.getImageData(0, 0, s.width, s.height).data;
+    };
+    const original = g.frame;
+    const lifted = original.poses.slice();
+    g.scene.bodies.forEach((b, i) => { if (b.robot < 4) lifted[7 * i + 2] += 0.25; });
+    const v = new THREE.Vector3();
+    const at = (img, p, i) => {
+      v.set(p[7 * i], p[7 * i + 1], p[7 * i + 2]).project(camera);
+      const x = Math.round((v.x + 1) / 2 * s.width), y = Math.round((1 - v.y) / 2 * s.height);
+      if (x < 0 || y < 0 || x >= s.width || y >= s.height) return null;
+      const k = 4 * (y * s.width + x);
+      return [img[k], img[k + 1], img[k + 2]];
+    };
+    const before = picture();
+    g.frame = { ...original, poses: lifted };
+    const after = picture();
+    const list = g.scene.bodies.map((b, i) => ({ robot: b.robot, was: at(before, lifted, i),
+      now: at(after, lifted, i) }));
+    g.frame = original;
+    g.three.render();
+    return list;
+  });
+  const liftedRight = [];
+  let liftedOk = true;
+  for (let r = 0; r < 4; ++r) {
+    const mine = lift.filter((b) => b.robot === r && b.now !== null);
+    const turned = mine.filter((b) => hueOf(b.now) === kinds[r] && hueOf(b.was) !== kinds[r]).length;
+    liftedRight.push(`${turned}/${mine.length}`);
+    if (mine.length === 0 || turned < mine.length / 2) liftedOk = false;
+  }
+  check(liftedOk, `robots lifted in a frame are drawn where they went, in their colours (bodies whose pixel ` +
+    `turned to the robot's colour: ${liftedRight.join(', ')})`);
+  const stayed = lift.filter((b) => b.robot >= 4 && b.now !== null);
+  const stayedRight = stayed.filter((b) => hueOf(b.now) === kinds[b.robot % 4]).length;
+  check(stayedRight >= 0.8 * stayed.length,
+    `the robots not lifted stay where they were in their colours (${stayedRight} of ${stayed.length} bodies)`);
 
   // a click on a body names it
   const target = seen.bodies.find((b, i) => b.robot === 13 && i === seen.bodies.findIndex((x) => x.robot === 13) + 3);
@@ -169,6 +232,23 @@ try {
   check(mutations.drawn > 0 && mutations.time > 0 && mutations.params === 0,
     `playing, ${mutations.drawn} new frames drawn in 2 s; the time written ${mutations.time} times, ` +
     `the unchanged sliders ${mutations.params} times`);
+  // after a while of playing the robots are still drawn in their colours where the engine has
+  // moved them
+  await page.click('#play');
+  await page.waitForFunction(() => window.gaitlab.frame.state.playing === false);
+  await sleep(500);
+  const later = await look();
+  let moved = 0;
+  later.bodies.forEach((b, i) => { if (Math.hypot(b.x - seen.bodies[i].x, b.y - seen.bodies[i].y) >= 1) moved++; });
+  let drawnLater = 0;
+  for (let r = 0; r < robots; ++r) {
+    const mine = later.bodies.filter((b) => b.robot === r && b.inside);
+    if (mine.filter((b) => hueOf(b.rgb) === kinds[r % 4]).length >= mine.length / 2) drawnLater++;
+  }
+  check(moved > 0 && drawnLater === robots, `after playing, ${moved} bodies moved on the page and all ` +
+    `${robots} robots are drawn in their colours where the engine puts them (${drawnLater})`);
+  await page.click('#play');
+  await page.waitForFunction(() => window.gaitlab.frame.state.playing === true);
 
   // slow frames: the resolution goes down, the page keeps its size. Slow for sure: a budget
   // of 10 ms a frame, less than a 60 Hz screen gives (a fast machine draws this crowd at 30

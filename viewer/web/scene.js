@@ -1,6 +1,6 @@
 // The live 3D view of the viewer's page (docs/viewer.md): z up, as gaitlab's frames are. The
-// scene message builds it; each frame moves the bodies (robots' bodies drawn instanced by
-// bodies.js, moving objects as meshes); the camera orbits, pans, zooms and follows the first
+// scene message builds it; each frame moves the bodies (robots' bodies as one mesh posed in its
+// vertex shader by bodies.js, moving objects as meshes); the camera orbits, pans, zooms and follows the first
 // robot; a click on a body or object names it; the drawing resolution adapts to keep 30 frames
 // per second (resolution.js) unless pinned. app.js owns the page around it.
 import * as THREE from 'three';
