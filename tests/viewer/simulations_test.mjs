@@ -43,7 +43,7 @@ try {
   // the original
   await page.selectOption('#simulation', '1');
   await page.waitForFunction(() => window.gaitlab.scene.simulation === 1 && window.gaitlab.frame.simulation === 1 &&
-    window.gaitlab.drawn > 0, null, { timeout: 10000 });
+    window.gaitlab.drawn > 0, null, { timeout: 30000 });
   const one = await page.evaluate(() => ({ scene: window.gaitlab.scene, frame: window.gaitlab.frame,
     slider: document.querySelector('#param-sine-amplitude').value }));
   check(one.scene.robots[0].name === 'snake' && one.scene.bodies.length === 5 && Math.abs(one.frame.time - 0.6) < 1e-9,
@@ -51,7 +51,9 @@ try {
   check(Number(one.slider) === 40 && one.frame.params[0] === 40, `its amplitude slider reads 40 (${one.slider})`);
   // a plot of its live series
   await page.click('#add-plot');
-  await page.waitForFunction(() => window.gaitlab.plots.length === 1 && window.gaitlab.plots[0].names.size === 1);
+  // a loaded machine (CI beside other jobs) can take long to lay the plot out: a generous wait
+  await page.waitForFunction(() => window.gaitlab.plots.length === 1 && window.gaitlab.plots[0].names.size === 1,
+    null, { timeout: 90000 });
   one.plotted = await page.evaluate(() => [...window.gaitlab.plots[0].names]);
   // the original's samples: beyond the copy's 0.3 s (the buffers publish every 0.1 s of wall
   // time, so the last ones of a run that ended may not be there)
@@ -73,18 +75,18 @@ try {
   await page.waitForFunction(() => {
     const p = window.gaitlab.plots[0];
     return p.names.has('snake.com.x') && (!p.u || p.u.data[0].length === 0 || p.u.data[0].at(-1) <= 0.3 + 1e-9);
-  }, null, { timeout: 10000 });
+  }, null, { timeout: 30000 });
   check(true, 'the plot follows the copy (no samples after its 0.3 s)');
   // its slider changes the copy only
   await page.locator('#param-sine-amplitude').fill('20');
-  await page.waitForFunction(() => window.gaitlab.frame.simulation === 2 && window.gaitlab.frame.params[0] === 20, null, { timeout: 5000 });
+  await page.waitForFunction(() => window.gaitlab.frame.simulation === 2 && window.gaitlab.frame.params[0] === 20, null, { timeout: 30000 });
   await page.selectOption('#simulation', '1');
   await page.waitForFunction(() => window.gaitlab.frame.simulation === 1);
   const back = await page.evaluate(() => window.gaitlab.frame.params[0]);
   check(back === 40, `the slider set the copy's amplitude to 20; the original's is still ${back}`);
   // play steps the chosen one only
   await page.click('#play');
-  await page.waitForFunction(() => window.gaitlab.frame.simulation === 1 && window.gaitlab.frame.time > 0.9, null, { timeout: 10000 });
+  await page.waitForFunction(() => window.gaitlab.frame.simulation === 1 && window.gaitlab.frame.time > 0.9, null, { timeout: 30000 });
   await page.click('#play');
   await page.selectOption('#simulation', '2');
   await page.waitForFunction(() => window.gaitlab.frame.simulation === 2);
