@@ -83,6 +83,7 @@ RawSnake::RawSnake(const Scenario& sc) : impl_(std::make_unique<Impl>()) {
     btDiscreteDynamicsWorld& world = s.world;
     world.setGravity(btVector3(0, 0, btScalar(-9.81)));
     world.getSolverInfo().m_numIterations = sc.solver_iterations;
+    if (sc.friction_disk) s.solver.set_friction_model(gaitlab::FrictionModel::disk);
 
     auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), btScalar(0));
     btRigidBody::btRigidBodyConstructionInfo floor_info(0, nullptr, plane.get());
@@ -143,7 +144,7 @@ RawSnake::RawSnake(const Scenario& sc) : impl_(std::make_unique<Impl>()) {
         s.hinges.push_back(std::move(hinge));
         s.amplitude.push_back(yaw ? sc.yaw_amplitude : sc.pitch_amplitude);
         s.lag.push_back(static_cast<double>(yaw ? yaw_index++ : pitch_index++) * dphi +
-                        sc.phase0 * (kPi / 180));
+                        (sc.phase0 + (yaw ? sc.yaw_phase0 : 0)) * (kPi / 180));
     }
     s.feedback.resize(s.hinges.size());
     for (size_t j = 0; j < s.hinges.size(); ++j) {

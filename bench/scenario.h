@@ -18,6 +18,8 @@ struct Scenario {
     double frequency = 0.5;       ///< Hz
     double phase = 120;           ///< deg, between neighbours of a group
     double phase0 = 0;            ///< deg, added to every joint's sine (raw loop only)
+    double yaw_phase0 = 0;        ///< deg, added to the yaw joints' sines too (raw loop only)
+    bool friction_disk = false;   ///< the solver's FrictionModel::disk (raw loop only)
     double floor_friction = 0.8;
     double dt = 0.001;       ///< s
     int control_every = 10;  ///< ticks between controller steps
