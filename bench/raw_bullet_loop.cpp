@@ -37,7 +37,7 @@ struct RawSnake::Impl {
         : config(std::move(c)),
           dispatcher(config.get()),
           world(&dispatcher, &broadphase, &solver, config.get()) {}
-    // the engine's contact generation (gaitlab::ContactConfiguration) unless RawOptions say
+    // the engine's contact generation (gaitlab::BoxPlaneConfiguration) unless RawOptions say
     std::unique_ptr<btCollisionConfiguration> config;
     btCollisionDispatcher dispatcher;
     btDbvtBroadphase broadphase;
@@ -88,16 +88,15 @@ namespace {
 
 std::unique_ptr<btCollisionConfiguration> collision_configuration(RawOptions::Contacts c) {
     switch (c) {
-        case RawOptions::Contacts::box_plane:
-            return std::make_unique<gaitlab::BoxPlaneConfiguration>(
-                gaitlab::BoxPlanePoints::touching);
+        case RawOptions::Contacts::bullet_multipoint:
+            return std::make_unique<gaitlab::ContactConfiguration>();
         case RawOptions::Contacts::box_plane_fewer:
             return std::make_unique<gaitlab::BoxPlaneConfiguration>(
                 gaitlab::BoxPlanePoints::flat_or_two);
         case RawOptions::Contacts::engine:
             break;
     }
-    return std::make_unique<gaitlab::ContactConfiguration>();
+    return std::make_unique<gaitlab::BoxPlaneConfiguration>(gaitlab::BoxPlanePoints::touching);
 }
 
 }  // namespace

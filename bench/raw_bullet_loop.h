@@ -19,10 +19,10 @@ struct Vec {
 
 /// What the raw loop may do otherwise than the engine (solver_knobs measures each).
 struct RawOptions {
-    /// box-floor contact points: the engine's (Bullet's convex-plane path with its multipoint
-    /// search), the box-plane collider of engine/src/bullet/box_plane.h with every touching
-    /// corner, or with 4 corners only for a face lying flat and else the deepest 2
-    enum class Contacts { engine, box_plane, box_plane_fewer };
+    /// box-floor contact points: the engine's (its box-plane collider, every touching corner:
+    /// engine/src/bullet/box_plane.h), Bullet's convex-plane path with its multipoint search
+    /// (the engine's before it), or 4 corners only for a face lying flat and else the deepest 2
+    enum class Contacts { engine, bullet_multipoint, box_plane_fewer };
     Contacts contacts = Contacts::engine;
     /// > 0: the joints' rows are solved in this many iterations (Bullet's per-constraint
     /// override), the contacts' in the solver's own count

@@ -6,8 +6,9 @@
 //
 //   solver_knobs [--modules N] [--reps R] [--jobs J] [--quick] [--ideas] [--only TEXT]
 //
-// --ideas: instead of the solver settings, the ideas that need code (RawOptions): the engine's
-// own box-plane collider (engine/src/bullet/box_plane.h), fewer points per box face, and other
+// --ideas: instead of the solver settings, the ideas that need code (RawOptions): Bullet's
+// convex-plane path instead of the engine's box-plane collider (engine/src/bullet/box_plane.h),
+// fewer points per box face, and other
 // iteration counts for the joints than for the contacts, each at several iteration counts and
 // at dt 1 and 0.5 ms, so that each can be compared at equal accuracy. --only TEXT keeps the
 // variants whose name contains TEXT (besides the reference and the engine's default).
@@ -85,8 +86,9 @@ std::vector<Variant> variants() {
     };
 }
 
-// the ideas of issue 14 that need more than a solver setting: contact points from a box-plane
-// collider of the engine's own (every touching corner, or 4 only for a flat face), and the
+// the ideas of issue 14 that need more than a solver setting: contact points from Bullet's
+// convex-plane path (what the engine's box-plane collider replaced) or 4 only for a flat face,
+// and the
 // joints' rows solved in another number of iterations than the contacts'
 std::vector<Variant> idea_variants() {
     using C = RawOptions::Contacts;
@@ -99,7 +101,11 @@ std::vector<Variant> idea_variants() {
         for (int it : counts) {
             const std::string its = std::to_string(it) + " it";
             if (!one || it != 20) v.push_back({at + its, dt, it, {}, {}});
-            v.push_back({"box-plane collider, " + at + its, dt, it, {}, {C::box_plane, 0}});
+            v.push_back({"Bullet's multipoint path (the engine's before), " + at + its,
+                         dt,
+                         it,
+                         {},
+                         {C::bullet_multipoint, 0}});
             v.push_back({"box-plane, 4 points if flat else 2, " + at + its,
                          dt,
                          it,

@@ -1,7 +1,9 @@
-// A box-on-plane collider of gaitlab's own (a module on the floor), in place of Bullet's
-// general convex-plane path with its multipoint search (ContactConfiguration in
-// coulomb_solver.h). Header-only, like coulomb_solver.h, so that the benchmarks' raw Bullet loop
-// (bench/raw_bullet_loop.cpp) can step with it; docs/performance.md, section 13, measures it.
+// The box-on-plane collider of every gaitlab world (a module on the floor), in place of
+// Bullet's general convex-plane path with its multipoint search (ContactConfiguration in
+// coulomb_solver.h, which every other pair still takes). Header-only, like coulomb_solver.h, so
+// that the benchmarks' raw Bullet loop (bench/raw_bullet_loop.cpp) steps exactly the engine's
+// physics; docs/performance.md, section 13, measures it (the same points, 13 % of the
+// instructions).
 #pragma once
 
 #include <btBulletDynamicsCommon.h>
