@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "bullet/box_plane.h"
 #include "bullet/coulomb_solver.h"
 
 namespace gaitlab_bench {
@@ -32,11 +33,16 @@ constexpr int kRobotBit = 1 << 8;
 }  // namespace
 
 struct RawSnake::Impl {
-    gaitlab::ContactConfiguration config;  // the engine's contact generation
-    btCollisionDispatcher dispatcher{&config};
+    explicit Impl(std::unique_ptr<btCollisionConfiguration> c)
+        : config(std::move(c)),
+          dispatcher(config.get()),
+          world(&dispatcher, &broadphase, &solver, config.get()) {}
+    // the engine's contact generation (gaitlab::BoxPlaneConfiguration) unless RawOptions say
+    std::unique_ptr<btCollisionConfiguration> config;
+    btCollisionDispatcher dispatcher;
     btDbvtBroadphase broadphase;
     gaitlab::CoulombSolver solver;  // the engine's contact model
-    btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
+    btDiscreteDynamicsWorld world;
     std::vector<std::unique_ptr<btCollisionShape>> shapes;
     std::vector<std::unique_ptr<btRigidBody>> bodies;  // floor first, then tail to head
     std::vector<std::unique_ptr<btHingeConstraint>> hinges;
@@ -78,7 +84,25 @@ struct RawSnake::Impl {
     }
 };
 
-RawSnake::RawSnake(const Scenario& sc) : impl_(std::make_unique<Impl>()) {
+namespace {
+
+std::unique_ptr<btCollisionConfiguration> collision_configuration(RawOptions::Contacts c) {
+    switch (c) {
+        case RawOptions::Contacts::bullet_multipoint:
+            return std::make_unique<gaitlab::ContactConfiguration>();
+        case RawOptions::Contacts::box_plane_fewer:
+            return std::make_unique<gaitlab::BoxPlaneConfiguration>(
+                gaitlab::BoxPlanePoints::flat_or_two);
+        case RawOptions::Contacts::engine:
+            break;
+    }
+    return std::make_unique<gaitlab::BoxPlaneConfiguration>(gaitlab::BoxPlanePoints::touching);
+}
+
+}  // namespace
+
+RawSnake::RawSnake(const Scenario& sc, const RawOptions& options)
+    : impl_(std::make_unique<Impl>(collision_configuration(options.contacts))) {
     Impl& s = *impl_;
     btDiscreteDynamicsWorld& world = s.world;
     world.setGravity(btVector3(0, 0, btScalar(-9.81)));
@@ -140,6 +164,8 @@ RawSnake::RawSnake(const Scenario& sc) : impl_(std::make_unique<Impl>()) {
         hinge->setLimit(btScalar(-kMaxAngle), btScalar(kMaxAngle));
         hinge->enableAngularMotor(true, 0, btScalar(kMaxTorque * sc.dt));
         hinge->setUserConstraintId(j);  // the solver visits joints in this order, as the engine's
+        if (options.joint_iterations > 0)
+            hinge->setOverrideNumSolverIterations(options.joint_iterations);
         world.addConstraint(hinge.get(), true);
         s.hinges.push_back(std::move(hinge));
         s.amplitude.push_back(yaw ? sc.yaw_amplitude : sc.pitch_amplitude);

@@ -17,9 +17,21 @@ struct Vec {
     double x = 0, y = 0, z = 0;
 };
 
+/// What the raw loop may do otherwise than the engine (solver_knobs measures each).
+struct RawOptions {
+    /// box-floor contact points: the engine's (its box-plane collider, every touching corner:
+    /// engine/src/bullet/box_plane.h), Bullet's convex-plane path with its multipoint search
+    /// (the engine's before it), or 4 corners only for a face lying flat and else the deepest 2
+    enum class Contacts { engine, bullet_multipoint, box_plane_fewer };
+    Contacts contacts = Contacts::engine;
+    /// > 0: the joints' rows are solved in this many iterations (Bullet's per-constraint
+    /// override), the contacts' in the solver's own count
+    int joint_iterations = 0;
+};
+
 class RawSnake {
   public:
-    explicit RawSnake(const Scenario& scenario);
+    explicit RawSnake(const Scenario& scenario, const RawOptions& options = {});
     ~RawSnake();
     RawSnake(const RawSnake&) = delete;
     RawSnake& operator=(const RawSnake&) = delete;

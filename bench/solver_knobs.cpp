@@ -1,10 +1,17 @@
 // solver_knobs: what Bullet solver settings that gaitlab does not expose would buy
-// (docs/performance.md, section 12). It steps the engine's physics through the raw Bullet loop
+// (docs/performance.md, section 13). It steps the engine's physics through the raw Bullet loop
 // (bench/raw_bullet_loop.cpp: the engine's bodies, hinges, servo law and contact model, bit for
 // bit) with the solver settings changed, and measures each variant as bench/anchors.sh measures
 // the engines: the per-cycle speed against a converged reference, and the CPU time per step.
 //
-//   solver_knobs [--modules N] [--reps R] [--jobs J] [--quick]
+//   solver_knobs [--modules N] [--reps R] [--jobs J] [--quick] [--ideas] [--only TEXT]
+//
+// --ideas: instead of the solver settings, the ideas that need code (RawOptions): Bullet's
+// convex-plane path instead of the engine's box-plane collider (engine/src/bullet/box_plane.h),
+// fewer points per box face, and other
+// iteration counts for the joints than for the contacts, each at several iteration counts and
+// at dt 1 and 0.5 ms, so that each can be compared at equal accuracy. --only TEXT keeps the
+// variants whose name contains TEXT (besides the reference and the engine's default).
 //
 // Accuracy: 22 simulated s, the centre of mass sampled every 2 s (a gait cycle), speed = mean
 // |displacement| per cycle over cycles 2-11, pitch-yaw averaged over 5 start phases (0, 72,
@@ -30,11 +37,15 @@
 namespace gaitlab_bench {
 namespace {
 
+const char* const kUsage =
+    "solver_knobs [--modules N] [--reps R] [--jobs J] [--quick] [--ideas] [--only TEXT]";
+
 struct Variant {
     std::string name;
     double dt = 0.001;
     int iterations = 20;
     std::function<void(btContactSolverInfo&)> knob;  // empty: the engine's settings
+    RawOptions options = {};                         // the engine's contacts and joints
 };
 
 std::vector<Variant> variants() {
@@ -75,6 +86,48 @@ std::vector<Variant> variants() {
     };
 }
 
+// the ideas of issue 14 that need more than a solver setting: contact points from Bullet's
+// convex-plane path (what the engine's box-plane collider replaced) or 4 only for a flat face,
+// and the
+// joints' rows solved in another number of iterations than the contacts'
+std::vector<Variant> idea_variants() {
+    using C = RawOptions::Contacts;
+    std::vector<Variant> v;
+    for (double dt : {0.001, 0.0005}) {
+        const bool one = dt == 0.001;
+        const std::string at = one ? "" : "dt 0.5 ms, ";
+        const std::vector<int> counts =
+            one ? std::vector<int>{20, 14, 10, 7, 5} : std::vector<int>{10, 7, 5};
+        for (int it : counts) {
+            const std::string its = std::to_string(it) + " it";
+            if (!one || it != 20) v.push_back({at + its, dt, it, {}, {}});
+            v.push_back({"Bullet's multipoint path (the engine's before), " + at + its,
+                         dt,
+                         it,
+                         {},
+                         {C::bullet_multipoint, 0}});
+            v.push_back({"box-plane, 4 points if flat else 2, " + at + its,
+                         dt,
+                         it,
+                         {},
+                         {C::box_plane_fewer, 0}});
+        }
+        const std::vector<std::pair<int, int>> split =
+            one ? std::vector<std::pair<int, int>>{{5, 10},  {7, 20}, {10, 5},
+                                                   {10, 20}, {20, 7}, {20, 10}}
+                : std::vector<std::pair<int, int>>{{5, 10}, {7, 14}};
+        for (auto [contacts, joints] : split) {
+            v.push_back({at + "contacts " + std::to_string(contacts) + " it, joints " +
+                             std::to_string(joints) + " it",
+                         dt,
+                         contacts,
+                         {},
+                         {C::engine, joints}});
+        }
+    }
+    return v;
+}
+
 Scenario scenario(const Variant& v, int modules, bool py, double phase0, double seconds) {
     Scenario s;
     s.modules = modules;
@@ -96,7 +149,7 @@ double thread_cpu_seconds() {
 // mean |centre-of-mass displacement| per 2 s cycle over cycles 2..11, mm
 double cycle_speed(const Variant& v, int modules, bool py, double phase0) {
     const Scenario sc = scenario(v, modules, py, phase0, 22);
-    RawSnake snake(sc);
+    RawSnake snake(sc, v.options);
     if (v.knob) v.knob(snake.solver_info());
     const long cycle = std::lround(2.0 / v.dt);
     snake.step(cycle);
@@ -114,7 +167,7 @@ double cycle_speed(const Variant& v, int modules, bool py, double phase0) {
 
 double cpu_us_per_step(const Variant& v, int modules, bool py, double seconds) {
     const Scenario sc = scenario(v, modules, py, 0, seconds);
-    RawSnake snake(sc);
+    RawSnake snake(sc, v.options);
     if (v.knob) v.knob(snake.solver_info());
     const double c0 = thread_cpu_seconds();
     snake.step(sc.ticks());
@@ -129,7 +182,8 @@ double median(std::vector<double> v) {
 
 int run(int argc, char** argv) {
     int modules = 8, reps = 5, jobs = 2;
-    bool quick = false;
+    bool quick = false, ideas = false;
+    std::string only;
     for (int i = 1; i < argc; ++i) {
         const std::string k = argv[i];
         auto value = [&]() -> int {
@@ -155,13 +209,26 @@ int run(int argc, char** argv) {
             jobs = value();
         } else if (k == "--quick") {
             quick = true;
+        } else if (k == "--ideas") {
+            ideas = true;
+        } else if (k == "--only") {
+            if (i + 1 >= argc) throw std::runtime_error("--only needs a value");
+            only = argv[++i];
         } else {
-            throw std::runtime_error("unknown option '" + k +
-                                     "' (solver_knobs [--modules N] [--reps R] [--jobs J] "
-                                     "[--quick])");
+            throw std::runtime_error("unknown option '" + k + "' (" + kUsage + ")");
         }
     }
-    const std::vector<Variant> vs = variants();
+    // the reference and the engine's default first, then the variants asked for
+    std::vector<Variant> vs;
+    {
+        const std::vector<Variant> all = ideas ? idea_variants() : variants();
+        vs = {{"reference: dt 0.25 ms, 80 it", 0.00025, 80, {}, {}},
+              {"engine default: 20 it", 0.001, 20, {}, {}}};
+        for (const Variant& v : all) {
+            if (v.name == vs[0].name || v.name == vs[1].name) continue;
+            if (only.empty() || v.name.find(only) != std::string::npos) vs.push_back(v);
+        }
+    }
     const std::vector<double> phases_py =
         quick ? std::vector<double>{0, 144} : std::vector<double>{0, 72, 144, 216, 288};
     if (quick) reps = std::min(reps, 3);

@@ -1,5 +1,6 @@
 #include "bullet/physics_world.h"
 
+#include "bullet/box_plane.h"
 #include "bullet/coulomb_solver.h"
 
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
@@ -108,7 +109,7 @@ struct PhysicsWorld::Impl {
         btVector3 pivot_in_child, pivot_in_parent, axis_in_child, axis_in_parent;
     };
 
-    ContactConfiguration config;
+    BoxPlaneConfiguration config;  // the engine's contact points (box_plane.h)
     btCollisionDispatcher dispatcher{&config};
     btDbvtBroadphase broadphase;
     CoulombSolver solver;
