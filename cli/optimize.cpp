@@ -15,6 +15,7 @@
 
 #include <fmt/format.h>
 
+#include "evaluation_options.h"
 #include "gaitlab/error.h"
 #include "gaitlab/optimize/mpi.h"
 #include "gaitlab/optimize/options.h"
@@ -55,15 +56,10 @@ std::string new_results_folder(const std::string& spec) {
 }  // namespace
 
 struct OptimizeCommand::Args {
-    std::string spec;
-    // checked by optimize::check_options, as gaitlab.optimize{}'s are
-    optimize::GivenOptions given = [] {
-        optimize::GivenOptions g;
-        g.workers = "1";  // the defaults, for --help
-        g.seed = "0";
-        return g;
-    }();
-    std::string rank_timeout = "30";
+    EvaluationArgs common;
+    // --method, --generations, --population and --resume; with common's --workers, --seed and
+    // --out checked by optimize::check_options, as gaitlab.optimize{}'s are
+    optimize::GivenOptions given;
 };
 
 OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
@@ -71,7 +67,7 @@ OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
                               "Tune parameters with GA, CMA-ES or PGPE: each evaluation builds "
                               "and runs a simulation (docs/optimization.md)");
     sub_->allow_extras();
-    sub_->add_option("spec", a_->spec, "The optimization spec (SPEC.lua)")
+    sub_->add_option("spec", a_->common.spec, "The optimization spec (SPEC.lua)")
         ->required()
         ->type_name("SPEC.lua");
     sub_->add_option("--method", a_->given.method,
@@ -83,18 +79,7 @@ OptimizeCommand::OptimizeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
     sub_->add_option("--population", a_->given.population,
                      "Individuals per generation (default: the spec's, or the method's)")
         ->type_name("N");
-    sub_->add_option("--workers", a_->given.workers,
-                     "Threads evaluating in parallel, each with its own Lua state (the result "
-                     "is the same for any number)")
-        ->type_name("N")
-        ->capture_default_str();
-    sub_->add_option("--seed", a_->given.seed, "Seed of the method's random stream: 0 to 2^64 - 1")
-        ->type_name("N")
-        ->capture_default_str();
-    add_rank_timeout_option(*sub_, a_->rank_timeout);
-    sub_->add_option("--out", a_->given.out,
-                     "Results folder, new or empty (default: runs/optimize-SPEC-DATE-TIME)")
-        ->type_name("DIR");
+    add_evaluation_options(*sub_, a_->common, "Seed of the method's random stream");
     sub_->add_flag("--resume", a_->given.resume,
                    "Continue the interrupted run in --out DIR (the same spec and options; "
                    "--workers may differ)");
@@ -115,12 +100,16 @@ bool OptimizeCommand::chosen() const {
 }
 
 int OptimizeCommand::run(const std::string& command) {
-    const Args& a = *a_;
+    const EvaluationArgs& a = a_->common;
+    optimize::GivenOptions given = a_->given;
+    given.workers = a.workers;
+    given.seed = a.seed;
+    given.out = a.out;
     optimize::RunOptions o;
     optimize::MpiOptions mpi_options;
     optimize::Spec spec;
     try {
-        o = optimize::check_options(a.given, optimize::OptionGiver::command_line);
+        o = optimize::check_options(given, optimize::OptionGiver::command_line);
         mpi_options.workers = o.workers;
         mpi_options.rank_timeout = rank_timeout_option(a.rank_timeout);
     } catch (const Error& e) {
@@ -131,21 +120,14 @@ int OptimizeCommand::run(const std::string& command) {
     o.command = command;
     // under mpirun: rank 0 runs the method, the other ranks evaluate (docs/optimization.md)
     Ranks mpi;
-    try {
-        mpi = start_ranks(a.spec, mpi_options, &evaluations_stop());
-        if (mpi.served >= 0) return mpi.served;
-        o.backend = mpi.backend.get();
-        spec = optimize::load_spec(a.spec);
-    } catch (const Error& e) {
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
-        return 1;
+    if (const int status = start_ranks_and_load(a.spec, mpi_options, mpi, spec); status >= 0) {
+        return status;
     }
+    o.backend = mpi.backend.get();
     std::string names;
     for (const auto& p : spec.parameters)
         names += (names.empty() ? "" : ", ") + p.name;
-    const std::string workers =
-        mpi.backend ? mpi.backend->describe()
-                    : fmt::format("{} worker{}", o.workers, o.workers == 1 ? "" : "s");
+    const std::string workers = workers_text(mpi, o.workers);
     std::printf("optimize %s: %zu parameters (%s), fitness %s, %s, results in %s\n", a.spec.c_str(),
                 spec.parameters.size(), names.c_str(), spec.fitness.c_str(), workers.c_str(),
                 o.out.c_str());
@@ -199,21 +181,12 @@ int OptimizeCommand::run(const std::string& command) {
                      o.out.c_str());
         return 1;
     }
-    std::string best;
-    for (size_t i = 0; i < r.best.size(); ++i) {
-        best += fmt::format("{}{} = {}", i == 0 ? "" : ", ", spec.parameters[i].name,
-                            fitness_text(r.best[i]));
-    }
+    const std::string best = point_text(spec, r.best);
     std::printf("best %s %s after %lld evaluations (%s, seed %llu): %s\n", spec.fitness.c_str(),
                 fitness_text(r.best_fitness).c_str(), static_cast<long long>(r.evaluations),
                 r.method.c_str(), static_cast<unsigned long long>(o.seed), best.c_str());
     std::printf("results: %s/evaluations.jsonl, %s/best.json\n", o.out.c_str(), o.out.c_str());
-    if (!r.simulation.empty()) {
-        std::printf("the best as a simulation file: gaitlab run %s\n", r.simulation.c_str());
-    } else {
-        std::printf("the best could not be saved as a simulation file: %s\n",
-                    r.simulation_error.c_str());
-    }
+    print_best_simulation(r.simulation, r.simulation_error);
     if (!r.run.empty()) {
         std::printf("the best's run recorded: gaitlab view %s, gaitlab data %s --list\n",
                     r.run.c_str(), r.run.c_str());

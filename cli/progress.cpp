@@ -50,6 +50,23 @@ std::string fitness_text(double v) {
     return std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string("none");
 }
 
+std::string point_text(const optimize::Spec& spec, const std::vector<double>& x) {
+    std::string text;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        text += fmt::format("{}{} = {}", i == 0 ? "" : ", ", spec.parameters[i].name,
+                            fitness_text(x[i]));
+    }
+    return text;
+}
+
+void print_best_simulation(const std::string& file, const std::string& error) {
+    if (!file.empty()) {
+        std::printf("the best as a simulation file: gaitlab run %s\n", file.c_str());
+    } else {
+        std::printf("the best could not be saved as a simulation file: %s\n", error.c_str());
+    }
+}
+
 ProgressLine::ProgressLine()
     : terminal_(::isatty(STDERR_FILENO) == 1),
       last_(std::chrono::steady_clock::now() - std::chrono::seconds(1)) {}

@@ -1,12 +1,15 @@
 // What `gaitlab optimize` and `gaitlab sweep` share on the command line: the signal that stops
-// them, the default results folder, numbers and durations as the progress lines show them,
-// and the progress line itself (on a terminal only).
+// them, the default results folder, numbers, durations and points as the progress and result
+// lines show them, and the progress line itself (on a terminal only).
 #pragma once
 
 #include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include <vector>
+
+#include "gaitlab/optimize/runner.h"
 
 namespace gaitlab::cli {
 
@@ -26,6 +29,14 @@ std::string duration_text(double seconds);
 
 /// A fitness as the progress lines show it ("0.105722"; "none" when not finite).
 std::string fitness_text(double v);
+
+/// A point's parameters as the result lines show them: "amplitude = 40, phase = 120" (`x` in
+/// the order of `spec`'s parameters).
+std::string point_text(const optimize::Spec& spec, const std::vector<double>& x);
+
+/// Prints the line that says where the best point's simulation file is ("the best as a
+/// simulation file: gaitlab run FILE"), or, when `file` is "", why it could not be saved.
+void print_best_simulation(const std::string& file, const std::string& error);
 
 /// A line on stderr rewritten in place, when stderr is a terminal (nothing otherwise).
 class ProgressLine {

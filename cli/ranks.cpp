@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "gaitlab/error.h"
+#include "progress.h"
 
 namespace gaitlab::cli {
 
@@ -46,6 +47,24 @@ Ranks start_ranks(const std::string& spec, optimize::MpiOptions options,
         r.backend = optimize::make_mpi_backend(*r.session, options);
     }
     return r;
+}
+
+int start_ranks_and_load(const std::string& file, const optimize::MpiOptions& options, Ranks& mpi,
+                         optimize::Spec& spec) {
+    try {
+        mpi = start_ranks(file, options, &evaluations_stop());
+        if (mpi.served >= 0) return mpi.served;
+        spec = optimize::load_spec(file);
+    } catch (const Error& e) {
+        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        return 1;
+    }
+    return -1;
+}
+
+std::string workers_text(const Ranks& mpi, int workers) {
+    return mpi.backend ? mpi.backend->describe()
+                       : fmt::format("{} worker{}", workers, workers == 1 ? "" : "s");
 }
 
 }  // namespace gaitlab::cli

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "gaitlab/optimize/mpi.h"
+#include "gaitlab/optimize/runner.h"
 
 namespace gaitlab::cli {
 
@@ -36,5 +37,16 @@ struct Ranks {
 /// stderr when a rank is given up. Throws Error (MPI not built in, the spec not loaded).
 Ranks start_ranks(const std::string& spec, optimize::MpiOptions options,
                   const std::atomic<int>* stop);
+
+/// How `gaitlab optimize` and `gaitlab sweep` begin: start_ranks(`file`, `options`), stopped by
+/// evaluations_stop(), into `mpi`, then the spec `file` loaded into `spec`. Returns -1 on rank
+/// 0 (the command goes on; mpi.backend, if any, evaluates), else the status to exit with: a
+/// serving rank's once rank 0 said stop, or 1 with the error on stderr.
+int start_ranks_and_load(const std::string& file, const optimize::MpiOptions& options, Ranks& mpi,
+                         optimize::Spec& spec);
+
+/// Who evaluates, as the command's first line says it: "2 workers", or under mpirun the
+/// backend's description.
+std::string workers_text(const Ranks& mpi, int workers);
 
 }  // namespace gaitlab::cli

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "evaluation_options.h"
 #include "gaitlab/error.h"
 #include "gaitlab/optimize/options.h"
 #include "gaitlab/optimize/sweep.h"
@@ -17,12 +18,8 @@
 namespace gaitlab::cli {
 
 struct SweepCommand::Args {
-    std::string spec;
+    EvaluationArgs common;
     std::vector<std::string> grid;
-    std::string workers = "1";
-    std::string seed = "0";
-    std::string rank_timeout = "30";
-    std::string out;
 };
 
 SweepCommand::SweepCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
@@ -30,7 +27,8 @@ SweepCommand::SweepCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
                               "Evaluate an optimization spec on a grid of parameter values: a "
                               "table, a heat map (docs/optimization.md)");
     sub_->allow_extras();
-    sub_->add_option("spec", a_->spec, "The optimization spec (SPEC.lua), as gaitlab optimize's")
+    sub_->add_option("spec", a_->common.spec,
+                     "The optimization spec (SPEC.lua), as gaitlab optimize's")
         ->required()
         ->type_name("SPEC.lua");
     sub_->add_option("--grid", a_->grid,
@@ -40,19 +38,7 @@ SweepCommand::SweepCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
         ->required()
         ->expected(1, -1)
         ->type_name("NAME=FROM:TO:STEP");
-    sub_->add_option("--workers", a_->workers,
-                     "Threads evaluating in parallel, each with its own Lua state (the results "
-                     "are the same for any number)")
-        ->type_name("N")
-        ->capture_default_str();
-    sub_->add_option("--seed", a_->seed,
-                     "Seed of math.random before every evaluation: 0 to 2^64 - 1")
-        ->type_name("N")
-        ->capture_default_str();
-    add_rank_timeout_option(*sub_, a_->rank_timeout);
-    sub_->add_option("--out", a_->out,
-                     "Results folder, new or empty (default: runs/sweep-SPEC-DATE-TIME)")
-        ->type_name("DIR");
+    add_evaluation_options(*sub_, a_->common, "Seed of math.random before every evaluation");
     sub_->footer(
         "Writes DIR/sweep.csv (one column per swept parameter, fitness, error; one row per\n"
         "point), DIR/sweep.png (a line plot for one swept parameter, a heat map for two),\n"
@@ -71,7 +57,7 @@ bool SweepCommand::chosen() const {
 }
 
 int SweepCommand::run(const std::string& command) {
-    const Args& a = *a_;
+    const EvaluationArgs& a = a_->common;
     optimize::SweepOptions o;
     optimize::MpiOptions mpi_options;
     try {
@@ -89,18 +75,13 @@ int SweepCommand::run(const std::string& command) {
     // under mpirun: rank 0 sweeps, the other ranks evaluate (docs/optimization.md)
     Ranks mpi;
     optimize::Spec spec;
-    try {
-        mpi = start_ranks(a.spec, mpi_options, &evaluations_stop());
-        if (mpi.served >= 0) return mpi.served;
-        o.backend = mpi.backend.get();
-        spec = optimize::load_spec(a.spec);
-    } catch (const Error& e) {
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
-        return 1;
+    if (const int status = start_ranks_and_load(a.spec, mpi_options, mpi, spec); status >= 0) {
+        return status;
     }
+    o.backend = mpi.backend.get();
     optimize::Grid grid;
     try {
-        grid = optimize::parse_grid(spec, a.grid);
+        grid = optimize::parse_grid(spec, a_->grid);
     } catch (const Error& e) {
         std::fprintf(stderr, "gaitlab: %s (see 'gaitlab sweep --help')\n", e.what());
         return 2;
@@ -123,9 +104,7 @@ int SweepCommand::run(const std::string& command) {
         grid.axes.size() == 1
             ? fmt::format("{} at {} values", swept, grid.points())
             : fmt::format("{} on a {} grid ({} points)", swept, sizes, grid.points());
-    const std::string workers =
-        mpi.backend ? mpi.backend->describe()
-                    : fmt::format("{} worker{}", o.workers, o.workers == 1 ? "" : "s");
+    const std::string workers = workers_text(mpi, o.workers);
     std::printf("sweep %s: %s%s, fitness %s, %s, results in %s\n", a.spec.c_str(), shape.c_str(),
                 fixed.empty() ? "" : (", " + fixed).c_str(), spec.fitness.c_str(), workers.c_str(),
                 o.out.c_str());
@@ -167,11 +146,7 @@ int SweepCommand::run(const std::string& command) {
         std::fprintf(stderr, "gaitlab: every point failed (see %s)\n", r.table.c_str());
         return 1;
     }
-    std::string best;
-    for (std::size_t i = 0; i < r.best.size(); ++i) {
-        best += fmt::format("{}{} = {}", i == 0 ? "" : ", ", spec.parameters[i].name,
-                            fitness_text(r.best[i]));
-    }
+    const std::string best = point_text(spec, r.best);
     std::printf("best %s %s at point %zu of %zu: %s\n", spec.fitness.c_str(),
                 fitness_text(r.best_fitness).c_str(), r.best_point + 1, r.points, best.c_str());
     std::printf("results: %s, %s/evaluations.jsonl, %s/best.json\n", r.table.c_str(), o.out.c_str(),
@@ -181,12 +156,7 @@ int SweepCommand::run(const std::string& command) {
     } else {
         std::printf("no plot: %s\n", r.plot_error.c_str());
     }
-    if (!r.simulation.empty()) {
-        std::printf("the best as a simulation file: gaitlab run %s\n", r.simulation.c_str());
-    } else {
-        std::printf("the best could not be saved as a simulation file: %s\n",
-                    r.simulation_error.c_str());
-    }
+    print_best_simulation(r.simulation, r.simulation_error);
     return 0;
 }
 

@@ -8,51 +8,25 @@
 
 #include <signal.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
-#include <chrono>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <regex>
-#include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "run_gaitlab.h"
 
-using gaitlab::test::interrupt_while_evaluating;
-using gaitlab::test::lines;
-using gaitlab::test::read_text;
-using gaitlab::test::run_gaitlab;
-using gaitlab::test::spawn_gaitlab;
-using gaitlab::test::TempDir;
-using gaitlab::test::timeless;
-using gaitlab::test::write_text;
+using namespace gaitlab::test;
 
 namespace {
 
-// a 3-module snake for half a second: quick evaluations (GA: 5 + 3 + 3 evaluations)
-const std::string kSpec = R"(return {
-  parameters = { amplitude = {10, 60, initial = 40}, phase = {30, 180, initial = 120},
-                 modules_on = {1, 3, integer = true} },
-  build = function(p)
-    local robot = gaitlab.robot.chain{ name = "snake", modules = 3, connection = "pitch-pitch" }
-    local world = gaitlab.world{}
-    world:add(robot)
-    robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = p.amplitude,
-                                                         phase = p.phase, frequency = 1,
-                                                         offset = p.modules_on })
-    return gaitlab.simulation{ world = world }
-  end,
-  fitness = "distance",
-  duration = 0.5,
-  method = "ga",
-  population = 5,
-  generations = 3,
-}
-)";
+// quick evaluations, half a second each (GA: 5 + 3 + 3 evaluations); a third parameter, a whole
+// number, for the result to hold an integer
+const std::string kOffset = "offset = {1, 3, integer = true}";
+const std::string kSpec =
+    snake_spec(R"(duration = 0.5, method = "ga", population = 5, generations = 3)", "", kOffset);
 
 // prints what gaitlab.optimize returned, numbers to the last bit (%a)
 const std::string kPrint = R"(
@@ -93,8 +67,8 @@ std::string json_integer(const std::string& json, const std::string& key) {
 std::string expected_print(const std::string& best, const std::string& out) {
     // the paths are absolute, for the script's own functions to find them
 
-    return "amplitude\tfloat\t" + json_number(best, "amplitude") + "\nmodules_on\tinteger\t" +
-           json_integer(best, "modules_on") + "\nphase\tfloat\t" + json_number(best, "phase") +
+    return "amplitude\tfloat\t" + json_number(best, "amplitude") + "\noffset\tinteger\t" +
+           json_integer(best, "offset") + "\nphase\tfloat\t" + json_number(best, "phase") +
            "\nfitness\t" + json_number(best, "fitness") + "\nevaluations\t11\tga\t3\t5\nfiles\t" +
            out + "\t" + out + "/best/best.xml\t" + out + "/run\t" + out + "/convergence.png\n";
 }
@@ -282,10 +256,9 @@ TEST_CASE("gaitlab.optimize: bad keys and values are named with the script's fil
 TEST_CASE("gaitlab.optimize: SIGINT stops the evaluations under way and the script") {
     TempDir dir("cli_optimize_lua_signal");
     // long evaluations: a generation takes seconds, so the signal comes during one
-    std::string spec = kSpec;
-    spec.replace(spec.find("duration = 0.5"), 14, "duration = 30");
-    spec.replace(spec.find("generations = 3"), 15, "generations = 50");
-    write_text(dir / "long.lua", spec);
+    write_text(dir / "long.lua",
+               snake_spec(R"(duration = 30, method = "ga", population = 5, generations = 50)", "",
+                          kOffset));
     write_text(dir / "script.lua",
                "gaitlab.optimize{ spec = 'long.lua', out = 'out', population = 4 }\n"
                "print('went on')\n");

@@ -4,15 +4,11 @@
 // spec or other options, or one whose files were damaged, is refused and left as it was.
 #include <catch2/catch.hpp>
 
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -21,35 +17,15 @@
 
 #include "run_gaitlab.h"
 
-using gaitlab::test::interrupt_while_evaluating;
-using gaitlab::test::lines;
-using gaitlab::test::read_text;
-using gaitlab::test::run_gaitlab;
-using gaitlab::test::spawn_gaitlab;
-using gaitlab::test::TempDir;
-using gaitlab::test::timeless;
-using gaitlab::test::write_text;
+using namespace gaitlab::test;
 
 namespace {
 
-// a 3-module snake: a generation of 4 takes a few tenths of a second
-const std::string kSpec = R"(return {
-  parameters = { amplitude = {10, 60, initial = 40}, phase = {30, 180, initial = 120} },
-  build = function(p)
-    local robot = gaitlab.robot.chain{ name = "snake", modules = 3, connection = "pitch-pitch" }
-    local world = gaitlab.world{}
-    world:add(robot)
-    robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = p.amplitude,
-                                                         phase = p.phase, frequency = 1 })
-    return gaitlab.simulation{ world = world }
-  end,
-  fitness = "distance",
-  duration = 3,
-  method = "cmaes",
-  population = 4,
-  generations = 6,
+// a generation of 4 takes a few tenths of a second
+std::string spec_of(int generations) {
+    return snake_spec(fmt::format(
+        R"(duration = 3, method = "cmaes", population = 4, generations = {})", generations));
 }
-)";
 
 // the line of `text` that begins with `start`
 std::string line_starting(const std::string& text, const std::string& start) {
@@ -92,7 +68,7 @@ int interrupt_after(const std::vector<std::string>& args, const std::string& out
 
 TEST_CASE("gaitlab optimize --resume: a killed or interrupted run ends as an uninterrupted one") {
     TempDir dir("cli_optimize_resume");
-    write_text(dir / "spec.lua", kSpec);
+    write_text(dir / "spec.lua", spec_of(6));
     const auto whole =
         run_gaitlab({"optimize", "spec.lua", "--seed", "7", "--out", "whole"}, dir.str());
     INFO(whole.err);
@@ -152,8 +128,7 @@ TEST_CASE("gaitlab optimize --resume: a killed or interrupted run ends as an uni
 
 TEST_CASE("gaitlab optimize --resume: another spec, other options or damaged files are refused") {
     TempDir dir("cli_optimize_resume_bad");
-    std::string spec = kSpec;
-    spec.replace(spec.find("generations = 6"), 15, "generations = 2");
+    const std::string spec = spec_of(2);
     write_text(dir / "spec.lua", spec);
     // a run stopped after its first generation: the state of generation 1, the lines of 2
     const auto r0 = run_gaitlab(

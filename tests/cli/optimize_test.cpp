@@ -5,46 +5,20 @@
 
 #include <signal.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
-#include <chrono>
 #include <filesystem>
-#include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "run_gaitlab.h"
 
-using gaitlab::test::interrupt_while_evaluating;
-using gaitlab::test::lines;
-using gaitlab::test::read_text;
-using gaitlab::test::run_gaitlab;
-using gaitlab::test::spawn_gaitlab;
-using gaitlab::test::TempDir;
-using gaitlab::test::timeless;
-using gaitlab::test::write_text;
+using namespace gaitlab::test;
 
 namespace {
 
-// a 3-module snake for half a second: quick evaluations
-const std::string kSpec = R"(return {
-  parameters = { amplitude = {10, 60, initial = 40}, phase = {30, 180, initial = 120} },
-  build = function(p)
-    local robot = gaitlab.robot.chain{ name = "snake", modules = 3, connection = "pitch-pitch" }
-    local world = gaitlab.world{}
-    world:add(robot)
-    robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = p.amplitude,
-                                                         phase = p.phase, frequency = 1 })
-    return gaitlab.simulation{ world = world }
-  end,
-  fitness = "distance",
-  duration = 0.5,
-  method = "ga",
-  population = 5,
-  generations = 3,
-}
-)";
+// quick evaluations: half a second each
+const std::string kSpec =
+    snake_spec(R"(duration = 0.5, method = "ga", population = 5, generations = 3)");
 
 }  // namespace
 
@@ -184,10 +158,8 @@ TEST_CASE("gaitlab optimize: bad options and spec files give one line and no res
 TEST_CASE("gaitlab optimize: SIGINT stops the evaluations under way and writes nothing half done") {
     TempDir dir("cli_optimize_signal");
     // long evaluations: a generation takes seconds, so the signal comes during one
-    std::string spec = kSpec;
-    spec.replace(spec.find("duration = 0.5"), 14, "duration = 30");
-    spec.replace(spec.find("generations = 3"), 15, "generations = 50");
-    write_text(dir / "long.lua", spec);
+    write_text(dir / "long.lua",
+               snake_spec(R"(duration = 30, method = "ga", population = 5, generations = 50)"));
     const std::string out = dir / "out";
     const std::string err_path = dir / "err";
     const auto stopped = interrupt_while_evaluating(

@@ -1,7 +1,8 @@
 // Runs the gaitlab executable as a user would: arguments, a working folder, text on standard
 // input (a pipe, as when answers are piped into `gaitlab new`); returns the exit status and
-// what it wrote on stdout and stderr. Also: starting it to interrupt it while it evaluates, and
-// reading a results folder (gaitlab optimize, gaitlab sweep, gaitlab.optimize{}).
+// what it wrote on stdout and stderr. Also: starting it to interrupt it while it evaluates,
+// reading a results folder, and the optimization spec the tests of gaitlab optimize, gaitlab
+// sweep and gaitlab.optimize{} run.
 #pragma once
 
 #include <fcntl.h>
@@ -112,6 +113,34 @@ inline Stopped interrupt_while_evaluating(const std::vector<std::string>& args,
     waitpid(pid, &s.wstatus, 0);
     s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
     return s;
+}
+
+/// An optimization spec (the text of a SPEC.lua) for the tests of gaitlab optimize, gaitlab sweep
+/// and gaitlab.optimize{}: a 3-module pitch-pitch snake driven by a sine whose amplitude (10 to
+/// 60 deg, initially 40) and phase (30 to 180 deg, initially 120) are the parameters, fitness
+/// "distance". `settings` are the table's fields after it ("duration = 0.5, method = 'ga'");
+/// `build_first`, a line build runs first, is line 4 of the file (its errors name that line);
+/// `more_parameters` follow amplitude and phase ("offset = {1, 3, integer = true}"): a parameter
+/// named offset is the sine's offset.
+inline std::string snake_spec(const std::string& settings, const std::string& build_first = "",
+                              const std::string& more_parameters = "") {
+    std::string spec =
+        "return {\n"
+        "  parameters = { amplitude = {10, 60, initial = 40}, phase = {30, 180, initial = 120}" +
+        (more_parameters.empty() ? "" : ", " + more_parameters) + " },\n  build = function(p)\n";
+    if (!build_first.empty()) spec += "    " + build_first + "\n";
+    return spec +
+           R"(    local robot = gaitlab.robot.chain{ name = "snake", modules = 3, connection = "pitch-pitch" }
+    local world = gaitlab.world{}
+    world:add(robot)
+    robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = p.amplitude,
+                                                         phase = p.phase, frequency = 1,
+                                                         offset = p.offset })
+    return gaitlab.simulation{ world = world }
+  end,
+  fitness = "distance",
+  )" + settings +
+           ",\n}\n";
 }
 
 /// The lines of `text`, without their newlines.

@@ -6,44 +6,21 @@
 
 #include <signal.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
-#include <chrono>
 #include <filesystem>
-#include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "run_gaitlab.h"
 
-using gaitlab::test::interrupt_while_evaluating;
-using gaitlab::test::lines;
-using gaitlab::test::read_text;
-using gaitlab::test::run_gaitlab;
-using gaitlab::test::spawn_gaitlab;
-using gaitlab::test::TempDir;
-using gaitlab::test::timeless;
-using gaitlab::test::write_text;
+using namespace gaitlab::test;
 
 namespace {
 
-// a 3-module snake for half a second: quick evaluations; amplitude 20 fails
-const std::string kSpec = R"(return {
-  parameters = { amplitude = {10, 60, initial = 40}, phase = {30, 180, initial = 120} },
-  build = function(p)
-    if p.amplitude == 20 and p.phase == 60 then error("amplitude 20 at phase 60") end
-    local robot = gaitlab.robot.chain{ name = "snake", modules = 3, connection = "pitch-pitch" }
-    local world = gaitlab.world{}
-    world:add(robot)
-    robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = p.amplitude,
-                                                         phase = p.phase, frequency = 1 })
-    return gaitlab.simulation{ world = world }
-  end,
-  fitness = "distance",
-  duration = 0.5,
-}
-)";
+// quick evaluations, half a second each, but for one point that fails (at line 4)
+const std::string kFailsAt20And60 =
+    R"(if p.amplitude == 20 and p.phase == 60 then error("amplitude 20 at phase 60") end)";
+const std::string kSpec = snake_spec("duration = 0.5", kFailsAt20And60);
 
 }  // namespace
 
@@ -182,9 +159,7 @@ TEST_CASE("gaitlab sweep: bad options and grids give one line and no results") {
 
 TEST_CASE("gaitlab sweep: SIGINT stops the evaluations under way") {
     TempDir dir("cli_sweep_signal");
-    std::string spec = kSpec;
-    spec.replace(spec.find("duration = 0.5"), 14, "duration = 30");
-    write_text(dir / "long.lua", spec);
+    write_text(dir / "long.lua", snake_spec("duration = 30", kFailsAt20And60));
     const std::string out = dir / "out";
     const std::string err_path = dir / "err";
     const auto stopped = interrupt_while_evaluating(

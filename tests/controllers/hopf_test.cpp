@@ -35,22 +35,13 @@ double phase_deg(const Hopf& h, size_t m) {
 TEST_CASE("hopf declares its parameters, ranges, units and values") {
     const Hopf h;
     CHECK(h.name() == "hopf");
-    const auto& p = h.def().params;
-    REQUIRE(p.size() == 7);
-    const char* names[] = {"amplitude",   "frequency", "phase", "offset",
-                           "convergence", "coupling",  "seed"};
-    const double defaults[] = {40, 0.5, 120, 0, 5, 5, 0};
-    const double mins[] = {0, 0, -180, -90, 0, 0, 0};
-    const double maxs[] = {90, 5, 180, 90, 100, 100, 1e6};
-    const char* units[] = {"deg", "Hz", "deg", "deg", "1/s", "1/s", ""};
-    for (int i = 0; i < 7; ++i) {
-        CAPTURE(i);
-        CHECK(h.find_param(names[i]) == i);
-        CHECK(p[i].default_value == defaults[i]);
-        CHECK(p[i].min == mins[i]);
-        CHECK(p[i].max == maxs[i]);
-        CHECK(p[i].unit == units[i]);
-    }
+    check_declared_params(h, {{"amplitude", 40, 0, 90, "deg"},
+                              {"frequency", 0.5, 0, 5, "Hz"},
+                              {"phase", 120, -180, 180, "deg"},
+                              {"offset", 0, -90, 90, "deg"},
+                              {"convergence", 5, 0, 100, "1/s"},
+                              {"coupling", 5, 0, 100, "1/s"},
+                              {"seed", 0, 0, 1e6, ""}});
     CHECK(h.find_value("x") == Hopf::x);
     CHECK(h.find_value("y") == Hopf::y);
     CHECK(h.find_value("angle") == Hopf::angle);
@@ -109,14 +100,7 @@ TEST_CASE("hopf's trajectory hardly depends on the control period, and reset res
     fine_h.set_param("seed", 5);
     coarse_h.set_param("seed", 5);
     Rig fine(fine_h, 6), coarse(coarse_h, 6);
-    fine.run(3, 0.01);
-    coarse.run(3, 0.05);
-    for (int k = 0; k < 3; ++k) {
-        for (size_t m = 0; m < 6; ++m) {
-            CAPTURE(k, m);
-            CHECK(fine_h.values(k)[m] == Approx(coarse_h.values(k)[m]).margin(1e-8));
-        }
-    }
+    check_period_independent(fine, coarse, 3, 1e-8);
     const std::vector<double> first = coarse.targets;
     coarse_h.reset();
     coarse.run(3, 0.05);
@@ -124,22 +108,9 @@ TEST_CASE("hopf's trajectory hardly depends on the control period, and reset res
 }
 
 TEST_CASE("once locked, hopf moves a pitch-pitch robot like the equivalent sine") {
-    auto sine = std::make_shared<controllers::Sine>();
-    auto cpg = std::make_shared<Hopf>();
-    const auto displacement = [](std::shared_ptr<Controller> ctl) {
-        ChainSpec chain;
-        chain.modules = 8;
-        PlacedRobot robot{make_chain(chain), {}, {}};
-        robot.actuation.push_back({select_joints(robot.robot, "all"), std::move(ctl)});
-        WorldSpec world;
-        world.robots.push_back(robot);
-        Simulation sim(world);
-        sim.run(10);  // from phase 0 everywhere the default chain locks within 10 s
-        const Vec3 start = sim.robot_displacement(0);
-        sim.run(8);
-        return sim.robot_displacement(0).x - start.x;
-    };
-    const double s = displacement(sine), p = displacement(cpg);
+    // from phase 0 everywhere the default chain locks within 10 s
+    const double s = pitch_pitch_displacement(std::make_shared<controllers::Sine>(), 10, 8).x;
+    const double p = pitch_pitch_displacement(std::make_shared<Hopf>(), 10, 8).x;
     CAPTURE(s, p);
     CHECK(s < -0.05);  // a positive lag: tail first
     CHECK(p == Approx(s).epsilon(0.1));

@@ -36,21 +36,13 @@ double worst_lag_error(const PhaseChain& c, double lag) {
 TEST_CASE("phase_chain declares its parameters, ranges, units and values") {
     const PhaseChain c;
     CHECK(c.name() == "phase_chain");
-    const auto& p = c.def().params;
-    REQUIRE(p.size() == 7);
-    const char* names[] = {"amplitude", "frequency", "phase", "offset", "coupling", "gain", "seed"};
-    const double defaults[] = {40, 0.5, 120, 0, 10, 20, 0};
-    const double mins[] = {0, 0, -180, -90, 0, 0, 0};
-    const double maxs[] = {90, 5, 180, 90, 100, 200, 1e6};
-    const char* units[] = {"deg", "Hz", "deg", "deg", "1/s", "1/s", ""};
-    for (int i = 0; i < 7; ++i) {
-        CAPTURE(i);
-        CHECK(c.find_param(names[i]) == i);
-        CHECK(p[i].default_value == defaults[i]);
-        CHECK(p[i].min == mins[i]);
-        CHECK(p[i].max == maxs[i]);
-        CHECK(p[i].unit == units[i]);
-    }
+    check_declared_params(c, {{"amplitude", 40, 0, 90, "deg"},
+                              {"frequency", 0.5, 0, 5, "Hz"},
+                              {"phase", 120, -180, 180, "deg"},
+                              {"offset", 0, -90, 90, "deg"},
+                              {"coupling", 10, 0, 100, "1/s"},
+                              {"gain", 20, 0, 200, "1/s"},
+                              {"seed", 0, 0, 1e6, ""}});
     CHECK(c.find_value("theta") == PhaseChain::theta);
     CHECK(c.find_value("radius") == PhaseChain::radius);
     CHECK(c.find_value("angle") == PhaseChain::angle);
@@ -139,14 +131,7 @@ TEST_CASE("phase_chain's trajectory hardly depends on the control period") {
     fine_c.set_param("seed", 5);
     coarse_c.set_param("seed", 5);
     Rig fine(fine_c, 6), coarse(coarse_c, 6);
-    fine.run(3, 0.01);
-    coarse.run(3, 0.05);
-    for (int k = 0; k < 3; ++k) {
-        for (size_t m = 0; m < 6; ++m) {
-            CAPTURE(k, m);
-            CHECK(fine_c.values(k)[m] == Approx(coarse_c.values(k)[m]).margin(1e-8));
-        }
-    }
+    check_period_independent(fine, coarse, 3, 1e-8);
 }
 
 TEST_CASE("phase_chain's reset restarts it bit for bit, parameters kept") {
@@ -162,26 +147,6 @@ TEST_CASE("phase_chain's reset restarts it bit for bit, parameters kept") {
     rig.run(2);
     CHECK(rig.targets == first);
 }
-
-namespace {
-
-// displacement (m) of an 8-module pitch-pitch robot between `settle` and `settle + span` seconds
-Vec3 pitch_pitch_displacement(std::shared_ptr<Controller> ctl, double settle, double span) {
-    ChainSpec chain;
-    chain.modules = 8;
-    PlacedRobot robot{make_chain(chain), {}, {}};
-    robot.actuation.push_back({select_joints(robot.robot, "all"), std::move(ctl)});
-    WorldSpec world;
-    world.robots.push_back(robot);
-    Simulation sim(world);
-    sim.run(settle);
-    const Vec3 start = sim.robot_displacement(0);
-    sim.run(span);
-    const Vec3 end = sim.robot_displacement(0);
-    return Vec3{end.x - start.x, end.y - start.y, end.z - start.z};
-}
-
-}  // namespace
 
 TEST_CASE("once locked, phase_chain moves a pitch-pitch robot like the equivalent sine") {
     const double lag = GENERATE(120.0, -120.0);

@@ -13,6 +13,7 @@
 #include "gaitlab/files.h"
 #include "gaitlab/geometry.h"
 #include "gaitlab/simulation.h"
+#include "gaitlab/world_fields.h"
 
 namespace gaitlab::viewer {
 
@@ -73,15 +74,9 @@ bool to_number(const json& v, double& out) {
     return !s.empty() && r.ec == std::errc() && r.ptr == end;
 }
 
-// the fields of each kind, walked to describe, read and write them (as environment_xml.cpp
-// walks them for the file); names are the file's attributes
-// where the kinds placed by a position and a yaw about z stand
-template <class V, class S>
-void placed(V& v, S& s) {
-    v.vec3("position", s.position, "m");
-    v.angle("yaw", s.yaw);
-}
-
+// the fields of each kind, walked to describe, read and write them; names are the file's
+// attributes. A box's are the page's own (the file gives it a yaw or a quaternion); the other
+// kinds' are the file's (gaitlab/world_fields.h)
 template <class V, class S>
 void fields(V& v, S& s, BoxSpec*) {
     v.vec3("size", s.size, "m");
@@ -91,77 +86,9 @@ void fields(V& v, S& s, BoxSpec*) {
     v.number("friction", s.friction, "");
 }
 
-template <class V, class S>
-void fields(V& v, S& s, WallSpec*) {
-    v.number("length", s.length, "m");
-    v.number("height", s.height, "m");
-    v.number("thickness", s.thickness, "m");
-    placed(v, s);
-    v.number("friction", s.friction, "");
-}
-
-template <class V, class S>
-void fields(V& v, S& s, RampSpec*) {
-    v.angle("slope", s.slope);
-    v.number("length", s.length, "m");
-    v.number("width", s.width, "m");
-    placed(v, s);
-    v.number("friction", s.friction, "");
-}
-
-template <class V, class S>
-void fields(V& v, S& s, StairsSpec*) {
-    v.count("steps", s.steps);
-    v.number("step_height", s.step_height, "m");
-    v.number("step_depth", s.step_depth, "m");
-    v.number("width", s.width, "m");
-    v.number("landing", s.landing, "m");
-    placed(v, s);
-    v.number("friction", s.friction, "");
-}
-
-template <class V, class S>
-void fields(V& v, S& s, CylinderSpec*) {
-    v.number("radius", s.radius, "m");
-    v.number("length", s.length, "m");
-    v.flag("lying", s.lying);
-    placed(v, s);
-    v.number("mass", s.mass, "kg");
-    v.number("friction", s.friction, "");
-}
-
-template <class V, class S>
-void fields(V& v, S& s, PipeSpec*) {
-    v.number("radius", s.radius, "m");
-    v.number("thickness", s.thickness, "m");
-    v.number("length", s.length, "m");
-    v.count("sides", s.sides);
-    placed(v, s);
-    v.number("friction", s.friction, "");
-}
-
-template <class V, class S>
-void fields(V& v, S& s, RubbleSpec*) {
-    v.number("length", s.length, "m");
-    v.number("width", s.width, "m");
-    v.count("count", s.count);
-    v.number("min_size", s.min_size, "m");
-    v.number("max_size", s.max_size, "m");
-    v.number("min_height", s.min_height, "m");
-    v.number("max_height", s.max_height, "m");
-    v.seed("seed", s.seed);
-    placed(v, s);
-    v.number("friction", s.friction, "");
-}
-
-// a heightfield's fields; its heights (an image, or a grid the file stores) go beside them
-template <class V, class S>
-void fields(V& v, S& s, HeightfieldSpec*) {
-    v.number("length", s.length, "m");
-    v.number("width", s.width, "m");
-    v.number("max_height", s.max_height, "m");
-    placed(v, s);
-    v.number("friction", s.friction, "");
+template <class V, class S, class Kind>
+void fields(V& v, S& s, Kind* kind) {
+    world_object_fields(v, s, kind);
 }
 
 // describes the fields for the page's forms
@@ -187,7 +114,7 @@ struct Describe {
         add(n, "number", "deg");
     }
     template <class T>
-    void count(const char* n, const T&) {
+    void count(const char* n, const T&, int, int) {
         add(n, "count", "");
     }
     template <class T>
@@ -207,7 +134,7 @@ struct Write {
     void vec3(const char* n, const Vec3& v, const char*) { out[n] = {v.x, v.y, v.z}; }
     void quat(const char* n, const Quat& q) { out[n] = {q.w, q.x, q.y, q.z}; }
     void angle(const char* n, double v) { out[n] = rad_to_deg(v); }
-    void count(const char* n, int v) { out[n] = v; }
+    void count(const char* n, int v, int, int) { out[n] = v; }
     void seed(const char* n, std::uint64_t v) { out[n] = v; }
     void flag(const char* n, bool v) { out[n] = v; }
 };
@@ -271,7 +198,7 @@ struct Read {
         v = static_cast<long long>(d);
     }
     // counts are checked by the engine's validation; here only that they are whole numbers
-    void count(const char* n, int& v) {
+    void count(const char* n, int& v, int, int) {
         long long w = v;
         whole(n, w, std::numeric_limits<int>::min(), std::numeric_limits<int>::max());
         v = static_cast<int>(w);

@@ -1,6 +1,6 @@
 // Environment files: gravity, the floor, the objects of the world library, and where each robot
-// is placed. See docs/formats.md. Each object kind lists its fields once, in a function that
-// both the reader and the writer walk, so the two cannot disagree.
+// is placed. See docs/formats.md. Each object kind lists its fields once (gaitlab/world_fields.h),
+// in a function that both the reader and the writer walk, so the two cannot disagree.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -10,6 +10,7 @@
 
 #include "gaitlab/checked.h"
 #include "gaitlab/files.h"
+#include "gaitlab/world_fields.h"
 #include "gaitlab/xml.h"
 #include "xml/xml_io.h"
 
@@ -50,7 +51,15 @@ void write_orientation(xml::Writer& w, const Quat& q) {
 struct Names {
     std::vector<const char*> names;
     template <class T>
-    void field(const char* name, T&) {
+    void number(const char* name, T&, const char*) {
+        names.push_back(name);
+    }
+    template <class T>
+    void vec3(const char* name, T&, const char*) {
+        names.push_back(name);
+    }
+    template <class T>
+    void angle(const char* name, T&) {
         names.push_back(name);
     }
     template <class T>
@@ -58,125 +67,48 @@ struct Names {
         names.push_back(name);
     }
     template <class T>
-    void angle(const char* name, T&) {
+    void seed(const char* name, T&) {
+        names.push_back(name);
+    }
+    template <class T>
+    void flag(const char* name, T&) {
         names.push_back(name);
     }
 };
 
 struct Read {
     const Element& e;
-    void field(const char* name, double& v) { v = e.number(name, v); }
+    void number(const char* name, double& v, const char*) { v = e.number(name, v); }
+    void vec3(const char* name, Vec3& v, const char*) { v = e.vec3(name, v); }
+    void angle(const char* name, double& v) { v = e.angle(name, v); }
     // a count is checked against its range before it becomes an int: it never wraps
     void count(const char* name, int& v, int lo, int hi) {
         const long long n = e.integer(name, v);
         e.check([&] { v = checked_int(name, n, lo, hi); });
     }
-    void field(const char* name, std::uint64_t& v) {
+    void seed(const char* name, std::uint64_t& v) {
         const long long n = e.integer(name, static_cast<long long>(v));
         if (n < 0) e.fail(fmt::format("attribute '{}': a non-negative integer expected", name));
         v = static_cast<std::uint64_t>(n);
     }
-    void field(const char* name, bool& v) { v = e.boolean(name, v); }
-    void field(const char* name, Vec3& v) { v = e.vec3(name, v); }
-    void angle(const char* name, double& v) { v = e.angle(name, v); }
+    void flag(const char* name, bool& v) { v = e.boolean(name, v); }
 };
 
 struct Write {
     xml::Writer& w;
-    void field(const char* name, double v) { w.attr(name, v); }
-    void count(const char* name, int v, int, int) { w.attr_int(name, v); }
-    void field(const char* name, std::uint64_t v) { w.attr_int(name, static_cast<long long>(v)); }
-    void field(const char* name, bool v) { w.attr(name, v); }
-    void field(const char* name, const Vec3& v) { w.attr(name, v); }
+    void number(const char* name, double v, const char*) { w.attr(name, v); }
+    void vec3(const char* name, const Vec3& v, const char*) { w.attr(name, v); }
     void angle(const char* name, double v) { w.angle(name, v); }
+    void count(const char* name, int v, int, int) { w.attr_int(name, v); }
+    void seed(const char* name, std::uint64_t v) { w.attr_int(name, static_cast<long long>(v)); }
+    void flag(const char* name, bool v) { w.attr(name, v); }
 };
-
-// the fields of each object, in file order; S is the spec or a const spec
-template <class V, class S>
-void fields(V& v, S& s, WallSpec*) {
-    v.field("length", s.length);
-    v.field("height", s.height);
-    v.field("thickness", s.thickness);
-    v.field("position", s.position);
-    v.angle("yaw", s.yaw);
-    v.field("friction", s.friction);
-}
-
-template <class V, class S>
-void fields(V& v, S& s, RampSpec*) {
-    v.angle("slope", s.slope);
-    v.field("length", s.length);
-    v.field("width", s.width);
-    v.field("position", s.position);
-    v.angle("yaw", s.yaw);
-    v.field("friction", s.friction);
-}
-
-template <class V, class S>
-void fields(V& v, S& s, StairsSpec*) {
-    v.count("steps", s.steps, 1, kMaxStairsSteps);
-    v.field("step_height", s.step_height);
-    v.field("step_depth", s.step_depth);
-    v.field("width", s.width);
-    v.field("landing", s.landing);
-    v.field("position", s.position);
-    v.angle("yaw", s.yaw);
-    v.field("friction", s.friction);
-}
-
-template <class V, class S>
-void fields(V& v, S& s, CylinderSpec*) {
-    v.field("radius", s.radius);
-    v.field("length", s.length);
-    v.field("lying", s.lying);
-    v.field("position", s.position);
-    v.angle("yaw", s.yaw);
-    v.field("mass", s.mass);
-    v.field("friction", s.friction);
-}
-
-template <class V, class S>
-void fields(V& v, S& s, PipeSpec*) {
-    v.field("radius", s.radius);
-    v.field("thickness", s.thickness);
-    v.field("length", s.length);
-    v.count("sides", s.sides, 3, kMaxPipeSides);
-    v.field("position", s.position);
-    v.angle("yaw", s.yaw);
-    v.field("friction", s.friction);
-}
-
-template <class V, class S>
-void fields(V& v, S& s, RubbleSpec*) {
-    v.field("length", s.length);
-    v.field("width", s.width);
-    v.count("count", s.count, 0, kMaxRubbleCount);
-    v.field("min_size", s.min_size);
-    v.field("max_size", s.max_size);
-    v.field("min_height", s.min_height);
-    v.field("max_height", s.max_height);
-    v.field("seed", s.seed);
-    v.field("position", s.position);
-    v.angle("yaw", s.yaw);
-    v.field("friction", s.friction);
-}
-
-// a heightfield's scalar fields; its heights (or image) are read and written beside them
-template <class V, class S>
-void fields(V& v, S& s, HeightfieldSpec*) {
-    v.field("length", s.length);
-    v.field("width", s.width);
-    v.field("max_height", s.max_height);
-    v.field("position", s.position);
-    v.angle("yaw", s.yaw);
-    v.field("friction", s.friction);
-}
 
 template <class S>
 std::vector<const char*> names_of(const std::vector<const char*>& extra = {}) {
     Names n;
     S probe;
-    fields(n, probe, static_cast<S*>(nullptr));
+    world_object_fields(n, probe, static_cast<S*>(nullptr));
     n.names.insert(n.names.end(), extra.begin(), extra.end());
     return n.names;
 }
@@ -188,7 +120,7 @@ void read_object(const Element& e, std::vector<S>& out) {
     e.children({});
     S s;
     Read r{e};
-    fields(r, s, static_cast<S*>(nullptr));
+    world_object_fields(r, s, static_cast<S*>(nullptr));
     e.check([&] { validate(s, static_cast<int>(out.size()) + 1); });
     out.push_back(std::move(s));
 }
@@ -198,7 +130,7 @@ void write_objects(xml::Writer& w, const char* element, const std::vector<S>& ob
     for (const S& s : objects) {
         w.open(element);
         Write wr{w};
-        fields(wr, s, static_cast<S*>(nullptr));
+        world_object_fields(wr, s, static_cast<S*>(nullptr));
         w.close();
     }
 }
@@ -207,7 +139,7 @@ void read_heightfield(const Element& e, std::vector<HeightfieldSpec>& out) {
     e.allow(names_of<HeightfieldSpec>(xml::attrs::heightfield_source));
     HeightfieldSpec h;
     Read r{e};
-    fields(r, h, static_cast<HeightfieldSpec*>(nullptr));
+    world_object_fields(r, h, static_cast<HeightfieldSpec*>(nullptr));
     const std::vector<Element> kids = e.children({"heights"});
     if (e.has("image") == (e.has("samples") || !kids.empty())) {
         e.fail("give 'image' (a PNG file) or 'samples' and <heights>, one of them");
@@ -245,7 +177,7 @@ void write_heightfields(xml::Writer& w, const std::vector<HeightfieldSpec>& all,
     for (const HeightfieldSpec& h : all) {
         w.open("heightfield");
         Write wr{w};
-        fields(wr, h, static_cast<HeightfieldSpec*>(nullptr));
+        world_object_fields(wr, h, static_cast<HeightfieldSpec*>(nullptr));
         if (h.heights.empty()) {
             w.attr("image", file.empty() ? h.image : relative_path(h.image, file));
             w.close();
