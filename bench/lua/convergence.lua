@@ -9,6 +9,8 @@
 -- CONV_CYCLES (default 5) sets the cycles measured, CONV_MODULES (default "2 8 32") and
 -- CONV_FRICTION (default "0.3 1.0") the grid. Each run starts at time 0 (the same start every
 -- time), settles for 2 s, then measures; the control period stays 10 ms at every dt.
+local chain_run = require "chain_run"
+
 local cycles = tonumber(os.getenv("CONV_CYCLES") or "5")
 local frequency = 0.5
 local settle = 2
@@ -41,21 +43,10 @@ end
 
 -- one run: mm per cycle along the body's axis at the start (x) and across it (y), CPU seconds
 local function run(gait, modules, friction, dt, iterations, direction)
-  local connection = gait == "pp" and "pitch-pitch" or "pitch-yaw"
-  local robot = gaitlab.robot.chain{ name = "snake", modules = modules, connection = connection }
-  local world = gaitlab.world{ floor = { friction = friction } }
-  world:add(robot)
-  drive(robot, gait, direction or 1)
-  local sim = gaitlab.simulation{ world = world, dt = dt,
-                                  control_every = math.floor(0.01 / dt + 0.5),
-                                  solver_iterations = iterations, record = false }
-  local r = sim:robot("snake")
-  local t0 = os.clock()
-  sim:run(settle)
-  local p0 = r:position()
-  sim:run(cycles / frequency)
-  local d = r:position() - p0
-  return { x = 1000 * d.x / cycles, y = 1000 * d.y / cycles, cpu = os.clock() - t0 }
+  return chain_run{ modules = modules, connection = gait == "pp" and "pitch-pitch" or "pitch-yaw",
+                    friction = friction, dt = dt, iterations = iterations, settle = settle,
+                    cycles = cycles, frequency = frequency,
+                    drive = function(robot) drive(robot, gait, direction or 1) end }
 end
 
 -- change of a per-cycle displacement from `base`, in % of base's length

@@ -10,6 +10,8 @@
 -- DRIFT_CYCLES (default 5) the cycles measured, DRIFT_SETTINGS (default "default dt/4 4x ref")
 -- the settings. Each run starts at time 0, settles 2 s, then measures (as
 -- bench/lua/convergence.lua does); the control period stays 10 ms at every dt.
+local chain_run = require "chain_run"
+
 local function words(text)
   local out = {}
   for w in text:gmatch("%S+") do out[#out + 1] = w end
@@ -47,22 +49,13 @@ end
 
 -- mm per cycle along x (the chain's axis) and across (y), CPU seconds
 local function run(modules, friction, phase, s)
-  local robot = gaitlab.robot.chain{ name = "snake", modules = modules,
-                                     connection = "pitch-pitch" }
-  local world = gaitlab.world{ floor = { friction = friction } }
-  world:add(robot)
-  robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 40, frequency = frequency,
-                                                       phase = phase })
-  local sim = gaitlab.simulation{ world = world, dt = s.dt,
-                                  control_every = math.floor(0.01 / s.dt + 0.5),
-                                  solver_iterations = s.iterations, record = false }
-  local r = sim:robot("snake")
-  local t0 = os.clock()
-  sim:run(settle)
-  local p0 = r:position()
-  sim:run(cycles / frequency)
-  local d = r:position() - p0
-  return { x = 1000 * d.x / cycles, y = 1000 * d.y / cycles, cpu = os.clock() - t0 }
+  return chain_run{ modules = modules, connection = "pitch-pitch", friction = friction,
+                    dt = s.dt, iterations = s.iterations, settle = settle, cycles = cycles,
+                    frequency = frequency,
+                    drive = function(robot)
+                      robot:group("pitch"):drive(gaitlab.controllers.sine{
+                        amplitude = 40, frequency = frequency, phase = phase })
+                    end }
 end
 
 local function mark(p)

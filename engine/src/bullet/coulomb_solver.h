@@ -276,27 +276,19 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             setupContactConstraint(contact, ia, ib, cp, info, relaxation, rel_a, rel_b);
             contact.m_frictionIndex = m_tmpSolverContactFrictionConstraintPool.size();
             const btScalar speed2 = slip.length2();
-            if (model_ == FrictionModel::disk) {
-                // two rows, solved together as a disk (solve_friction)
-                if (speed2 > kSlideSpeed * kSlideSpeed) {
-                    cp.m_lateralFrictionDir1 = slip / btSqrt(speed2);
-                    cp.m_lateralFrictionDir2 = cp.m_lateralFrictionDir1.cross(n);
-                } else {
-                    btPlaneSpace1(n, cp.m_lateralFrictionDir1, cp.m_lateralFrictionDir2);
-                }
-                addFrictionConstraint(cp.m_lateralFrictionDir1, ia, ib, index, cp, rel_a, rel_b, a,
-                                      b, relaxation, info);
-                addFrictionConstraint(cp.m_lateralFrictionDir2, ia, ib, index, cp, rel_a, rel_b, a,
-                                      b, relaxation, info);
-            } else if (speed2 > kSlideSpeed * kSlideSpeed) {
+            // a sliding contact: its first row along the slip; a resting one: any two directions
+            const bool slides = speed2 > kSlideSpeed * kSlideSpeed;
+            if (slides) {
                 cp.m_lateralFrictionDir1 = slip / btSqrt(speed2);
                 cp.m_lateralFrictionDir2 = cp.m_lateralFrictionDir1.cross(n);
-                addFrictionConstraint(cp.m_lateralFrictionDir1, ia, ib, index, cp, rel_a, rel_b, a,
-                                      b, relaxation, info);
             } else {
                 btPlaneSpace1(n, cp.m_lateralFrictionDir1, cp.m_lateralFrictionDir2);
-                addFrictionConstraint(cp.m_lateralFrictionDir1, ia, ib, index, cp, rel_a, rel_b, a,
-                                      b, relaxation, info);
+            }
+            addFrictionConstraint(cp.m_lateralFrictionDir1, ia, ib, index, cp, rel_a, rel_b, a, b,
+                                  relaxation, info);
+            // the rows: one along the slip (Coulomb: capped at muN), two at rest (static);
+            // the disk always two, solved together (solve_friction)
+            if (!slides || model_ == FrictionModel::disk) {
                 addFrictionConstraint(cp.m_lateralFrictionDir2, ia, ib, index, cp, rel_a, rel_b, a,
                                       b, relaxation, info);
             }
