@@ -115,7 +115,10 @@ try {
   }
   const refusedLog = pageErrors.findIndex((e, i) => i >= errorsBefore && e.includes('status of 400'));
   if (refusedLog >= 0) pageErrors.splice(refusedLog, 1);
-  check(pageErrors.length === 0, `no errors in the page (${pageErrors.join('; ')})`);
+  // what the page's commands were refused with (its console panel), to say which request it was
+  const refusals = pageErrors.length === 0 ? [] : await page.evaluate(() => window.gaitlab.errors);
+  check(pageErrors.length === 0,
+    `no errors in the page (${pageErrors.join('; ')}${refusals.length ? `; commands refused: ${refusals.join('; ')}` : ''})`);
 } finally {
   await browser.close();
 }

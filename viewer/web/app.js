@@ -178,8 +178,15 @@ function buildParams(scene) {
       range.textContent = `${format(p.min)} … ${format(p.max)} ${p.unit}`;
       row.append(label, input, output, range);
       box.appendChild(row);
-      const slider = { input, output, param: p, controller: c.label, sent: 0 };
+      const slider = { input, output, param: p, controller: c.label, sent: 0, value: null };
       sliders.push(slider);
+      // a slider's commands go to the simulation its scene belongs to, even when another one is
+      // shown by the time they are sent; a value is sent once (the change after the last input
+      // event of a drag repeats it, and could arrive after the page showed another simulation)
+      const set = (value) => {
+        slider.value = value;
+        send({ command: 'param', controller: c.label, name: p.name, value, simulation: scene.simulation });
+      };
       // while dragging: a few commands a second; the last value always goes
       input.addEventListener('input', () => {
         dragging = slider;
@@ -187,11 +194,11 @@ function buildParams(scene) {
         const now = performance.now();
         if (now - slider.sent > 60) {
           slider.sent = now;
-          send({ command: 'param', controller: c.label, name: p.name, value: Number(input.value) });
+          set(Number(input.value));
         }
       });
       input.addEventListener('change', () => {
-        send({ command: 'param', controller: c.label, name: p.name, value: Number(input.value) });
+        if (Number(input.value) !== slider.value) set(Number(input.value));
         dragging = null;
       });
     }
@@ -258,7 +265,10 @@ function showFrame(f) {
     f.params.forEach((v, i) => {
       const sl = sliders[i];
       if (sl === dragging || v === null) return;
-      if (Number(sl.input.value) !== v) sl.input.value = v;
+      if (Number(sl.input.value) !== v) {
+        sl.input.value = v;
+        sl.value = null;   // the engine's value now: the next change is sent whatever it is
+      }
       setText(sl.output, `${format(v)} ${sl.param.unit}`);
     });
   }
