@@ -657,8 +657,8 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     // is saved and recorded: the run's serial tail is the longer of the two, not their sum
     std::future<std::string> plot = std::async(std::launch::async, [&] {
         return detail::plot_convergence(out,
-                                        fmt::format("{}: {} ({}, seed {})", spec.file,
-                                                    spec.fitness, result.method, options.seed),
+                                        fmt::format("{}: {} ({}, seed {})", spec.file, spec.fitness,
+                                                    result.method, options.seed),
                                         spec.fitness);
     });
     // the best individual as a simulation file that gaitlab run runs (and its parts: the
