@@ -26,7 +26,7 @@ const ed = {
   env: null,         // the environment being edited (the page's JSON, as gaitlab reads it)
   selected: null,    // { object: i } or { place: i }
   error: null,       // { error, object?, field? } from gaitlab, or null
-  checks: 0,         // answers to checks received
+  checks: 0,         // answers to checks received and shown
   saved: null,       // the last save's answer
   views: {},
 };
@@ -697,7 +697,6 @@ async function changed(shape) {
   const n = ++checking;
   const r = await request('api/world/check', { environment: ed.env });
   if (n !== checking) return;   // a newer change is on its way
-  ed.checks++;
   ed.error = r.status === 200 ? null : r.data;
   if (ed.error) status(ed.error.error, 'error');
   else if (r.data.warnings && r.data.warnings.length > 0) status(`the engine takes it, but: ${r.data.warnings.join('; ')}`, 'warning');
@@ -712,6 +711,7 @@ async function changed(shape) {
   showForm();
   showFloor();
   paint();
+  ed.checks++;   // counted once the page shows the answer (status, marked fields, views)
 }
 
 async function add() {
