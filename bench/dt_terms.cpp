@@ -6,10 +6,11 @@
 // (dt/4 and 4x it from the first setting, the first from the fourth), as
 // bench/lua/convergence.lua does.
 //
-//   dt_terms [--disk] GAIT MODULES FLOOR_FRICTION [PHASE0 [DT:IT DT:IT DT:IT DT:IT]]
+//   dt_terms [--per-step] GAIT MODULES FLOOR_FRICTION [PHASE0 [DT:IT DT:IT DT:IT DT:IT]]
 //
-// GAIT: pp, py-roll or py-wave (convergence.lua's gaits); --disk: the friction disk of
-// engine/src/bullet/coulomb_solver.h instead of the engine's per-step friction rows.
+// GAIT: pp, py-roll or py-wave (convergence.lua's gaits); --per-step: the friction rows chosen
+// at the start of each step (FrictionModel::per_step in engine/src/bullet/coulomb_solver.h, the
+// model before the friction disk) instead of the engine's friction disk.
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -28,9 +29,9 @@ struct Result {
 };
 
 Result run(const std::string& gait, int modules, double friction, double phase0, double dt,
-           int iterations, bool disk) {
+           int iterations, bool per_step) {
     Scenario sc;
-    sc.friction_disk = disk;
+    sc.friction_per_step = per_step;
     sc.modules = modules;
     sc.pitch_yaw = gait != "pp";
     sc.floor_friction = friction;
@@ -67,10 +68,11 @@ double change(const Result& a, const Result& base) {
 int main(int argc, char** argv) {
     using namespace gaitlab_bench;
     const char* usage =
-        "usage: dt_terms [--disk] GAIT MODULES FLOOR_FRICTION [PHASE0 [DT:IT DT:IT DT:IT DT:IT]]";
+        "usage: dt_terms [--per-step] GAIT MODULES FLOOR_FRICTION [PHASE0 [DT:IT DT:IT DT:IT "
+        "DT:IT]]";
     std::vector<std::string> args(argv + 1, argv + argc);
-    const bool disk = !args.empty() && args[0] == "--disk";
-    if (disk) args.erase(args.begin());
+    const bool per_step = !args.empty() && args[0] == "--per-step";
+    if (per_step) args.erase(args.begin());
     try {
         if (args.size() < 3) throw std::runtime_error(usage);
         const std::string gait = args[0];
@@ -102,7 +104,7 @@ int main(int argc, char** argv) {
             t.emplace_back([&, k] {
                 try {
                     for (int i = k; i < k + 2; ++i)
-                        r[i] = run(gait, modules, friction, phase0, dts[i], its[i], disk);
+                        r[i] = run(gait, modules, friction, phase0, dts[i], its[i], per_step);
                 } catch (const std::exception& e) {
                     error = e.what();
                 }
@@ -114,8 +116,8 @@ int main(int argc, char** argv) {
         std::printf(
             "| %s%s %d %.1f ph%g | %+.1f / %+.1f | %+.1f / %+.1f | %+.1f / %+.1f | "
             "%+.1f / %+.1f | %.1f | %.1f | %.1f |\n",
-            gait.c_str(), disk ? " disk" : "", modules, friction, phase0, r[0].x, r[0].y, r[1].x,
-            r[1].y, r[2].x, r[2].y, r[3].x, r[3].y, change(r[1], r[0]), change(r[2], r[0]),
+            gait.c_str(), per_step ? " per-step" : "", modules, friction, phase0, r[0].x, r[0].y,
+            r[1].x, r[1].y, r[2].x, r[2].y, r[3].x, r[3].y, change(r[1], r[0]), change(r[2], r[0]),
             change(r[0], r[3]));
     } catch (const std::exception& e) {
         std::fprintf(stderr, "dt_terms: %s\n", e.what());

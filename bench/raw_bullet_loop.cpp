@@ -107,7 +107,7 @@ RawSnake::RawSnake(const Scenario& sc, const RawOptions& options)
     btDiscreteDynamicsWorld& world = s.world;
     world.setGravity(btVector3(0, 0, btScalar(-9.81)));
     world.getSolverInfo().m_numIterations = sc.solver_iterations;
-    if (sc.friction_disk) s.solver.set_friction_model(gaitlab::FrictionModel::disk);
+    if (sc.friction_per_step) s.solver.set_friction_model(gaitlab::FrictionModel::per_step);
 
     auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), btScalar(0));
     btRigidBody::btRigidBodyConstructionInfo floor_info(0, nullptr, plane.get());

@@ -12,14 +12,14 @@ namespace gaitlab_bench {
 /// (pitch-yaw chains only) one of `yaw_amplitude`; joint m of a group lags by m * phase.
 struct Scenario {
     int modules = 8;
-    bool pitch_yaw = false;       ///< false: pitch-pitch chain, true: pitch-yaw
-    double pitch_amplitude = 40;  ///< deg
-    double yaw_amplitude = 20;    ///< deg
-    double frequency = 0.5;       ///< Hz
-    double phase = 120;           ///< deg, between neighbours of a group
-    double phase0 = 0;            ///< deg, added to every joint's sine (raw loop only)
-    double yaw_phase0 = 0;        ///< deg, added to the yaw joints' sines too (raw loop only)
-    bool friction_disk = false;   ///< the solver's FrictionModel::disk (raw loop only)
+    bool pitch_yaw = false;          ///< false: pitch-pitch chain, true: pitch-yaw
+    double pitch_amplitude = 40;     ///< deg
+    double yaw_amplitude = 20;       ///< deg
+    double frequency = 0.5;          ///< Hz
+    double phase = 120;              ///< deg, between neighbours of a group
+    double phase0 = 0;               ///< deg, added to every joint's sine (raw loop only)
+    double yaw_phase0 = 0;           ///< deg, added to the yaw joints' sines too (raw loop only)
+    bool friction_per_step = false;  ///< the solver's FrictionModel::per_step (raw loop only)
     double floor_friction = 0.8;
     double dt = 0.001;       ///< s
     int control_every = 10;  ///< ticks between controller steps

@@ -284,14 +284,23 @@ TEST_CASE("a heightfield from a Lua function gives contact at the height it says
                  position = { p[1], p[2], f(p[1], p[2]) + 0.015 } }
         end
         sim = gaitlab.simulation{ world = w }
-        sim:run(0.5)
+        sim:run(0.3)
+        -- each cube's height averaged over 0.2 s: small boxes on a heightfield do not lie still
+        -- (they jitter by about a millimetre: docs/worlds.md, "Heightfields")
+        local mean = { 0, 0, 0, 0 }
+        for _ = 1, 20 do
+          sim:run(0.01)
+          for k, o in ipairs(sim:objects()) do mean[k] = mean[k] + o.position.z / 20 end
+        end
         worst = 0
-        for k, o in ipairs(sim:objects()) do
+        for k = 1, #spots do
           local x, y = spots[k][1], spots[k][2]
-          worst = math.max(worst, math.abs(o.position.z - 0.01 - f(x, y)))
+          worst = math.max(worst, math.abs(mean[k] - 0.01 - f(x, y)))
         end
     )");
-    CHECK(lua.number("worst") < 0.0015);
+    // the heightfield's collision margin (1 mm) and the jitter: a height of x and y mixed up, or
+    // of a wrong sample, is off by centimetres
+    CHECK(lua.number("worst") < 0.002);
 }
 
 TEST_CASE("gravity and heightfield heights are range-checked", "[wrap_world][limits]") {

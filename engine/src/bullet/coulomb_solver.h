@@ -15,22 +15,22 @@ namespace gaitlab {
 // slip (docs/architecture.md, "Contact model"). Bullet's solver gives each contact one friction
 // row (along the slip, or an arbitrary axis at rest: a robot at rest creeps along the other) or,
 // with SOLVER_USE_2_FRICTION_DIRECTIONS, two rows each bounded by μN on its own (a friction
-// pyramid: a sliding contact then gets up to √2 μN, up to 45° off the slip). The engine's
-// model (FrictionModel::per_step) chooses per contact at the start of each step: one row along
-// the slip, bounded by μN, where the contact slides faster than kSlideSpeed; two rows along
-// fixed axes of its normal, which hold it at rest, where it does not. That ties a sliding
-// contact's friction to the slip direction of the step's start: a contact that stops or turns
-// during the step is frictionless across that direction for the whole step, an error of the
-// time step's order (docs/performance.md, "Convergence": the pitch-yaw wave of 8 modules is
-// 12 % off a converged reference at dt 1 ms with it, 5 % with the disk below).
-// The disk (FrictionModel::disk, for the benchmarks:
-// bench/dt_terms.cpp) gives every contact two rows (along the slip where it slides, two fixed
-// axes of its normal where it does not) that the solver handles together: in every iteration
-// the pair's impulse is the one that minimises the contact's kinetic energy of slip within
-// |f| <= μN (the exact solution for that contact given all the others: it stops the slip if
-// that takes at most μN, otherwise it is μN exactly against the slip that remains). It is not
-// the engine's model yet: a box sliding down a box ramp at 31 degrees (μ 0.5) travels 17 %
-// more than a = g (sin - μ cos) predicts with it (engine_physics_world_test), not understood.
+// pyramid: a sliding contact then gets up to √2 μN, up to 45° off the slip).
+// The engine's model, the friction disk (FrictionModel::disk), gives every contact two rows
+// (along the slip where it slides, two fixed axes of its normal where it does not) that the
+// solver handles together: in every iteration the pair's impulse is the one that minimises the
+// contact's kinetic energy of slip within |f| <= μN (the exact solution for that contact given
+// all the others: it stops the slip if that takes at most μN, otherwise it is μN exactly
+// against the slip that remains, whichever way the slip turns during the step). A box sliding
+// down a ramp accelerates as a = g (sin - μ cos) says within 1 % (engine_physics_world_test).
+// The model before it (FrictionModel::per_step, kept for comparisons: bench/dt_terms.cpp)
+// chose per contact at the start of each step: one row along the slip, bounded by μN, where the
+// contact slid faster than kSlideSpeed; two rows along fixed axes of its normal where it did
+// not. That tied a sliding contact's friction to the slip direction of the step's start: a
+// contact that stops or turns during the step is frictionless across that direction for the
+// whole step, an error of the time step's order (docs/performance.md, "Convergence": the
+// pitch-yaw wave of 8 modules 12 % off a converged reference at dt 1 ms, 5 % with the disk),
+// and the same box on the ramp accelerated 11-19 % too slowly.
 // Everything else is Bullet's own set-up (setupContactConstraint, addFrictionConstraint);
 // rolling, spinning and anisotropic friction, which gaitlab never sets, are left out.
 // Bullet 3.24 does not warm-start friction rows, and neither does this; the directions are
@@ -57,7 +57,7 @@ class ContactConfiguration : public btDefaultCollisionConfiguration {
 
 class CoulombSolver : public btSequentialImpulseConstraintSolver {
   public:
-    /// The friction model (above); the engine's is FrictionModel::per_step.
+    /// The friction model (above); the engine's is FrictionModel::disk.
     void set_friction_model(FrictionModel m) { model_ = m; }
 
     // Solves the contacts and joints of a group in an order of their own (by the bodies'
@@ -244,7 +244,7 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         return worst;
     }
 
-    FrictionModel model_ = FrictionModel::per_step;
+    FrictionModel model_ = FrictionModel::disk;
     std::vector<btPersistentManifold*> sorted_manifolds_;
     std::vector<btTypedConstraint*> sorted_constraints_;
 
