@@ -7,6 +7,7 @@
 -- of 144 mm sides).
 --
 --   gaitlab run bench/lua/rolling_fold.lua --no-record
+--   FOLD_TABLE=solver gaitlab run bench/lua/rolling_fold.lua --no-record   (the second table only)
 --
 -- Each row is one run from time 0: one cycle to settle, then `cycles` cycles measured, sampled
 -- every 10 ms (the control period, kept at every dt). Deterministic: the machine's load does not
@@ -40,14 +41,16 @@ local function end_gap(robot)
   return math.sqrt(dx * dx + dy * dy + dz * dz)
 end
 
-local function run(servo, f, amplitude, friction, dt)
-  local robot = gaitlab.robot.chain{ name = "snake", modules = 8, connection = "pitch-yaw", module = servo.module }
+local function run(servo, f, amplitude, friction, dt, iterations, self_collision)
+  local robot = gaitlab.robot.chain{ name = "snake", modules = 8, connection = "pitch-yaw", module = servo.module,
+                                     self_collision = self_collision }
   local world = gaitlab.world{ floor = { friction = friction } }
   world:add(robot)
   robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = amplitude, frequency = f, phase = 0 })
   robot:group("yaw"):drive(gaitlab.controllers.sine{ amplitude = amplitude, frequency = f, phase = 0, phase0 = -90 })
   local every = math.floor(0.01 / dt + 0.5)
-  local sim = gaitlab.simulation{ world = world, dt = dt, control_every = every, record = false }
+  local sim = gaitlab.simulation{ world = world, dt = dt, control_every = every, solver_iterations = iterations,
+                                  record = false }
   local r = sim:robot("snake")
   local max_speed = (type(servo.module) == "string" and gaitlab.modules[servo.module] or servo.module).max_speed
   sim:run(1 / f)
@@ -79,19 +82,33 @@ local function run(servo, f, amplitude, friction, dt)
            gap_max = 1000 * gap_max }
 end
 
+local which = os.getenv("FOLD_TABLE")
 print(string.format("%d cycles after 1", cycles))
-print("| servo | f (Hz) | amplitude | floor μ | dt (ms) | travel (mm/cycle) | x, y (mm/cycle) | peak angle | fundamental, lag | at max speed | end gap (mm) |")
-print("|---|---|---|---|---|---|---|---|---|---|---|")
-for _, case in ipairs{ { servos[1], 0.5 }, { servos[1], 0.1 }, { servos[2], 0.5 }, { servos[3], 0.5 } } do
-  for _, amplitude in ipairs{ 40, 90 } do
-    for _, friction in ipairs{ 0.5, 1.0 } do
-      for _, dt in ipairs{ 0.001, 0.00025 } do
-        local m = run(case[1], case[2], amplitude, friction, dt)
-        print(string.format("| %s | %g | %d° | %.1f | %g | %.1f | %+.1f, %+.1f | %.1f° | %.1f°, %.1f° | %.1f %% | %.1f–%.1f |",
-                            case[1].name, case[2], amplitude, friction, dt * 1000, m.travel, m.x, m.y, m.peak,
-                            m.amplitude, m.lag, m.fast, m.gap_min, m.gap_max))
-        io.stdout:flush()
+local function row(name, m)
+  print(string.format("| %s | %.1f | %+.1f, %+.1f | %.1f° | %.1f°, %.1f° | %.1f %% | %.1f–%.1f |", name, m.travel, m.x, m.y,
+                      m.peak, m.amplitude, m.lag, m.fast, m.gap_min, m.gap_max))
+  io.stdout:flush()
+end
+if which ~= "solver" then
+  print("| servo | f (Hz) | amplitude | floor μ | dt (ms) | travel (mm/cycle) | x, y (mm/cycle) | peak angle | fundamental, lag | at max speed | end gap (mm) |")
+  print("|---|---|---|---|---|---|---|---|---|---|---|")
+  for _, case in ipairs{ { servos[1], 0.5 }, { servos[1], 0.1 }, { servos[2], 0.5 }, { servos[3], 0.5 } } do
+    for _, amplitude in ipairs{ 40, 90 } do
+      for _, friction in ipairs{ 0.5, 1.0 } do
+        for _, dt in ipairs{ 0.001, 0.00025 } do
+          row(string.format("%s | %g | %d° | %.1f | %g", case[1].name, case[2], amplitude, friction, dt * 1000),
+              run(case[1], case[2], amplitude, friction, dt))
+        end
       end
     end
+  end
+end
+-- the folded robot's creep against the solver's iterations and self-collision (its free ends
+-- meet): y1, 0.1 Hz, friction 1.0, dt 1 ms
+print("| amplitude | solver iterations | self_collision | travel (mm/cycle) | x, y (mm/cycle) | peak angle | fundamental, lag | at max speed | end gap (mm) |")
+print("|---|---|---|---|---|---|---|---|---|")
+for _, amplitude in ipairs{ 40, 90 } do
+  for _, s in ipairs{ { 20, false }, { 80, false }, { 20, true } } do
+    row(string.format("%d° | %d | %s", amplitude, s[1], tostring(s[2])), run(servos[1], 0.1, amplitude, 1.0, 0.001, s[1], s[2]))
   end
 end
