@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 #include "engine/sim_support.h"
@@ -59,6 +61,21 @@ struct SlidingStats {
     }
 };
 
+// with GAITLAB_FRICTION_STATS set, prints a case's statistics (the table of docs/architecture.md,
+// "Contact model": `GAITLAB_FRICTION_STATS=1 build/tests/engine_tests "*Coulomb*"`); silent
+// otherwise, so the suite pays nothing for it
+void print_stats(const char* what, SlidingStats& stats) {
+    if (std::getenv("GAITLAB_FRICTION_STATS") == nullptr || stats.sliding == 0) return;
+    const double mean = stats.mean_ratio / stats.sliding;
+    const double median = stats.percentile(0.5), p90 = stats.percentile(0.9),
+                 p99 = stats.percentile(0.99);
+    std::printf(
+        "friction stats: %s: sliding %d, over 1.01 muN %d (%.2f %%), largest %.7f muN, mean %.4f "
+        "muN, angle to -slip median %.2f deg, 90th %.2f, 99th %.2f\n",
+        what, stats.sliding, stats.over, 100.0 * stats.over / stats.sliding, stats.worst_ratio,
+        mean, median, p90, p99);
+}
+
 // watches every contact after every step: friction against μN and against the slip
 void watch_sliding(Simulation& sim, double mu, SlidingStats& stats) {
     sim.add_observer([mu, &stats](const Simulation& s) {
@@ -97,6 +114,10 @@ TEST_CASE("a box sliding down a tilted floor feels mu N against its slip and goe
     const double a = kG * (std::sin(s) - mu * std::cos(s));
     const double expected = norm2(v0) * t + a * t * t / 2;
     CAPTURE(norm2(moved), expected, stats.sliding, stats.worst_ratio, stats.percentile(0.99));
+    char what[96];
+    std::snprintf(what, sizeof what, "box, mu %.1f, heading %.0f deg, travel %.4f m vs %.4f m", mu,
+                  heading, norm2(moved), expected);
+    print_stats(what, stats);
     // within 4%: the box rocks on its leading edge (as it does with any friction model)
     CHECK(norm2(moved) == Approx(expected).epsilon(0.04));
     CHECK(angle_between(moved, {std::cos(deg_to_rad(heading)), std::sin(deg_to_rad(heading)), 0}) <
@@ -149,6 +170,9 @@ TEST_CASE("the sliding contacts of the pitch-yaw rolling gait obey Coulomb frict
     SlidingStats stats;
     watch_sliding(sim, floor, stats);
     sim.run(10);
+    char what[64];
+    std::snprintf(what, sizeof what, "8 pitch-yaw rolling, floor %.1f", floor);
+    print_stats(what, stats);
     const double median = stats.percentile(0.5), p90 = stats.percentile(0.9);
     CAPTURE(stats.sliding, stats.over, stats.worst_ratio, stats.mean_ratio / stats.sliding, median,
             p90);
