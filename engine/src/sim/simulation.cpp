@@ -39,12 +39,13 @@ constexpr double kMaxSpeed = 1e4;     // m/s
 // than the 1 mm margin convex hulls (ramps) add to a surface a robot rests on.
 constexpr double kMaxStartOverlap = 0.005;  // m
 
-// the settings beyond which even the pitch-pitch travelling wave (8 modules, 40 deg, 0.5 Hz,
-// floor 1.0), which the defaults keep 2.1 % from a converged reference (dt 0.25 ms, 80
-// iterations), moves by more than 3 % from it: 10 iterations 3.3 % (15: 2.6 %), dt 4 ms 3.3 %
-// (3 ms: 2.6 %). docs/performance.md, "Convergence"
+// the settings beyond which even the pitch-pitch travelling wave (8 modules, 40 deg, 0.5 Hz),
+// which the defaults keep within 1.7 % of a converged reference (dt 0.25 ms, 80 iterations),
+// moves by more than 3 % from it on a floor of friction 0.3: 10 iterations 3.7 % (15: 2.4 %),
+// dt 2 ms 3.5 % (1.5 ms: 2.6 %); on a floor of 1.0 it stays within 3 % to dt 5 ms and 5
+// iterations. docs/performance.md, "Convergence"
 constexpr int kMinAccurateIterations = 15;
-constexpr double kMaxAccurateDt = 0.003;  // s
+constexpr double kMaxAccurateDt = 0.0015;  // s
 
 // the warnings of dt or solver_iterations that cannot keep a gait's speed within 3 % of a
 // converged reference (docs/performance.md, "Convergence"), if the world has joints

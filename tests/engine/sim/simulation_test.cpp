@@ -709,7 +709,7 @@ TEST_CASE("settings too coarse for a 3 % accurate gait get one warning naming th
     SECTION("the defaults and the limits themselves are quiet") {
         CHECK(Simulation(w, o).warnings().empty());
         o.solver_iterations = 15;
-        o.dt = 0.003;
+        o.dt = 0.0015;
         CHECK(Simulation(w, o).warnings().empty());
     }
     SECTION("too few iterations") {
@@ -725,10 +725,10 @@ TEST_CASE("settings too coarse for a 3 % accurate gait get one warning naming th
         CHECK(sim.warnings().size() == 1);
     }
     SECTION("too large a dt") {
-        o.dt = 0.004;
+        o.dt = 0.002;
         Simulation sim(w, o);
         REQUIRE(sim.warnings().size() == 1);
-        CHECK_THAT(sim.warnings()[0], StartsWith("dt = 4 ms is above 3 ms: gaits then move"));
+        CHECK_THAT(sim.warnings()[0], StartsWith("dt = 2 ms is above 1.5 ms: gaits then move"));
     }
     SECTION("both: one warning each") {
         o.dt = 0.01;
@@ -736,7 +736,7 @@ TEST_CASE("settings too coarse for a 3 % accurate gait get one warning naming th
         Simulation sim(w, o);
         REQUIRE(sim.warnings().size() == 2);
         CHECK_THAT(sim.warnings()[0], StartsWith("solver_iterations = 5 is below 15"));
-        CHECK_THAT(sim.warnings()[1], StartsWith("dt = 10 ms is above 3 ms"));
+        CHECK_THAT(sim.warnings()[1], StartsWith("dt = 10 ms is above 1.5 ms"));
     }
     SECTION("a world without joints (boxes falling) is not warned about") {
         WorldSpec boxes;
