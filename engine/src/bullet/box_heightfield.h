@@ -14,8 +14,11 @@
 //   kSummitSlope): a point at the vertex, depth along the face's normal. These hold a box on a
 //   bump smaller than its face, and a face lying on a flat or smooth surface.
 // Of these, at most 4 go into the manifold: the deepest (the first within kDepthTie of it, box
-// corners first), then the ones that span the largest area; the manifold keeps no point from an
-// earlier step that is not among them (each kept one keeps its warm-start impulse).
+// corners first), then, among the points within kDepthBand of its depth, the ones that span the
+// largest area, a point the manifold already holds preferred (kHold); the manifold keeps no
+// point from an earlier step that is not among them (each kept one keeps its warm-start
+// impulse). Each point's feature (corner or grid vertex) is stored in the manifold point, so a
+// clone, which copies the manifolds, chooses as its original does.
 #pragma once
 
 #include <btBulletDynamicsCommon.h>
@@ -43,6 +46,9 @@ class HeightfieldShape : public btHeightfieldTerrainShape {
 inline constexpr btScalar kDepthTie = btScalar(0.0001);
 // the points chosen lie within this of the deepest one's depth, m
 inline constexpr btScalar kDepthBand = btScalar(0.0002);
+// a point the manifold holds from the last step is kept unless another spans this much more
+// squared area (about 20 % more area)
+inline constexpr btScalar kHold = btScalar(1.44);
 // a grid vertex is a summit seen from a face if no neighbour rises above it towards the face by
 // more than this slope (sine of the angle): a face lying on a flat or smooth surface touches
 // every vertex under it
@@ -93,7 +99,7 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
             btVector3 a, n;
             if (!grid.triangle_under(p, a, n)) continue;
             const btScalar d = (p - a).dot(n);
-            if (d < reach) candidates_.push_back({p - n * d, n, d});
+            if (d < reach) candidates_.push_back({p - n * d, n, d, k});
         }
         // the grid vertices under the downward face that are summits seen from it
         int axis = 0;
@@ -105,7 +111,8 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
         if (face_normal.z() < 0) {
             const int u = (axis + 1) % 3, v = (axis + 2) % 3;
             // the face's bounding rectangle on the grid
-            btVector3 lo(BT_LARGE_FLOAT, BT_LARGE_FLOAT, 0), hi(-BT_LARGE_FLOAT, -BT_LARGE_FLOAT, 0);
+            btVector3 lo(BT_LARGE_FLOAT, BT_LARGE_FLOAT, 0),
+                hi(-BT_LARGE_FLOAT, -BT_LARGE_FLOAT, 0);
             for (int k = 0; k < 4; ++k) {
                 btVector3 local(0, 0, 0);
                 local[axis] = sign * h[axis];
@@ -125,37 +132,43 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
                     if (std::abs(in_box[u]) > h[u] || std::abs(in_box[v]) > h[v]) continue;
                     const btScalar d = sign * in_box[axis] - h[axis];
                     if (!(d < reach) || !grid.summit(*field, i, j, q, -face_normal)) continue;
-                    candidates_.push_back({q, -face_normal, d});
+                    candidates_.push_back({q, -face_normal, d, 8 + j * grid.nx + i});
                 }
+            }
+        }
+        // which candidates the manifold holds from the last step: kept in preference to others
+        // (a point that comes and goes loses the impulse it starts the solver with)
+        held_.assign(candidates_.size(), 0);
+        for (size_t k = 0; k < candidates_.size(); ++k) {
+            for (int m = 0; m < manifold_->getNumContacts(); ++m) {
+                if (manifold_->getContactPoint(m).m_partId1 == candidates_[k].feature) held_[k] = 1;
             }
         }
         const int keep = choose();
 
-        // the manifold holds exactly the chosen points: an old point that none of them matches
-        // (as the manifold matches a new point with the nearest old one) goes first
+        // the manifold holds exactly the chosen points: an old point of another feature goes
+        // first (a kept one keeps its warm-start impulse: the manifold matches a new point with
+        // the nearest old one)
         out->setPersistentManifold(manifold_);
-        const btScalar threshold2 =
-            manifold_->getContactBreakingThreshold() * manifold_->getContactBreakingThreshold();
-        std::array<bool, MANIFOLD_CACHE_SIZE> matched{};
-        for (int k = 0; k < keep; ++k) {
-            const Candidate& p = candidates_[static_cast<size_t>(chosen_[static_cast<size_t>(k)])];
-            const btVector3 on_box = tb.invXform(p.on_field + p.normal * p.depth);
-            int nearest = -1;
-            btScalar best = threshold2;
-            for (int m = 0; m < manifold_->getNumContacts(); ++m) {
-                const btScalar d2 = (manifold_->getContactPoint(m).m_localPointA - on_box).length2();
-                if (d2 < best) {
-                    best = d2;
-                    nearest = m;
-                }
+        auto is_chosen = [&](int feature) {
+            for (int k = 0; k < keep; ++k) {
+                if (candidates_[static_cast<size_t>(chosen_[static_cast<size_t>(k)])].feature ==
+                    feature)
+                    return true;
             }
-            if (nearest >= 0) matched[static_cast<size_t>(nearest)] = true;
-        }
+            return false;
+        };
         for (int m = manifold_->getNumContacts() - 1; m >= 0; --m) {
-            if (!matched[static_cast<size_t>(m)]) manifold_->removeContactPoint(m);
+            if (!is_chosen(manifold_->getContactPoint(m).m_partId1))
+                manifold_->removeContactPoint(m);
         }
         for (int k = 0; k < keep; ++k) {
             const Candidate& p = candidates_[static_cast<size_t>(chosen_[static_cast<size_t>(k)])];
+            if (swapped_) {
+                out->setShapeIdentifiersA(p.feature, 0);
+            } else {
+                out->setShapeIdentifiersB(p.feature, 0);
+            }
             out->addContactPoint(tf.getBasis() * p.normal, tf * p.on_field, p.depth);
         }
         if (manifold_->getNumContacts()) out->refreshContactPoints();
@@ -189,9 +202,12 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
   private:
     // in the heightfield's frame: a point on the surface, the normal there (out of the terrain),
     // the depth of the box's point along it (< 0: inside)
+    // `feature`: 0-7 a corner of the box, 8 + j nx + i the grid's vertex (i, j); the manifold
+    // keeps it in its points (m_partId1: body 1 is the heightfield)
     struct Candidate {
         btVector3 on_field, normal;
         btScalar depth;
+        int feature;
     };
 
     // the grid as Bullet triangulates it: cell (i, j) is split along its diagonal from vertex
@@ -247,7 +263,8 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
         // along `up` by more than kSummitSlope of the edge's length
         bool summit(const HeightfieldShape& f, int i, int j, const btVector3& q,
                     const btVector3& up) const {
-            static constexpr int kEdges[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
+            static constexpr int kEdges[6][2] = {{1, 0},  {-1, 0}, {0, 1},
+                                                 {0, -1}, {1, -1}, {-1, 1}};
             for (const auto& e : kEdges) {
                 const int a = i + e[0], b = j + e[1];
                 if (a < 0 || b < 0 || a >= nx || b >= ny) continue;
@@ -260,9 +277,11 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
         }
     };
 
-    // picks at most 4 candidates into chosen_, returns how many: the deepest (the first within
-    // kDepthTie of the deepest: corners come first), the farthest from it, then the one giving
-    // the largest triangle, then the largest quadrilateral (ties: the earlier candidate)
+    // picks at most 4 candidates into chosen_, returns how many: the deepest (within kDepthTie
+    // of the deepest, one the manifold holds, else the first: corners come first), then of those
+    // within kDepthBand of it the farthest from it, the one giving the largest triangle, the one
+    // giving the largest quadrilateral (held ones' squared sizes count kHold times; ties: the
+    // earlier candidate)
     int choose() {
         const int n = static_cast<int>(candidates_.size());
         if (n == 0) return 0;
@@ -273,16 +292,21 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
         // only the points about to touch when the deepest does: a point farther away, chosen
         // for the area it spans, would take the place of one that touches first
         const btScalar band = deepest + kDepthBand;
-        int first = 0;
-        while (at(first).depth > deepest + kDepthTie)
-            ++first;
+        int first = -1;
+        for (int k = 0; k < n; ++k) {
+            if (at(k).depth > deepest + kDepthTie) continue;
+            if (first < 0 || (held_[static_cast<size_t>(k)] && !held_[static_cast<size_t>(first)]))
+                first = k;
+        }
+        // a held candidate's area counts kHold times
+        auto weight = [&](int k) { return held_[static_cast<size_t>(k)] ? kHold : btScalar(1); };
         chosen_[0] = first;
         if (n == 1) return 1;
         const btVector3 p0 = at(first).on_field;
         int second = -1;
         btScalar best = -1;
         for (int k = 0; k < n; ++k) {
-            const btScalar d2 = (at(k).on_field - p0).length2();
+            const btScalar d2 = (at(k).on_field - p0).length2() * weight(k);
             if (k != first && at(k).depth <= band && d2 > best) {
                 best = d2;
                 second = k;
@@ -295,7 +319,7 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
         best = -1;
         for (int k = 0; k < n; ++k) {
             if (k == first || k == second || at(k).depth > band) continue;
-            const btScalar a2 = (at(k).on_field - p0).cross(p1 - p0).length2();
+            const btScalar a2 = (at(k).on_field - p0).cross(p1 - p0).length2() * weight(k);
             if (a2 > best) {
                 best = a2;
                 third = k;
@@ -310,9 +334,10 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
             if (k == first || k == second || k == third || at(k).depth > band) continue;
             const btVector3 p = at(k).on_field;
             // twice the area of the quadrilateral with p as its fourth corner, whichever side
-            const btScalar a2 = std::max({(p - p0).cross(p1 - p2).length2(),
-                                          (p - p1).cross(p0 - p2).length2(),
-                                          (p - p2).cross(p0 - p1).length2()});
+            const btScalar a2 =
+                std::max({(p - p0).cross(p1 - p2).length2(), (p - p1).cross(p0 - p2).length2(),
+                          (p - p2).cross(p0 - p1).length2()}) *
+                weight(k);
             if (a2 > best) {
                 best = a2;
                 fourth = k;
@@ -326,6 +351,7 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
     btPersistentManifold* manifold_ = nullptr;
     bool swapped_;
     std::vector<Candidate> candidates_;
+    std::vector<char> held_;
     std::array<int, 4> chosen_{};
 };
 

@@ -140,12 +140,10 @@ class BoxPlaneConfiguration : public ContactConfiguration {
         box_plane_.points = points;
         plane_box_.points = points;
         plane_box_.m_swapped = true;
-        box_field_.fallback =
-            ContactConfiguration::getCollisionAlgorithmCreateFunc(BOX_SHAPE_PROXYTYPE,
-                                                                  TERRAIN_SHAPE_PROXYTYPE);
-        field_box_.fallback =
-            ContactConfiguration::getCollisionAlgorithmCreateFunc(TERRAIN_SHAPE_PROXYTYPE,
-                                                                  BOX_SHAPE_PROXYTYPE);
+        box_field_.fallback = ContactConfiguration::getCollisionAlgorithmCreateFunc(
+            BOX_SHAPE_PROXYTYPE, TERRAIN_SHAPE_PROXYTYPE);
+        field_box_.fallback = ContactConfiguration::getCollisionAlgorithmCreateFunc(
+            TERRAIN_SHAPE_PROXYTYPE, BOX_SHAPE_PROXYTYPE);
         field_box_.m_swapped = true;
     }
     btCollisionAlgorithmCreateFunc* getCollisionAlgorithmCreateFunc(int type0, int type1) override {
