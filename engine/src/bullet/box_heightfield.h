@@ -47,8 +47,8 @@ inline constexpr btScalar kDepthTie = btScalar(0.0001);
 // the points chosen lie within this of the deepest one's depth, m
 inline constexpr btScalar kDepthBand = btScalar(0.0002);
 // a point the manifold holds from the last step is kept unless another spans this much more
-// squared area (about 20 % more area)
-inline constexpr btScalar kHold = btScalar(1.44);
+// squared distance or area (twice the distance or area)
+inline constexpr btScalar kHold = btScalar(4);
 // a grid vertex is a summit seen from a face if no neighbour rises above it towards the face by
 // more than this slope (sine of the angle): a face lying on a flat or smooth surface touches
 // every vertex under it
