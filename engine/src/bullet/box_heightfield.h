@@ -12,7 +12,10 @@
 // - each grid vertex under the box's downward face that is a local summit of the terrain seen
 //   from that face (no neighbouring vertex higher along the face's inward normal, within
 //   kSummitSlope): a point at the vertex, depth along the face's normal. These hold a box on a
-//   bump smaller than its face, and a face lying on a flat or smooth surface.
+//   bump smaller than its face, and a face lying on a flat or smooth surface;
+// - each point where a ridge of the grid (an edge whose triangles fold down from it by more
+//   than kSummitSlope) crosses the border of that face: the ridge against the box's edge, depth
+//   along the normal of both edges. These hold a face lying across a ridge between vertices.
 // Of these, at most 4 go into the manifold: the deepest (the first within kDepthTie of it, box
 // corners first), then, among the points within kDepthBand of its depth, the ones that span the
 // largest area, a point the manifold already holds preferred (kHold); the manifold keeps no
@@ -28,6 +31,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 namespace gaitlab {
@@ -124,15 +128,54 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
             }
             int i0, i1, j0, j1;
             grid.vertex_range(lo, hi, i0, i1, j0, j1);
-            for (int j = j0; j <= j1; ++j) {
-                for (int i = i0; i <= i1; ++i) {
-                    btVector3 q;
-                    field->getVertex(i, j, q);
-                    const btVector3 in_box = (q - c) * r;  // r^T (q - c)
-                    if (std::abs(in_box[u]) > h[u] || std::abs(in_box[v]) > h[v]) continue;
-                    const btScalar d = sign * in_box[axis] - h[axis];
-                    if (!(d < reach) || !grid.summit(*field, i, j, q, -face_normal)) continue;
-                    candidates_.push_back({q, -face_normal, d, 8 + j * grid.nx + i});
+            // the grid points of the face's rectangle and one more row around it (the ends of
+            // every grid edge that crosses the face's border), in both frames, read once
+            const int x0 = std::max(0, i0 - 1), x1 = std::min(grid.nx - 1, i1 + 1);
+            const int y0 = std::max(0, j0 - 1), y1 = std::min(grid.ny - 1, j1 + 1);
+            const int w = x1 - x0 + 1;
+            if (w > 0 && y1 >= y0) {
+                const size_t count = static_cast<size_t>(w) * static_cast<size_t>(y1 - y0 + 1);
+                on_grid_.resize(count);
+                in_box_.resize(count);
+                auto at = [&](int i, int j) {
+                    return static_cast<size_t>((j - y0) * w + (i - x0));
+                };
+                for (int j = y0; j <= y1; ++j) {
+                    for (int i = x0; i <= x1; ++i) {
+                        field->getVertex(i, j, on_grid_[at(i, j)]);
+                        in_box_[at(i, j)] = (on_grid_[at(i, j)] - c) * r;  // r^T (q - c)
+                    }
+                }
+                for (int j = std::max(j0, 0); j <= std::min(j1, grid.ny - 1); ++j) {
+                    for (int i = std::max(i0, 0); i <= std::min(i1, grid.nx - 1); ++i) {
+                        const btVector3& q = on_grid_[at(i, j)];
+                        const btVector3& in_box = in_box_[at(i, j)];
+                        if (std::abs(in_box[u]) > h[u] || std::abs(in_box[v]) > h[v]) continue;
+                        const btScalar d = sign * in_box[axis] - h[axis];
+                        if (!(d < reach) || !grid.summit(*field, i, j, q, -face_normal)) continue;
+                        candidates_.push_back({q, -face_normal, d, 8 + j * grid.nx + i});
+                    }
+                }
+                // where the grid's edges cross the face's border: a terrain edge against an
+                // edge of the box (a ridge between grid points, under the face but without a
+                // grid point there), its depth along their common normal
+                const int edges_first = 8 + grid.nx * grid.ny;
+                for (int j = y0; j <= y1; ++j) {
+                    for (int i = x0; i <= x1; ++i) {
+                        // the edges from grid point (i, j): along +x, along +y, and the cells'
+                        // diagonal to (i - 1, j + 1)
+                        for (int e = 0; e < 3; ++e) {
+                            const int i2 = e == 0 ? i + 1 : e == 1 ? i : i - 1;
+                            const int j2 = e == 0 ? j : j + 1;
+                            if (i2 < x0 || i2 > x1 || j2 > y1) continue;
+                            const btVector3& a = on_grid_[at(i, j)];
+                            const btVector3& b = on_grid_[at(i2, j2)];
+                            add_crossings(tb, h, axis, sign, face_normal, a, b, in_box_[at(i, j)],
+                                          in_box_[at(i2, j2)], reach,
+                                          edges_first + ((j * grid.nx + i) * 3 + e) * 4,
+                                          [&] { return grid.ridge(*field, i, j, e, a, b); });
+                        }
+                    }
                 }
             }
         }
@@ -202,7 +245,73 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
   private:
     // in the heightfield's frame: a point on the surface, the normal there (out of the terrain),
     // the depth of the box's point along it (< 0: inside)
-    // `feature`: 0-7 a corner of the box, 8 + j nx + i the grid's vertex (i, j); the manifold
+    // the points where terrain edge a-b (heightfield frame; la, lb in the box's) crosses the
+    // border of the box's face
+    // `axis`, `sign` (outward normal `face_normal`), seen along that normal: each against the
+    // box's edge there, depth along the normal of both edges; features `feature` + the side
+    // only if `ridge()` says the edge is a ridge (asked only of an edge that crosses the border)
+    template <typename Ridge>
+    void add_crossings(const btTransform& tb, const btVector3& h, int axis, btScalar sign,
+                       const btVector3& face_normal, const btVector3& a, const btVector3& b,
+                       const btVector3& la, const btVector3& lb, btScalar reach, int feature,
+                       Ridge ridge) {
+        const btMatrix3x3& r = tb.getBasis();
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        // most edges lie inside the face or beyond one of its sides
+        const bool a_in = std::abs(la[u]) <= h[u] && std::abs(la[v]) <= h[v];
+        const bool b_in = std::abs(lb[u]) <= h[u] && std::abs(lb[v]) <= h[v];
+        if (a_in && b_in) return;
+        for (const int k : {u, v}) {
+            if ((la[k] > h[k] && lb[k] > h[k]) || (la[k] < -h[k] && lb[k] < -h[k])) return;
+        }
+        // Liang-Barsky against the sides u = -h, u = +h, v = -h, v = +h
+        const btScalar du = lb[u] - la[u], dv = lb[v] - la[v];
+        const btScalar p[4] = {-du, du, -dv, dv};
+        const btScalar q[4] = {la[u] + h[u], h[u] - la[u], la[v] + h[v], h[v] - la[v]};
+        btScalar t0 = 0, t1 = 1;
+        int s0 = -1, s1 = -1;
+        for (int k = 0; k < 4; ++k) {
+            if (p[k] == 0) {
+                if (q[k] < 0) return;
+                continue;
+            }
+            const btScalar t = q[k] / p[k];
+            if (p[k] < 0 && t > t0) {
+                t0 = t;
+                s0 = k;
+            } else if (p[k] > 0 && t < t1) {
+                t1 = t;
+                s1 = k;
+            }
+        }
+        if (t0 > t1 || (s0 < 0 && s1 < 0) || !ridge()) return;
+        const btVector3 edge = b - a;
+        for (const auto& [t, side] : {std::pair<btScalar, int>{t0, s0}, {t1, s1}}) {
+            if (side < 0) continue;  // a grid point inside the face: taken as a vertex or not
+            const btVector3 box_edge = r.getColumn(side < 2 ? v : u);
+            btVector3 n = box_edge.cross(edge);
+            const btScalar len = n.length();
+            if (!(len > btScalar(1e-6) * edge.length())) continue;  // parallel
+            n /= len;
+            // out of the terrain into the box; an edge steeper than 60 degrees to the face is
+            // left to the corners
+            if (n.dot(face_normal) > 0) n = -n;
+            if (-n.dot(face_normal) < btScalar(0.5)) continue;
+            const btVector3 at = a + edge * t;
+            btVector3 local = (at - tb.getOrigin()) * r;
+            local[axis] = sign * h[axis];
+            if (side < 2) {
+                local[u] = side == 0 ? -h[u] : h[u];
+            } else {
+                local[v] = side == 2 ? -h[v] : h[v];
+            }
+            const btScalar d = (tb * local - at).dot(n);
+            if (d < reach) candidates_.push_back({at, n, d, feature + side});
+        }
+    }
+
+    // `feature`: 0-7 a corner of the box, 8 + j nx + i the grid's vertex (i, j), then 4 per grid
+    // edge (the side of the face it crosses); the manifold
     // keeps it in its points (m_partId1: body 1 is the heightfield)
     struct Candidate {
         btVector3 on_field, normal;
@@ -257,6 +366,27 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
             i1 = std::min(nx - 1, static_cast<int>(std::floor(hi.x() / sx + ox)));
             j0 = std::max(0, static_cast<int>(std::ceil(lo.y() / sy + oy)));
             j1 = std::min(ny - 1, static_cast<int>(std::floor(hi.y() / sy + oy)));
+        }
+
+        // whether edge `e` from grid point (i, j) (0: to (i + 1, j), 1: to (i, j + 1), 2: to
+        // (i - 1, j + 1)), from a to b, is a ridge: its two triangles fold down from it by more
+        // than kSummitSlope (an edge on the grid's border counts). Elsewhere the grid points and
+        // the corners hold a face
+        bool ridge(const HeightfieldShape& f, int i, int j, int e, const btVector3& a,
+                   const btVector3& b) const {
+            // the third grid point of each triangle of the edge
+            static constexpr int kThird[3][2][2] = {
+                {{0, 1}, {1, -1}}, {{1, 0}, {-1, 1}}, {{-1, 0}, {0, 1}}};
+            btVector3 w[2];
+            for (int k = 0; k < 2; ++k) {
+                const int x = i + kThird[e][k][0], y = j + kThird[e][k][1];
+                if (x < 0 || y < 0 || x >= nx || y >= ny) return true;
+                f.getVertex(x, y, w[k]);
+            }
+            btVector3 n = (b - a).cross(w[0] - a);
+            if (n.z() < 0) n = -n;
+            const btVector3 to = w[1] - a;
+            return to.dot(n) < -kSummitSlope * to.length() * n.length();
         }
 
         // whether no vertex joined to (i, j) by a triangle edge rises above q (vertex (i, j))
@@ -352,6 +482,7 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
     bool swapped_;
     std::vector<Candidate> candidates_;
     std::vector<char> held_;
+    std::vector<btVector3> on_grid_, in_box_;  // grid points near the face (processCollision)
     std::array<int, 4> chosen_{};
 };
 

@@ -530,10 +530,19 @@ TEST_CASE("a box on a heightfield rests on Bullet's triangles, as a cylinder doe
     cyl.mass = 0.01;
     cyl.position = {0.05, 0.05, 0.03};
     w.cylinders.push_back(cyl);
+    // a 5 x 5 cm box turned by 20 degrees across the ridge of cell (0, 2), which crosses its
+    // face between grid points and between its corners: the ridge against the box's edges
+    // holds it (it sank 4.7 mm into the ridge on the corners and grid points alone)
+    BoxSpec across;
+    across.size = {0.05, 0.05, 0.02};
+    across.mass = 0.05;
+    across.pose = {{-0.15, 0.05, 0.035}, Quat::from_axis_angle({0, 0, 1}, 20 * kPi / 180)};
+    w.boxes.push_back(across);
     Simulation sim(w);
     sim.run(0.5);
     CHECK(sim.object(0).pose.position.z - 0.005 == Approx(0.02).margin(0.002));
-    CHECK(sim.object(1).pose.position.z - 0.002 == Approx(0.02).margin(0.004));
+    CHECK(sim.object(1).pose.position.z - 0.01 == Approx(0.02).margin(0.0002));
+    CHECK(sim.object(2).pose.position.z - 0.002 == Approx(0.02).margin(0.004));
 }
 
 TEST_CASE("a box inside a pipe rests on the pipe's bottom") {
