@@ -362,10 +362,15 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
         // the vertices whose x and y lie within [lo, hi]
         void vertex_range(const btVector3& lo, const btVector3& hi, int& i0, int& i1, int& j0,
                           int& j1) const {
-            i0 = std::max(0, static_cast<int>(std::ceil(lo.x() / sx + ox)));
-            i1 = std::min(nx - 1, static_cast<int>(std::floor(hi.x() / sx + ox)));
-            j0 = std::max(0, static_cast<int>(std::ceil(lo.y() / sy + oy)));
-            j1 = std::min(ny - 1, static_cast<int>(std::floor(hi.y() / sy + oy)));
+            // clamped before the conversion: a box far away or not finite (a simulation about
+            // to be stopped as diverged) gives an empty range, not an overflow
+            const auto index = [](btScalar g, int n) {
+                return g > btScalar(n) ? n : g > btScalar(-2) ? static_cast<int>(g) : -2;
+            };
+            i0 = std::max(0, index(std::ceil(lo.x() / sx + ox), nx));
+            i1 = std::min(nx - 1, index(std::floor(hi.x() / sx + ox), nx));
+            j0 = std::max(0, index(std::ceil(lo.y() / sy + oy), ny));
+            j1 = std::min(ny - 1, index(std::floor(hi.y() / sy + oy), ny));
         }
 
         // whether edge `e` from grid point (i, j) (0: to (i + 1, j), 1: to (i, j + 1), 2: to
