@@ -504,6 +504,46 @@ TEST_CASE("an undriven robot rests still on a flat and on a bumpy heightfield") 
     }
 }
 
+TEST_CASE("a box slides down a heightfield slope as Coulomb friction says") {
+    // a 2 cm cube on a heightfield plane of 31 and 40 degrees, mu 0.5: a = g (sin - mu cos)
+    // (on Bullet's box-triangle contacts: -0.35 and 0.34 m/s^2, where 0.848 and 2.548 are right)
+    for (double deg : {31.0, 40.0}) {
+        CAPTURE(deg);
+        const double a = deg * kPi / 180;
+        HeightfieldSpec h;
+        h.length = 2;
+        h.width = 1;
+        h.samples_x = 201;
+        h.samples_y = 101;
+        h.friction = 0.5;
+        for (int j = 0; j < 101; ++j) {
+            for (int i = 0; i < 201; ++i)
+                h.heights.push_back(1 + (-1 + i * 0.01) * std::tan(a));
+        }
+        WorldSpec w;
+        w.floor.enabled = false;
+        w.heightfields.push_back(h);
+        BoxSpec b;
+        b.size = {0.02, 0.02, 0.02};
+        b.mass = 0.05;
+        const double lift = 0.0103;  // the half size and 0.3 mm
+        b.pose = {{0.5 - std::sin(a) * lift, 0, 1 + 0.5 * std::tan(a) + std::cos(a) * lift},
+                  Quat::from_axis_angle({0, 1, 0}, -a)};
+        w.boxes.push_back(b);
+        Simulation sim(w);
+        const auto down_slope = [&] {
+            const Vec3 v = sim.object(0).linear_velocity;
+            return -(v.x * std::cos(a) + v.z * std::sin(a));
+        };
+        sim.run(0.05);
+        const double v0 = down_slope();
+        sim.run(0.2);
+        const double expected = 9.81 * (std::sin(a) - 0.5 * std::cos(a));
+        CHECK((down_slope() - v0) / 0.2 == Approx(expected).epsilon(0.02));
+        CHECK(std::abs(sim.object(0).pose.position.y) < 0.001);  // straight down the slope
+    }
+}
+
 TEST_CASE("a box on a heightfield rests on Bullet's triangles, as a cylinder does") {
     // cells whose diagonal from (i + 1, j) to (i, j + 1) (Bullet's split of a cell) is a ridge
     // 2 cm above the other two corners: on the other diagonal the middle would be 0
