@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 
+#include "bullet/box_heightfield.h"
 #include "bullet/coulomb_solver.h"
 
 namespace gaitlab {
@@ -131,22 +132,31 @@ class BoxPlaneAlgorithm : public btCollisionAlgorithm {
 };
 
 /// The collision configuration with the box-plane collider above for box-plane pairs, the
-/// engine's ContactConfiguration for everything else.
+/// box-heightfield collider (box_heightfield.h) for a box and a HeightfieldShape, the engine's
+/// ContactConfiguration for everything else.
 class BoxPlaneConfiguration : public ContactConfiguration {
   public:
     explicit BoxPlaneConfiguration(BoxPlanePoints points = BoxPlanePoints::touching) {
         box_plane_.points = points;
         plane_box_.points = points;
         plane_box_.m_swapped = true;
+        box_field_.fallback = ContactConfiguration::getCollisionAlgorithmCreateFunc(
+            BOX_SHAPE_PROXYTYPE, TERRAIN_SHAPE_PROXYTYPE);
+        field_box_.fallback = ContactConfiguration::getCollisionAlgorithmCreateFunc(
+            TERRAIN_SHAPE_PROXYTYPE, BOX_SHAPE_PROXYTYPE);
+        field_box_.m_swapped = true;
     }
     btCollisionAlgorithmCreateFunc* getCollisionAlgorithmCreateFunc(int type0, int type1) override {
         if (type0 == BOX_SHAPE_PROXYTYPE && type1 == STATIC_PLANE_PROXYTYPE) return &box_plane_;
         if (type0 == STATIC_PLANE_PROXYTYPE && type1 == BOX_SHAPE_PROXYTYPE) return &plane_box_;
+        if (type0 == BOX_SHAPE_PROXYTYPE && type1 == TERRAIN_SHAPE_PROXYTYPE) return &box_field_;
+        if (type0 == TERRAIN_SHAPE_PROXYTYPE && type1 == BOX_SHAPE_PROXYTYPE) return &field_box_;
         return ContactConfiguration::getCollisionAlgorithmCreateFunc(type0, type1);
     }
 
   private:
     BoxPlaneAlgorithm::CreateFunc box_plane_, plane_box_;
+    BoxHeightfieldAlgorithm::CreateFunc box_field_, field_box_;
 };
 
 }  // namespace gaitlab

@@ -64,8 +64,8 @@ std::unique_ptr<btCollisionShape> make_shape(const Solid& s, std::vector<float>*
             const HeightGrid& g = s.grid;
             heights->assign(g.heights.begin(), g.heights.end());
             const auto [lo, hi] = std::minmax_element(heights->begin(), heights->end());
-            auto field = std::make_unique<btHeightfieldTerrainShape>(
-                g.samples_x, g.samples_y, heights->data(), *lo, *hi, 2, false);
+            auto field = std::make_unique<HeightfieldShape>(g.samples_x, g.samples_y,
+                                                            heights->data(), *lo, *hi);
             field->setLocalScaling(btVector3(btScalar(g.length / (g.samples_x - 1)),
                                              btScalar(g.width / (g.samples_y - 1)), 1));
             shape = std::move(field);
@@ -109,7 +109,8 @@ struct PhysicsWorld::Impl {
         btVector3 pivot_in_child, pivot_in_parent, axis_in_child, axis_in_parent;
     };
 
-    BoxPlaneConfiguration config;  // the engine's contact points (box_plane.h)
+    // the engine's contact points (box_plane.h, box_heightfield.h)
+    BoxPlaneConfiguration config;
     btCollisionDispatcher dispatcher{&config};
     btDbvtBroadphase broadphase;
     CoulombSolver solver;

@@ -392,6 +392,199 @@ TEST_CASE("a robot lies on a heightfield at its height") {
     CHECK(sim.robot_position(0).z == Approx(0.1 + 0.026).margin(0.001));
 }
 
+namespace {
+
+// flat (0.05 m) or bumpy (bumps of 2 cm on an incline) over 2 m x 2 m, samples every 1 cm
+double flat_height(double, double) {
+    return 0.05;
+}
+double bumpy_height(double x, double y) {
+    return 0.05 + 0.02 * x + 0.02 * std::cos(2 * kPi * x) * std::cos(2 * kPi * y);
+}
+// bumps of 1 cm, level on average
+double hills_height(double x, double y) {
+    return 0.05 + 0.01 * std::cos(2 * kPi * x) * std::cos(2 * kPi * y);
+}
+HeightfieldSpec sampled(double (*f)(double, double)) {
+    HeightfieldSpec h;
+    h.length = h.width = 2;
+    h.samples_x = h.samples_y = 201;
+    for (int j = 0; j < 201; ++j) {
+        for (int i = 0; i < 201; ++i)
+            h.heights.push_back(f(-1 + i * 0.01, -1 + j * 0.01));
+    }
+    return h;
+}
+
+}  // namespace
+
+TEST_CASE("boxes lie still on flat and bumpy heightfields, at the surface's height") {
+    // 2 cm cubes of 50 g (on hill tops, in valleys, on slopes) and a module-sized box: they
+    // jittered at up to 0.17 m/s, 1.0-1.5 mm above the surface, on Bullet's box-triangle
+    // contacts (box_heightfield.h)
+    for (auto f : {flat_height, bumpy_height}) {
+        CAPTURE(f == flat_height ? "flat" : "bumpy");
+        WorldSpec w;
+        w.floor.enabled = false;
+        w.heightfields.push_back(sampled(f));
+        struct Spot {
+            double x, y, half;  // centre, half height
+        };
+        const std::vector<Spot> spots{{0, 0, 0.01},    {0.5, 0.5, 0.01},     {0.5, 0, 0.01},
+                                      {0, -0.5, 0.01}, {0.123, 0.317, 0.01}, {-0.5, -0.5, 0.026}};
+        for (const Spot& s : spots) {
+            BoxSpec b;
+            b.size = s.half > 0.02 ? Vec3{0.072, 0.052, 0.052} : Vec3{0.02, 0.02, 0.02};
+            b.mass = 0.05;
+            b.pose.position = {s.x, s.y, f(s.x, s.y) + s.half + 0.0005};
+            w.boxes.push_back(b);
+        }
+        Simulation sim(w);
+        sim.run(1.0);
+        std::vector<Vec3> at_1s;
+        for (size_t k = 0; k < spots.size(); ++k)
+            at_1s.push_back(sim.object(static_cast<int>(k)).pose.position);
+        sim.run(1.5);
+        std::vector<double> fastest(spots.size(), 0.0), height(spots.size(), 0.0);
+        for (int t = 0; t < 500; ++t) {
+            sim.step();
+            for (size_t k = 0; k < spots.size(); ++k) {
+                const BodyState b = sim.object(static_cast<int>(k));
+                fastest[k] = std::max(fastest[k], b.linear_velocity.norm());
+                height[k] += b.pose.position.z / 500;
+            }
+        }
+        for (size_t k = 0; k < spots.size(); ++k) {
+            const Spot& s = spots[k];
+            CAPTURE(s.x, s.y);
+            const Vec3 p = sim.object(static_cast<int>(k)).pose.position;
+            CHECK(fastest[k] < 0.003);
+            // the surface under a box's centre: the module-sized box on the bumps spans a curved
+            // surface, on the flat one it lies at the height exactly
+            const double tolerance = f == bumpy_height && s.half > 0.02 ? 0.001 : 0.0002;
+            CHECK(height[k] - s.half == Approx(f(s.x, s.y)).margin(tolerance));
+            // no creep from t = 1 s to t = 3 s
+            CHECK((p - at_1s[k]).norm() < 0.0002);
+        }
+    }
+}
+
+TEST_CASE("an undriven robot rests still on a flat and on a bumpy heightfield") {
+    // (on bumpy_height's steeper bumps on an incline the pitch-yaw robot's head still chatters
+    // at 1.9 mm/s and the robot creeps by 0.03 mm/s: docs/worlds.md; on Bullet's box-triangle
+    // contacts 1 cm/s and 0.05-0.1 mm/s)
+    for (auto f : {flat_height, hills_height, bumpy_height}) {
+        for (Connection c : {Connection::pitch_pitch, Connection::pitch_yaw}) {
+            CAPTURE(f == flat_height    ? "flat"
+                    : f == hills_height ? "hills"
+                                        : "bumpy",
+                    static_cast<int>(c));
+            WorldSpec w = test::chain_world(8, c);
+            w.floor.enabled = false;
+            w.heightfields.push_back(sampled(f));
+            // dropped from just above the highest point under it
+            w.robots[0].pose.position = {-0.3, 0.1,
+                                         f == flat_height    ? 0.0505
+                                         : f == hills_height ? 0.0605
+                                                             : 0.077};
+            Simulation sim(w);
+            sim.run(1.0);
+            const Vec3 at_1s = sim.robot_position(0);
+            sim.run(4.0);
+            double fastest = 0;
+            const int bodies = static_cast<int>(w.robots[0].robot.bodies.size());
+            for (int t = 0; t < 500; ++t) {
+                sim.step();
+                for (int b = 0; b < bodies; ++b)
+                    fastest = std::max(fastest, sim.body(0, b).linear_velocity.norm());
+            }
+            CHECK(fastest < 0.003);
+            CHECK((sim.robot_position(0) - at_1s).norm() < 0.0002);
+        }
+    }
+}
+
+TEST_CASE("a box slides down a heightfield slope as Coulomb friction says") {
+    // a 2 cm cube on a heightfield plane of 31 and 40 degrees, mu 0.5: a = g (sin - mu cos)
+    // (on Bullet's box-triangle contacts: -0.35 and 0.34 m/s^2, where 0.848 and 2.548 are right)
+    for (double deg : {31.0, 40.0}) {
+        CAPTURE(deg);
+        const double a = deg * kPi / 180;
+        HeightfieldSpec h;
+        h.length = 2;
+        h.width = 1;
+        h.samples_x = 201;
+        h.samples_y = 101;
+        h.friction = 0.5;
+        for (int j = 0; j < 101; ++j) {
+            for (int i = 0; i < 201; ++i)
+                h.heights.push_back(1 + (-1 + i * 0.01) * std::tan(a));
+        }
+        WorldSpec w;
+        w.floor.enabled = false;
+        w.heightfields.push_back(h);
+        BoxSpec b;
+        b.size = {0.02, 0.02, 0.02};
+        b.mass = 0.05;
+        const double lift = 0.0103;  // the half size and 0.3 mm
+        b.pose = {{0.5 - std::sin(a) * lift, 0, 1 + 0.5 * std::tan(a) + std::cos(a) * lift},
+                  Quat::from_axis_angle({0, 1, 0}, -a)};
+        w.boxes.push_back(b);
+        Simulation sim(w);
+        const auto down_slope = [&] {
+            const Vec3 v = sim.object(0).linear_velocity;
+            return -(v.x * std::cos(a) + v.z * std::sin(a));
+        };
+        sim.run(0.05);
+        const double v0 = down_slope();
+        sim.run(0.2);
+        const double expected = 9.81 * (std::sin(a) - 0.5 * std::cos(a));
+        CHECK((down_slope() - v0) / 0.2 == Approx(expected).epsilon(0.02));
+        CHECK(std::abs(sim.object(0).pose.position.y) < 0.001);  // straight down the slope
+    }
+}
+
+TEST_CASE("a box on a heightfield rests on Bullet's triangles, as a cylinder does") {
+    // cells whose diagonal from (i + 1, j) to (i, j + 1) (Bullet's split of a cell) is a ridge
+    // 2 cm above the other two corners: on the other diagonal the middle would be 0
+    HeightfieldSpec h;
+    h.length = h.width = 0.4;
+    h.samples_x = h.samples_y = 5;  // cells of 0.1 m
+    for (int j = 0; j < 5; ++j) {
+        for (int i = 0; i < 5; ++i)
+            h.heights.push_back((i + j) % 2 ? 0.02 : 0.0);
+    }
+    WorldSpec w;
+    w.floor.enabled = false;
+    w.heightfields.push_back(h);
+    // the middles of cells (0, 0) and (2, 2) (from the corner at -0.2, -0.2)
+    BoxSpec b;
+    b.size = {0.01, 0.01, 0.01};
+    b.mass = 0.01;
+    b.pose.position = {-0.15, -0.15, 0.03};
+    w.boxes.push_back(b);
+    // a disk lying across the ridge (a cylinder takes Bullet's path, margins included)
+    CylinderSpec cyl;
+    cyl.radius = 0.02;
+    cyl.length = 0.004;
+    cyl.mass = 0.01;
+    cyl.position = {0.05, 0.05, 0.03};
+    w.cylinders.push_back(cyl);
+    // a 5 x 5 cm box turned by 20 degrees across the ridge of cell (0, 2), which crosses its
+    // face between grid points and between its corners: the ridge against the box's edges
+    // holds it (it sank 4.7 mm into the ridge on the corners and grid points alone)
+    BoxSpec across;
+    across.size = {0.05, 0.05, 0.02};
+    across.mass = 0.05;
+    across.pose = {{-0.15, 0.05, 0.035}, Quat::from_axis_angle({0, 0, 1}, 20 * kPi / 180)};
+    w.boxes.push_back(across);
+    Simulation sim(w);
+    sim.run(0.5);
+    CHECK(sim.object(0).pose.position.z - 0.005 == Approx(0.02).margin(0.002));
+    CHECK(sim.object(1).pose.position.z - 0.01 == Approx(0.02).margin(0.0002));
+    CHECK(sim.object(2).pose.position.z - 0.002 == Approx(0.02).margin(0.004));
+}
+
 TEST_CASE("a box inside a pipe rests on the pipe's bottom") {
     WorldSpec w;
     w.floor.enabled = false;

@@ -2,6 +2,7 @@
 // it, able to run on another thread; one spec built into several simulations.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstring>
 #include <functional>
 #include <memory>
@@ -182,6 +183,30 @@ TEST_CASE("cloning does not change the original's future") {
             rubble.count = 200;
             rubble.length = 1.5;
             world.rubble.push_back(rubble);
+            auto sim = std::make_unique<Simulation>(world);
+            test::drive_pitch_yaw_gait(*sim);
+            return sim;
+        });
+    }
+    SECTION("over a heightfield, with a box on it") {
+        // the box-heightfield collider chooses its points by those the manifold holds
+        check([] {
+            WorldSpec world = test::chain_world(8, Connection::pitch_yaw);
+            world.floor.enabled = false;
+            HeightfieldSpec h;
+            h.length = h.width = 2;
+            h.samples_x = h.samples_y = 101;
+            for (int j = 0; j < 101; ++j) {
+                for (int i = 0; i < 101; ++i)
+                    h.heights.push_back(0.01 * std::cos(0.2 * i) * std::cos(0.3 * j));
+            }
+            world.heightfields.push_back(h);
+            world.robots[0].pose.position.z = 0.011;
+            BoxSpec box;
+            box.size = {0.03, 0.03, 0.03};
+            box.mass = 0.05;
+            box.pose.position = {0.3, 0.15, 0.03};
+            world.boxes.push_back(box);
             auto sim = std::make_unique<Simulation>(world);
             test::drive_pitch_yaw_gait(*sim);
             return sim;
