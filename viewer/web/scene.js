@@ -6,7 +6,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { Bodies, shapeGeometry } from './bodies.js';
-import { AdaptiveResolution } from './resolution.js';
+import { AdaptiveResolution, DrawingRate } from './resolution.js';
 
 const robotColours = [0xe07b24, 0x2a7fbf, 0x3f9e4d, 0x9b4fb3];
 
@@ -42,7 +42,8 @@ function gridMaterial() {
         vec2 d = abs(fract(c + 0.5) - 0.5);        // to the nearest line, in cells
         // at least a pixel wide, then fainter (h / max(h, w / 2)), with an edge a pixel wide
         vec2 a = clamp((max(vec2(h), 0.5 * w) + 0.5 * w - d) * r, 0.0, 1.0) * min(2.0 * h * r, 1.0);
-        a = mix(a, vec2(2.0 * h), clamp(w * (1.0 / 0.3) - (0.2 / 0.3), 0.0, 1.0));   // crowded: the mean
+        // lines closer than a few pixels: their mean instead of moire
+        a = mix(a, vec2(2.0 * h), clamp(w * (1.0 / 0.3) - (0.2 / 0.3), 0.0, 1.0));
         return 1.0 - (1.0 - a.x) * (1.0 - a.y);
       }
       void main() {
@@ -245,24 +246,41 @@ export function createView(gaitlab, canvas, { follow, status }) {
   // or whatever calls invalidate() (the contact points). A paused simulation under a still
   // camera costs nothing; the canvas keeps its last drawing (preserveDrawingBuffer), so
   // screenshots and recordings read it as shown.
+  // The simulation comes first: while it runs slower than its speed asks, the view is drawn at
+  // most 36 times a second (DrawingRate, resolution.js).
   let shownFps = null;
   let shownScale = null;
+  let shownYield = false;
   let drewLast = false;
+  const rate = new DrawingRate();
   function draw(now) {
     requestAnimationFrame(draw);
     // the time since the last animation frame was drawing time only if that frame drew
     if (drewLast) adaptive.frame(now); else adaptive.idle(now);
-    resize();
-    const fresh = applyFrame();
-    controls.update();   // dispatches 'change' (invalidate) when the camera moved
-    drewLast = dirty || fresh;
-    if (drewLast) drawNow();
+    const behind = DrawingRate.behind(gaitlab.frame && gaitlab.frame.state);
+    if (!rate.allow(now, behind, adaptive.pinned)) {
+      drewLast = false;   // this frame is left to the simulation
+    } else {
+      resize();
+      const fresh = applyFrame();
+      controls.update();   // dispatches 'change' (invalidate) when the camera moved
+      drewLast = dirty || fresh;
+      if (drewLast) {
+        drawNow();
+        rate.drew();
+      }
+    }
+    const yielding = rate.yielding;
     // the line under "Full quality", rewritten only when what it says changes
-    if (status && adaptive.fps !== null && (adaptive.fps !== shownFps || adaptive.scale !== shownScale)) {
+    if (status && adaptive.fps !== null &&
+        (adaptive.fps !== shownFps || adaptive.scale !== shownScale || yielding !== shownYield)) {
       shownFps = adaptive.fps;
       shownScale = adaptive.scale;
+      shownYield = yielding;
       const text = `drawing ${adaptive.fps.toFixed(0)} frames/s at ` +
-        `${Math.round(adaptive.scale * 100)} % resolution${adaptive.pinned ? ' (full quality)' : ''}`;
+        `${Math.round(adaptive.scale * 100)} % resolution` +
+        `${adaptive.pinned ? ' (full quality)' : ''}` +
+        `${yielding ? `, at most ${rate.rate} a second while the simulation is behind` : ''}`;
       if (text !== shown) status.textContent = shown = text;
     }
   }
