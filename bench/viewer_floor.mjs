@@ -118,7 +118,8 @@ try {
   console.log('|---|---|---|');
   variants.forEach((v, i) => {
     const l = result.times[i];
-    console.log(`| ${v.name} | ${l[Math.floor(l.length / 2)].toFixed(1)} | ${l[Math.floor(l.length / 10)].toFixed(1)} |`);
+    const at = (q) => l[Math.floor(l.length * q)].toFixed(1);
+    console.log(`| ${v.name} | ${at(0.5)} | ${at(0.1)} |`);
   });
 } finally {
   await browser.close();

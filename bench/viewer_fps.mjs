@@ -287,7 +287,8 @@ const median = (list, name) => {
 const label = (v) => `${v.web === null ? 'built in' : v.web}` +
   `${argSets.length > 1 ? ` (${v.args === '-' ? 'no extra switches' : v.args})` : ''}`;
 console.log(`page ${width}x${height}, ${runs === 1 ? 'one run' : `median of ${runs} runs`}` +
-  `${argSets.length === 1 ? `, chromium ${argSets[0] === '-' ? 'with no extra switches' : argSets[0]}` : ''}` +
+  `${argSets.length === 1 ? `, chromium ${argSets[0] === '-' ? 'with no extra switches' : argSets[0]}`
+    : ''}` +
   `${process.env.PAUSED === '1' ? ', simulation paused' : ''}` +
   `${process.env.FULL_QUALITY === '1' ? ', Full quality' : ''}`);
 if (process.env.DRAW_COST === '1') {
