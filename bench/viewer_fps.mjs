@@ -22,13 +22,22 @@
 // turn instead of those built into gaitlab (the libraries stay gaitlab's), interleaved with the
 // counts: two versions of the page compared on the same machine at the same time, e.g. a
 // `git archive main viewer/web` beside the working tree's viewer/web.
+// Chromium runs with WebGL in SwiftShader (--use-angle=swiftshader --enable-unsafe-swiftshader
+// --ignore-gpu-blocklist) and, by default, --disable-gpu-compositing: the page composited in
+// software, as chromium does on a machine without a GPU (and as `gaitlab view RUN --video`
+// runs it), rather than by SwiftShader too, which then reads every composited frame back
+// (docs/performance.md §9).
+// CHROMIUM_ARGS=SET[;SET...]: each set of switches in turn in place of --disable-gpu-compositing
+// (switches separated by spaces, "-" for none), interleaved like WEB, e.g.
+// CHROMIUM_ARGS='-;--disable-gpu-compositing' compares the two ways of compositing the page.
 // PAUSED=1: the simulation paused during the 10 s (what a page costs while nothing moves).
 // FULL_QUALITY=1: the page's "Full quality" box ticked (no adaptive resolution).
 // PROFILE=1: chromium's JavaScript profiler runs over the 10 s; the functions with the most
 // time of their own are printed after the table.
 //
 // DRAW_COST=1 measures instead how long one drawing of the view at its full size takes (the
-// page's own renderer, waited for), which depends less on what else the machine runs.
+// page's own renderer, waited for; the median of 40) and the CPU time chromium's GPU process
+// spends per such drawing, which depend less on what else the machine runs.
 //
 // Usage: [VIEWPORT=WxH] [RUNS=K] [WEB=DIR,...] [PAUSED=1] [FULL_QUALITY=1] [PROFILE=1] [DRAW_COST=1]
 //        node bench/viewer_fps.mjs GAITLAB SOURCE_DIR [ROBOTS...]
@@ -60,6 +69,8 @@ for (const w of webs) {
     process.exit(2);
   }
 }
+const argSets = process.env.CHROMIUM_ARGS ? process.env.CHROMIUM_ARGS.split(';').map((a) => a.trim())
+  : ['--disable-gpu-compositing'];
 const require = createRequire(path.resolve(source, 'viewer/web/package.json'));
 const playwright = require('playwright-core');
 const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
@@ -119,7 +130,7 @@ async function servePageFrom(page, dir) {
   });
 }
 
-async function measure(n, web) {
+async function measure(n, { web, args }) {
   const child = spawn(gaitlab, ['run', path.join(source, 'bench/lua/crowd.lua'), '--view',
     '--no-record', '--no-progress', '--', String(n), '8', '600'],
   { stdio: ['ignore', 'ignore', 'pipe'] });
@@ -136,7 +147,7 @@ async function measure(n, web) {
     const browser = await playwright.chromium.launch({
       executablePath: chromium,
       args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-        '--ignore-gpu-blocklist'],
+        '--ignore-gpu-blocklist', ...(args === '-' ? [] : args.split(/\s+/))],
     });
     try {
       const page = await browser.newPage({ viewport: { width, height } });
@@ -156,24 +167,34 @@ async function measure(n, web) {
       { timeout: 120000 });
       if (process.env.DRAW_COST === '1') {
         // the time of one drawing of the view at its full size, waited for (a one-pixel
-        // read-back): the median of 15, after 3 to warm up
-        const ms = await page.evaluate(() => {
+        // read-back): the median of 40, after 5 to warm up; and the CPU time of chromium's GPU
+        // process over those 40 (less moved by the machine's load than the wall time)
+        const gpu = chromiumProcesses(process.pid, child.pid).gpu;
+        const gpuCpu = () => gpu.reduce((s, p) => s + cpu(p), 0);
+        await page.evaluate(() => {
           const { renderer, world, camera } = window.gaitlab.three;
-          const release = window.gaitlab.three.pin ? window.gaitlab.three.pin() : () => {};
-          const gl = renderer.getContext();
-          const px = new Uint8Array(4);
-          const times = [];
-          for (let i = 0; i < 18; ++i) {
-            const t0 = performance.now();
-            renderer.render(world, camera);
-            gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
-            if (i >= 3) times.push(performance.now() - t0);
-          }
-          release();
-          times.sort((x, y) => x - y);
-          return times[Math.floor(times.length / 2)];
+          window.drawCostRelease = window.gaitlab.three.pin ? window.gaitlab.three.pin() : () => {};
+          window.drawCost = (k) => {
+            const gl = renderer.getContext();
+            const px = new Uint8Array(4);
+            const times = [];
+            for (let i = 0; i < k; ++i) {
+              const t0 = performance.now();
+              renderer.render(world, camera);
+              gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
+              times.push(performance.now() - t0);
+            }
+            return times;
+          };
+          window.drawCost(5);
         });
-        return { drawMs: ms, bodies: await page.evaluate(() => window.gaitlab.scene.bodies.length) };
+        const c0 = gpuCpu();
+        const times = await page.evaluate(() => window.drawCost(40));
+        const gpuMs = ((gpuCpu() - c0) * 1000) / times.length;
+        await page.evaluate(() => window.drawCostRelease());
+        times.sort((x, y) => x - y);
+        const ms = times[Math.floor(times.length / 2)];
+        return { drawMs: ms, gpuMs, bodies: await page.evaluate(() => window.gaitlab.scene.bodies.length) };
       }
       if (process.env.FULL_QUALITY === '1') await page.check('#full-quality');
       if (process.env.PAUSED === '1') {
@@ -247,13 +268,15 @@ function selfTimes(profile) {
 }
 
 const runs = Number(process.env.RUNS || 1);
-const key = (n, web) => `${n}|${web}`;
+// every page version with every set of chromium switches
+const variants = webs.flatMap((web) => argSets.map((args) => ({ web, args })));
+const key = (n, v) => `${n}|${v.web}|${v.args}`;
 const results = new Map();
 for (let k = 0; k < runs; ++k) {
   for (const n of robots) {
-    for (const web of webs) {
-      if (!results.has(key(n, web))) results.set(key(n, web), []);
-      results.get(key(n, web)).push(await measure(n, web));
+    for (const v of variants) {
+      if (!results.has(key(n, v))) results.set(key(n, v), []);
+      results.get(key(n, v)).push(await measure(n, v));
     }
   }
 }
@@ -261,17 +284,21 @@ const median = (list, name) => {
   const v = list.map((r) => r[name]).sort((a, b) => a - b);
   return v.length % 2 ? v[(v.length - 1) / 2] : (v[v.length / 2 - 1] + v[v.length / 2]) / 2;
 };
-const label = (web) => (web === null ? 'built in' : web);
+const label = (v) => `${v.web === null ? 'built in' : v.web}` +
+  `${argSets.length > 1 ? ` (${v.args === '-' ? 'no extra switches' : v.args})` : ''}`;
 console.log(`page ${width}x${height}, ${runs === 1 ? 'one run' : `median of ${runs} runs`}` +
+  `${argSets.length === 1 ? `, chromium ${argSets[0] === '-' ? 'with no extra switches' : argSets[0]}`
+    : ''}` +
   `${process.env.PAUSED === '1' ? ', simulation paused' : ''}` +
   `${process.env.FULL_QUALITY === '1' ? ', Full quality' : ''}`);
 if (process.env.DRAW_COST === '1') {
-  console.log('| page | robots | bodies | ms per full-size drawing |');
-  console.log('|---|---|---|---|');
+  console.log('| page | robots | bodies | ms per full-size drawing | GPU process CPU ms per drawing |');
+  console.log('|---|---|---|---|---|');
   for (const n of robots) {
-    for (const web of webs) {
-      const list = results.get(key(n, web));
-      console.log(`| ${label(web)} | ${n} | ${list[0].bodies} | ${median(list, 'drawMs').toFixed(1)} |`);
+    for (const v of variants) {
+      const list = results.get(key(n, v));
+      console.log(`| ${label(v)} | ${n} | ${list[0].bodies} | ${median(list, 'drawMs').toFixed(1)} | ` +
+        `${median(list, 'gpuMs').toFixed(1)} |`);
     }
   }
   process.exit(0);
@@ -281,15 +308,15 @@ console.log('| page | robots | bodies | drawings / s | new frames drawn / s | fr
   'GPU process | CPU ms/s: gaitlab | renderer | GPU process | chromium other | load |');
 console.log('|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|');
 for (const n of robots) {
-  for (const web of webs) {
-    const list = results.get(key(n, web));
+  for (const v of variants) {
+    const list = results.get(key(n, v));
     const last = list[list.length - 1];
     for (const r of list) {
       r.rendererPer = r.cpuRenderer / Math.max(r.paints, 0.1);
       r.gpuPer = r.cpuGpu / Math.max(r.paints, 0.1);
     }
     const m = (name, digits = 1) => median(list, name).toFixed(digits);
-    console.log(`| ${label(web)} | ${n} | ${last.bodies} | ${m('paints')} | ${m('drawn')} | ${m('frames')} | ` +
+    console.log(`| ${label(v)} | ${n} | ${last.bodies} | ${m('paints')} | ${m('drawn')} | ${m('frames')} | ` +
       `${m('rate', 2)} | ${last.scale === null ? '-' : `${Math.round(last.scale * 100)} %`} | ` +
       `${m('rafMs')} | ${m('rendererPer')} | ${m('gpuPer')} | ${m('cpuGaitlab', 0)} | ` +
       `${m('cpuRenderer', 0)} | ${m('cpuGpu', 0)} | ${m('cpuOther', 0)} | ` +
@@ -298,9 +325,9 @@ for (const n of robots) {
 }
 if (process.env.PROFILE === '1') {
   for (const n of robots) {
-    for (const web of webs) {
-      const list = results.get(key(n, web));
-      console.log(`\n${label(web)}, ${n} robots: the page's JavaScript, ms of its own per 10 s (last run)`);
+    for (const v of variants) {
+      const list = results.get(key(n, v));
+      console.log(`\n${label(v)}, ${n} robots: the page's JavaScript, ms of its own per 10 s (last run)`);
       for (const [name, ms] of selfTimes(list[list.length - 1].profile).slice(0, 25)) {
         console.log(`  ${ms.toFixed(0).padStart(6)}  ${name}`);
       }

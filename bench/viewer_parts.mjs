@@ -17,10 +17,13 @@
 // PAUSED=1: the simulation paused (the view still drawn at every animation frame, the page's
 // texts unchanged).
 //
+// Chromium composites the page in software (--disable-gpu-compositing), as in
+// bench/viewer_fps.mjs; CHROMIUM_ARGS='SWITCHES' puts other switches in its place (separated by
+// spaces; "-" for none: the page composited by SwiftShader too).
 // WEB=DIR: the page's own files (index.html, *.js, style.css) served from DIR instead of those
 // built into gaitlab (as in bench/viewer_fps.mjs).
 //
-// Usage: [PARTS=...] [ROUNDS=2] [SECONDS=6] [PAUSED=1] [WEB=DIR] node bench/viewer_parts.mjs GAITLAB SOURCE_DIR [ROBOTS]
+// Usage: [PARTS=...] [CHROMIUM_ARGS=...] [ROUNDS=2] [SECONDS=6] [PAUSED=1] [WEB=DIR] node bench/viewer_parts.mjs GAITLAB SOURCE_DIR [ROBOTS]
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
 import fs from 'node:fs';
@@ -86,12 +89,14 @@ function chromiumProcesses() {
   return found;
 }
 
+const chromiumArgs = process.env.CHROMIUM_ARGS || '--disable-gpu-compositing';
 const child = spawn(gaitlab, ['run', path.join(source, 'bench/lua/crowd.lua'), '--view',
   '--no-record', '--no-progress', '--', robots, '8', '600'], { stdio: ['ignore', 'ignore', 'pipe'] });
 let stderr = '';
 child.stderr.on('data', (d) => { stderr += d; });
 const browser = await playwright.chromium.launch({ executablePath: chromium,
-  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'] });
+  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
+    ...chromiumArgs.split(/\s+/).filter((a) => a && a !== '-')] });
 try {
   let url = null;
   for (let i = 0; i < 300 && !url; ++i) {
@@ -168,7 +173,7 @@ try {
       results.get(part.name).push({ fps: n / ((b.t - a.t) / 1000), gpu: (b.gpu - a.gpu) / n, ren: (b.ren - a.ren) / n, load });
     }
   }
-  console.log(`${robots} robots, page 1200x720${web ? ` (page from ${web})` : ''}, ${rounds} rounds of ${seconds} s per part` +
+  console.log(`${robots} robots, page 1200x720${web ? ` (page from ${web})` : ''}, chromium ${chromiumArgs === '-' ? 'with no extra switches' : chromiumArgs}, ${rounds} rounds of ${seconds} s per part` +
     `${process.env.PAUSED === '1' ? ', simulation paused' : ''}`);
   console.log('| part | resolution | drawings / s | GPU process CPU ms per drawing | renderer CPU ms per drawing | load |');
   console.log('|---|---|---|---|---|---|');

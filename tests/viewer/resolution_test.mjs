@@ -4,7 +4,8 @@
 // full size settles one step below instead of flickering; frames that fewer pixels do not
 // speed up keep the full resolution; pinned, it stays at full size whatever the frames take; a
 // stall (a hidden tab) changes nothing; animation frames that draw nothing (idle) neither count
-// as fast frames nor change anything.
+// as fast frames nor change anything. And how often the view may be drawn (DrawingRate): every
+// frame, but about 36 a second while the simulation is behind its speed and for 5 s after.
 //
 // Usage: node resolution_test.mjs SOURCE_DIR
 import path from 'node:path';
@@ -134,6 +135,48 @@ const renderer = {};   // the class only keeps it
   // and drawing again, slow: the idle minute did not count as fast frames
   play(a, clock, 2, (x) => 200 * x * x);
   check(a.scale <= before, `drawing again after it keeps the resolution low (${a.scale})`);
+}
+{
+  // how often the view may be drawn (DrawingRate): drawings in `seconds` of a `hz` screen
+  const { DrawingRate } = await import(pathToFileURL(path.join(source, 'viewer/web/resolution.js')).href);
+  const run = (r, clock, seconds, hz, behind, pinned = false) => {
+    let drawn = 0;
+    const end = clock.now + seconds * 1000;
+    while (clock.now < end - 1e-9) {
+      clock.now += 1000 / hz;
+      if (r.allow(clock.now, behind(clock.now), pinned)) {
+        drawn++;
+        r.drew();
+      }
+    }
+    return drawn / seconds;
+  };
+  const clock = { now: 0 };
+  const r = new DrawingRate();
+  const keeping = run(r, clock, 5, 60, () => false);
+  check(keeping === 60,
+    `a simulation that keeps its speed: every frame of a 60 Hz screen (${keeping} a second)`);
+  const behind = run(r, clock, 10, 60, () => true);
+  check(behind >= 35 && behind <= 37, `a simulation behind: about 36 drawings a second at 60 Hz (${behind})`);
+  const fast = run(r, clock, 10, 144, () => true);
+  check(fast >= 35 && fast <= 37, `... and at 144 Hz (${fast})`);
+  const slow = run(r, clock, 10, 30, () => true);
+  check(slow === 30, `a 30 Hz screen still draws every frame (${slow})`);
+  const pinned = run(r, clock, 2, 60, () => true, true);
+  check(pinned === 60, `pinned (a screenshot, a recording): every frame (${pinned})`);
+  // caught up: 5 s more at 36, then every frame again
+  const after = run(r, clock, 5, 60, () => false);
+  const later = run(r, clock, 3, 60, () => false);
+  check(after >= 35 && after <= 37 && later >= 59,
+    `caught up: 36 a second for 5 s more (${after}), then every frame (${later} in the seconds after)`);
+  // what counts as behind
+  const state = (o) => ({ playing: true, speed: 1, delay: 0, measured: 0.5, ...o });
+  check(DrawingRate.behind(state({})) && !DrawingRate.behind(state({ measured: 0.97 })) &&
+    !DrawingRate.behind(state({ playing: false })) && !DrawingRate.behind(state({ speed: 'max' })) &&
+    !DrawingRate.behind(state({ delay: 0.001 })) && !DrawingRate.behind(state({ measured: null })) &&
+    !DrawingRate.behind(undefined),
+  'behind: playing at a finite speed without a delay, measured below 95 % of it (not paused, ' +
+    'as fast as possible, slowed by a delay, or not measured yet)');
 }
 console.log(`${passed} passed, ${failed} failed`);
 process.exit(failed === 0 ? 0 : 1);

@@ -876,6 +876,9 @@ std::string render_video(const std::string& dir, const std::string& out, double 
         fmt::format("{}?video=1&speed={}&size={}x{}", view.url(), speed, width, height);
     std::fprintf(stderr, "gaitlab: drawing %.0f frames of %s in headless chromium\n",
                  duration / speed * 25 + 1, dir.c_str());
+    // WebGL in SwiftShader, the page composited in software as chromium does without a GPU
+    // (composited by SwiftShader too, every frame would be read back from it: about 10 ms more
+    // CPU a frame, docs/performance.md section 9)
     std::vector<std::string> args = {
         chromium,
         "--headless",
@@ -886,6 +889,7 @@ std::string render_video(const std::string& dir, const std::string& out, double 
         "--use-angle=swiftshader",
         "--enable-unsafe-swiftshader",
         "--ignore-gpu-blocklist",
+        "--disable-gpu-compositing",
         "--window-size=" + std::to_string(width + 40) + "," + std::to_string(height + 40),
         "--hide-scrollbars",
         "--user-data-dir=" + tmp + "/profile"};

@@ -12,6 +12,7 @@
 // before trying again, up to a minute), so it does not oscillate. Animation frames that draw
 // nothing (nothing changed: a paused simulation, a still camera) are told with idle(): the
 // time up to them is not drawing time, so it leaves the window, and a pause changes nothing.
+// DrawingRate (below) says how often the view may be drawn while the simulation is behind.
 
 export const kScales = [1, 0.8, 0.64, 0.5, 0.4, 0.32, 0.25];
 
@@ -133,5 +134,46 @@ export class AdaptiveResolution {
       this.roomy = 0;
     }
     return false;
+  }
+}
+
+// How often the view may be drawn (docs/viewer.md, "Drawing many bodies fast"). The simulation
+// comes first: while it runs slower than its speed asks (behind()), and for `hold` ms after it
+// was last seen so, the view is drawn at most `rate` times a second (a budget that grows by
+// `rate` drawings a second, up to two, so a 60 Hz screen draws 36 a second, not 30), which
+// leaves the CPU time of the other drawings to the simulation where the browser and gaitlab
+// share a machine. Otherwise, and while pinned (a screenshot, a recording, "Full quality"), at
+// every animation frame.
+export class DrawingRate {
+  constructor({ rate = 36, hold = 5000 } = {}) {
+    this.rate = rate;
+    this.hold = hold;
+    this.budget = 1;                // drawings allowed now while yielding
+    this.until = -Infinity;         // yielding until this time (ms)
+    this.last = null;               // the last animation frame's time
+    this.yielding = false;
+  }
+
+  // whether a frame's state says the simulation runs slower than asked: playing, at a finite
+  // speed without a delay, its measured real-time factor below 95 % of that speed
+  static behind(state) {
+    return Boolean(state && state.playing && !state.delay && typeof state.speed === 'number' &&
+      typeof state.measured === 'number' && state.measured < 0.95 * state.speed);
+  }
+
+  // at an animation frame (its timestamp, ms): whether the view may be drawn in it
+  allow(now, behind, pinned) {
+    if (behind) this.until = now + this.hold;
+    this.yielding = now < this.until && !pinned;
+    if (this.last !== null) {
+      this.budget = Math.min(2, this.budget + ((now - this.last) * this.rate) / 1000);
+    }
+    this.last = now;
+    return !this.yielding || this.budget >= 1;
+  }
+
+  // the view was drawn in the frame allow() was last asked about
+  drew() {
+    if (this.yielding) this.budget -= 1;
   }
 }

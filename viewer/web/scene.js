@@ -6,7 +6,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { Bodies, shapeGeometry } from './bodies.js';
-import { AdaptiveResolution } from './resolution.js';
+import { AdaptiveResolution, DrawingRate } from './resolution.js';
 
 const robotColours = [0xe07b24, 0x2a7fbf, 0x3f9e4d, 0x9b4fb3];
 
@@ -34,20 +34,23 @@ function gridMaterial() {
       uniform vec3 minor;
       uniform vec3 major;
       varying vec2 vXY;
-      // how much of this pixel lines of 'width' m every 'spacing' m cover
-      float lines(float spacing, float width) {
-        vec2 c = vXY / spacing;
-        vec2 w = fwidth(c);                        // cells per pixel
-        vec2 half_ = vec2(0.5 * width / spacing);  // half the line, in cells
-        vec2 hw = max(half_, 0.5 * w);             // at least a pixel wide ...
-        vec2 d = abs(fract(c + 0.5) - 0.5);
-        vec2 a = (1.0 - smoothstep(hw - 0.5 * w, hw + 0.5 * w, d)) * (half_ / hw);   // ... fainter
-        a = mix(a, 2.0 * half_, smoothstep(0.2, 0.5, w));   // crowded: the mean
+      // how much of this pixel lines cover: c the position in cells, w cells per pixel and r
+      // its inverse, h half a line's width in cells. Every operation counts where a CPU runs
+      // this for each pixel (SwiftShader): one reciprocal per pixel, and edges and the fading
+      // into the mean as straight ramps (clamp) rather than smoothstep, which look the same
+      float lines(vec2 c, vec2 w, vec2 r, float h) {
+        vec2 d = abs(fract(c + 0.5) - 0.5);        // to the nearest line, in cells
+        // at least a pixel wide, then fainter (h / max(h, w / 2)), with an edge a pixel wide
+        vec2 a = clamp((max(vec2(h), 0.5 * w) + 0.5 * w - d) * r, 0.0, 1.0) * min(2.0 * h * r, 1.0);
+        // lines closer than a few pixels: their mean instead of moire
+        a = mix(a, vec2(2.0 * h), clamp(w * (1.0 / 0.3) - (0.2 / 0.3), 0.0, 1.0));
         return 1.0 - (1.0 - a.x) * (1.0 - a.y);
       }
       void main() {
-        vec3 c = mix(base, minor, lines(0.1, 0.004));
-        gl_FragColor = vec4(mix(c, major, lines(1.0, 0.008)), 1.0);
+        vec2 w = fwidth(vXY);                      // metres per pixel
+        vec2 r = 1.0 / max(w, 1e-6);               // pixels per metre (finite seen edge-on)
+        vec3 c = mix(base, minor, lines(vXY * 10.0, w * 10.0, r * 0.1, 0.02));   // 4 mm every 10 cm
+        gl_FragColor = vec4(mix(c, major, lines(vXY, w, r, 0.004)), 1.0);       // 8 mm every metre
       }`,
   });
 }
@@ -243,24 +246,41 @@ export function createView(gaitlab, canvas, { follow, status }) {
   // or whatever calls invalidate() (the contact points). A paused simulation under a still
   // camera costs nothing; the canvas keeps its last drawing (preserveDrawingBuffer), so
   // screenshots and recordings read it as shown.
+  // The simulation comes first: while it runs slower than its speed asks, the view is drawn at
+  // most 36 times a second (DrawingRate, resolution.js).
   let shownFps = null;
   let shownScale = null;
+  let shownYield = false;
   let drewLast = false;
+  const rate = new DrawingRate();
   function draw(now) {
     requestAnimationFrame(draw);
     // the time since the last animation frame was drawing time only if that frame drew
     if (drewLast) adaptive.frame(now); else adaptive.idle(now);
-    resize();
-    const fresh = applyFrame();
-    controls.update();   // dispatches 'change' (invalidate) when the camera moved
-    drewLast = dirty || fresh;
-    if (drewLast) drawNow();
+    const behind = DrawingRate.behind(gaitlab.frame && gaitlab.frame.state);
+    if (!rate.allow(now, behind, adaptive.pinned)) {
+      drewLast = false;   // this frame is left to the simulation
+    } else {
+      resize();
+      const fresh = applyFrame();
+      controls.update();   // dispatches 'change' (invalidate) when the camera moved
+      drewLast = dirty || fresh;
+      if (drewLast) {
+        drawNow();
+        rate.drew();
+      }
+    }
+    const yielding = rate.yielding;
     // the line under "Full quality", rewritten only when what it says changes
-    if (status && adaptive.fps !== null && (adaptive.fps !== shownFps || adaptive.scale !== shownScale)) {
+    if (status && adaptive.fps !== null &&
+        (adaptive.fps !== shownFps || adaptive.scale !== shownScale || yielding !== shownYield)) {
       shownFps = adaptive.fps;
       shownScale = adaptive.scale;
+      shownYield = yielding;
       const text = `drawing ${adaptive.fps.toFixed(0)} frames/s at ` +
-        `${Math.round(adaptive.scale * 100)} % resolution${adaptive.pinned ? ' (full quality)' : ''}`;
+        `${Math.round(adaptive.scale * 100)} % resolution` +
+        `${adaptive.pinned ? ' (full quality)' : ''}` +
+        `${yielding ? `, at most ${rate.rate} a second while the simulation is behind` : ''}`;
       if (text !== shown) status.textContent = shown = text;
     }
   }
