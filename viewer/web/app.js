@@ -329,12 +329,31 @@ async function loadSeries() {
   $('live-refresh').value = seriesInfo.refresh;
   $('live-size').value = seriesInfo.size;
   const known = new Set(seriesInfo.series.map((s) => s.name));
+  const current = seriesShown();
   for (const p of gaitlab.plots) {
     for (const n of [...p.names]) if (!known.has(n)) p.names.delete(n);
+    // a plot added before the shown simulation's series were known starts with its default now
+    if (current && p.wantsDefault) {
+      p.wantsDefault = false;
+      const d = defaultSeries();
+      if (d && p.names.size === 0) p.names.add(d);
+    }
     p.buildPicker();
     p.rebuild();
   }
   store.since = null;   // everything again, for the new simulation
+}
+
+// whether the series known are those of the simulation shown (another one chosen, its series
+// arrive a moment later)
+function seriesShown() {
+  return Boolean(seriesInfo && gaitlab.scene && seriesInfo.simulation === gaitlab.scene.simulation);
+}
+
+// a new plot's series: the first robot's centre of mass, or the first series
+function defaultSeries() {
+  const first = seriesInfo.series.find((s) => /\.com\.x$/.test(s.name)) || seriesInfo.series[0];
+  return first ? first.name : null;
 }
 
 for (const [id, field] of [['live-every', 'sample_every'], ['live-refresh', 'refresh'], ['live-size', 'size']]) {
@@ -518,9 +537,12 @@ function addPlot(names = []) {
   return plot;
 }
 $('add-plot').addEventListener('click', () => {
-  // a new plot starts with the first robot's centre of mass, or the first series
-  const first = seriesInfo && (seriesInfo.series.find((s) => /\.com\.x$/.test(s.name)) || seriesInfo.series[0]);
-  const p = addPlot(first ? [first.name] : []);
+  // not the series of a simulation shown before: if the shown one's have not arrived yet, the
+  // plot takes its default when they do
+  const shown = seriesShown();
+  const first = shown ? defaultSeries() : null;
+  const p = addPlot(first ? [first] : []);
+  p.wantsDefault = !shown;
   p.el.querySelector('details').open = true;
   store.since = null;
 });
