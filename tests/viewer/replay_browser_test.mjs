@@ -99,9 +99,10 @@ try {
       el.dispatchEvent(new Event('input'));
       el.dispatchEvent(new Event('change'));
     }, t);
+    // drawn, not only received: the canvas then shows it (a loaded machine can take long)
     await page.waitForFunction((v) => Math.abs(window.gaitlab.frame.time - v) < 1e-9 &&
-      window.gaitlab.drawn > 0, t, { timeout: 10000 });
-    await sleep(150);
+      window.gaitlab.drawnTime !== null && Math.abs(window.gaitlab.drawnTime - v) < 1e-9, t,
+    { timeout: 30000 });
   };
   await scrub(0);
   const p0 = await page.evaluate(() => window.gaitlab.frame.poses.slice());

@@ -22,6 +22,7 @@ const gaitlab = {
   frame: null,      // the latest frame
   frames: 0,        // frames received
   drawn: 0,         // frames drawn
+  drawnTime: null,  // the simulated time of the last frame drawn, s
   drawings: 0,      // drawings of the 3D view (it draws only when something changed)
   messages: [],     // {level, text}
   errors: [],       // command errors

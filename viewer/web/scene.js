@@ -222,6 +222,7 @@ export function createView(gaitlab, canvas, { follow, status }) {
       haveCentre = c !== null;
       if (c) lastCentre.copy(c);
       gaitlab.drawn++;
+      gaitlab.drawnTime = f.time;
       return true;
     }
     return false;
