@@ -9,21 +9,16 @@
 //
 // Usage: node bench/viewer_floor.mjs GAITLAB SOURCE_DIR ROBOTS WEB_DIR [WEB_DIR...]
 //   e.g. node bench/viewer_floor.mjs build/gaitlab . 40 main-copy/viewer/web viewer/web
-import { spawn } from 'node:child_process';
-import { createRequire } from 'node:module';
 import fs from 'node:fs';
 import path from 'node:path';
+import { findChromium, launchBrowser, loadPlaywright, startCrowd } from './viewer_lib.mjs';
 
 const [gaitlab, source, robots, ...webs] = process.argv.slice(2);
 if (!gaitlab || !source || !/^[1-9]\d*$/.test(robots || '') || webs.length === 0) {
   console.error('usage: node bench/viewer_floor.mjs GAITLAB SOURCE_DIR ROBOTS WEB_DIR [WEB_DIR...]');
   process.exit(2);
 }
-const chromium = process.env.CHROMIUM || '/usr/bin/chromium';
-if (!fs.existsSync(chromium)) {
-  console.error(`no chromium at ${chromium} (apt-get install chromium; tools/setup.sh does)`);
-  process.exit(1);
-}
+const chromium = findChromium();
 // the floor's fragment shader in a copy of the page
 function floorShader(dir) {
   const file = path.join(dir, 'scene.js');
@@ -46,23 +41,10 @@ variants.push({ name: 'flat floor (one colour)',
   frag: 'uniform vec3 base;\nvoid main() { gl_FragColor = vec4(base, 1.0); }' });
 variants.push({ name: 'no floor', frag: null });
 
-const require = createRequire(path.resolve(source, 'viewer/web/package.json'));
-const playwright = require('playwright-core');
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
-const child = spawn(gaitlab, ['run', path.join(source, 'bench/lua/crowd.lua'), '--view',
-  '--no-record', '--no-progress', '--', robots, '8', '600'], { stdio: ['ignore', 'ignore', 'pipe'] });
-let stderr = '';
-child.stderr.on('data', (d) => { stderr += d; });
-const browser = await playwright.chromium.launch({ executablePath: chromium,
-  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-    '--ignore-gpu-blocklist', '--disable-gpu-compositing'] });
+const playwright = loadPlaywright(source);
+const { child, url } = await startCrowd(gaitlab, source, robots);
+const browser = await launchBrowser(playwright, chromium);
 try {
-  let url = null;
-  for (let i = 0; i < 300 && !url; ++i) {
-    const m = stderr.match(/viewer: (http:\/\/\S+)/);
-    if (m) url = m[1]; else await sleep(100);
-  }
-  if (!url) throw new Error(`gaitlab printed no address:\n${stderr}`);
   const page = await browser.newPage({ viewport: { width: 1200, height: 720 } });
   await page.goto(url, { timeout: 120000 });
   await page.waitForFunction((k) => window.gaitlab.scene && window.gaitlab.scene.bodies.length >= k &&

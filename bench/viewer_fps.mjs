@@ -42,10 +42,10 @@
 // Usage: [VIEWPORT=WxH] [RUNS=K] [WEB=DIR,...] [PAUSED=1] [FULL_QUALITY=1] [PROFILE=1] [DRAW_COST=1]
 //        node bench/viewer_fps.mjs GAITLAB SOURCE_DIR [ROBOTS...]
 // (default 1 10 40 80 robots, a 1200x720 page, one run)
-import { spawn } from 'node:child_process';
-import { createRequire } from 'node:module';
 import fs from 'node:fs';
 import path from 'node:path';
+import { chromiumProcesses, cpuSeconds as cpu, findChromium, launchBrowser, loadPlaywright,
+  servePageFrom, sleep, startCrowd } from './viewer_lib.mjs';
 
 const [gaitlab, source, ...counts] = process.argv.slice(2);
 if (!gaitlab || !source) {
@@ -57,11 +57,7 @@ if (robots.some((n) => !Number.isInteger(n) || n < 1)) {
   console.error(`ROBOTS must be whole numbers from 1 (got ${counts.join(' ')})`);
   process.exit(2);
 }
-const chromium = process.env.CHROMIUM || '/usr/bin/chromium';
-if (!fs.existsSync(chromium)) {
-  console.error(`no chromium at ${chromium} (apt-get install chromium; tools/setup.sh does)`);
-  process.exit(1);
-}
+const chromium = findChromium();
 const webs = process.env.WEB ? process.env.WEB.split(',') : [null];
 for (const w of webs) {
   if (w !== null && !fs.existsSync(path.join(w, 'index.html'))) {
@@ -71,84 +67,15 @@ for (const w of webs) {
 }
 const argSets = process.env.CHROMIUM_ARGS ? process.env.CHROMIUM_ARGS.split(';').map((a) => a.trim())
   : ['--disable-gpu-compositing'];
-const require = createRequire(path.resolve(source, 'viewer/web/package.json'));
-const playwright = require('playwright-core');
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+const playwright = loadPlaywright(source);
 const seconds = 10;
 // the page's size (VIEWPORT=WxH, default 1200x720): software WebGL's cost grows with its pixels
 const [width, height] = (process.env.VIEWPORT || '1200x720').split('x').map(Number);
-const ticks = 100;   // clock ticks per second in /proc/PID/stat (USER_HZ)
-
-// CPU seconds of a process (all its threads) so far, or 0 when it is gone
-function cpu(pid) {
-  try {
-    const stat = fs.readFileSync(`/proc/${pid}/stat`, 'utf8');
-    const f = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
-    return (Number(f[11]) + Number(f[12])) / ticks;   // utime, stime
-  } catch (e) {
-    return 0;
-  }
-}
-
-// chromium's processes (those under this process but gaitlab), by kind: renderer, gpu, other
-function chromiumProcesses(root, gaitlabPid) {
-  const parent = new Map();
-  for (const d of fs.readdirSync('/proc')) {
-    if (!/^\d+$/.test(d)) continue;
-    try {
-      const stat = fs.readFileSync(`/proc/${d}/stat`, 'utf8');
-      parent.set(Number(d), Number(stat.slice(stat.lastIndexOf(')') + 2).split(' ')[1]));
-    } catch (e) { /* gone */ }
-  }
-  const under = (pid) => {
-    for (let p = pid; p > 1; p = parent.get(p)) if (p === root) return true;
-    return false;
-  };
-  const kinds = { renderer: [], gpu: [], other: [] };
-  for (const pid of parent.keys()) {
-    if (pid === root || pid === gaitlabPid || !under(pid)) continue;
-    let cmd = '';
-    try { cmd = fs.readFileSync(`/proc/${pid}/cmdline`, 'utf8'); } catch (e) { continue; }
-    if (cmd.includes('--type=renderer')) kinds.renderer.push(pid);
-    else if (cmd.includes('--type=gpu-process')) kinds.gpu.push(pid);
-    else kinds.other.push(pid);
-  }
-  return kinds;
-}
-
-// the page's own files from dir (WEB=...), the libraries from gaitlab
-async function servePageFrom(page, dir) {
-  const types = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css' };
-  await page.route((url) => {
-    const file = path.basename(url.pathname) || 'index.html';
-    return !url.pathname.includes('/lib/') && !url.pathname.includes('/api/') &&
-      fs.existsSync(path.join(dir, file)) && types[path.extname(file)] !== undefined;
-  }, (route) => {
-    const file = path.basename(new URL(route.request().url()).pathname) || 'index.html';
-    route.fulfill({ body: fs.readFileSync(path.join(dir, file)),
-      contentType: types[path.extname(file)] });
-  });
-}
 
 async function measure(n, { web, args }) {
-  const child = spawn(gaitlab, ['run', path.join(source, 'bench/lua/crowd.lua'), '--view',
-    '--no-record', '--no-progress', '--', String(n), '8', '600'],
-  { stdio: ['ignore', 'ignore', 'pipe'] });
-  let stderr = '';
-  child.stderr.on('data', (d) => { stderr += d; });
+  const { child, url } = await startCrowd(gaitlab, source, n);
   try {
-    let url = null;
-    for (let i = 0; i < 300 && !url; ++i) {
-      const m = stderr.match(/viewer: (http:\/\/\S+)/);
-      if (m) url = m[1];
-      else await sleep(100);
-    }
-    if (!url) throw new Error(`gaitlab printed no address:\n${stderr}`);
-    const browser = await playwright.chromium.launch({
-      executablePath: chromium,
-      args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-        '--ignore-gpu-blocklist', ...(args === '-' ? [] : args.split(/\s+/))],
-    });
+    const browser = await launchBrowser(playwright, chromium, args);
     try {
       const page = await browser.newPage({ viewport: { width, height } });
       if (web !== null) await servePageFrom(page, web);

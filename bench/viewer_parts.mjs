@@ -24,21 +24,16 @@
 // built into gaitlab (as in bench/viewer_fps.mjs).
 //
 // Usage: [PARTS=...] [CHROMIUM_ARGS=...] [ROUNDS=2] [SECONDS=6] [PAUSED=1] [WEB=DIR] node bench/viewer_parts.mjs GAITLAB SOURCE_DIR [ROBOTS]
-import { spawn } from 'node:child_process';
-import { createRequire } from 'node:module';
 import fs from 'node:fs';
-import path from 'node:path';
+import { chromiumProcesses, cpuSeconds, findChromium, launchBrowser, loadPlaywright, servePageFrom,
+  sleep, startCrowd } from './viewer_lib.mjs';
 
 const [gaitlab, source, robots = '40'] = process.argv.slice(2);
 if (!gaitlab || !source || !/^[1-9]\d*$/.test(robots)) {
   console.error('usage: node bench/viewer_parts.mjs GAITLAB SOURCE_DIR [ROBOTS]');
   process.exit(2);
 }
-const chromium = process.env.CHROMIUM || '/usr/bin/chromium';
-if (!fs.existsSync(chromium)) {
-  console.error(`no chromium at ${chromium} (apt-get install chromium; tools/setup.sh does)`);
-  process.exit(1);
-}
+const chromium = findChromium();
 const scales = [1, 0.8, 0.64, 0.5, 0.4, 0.32, 0.25];
 const parts = (process.env.PARTS || 'full:1,full:0.5,full:0.25,nofloor:0.5,nobodies:0.5,empty:0.5,fullnodom:0.5,emptynodom:0.5')
   .split(',').map((p) => {
@@ -52,71 +47,13 @@ const parts = (process.env.PARTS || 'full:1,full:0.5,full:0.25,nofloor:0.5,nobod
   });
 const rounds = Number(process.env.ROUNDS || 2);
 const seconds = Number(process.env.SECONDS || 6);
-const require = createRequire(path.resolve(source, 'viewer/web/package.json'));
-const playwright = require('playwright-core');
-const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
-
-// CPU ms of a process so far (USER_HZ 100), 0 when it is gone
-function cpu(pid) {
-  try {
-    const stat = fs.readFileSync(`/proc/${pid}/stat`, 'utf8');
-    const f = stat.slice(stat.lastIndexOf(')') + 2).split(' ');
-    return (Number(f[11]) + Number(f[12])) * 10;
-  } catch (e) {
-    return 0;
-  }
-}
-// chromium's renderer and GPU processes under this one
-function chromiumProcesses() {
-  const parent = new Map();
-  for (const d of fs.readdirSync('/proc')) {
-    if (!/^\d+$/.test(d)) continue;
-    try {
-      const stat = fs.readFileSync(`/proc/${d}/stat`, 'utf8');
-      parent.set(Number(d), Number(stat.slice(stat.lastIndexOf(')') + 2).split(' ')[1]));
-    } catch (e) { /* gone */ }
-  }
-  const found = { renderer: [], gpu: [] };
-  for (const pid of parent.keys()) {
-    let p = pid;
-    while (p > 1 && p !== process.pid) p = parent.get(p);
-    if (p !== process.pid) continue;
-    let cmd = '';
-    try { cmd = fs.readFileSync(`/proc/${pid}/cmdline`, 'utf8'); } catch (e) { continue; }
-    if (cmd.includes('--type=renderer')) found.renderer.push(pid);
-    if (cmd.includes('--type=gpu-process')) found.gpu.push(pid);
-  }
-  return found;
-}
-
+const playwright = loadPlaywright(source);
 const chromiumArgs = process.env.CHROMIUM_ARGS || '--disable-gpu-compositing';
-const child = spawn(gaitlab, ['run', path.join(source, 'bench/lua/crowd.lua'), '--view',
-  '--no-record', '--no-progress', '--', robots, '8', '600'], { stdio: ['ignore', 'ignore', 'pipe'] });
-let stderr = '';
-child.stderr.on('data', (d) => { stderr += d; });
-const browser = await playwright.chromium.launch({ executablePath: chromium,
-  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
-    ...chromiumArgs.split(/\s+/).filter((a) => a && a !== '-')] });
+const { child, url } = await startCrowd(gaitlab, source, robots);
+const browser = await launchBrowser(playwright, chromium, chromiumArgs);
 try {
-  let url = null;
-  for (let i = 0; i < 300 && !url; ++i) {
-    const m = stderr.match(/viewer: (http:\/\/\S+)/);
-    if (m) url = m[1]; else await sleep(100);
-  }
-  if (!url) throw new Error(`gaitlab printed no address:\n${stderr}`);
   const page = await browser.newPage({ viewport: { width: 1200, height: 720 } });
-  const web = process.env.WEB;
-  if (web) {
-    if (!fs.existsSync(path.join(web, 'index.html'))) throw new Error(`WEB: ${web} has no index.html`);
-    const types = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css' };
-    const file = (url) => path.basename(url.pathname) || 'index.html';
-    await page.route((url) => !url.pathname.includes('/lib/') && !url.pathname.includes('/api/') &&
-      fs.existsSync(path.join(web, file(url))) && types[path.extname(file(url))] !== undefined,
-    (route) => {
-      const f = file(new URL(route.request().url()));
-      route.fulfill({ body: fs.readFileSync(path.join(web, f)), contentType: types[path.extname(f)] });
-    });
-  }
+  if (process.env.WEB) await servePageFrom(page, process.env.WEB);
   await page.goto(url, { timeout: 120000 });
   await page.waitForFunction(() => window.gaitlab.scene && window.gaitlab.drawn > 10, null, { timeout: 120000 });
   if (process.env.PAUSED === '1') {
@@ -158,8 +95,8 @@ try {
       }
     };
   }, scales);
-  const procs = chromiumProcesses();
-  const sum = (list) => list.reduce((s, p) => s + cpu(p), 0);
+  const procs = chromiumProcesses(process.pid, child.pid);
+  const sum = (list) => list.reduce((s, p) => s + cpuSeconds(p) * 1000, 0);
   const results = new Map(parts.map((p) => [p.name, []]));
   for (let r = 0; r < rounds; ++r) {
     for (const part of parts) {
@@ -173,7 +110,7 @@ try {
       results.get(part.name).push({ fps: n / ((b.t - a.t) / 1000), gpu: (b.gpu - a.gpu) / n, ren: (b.ren - a.ren) / n, load });
     }
   }
-  console.log(`${robots} robots, page 1200x720${web ? ` (page from ${web})` : ''}, chromium ${chromiumArgs === '-' ? 'with no extra switches' : chromiumArgs}, ${rounds} rounds of ${seconds} s per part` +
+  console.log(`${robots} robots, page 1200x720${process.env.WEB ? ` (page from ${process.env.WEB})` : ''}, chromium ${chromiumArgs === '-' ? 'with no extra switches' : chromiumArgs}, ${rounds} rounds of ${seconds} s per part` +
     `${process.env.PAUSED === '1' ? ', simulation paused' : ''}`);
   console.log('| part | resolution | drawings / s | GPU process CPU ms per drawing | renderer CPU ms per drawing | load |');
   console.log('|---|---|---|---|---|---|');

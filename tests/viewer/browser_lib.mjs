@@ -40,11 +40,14 @@ export function loadPlaywright(source) {
   }
 }
 
-// headless chromium drawing WebGL in software
+// headless chromium drawing WebGL in software and compositing the page in software, as chromium
+// does on a machine without a GPU (and as `gaitlab view RUN --video` runs it): composited by
+// SwiftShader too, every frame of the page was read back (docs/performance.md §9)
 export function launchChromium(playwright, chromium) {
   return playwright.chromium.launch({
     executablePath: chromium,
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
+    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
+      '--disable-gpu-compositing'],
   });
 }
 
