@@ -200,6 +200,15 @@ void push_quat(lua_State* L, const Quat& q) {
     lua_setfield(L, -2, "z");
 }
 
+void set_body_state(lua_State* L, const BodyState& s) {
+    push_vec3(L, s.pose.position);
+    lua_setfield(L, -2, "position");
+    push_quat(L, s.pose.orientation);
+    lua_setfield(L, -2, "orientation");
+    push_vec3(L, s.linear_velocity);
+    lua_setfield(L, -2, "velocity");
+}
+
 Fields::Fields(lua_State* L, int index, int arg, std::initializer_list<const char*> allowed)
     : L_(L), index_(lua_absindex(L, index)), arg_(arg) {
     if (!lua_istable(L, index_)) throw ArgError(arg, "table expected, got " + type_name(L, index_));

@@ -333,6 +333,9 @@ void push_vec3(lua_State* L, const Vec3& v);
 /// Pushes {w = , x = , y = , z = }.
 void push_quat(lua_State* L, const Quat& q);
 
+/// Sets position, orientation and velocity of the table on top of the stack from a body's state.
+void set_body_state(lua_State* L, const BodyState& s);
+
 /// Reads the fields of a table argument; unknown keys are an error naming the closest valid one.
 class Fields {
   public:

@@ -164,13 +164,7 @@ int robot_bodies(lua_State* L) {
             lua_pushstring(L, to_string(bodies[b].shape));
             lua_setfield(L, -2, "shape");
             if (sim) {
-                const BodyState s = sim->body(r.index, static_cast<int>(b));
-                push_vec3(L, s.pose.position);
-                lua_setfield(L, -2, "position");
-                push_quat(L, s.pose.orientation);
-                lua_setfield(L, -2, "orientation");
-                push_vec3(L, s.linear_velocity);
-                lua_setfield(L, -2, "velocity");
+                set_body_state(L, sim->body(r.index, static_cast<int>(b)));
             }
             lua_rawseti(L, -2, static_cast<lua_Integer>(b + 1));
         }

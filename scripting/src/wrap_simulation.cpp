@@ -678,16 +678,10 @@ int simulation_objects(lua_State* L) {
         }
         lua_createtable(L, static_cast<int>(names.size()), 0);
         for (size_t k = 0; k < names.size(); ++k) {
-            const BodyState s = sim.object(static_cast<int>(k));
             lua_createtable(L, 0, 4);
             lua_pushstring(L, names[k].c_str());
             lua_setfield(L, -2, "object");
-            push_vec3(L, s.pose.position);
-            lua_setfield(L, -2, "position");
-            push_quat(L, s.pose.orientation);
-            lua_setfield(L, -2, "orientation");
-            push_vec3(L, s.linear_velocity);
-            lua_setfield(L, -2, "velocity");
+            set_body_state(L, sim.object(static_cast<int>(k)));
             lua_rawseti(L, -2, static_cast<lua_Integer>(k + 1));
         }
         return 1;

@@ -4,7 +4,7 @@
 // (/api/command). docs/viewer.md describes the protocol.
 import { createView } from './scene.js';
 import uPlot from 'uplot';
-import { csvText, download, exportButtons, plotPng } from './plotexport.js';
+import { csvText, download, plotBox, plotPng } from './plotexport.js';
 
 const token = new URLSearchParams(location.search).get('token');
 const query = token ? `?token=${encodeURIComponent(token)}` : '';
@@ -415,27 +415,12 @@ function picker(plot) {
 
 function addPlot(names = []) {
   const id = ++plotCount;
-  const el = document.createElement('div');
-  el.className = 'plot';
-  el.id = `plot-${id}`;
-  const header = document.createElement('header');
-  const title = document.createElement('span');
-  title.className = 'title';
-  title.textContent = `plot ${id}`;
   const pause = document.createElement('button');
   pause.textContent = 'Pause';
   pause.title = 'Freeze this plot (the others go on)';
-  const { png, csv } = exportButtons();
-  const close = document.createElement('button');
-  close.textContent = '×';
-  close.title = 'Remove this plot';
-  header.append(title, pause, png, csv, close);
-  const pickHolder = document.createElement('div');
-  const chart = document.createElement('div');
-  const hint = document.createElement('div');
-  hint.className = 'hint';
-  hint.textContent = 'drag across the plot to zoom (it pauses), double-click to zoom out';
-  el.append(header, pickHolder, chart, hint);
+  const { el, png, csv, close, pickHolder, chart } = plotBox({
+    id: `plot-${id}`, className: 'plot', title: `plot ${id}`, buttons: [pause],
+    hint: 'drag across the plot to zoom (it pauses), double-click to zoom out' });
   $('plots').appendChild(el);
 
   const plot = {

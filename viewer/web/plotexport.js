@@ -59,8 +59,16 @@ export function csvText(names, columns) {
   return `${lines.join('\n')}\n`;
 }
 
-// the PNG and CSV buttons of a plot's header
-export function exportButtons() {
+// a plot's box: a header (its title, the given buttons, PNG, CSV and ×), a place for its series
+// picker, its chart and a hint under it; { el, png, csv, close, pickHolder, chart }
+export function plotBox({ id, className, title, buttons = [], hint }) {
+  const el = document.createElement('div');
+  el.className = className;
+  el.id = id;
+  const header = document.createElement('header');
+  const name = document.createElement('span');
+  name.className = 'title';
+  name.textContent = title;
   const png = document.createElement('button');
   png.textContent = 'PNG';
   png.className = 'export-png';
@@ -69,5 +77,15 @@ export function exportButtons() {
   csv.textContent = 'CSV';
   csv.className = 'export-csv';
   csv.title = 'Download the plotted series as CSV (time, then one column per series)';
-  return { png, csv };
+  const close = document.createElement('button');
+  close.textContent = '×';
+  close.title = 'Remove this plot';
+  header.append(name, ...buttons, png, csv, close);
+  const pickHolder = document.createElement('div');
+  const chart = document.createElement('div');
+  const tip = document.createElement('div');
+  tip.className = 'hint';
+  tip.textContent = hint;
+  el.append(header, pickHolder, chart, tip);
+  return { el, png, csv, close, pickHolder, chart };
 }

@@ -9,7 +9,7 @@
 //   the run from its start while recording the 3D view, and posts the WebM back.
 // app.js draws the scene and frames; this module only reads window.gaitlab.
 import uPlot from 'uplot';
-import { download, exportButtons, plotPng } from './plotexport.js';
+import { download, plotBox, plotPng } from './plotexport.js';
 
 const params = new URLSearchParams(location.search);
 const token = params.get('token');
@@ -300,24 +300,9 @@ let plotCount = 0;
 
 function addRecordedPlot(names) {
   const id = ++plotCount;
-  const el = document.createElement('div');
-  el.className = 'plot recorded';
-  el.id = `recorded-plot-${id}`;
-  const header = document.createElement('header');
-  const title = document.createElement('span');
-  title.className = 'title';
-  title.textContent = `recorded plot ${id}`;
-  const { png, csv } = exportButtons();
-  const close = document.createElement('button');
-  close.textContent = '×';
-  close.title = 'Remove this plot';
-  header.append(title, png, csv, close);
-  const pickHolder = document.createElement('div');
-  const chart = document.createElement('div');
-  const hint = document.createElement('div');
-  hint.className = 'hint';
-  hint.textContent = 'drag across to zoom, double-click to zoom out; click to go to that time';
-  el.append(header, pickHolder, chart, hint);
+  const { el, png, csv, close, pickHolder, chart } = plotBox({
+    id: `recorded-plot-${id}`, className: 'plot recorded', title: `recorded plot ${id}`,
+    hint: 'drag across to zoom, double-click to zoom out; click to go to that time' });
   $('plots').prepend(el);
 
   const plot = {
