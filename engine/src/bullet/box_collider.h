@@ -1,7 +1,7 @@
 // What the engine's two box colliders (box_plane.h, box_heightfield.h) share: the one manifold a
 // box and the other shape hold, Bullet's algorithm interface around it, and making the algorithm
-// in the dispatcher's memory. A collider derives from BoxCollider<Itself> and says only which
-// points the pair touches at (its collide()).
+// in the dispatcher's memory. A collider derives from BoxCollider<Itself, OtherShape> and says
+// only which points the pair touches at (its collide()).
 #pragma once
 
 #include <btBulletDynamicsCommon.h>
@@ -11,14 +11,14 @@
 
 namespace gaitlab {
 
-// `Collider` (CRTP) has a member
-//   void collide(const btCollisionObjectWrapper& box, const btCollisionObjectWrapper& other,
-//                btScalar reach, btManifoldResult* out);
+// `Collider` (CRTP), for a btBoxShape and an `Other` shape, has a member
+//   void collide(const btBoxShape& box, const btTransform& box_at, const Other& other,
+//                const btTransform& other_at, btScalar reach, btManifoldResult* out);
 // that adds the pair's contact points to `out` (whose manifold is manifold_): every point closer
 // than `reach` (m), the manifold's breaking threshold and the dispatcher's closest-point
 // distance. The base refreshes the manifold's points afterwards, and gives a box whose
 // transform is not finite no points without asking collide().
-template <typename Collider>
+template <typename Collider, typename Other>
 class BoxCollider : public btCollisionAlgorithm {
   public:
     // `swapped`: w0 is the other shape and w1 the box (else w0 the box)
@@ -42,16 +42,20 @@ class BoxCollider : public btCollisionAlgorithm {
         if (!manifold_) return;
         const btCollisionObjectWrapper& box = swapped_ ? *w1 : *w0;
         const btCollisionObjectWrapper& other = swapped_ ? *w0 : *w1;
+        const btTransform& box_at = box.getWorldTransform();
         // a box that is not finite (the step before a diverged simulation is stopped) touches
         // nothing: its depths would be NaN or infinite, and a point at -inf would stay
-        if (!is_finite(box.getWorldTransform())) {
+        if (!is_finite(box_at)) {
             manifold_->clearManifold();
             return;
         }
         const btScalar reach =
             manifold_->getContactBreakingThreshold() + out->m_closestPointDistanceThreshold;
         out->setPersistentManifold(manifold_);
-        static_cast<Collider*>(this)->collide(box, other, reach, out);
+        static_cast<Collider*>(this)->collide(
+            *static_cast<const btBoxShape*>(box.getCollisionShape()), box_at,
+            *static_cast<const Other*>(other.getCollisionShape()), other.getWorldTransform(), reach,
+            out);
         if (manifold_->getNumContacts()) out->refreshContactPoints();
     }
 
@@ -63,6 +67,18 @@ class BoxCollider : public btCollisionAlgorithm {
     void getAllContactManifolds(btManifoldArray& manifolds) final {
         if (manifold_) manifolds.push_back(manifold_);
     }
+
+    /// What a collision configuration hands out for the pair: makes the algorithm with
+    /// `Collider::create(ci, w0, w1, swapped, setting)`.
+    template <typename Setting>
+    struct CreateFunc : public btCollisionAlgorithmCreateFunc {
+        Setting setting{};
+        btCollisionAlgorithm* CreateCollisionAlgorithm(
+            btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* w0,
+            const btCollisionObjectWrapper* w1) override {
+            return Collider::create(ci, w0, w1, m_swapped, setting);
+        }
+    };
 
     /// A new `Collider(ci, args...)` in the dispatcher's memory for algorithms, as a
     /// btCollisionAlgorithmCreateFunc returns it (the dispatcher destroys and frees it).

@@ -60,41 +60,37 @@ inline constexpr btScalar kHold = btScalar(4);
 // every vertex under it
 inline constexpr btScalar kSummitSlope = btScalar(0.02);
 
-class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm> {
+class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm, HeightfieldShape> {
   public:
     BoxHeightfieldAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
                             const btCollisionObjectWrapper* w0, const btCollisionObjectWrapper* w1,
                             bool swapped)
         : BoxCollider(ci, w0, w1, swapped) {}
 
-    // makes the algorithm for a box and a HeightfieldShape; Bullet's (`fallback`) for a box and
-    // another heightfield shape
-    struct CreateFunc : public btCollisionAlgorithmCreateFunc {
-        btCollisionAlgorithmCreateFunc* fallback = nullptr;
-        btCollisionAlgorithm* CreateCollisionAlgorithm(
-            btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* w0,
-            const btCollisionObjectWrapper* w1) override {
-            const btCollisionShape* field = (m_swapped ? w0 : w1)->getCollisionShape();
-            if (!dynamic_cast<const HeightfieldShape*>(field))
-                return fallback->CreateCollisionAlgorithm(ci, w0, w1);
-            return make(ci, w0, w1, m_swapped);
-        }
-    };
+    // makes the algorithm for a box and a HeightfieldShape; Bullet's (its `setting`, the
+    // fallback) for a box and another heightfield shape
+    using CreateFunc = BoxCollider::CreateFunc<btCollisionAlgorithmCreateFunc*>;
+    static btCollisionAlgorithm* create(btCollisionAlgorithmConstructionInfo& ci,
+                                        const btCollisionObjectWrapper* w0,
+                                        const btCollisionObjectWrapper* w1, bool swapped,
+                                        btCollisionAlgorithmCreateFunc* fallback) {
+        const btCollisionShape* field = (swapped ? w0 : w1)->getCollisionShape();
+        if (!dynamic_cast<const HeightfieldShape*>(field))
+            return fallback->CreateCollisionAlgorithm(ci, w0, w1);
+        return make(ci, w0, w1, swapped);
+    }
 
   private:
-    friend class BoxCollider<BoxHeightfieldAlgorithm>;
+    friend class BoxCollider<BoxHeightfieldAlgorithm, HeightfieldShape>;
 
-    void collide(const btCollisionObjectWrapper& box_w, const btCollisionObjectWrapper& field_w,
-                 btScalar reach, btManifoldResult* out) {
-        const auto* box = static_cast<const btBoxShape*>(box_w.getCollisionShape());
-        const auto* field = static_cast<const HeightfieldShape*>(field_w.getCollisionShape());
-        const btTransform& tf = field_w.getWorldTransform();
+    void collide(const btBoxShape& box, const btTransform& box_at, const HeightfieldShape& field,
+                 const btTransform& tf, btScalar reach, btManifoldResult* out) {
         // the box in the heightfield's frame, where the grid is axis-aligned
-        const btTransform tb = tf.inverseTimes(box_w.getWorldTransform());
+        const btTransform tb = tf.inverseTimes(box_at);
         const btMatrix3x3& r = tb.getBasis();
         const btVector3& c = tb.getOrigin();
-        const btVector3 h = box->getHalfExtentsWithMargin();
-        const Grid grid(*field);
+        const btVector3 h = box.getHalfExtentsWithMargin();
+        const Grid grid(field);
 
         candidates_.clear();
         // the corners against the triangles under them
@@ -144,7 +140,7 @@ class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm> {
                 };
                 for (int j = y0; j <= y1; ++j) {
                     for (int i = x0; i <= x1; ++i) {
-                        field->getVertex(i, j, on_grid_[at(i, j)]);
+                        field.getVertex(i, j, on_grid_[at(i, j)]);
                         in_box_[at(i, j)] = (on_grid_[at(i, j)] - c) * r;  // r^T (q - c)
                     }
                 }
@@ -154,7 +150,7 @@ class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm> {
                         const btVector3& in_box = in_box_[at(i, j)];
                         if (std::abs(in_box[u]) > h[u] || std::abs(in_box[v]) > h[v]) continue;
                         const btScalar d = sign * in_box[axis] - h[axis];
-                        if (!(d < reach) || !grid.summit(*field, i, j, q, -face_normal)) continue;
+                        if (!(d < reach) || !grid.summit(field, i, j, q, -face_normal)) continue;
                         candidates_.push_back({q, -face_normal, d, 8 + j * grid.nx + i});
                     }
                 }
@@ -175,7 +171,7 @@ class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm> {
                             add_crossings(tb, h, axis, sign, face_normal, a, b, in_box_[at(i, j)],
                                           in_box_[at(i2, j2)], reach,
                                           edges_first + ((j * grid.nx + i) * 3 + e) * 4,
-                                          [&] { return grid.ridge(*field, i, j, e, a, b); });
+                                          [&] { return grid.ridge(field, i, j, e, a, b); });
                         }
                     }
                 }

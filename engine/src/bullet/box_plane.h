@@ -36,34 +36,30 @@ inline constexpr btScalar kFlatTolerance = btScalar(0.0002);
 // box. Each corner within reach is a point at its true place and depth, handed to the manifold
 // as Bullet's convex-plane algorithm hands its points (the manifold matches them with the
 // points it holds, which keeps their warm-start impulses).
-class BoxPlaneAlgorithm : public BoxCollider<BoxPlaneAlgorithm> {
+class BoxPlaneAlgorithm : public BoxCollider<BoxPlaneAlgorithm, btStaticPlaneShape> {
   public:
     BoxPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
                       const btCollisionObjectWrapper* w0, const btCollisionObjectWrapper* w1,
                       bool swapped, BoxPlanePoints points)
         : BoxCollider(ci, w0, w1, swapped), points_(points) {}
 
-    struct CreateFunc : public btCollisionAlgorithmCreateFunc {
-        BoxPlanePoints points = BoxPlanePoints::touching;
-        btCollisionAlgorithm* CreateCollisionAlgorithm(
-            btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* w0,
-            const btCollisionObjectWrapper* w1) override {
-            return make(ci, w0, w1, m_swapped, points);
-        }
-    };
+    // the points its `setting` says (default: touching)
+    using CreateFunc = BoxCollider::CreateFunc<BoxPlanePoints>;
+    static btCollisionAlgorithm* create(btCollisionAlgorithmConstructionInfo& ci,
+                                        const btCollisionObjectWrapper* w0,
+                                        const btCollisionObjectWrapper* w1, bool swapped,
+                                        BoxPlanePoints points) {
+        return make(ci, w0, w1, swapped, points);
+    }
 
   private:
-    friend class BoxCollider<BoxPlaneAlgorithm>;
+    friend class BoxCollider<BoxPlaneAlgorithm, btStaticPlaneShape>;
 
-    void collide(const btCollisionObjectWrapper& box_w, const btCollisionObjectWrapper& plane_w,
-                 btScalar reach, btManifoldResult* out) {
-        const auto* box = static_cast<const btBoxShape*>(box_w.getCollisionShape());
-        const auto* plane = static_cast<const btStaticPlaneShape*>(plane_w.getCollisionShape());
-        const btTransform& tb = box_w.getWorldTransform();
-        const btTransform& tp = plane_w.getWorldTransform();
-        const btVector3 normal = tp.getBasis() * plane->getPlaneNormal();
-        const btScalar level = plane->getPlaneConstant() + normal.dot(tp.getOrigin());
-        const btVector3 h = box->getHalfExtentsWithMargin();
+    void collide(const btBoxShape& box, const btTransform& tb, const btStaticPlaneShape& plane,
+                 const btTransform& tp, btScalar reach, btManifoldResult* out) {
+        const btVector3 normal = tp.getBasis() * plane.getPlaneNormal();
+        const btScalar level = plane.getPlaneConstant() + normal.dot(tp.getOrigin());
+        const btVector3 h = box.getHalfExtentsWithMargin();
         const btMatrix3x3& r = tb.getBasis();
         // the normal's component along each box axis, times the half extent
         const btScalar ax = r.tdotx(normal) * h.x(), ay = r.tdoty(normal) * h.y(),
@@ -109,12 +105,12 @@ class BoxPlaneAlgorithm : public BoxCollider<BoxPlaneAlgorithm> {
 class BoxPlaneConfiguration : public ContactConfiguration {
   public:
     explicit BoxPlaneConfiguration(BoxPlanePoints points = BoxPlanePoints::touching) {
-        box_plane_.points = points;
-        plane_box_.points = points;
+        box_plane_.setting = points;
+        plane_box_.setting = points;
         plane_box_.m_swapped = true;
-        box_field_.fallback = ContactConfiguration::getCollisionAlgorithmCreateFunc(
+        box_field_.setting = ContactConfiguration::getCollisionAlgorithmCreateFunc(
             BOX_SHAPE_PROXYTYPE, TERRAIN_SHAPE_PROXYTYPE);
-        field_box_.fallback = ContactConfiguration::getCollisionAlgorithmCreateFunc(
+        field_box_.setting = ContactConfiguration::getCollisionAlgorithmCreateFunc(
             TERRAIN_SHAPE_PROXYTYPE, BOX_SHAPE_PROXYTYPE);
         field_box_.m_swapped = true;
     }
