@@ -60,7 +60,7 @@ inline constexpr btScalar kHold = btScalar(4);
 // every vertex under it
 inline constexpr btScalar kSummitSlope = btScalar(0.02);
 
-class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm, HeightfieldShape> {
+class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm> {
   public:
     BoxHeightfieldAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
                             const btCollisionObjectWrapper* w0, const btCollisionObjectWrapper* w1,
@@ -81,16 +81,19 @@ class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm, Heig
     }
 
   private:
-    friend class BoxCollider<BoxHeightfieldAlgorithm, HeightfieldShape>;
+    friend class BoxCollider<BoxHeightfieldAlgorithm>;
 
-    void collide(const btBoxShape& box, const btTransform& box_at, const HeightfieldShape& field,
-                 const btTransform& tf, btScalar reach, btManifoldResult* out) {
+    void collide(const btCollisionObjectWrapper& box_w, const btCollisionObjectWrapper& field_w,
+                 btScalar reach, btManifoldResult* out) {
+        const auto* box = static_cast<const btBoxShape*>(box_w.getCollisionShape());
+        const auto* field = static_cast<const HeightfieldShape*>(field_w.getCollisionShape());
+        const btTransform& tf = field_w.getWorldTransform();
         // the box in the heightfield's frame, where the grid is axis-aligned
-        const btTransform tb = tf.inverseTimes(box_at);
+        const btTransform tb = tf.inverseTimes(box_w.getWorldTransform());
         const btMatrix3x3& r = tb.getBasis();
         const btVector3& c = tb.getOrigin();
-        const btVector3 h = box.getHalfExtentsWithMargin();
-        const Grid grid(field);
+        const btVector3 h = box->getHalfExtentsWithMargin();
+        const Grid grid(*field);
 
         candidates_.clear();
         // the corners against the triangles under them
@@ -140,7 +143,7 @@ class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm, Heig
                 };
                 for (int j = y0; j <= y1; ++j) {
                     for (int i = x0; i <= x1; ++i) {
-                        field.getVertex(i, j, on_grid_[at(i, j)]);
+                        field->getVertex(i, j, on_grid_[at(i, j)]);
                         in_box_[at(i, j)] = (on_grid_[at(i, j)] - c) * r;  // r^T (q - c)
                     }
                 }
@@ -150,7 +153,7 @@ class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm, Heig
                         const btVector3& in_box = in_box_[at(i, j)];
                         if (std::abs(in_box[u]) > h[u] || std::abs(in_box[v]) > h[v]) continue;
                         const btScalar d = sign * in_box[axis] - h[axis];
-                        if (!(d < reach) || !grid.summit(field, i, j, q, -face_normal)) continue;
+                        if (!(d < reach) || !grid.summit(*field, i, j, q, -face_normal)) continue;
                         candidates_.push_back({q, -face_normal, d, 8 + j * grid.nx + i});
                     }
                 }
@@ -171,7 +174,7 @@ class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm, Heig
                             add_crossings(tb, h, axis, sign, face_normal, a, b, in_box_[at(i, j)],
                                           in_box_[at(i2, j2)], reach,
                                           edges_first + ((j * grid.nx + i) * 3 + e) * 4,
-                                          [&] { return grid.ridge(field, i, j, e, a, b); });
+                                          [&] { return grid.ridge(*field, i, j, e, a, b); });
                         }
                     }
                 }
@@ -433,9 +436,11 @@ class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm, Heig
         btScalar best_size = -1;
         for (int k = 0; k < static_cast<int>(candidates_.size()); ++k) {
             const Candidate& p = candidates_[static_cast<size_t>(k)];
-            if (p.depth > band ||
-                std::find(chosen_.begin(), chosen_.begin() + chosen, k) != chosen_.begin() + chosen)
-                continue;
+            if (p.depth > band) continue;
+            bool taken = false;
+            for (int c = 0; c < chosen; ++c)
+                taken = taken || chosen_[static_cast<size_t>(c)] == k;
+            if (taken) continue;
             const btScalar s =
                 size(p.on_field) * (held_[static_cast<size_t>(k)] ? kHold : btScalar(1));
             if (s > best_size) {

@@ -36,30 +36,28 @@ inline constexpr btScalar kFlatTolerance = btScalar(0.0002);
 // box. Each corner within reach is a point at its true place and depth, handed to the manifold
 // as Bullet's convex-plane algorithm hands its points (the manifold matches them with the
 // points it holds, which keeps their warm-start impulses).
-class BoxPlaneAlgorithm : public BoxCollider<BoxPlaneAlgorithm, btStaticPlaneShape> {
+class BoxPlaneAlgorithm : public BoxCollider<BoxPlaneAlgorithm> {
   public:
     BoxPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
                       const btCollisionObjectWrapper* w0, const btCollisionObjectWrapper* w1,
                       bool swapped, BoxPlanePoints points)
         : BoxCollider(ci, w0, w1, swapped), points_(points) {}
 
-    // the points its `setting` says (default: touching)
+    // makes the algorithm with the points its `setting` says (default: touching)
     using CreateFunc = BoxCollider::CreateFunc<BoxPlanePoints>;
-    static btCollisionAlgorithm* create(btCollisionAlgorithmConstructionInfo& ci,
-                                        const btCollisionObjectWrapper* w0,
-                                        const btCollisionObjectWrapper* w1, bool swapped,
-                                        BoxPlanePoints points) {
-        return make(ci, w0, w1, swapped, points);
-    }
 
   private:
-    friend class BoxCollider<BoxPlaneAlgorithm, btStaticPlaneShape>;
+    friend class BoxCollider<BoxPlaneAlgorithm>;
 
-    void collide(const btBoxShape& box, const btTransform& tb, const btStaticPlaneShape& plane,
-                 const btTransform& tp, btScalar reach, btManifoldResult* out) {
-        const btVector3 normal = tp.getBasis() * plane.getPlaneNormal();
-        const btScalar level = plane.getPlaneConstant() + normal.dot(tp.getOrigin());
-        const btVector3 h = box.getHalfExtentsWithMargin();
+    void collide(const btCollisionObjectWrapper& box_w, const btCollisionObjectWrapper& plane_w,
+                 btScalar reach, btManifoldResult* out) {
+        const auto* box = static_cast<const btBoxShape*>(box_w.getCollisionShape());
+        const auto* plane = static_cast<const btStaticPlaneShape*>(plane_w.getCollisionShape());
+        const btTransform& tb = box_w.getWorldTransform();
+        const btTransform& tp = plane_w.getWorldTransform();
+        const btVector3 normal = tp.getBasis() * plane->getPlaneNormal();
+        const btScalar level = plane->getPlaneConstant() + normal.dot(tp.getOrigin());
+        const btVector3 h = box->getHalfExtentsWithMargin();
         const btMatrix3x3& r = tb.getBasis();
         // the normal's component along each box axis, times the half extent
         const btScalar ax = r.tdotx(normal) * h.x(), ay = r.tdoty(normal) * h.y(),
