@@ -1,7 +1,7 @@
 // What the engine's two box colliders (box_plane.h, box_heightfield.h) share: the one manifold a
 // box and the other shape hold, Bullet's algorithm interface around it, and making the algorithm
-// in the dispatcher's memory. A collider derives from BoxCollider<Itself> and says only which
-// points the pair touches at (its collide()).
+// in the dispatcher's memory. A collider derives from BoxCollider<Itself, OtherShape> and says
+// which points the pair touches at (its collide()).
 #pragma once
 
 #include <btBulletDynamicsCommon.h>
@@ -11,14 +11,14 @@
 
 namespace gaitlab {
 
-// `Collider` (CRTP) has a member
-//   void collide(const btCollisionObjectWrapper& box, const btCollisionObjectWrapper& other,
-//                btScalar reach, btManifoldResult* out);
+// `Collider` (CRTP), for a btBoxShape and an `Other` shape, has a member
+//   void collide(const btBoxShape* box, const btTransform& box_at, const Other* other,
+//                const btTransform& other_at, btScalar reach, btManifoldResult* out);
 // that adds the pair's contact points to `out` (whose manifold is manifold_): every point closer
 // than `reach` (m), the manifold's breaking threshold and the dispatcher's closest-point
 // distance. The base refreshes the manifold's points afterwards, and gives a box whose
 // transform is not finite no points without asking collide().
-template <typename Collider>
+template <typename Collider, typename Other>
 class BoxCollider : public btCollisionAlgorithm {
   public:
     // `swapped`: w0 is the other shape and w1 the box (else w0 the box)
@@ -52,7 +52,10 @@ class BoxCollider : public btCollisionAlgorithm {
         const btScalar reach =
             manifold_->getContactBreakingThreshold() + out->m_closestPointDistanceThreshold;
         out->setPersistentManifold(manifold_);
-        static_cast<Collider*>(this)->collide(box, other, reach, out);
+        static_cast<Collider*>(this)->collide(
+            static_cast<const btBoxShape*>(box.getCollisionShape()), box_at,
+            static_cast<const Other*>(other.getCollisionShape()), other.getWorldTransform(), reach,
+            out);
         if (manifold_->getNumContacts()) out->refreshContactPoints();
     }
 

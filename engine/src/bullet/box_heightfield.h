@@ -60,7 +60,7 @@ inline constexpr btScalar kHold = btScalar(4);
 // every vertex under it
 inline constexpr btScalar kSummitSlope = btScalar(0.02);
 
-class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm> {
+class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm, HeightfieldShape> {
   public:
     BoxHeightfieldAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
                             const btCollisionObjectWrapper* w0, const btCollisionObjectWrapper* w1,
@@ -81,15 +81,12 @@ class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm> {
     }
 
   private:
-    friend class BoxCollider<BoxHeightfieldAlgorithm>;
+    friend class BoxCollider<BoxHeightfieldAlgorithm, HeightfieldShape>;
 
-    void collide(const btCollisionObjectWrapper& box_w, const btCollisionObjectWrapper& field_w,
-                 btScalar reach, btManifoldResult* out) {
-        const auto* box = static_cast<const btBoxShape*>(box_w.getCollisionShape());
-        const auto* field = static_cast<const HeightfieldShape*>(field_w.getCollisionShape());
-        const btTransform& tf = field_w.getWorldTransform();
+    void collide(const btBoxShape* box, const btTransform& box_at, const HeightfieldShape* field,
+                 const btTransform& tf, btScalar reach, btManifoldResult* out) {
         // the box in the heightfield's frame, where the grid is axis-aligned
-        const btTransform tb = tf.inverseTimes(box_w.getWorldTransform());
+        const btTransform tb = tf.inverseTimes(box_at);
         const btMatrix3x3& r = tb.getBasis();
         const btVector3& c = tb.getOrigin();
         const btVector3 h = box->getHalfExtentsWithMargin();

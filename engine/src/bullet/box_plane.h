@@ -36,7 +36,7 @@ inline constexpr btScalar kFlatTolerance = btScalar(0.0002);
 // box. Each corner within reach is a point at its true place and depth, handed to the manifold
 // as Bullet's convex-plane algorithm hands its points (the manifold matches them with the
 // points it holds, which keeps their warm-start impulses).
-class BoxPlaneAlgorithm : public BoxCollider<BoxPlaneAlgorithm> {
+class BoxPlaneAlgorithm : public BoxCollider<BoxPlaneAlgorithm, btStaticPlaneShape> {
   public:
     BoxPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
                       const btCollisionObjectWrapper* w0, const btCollisionObjectWrapper* w1,
@@ -47,14 +47,10 @@ class BoxPlaneAlgorithm : public BoxCollider<BoxPlaneAlgorithm> {
     using CreateFunc = BoxCollider::CreateFunc<BoxPlanePoints>;
 
   private:
-    friend class BoxCollider<BoxPlaneAlgorithm>;
+    friend class BoxCollider<BoxPlaneAlgorithm, btStaticPlaneShape>;
 
-    void collide(const btCollisionObjectWrapper& box_w, const btCollisionObjectWrapper& plane_w,
-                 btScalar reach, btManifoldResult* out) {
-        const auto* box = static_cast<const btBoxShape*>(box_w.getCollisionShape());
-        const auto* plane = static_cast<const btStaticPlaneShape*>(plane_w.getCollisionShape());
-        const btTransform& tb = box_w.getWorldTransform();
-        const btTransform& tp = plane_w.getWorldTransform();
+    void collide(const btBoxShape* box, const btTransform& tb, const btStaticPlaneShape* plane,
+                 const btTransform& tp, btScalar reach, btManifoldResult* out) {
         const btVector3 normal = tp.getBasis() * plane->getPlaneNormal();
         const btScalar level = plane->getPlaneConstant() + normal.dot(tp.getOrigin());
         const btVector3 h = box->getHalfExtentsWithMargin();
