@@ -1,14 +1,14 @@
 // Tests for the engine's box colliders (engine/src/bullet/box_collider.h, box_plane.h,
 // box_heightfield.h), called directly through Bullet's dispatcher as a step calls them: a box
-// whose transform is not finite (NaN or infinite position, as in the step before a diverged
-// simulation is stopped) gets no contact point from the plane or the heightfield, and the points
-// it held before are dropped. Built under the sanitizer preset this also checks that the
-// colliders' arithmetic on such a box stays defined (float-to-int conversions included, see
+// whose transform is not finite (NaN or infinite position, NaN orientation, as in the step
+// before a diverged simulation is stopped) gets no contact point from the plane or the
+// heightfield, and the points it held before are dropped (a box-plane pair once kept them at
+// depth -inf when the box went to z = -inf). Built under the sanitizer preset this also checks that
+// the colliders' arithmetic on such a box stays defined (float-to-int conversions included, see
 // tests/engine/CMakeLists.txt).
 #include <catch2/catch.hpp>
 
 #include <limits>
-#include <string>
 #include <vector>
 
 #include "bullet/box_plane.h"
@@ -21,21 +21,31 @@ constexpr btScalar kNaN = std::numeric_limits<btScalar>::quiet_NaN();
 constexpr btScalar kInf = std::numeric_limits<btScalar>::infinity();
 constexpr btScalar kMargin = btScalar(0.001);  // as the engine sets it (physics_world.cpp)
 
-// the box's position: a finite place offset by `bad` (what is not finite in it)
+// the box's position: a finite place offset by `bad` (what is not finite in it); `turn_nan`:
+// its orientation NaN too (a NaN quaternion, as a diverged step leaves it)
 struct BadPosition {
     const char* name;
     btVector3 bad;
+    bool turn_nan = false;
 };
 
 const std::vector<BadPosition>& bad_positions() {
     static const std::vector<BadPosition> all = {
-        {"x NaN", {kNaN, 0, 0}},          {"y NaN", {0, kNaN, 0}},
-        {"z NaN", {0, 0, kNaN}},          {"all NaN", {kNaN, kNaN, kNaN}},
-        {"x +inf", {kInf, 0, 0}},         {"x -inf", {-kInf, 0, 0}},
-        {"y +inf", {0, kInf, 0}},         {"y -inf", {0, -kInf, 0}},
-        {"z +inf", {0, 0, kInf}},         {"z -inf", {0, 0, -kInf}},
-        {"x, y -inf", {-kInf, -kInf, 0}}, {"x +inf, z -inf", {kInf, 0, -kInf}},
-        {"all +inf", {kInf, kInf, kInf}}, {"all -inf", {-kInf, -kInf, -kInf}},
+        {"x NaN", {kNaN, 0, 0}},
+        {"y NaN", {0, kNaN, 0}},
+        {"z NaN", {0, 0, kNaN}},
+        {"all NaN", {kNaN, kNaN, kNaN}},
+        {"x +inf", {kInf, 0, 0}},
+        {"x -inf", {-kInf, 0, 0}},
+        {"y +inf", {0, kInf, 0}},
+        {"y -inf", {0, -kInf, 0}},
+        {"z +inf", {0, 0, kInf}},
+        {"z -inf", {0, 0, -kInf}},
+        {"x, y -inf", {-kInf, -kInf, 0}},
+        {"x +inf, z -inf", {kInf, 0, -kInf}},
+        {"all +inf", {kInf, kInf, kInf}},
+        {"all -inf", {-kInf, -kInf, -kInf}},
+        {"orientation NaN", {0, 0, 0}, true},
     };
     return all;
 }
@@ -106,14 +116,16 @@ btTransform at(const btVector3& p, const btQuaternion& q = btQuaternion::getIden
     return btTransform(q, p);
 }
 
-// the box resting at `rest` (it touches there), then at every bad position: no point from a
-// fresh algorithm, and none left in the manifold of one that held the resting points
+// the box resting at `rest` with orientation `q` (it touches there), then at every bad position:
+// no point from a fresh algorithm, and none left in the manifold of one that held the resting
+// points
 void check_not_finite(btCollisionShape& other, const btTransform& other_at, const btVector3& rest,
                       const btQuaternion& q) {
     for (const bool swapped : {false, true}) {
         for (const BadPosition& b : bad_positions()) {
             CAPTURE(swapped, b.name);
-            const btTransform bad = at(rest + b.bad, q);
+            const btTransform bad =
+                at(rest + b.bad, b.turn_nan ? btQuaternion(kNaN, kNaN, kNaN, kNaN) : q);
             {
                 Pair fresh(other, other_at, swapped);
                 CHECK(fresh.collide(bad) == 0);
