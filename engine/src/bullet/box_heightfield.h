@@ -34,6 +34,8 @@
 #include <utility>
 #include <vector>
 
+#include "bullet/box_collider.h"
+
 namespace gaitlab {
 
 /// Bullet's heightfield shape with its grid size readable (Bullet keeps it protected).
@@ -58,40 +60,36 @@ inline constexpr btScalar kHold = btScalar(4);
 // every vertex under it
 inline constexpr btScalar kSummitSlope = btScalar(0.02);
 
-class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
+class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm, HeightfieldShape> {
   public:
     BoxHeightfieldAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
                             const btCollisionObjectWrapper* w0, const btCollisionObjectWrapper* w1,
                             bool swapped)
-        : btCollisionAlgorithm(ci), swapped_(swapped) {
-        const btCollisionObjectWrapper* box = swapped ? w1 : w0;
-        const btCollisionObjectWrapper* field = swapped ? w0 : w1;
-        if (m_dispatcher->needsCollision(box->getCollisionObject(), field->getCollisionObject())) {
-            manifold_ = m_dispatcher->getNewManifold(box->getCollisionObject(),
-                                                     field->getCollisionObject());
-        }
-    }
-    ~BoxHeightfieldAlgorithm() override {
-        if (manifold_) m_dispatcher->releaseManifold(manifold_);
-    }
-    BoxHeightfieldAlgorithm(const BoxHeightfieldAlgorithm&) = delete;
-    BoxHeightfieldAlgorithm& operator=(const BoxHeightfieldAlgorithm&) = delete;
+        : BoxCollider(ci, w0, w1, swapped) {}
 
-    void processCollision(const btCollisionObjectWrapper* w0, const btCollisionObjectWrapper* w1,
-                          const btDispatcherInfo&, btManifoldResult* out) override {
-        if (!manifold_) return;
-        const btCollisionObjectWrapper* box_w = swapped_ ? w1 : w0;
-        const btCollisionObjectWrapper* field_w = swapped_ ? w0 : w1;
-        const auto* box = static_cast<const btBoxShape*>(box_w->getCollisionShape());
-        const auto* field = static_cast<const HeightfieldShape*>(field_w->getCollisionShape());
-        const btTransform& tf = field_w->getWorldTransform();
+    // makes the algorithm for a box and a HeightfieldShape; Bullet's (its `setting`, the
+    // fallback) for a box and another heightfield shape
+    using CreateFunc = BoxCollider::CreateFunc<btCollisionAlgorithmCreateFunc*>;
+    static btCollisionAlgorithm* create(btCollisionAlgorithmConstructionInfo& ci,
+                                        const btCollisionObjectWrapper* w0,
+                                        const btCollisionObjectWrapper* w1, bool swapped,
+                                        btCollisionAlgorithmCreateFunc* fallback) {
+        const btCollisionShape* field = (swapped ? w0 : w1)->getCollisionShape();
+        if (!dynamic_cast<const HeightfieldShape*>(field))
+            return fallback->CreateCollisionAlgorithm(ci, w0, w1);
+        return make(ci, w0, w1, swapped);
+    }
+
+  private:
+    friend class BoxCollider<BoxHeightfieldAlgorithm, HeightfieldShape>;
+
+    void collide(const btBoxShape* box, const btTransform& box_at, const HeightfieldShape* field,
+                 const btTransform& tf, btScalar reach, btManifoldResult* out) {
         // the box in the heightfield's frame, where the grid is axis-aligned
-        const btTransform tb = tf.inverseTimes(box_w->getWorldTransform());
+        const btTransform tb = tf.inverseTimes(box_at);
         const btMatrix3x3& r = tb.getBasis();
         const btVector3& c = tb.getOrigin();
         const btVector3 h = box->getHalfExtentsWithMargin();
-        const btScalar reach =
-            manifold_->getContactBreakingThreshold() + out->m_closestPointDistanceThreshold;
         const Grid grid(*field);
 
         candidates_.clear();
@@ -192,7 +190,6 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
         // the manifold holds exactly the chosen points: an old point of another feature goes
         // first (a kept one keeps its warm-start impulse: the manifold matches a new point with
         // the nearest old one)
-        out->setPersistentManifold(manifold_);
         auto is_chosen = [&](int feature) {
             for (int k = 0; k < keep; ++k) {
                 if (candidates_[static_cast<size_t>(chosen_[static_cast<size_t>(k)])].feature ==
@@ -214,35 +211,8 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
             }
             out->addContactPoint(tf.getBasis() * p.normal, tf * p.on_field, p.depth);
         }
-        if (manifold_->getNumContacts()) out->refreshContactPoints();
     }
 
-    btScalar calculateTimeOfImpact(btCollisionObject*, btCollisionObject*, const btDispatcherInfo&,
-                                   btManifoldResult*) override {
-        return btScalar(1);
-    }
-
-    void getAllContactManifolds(btManifoldArray& manifolds) override {
-        if (manifold_) manifolds.push_back(manifold_);
-    }
-
-    // makes the algorithm for a box and a HeightfieldShape; Bullet's (`fallback`) for a box and
-    // another heightfield shape
-    struct CreateFunc : public btCollisionAlgorithmCreateFunc {
-        btCollisionAlgorithmCreateFunc* fallback = nullptr;
-        btCollisionAlgorithm* CreateCollisionAlgorithm(
-            btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* w0,
-            const btCollisionObjectWrapper* w1) override {
-            const btCollisionShape* field = (m_swapped ? w0 : w1)->getCollisionShape();
-            if (!dynamic_cast<const HeightfieldShape*>(field))
-                return fallback->CreateCollisionAlgorithm(ci, w0, w1);
-            void* mem =
-                ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(BoxHeightfieldAlgorithm));
-            return new (mem) BoxHeightfieldAlgorithm(ci, w0, w1, m_swapped);
-        }
-    };
-
-  private:
     // in the heightfield's frame: a point on the surface, the normal there (out of the terrain),
     // the depth of the box's point along it (< 0: inside)
     // the points where terrain edge a-b (heightfield frame; la, lb in the box's) crosses the
@@ -415,8 +385,7 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
     // picks at most 4 candidates into chosen_, returns how many: the deepest (within kDepthTie
     // of the deepest, one the manifold holds, else the first: corners come first), then of those
     // within kDepthBand of it the farthest from it, the one giving the largest triangle, the one
-    // giving the largest quadrilateral (held ones' squared sizes count kHold times; ties: the
-    // earlier candidate)
+    // giving the largest quadrilateral (widest())
     int choose() {
         const int n = static_cast<int>(candidates_.size());
         if (n == 0) return 0;
@@ -433,61 +402,55 @@ class BoxHeightfieldAlgorithm : public btCollisionAlgorithm {
             if (first < 0 || (held_[static_cast<size_t>(k)] && !held_[static_cast<size_t>(first)]))
                 first = k;
         }
-        // a held candidate's area counts kHold times
-        auto weight = [&](int k) { return held_[static_cast<size_t>(k)] ? kHold : btScalar(1); };
         chosen_[0] = first;
         if (n == 1) return 1;
         const btVector3 p0 = at(first).on_field;
-        int second = -1;
-        btScalar best = -1;
-        for (int k = 0; k < n; ++k) {
-            const btScalar d2 = (at(k).on_field - p0).length2() * weight(k);
-            if (k != first && at(k).depth <= band && d2 > best) {
-                best = d2;
-                second = k;
-            }
-        }
+        const int second = widest(1, band, [&](const btVector3& p) { return (p - p0).length2(); });
         if (second < 0) return 1;
         chosen_[1] = second;
         const btVector3 p1 = at(second).on_field;
-        int third = -1;
-        best = -1;
-        for (int k = 0; k < n; ++k) {
-            if (k == first || k == second || at(k).depth > band) continue;
-            const btScalar a2 = (at(k).on_field - p0).cross(p1 - p0).length2() * weight(k);
-            if (a2 > best) {
-                best = a2;
-                third = k;
-            }
-        }
+        const int third =
+            widest(2, band, [&](const btVector3& p) { return (p - p0).cross(p1 - p0).length2(); });
         if (third < 0) return 2;
         chosen_[2] = third;
         const btVector3 p2 = at(third).on_field;
-        int fourth = -1;
-        best = -1;
-        for (int k = 0; k < n; ++k) {
-            if (k == first || k == second || k == third || at(k).depth > band) continue;
-            const btVector3 p = at(k).on_field;
-            // twice the area of the quadrilateral with p as its fourth corner, whichever side
-            const btScalar a2 =
-                std::max({(p - p0).cross(p1 - p2).length2(), (p - p1).cross(p0 - p2).length2(),
-                          (p - p2).cross(p0 - p1).length2()}) *
-                weight(k);
-            if (a2 > best) {
-                best = a2;
-                fourth = k;
-            }
-        }
+        // twice the area of the quadrilateral with p as its fourth corner, whichever side
+        const int fourth = widest(3, band, [&](const btVector3& p) {
+            return std::max({(p - p0).cross(p1 - p2).length2(), (p - p1).cross(p0 - p2).length2(),
+                             (p - p2).cross(p0 - p1).length2()});
+        });
         if (fourth < 0) return 3;
         chosen_[3] = fourth;
         return 4;
     }
 
-    btPersistentManifold* manifold_ = nullptr;
-    bool swapped_;
+    // the candidate not among the first `chosen` of chosen_, with depth within `band`, whose
+    // on_field point gives the largest squared size `size(point)`, a held one's counting kHold
+    // times (ties: the earlier candidate); -1 if there is none
+    template <typename Size>
+    int widest(int chosen, btScalar band, Size size) const {
+        int best = -1;
+        btScalar best_size = -1;
+        for (int k = 0; k < static_cast<int>(candidates_.size()); ++k) {
+            const Candidate& p = candidates_[static_cast<size_t>(k)];
+            if (p.depth > band) continue;
+            bool taken = false;
+            for (int c = 0; c < chosen; ++c)
+                taken = taken || chosen_[static_cast<size_t>(c)] == k;
+            if (taken) continue;
+            const btScalar s =
+                size(p.on_field) * (held_[static_cast<size_t>(k)] ? kHold : btScalar(1));
+            if (s > best_size) {
+                best_size = s;
+                best = k;
+            }
+        }
+        return best;
+    }
+
     std::vector<Candidate> candidates_;
     std::vector<char> held_;
-    std::vector<btVector3> on_grid_, in_box_;  // grid points near the face (processCollision)
+    std::vector<btVector3> on_grid_, in_box_;  // grid points near the face (collide)
     std::array<int, 4> chosen_{};
 };
 

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 
+#include "bullet/box_collider.h"
 #include "bullet/box_heightfield.h"
 #include "bullet/coulomb_solver.h"
 
@@ -35,34 +36,21 @@ inline constexpr btScalar kFlatTolerance = btScalar(0.0002);
 // box. Each corner within reach is a point at its true place and depth, handed to the manifold
 // as Bullet's convex-plane algorithm hands its points (the manifold matches them with the
 // points it holds, which keeps their warm-start impulses).
-class BoxPlaneAlgorithm : public btCollisionAlgorithm {
+class BoxPlaneAlgorithm : public BoxCollider<BoxPlaneAlgorithm, btStaticPlaneShape> {
   public:
     BoxPlaneAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
                       const btCollisionObjectWrapper* w0, const btCollisionObjectWrapper* w1,
                       bool swapped, BoxPlanePoints points)
-        : btCollisionAlgorithm(ci), swapped_(swapped), points_(points) {
-        const btCollisionObjectWrapper* box = swapped ? w1 : w0;
-        const btCollisionObjectWrapper* plane = swapped ? w0 : w1;
-        if (m_dispatcher->needsCollision(box->getCollisionObject(), plane->getCollisionObject())) {
-            manifold_ = m_dispatcher->getNewManifold(box->getCollisionObject(),
-                                                     plane->getCollisionObject());
-        }
-    }
-    ~BoxPlaneAlgorithm() override {
-        if (manifold_) m_dispatcher->releaseManifold(manifold_);
-    }
-    BoxPlaneAlgorithm(const BoxPlaneAlgorithm&) = delete;
-    BoxPlaneAlgorithm& operator=(const BoxPlaneAlgorithm&) = delete;
+        : BoxCollider(ci, w0, w1, swapped), points_(points) {}
 
-    void processCollision(const btCollisionObjectWrapper* w0, const btCollisionObjectWrapper* w1,
-                          const btDispatcherInfo&, btManifoldResult* out) override {
-        if (!manifold_) return;
-        const btCollisionObjectWrapper* box_w = swapped_ ? w1 : w0;
-        const btCollisionObjectWrapper* plane_w = swapped_ ? w0 : w1;
-        const auto* box = static_cast<const btBoxShape*>(box_w->getCollisionShape());
-        const auto* plane = static_cast<const btStaticPlaneShape*>(plane_w->getCollisionShape());
-        const btTransform& tb = box_w->getWorldTransform();
-        const btTransform& tp = plane_w->getWorldTransform();
+    // makes the algorithm with the points its `setting` says (default: touching)
+    using CreateFunc = BoxCollider::CreateFunc<BoxPlanePoints>;
+
+  private:
+    friend class BoxCollider<BoxPlaneAlgorithm, btStaticPlaneShape>;
+
+    void collide(const btBoxShape* box, const btTransform& tb, const btStaticPlaneShape* plane,
+                 const btTransform& tp, btScalar reach, btManifoldResult* out) {
         const btVector3 normal = tp.getBasis() * plane->getPlaneNormal();
         const btScalar level = plane->getPlaneConstant() + normal.dot(tp.getOrigin());
         const btVector3 h = box->getHalfExtentsWithMargin();
@@ -71,8 +59,6 @@ class BoxPlaneAlgorithm : public btCollisionAlgorithm {
         const btScalar ax = r.tdotx(normal) * h.x(), ay = r.tdoty(normal) * h.y(),
                        az = r.tdotz(normal) * h.z();
         const btScalar centre = normal.dot(tb.getOrigin()) - level;
-        const btScalar reach =
-            manifold_->getContactBreakingThreshold() + out->m_closestPointDistanceThreshold;
         // the corners within reach, deepest first (ties in corner order: deterministic)
         struct Corner {
             btScalar depth;
@@ -95,7 +81,6 @@ class BoxPlaneAlgorithm : public btCollisionAlgorithm {
             !(keep == 4 && found[3].depth - found[0].depth <= kFlatTolerance)) {
             keep = 2;
         }
-        out->setPersistentManifold(manifold_);
         for (int i = 0; i < keep; ++i) {
             const Corner& c = found[static_cast<size_t>(i)];
             const btVector3 local((c.index & 1) ? h.x() : -h.x(), (c.index & 2) ? h.y() : -h.y(),
@@ -103,31 +88,8 @@ class BoxPlaneAlgorithm : public btCollisionAlgorithm {
             const btVector3 on_plane = tb * local - normal * c.depth;
             out->addContactPoint(normal, on_plane, c.depth);
         }
-        if (manifold_->getNumContacts()) out->refreshContactPoints();
     }
 
-    btScalar calculateTimeOfImpact(btCollisionObject*, btCollisionObject*, const btDispatcherInfo&,
-                                   btManifoldResult*) override {
-        return btScalar(1);
-    }
-
-    void getAllContactManifolds(btManifoldArray& manifolds) override {
-        if (manifold_) manifolds.push_back(manifold_);
-    }
-
-    struct CreateFunc : public btCollisionAlgorithmCreateFunc {
-        BoxPlanePoints points = BoxPlanePoints::touching;
-        btCollisionAlgorithm* CreateCollisionAlgorithm(
-            btCollisionAlgorithmConstructionInfo& ci, const btCollisionObjectWrapper* w0,
-            const btCollisionObjectWrapper* w1) override {
-            void* mem = ci.m_dispatcher1->allocateCollisionAlgorithm(sizeof(BoxPlaneAlgorithm));
-            return new (mem) BoxPlaneAlgorithm(ci, w0, w1, m_swapped, points);
-        }
-    };
-
-  private:
-    btPersistentManifold* manifold_ = nullptr;
-    bool swapped_;
     BoxPlanePoints points_;
 };
 
@@ -137,12 +99,12 @@ class BoxPlaneAlgorithm : public btCollisionAlgorithm {
 class BoxPlaneConfiguration : public ContactConfiguration {
   public:
     explicit BoxPlaneConfiguration(BoxPlanePoints points = BoxPlanePoints::touching) {
-        box_plane_.points = points;
-        plane_box_.points = points;
+        box_plane_.setting = points;
+        plane_box_.setting = points;
         plane_box_.m_swapped = true;
-        box_field_.fallback = ContactConfiguration::getCollisionAlgorithmCreateFunc(
+        box_field_.setting = ContactConfiguration::getCollisionAlgorithmCreateFunc(
             BOX_SHAPE_PROXYTYPE, TERRAIN_SHAPE_PROXYTYPE);
-        field_box_.fallback = ContactConfiguration::getCollisionAlgorithmCreateFunc(
+        field_box_.setting = ContactConfiguration::getCollisionAlgorithmCreateFunc(
             TERRAIN_SHAPE_PROXYTYPE, BOX_SHAPE_PROXYTYPE);
         field_box_.m_swapped = true;
     }
