@@ -6,8 +6,8 @@
 // (dt/4 and 4x it from the first setting, the first from the fourth), as
 // bench/lua/convergence.lua does.
 //
-//   dt_terms [--per-step] [--method pgs|symmetric|nncg|block] GAIT MODULES FLOOR_FRICTION [PHASE0
-//   [DT:IT DT:IT DT:IT DT:IT]]
+//   dt_terms [--per-step] [--method pgs|symmetric|nncg|block|block-nncg] GAIT MODULES
+//   FLOOR_FRICTION [PHASE0 [DT:IT DT:IT DT:IT DT:IT]]
 //
 // GAIT: pp, py-roll or py-wave (convergence.lua's gaits); --per-step: the friction rows chosen
 // at the start of each step (FrictionModel::per_step in engine/src/bullet/coulomb_solver.h, the
@@ -71,7 +71,7 @@ double change(const Result& a, const Result& base) {
 int main(int argc, char** argv) {
     using namespace gaitlab_bench;
     const char* usage =
-        "usage: dt_terms [--per-step] [--method pgs|symmetric|nncg|block] GAIT MODULES "
+        "usage: dt_terms [--per-step] [--method pgs|symmetric|nncg|block|block-nncg] GAIT MODULES "
         "FLOOR_FRICTION [PHASE0 [DT:IT DT:IT DT:IT "
         "DT:IT]]";
     std::vector<std::string> args(argv + 1, argv + argc);

@@ -116,9 +116,11 @@ RawSnake::RawSnake(const Scenario& sc, const RawOptions& options)
         s.solver.set_method(gaitlab::SolverMethod::nncg);
     } else if (sc.solver_method == "block") {
         s.solver.set_method(gaitlab::SolverMethod::block);
+    } else if (sc.solver_method == "block-nncg") {
+        s.solver.set_method(gaitlab::SolverMethod::block_nncg);
     } else if (sc.solver_method != "pgs") {
         throw std::runtime_error("unknown solver method '" + sc.solver_method +
-                                 "' (pgs, symmetric, nncg or block)");
+                                 "' (pgs, symmetric, nncg, block or block-nncg)");
     }
 
     auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), btScalar(0));

@@ -47,8 +47,9 @@ enum class FrictionModel { per_step, disk };
 // projections then hold); block solves the joints' equality rows (those without bounds: not
 // motors or limits) as one linear system, exactly, in each iteration given the impulses of all
 // other rows (J M^-1 J' factored once per step, Cholesky on its profile, which for a chain
-// ordered along it is a band), then the other rows as pgs does.
-enum class SolverMethod { pgs, symmetric, nncg, block };
+// ordered along it is a band), then the other rows as pgs does; block_nncg is block with nncg's
+// step after each sweep (the block's rows among all others).
+enum class SolverMethod { pgs, symmetric, nncg, block, block_nncg };
 inline constexpr btScalar kSlideSpeed = btScalar(0.001);  // m/s: slower, the axes are fixed ones
 
 // The collision configuration of every gaitlab world: Bullet's default, except that a box on a
@@ -268,14 +269,14 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                    const btContactSolverInfo& info, bool backward) {
         btScalar residual = 0;
         const int joints = m_tmpSolverNonContactConstraintPool.size();
-        if (method_ == SolverMethod::block) {
+        if (uses_block()) {
             if (iteration == 0) factor_block();
             residual = solve_block();
         }
         auto joint_row = [&](int j) {
             btSolverConstraint& c = m_tmpSolverNonContactConstraintPool[j];
             if (iteration >= c.m_overrideNumSolverIterations) return;
-            if (method_ == SolverMethod::block && in_block_[j]) return;
+            if (uses_block() && in_block_[j]) return;
             const btScalar r = m_resolveSingleConstraintRowGeneric(
                 m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB], c);
             residual = btMax(residual, r * r);
@@ -336,7 +337,7 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             return sweep(iteration, constraints, constraint_count, info, false);
         if (method_ == SolverMethod::symmetric)
             return sweep(iteration, constraints, constraint_count, info, iteration % 2 == 1);
-        // nncg
+        // nncg, block_nncg
         if (iteration == 0) {
             before_.clear();
             for_each_row([&](btSolverConstraint& c) { before_.push_back(c.m_appliedImpulse); });
@@ -387,17 +388,18 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         // L y = r, D z = y, L' x = z (in place)
         for (int i = 0; i < n; ++i) {
             double sum = rhs_[i];
+            const double* l = &chol_[static_cast<size_t>(i) * n];
             for (int k = first_[i]; k < i; ++k)
-                sum -= chol_[i * n + k] * rhs_[k];
+                sum -= l[k] * rhs_[k];
             rhs_[i] = sum;
         }
         for (int i = 0; i < n; ++i)
             rhs_[i] /= diag_[i];
-        for (int i = n - 1; i >= 0; --i) {
-            double sum = rhs_[i];
-            for (int k = i + 1; k < n; ++k)
-                if (first_[k] <= i) sum -= chol_[k * n + i] * rhs_[k];
-            rhs_[i] = sum;
+        for (int k = n - 1; k > 0; --k) {  // x_k is final: take it out of the rows above
+            const double x = rhs_[k];
+            const double* l = &chol_[static_cast<size_t>(k) * n];
+            for (int j = first_[k]; j < k; ++j)
+                rhs_[j] -= l[j] * x;
         }
         for (int i = 0; i < n; ++i) {
             btSolverConstraint& c = pool[block_[i]];
@@ -473,6 +475,10 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                 }
             }
         }
+    }
+
+    bool uses_block() const {
+        return method_ == SolverMethod::block || method_ == SolverMethod::block_nncg;
     }
 
     FrictionModel model_ = FrictionModel::disk;
