@@ -471,7 +471,10 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                 if (j < i) {
                     chol_[i * n + j] = sum / diag_[j];
                 } else {
-                    diag_[i] = sum;
+                    // redundant rows (a closed loop of joints) make K singular: such a row then
+                    // keeps its own diagonal, as pgs would solve it
+                    const double own = 1 / pool[block_[i]].m_jacDiagABInv;
+                    diag_[i] = sum > 1e-9 * own ? sum : own;
                 }
             }
         }
