@@ -442,25 +442,38 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             }
         }
         const int n = static_cast<int>(block_.size());
-        chol_.assign(static_cast<size_t>(n) * n, 0);
+        // only the profile is written and read: no n x n clearing
+        chol_.resize(static_cast<size_t>(n) * n);
         first_.assign(n, 0);
         diag_.assign(n, 0);
         rhs_.assign(n, 0);
-        auto shares = [](const btSolverConstraint& x, const btSolverConstraint& y) {
-            return x.m_solverBodyIdA == y.m_solverBodyIdA ||
-                   x.m_solverBodyIdA == y.m_solverBodyIdB ||
-                   x.m_solverBodyIdB == y.m_solverBodyIdA || x.m_solverBodyIdB == y.m_solverBodyIdB;
-        };
+        // the rows coupled to row i are those earlier on its bodies (a fixed body couples none)
+        rows_of_body_.resize(m_tmpSolverBodyPool.size());
+        for (std::vector<int>& rows : rows_of_body_)
+            rows.clear();
+        auto moving = [&](int body) { return !m_tmpSolverBodyPool[body].m_invMass.fuzzyZero(); };
         for (int i = 0; i < n; ++i) {
             const btSolverConstraint& x = pool[block_[i]];
-            first_[i] = i;
-            for (int j = 0; j < i; ++j) {
-                const btSolverConstraint& y = pool[block_[j]];
-                if (!shares(x, y)) continue;
-                chol_[i * n + j] = coupling(x, y);
-                first_[i] = std::min(first_[i], j);
+            const int bodies[2] = {x.m_solverBodyIdA, x.m_solverBodyIdB};
+            int first = i;
+            for (int body : bodies) {
+                if (!moving(body)) continue;
+                for (int j : rows_of_body_[body])
+                    first = std::min(first, j);
             }
-            chol_[i * n + i] = 1 / x.m_jacDiagABInv + x.m_cfm / x.m_jacDiagABInv;
+            first_[i] = first;
+            double* row = &chol_[static_cast<size_t>(i) * n];
+            std::fill(row + first, row + i, 0.0);
+            for (int body : bodies) {
+                if (!moving(body)) continue;
+                for (int j : rows_of_body_[body])
+                    row[j] = coupling(x, pool[block_[j]]);
+            }
+            row[i] = 1 / x.m_jacDiagABInv + x.m_cfm / x.m_jacDiagABInv;
+            for (int body : bodies) {
+                if (moving(body) && (body == bodies[0] || bodies[0] != bodies[1]))
+                    rows_of_body_[body].push_back(i);
+            }
         }
         // L D L' on the profile: L(i,j) is zero left of first_[i], and so is its fill
         for (int i = 0; i < n; ++i) {
@@ -491,6 +504,7 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     // block: its rows (indices in the joint pool), which rows are in it, L (below the
     // diagonal, row-major n x n), D, each row's first column of the profile, the right side
     std::vector<int> block_, first_;
+    std::vector<std::vector<int>> rows_of_body_;  // block: the rows so far on each solver body
     std::vector<char> in_block_;
     std::vector<double> chol_, diag_, rhs_;
     std::vector<btPersistentManifold*> sorted_manifolds_;
