@@ -6,6 +6,7 @@
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
+#include <cmath>
 #include <tuple>
 #include <vector>
 
@@ -253,6 +254,13 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                     const btScalar scale = limit / btSqrt(l1 * l1 + l2 * l2);
                     l1 *= scale;
                     l2 *= scale;
+                    // a limit so small that |l|^2 underflows (a normal impulse of 1e-20 N s,
+                    // as block_nncg's steps can leave one) makes the steps above 0/0: then
+                    // μN against the slip (exact for an isotropic K)
+                    if (!(std::isfinite(l1) && std::isfinite(l2))) {
+                        l1 = -w1 / wn * limit;
+                        l2 = -w2 / wn * limit;
+                    }
                 }
             }
             apply(r1, a, b, l1 - old1);
