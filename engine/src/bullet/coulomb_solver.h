@@ -351,6 +351,13 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             for_each_row([&](btSolverConstraint& c) { before_.push_back(c.m_appliedImpulse); });
             direction_.assign(before_.size(), 0);
             previous_ = 0;
+            const int bodies = m_tmpSolverBodyPool.size();
+            body_before_.resize(2 * static_cast<size_t>(bodies));
+            body_direction_.assign(2 * static_cast<size_t>(bodies), btVector3(0, 0, 0));
+            for (int b = 0; b < bodies; ++b) {
+                body_before_[2 * b] = m_tmpSolverBodyPool[b].internalGetDeltaLinearVelocity();
+                body_before_[2 * b + 1] = m_tmpSolverBodyPool[b].internalGetDeltaAngularVelocity();
+            }
         }
         const btScalar residual = sweep(iteration, constraints, constraint_count, info, false);
         btScalar d2 = 0;
@@ -362,13 +369,14 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         const int last = btMax(m_maxOverrideNumSolverIterations, info.m_numIterations) - 1;
         const btScalar beta = iteration == 0 || !(previous_ > 0) ? 0 : d2 / previous_;
         const bool step = beta > 0 && beta <= 1 && iteration < last;
+        // the rows' impulses move by beta p; the bodies' velocities by what those impulses do,
+        // M^-1 J' beta p, kept per body (beta times last step's, plus this sweep's change)
         i = 0;
         for_each_row([&](btSolverConstraint& c) {
             const btScalar d = c.m_appliedImpulse - before_[i];
             if (step) {
                 const btScalar extra = beta * direction_[i];
-                apply(c, m_tmpSolverBodyPool[c.m_solverBodyIdA],
-                      m_tmpSolverBodyPool[c.m_solverBodyIdB], extra);
+                c.m_appliedImpulse += extra;
                 direction_[i] = extra + d;
             } else {
                 direction_[i] = d;
@@ -376,6 +384,22 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             before_[i] = c.m_appliedImpulse;
             ++i;
         });
+        for (int b = 0; b < m_tmpSolverBodyPool.size(); ++b) {
+            btVector3* v[2] = {&m_tmpSolverBodyPool[b].internalGetDeltaLinearVelocity(),
+                               &m_tmpSolverBodyPool[b].internalGetDeltaAngularVelocity()};
+            for (int k = 0; k < 2; ++k) {
+                const size_t at = 2 * static_cast<size_t>(b) + k;
+                const btVector3 d = *v[k] - body_before_[at];
+                if (step) {
+                    const btVector3 extra = body_direction_[at] * beta;
+                    *v[k] += extra;
+                    body_direction_[at] = extra + d;
+                } else {
+                    body_direction_[at] = d;
+                }
+                body_before_[at] = *v[k];
+            }
+        }
         previous_ = d2;
         return residual;
     }
@@ -508,7 +532,9 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     FrictionModel model_ = FrictionModel::disk;
     SolverMethod method_ = SolverMethod::pgs;
     std::vector<btScalar> before_, direction_;  // nncg: impulses after the last sweep, p
-    btScalar previous_ = 0;                     // nncg: |d_k-1|^2
+    // nncg: each solver body's delta velocities (linear, angular) after the last sweep, M^-1 J' p
+    std::vector<btVector3> body_before_, body_direction_;
+    btScalar previous_ = 0;  // nncg: |d_k-1|^2
     // block: its rows (indices in the joint pool), which rows are in it, L (below the
     // diagonal, row-major n x n), D, each row's first column of the profile, the right side
     std::vector<int> block_, first_;
