@@ -6,11 +6,14 @@
 // (dt/4 and 4x it from the first setting, the first from the fourth), as
 // bench/lua/convergence.lua does.
 //
-//   dt_terms [--per-step] GAIT MODULES FLOOR_FRICTION [PHASE0 [DT:IT DT:IT DT:IT DT:IT]]
+//   dt_terms [--per-step] [--method pgs|symmetric|nncg|block|block-nncg] [--check PCT] GAIT MODULES
+//   FLOOR_FRICTION [PHASE0 [DT:IT DT:IT DT:IT DT:IT]]
 //
 // GAIT: pp, py-roll or py-wave (convergence.lua's gaits); --per-step: the friction rows chosen
 // at the start of each step (FrictionModel::per_step in engine/src/bullet/coulomb_solver.h, the
-// model before the friction disk) instead of the engine's friction disk.
+// model before the friction disk) instead of the engine's friction disk; --method: the
+// solver's iteration (SolverMethod there; pgs, the engine's, by default); --check PCT: exit 1
+// when the first setting is more than PCT % off the fourth (a test of convergence).
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -29,9 +32,10 @@ struct Result {
 };
 
 Result run(const std::string& gait, int modules, double friction, double phase0, double dt,
-           int iterations, bool per_step) {
+           int iterations, bool per_step, const std::string& method) {
     Scenario sc;
     sc.friction_per_step = per_step;
+    sc.solver_method = method;
     sc.modules = modules;
     sc.pitch_yaw = gait != "pp";
     sc.floor_friction = friction;
@@ -68,12 +72,29 @@ double change(const Result& a, const Result& base) {
 int main(int argc, char** argv) {
     using namespace gaitlab_bench;
     const char* usage =
-        "usage: dt_terms [--per-step] GAIT MODULES FLOOR_FRICTION [PHASE0 [DT:IT DT:IT DT:IT "
+        "usage: dt_terms [--per-step] [--method pgs|symmetric|nncg|block|block-nncg] [--check PCT] "
+        "GAIT MODULES "
+        "FLOOR_FRICTION [PHASE0 [DT:IT DT:IT DT:IT "
         "DT:IT]]";
     std::vector<std::string> args(argv + 1, argv + argc);
-    const bool per_step = !args.empty() && args[0] == "--per-step";
-    if (per_step) args.erase(args.begin());
+    bool per_step = false;
+    std::string method = "pgs";
+    double check = -1;
     try {
+        while (!args.empty() && args[0].rfind("--", 0) == 0) {
+            if (args[0] == "--per-step") {
+                per_step = true;
+                args.erase(args.begin());
+            } else if (args[0] == "--check" && args.size() > 1) {
+                check = std::stod(args[1]);
+                args.erase(args.begin(), args.begin() + 2);
+            } else if (args[0] == "--method" && args.size() > 1) {
+                method = args[1];
+                args.erase(args.begin(), args.begin() + 2);
+            } else {
+                throw std::runtime_error(usage);
+            }
+        }
         if (args.size() < 3) throw std::runtime_error(usage);
         const std::string gait = args[0];
         const int modules = std::stoi(args[1]);
@@ -104,7 +125,8 @@ int main(int argc, char** argv) {
             t.emplace_back([&, k] {
                 try {
                     for (int i = k; i < k + 2; ++i)
-                        r[i] = run(gait, modules, friction, phase0, dts[i], its[i], per_step);
+                        r[i] =
+                            run(gait, modules, friction, phase0, dts[i], its[i], per_step, method);
                 } catch (const std::exception& e) {
                     error = e.what();
                 }
@@ -114,11 +136,18 @@ int main(int argc, char** argv) {
             th.join();
         if (!error.empty()) throw std::runtime_error(error);
         std::printf(
-            "| %s%s %d %.1f ph%g | %+.1f / %+.1f | %+.1f / %+.1f | %+.1f / %+.1f | "
+            "| %s%s%s %d %.1f ph%g | %+.1f / %+.1f | %+.1f / %+.1f | %+.1f / %+.1f | "
             "%+.1f / %+.1f | %.1f | %.1f | %.1f |\n",
-            gait.c_str(), per_step ? " per-step" : "", modules, friction, phase0, r[0].x, r[0].y,
-            r[1].x, r[1].y, r[2].x, r[2].y, r[3].x, r[3].y, change(r[1], r[0]), change(r[2], r[0]),
-            change(r[0], r[3]));
+            gait.c_str(), per_step ? " per-step" : "",
+            method == "pgs" ? "" : (" " + method).c_str(), modules, friction, phase0, r[0].x,
+            r[0].y, r[1].x, r[1].y, r[2].x, r[2].y, r[3].x, r[3].y, change(r[1], r[0]),
+            change(r[2], r[0]), change(r[0], r[3]));
+        if (check >= 0 && !(change(r[0], r[3]) <= check)) {
+            std::fprintf(stderr,
+                         "dt_terms: the first setting is %.1f %% off the fourth (--check %g)\n",
+                         change(r[0], r[3]), check);
+            return 1;
+        }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "dt_terms: %s\n", e.what());
         return 2;

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "bullet/box_plane.h"
@@ -108,6 +110,18 @@ RawSnake::RawSnake(const Scenario& sc, const RawOptions& options)
     world.setGravity(btVector3(0, 0, btScalar(-9.81)));
     world.getSolverInfo().m_numIterations = sc.solver_iterations;
     if (sc.friction_per_step) s.solver.set_friction_model(gaitlab::FrictionModel::per_step);
+    if (sc.solver_method == "symmetric") {
+        s.solver.set_method(gaitlab::SolverMethod::symmetric);
+    } else if (sc.solver_method == "nncg") {
+        s.solver.set_method(gaitlab::SolverMethod::nncg);
+    } else if (sc.solver_method == "block") {
+        s.solver.set_method(gaitlab::SolverMethod::block);
+    } else if (sc.solver_method == "block-nncg") {
+        s.solver.set_method(gaitlab::SolverMethod::block_nncg);
+    } else if (sc.solver_method != "pgs") {
+        throw std::runtime_error("unknown solver method '" + sc.solver_method +
+                                 "' (pgs, symmetric, nncg, block or block-nncg)");
+    }
 
     auto plane = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), btScalar(0));
     btRigidBody::btRigidBodyConstructionInfo floor_info(0, nullptr, plane.get());

@@ -1,6 +1,7 @@
 // raw_bullet_loop: the benchmark snake stepped by plain Bullet (no gaitlab code).
 //
 //   raw_bullet_loop [--modules N] [--conn pp|py] [--ce C] [--iterations I] [--dt S] [--seconds S]
+//                   [--method pgs|symmetric|nncg|block|block-nncg]
 //
 // Prints one line: the loop's time per step and the centre-of-mass displacement.
 #include <chrono>
@@ -26,6 +27,8 @@ int main(int argc, char** argv) {
             sc.dt = std::stod(v);
         } else if (k == "--seconds") {
             sc.seconds = std::stod(v);
+        } else if (k == "--method") {
+            sc.solver_method = v;  // the solver's SolverMethod (RawSnake checks the name)
         } else {
             std::fprintf(stderr, "raw_bullet_loop: unknown option %s\n", k.c_str());
             return 2;
@@ -33,6 +36,13 @@ int main(int argc, char** argv) {
     }
     if (sc.modules < 1 || sc.control_every < 1 || sc.solver_iterations < 1 || !(sc.dt > 0)) {
         std::fprintf(stderr, "raw_bullet_loop: invalid scenario\n");
+        return 2;
+    }
+    if (sc.solver_method != "pgs" && sc.solver_method != "symmetric" &&
+        sc.solver_method != "nncg" && sc.solver_method != "block" &&
+        sc.solver_method != "block-nncg") {
+        std::fprintf(stderr,
+                     "raw_bullet_loop: --method is pgs, symmetric, nncg, block or block-nncg\n");
         return 2;
     }
     gaitlab_bench::RawSnake snake(sc);

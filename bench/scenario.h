@@ -20,6 +20,8 @@ struct Scenario {
     double phase0 = 0;               ///< deg, added to every joint's sine (raw loop only)
     double yaw_phase0 = 0;           ///< deg, added to the yaw joints' sines too (raw loop only)
     bool friction_per_step = false;  ///< the solver's FrictionModel::per_step (raw loop only)
+    /// the solver's SolverMethod (raw loop only): "pgs", "symmetric" or "nncg"
+    std::string solver_method = "pgs";
     double floor_friction = 0.8;
     double dt = 0.001;       ///< s
     int control_every = 10;  ///< ticks between controller steps

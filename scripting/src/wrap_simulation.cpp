@@ -191,7 +191,7 @@ int simulation_new(lua_State* L) {
     return protect(L, [&] {
         Fields f(L, 2, 1,
                  {"world", "name", "duration", "dt", "control_every", "record", "seed",
-                  "solver_iterations", "on_controller_error"});
+                  "solver_iterations", "solver", "on_controller_error"});
         // name and duration: what sim:save writes (a simulation file's name and duration)
         SimulationFile file;
         file.name = f.string("name", file.name);
@@ -230,6 +230,10 @@ int simulation_new(lua_State* L) {
         } else if (policy != "stop") {
             f.fail("on_controller_error",
                    "'stop', 'continue' or 'pause' expected, got '" + policy + "'");
+        }
+        const std::string solver = f.string("solver", "pgs");
+        if (!parse_solver(solver, o.solver)) {
+            f.fail("solver", "'pgs' or 'block_nncg' expected, got '" + solver + "'");
         }
         f.push("record");
         const RecordRequest request = to_request(L, -1, 1, "field 'record': ");
@@ -706,6 +710,8 @@ int simulation_index(lua_State* L) {
             lua_pushinteger(L, sim.options().solver_iterations);
         } else if (k == "on_controller_error") {
             lua_pushstring(L, to_string(sim.options().on_controller_error));
+        } else if (k == "solver") {
+            lua_pushstring(L, to_string(sim.options().solver));
         } else if (k == "warnings") {
             const std::vector<std::string>& w = sim.warnings();
             lua_createtable(L, static_cast<int>(w.size()), 0);

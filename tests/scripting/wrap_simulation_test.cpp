@@ -43,6 +43,8 @@ TEST_CASE("simulation rejects bad options with Lua-worded messages", "[wrap_simu
           bad + "field 'seed': non-negative integer expected)");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, solver_iterations = 0 }") ==
           bad + "solver_iterations must be in [1, 10000] (got 0))");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, solver = 'fast' }") ==
+          bad + "field 'solver': 'pgs' or 'block_nncg' expected, got 'fast')");
     CHECK(lua.error_of("gaitlab.simulation(w)") == bad + "table expected, got gaitlab.World)");
     // without a host that records by default, nothing records unless asked
     lua.run("s = gaitlab.simulation{ world = w, record = false }");
@@ -65,6 +67,9 @@ TEST_CASE("run and step advance time by whole ticks", "[wrap_simulation]") {
     CHECK(lua.integer("sim.control_every") == 30);
     CHECK(lua.integer("sim.seed") == 7);
     CHECK(lua.integer("sim.solver_iterations") == 20);
+    CHECK(lua.string("sim.solver") == "pgs");
+    lua.run("other = gaitlab.simulation{ world = world, solver = 'block_nncg' }");
+    CHECK(lua.string("other.solver") == "block_nncg");
     lua.run("sim:run(1.5)");
     CHECK(lua.integer("sim.ticks") == 1500);
     CHECK(lua.number("sim.time") == Approx(1.5).margin(1e-12));

@@ -6,6 +6,7 @@
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
+#include <cmath>
 #include <tuple>
 #include <vector>
 
@@ -36,6 +37,20 @@ namespace gaitlab {
 // Bullet 3.24 does not warm-start friction rows, and neither does this; the directions are
 // stored in the manifold point (m_lateralFrictionDir1/2), which a clone copies.
 enum class FrictionModel { per_step, disk };
+
+// How the solver iterates over the rows (docs/performance.md, "Converging the solve"):
+// pgs is Bullet's projected Gauss-Seidel, every iteration joints, normals, friction disks in
+// the solver's order (CoulombSolver::solveGroup); symmetric alternates that sweep with the
+// reverse one (friction disks, normals, joints, each backwards); nncg is pgs with a nonlinear
+// conjugate-gradient step after each sweep (Silcowitz, Niebe, Erleben 2010: with d_k the change
+// of all rows' impulses in sweep k, beta = |d_k|^2 / |d_k-1|^2, restarted when beta > 1, the
+// impulses move by beta p and p becomes beta p + d_k; none after the last sweep, whose
+// projections then hold); block solves the joints' equality rows (those without bounds: not
+// motors or limits) as one linear system, exactly, in each iteration given the impulses of all
+// other rows (J M^-1 J' factored once per step, Cholesky on its profile, which for a chain
+// ordered along it is a band), then the other rows as pgs does; block_nncg is block with nncg's
+// step after each sweep (the block's rows among all others).
+enum class SolverMethod { pgs, symmetric, nncg, block, block_nncg };
 inline constexpr btScalar kSlideSpeed = btScalar(0.001);  // m/s: slower, the axes are fixed ones
 
 // The collision configuration of every gaitlab world: Bullet's default, except that a box on a
@@ -59,6 +74,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
   public:
     /// The friction model (above); the engine's is FrictionModel::disk.
     void set_friction_model(FrictionModel m) { model_ = m; }
+    /// The iteration (above); the engine's default is SolverMethod::pgs.
+    void set_method(SolverMethod m) { method_ = m; }
 
     // Solves the contacts and joints of a group in an order of their own (by the bodies'
     // user indices, then the contact's parts; joints by their user constraint id), not in the
@@ -98,6 +115,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                                   btPersistentManifold** manifolds, int manifold_count,
                                   btTypedConstraint** constraints, int constraint_count,
                                   const btContactSolverInfo& info, btIDebugDraw* draw) override {
+        if (method_ != SolverMethod::pgs && model_ == FrictionModel::disk)
+            return own_iteration(iteration, constraints, constraint_count, info);
         if (model_ == FrictionModel::per_step) {
             return btSequentialImpulseConstraintSolver::solveSingleIteration(
                 iteration, bodies, body_count, manifolds, manifold_count, constraints,
@@ -184,10 +203,11 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     // exactly against l (Coulomb's law). g comes from Newton's method on 1/|l(g)| - 1/μN,
     // nearly linear in g (exactly for an isotropic K), kept within the bracket K's eigenvalues
     // give. Returns the largest squared velocity change, as Bullet's rows do.
-    btScalar solve_friction() {
+    btScalar solve_friction(bool backward = false) {
         btScalar worst = 0;
         const int n = m_tmpSolverContactFrictionConstraintPool.size();
-        for (int k = 0; k + 1 < n; k += 2) {
+        for (int i = 0; i + 1 < n; i += 2) {
+            const int k = backward ? (n & ~1) - 2 - i : i;
             btSolverConstraint& r1 = m_tmpSolverContactFrictionConstraintPool[k];
             btSolverConstraint& r2 = m_tmpSolverContactFrictionConstraintPool[k + 1];
             const btScalar normal =
@@ -234,6 +254,13 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                     const btScalar scale = limit / btSqrt(l1 * l1 + l2 * l2);
                     l1 *= scale;
                     l2 *= scale;
+                    // a limit so small that |l|^2 underflows (a normal impulse of 1e-20 N s,
+                    // as block_nncg's steps can leave one) makes the steps above 0/0: then
+                    // μN against the slip (exact for an isotropic K)
+                    if (!(std::isfinite(l1) && std::isfinite(l2))) {
+                        l1 = -w1 / wn * limit;
+                        l2 = -w2 / wn * limit;
+                    }
                 }
             }
             apply(r1, a, b, l1 - old1);
@@ -244,7 +271,276 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         return worst;
     }
 
+    // One sweep as Bullet's iteration does it (joint rows, the joints' old-style solve, normal
+    // rows, then the friction disks), forwards or backwards (the reverse order throughout)
+    btScalar sweep(int iteration, btTypedConstraint** constraints, int constraint_count,
+                   const btContactSolverInfo& info, bool backward) {
+        btScalar residual = 0;
+        const int joints = m_tmpSolverNonContactConstraintPool.size();
+        if (uses_block()) {
+            if (iteration == 0) factor_block();
+            residual = solve_block();
+        }
+        auto joint_row = [&](int j) {
+            btSolverConstraint& c = m_tmpSolverNonContactConstraintPool[j];
+            if (iteration >= c.m_overrideNumSolverIterations) return;
+            if (uses_block() && in_block_[j]) return;
+            const btScalar r = m_resolveSingleConstraintRowGeneric(
+                m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB], c);
+            residual = btMax(residual, r * r);
+        };
+        auto old_style = [&] {
+            for (int j = 0; j < constraint_count; ++j) {
+                if (!constraints[j]->isEnabled()) continue;
+                const int a = getOrInitSolverBody(constraints[j]->getRigidBodyA(), info.m_timeStep);
+                const int b = getOrInitSolverBody(constraints[j]->getRigidBodyB(), info.m_timeStep);
+                constraints[j]->solveConstraintObsolete(m_tmpSolverBodyPool[a],
+                                                        m_tmpSolverBodyPool[b], info.m_timeStep);
+            }
+        };
+        const int normals = m_tmpSolverContactConstraintPool.size();
+        auto normal_row = [&](int j) {
+            const btSolverConstraint& c = m_tmpSolverContactConstraintPool[j];
+            const btScalar r = m_resolveSingleConstraintRowLowerLimit(
+                m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB], c);
+            residual = btMax(residual, r * r);
+        };
+        const bool contacts = iteration < info.m_numIterations;
+        if (!backward) {
+            for (int j = 0; j < joints; ++j)
+                joint_row(j);
+            if (contacts) {
+                old_style();
+                for (int j = 0; j < normals; ++j)
+                    normal_row(j);
+                residual = btMax(residual, solve_friction());
+            }
+        } else {
+            if (contacts) {
+                residual = btMax(residual, solve_friction(true));
+                for (int j = normals - 1; j >= 0; --j)
+                    normal_row(j);
+                old_style();
+            }
+            for (int j = joints - 1; j >= 0; --j)
+                joint_row(j);
+        }
+        return residual;
+    }
+
+    // every row's impulse, joints then normals then friction (for nncg)
+    template <class F>
+    void for_each_row(F f) {
+        for (int j = 0; j < m_tmpSolverNonContactConstraintPool.size(); ++j)
+            f(m_tmpSolverNonContactConstraintPool[j]);
+        for (int j = 0; j < m_tmpSolverContactConstraintPool.size(); ++j)
+            f(m_tmpSolverContactConstraintPool[j]);
+        for (int j = 0; j < m_tmpSolverContactFrictionConstraintPool.size(); ++j)
+            f(m_tmpSolverContactFrictionConstraintPool[j]);
+    }
+
+    btScalar own_iteration(int iteration, btTypedConstraint** constraints, int constraint_count,
+                           const btContactSolverInfo& info) {
+        if (method_ == SolverMethod::block)
+            return sweep(iteration, constraints, constraint_count, info, false);
+        if (method_ == SolverMethod::symmetric)
+            return sweep(iteration, constraints, constraint_count, info, iteration % 2 == 1);
+        // nncg, block_nncg
+        if (iteration == 0) {
+            before_.clear();
+            for_each_row([&](btSolverConstraint& c) { before_.push_back(c.m_appliedImpulse); });
+            direction_.assign(before_.size(), 0);
+            previous_ = 0;
+            const int bodies = m_tmpSolverBodyPool.size();
+            body_before_.resize(2 * static_cast<size_t>(bodies));
+            body_direction_.assign(2 * static_cast<size_t>(bodies), btVector3(0, 0, 0));
+            for (int b = 0; b < bodies; ++b) {
+                body_before_[2 * b] = m_tmpSolverBodyPool[b].internalGetDeltaLinearVelocity();
+                body_before_[2 * b + 1] = m_tmpSolverBodyPool[b].internalGetDeltaAngularVelocity();
+            }
+        }
+        const btScalar residual = sweep(iteration, constraints, constraint_count, info, false);
+        btScalar d2 = 0;
+        size_t i = 0;
+        for_each_row([&](btSolverConstraint& c) {
+            const btScalar d = c.m_appliedImpulse - before_[i++];
+            d2 += d * d;
+        });
+        const int last = btMax(m_maxOverrideNumSolverIterations, info.m_numIterations) - 1;
+        const btScalar beta = iteration == 0 || !(previous_ > 0) ? 0 : d2 / previous_;
+        const bool step = beta > 0 && beta <= 1 && iteration < last;
+        // the rows' impulses move by beta p; the bodies' velocities by what those impulses do,
+        // M^-1 J' beta p, kept per body (beta times last step's, plus this sweep's change)
+        i = 0;
+        for_each_row([&](btSolverConstraint& c) {
+            const btScalar d = c.m_appliedImpulse - before_[i];
+            if (step) {
+                const btScalar extra = beta * direction_[i];
+                c.m_appliedImpulse += extra;
+                direction_[i] = extra + d;
+            } else {
+                direction_[i] = d;
+            }
+            before_[i] = c.m_appliedImpulse;
+            ++i;
+        });
+        for (int b = 0; b < m_tmpSolverBodyPool.size(); ++b) {
+            btVector3* v[2] = {&m_tmpSolverBodyPool[b].internalGetDeltaLinearVelocity(),
+                               &m_tmpSolverBodyPool[b].internalGetDeltaAngularVelocity()};
+            for (int k = 0; k < 2; ++k) {
+                const size_t at = 2 * static_cast<size_t>(b) + k;
+                const btVector3 d = *v[k] - body_before_[at];
+                if (step) {
+                    const btVector3 extra = body_direction_[at] * beta;
+                    *v[k] += extra;
+                    body_direction_[at] = extra + d;
+                } else {
+                    body_direction_[at] = d;
+                }
+                body_before_[at] = *v[k];
+            }
+        }
+        previous_ = d2;
+        return residual;
+    }
+
+    // block: the equality rows' system K dl = r, K = J M^-1 J' (+ the rows' cfm), r the change
+    // each row's own update would make, over its diagonal. Factored at the first iteration.
+    btScalar solve_block() {
+        btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
+        const int n = static_cast<int>(block_.size());
+        btScalar residual = 0;
+        for (int i = 0; i < n; ++i) {
+            const btSolverConstraint& c = pool[block_[i]];
+            btSolverBody& a = m_tmpSolverBodyPool[c.m_solverBodyIdA];
+            btSolverBody& b = m_tmpSolverBodyPool[c.m_solverBodyIdB];
+            rhs_[i] = (c.m_rhs - c.m_appliedImpulse * c.m_cfm) / c.m_jacDiagABInv -
+                      (row_velocity(c, a, b) + c.m_rhs / c.m_jacDiagABInv);
+        }
+        // L y = r, D z = y, L' x = z (in place)
+        for (int i = 0; i < n; ++i) {
+            double sum = rhs_[i];
+            const double* l = &chol_[static_cast<size_t>(i) * n];
+            for (int k = first_[i]; k < i; ++k)
+                sum -= l[k] * rhs_[k];
+            rhs_[i] = sum;
+        }
+        for (int i = 0; i < n; ++i)
+            rhs_[i] /= diag_[i];
+        for (int k = n - 1; k > 0; --k) {  // x_k is final: take it out of the rows above
+            const double x = rhs_[k];
+            const double* l = &chol_[static_cast<size_t>(k) * n];
+            for (int j = first_[k]; j < k; ++j)
+                rhs_[j] -= l[j] * x;
+        }
+        for (int i = 0; i < n; ++i) {
+            btSolverConstraint& c = pool[block_[i]];
+            const btScalar d = static_cast<btScalar>(rhs_[i]);
+            apply(c, m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB],
+                  d);
+            residual = btMax(residual, d * d / (c.m_jacDiagABInv * c.m_jacDiagABInv));
+        }
+        return residual;
+    }
+
+    // J_i M^-1 J_j' over the bodies rows i and j share
+    btScalar coupling(const btSolverConstraint& x, const btSolverConstraint& y) const {
+        btScalar sum = 0;
+        auto side = [&](int body, const btVector3& lin, const btVector3& ang) {
+            const btSolverBody& s = m_tmpSolverBodyPool[body];
+            if (y.m_solverBodyIdA == body)
+                sum += lin.dot(y.m_contactNormal1 * s.internalGetInvMass()) +
+                       ang.dot(y.m_angularComponentA);
+            if (y.m_solverBodyIdB == body)
+                sum += lin.dot(y.m_contactNormal2 * s.internalGetInvMass()) +
+                       ang.dot(y.m_angularComponentB);
+        };
+        side(x.m_solverBodyIdA, x.m_contactNormal1, x.m_relpos1CrossNormal);
+        if (x.m_solverBodyIdB != x.m_solverBodyIdA)
+            side(x.m_solverBodyIdB, x.m_contactNormal2, x.m_relpos2CrossNormal);
+        return sum;
+    }
+
+    void factor_block() {
+        btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
+        const btScalar big = SIMD_INFINITY / 2;
+        block_.clear();
+        in_block_.assign(pool.size(), 0);
+        for (int j = 0; j < pool.size(); ++j) {
+            const btSolverConstraint& c = pool[j];
+            if (c.m_lowerLimit <= -big && c.m_upperLimit >= big && c.m_jacDiagABInv > 0) {
+                block_.push_back(j);
+                in_block_[j] = 1;
+            }
+        }
+        const int n = static_cast<int>(block_.size());
+        // only the profile is written and read: no n x n clearing
+        chol_.resize(static_cast<size_t>(n) * n);
+        first_.assign(n, 0);
+        diag_.assign(n, 0);
+        rhs_.assign(n, 0);
+        // the rows coupled to row i are those earlier on its bodies (a fixed body couples none)
+        rows_of_body_.resize(m_tmpSolverBodyPool.size());
+        for (std::vector<int>& rows : rows_of_body_)
+            rows.clear();
+        auto moving = [&](int body) { return !m_tmpSolverBodyPool[body].m_invMass.fuzzyZero(); };
+        for (int i = 0; i < n; ++i) {
+            const btSolverConstraint& x = pool[block_[i]];
+            const int bodies[2] = {x.m_solverBodyIdA, x.m_solverBodyIdB};
+            int first = i;
+            for (int body : bodies) {
+                if (!moving(body)) continue;
+                for (int j : rows_of_body_[body])
+                    first = std::min(first, j);
+            }
+            first_[i] = first;
+            double* row = &chol_[static_cast<size_t>(i) * n];
+            std::fill(row + first, row + i, 0.0);
+            for (int body : bodies) {
+                if (!moving(body)) continue;
+                for (int j : rows_of_body_[body])
+                    row[j] = coupling(x, pool[block_[j]]);
+            }
+            row[i] = 1 / x.m_jacDiagABInv + x.m_cfm / x.m_jacDiagABInv;
+            for (int body : bodies) {
+                if (moving(body) && (body == bodies[0] || bodies[0] != bodies[1]))
+                    rows_of_body_[body].push_back(i);
+            }
+        }
+        // L D L' on the profile: L(i,j) is zero left of first_[i], and so is its fill
+        for (int i = 0; i < n; ++i) {
+            for (int j = first_[i]; j <= i; ++j) {
+                double sum = chol_[i * n + j];
+                for (int k = std::max(first_[i], first_[j]); k < j; ++k)
+                    sum -= chol_[i * n + k] * chol_[j * n + k] * diag_[k];
+                if (j < i) {
+                    chol_[i * n + j] = sum / diag_[j];
+                } else {
+                    // redundant rows (a closed loop of joints) make K singular: such a row then
+                    // keeps its own diagonal, as pgs would solve it
+                    const double own = 1 / pool[block_[i]].m_jacDiagABInv;
+                    diag_[i] = sum > 1e-9 * own ? sum : own;
+                }
+            }
+        }
+    }
+
+    bool uses_block() const {
+        return method_ == SolverMethod::block || method_ == SolverMethod::block_nncg;
+    }
+
     FrictionModel model_ = FrictionModel::disk;
+    SolverMethod method_ = SolverMethod::pgs;
+    std::vector<btScalar> before_, direction_;  // nncg: impulses after the last sweep, p
+    // nncg: each solver body's delta velocities (linear, angular) after the last sweep, M^-1 J' p
+    std::vector<btVector3> body_before_, body_direction_;
+    btScalar previous_ = 0;  // nncg: |d_k-1|^2
+    // block: its rows (indices in the joint pool), which rows are in it, L (below the
+    // diagonal, row-major n x n), D, each row's first column of the profile, the right side
+    std::vector<int> block_, first_;
+    std::vector<std::vector<int>> rows_of_body_;  // block: the rows so far on each solver body
+    std::vector<char> in_block_;
+    std::vector<double> chol_, diag_, rhs_;
     std::vector<btPersistentManifold*> sorted_manifolds_;
     std::vector<btTypedConstraint*> sorted_constraints_;
 

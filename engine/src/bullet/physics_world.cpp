@@ -199,11 +199,14 @@ struct PhysicsWorld::Impl {
     }
 };
 
-PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iterations)
+PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iterations,
+                           ConstraintSolver solver)
     : impl_(std::make_unique<Impl>()) {
     Impl& s = *impl_;
     s.world.setGravity(to_bt(spec.gravity));
     s.world.getSolverInfo().m_numIterations = solver_iterations;
+    s.solver.set_method(solver == ConstraintSolver::block_nncg ? SolverMethod::block_nncg
+                                                               : SolverMethod::pgs);
     // friction: CoulombSolver (one row where a contact slides, two where it does not)
     // only bodies that move get their bounding boxes updated each step. Bullet's default
     // updates every body's, static ones included, and each update of a static body moves its

@@ -9,6 +9,7 @@
 
 #include <vector>
 
+#include "gaitlab/options.h"
 #include "gaitlab/types.h"
 #include "gaitlab/world.h"
 
@@ -24,7 +25,8 @@ class PhysicsWorld {
   public:
     /// Builds the Bullet scene for `world`; `dt` sets the servo torque limits as impulses.
     /// Throws SpecError if a heightfield's image cannot be read.
-    PhysicsWorld(const WorldSpec& world, double dt, int solver_iterations);
+    PhysicsWorld(const WorldSpec& world, double dt, int solver_iterations,
+                 ConstraintSolver solver = ConstraintSolver::pgs);
     ~PhysicsWorld();
     PhysicsWorld(const PhysicsWorld&) = delete;
     PhysicsWorld& operator=(const PhysicsWorld&) = delete;

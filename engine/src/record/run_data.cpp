@@ -309,6 +309,12 @@ RunMeta meta_from(const formats::JsonDocument& doc) {
         if (formats::str_at(*s, "on_controller_error") == "continue") {
             m.options.on_controller_error = ControllerErrorPolicy::continue_;
         }
+        if (const json* solver = formats::find(*s, "solver")) {
+            const std::string name = solver->is_string() ? solver->get<std::string>() : "";
+            if (!parse_solver(name, m.options.solver)) {
+                r.fail(*solver, "simulation.solver: 'pgs' or 'block_nncg' expected");
+            }
+        }
     }
     if (const json* rec = formats::find(j, "recording")) {
         m.record_every = static_cast<int>(

@@ -263,7 +263,8 @@ std::string Simulation::unique_label(const std::string& base) {
 }
 
 void Simulation::build() {
-    physics_ = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations);
+    physics_ = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations,
+                                              options_.solver);
     for (size_t r = 0; r < robots_.size(); ++r) {
         robots_[r].start_position = robot_position(static_cast<int>(r));
     }
@@ -364,7 +365,8 @@ Simulation::Simulation(const Simulation& from, Copying)
         listen(drive_count() - 1);
     }
     sensing_ = from.sensing_->copy();
-    physics_ = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations);
+    physics_ = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations,
+                                              options_.solver);
     physics_->copy_state_from(*from.physics_);
     sensing_->adopt(*physics_);
     paused_ = from.paused_;
@@ -378,7 +380,8 @@ std::unique_ptr<Simulation> Simulation::clone() {
         copy.reset(new Simulation(*this, Copying{}));
         // the original goes on in a world rebuilt as the copy's was: Bullet's internal state
         // (broadphase trees, pair and manifold order) then matches the copy's exactly
-        rebuilt = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations);
+        rebuilt = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations,
+                                                 options_.solver);
         rebuilt->copy_state_from(*physics_);
     } catch (const std::bad_alloc&) {
         throw out_of_memory();

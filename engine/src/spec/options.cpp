@@ -28,6 +28,20 @@ const char* to_string(ControllerErrorPolicy policy) {
     return "stop";
 }
 
+const char* to_string(ConstraintSolver solver) {
+    return solver == ConstraintSolver::block_nncg ? "block_nncg" : "pgs";
+}
+
+bool parse_solver(std::string_view name, ConstraintSolver& solver) {
+    for (ConstraintSolver c : {ConstraintSolver::pgs, ConstraintSolver::block_nncg}) {
+        if (name == to_string(c)) {
+            solver = c;
+            return true;
+        }
+    }
+    return false;
+}
+
 long checked_ticks(std::string_view what, double seconds, double dt, long done) {
     if (!(std::isfinite(seconds) && seconds >= 0)) {
         throw SpecError(fmt::format("{} must be a non-negative number of seconds (got {})", what,

@@ -185,6 +185,37 @@ TEST_CASE("the sliding contacts of the pitch-yaw rolling gait obey Coulomb frict
     CHECK(sim.robot_displacement(0).y < -0.3);
 }
 
+TEST_CASE("block_nncg solves the rolling pitch-yaw chain in 20 iterations, pgs does not") {
+    // issue 14 points 2 and 5 (docs/performance.md, "Converging the solve"): with Bullet's
+    // sequential impulses the rolling gait's drift along its axis depends on the iterations
+    // (-102, -79, -43, -35 mm per cycle at 20, 80, 320, 1280); block_nncg's converges, near -21
+    auto travel = [](ConstraintSolver solver, double dt, int iterations) {
+        WorldSpec w = test::chain_world(8, Connection::pitch_yaw);
+        w.floor.friction = 1.0;
+        SimulationOptions o;
+        o.dt = dt;
+        o.control_every = static_cast<int>(std::lround(0.01 / dt));
+        o.solver_iterations = iterations;
+        o.solver = solver;
+        Simulation sim(w, o);
+        test::drive(sim, "pitch", test::sine(40, 0.5, 0));
+        test::drive(sim, "yaw", test::sine(40, 0.5, 0, -90));
+        sim.run(2);
+        const Vec3 start = sim.robot_displacement(0);
+        sim.run(10);
+        return sim.robot_displacement(0) - start;
+    };
+    const Vec3 ref = travel(ConstraintSolver::block_nncg, 0.00025, 80);
+    const Vec3 block = travel(ConstraintSolver::block_nncg, 0.001, 20);
+    const Vec3 pgs = travel(ConstraintSolver::pgs, 0.001, 20);
+    const double off_block = norm2(block - ref) / norm2(ref),
+                 off_pgs = norm2(pgs - ref) / norm2(ref);
+    CAPTURE(ref.x, ref.y, block.x, block.y, pgs.x, pgs.y, off_block, off_pgs);
+    CHECK(norm2(ref) > 0.5);  // it rolls about 1 m in 5 cycles
+    CHECK(off_block < 0.03);
+    CHECK(off_pgs > 0.1);
+}
+
 TEST_CASE("an undriven robot at rest creeps less than 0.2 mm in 20 s") {
     const Connection connection = GENERATE(Connection::pitch_pitch, Connection::pitch_yaw);
     const double floor = GENERATE(0.3, 1.0);

@@ -176,6 +176,33 @@ TEST_CASE("cloning does not change the original's future") {
     SECTION("two robots and objects") {
         check(robots_and_objects);
     }
+    SECTION("solver block_nncg: two robots and objects, and the rolling pitch-yaw chain") {
+        // the solver's block and conjugate-gradient state lives within a step
+        check([] {
+            WorldSpec world = test::chain_world(6, Connection::pitch_yaw);
+            PlacedRobot second = world.robots[0];
+            second.pose.position = {0.1, 0.25, 0};
+            world.robots.push_back(second);
+            BoxSpec box;
+            box.size = {0.06, 0.06, 0.06};
+            box.pose.position = {0.1, 0.12, 0.03};
+            box.mass = 0.05;
+            world.boxes.push_back(box);
+            SimulationOptions o;
+            o.solver = ConstraintSolver::block_nncg;
+            auto sim = std::make_unique<Simulation>(world, o);
+            test::drive_pitch_yaw_gait(*sim);
+            return sim;
+        });
+        check([] {
+            SimulationOptions o;
+            o.solver = ConstraintSolver::block_nncg;
+            auto sim = std::make_unique<Simulation>(test::chain_world(8, Connection::pitch_yaw), o);
+            test::drive(*sim, "pitch", test::sine(40, 0.5, 0));
+            test::drive(*sim, "yaw", test::sine(40, 0.5, 0, -90));
+            return sim;
+        });
+    }
     SECTION("over rubble") {
         check([] {
             WorldSpec world = test::chain_world(8, Connection::pitch_yaw);

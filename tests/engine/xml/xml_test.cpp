@@ -381,6 +381,7 @@ TEST_CASE("simulation files round-trip and name missing parts by their resolved 
     s.options.solver_iterations = 30;
     s.options.seed = 42;
     s.options.on_controller_error = ControllerErrorPolicy::pause;
+    s.options.solver = ConstraintSolver::block_nncg;
     s.environment = "env.xml";
     s.robots = {{"snake.xml", ""}};
     s.record.enabled = false;
@@ -395,6 +396,7 @@ TEST_CASE("simulation files round-trip and name missing parts by their resolved 
     CHECK(back.options.solver_iterations == 30);
     CHECK(back.options.seed == 42);
     CHECK(back.options.on_controller_error == ControllerErrorPolicy::pause);
+    CHECK(back.options.solver == ConstraintSolver::block_nncg);
     CHECK(back.environment == "env.xml");
     REQUIRE(back.robots.size() == 1);
     CHECK(back.robots[0].robot == "snake.xml");
@@ -415,6 +417,12 @@ TEST_CASE("simulation files round-trip and name missing parts by their resolved 
     CHECK_THROWS_WITH(
         read_simulation(dir.file("bad2.xml")),
         dir.file("bad2.xml") + ":3: simulation: dt must be in [1e-06, 0.1] s (got 0.5)");
+    test::write_text(dir.file("bad4.xml"), doc("<simulation solver=\"fast\">\n<environment "
+                                               "file=\"env.xml\"/></simulation>"));
+    CHECK_THROWS_WITH(read_simulation(dir.file("bad4.xml")),
+                      dir.file("bad4.xml") +
+                          ":3: simulation: attribute 'solver': 'pgs' or "
+                          "'block_nncg' expected, got 'fast'");
     test::write_text(dir.file("bad3.xml"), doc("<simulation/>"));
     CHECK_THROWS_WITH(read_simulation(dir.file("bad3.xml")),
                       dir.file("bad3.xml") +
