@@ -4,7 +4,8 @@
 --
 --   local chain_run = require "chain_run"
 --   local r = chain_run{ modules =, connection =, friction =, dt =, iterations =,
---                        settle =, cycles =, frequency =, drive = function(robot) ... end }
+--                        settle =, cycles =, frequency =, drive = function(robot) ... end,
+--                        solver = (optional: the simulation's solver, default the engine's) }
 --   -- r.x, r.y: mm per cycle along x (the chain's axis at the start) and across it (y);
 --   -- r.cpu: CPU seconds of the run
 return function(o)
@@ -15,7 +16,8 @@ return function(o)
   o.drive(robot)
   local sim = gaitlab.simulation{ world = world, dt = o.dt,
                                   control_every = math.floor(0.01 / o.dt + 0.5),
-                                  solver_iterations = o.iterations, record = false }
+                                  solver_iterations = o.iterations, solver = o.solver,
+                                  record = false }
   local r = sim:robot("snake")
   local t0 = os.clock()
   sim:run(o.settle)

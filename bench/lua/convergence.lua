@@ -7,11 +7,13 @@
 --   gaitlab run bench/lua/convergence.lua --no-record GAIT N MU   one row (GAIT: pp, py-roll, py-wave)
 --
 -- CONV_CYCLES (default 5) sets the cycles measured, CONV_MODULES (default "2 8 32") and
--- CONV_FRICTION (default "0.3 1.0") the grid. Each run starts at time 0 (the same start every
+-- CONV_FRICTION (default "0.3 1.0") the grid, CONV_SOLVER the simulation's `solver` (default the
+-- engine's, "pgs"; "block_nncg" solves each robot's joints as one system, docs/architecture.md). Each run starts at time 0 (the same start every
 -- time), settles for 2 s, then measures; the control period stays 10 ms at every dt.
 local chain_run = require "chain_run"
 
 local cycles = tonumber(os.getenv("CONV_CYCLES") or "5")
+local solver = os.getenv("CONV_SOLVER")
 local frequency = 0.5
 local settle = 2
 
@@ -45,7 +47,7 @@ end
 local function run(gait, modules, friction, dt, iterations, direction)
   return chain_run{ modules = modules, connection = gait == "pp" and "pitch-pitch" or "pitch-yaw",
                     friction = friction, dt = dt, iterations = iterations, settle = settle,
-                    cycles = cycles, frequency = frequency,
+                    cycles = cycles, frequency = frequency, solver = solver,
                     drive = function(robot) drive(robot, gait, direction or 1) end }
 end
 
