@@ -259,8 +259,13 @@ try {
     window.gaitlab.three.adaptive.budget = 10;
     window.gaitlab.three.adaptive.gain = Infinity;
   });
-  await page.waitForFunction(() => window.gaitlab.three.adaptive.scale < 1, null, { timeout: 30000 })
-    .catch(() => {});
+  // the canvas takes the lower resolution at the next drawing, which may come a few animation
+  // frames later while the simulation is behind (the page then draws at most 36 times a second)
+  await page.waitForFunction(() => {
+    const { adaptive, renderer } = window.gaitlab.three;
+    const c = renderer.domElement;
+    return adaptive.scale < 1 && c.width < c.clientWidth * window.devicePixelRatio;
+  }, null, { timeout: 30000 }).catch(() => {});
   const low = await page.evaluate(() => {
     const { adaptive, renderer } = window.gaitlab.three;
     const c = renderer.domElement;
@@ -290,8 +295,13 @@ try {
   });
   check(full.width === Math.floor(full.css), `"Full quality" draws at the full size (${full.width} of ${full.css}; "${full.text}")`);
   await page.uncheck('#full-quality');
-  await page.waitForFunction(() => window.gaitlab.three.adaptive.scale < 1, null, { timeout: 30000 })
-    .catch(() => {});
+  // the canvas takes the lower resolution at the next drawing, which may come a few animation
+  // frames later while the simulation is behind (the page then draws at most 36 times a second)
+  await page.waitForFunction(() => {
+    const { adaptive, renderer } = window.gaitlab.three;
+    const c = renderer.domElement;
+    return adaptive.scale < 1 && c.width < c.clientWidth * window.devicePixelRatio;
+  }, null, { timeout: 30000 }).catch(() => {});
   check(await page.evaluate(() => window.gaitlab.three.adaptive.scale < 1), 'unticked, it adapts again');
 
   // a recording is at the full size while it runs
