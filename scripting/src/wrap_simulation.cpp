@@ -233,7 +233,7 @@ int simulation_new(lua_State* L) {
         }
         const std::string solver = f.string("solver", "pgs");
         if (!parse_solver(solver, o.solver)) {
-            f.fail("solver", "'pgs' or 'block_nncg' expected, got '" + solver + "'");
+            f.fail("solver", solver_names() + " expected, got '" + solver + "'");
         }
         f.push("record");
         const RecordRequest request = to_request(L, -1, 1, "field 'record': ");

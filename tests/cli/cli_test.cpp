@@ -587,6 +587,38 @@ TEST_CASE("gaitlab replay reproduces a run bit for bit and says when it does not
                   "gaitlab: no run folder at " + (tmp / "nothing"));
 }
 
+TEST_CASE("a run of the block_nncg solver replays with it, and not with pgs", "[cli][replay]") {
+    TempDir tmp("cli_replay_solver");
+    write_text(tmp / "pyroll.lua",
+               "local robot = gaitlab.robot.chain{ name = 'snake', modules = 4, connection = "
+               "'pitch-yaw' }\n"
+               "local world = gaitlab.world{ floor = { friction = 1.0 } }\n"
+               "world:add(robot)\n"
+               "robot:group('pitch'):drive(gaitlab.controllers.sine{ amplitude = 40, frequency "
+               "= 0.5 })\n"
+               "robot:group('yaw'):drive(gaitlab.controllers.sine{ amplitude = 40, frequency = "
+               "0.5, phase0 = 90 })\n"
+               "local sim = gaitlab.simulation{ world = world, solver = 'block_nncg' }\n"
+               "sim:run(2)\n");
+    REQUIRE(cli({"run", "--record", tmp / "run", tmp / "pyroll.lua"}, tmp.str()).status == 0);
+    CHECK(gaitlab::RunData(tmp / "run").meta().options.solver ==
+          gaitlab::ConstraintSolver::block_nncg);
+    const Run r = cli({"replay", tmp / "run"});
+    CHECK(r.status == 0);
+    CHECK_THAT(r.out, Catch::StartsWith("replay identical: "));
+    CHECK_THAT(r.out, Catch::Contains("bit for bit"));
+    // the same run said to be solved by pgs: the script's simulation no longer matches it
+    const std::string meta = slurp(tmp / "run/run.json");
+    const size_t at = meta.find("\"block_nncg\"");
+    REQUIRE(at != std::string::npos);
+    write_text(tmp / "run/run.json", meta.substr(0, at) + "\"pgs\"" + meta.substr(at + 12));
+    const Run d = cli({"replay", tmp / "run", "--into", tmp / "other"});
+    CHECK(d.status == 1);
+    CHECK_THAT(d.err, Catch::StartsWith("gaitlab: replay differs: the replayed simulation has "
+                                        "other options (dt, control_every, solver_iterations, "
+                                        "solver, seed or on_controller_error) than the run"));
+}
+
 TEST_CASE("a run killed with SIGKILL leaves a readable folder missing at most one flush period",
           "[cli][data]") {
     TempDir tmp("cli_kill");

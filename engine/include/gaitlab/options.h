@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 namespace gaitlab {
@@ -30,6 +31,8 @@ enum class ConstraintSolver {
 const char* to_string(ConstraintSolver solver);
 /// The solver `name` names ("pgs" or "block_nncg"); false if it names none.
 bool parse_solver(std::string_view name, ConstraintSolver& solver);
+/// The names parse_solver takes, for messages: "'pgs' or 'block_nncg'".
+std::string solver_names();
 
 /// Limits of simulation options and run lengths (docs/formats.md).
 inline constexpr int kMaxControlEvery = 1000000;  ///< also the limit of a recording's every

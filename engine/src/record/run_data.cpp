@@ -312,7 +312,7 @@ RunMeta meta_from(const formats::JsonDocument& doc) {
         if (const json* solver = formats::find(*s, "solver")) {
             const std::string name = solver->is_string() ? solver->get<std::string>() : "";
             if (!parse_solver(name, m.options.solver)) {
-                r.fail(*solver, "simulation.solver: 'pgs' or 'block_nncg' expected");
+                r.fail(*solver, "simulation.solver: " + solver_names() + " expected");
             }
         }
     }

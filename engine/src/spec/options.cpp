@@ -1,6 +1,8 @@
 #include "gaitlab/options.h"
 
 #include <cmath>
+#include <iterator>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -32,14 +34,27 @@ const char* to_string(ConstraintSolver solver) {
     return solver == ConstraintSolver::block_nncg ? "block_nncg" : "pgs";
 }
 
+namespace {
+constexpr ConstraintSolver kSolvers[] = {ConstraintSolver::pgs, ConstraintSolver::block_nncg};
+}  // namespace
+
 bool parse_solver(std::string_view name, ConstraintSolver& solver) {
-    for (ConstraintSolver c : {ConstraintSolver::pgs, ConstraintSolver::block_nncg}) {
+    for (ConstraintSolver c : kSolvers) {
         if (name == to_string(c)) {
             solver = c;
             return true;
         }
     }
     return false;
+}
+
+std::string solver_names() {
+    std::string names;
+    for (std::size_t i = 0; i < std::size(kSolvers); ++i) {
+        if (i > 0) names += i + 1 == std::size(kSolvers) ? " or " : ", ";
+        names += fmt::format("'{}'", to_string(kSolvers[i]));
+    }
+    return names;
 }
 
 long checked_ticks(std::string_view what, double seconds, double dt, long done) {

@@ -59,8 +59,7 @@ SimulationFile read_simulation_element(const Element& root) {
     o.on_controller_error = parse_policy(root);
     const std::string solver = root.string("solver", "pgs");
     if (!parse_solver(solver, o.solver)) {
-        root.fail(
-            fmt::format("attribute 'solver': 'pgs' or 'block_nncg' expected, got '{}'", solver));
+        root.fail(fmt::format("attribute 'solver': {} expected, got '{}'", solver_names(), solver));
     }
     root.check([&] {
         validate(o);

@@ -265,6 +265,13 @@ TEST_CASE("run.json from elsewhere is checked value by value, with its line", "[
         "simulation.control_every: a whole number from 1 to 2147483647 expected");
     bad("\"control_every\": 30", "\"control_every\": 1e300",
         "simulation.control_every: a whole number from 1 to 2147483647 expected");
+    // a run of the default solver has no "solver" key: one written in by hand is checked
+    bad("\"solver_iterations\": 20", "\"solver\": \"fast\", \"solver_iterations\": 20",
+        "simulation.solver: 'pgs' or 'block_nncg' expected");
+    bad("\"solver_iterations\": 20", "\"solver\": 1, \"solver_iterations\": 20",
+        "simulation.solver: 'pgs' or 'block_nncg' expected");
+    bad("\"solver_iterations\": 20", "\"solver\": null, \"solver_iterations\": 20",
+        "simulation.solver: 'pgs' or 'block_nncg' expected");
     bad("\"first_tick\": 0", "\"first_tick\": -5",
         "first_tick: a whole number from 0 to 9000000000000000000 expected");
     bad("\"flush_seconds\": 2", "\"flush_seconds\": -1",
