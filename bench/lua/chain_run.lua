@@ -7,7 +7,8 @@
 --                        settle =, cycles =, frequency =, drive = function(robot) ... end,
 --                        solver = (optional: the simulation's solver, default the engine's) }
 --   -- r.x, r.y: mm per cycle along x (the chain's axis at the start) and across it (y);
---   -- r.cpu: CPU seconds of the run
+--   -- r.speed: the per-cycle speed, the mean over the cycles of the length of each cycle's
+--   -- horizontal displacement (mm), which a robot that turns slowly keeps; r.cpu: CPU seconds of the run
 return function(o)
   local robot = gaitlab.robot.chain{ name = "snake", modules = o.modules,
                                      connection = o.connection }
@@ -22,7 +23,14 @@ return function(o)
   local t0 = os.clock()
   sim:run(o.settle)
   local p0 = r:position()
-  sim:run(o.cycles / o.frequency)
-  local d = r:position() - p0
-  return { x = 1000 * d.x / o.cycles, y = 1000 * d.y / o.cycles, cpu = os.clock() - t0 }
+  local last, length = p0, 0
+  for _ = 1, o.cycles do
+    sim:run(1 / o.frequency)
+    local p = r:position()
+    length = length + math.sqrt((p.x - last.x) ^ 2 + (p.y - last.y) ^ 2)
+    last = p
+  end
+  local d = last - p0
+  return { x = 1000 * d.x / o.cycles, y = 1000 * d.y / o.cycles,
+           speed = 1000 * length / o.cycles, cpu = os.clock() - t0 }
 end

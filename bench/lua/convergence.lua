@@ -8,11 +8,24 @@
 --
 -- CONV_CYCLES (default 5) sets the cycles measured, CONV_MODULES (default "2 8 32") and
 -- CONV_FRICTION (default "0.3 1.0") the grid, CONV_SOLVER the simulation's `solver` (default the
--- engine's, "pgs"; "block_nncg" solves each robot's joints as one system, docs/architecture.md). Each run starts at time 0 (the same start every
--- time), settles for 2 s, then measures; the control period stays 10 ms at every dt.
+-- engine's, "pgs"; "block_nncg" solves each robot's joints as one system, docs/architecture.md).
+-- Each run starts at time 0 (the same start every time), settles for 2 s, then measures; the
+-- control period stays 10 ms at every dt.
+--
+-- CONV_MEASURE=speed prints issue 14's measure instead of the displacement vectors: the
+-- per-cycle speed (the mean length of each cycle's displacement, 10 cycles unless CONV_CYCLES
+-- says otherwise), for pitch-yaw gaits averaged over 5 start phases (0, 72, 144, 216 and 288 deg
+-- added to every joint's phase; CONV_PHASES sets them), and the spread of the direction of
+-- travel between the settings. The vectors compare where the robot went, which for a gait
+-- whose heading wanders (a long pitch-yaw chain's does, from a perturbation of 1e-9 deg) is
+-- the heading more than the speed.
 local chain_run = require "chain_run"
 
-local cycles = tonumber(os.getenv("CONV_CYCLES") or "5")
+local measure = os.getenv("CONV_MEASURE") or "vector"
+if measure ~= "vector" and measure ~= "speed" then
+  error("CONV_MEASURE: 'vector' or 'speed' expected, got '" .. measure .. "'")
+end
+local cycles = tonumber(os.getenv("CONV_CYCLES") or (measure == "speed" and "10" or "5"))
 local solver = os.getenv("CONV_SOLVER")
 local frequency = 0.5
 local settle = 2
@@ -28,27 +41,34 @@ end
 -- pitch-yaw chain (Gonzalez-Gomez et al., CLAWAR 2006: all joints of a plane in phase, the yaw
 -- joints 90 deg behind); py-wave, the benchmark's pitch-yaw gait (docs/performance.md,
 -- "Workload": a 40 deg pitch wave and a 20 deg yaw wave, 120 deg between neighbours)
-local function drive(robot, gait, direction)
+-- joints' phases (`start`, deg) added to every joint
+local function drive(robot, gait, direction, start)
   local sine = gaitlab.controllers.sine
+  local function wrap(a) return (a + 180) % 360 - 180 end
+  local s = wrap(start or 0)
   if gait == "pp" then
-    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = frequency, phase = 120 * direction })
+    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = frequency,
+                                     phase = 120 * direction, phase0 = s })
   elseif gait == "py-roll" then
-    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = frequency, phase = 0 })
-    robot:group("yaw"):drive(sine{ amplitude = 40, frequency = frequency, phase = 0, phase0 = -90 })
+    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = frequency, phase = 0, phase0 = s })
+    robot:group("yaw"):drive(sine{ amplitude = 40, frequency = frequency, phase = 0,
+                                   phase0 = wrap(-90 + s) })
   elseif gait == "py-wave" then
-    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = frequency, phase = 120 })
-    robot:group("yaw"):drive(sine{ amplitude = 20, frequency = frequency, phase = 120 })
+    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = frequency, phase = 120,
+                                     phase0 = s })
+    robot:group("yaw"):drive(sine{ amplitude = 20, frequency = frequency, phase = 120,
+                                   phase0 = s })
   else
     error("unknown gait '" .. gait .. "' (expected pp, py-roll or py-wave)")
   end
 end
 
 -- one run: mm per cycle along the body's axis at the start (x) and across it (y), CPU seconds
-local function run(gait, modules, friction, dt, iterations, direction)
+local function run(gait, modules, friction, dt, iterations, direction, start)
   return chain_run{ modules = modules, connection = gait == "pp" and "pitch-pitch" or "pitch-yaw",
                     friction = friction, dt = dt, iterations = iterations, settle = settle,
                     cycles = cycles, frequency = frequency, solver = solver,
-                    drive = function(robot) drive(robot, gait, direction or 1) end }
+                    drive = function(robot) drive(robot, gait, direction or 1, start) end }
 end
 
 -- change of a per-cycle displacement from `base`, in % of base's length
@@ -79,6 +99,56 @@ local function convergence_row(gait, modules, friction)
                       r[3].cpu, r[4].cpu))
   io.stdout:flush()
   return r
+end
+
+-- issue 14's measure: per-cycle speed at each setting, averaged over the start phases
+local phases_py = numbers(os.getenv("CONV_PHASES") or "0 72 144 216 288")
+
+local function pct(a, b) return 100 * math.abs(a - b) / b end
+
+local function speed_row(gait, modules, friction)
+  local phases = gait == "pp" and { 0 } or phases_py
+  local mean, worst, turn = {}, 0, 0
+  local per = {}
+  for i, s in ipairs(settings) do
+    mean[i], per[i] = 0, {}
+    for k, start in ipairs(phases) do
+      per[i][k] = run(gait, modules, friction, s.dt, s.iterations, 1, start)
+      mean[i] = mean[i] + per[i][k].speed / #phases
+    end
+  end
+  for k = 1, #phases do
+    local a, b = per[1][k], per[4][k]
+    worst = math.max(worst, pct(a.speed, b.speed))
+    local cos = (a.x * b.x + a.y * b.y) / math.sqrt((a.x ^ 2 + a.y ^ 2) * (b.x ^ 2 + b.y ^ 2))
+    turn = math.max(turn, math.deg(math.acos(math.max(-1, math.min(1, cos)))))
+  end
+  print(string.format("| %s | %d | %.1f | %.1f | %.1f | %.1f | %.1f | %s | %s | %s | %s | %.0f° |",
+                      gait, modules, friction, mean[1], mean[2], mean[3], mean[4],
+                      mark(pct(mean[2], mean[1])), mark(pct(mean[3], mean[1])),
+                      mark(pct(mean[1], mean[4])), mark(worst), turn))
+  io.stdout:flush()
+end
+
+if measure == "speed" then
+  print(string.format("per-cycle speed (mm), %d cycles of %g s after %g s; pitch-yaw: the mean "
+                      .. "of start phases %s deg", cycles, 1 / frequency, settle,
+                      table.concat(phases_py, ", ")))
+  print("| gait | N | μ | default (1 ms, 20 it) | dt/4 | 4× it | ref (dt/4, 4× it) | Δ dt/4 % "
+        .. "| Δ 4× it % | default vs ref % | worst start phase % | heading, default vs ref |")
+  print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+  if arg[1] then
+    speed_row(arg[1], tonumber(arg[2] or "8"), tonumber(arg[3] or "0.5"))
+    return
+  end
+  for _, gait in ipairs{ "pp", "py-roll", "py-wave" } do
+    for _, n in ipairs(numbers(os.getenv("CONV_MODULES") or "2 8 32")) do
+      for _, mu in ipairs(numbers(os.getenv("CONV_FRICTION") or "0.3 1.0")) do
+        speed_row(gait, n, mu)
+      end
+    end
+  end
+  return
 end
 
 local header = "| gait | N | μ | default (1 ms, 20 it) | dt/4 | 4× it | ref (dt/4, 4× it) "
