@@ -55,6 +55,13 @@ solver|^gaitlab::CoulombSolver::solveGroup\(
   finish|^gaitlab::CoulombSolver::solveGroupCacheFriendlyFinish\(
 integration|^btDiscreteDynamicsWorld::(predictUnconstraintMotion|integrateTransforms)\(
 islands|^btDiscreteDynamicsWorld::calculateSimulationIslands\(\)'
+# with solver = block_nncg, the iterations' own parts too (in "iterations" above)
+block_parts='    of them: a sweep and the nncg step|^gaitlab::CoulombSolver::own_iteration\(
+      the joints'"'"' block factored (first iteration)|^gaitlab::CoulombSolver::factor_block\(\)
+      the joints'"'"' block solved (substitutions)|^gaitlab::CoulombSolver::solve_block\(\)
+      friction disks|^gaitlab::CoulombSolver::solve_friction\(
+      motor rows (outside the block; unnamed in Debian'"'"'s libbullet 3.24, the rows the sweep calls)|^0x000000000004aa00$
+      contact rows (the same)|^0x000000000004a790$'
 ode_parts='whole loop (main: gait, servo, collide, step; set-up included)|^main$
 collision|^dSpaceCollide$
   box-plane pairs|^dCollideBoxPlane\(
@@ -84,6 +91,10 @@ for s in "${settings[@]}"; do
             cmd=("$gaitlab" run "$root/bench/lua/anchor_snake.lua" "n=$n" "conn=$conn" "dt=$dt"
                 "iters=$it" "ce=$ce" "time=$secs" ${solver:+"solver=$solver"} --no-record)
             parts=$gaitlab_parts
+            if [ "${solver:-}" = block_nncg ]; then
+                # after the iterations' rows
+                parts=$(EXTRA=$block_parts awk '{ print } /^    split impulse\|/ { print ENVIRON["EXTRA"] }' <<< "$gaitlab_parts")
+            fi
             ;;
         ode)
             [ -x "$anchors/ode_snake" ] || { echo "anchors_profile.sh: no ode_snake in '$anchors' (--anchors DIR)" >&2; exit 2; }
