@@ -76,7 +76,10 @@ contact joints freed|^dJointGroupEmpty$'
 printf '| setting | part | instructions per step | share of the whole step | calls per step |\n|---|---|---|---|---|\n'
 for s in "${settings[@]}"; do
     IFS=: read -r e conn dtms it solver extra <<< "$s"
-    [ -n "${it:-}" ] && [ -z "${extra:-}" ] || { echo "anchors_profile.sh: '$s' is not ENGINE:CONN:DT_MS:ITERS[:SOLVER]" >&2; exit 2; }
+    if [ -z "${it:-}" ] || [ -n "${extra:-}" ]; then
+        echo "anchors_profile.sh: '$s' is not ENGINE:CONN:DT_MS:ITERS[:SOLVER]" >&2
+        exit 2
+    fi
     case "${solver:-}" in
         "" | pgs | block_nncg) ;;
         *) echo "anchors_profile.sh: '$s': the solver is pgs or block_nncg (got '$solver')" >&2; exit 2 ;;
