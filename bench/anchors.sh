@@ -17,6 +17,13 @@
 # ANCHORS_BUILD (or --anchors) names that build directory. gaitlab runs the same robot through
 # its Lua API: bench/lua/anchor_snake.lua under BIN (default build/gaitlab, or $GAITLAB).
 #
+# ANCHORS_SETTINGS=FILE replaces the built-in settings, one row a line: ENGINE DT_MS ITERS
+# PERIOD_MS [ref] [solver=pgs|block_nncg] (blank lines and lines from '#' on are skipped). A
+# gaitlab row with solver=block_nncg runs gaitlab.simulation{ solver = "block_nncg" } and is an
+# engine of its own in the tables, "gaitlab block_nncg", with its own reference row if the file
+# has one (else gaitlab's, the pgs reference, which the table then says); solver=pgs is plain
+# gaitlab (the engine's default).
+#
 # Accuracy: each run simulates 22 s and samples the head every 2 s (a gait cycle); the per-cycle
 # speed is the mean of |head displacement| over the 10 cycles after the first. Pitch-yaw
 # averages it over 5 start phases (0, 72, 144, 216, 288 deg). The runs are deterministic, so
@@ -82,35 +89,12 @@ for v in "$reps" "$jobs" "$n"; do
 done
 case "$only" in "" | accuracy | timing | none) ;; *) echo "anchors.sh: --only takes accuracy or timing (got '$only')" >&2; exit 2 ;; esac
 
-if [ -n "$from" ]; then
-    [ -f "$from" ] || { echo "anchors.sh: --from: no file '$from'" >&2; exit 2; }
-    only=none
-elif [ -z "$anchors" ] || [ ! -x "$anchors/ode_snake" ] || [ ! -x "$anchors/mujoco_snake" ]; then
-    cat >&2 << EOF
-anchors.sh: no build of the performance anchors${anchors:+ in '$anchors'} (it needs ode_snake and
-mujoco_snake there). Make one from the anchors' sources (their folder has src/common.h):
-    apt-get install -y cmake g++ pkg-config libbullet-dev libbullet-extras-dev libmujoco-dev \\
-        libode-dev liblua5.4-dev
-    bench/anchors.sh --prepare ANCHORS_SOURCE_DIR /tmp/anchors
-then run   bench/anchors.sh --anchors /tmp/anchors/build   (or set ANCHORS_BUILD).
-EOF
-    exit 2
-elif ! "$anchors/ode_snake" --n 2 --time 0.01 --trace-every 0.01 > /dev/null 2>&1; then
-    echo "anchors.sh: $anchors/ode_snake does not take --trace-every: build it with" \
-        "bench/anchors/trace.patch (bench/anchors.sh --prepare SRC DIR)" >&2
-    exit 2
-fi
-if [ ! -x "$gaitlab" ]; then
-    echo "anchors.sh: no gaitlab program at '$gaitlab': build the project (tools/build.sh) or" \
-        "give --gaitlab BIN" >&2
-    exit 2
-fi
 script=$root/bench/lua/anchor_snake.lua
 
-# settings: ENGINE DT_MS ITERS CONTROL_PERIOD_MS [ref]; one per line. The control period (the
-# gait's update) is 10 ms but where a row says otherwise. ANCHORS_SETTINGS=FILE: the rows of
-# FILE instead.
-settings() {
+# settings: ENGINE DT_MS ITERS CONTROL_PERIOD_MS [ref] [solver=NAME]; one per line. The
+# control period (the gait's update) is 10 ms but where a row says otherwise.
+# ANCHORS_SETTINGS=FILE: the rows of FILE instead.
+raw_settings() {
     if [ -n "${ANCHORS_SETTINGS:-}" ]; then
         cat "$ANCHORS_SETTINGS"
         return
@@ -164,15 +148,85 @@ mujoco 2 100 10
 EOF
 }
 
+# the rows checked and made uniform: ENGINE DT_MS ITERS PERIOD_MS [ref], ENGINE gaitlab,
+# gaitlab/block_nncg, ode or mujoco; a bad row stops the script with its file and line
+settings() {
+    raw_settings | awk -v file="${ANCHORS_SETTINGS:-the built-in settings}" '
+        function bad(what) {
+            printf "anchors.sh: %s, line %d: %s; a row is ENGINE DT_MS ITERS PERIOD_MS [ref] " \
+                "[solver=pgs|block_nncg], ENGINE gaitlab, ode or mujoco (got \"%s\")\n", file, NR, what, line > "/dev/stderr"
+            failed = 1
+            exit 2
+        }
+        { line = $0; sub(/#.*/, "") }
+        NF == 0 { next }
+        {
+            e = $1
+            if (e != "gaitlab" && e != "ode" && e != "mujoco") bad("unknown engine \"" e "\"")
+            if (NF < 4) bad("too few fields")
+            if ($2 !~ /^([0-9]+\.?[0-9]*|\.[0-9]+)$/ || $2 + 0 <= 0) bad("DT_MS must be a positive number")
+            if ($3 !~ /^[1-9][0-9]*$/) bad("ITERS must be a positive integer")
+            if ($4 !~ /^([0-9]+\.?[0-9]*|\.[0-9]+)$/ || $4 + 0 <= 0) bad("PERIOD_MS must be a positive number")
+            ref = ""; solver = ""
+            for (i = 5; i <= NF; ++i) {
+                if ($i == "ref" && ref == "") ref = " ref"
+                else if ($i ~ /^solver=/ && solver == "") {
+                    solver = substr($i, 8)
+                    if (e != "gaitlab") bad("solver= is a setting of gaitlab rows only")
+                    if (solver != "pgs" && solver != "block_nncg") bad("solver must be pgs or block_nncg")
+                }
+                else bad("unexpected \"" $i "\"")
+            }
+            if (solver == "block_nncg") e = e "/" solver
+            print e, $2, $3, $4 ref
+        }
+        END { if (failed) exit 2 }'
+}
+
+if [ -z "$from" ]; then
+    if [ -n "${ANCHORS_SETTINGS:-}" ] && [ ! -f "$ANCHORS_SETTINGS" ]; then
+        echo "anchors.sh: ANCHORS_SETTINGS names no file ('$ANCHORS_SETTINGS')" >&2
+        exit 2
+    fi
+    rows_checked=$(settings)  # stops here on a bad row
+    [ -n "$rows_checked" ] || { echo "anchors.sh: ${ANCHORS_SETTINGS:-the settings} has no rows" >&2; exit 2; }
+fi
+
+if [ -n "$from" ]; then
+    [ -f "$from" ] || { echo "anchors.sh: --from: no file '$from'" >&2; exit 2; }
+    only=none
+elif [ -z "$anchors" ] || [ ! -x "$anchors/ode_snake" ] || [ ! -x "$anchors/mujoco_snake" ]; then
+    cat >&2 << EOF
+anchors.sh: no build of the performance anchors${anchors:+ in '$anchors'} (it needs ode_snake and
+mujoco_snake there). Make one from the anchors' sources (their folder has src/common.h):
+    apt-get install -y cmake g++ pkg-config libbullet-dev libbullet-extras-dev libmujoco-dev \\
+        libode-dev liblua5.4-dev
+    bench/anchors.sh --prepare ANCHORS_SOURCE_DIR /tmp/anchors
+then run   bench/anchors.sh --anchors /tmp/anchors/build   (or set ANCHORS_BUILD).
+EOF
+    exit 2
+elif ! "$anchors/ode_snake" --n 2 --time 0.01 --trace-every 0.01 > /dev/null 2>&1; then
+    echo "anchors.sh: $anchors/ode_snake does not take --trace-every: build it with" \
+        "bench/anchors/trace.patch (bench/anchors.sh --prepare SRC DIR)" >&2
+    exit 2
+fi
+if [ ! -x "$gaitlab" ]; then
+    echo "anchors.sh: no gaitlab program at '$gaitlab': build the project (tools/build.sh) or" \
+        "give --gaitlab BIN" >&2
+    exit 2
+fi
+
 # command ENGINE CONN DT_MS ITERS PERIOD_MS SECONDS PHASE0 TRACE -> the command line
 command_for() {
     local e=$1 conn=$2 dtms=$3 it=$4 pms=$5 secs=$6 ph=$7 tr=$8 dt ce
     dt=$(awk -v d="$dtms" 'BEGIN {printf "%.10g", d / 1000}')
     ce=$(awk -v p="$pms" -v d="$dtms" 'BEGIN {printf "%d", p / d + 0.5}')
     case "$e" in
-        gaitlab)
+        gaitlab | gaitlab/*)
+            local solver=
+            [ "$e" = gaitlab ] || solver=" solver=${e#gaitlab/}"
             echo "$gaitlab run $script n=$n conn=$conn dt=$dt iters=$it ce=$ce time=$secs" \
-                "phase0=$ph trace=$tr --no-record"
+                "phase0=$ph trace=$tr$solver --no-record"
             ;;
         ode | mujoco)
             local prog=ode_snake
@@ -218,7 +272,7 @@ if [ "$only" != timing ] && [ "$only" != none ]; then
             for ph in $phases; do
                 echo "$e $conn $dtms $it $pms ${ref:--} $ph|$(command_for "$e" "$conn" "$dtms" "$it" "$pms" 22 "$ph" 2)" >> "$list"
             done
-        done < <(settings)
+        done <<< "$rows_checked"
     done
     # the costliest runs (the references) first, so that the jobs finish together
     sort -t'|' -k1,1 -s < "$list" | awk '/ ref /' > "$work/ordered"
@@ -240,7 +294,7 @@ if [ -n "$from" ]; then
     grep ' round=' "$from" > "$tim" || true
 fi
 if [ "$only" != accuracy ] && [ "$only" != none ]; then
-    mapfile -t rows < <(for conn in $conns; do settings | awk -v c="$conn" '$5 != "ref" {print $1, c, $2, $3, $4}'; done)
+    mapfile -t rows < <(for conn in $conns; do awk -v c="$conn" '$5 != "ref" {print $1, c, $2, $3, $4}' <<< "$rows_checked"; done)
     for ((r = 0; r < reps; ++r)); do
         order=("${rows[@]}")
         if ((r % 2)); then
@@ -311,11 +365,22 @@ awk -v phases_py="$phases_py" '
         nph = split(phases_py, P, " ")
         print "| engine | conn | dt (ms) | iterations | control period (ms) | speed (mm/cycle) | error vs own reference | worst start phase | CPU µs/step (median) | range | CPU µs per simulated ms |"
         print "|---|---|---|---|---|---|---|---|---|---|---|"
-        ne = split("gaitlab ode mujoco", E, " ")
+        # the engines: gaitlab, its solver variants (gaitlab/NAME, shown "gaitlab NAME"), ode,
+        # mujoco; gaitlab and ode and mujoco always (as before the variants), a variant if it ran
+        nv = 0
+        for (key in keys) { split(key, t, SUBSEP); if (t[1] ~ /^gaitlab\// && !(t[1] in isvar)) { isvar[t[1]] = 1; V[++nv] = t[1] } }
+        for (i = 2; i <= nv; ++i) for (j = i; j > 1 && V[j - 1] > V[j]; --j) { tmp = V[j]; V[j] = V[j - 1]; V[j - 1] = tmp }
+        ne = 0; E[++ne] = "gaitlab"
+        for (i = 1; i <= nv; ++i) E[++ne] = V[i]
+        E[++ne] = "ode"; E[++ne] = "mujoco"
+        ng = nv + 1
+        for (ei = 1; ei <= ne; ++ei) { name[E[ei]] = E[ei]; sub("/", " ", name[E[ei]]) }
         nc = split("pp py", C, " ")
         for (ci = 1; ci <= nc; ++ci) for (ei = 1; ei <= ne; ++ei) {
             e = E[ei]; c = C[ci]
             rk = refkey[e, c]
+            # a solver variant without a reference row of its own: gaitlab'"'"'s (pgs)
+            if (rk == "" && e ~ /^gaitlab\// && refkey["gaitlab", c] != "") { rk = refkey["gaitlab", c]; borrowed[e, c] = 1 }
             # rows of this engine and connection: sort by dt, then iterations, then period
             m = 0
             for (key in keys) {
@@ -355,11 +420,12 @@ awk -v phases_py="$phases_py" '
                 }
                 med = median(ts[key])
                 cost = med == "" ? "" : sprintf("%.1f", med / t[3])
-                print "| " e " | " c " | " t[3] " | " t[4] " | " t[5] " | " acc " | " err " | " worst " | " (med == "" ? "—" : sprintf("%.2f", med)) " | " (med == "" ? "—" : range(ts[key])) " | " (cost == "" ? "—" : cost) " |"
+                print "| " name[e] " | " c " | " t[3] " | " t[4] " | " t[5] " | " acc " | " err " | " worst " | " (med == "" ? "—" : sprintf("%.2f", med)) " | " (med == "" ? "—" : range(ts[key])) " | " (cost == "" ? "—" : cost) " |"
                 errv_of[key] = errv; med_of[key] = (med == "" ? "" : med / t[3])
                 if (!isref && errv <= 2 && med != "" && med / t[3] < bestcost) { bestcost = med / t[3]; best = key }
             }
             if (best != "") { cheapest[e, c] = best; cheapcost[e, c] = bestcost }
+            if ((e, c) in borrowed) notes = notes "\n" name[e] " " c ": no reference row of its own; errors against gaitlab'"'"'s (pgs) reference."
             for (i = 1; i <= m; ++i) {
                 key = row[i]; split(key, t, SUBSEP)
                 s3 = t[1] SUBSEP t[3] SUBSEP t[4] SUBSEP t[5]
@@ -368,6 +434,7 @@ awk -v phases_py="$phases_py" '
                 settingkeys[s3] = 1
             }
         }
+        if (notes != "") print substr(notes, 2)
         print ""
         print "Cheapest setting within 2 % of the engine'"'"'s own reference (by CPU time per simulated ms, so that settings of different dt compare):"
         print ""
@@ -375,11 +442,17 @@ awk -v phases_py="$phases_py" '
         print "|---|---|---|---|---|"
         for (ci = 1; ci <= nc; ++ci) for (ei = 1; ei <= ne; ++ei) {
             e = E[ei]; c = C[ci]
-            if (!((e, c) in cheapest)) { print "| " c " | " e " | none within 2 % | — | — |"; continue }
+            if (!((e, c) in cheapest)) { print "| " c " | " name[e] " | none within 2 % | — | — |"; continue }
             split(cheapest[e, c], t, SUBSEP)
-            ratio = "—"
-            if (e != "gaitlab" && ("gaitlab", c) in cheapest) ratio = sprintf("**%.2f×**", cheapcost[e, c] / cheapcost["gaitlab", c])
-            print "| " c " | " e " | " t[3] ", " t[4] ", " t[5] " | " sprintf("%.1f", cheapcost[e, c]) " | " ratio " |"
+            # against each gaitlab solver that has a setting within 2 % (named if there are several)
+            ratio = ""
+            if (ei > ng) for (gi = 1; gi <= ng; ++gi) {
+                g = E[gi]
+                if (!((g, c) in cheapest)) continue
+                ratio = ratio (ratio == "" ? "" : ", ") sprintf("**%.2f×**", cheapcost[e, c] / cheapcost[g, c]) (ng > 1 ? " (" name[g] ")" : "")
+            }
+            if (ratio == "") ratio = "—"
+            print "| " c " | " name[e] " | " t[3] ", " t[4] ", " t[5] " | " sprintf("%.1f", cheapcost[e, c]) " | " ratio " |"
         }
         # one setting for both gaits: a user picks settings once, for every gait
         for (ei = 1; ei <= ne; ++ei) {
@@ -398,12 +471,16 @@ awk -v phases_py="$phases_py" '
         print "|---|---|---|---|---|"
         for (ei = 1; ei <= ne; ++ei) {
             e = E[ei]
-            if (!(e in both)) { print "| " e " | none | — | — | — |"; continue }
+            if (!(e in both)) { print "| " name[e] " | none | — | — | — |"; continue }
             split(both[e], t, SUBSEP)
-            g = both["gaitlab"]
-            ratio = "—"
-            if (e != "gaitlab" && g != "") ratio = sprintf("**%.2f×, %.2f×**", costc[both[e], "pp"] / costc[g, "pp"], costc[both[e], "py"] / costc[g, "py"])
-            print "| " e " | " t[2] ", " t[3] ", " t[4] " | " sprintf("%.1f", costc[both[e], "pp"]) " | " sprintf("%.1f", costc[both[e], "py"]) " | " ratio " |"
+            ratio = ""
+            if (ei > ng) for (gi = 1; gi <= ng; ++gi) {
+                g = both[E[gi]]
+                if (g == "") continue
+                ratio = ratio (ratio == "" ? "" : "; ") sprintf("**%.2f×, %.2f×**", costc[both[e], "pp"] / costc[g, "pp"], costc[both[e], "py"] / costc[g, "py"]) (ng > 1 ? " (" name[E[gi]] ")" : "")
+            }
+            if (ratio == "") ratio = "—"
+            print "| " name[e] " | " t[2] ", " t[3] ", " t[4] " | " sprintf("%.1f", costc[both[e], "pp"]) " | " sprintf("%.1f", costc[both[e], "py"]) " | " ratio " |"
         }
     }' "$acc" "$tim"
 

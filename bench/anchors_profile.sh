@@ -5,8 +5,9 @@
 #
 #   bench/anchors_profile.sh [--anchors DIR] [--gaitlab BIN] [--n N] [--time S] SETTING...
 #
-# SETTING is ENGINE:CONN:DT_MS:ITERS, e.g. gaitlab:pp:1:7 ode:py:1:14 (ENGINE gaitlab or ode). The
-# run simulates S seconds (default 2) with the control period 10 ms, the gait from phase 0; ODE
+# SETTING is ENGINE:CONN:DT_MS:ITERS[:SOLVER], e.g. gaitlab:pp:1:7 ode:py:1:14
+# gaitlab:py:2.5:10:block_nncg (ENGINE gaitlab or ode; SOLVER, gaitlab's only, pgs or block_nncg:
+# gaitlab.simulation's solver, the engine's default pgs if left out). The run simulates S seconds (default 2) with the control period 10 ms, the gait from phase 0; ODE
 # needs the anchors' build with bench/anchors/trace.patch (bench/anchors.sh --prepare SRC DIR).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -54,6 +55,13 @@ solver|^gaitlab::CoulombSolver::solveGroup\(
   finish|^gaitlab::CoulombSolver::solveGroupCacheFriendlyFinish\(
 integration|^btDiscreteDynamicsWorld::(predictUnconstraintMotion|integrateTransforms)\(
 islands|^btDiscreteDynamicsWorld::calculateSimulationIslands\(\)'
+# with solver = block_nncg, the iterations' own parts too (in "iterations" above)
+block_parts='    of them: a sweep and the nncg step|^gaitlab::CoulombSolver::own_iteration\(
+      the joints'"'"' block factored (first iteration)|^gaitlab::CoulombSolver::factor_block\(\)
+      the joints'"'"' block solved (substitutions)|^gaitlab::CoulombSolver::solve_block\(\)
+      friction disks|^gaitlab::CoulombSolver::solve_friction\(
+      motor rows (outside the block; unnamed in Debian'"'"'s libbullet 3.24, the rows the sweep calls)|^0x000000000004aa00$
+      contact rows (the same)|^0x000000000004a790$'
 ode_parts='whole loop (main: gait, servo, collide, step; set-up included)|^main$
 collision|^dSpaceCollide$
   box-plane pairs|^dCollideBoxPlane\(
@@ -67,17 +75,29 @@ contact joints freed|^dJointGroupEmpty$'
 
 printf '| setting | part | instructions per step | share of the whole step | calls per step |\n|---|---|---|---|---|\n'
 for s in "${settings[@]}"; do
-    IFS=: read -r e conn dtms it <<< "$s"
-    [ -n "${it:-}" ] || { echo "anchors_profile.sh: '$s' is not ENGINE:CONN:DT_MS:ITERS" >&2; exit 2; }
+    IFS=: read -r e conn dtms it solver extra <<< "$s"
+    if [ -z "${it:-}" ] || [ -n "${extra:-}" ]; then
+        echo "anchors_profile.sh: '$s' is not ENGINE:CONN:DT_MS:ITERS[:SOLVER]" >&2
+        exit 2
+    fi
+    case "${solver:-}" in
+        "" | pgs | block_nncg) ;;
+        *) echo "anchors_profile.sh: '$s': the solver is pgs or block_nncg (got '$solver')" >&2; exit 2 ;;
+    esac
+    [ -z "${solver:-}" ] || [ "$e" = gaitlab ] || { echo "anchors_profile.sh: '$s': a solver is a setting of gaitlab only" >&2; exit 2; }
     dt=$(awk -v d="$dtms" 'BEGIN {printf "%.10g", d / 1000}')
     ce=$(awk -v d="$dtms" 'BEGIN {printf "%d", 10 / d + 0.5}')
     steps=$(awk -v t="$secs" -v d="$dtms" 'BEGIN {printf "%d", t * 1000 / d + 0.5}')
-    out=$work/cg.$e.$conn.$dtms.$it
+    out=$work/cg.$e.$conn.$dtms.$it${solver:+.$solver}
     case "$e" in
         gaitlab)
             cmd=("$gaitlab" run "$root/bench/lua/anchor_snake.lua" "n=$n" "conn=$conn" "dt=$dt"
-                "iters=$it" "ce=$ce" "time=$secs" --no-record)
+                "iters=$it" "ce=$ce" "time=$secs" ${solver:+"solver=$solver"} --no-record)
             parts=$gaitlab_parts
+            if [ "${solver:-}" = block_nncg ]; then
+                # after the iterations' rows
+                parts=$(EXTRA=$block_parts awk '{ print } /^    split impulse\|/ { print ENVIRON["EXTRA"] }' <<< "$gaitlab_parts")
+            fi
             ;;
         ode)
             [ -x "$anchors/ode_snake" ] || { echo "anchors_profile.sh: no ode_snake in '$anchors' (--anchors DIR)" >&2; exit 2; }
@@ -95,7 +115,7 @@ for s in "${settings[@]}"; do
         awk '/^ *[0-9,]+ .* < / && match($0, /\([0-9,]+x\)/) { c = substr($0, RSTART + 1, RLENGTH - 3); gsub(",", "", c); calls += c; next }
              /^ *[0-9,]+ .* \* / { line = $0; sub(/^.*\* +[^:]*:/, "", line); sub(/ \[[^]]*\]$/, "", line); print calls "\t" line; calls = 0; next }
              { calls = 0 }' > "$out.calls"
-    PARTS=$parts awk -v steps="$steps" -v setting="$e $conn, dt $dtms ms, $it it" -F '\t' '
+    PARTS=$parts awk -v steps="$steps" -v setting="$e${solver:+ $solver} $conn, dt $dtms ms, $it it" -F '\t' '
         FILENAME ~ /calls$/ { ncalls[$2] = $1; next }
         BEGIN {
             np = split(ENVIRON["PARTS"], lines, "\n")

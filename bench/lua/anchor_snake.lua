@@ -3,7 +3,7 @@
 -- (bench/anchors.sh runs them side by side; docs/performance.md, section 12):
 --
 --   gaitlab run bench/lua/anchor_snake.lua [n=8] [conn=pp|py] [dt=0.001] [iters=20] [ce=10]
---       [time=20] [phase0=0] [trace=0] --no-record
+--       [time=20] [phase0=0] [trace=0] [solver=pgs|block_nncg] --no-record
 --
 -- The robot: n solid boxes of 72 x 52 x 52 mm and 50 g in a row (not gaitlab's y1 module, whose
 -- chain has n + 1 bodies), head (module 0) at x = 0, the chain towards -x, n - 1 hinges through
@@ -14,20 +14,28 @@
 --
 -- Prints one line of key=value pairs as the anchors' programs do: cpu_us_per_step is the
 -- process CPU time of the stepping alone (os.clock) per step; trace = the head's x,y (m) every
--- `trace` simulated seconds from the start, and at the end, separated by ';'.
+-- `trace` simulated seconds from the start, and at the end, separated by ';'. solver: the
+-- simulation's constraint solver (gaitlab.simulation's `solver`); left out, the engine's default
+-- (pgs), and the line does not name it; given, the settings field ends with ",solver=NAME".
 local opt = { n = 8, conn = "pp", dt = 0.001, iters = 20, ce = 10, time = 20, phase0 = 0,
-              trace = 0 }
+              trace = 0, solver = false }
+local solvers = { pgs = true, block_nncg = true }
 for _, a in ipairs(arg) do
   local k, v = a:match("^([%w_]+)=(.+)$")
   if not k or opt[k] == nil then
     error(string.format("anchor_snake.lua: unknown argument '%s' (expected KEY=VALUE with KEY "
-                        .. "one of n, conn, dt, iters, ce, time, phase0, trace)", a), 0)
+                        .. "one of n, conn, dt, iters, ce, time, phase0, trace, solver)", a), 0)
   end
   if k == "conn" then
     if v ~= "pp" and v ~= "py" then
       error("anchor_snake.lua: conn must be pp or py (got '" .. v .. "')", 0)
     end
     opt.conn = v
+  elseif k == "solver" then
+    if not solvers[v] then
+      error("anchor_snake.lua: solver must be pgs or block_nncg (got '" .. v .. "')", 0)
+    end
+    opt.solver = v
   else
     local x = tonumber(v)
     if not x then
@@ -74,7 +82,8 @@ if pitch_yaw then
                                                      phase0 = phase0(0) })
 end
 local sim = gaitlab.simulation{ world = world, dt = opt.dt, control_every = opt.ce,
-                                solver_iterations = opt.iters, record = false }
+                                solver_iterations = opt.iters, solver = opt.solver or nil,
+                                record = false }
 local r = sim:robot("snake")
 
 local function head()
@@ -105,7 +114,8 @@ if opt.trace > 0 and steps % chunk == 0 then
   trace[#trace + 1] = string.format("%.7f,%.7f", h1.x, h1.y)
 end
 print(string.format("engine=gaitlab conn=%s n=%d steps=%d sim_s=%.3f head_dx=%.4f head_dy=%.4f "
-                    .. "settings=iters=%d,dt=%g,ce=%d cpu_us_per_step=%.3f trace=%s",
+                    .. "settings=iters=%d,dt=%g,ce=%d%s cpu_us_per_step=%.3f trace=%s",
                     opt.conn, opt.n, steps, steps * opt.dt, h1.x - h0.x, h1.y - h0.y, opt.iters,
-                    opt.dt, opt.ce, cpu / steps * 1e6,
+                    opt.dt, opt.ce, opt.solver and ",solver=" .. opt.solver or "",
+                    cpu / steps * 1e6,
                     #trace > 0 and table.concat(trace, ";") or "-"))

@@ -8,6 +8,7 @@
 --
 --   gaitlab run bench/lua/rolling_fold.lua --no-record
 --   FOLD_TABLE=solver gaitlab run bench/lua/rolling_fold.lua --no-record   (the second table only)
+--   FOLD_TABLE=solver FOLD_SOLVER=block_nncg gaitlab run ...   (its block_nncg rows only)
 --
 -- Each row is one run from time 0: one cycle to settle, then `cycles` cycles measured, sampled
 -- every 10 ms (the control period, kept at every dt). Deterministic: the machine's load does not
@@ -41,7 +42,7 @@ local function end_gap(robot)
   return math.sqrt(dx * dx + dy * dy + dz * dz)
 end
 
-local function run(servo, f, amplitude, friction, dt, iterations, self_collision)
+local function run(servo, f, amplitude, friction, dt, iterations, self_collision, solver)
   local robot = gaitlab.robot.chain{ name = "snake", modules = 8, connection = "pitch-yaw", module = servo.module,
                                      self_collision = self_collision }
   local world = gaitlab.world{ floor = { friction = friction } }
@@ -50,7 +51,7 @@ local function run(servo, f, amplitude, friction, dt, iterations, self_collision
   robot:group("yaw"):drive(gaitlab.controllers.sine{ amplitude = amplitude, frequency = f, phase = 0, phase0 = -90 })
   local every = math.floor(0.01 / dt + 0.5)
   local sim = gaitlab.simulation{ world = world, dt = dt, control_every = every, solver_iterations = iterations,
-                                  record = false }
+                                  solver = solver, record = false }
   local r = sim:robot("snake")
   local max_speed = (type(servo.module) == "string" and gaitlab.modules[servo.module] or servo.module).max_speed
   sim:run(1 / f)
@@ -83,6 +84,10 @@ local function run(servo, f, amplitude, friction, dt, iterations, self_collision
 end
 
 local which = os.getenv("FOLD_TABLE")
+local only = os.getenv("FOLD_SOLVER")
+if only and only ~= "pgs" and only ~= "block_nncg" then
+  error("rolling_fold.lua: FOLD_SOLVER must be pgs or block_nncg (got '" .. only .. "')", 0)
+end
 print(string.format("%d cycles after 1", cycles))
 local function row(name, m)
   print(string.format("| %s | %.1f | %+.1f, %+.1f | %.1f° | %.1f°, %.1f° | %.1f %% | %.1f–%.1f |", name, m.travel, m.x, m.y,
@@ -103,12 +108,19 @@ if which ~= "solver" then
     end
   end
 end
--- the folded robot's creep against the solver's iterations and self-collision (its free ends
--- meet): y1, 0.1 Hz, friction 1.0, dt 1 ms
-print("| amplitude | solver iterations | self_collision | travel (mm/cycle) | x, y (mm/cycle) | peak angle | fundamental, lag | at max speed | end gap (mm) |")
-print("|---|---|---|---|---|---|---|---|---|")
+-- the folded robot's creep against the solver (the engine's default pgs, or block_nncg, whose
+-- joints are one exact system in every iteration), its iterations, dt and self-collision (its
+-- free ends meet): y1, 0.1 Hz, friction 1.0. FOLD_SOLVER=block_nncg: the block_nncg rows only.
+print("| amplitude | solver | solver iterations | dt (ms) | self_collision | travel (mm/cycle) | x, y (mm/cycle) | peak angle | fundamental, lag | at max speed | end gap (mm) |")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
+local settings = { { "pgs", 20, 0.001, false }, { "pgs", 80, 0.001, false }, { "pgs", 20, 0.001, true },
+                   { "block_nncg", 20, 0.001, false }, { "block_nncg", 80, 0.001, false },
+                   { "block_nncg", 20, 0.00025, false }, { "block_nncg", 80, 0.00025, false } }
 for _, amplitude in ipairs{ 40, 90 } do
-  for _, s in ipairs{ { 20, false }, { 80, false }, { 20, true } } do
-    row(string.format("%d° | %d | %s", amplitude, s[1], tostring(s[2])), run(servos[1], 0.1, amplitude, 1.0, 0.001, s[1], s[2]))
+  for _, s in ipairs(settings) do
+    if not only or only == s[1] then
+      row(string.format("%d° | %s | %d | %g | %s", amplitude, s[1], s[2], s[3] * 1000, tostring(s[4])),
+          run(servos[1], 0.1, amplitude, 1.0, s[3], s[2], s[4], s[1]))
+    end
   end
 end
