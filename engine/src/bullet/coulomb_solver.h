@@ -10,6 +10,8 @@
 #include <tuple>
 #include <vector>
 
+#include "block_band.h"
+
 namespace gaitlab {
 
 // The contact model: Coulomb friction, |f| <= μN, and where a contact slides f = μN against the
@@ -410,6 +412,17 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
         const int n = static_cast<int>(block_.size());
         btScalar residual = 0;
+        if (band_fast_) {
+            const int count = static_cast<int>(band_.size());
+            for (int b = 0; b < count; ++b)
+                band_rhs(band_rows_[b], &pool[0], &m_tmpSolverBodyPool[0], &rhs_[b * kBandRows]);
+            band_solve(band_.data(), count, rhs_.data());
+            for (int b = 0; b < count; ++b) {
+                residual = band_apply(band_rows_[b], &pool[0], &m_tmpSolverBodyPool[0],
+                                      &rhs_[b * kBandRows], residual);
+            }
+            return residual;
+        }
         for (int i = 0; i < n; ++i) {
             const btSolverConstraint& c = pool[block_[i]];
             btSolverBody& a = m_tmpSolverBodyPool[c.m_solverBodyIdA];
@@ -417,7 +430,24 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             rhs_[i] = (c.m_rhs - c.m_appliedImpulse * c.m_cfm) / c.m_jacDiagABInv -
                       (row_velocity(c, a, b) + c.m_rhs / c.m_jacDiagABInv);
         }
-        // L y = r, D z = y, L' x = z (in place)
+        if (!band_.empty()) {
+            band_solve(band_.data(), static_cast<int>(band_.size()), rhs_.data());
+        } else {
+            profile_solve();
+        }
+        for (int i = 0; i < n; ++i) {
+            btSolverConstraint& c = pool[block_[i]];
+            const btScalar d = static_cast<btScalar>(rhs_[i]);
+            apply(c, m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB],
+                  d);
+            residual = btMax(residual, d * d / (c.m_jacDiagABInv * c.m_jacDiagABInv));
+        }
+        return residual;
+    }
+
+    // L y = r, D z = y, L' x = z (in place) on the profile
+    void profile_solve() {
+        const int n = static_cast<int>(block_.size());
         for (int i = 0; i < n; ++i) {
             double sum = rhs_[i];
             const double* l = &chol_[static_cast<size_t>(i) * n];
@@ -433,14 +463,6 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             for (int j = first_[k]; j < k; ++j)
                 rhs_[j] -= l[j] * x;
         }
-        for (int i = 0; i < n; ++i) {
-            btSolverConstraint& c = pool[block_[i]];
-            const btScalar d = static_cast<btScalar>(rhs_[i]);
-            apply(c, m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB],
-                  d);
-            residual = btMax(residual, d * d / (c.m_jacDiagABInv * c.m_jacDiagABInv));
-        }
-        return residual;
     }
 
     // J_i M^-1 J_j' over the bodies rows i and j share
@@ -474,11 +496,12 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             }
         }
         const int n = static_cast<int>(block_.size());
+        rhs_.assign(n, 0);
+        if (factor_band()) return;
         // only the profile is written and read: no n x n clearing
         chol_.resize(static_cast<size_t>(n) * n);
         first_.assign(n, 0);
         diag_.assign(n, 0);
-        rhs_.assign(n, 0);
         // the rows coupled to row i are those earlier on its bodies (a fixed body couples none)
         rows_of_body_.resize(m_tmpSolverBodyPool.size());
         for (std::vector<int>& rows : rows_of_body_)
@@ -525,6 +548,82 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         }
     }
 
+    // a chain of hinges (block_band.h): the block's rows in groups of kBandRows on the same two
+    // bodies, each group sharing moving bodies with no group but the one before it. Builds and
+    // factors K there and returns true; otherwise leaves band_ empty for the profile.
+    bool factor_band() {
+        band_.clear();
+        band_fast_ = false;
+        const btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
+        const int n = static_cast<int>(block_.size());
+        if (n == 0 || n % kBandRows != 0) return false;
+        const int count = n / kBandRows;
+        auto moving = [&](int body) { return !m_tmpSolverBodyPool[body].m_invMass.fuzzyZero(); };
+        first_group_of_body_.assign(m_tmpSolverBodyPool.size(), -1);
+        band_.resize(count);
+        for (int b = 0; b < count; ++b) {
+            const btSolverConstraint& head = pool[block_[b * kBandRows]];
+            const int bodies[2] = {head.m_solverBodyIdA, head.m_solverBodyIdB};
+            bool ok = bodies[0] != bodies[1];
+            for (int r = 1; r < kBandRows && ok; ++r) {
+                const btSolverConstraint& c = pool[block_[b * kBandRows + r]];
+                ok = c.m_solverBodyIdA == bodies[0] && c.m_solverBodyIdB == bodies[1];
+            }
+            bool coupled = false;
+            for (int body : bodies) {
+                if (!ok || !moving(body)) continue;
+                const int first = first_group_of_body_[body];
+                if (first == -1) {
+                    first_group_of_body_[body] = b;
+                } else if (first == b - 1) {
+                    coupled = true;
+                } else {
+                    ok = false;
+                }
+            }
+            if (!ok) {
+                band_.clear();
+                return false;
+            }
+            BandGroup& g = band_[b];
+            g.coupled = coupled;
+            for (int r = 0; r < kBandRows; ++r) {
+                const btSolverConstraint& x = pool[block_[b * kBandRows + r]];
+                if (coupled) {
+                    for (int c = 0; c < kBandRows; ++c)
+                        g.prev[r][c] = coupling(x, pool[block_[(b - 1) * kBandRows + c]]);
+                }
+                for (int c = 0; c < r; ++c)
+                    g.lower[r][c] = coupling(x, pool[block_[b * kBandRows + c]]);
+                g.diag[r] = 1 / x.m_jacDiagABInv + x.m_cfm / x.m_jacDiagABInv;
+                g.own[r] = 1 / x.m_jacDiagABInv;
+            }
+        }
+        band_factor(band_.data(), count);
+        // the rows' data for band_rhs and band_apply, where every body takes impulses as
+        // btSolverBody::internalApplyImpulse does with factors of 1
+        band_fast_ = true;
+        band_rows_.resize(count);
+        for (int b = 0; b < count && band_fast_; ++b) {
+            const btSolverConstraint* rows[kBandRows];
+            BandRows& g = band_rows_[b];
+            for (int r = 0; r < kBandRows; ++r) {
+                g.row[r] = block_[b * kBandRows + r];
+                rows[r] = &pool[g.row[r]];
+            }
+            g.a = rows[0]->m_solverBodyIdA;
+            g.b = rows[0]->m_solverBodyIdB;
+            for (int body : {g.a, g.b}) {
+                const btSolverBody& s = m_tmpSolverBodyPool[body];
+                band_fast_ = band_fast_ && s.m_originalBody &&
+                             s.m_linearFactor == btVector3(1, 1, 1) &&
+                             s.m_angularFactor == btVector3(1, 1, 1);
+            }
+            band_rows(g, rows, m_tmpSolverBodyPool);
+        }
+        return true;
+    }
+
     bool uses_block() const {
         return method_ == SolverMethod::block || method_ == SolverMethod::block_nncg;
     }
@@ -541,6 +640,12 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     std::vector<std::vector<int>> rows_of_body_;  // block: the rows so far on each solver body
     std::vector<char> in_block_;
     std::vector<double> chol_, diag_, rhs_;
+    // block, a chain of hinges: K's factors in blocks (empty: the profile above), and the first
+    // group on each solver body
+    std::vector<BandGroup> band_;
+    std::vector<BandRows> band_rows_;
+    bool band_fast_ = false;  // band_rows_ hold the rows (block_band.h)
+    std::vector<int> first_group_of_body_;
     std::vector<btPersistentManifold*> sorted_manifolds_;
     std::vector<btTypedConstraint*> sorted_constraints_;
 
