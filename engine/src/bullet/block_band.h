@@ -35,8 +35,10 @@ inline void band_factor(BandGroup* g, int count) {
         const BandGroup* p = b > 0 && x.coupled ? &g[b - 1] : nullptr;
         for (int r = 0; r < kBandRows; ++r) {
             if (p) {
+#pragma GCC unroll 5
                 for (int c = 0; c < kBandRows; ++c) {
                     double sum = x.prev[r][c];
+#pragma GCC unroll 5
                     for (int k = 0; k < c; ++k)
                         sum -= x.prev[r][k] * p->lower[c][k] * p->diag[k];
                     x.prev[r][c] = sum / p->diag[c];
@@ -45,9 +47,11 @@ inline void band_factor(BandGroup* g, int count) {
             for (int c = 0; c <= r; ++c) {
                 double sum = c < r ? x.lower[r][c] : x.diag[r];
                 if (p) {
+#pragma GCC unroll 5
                     for (int k = 0; k < kBandRows; ++k)
                         sum -= x.prev[r][k] * x.prev[c][k] * p->diag[k];
                 }
+#pragma GCC unroll 5
                 for (int k = 0; k < c; ++k)
                     sum -= x.lower[r][k] * x.lower[c][k] * x.diag[k];
                 if (c < r) {

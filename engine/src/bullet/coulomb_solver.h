@@ -278,22 +278,34 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     btScalar sweep(int iteration, btTypedConstraint** constraints, int constraint_count,
                    const btContactSolverInfo& info, bool backward) {
         btScalar residual = 0;
-        const int joints = m_tmpSolverNonContactConstraintPool.size();
-        if (uses_block()) {
-            if (iteration == 0) factor_block();
-            residual = solve_block();
+        if (iteration == 0) {
+            if (uses_block()) factor_block();
+            // the joint rows swept one by one (the block's are solved together), and the
+            // constraints whose old-style solve does something: btHingeConstraint's is
+            // btTypedConstraint's, which does nothing (only btConeTwistConstraint has one)
+            swept_.clear();
+            for (int j = 0; j < m_tmpSolverNonContactConstraintPool.size(); ++j) {
+                if (!uses_block() || !in_block_[j]) swept_.push_back(j);
+            }
+            old_style_.clear();
+            for (int j = 0; j < constraint_count; ++j) {
+                if (constraints[j]->isEnabled() &&
+                    constraints[j]->getConstraintType() != HINGE_CONSTRAINT_TYPE) {
+                    old_style_.push_back(j);
+                }
+            }
         }
-        auto joint_row = [&](int j) {
-            btSolverConstraint& c = m_tmpSolverNonContactConstraintPool[j];
+        if (uses_block()) residual = solve_block();
+        const int joints = static_cast<int>(swept_.size());
+        auto joint_row = [&](int k) {
+            btSolverConstraint& c = m_tmpSolverNonContactConstraintPool[swept_[k]];
             if (iteration >= c.m_overrideNumSolverIterations) return;
-            if (uses_block() && in_block_[j]) return;
             const btScalar r = m_resolveSingleConstraintRowGeneric(
                 m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB], c);
             residual = btMax(residual, r * r);
         };
         auto old_style = [&] {
-            for (int j = 0; j < constraint_count; ++j) {
-                if (!constraints[j]->isEnabled()) continue;
+            for (int j : old_style_) {
                 const int a = getOrInitSolverBody(constraints[j]->getRigidBodyA(), info.m_timeStep);
                 const int b = getOrInitSolverBody(constraints[j]->getRigidBodyB(), info.m_timeStep);
                 constraints[j]->solveConstraintObsolete(m_tmpSolverBodyPool[a],
@@ -341,6 +353,19 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             f(m_tmpSolverContactFrictionConstraintPool[j]);
     }
 
+    // the same rows as pools: f(rows, count, the first's place in that order)
+    template <class F>
+    void for_each_pool(F f) {
+        size_t at = 0;
+        for (btConstraintArray* pool :
+             {&m_tmpSolverNonContactConstraintPool, &m_tmpSolverContactConstraintPool,
+              &m_tmpSolverContactFrictionConstraintPool}) {
+            const int n = pool->size();
+            if (n > 0) f(&(*pool)[0], n, at);
+            at += static_cast<size_t>(n);
+        }
+    }
+
     btScalar own_iteration(int iteration, btTypedConstraint** constraints, int constraint_count,
                            const btContactSolverInfo& info) {
         if (method_ == SolverMethod::block)
@@ -362,44 +387,61 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             }
         }
         const btScalar residual = sweep(iteration, constraints, constraint_count, info, false);
+        btScalar* before = before_.data();
+        btScalar* direction = direction_.data();
         btScalar d2 = 0;
-        size_t i = 0;
-        for_each_row([&](btSolverConstraint& c) {
-            const btScalar d = c.m_appliedImpulse - before_[i++];
-            d2 += d * d;
+        for_each_pool([&](btSolverConstraint* rows, int n, size_t at) {
+#pragma GCC unroll 4
+            for (int j = 0; j < n; ++j) {
+                const btScalar d = rows[j].m_appliedImpulse - before[at + j];
+                d2 += d * d;
+            }
         });
         const int last = btMax(m_maxOverrideNumSolverIterations, info.m_numIterations) - 1;
         const btScalar beta = iteration == 0 || !(previous_ > 0) ? 0 : d2 / previous_;
         const bool step = beta > 0 && beta <= 1 && iteration < last;
         // the rows' impulses move by beta p; the bodies' velocities by what those impulses do,
         // M^-1 J' beta p, kept per body (beta times last step's, plus this sweep's change)
-        i = 0;
-        for_each_row([&](btSolverConstraint& c) {
-            const btScalar d = c.m_appliedImpulse - before_[i];
+        for_each_pool([&](btSolverConstraint* rows, int n, size_t at) {
+            btScalar* b = before + at;
+            btScalar* p = direction + at;
             if (step) {
-                const btScalar extra = beta * direction_[i];
-                c.m_appliedImpulse += extra;
-                direction_[i] = extra + d;
+#pragma GCC unroll 4
+                for (int j = 0; j < n; ++j) {
+                    btScalar& impulse = rows[j].m_appliedImpulse;
+                    const btScalar d = impulse - b[j];
+                    const btScalar extra = beta * p[j];
+                    impulse += extra;
+                    p[j] = extra + d;
+                    b[j] = impulse;
+                }
             } else {
-                direction_[i] = d;
+#pragma GCC unroll 4
+                for (int j = 0; j < n; ++j) {
+                    const btScalar impulse = rows[j].m_appliedImpulse;
+                    p[j] = impulse - b[j];
+                    b[j] = impulse;
+                }
             }
-            before_[i] = c.m_appliedImpulse;
-            ++i;
         });
-        for (int b = 0; b < m_tmpSolverBodyPool.size(); ++b) {
-            btVector3* v[2] = {&m_tmpSolverBodyPool[b].internalGetDeltaLinearVelocity(),
-                               &m_tmpSolverBodyPool[b].internalGetDeltaAngularVelocity()};
+        const int bodies = m_tmpSolverBodyPool.size();
+        btVector3* body_before = body_before_.data();
+        btVector3* body_direction = body_direction_.data();
+        for (int b = 0; b < bodies; ++b) {
+            btSolverBody& s = m_tmpSolverBodyPool[b];
+            btVector3* v[2] = {&s.internalGetDeltaLinearVelocity(),
+                               &s.internalGetDeltaAngularVelocity()};
             for (int k = 0; k < 2; ++k) {
                 const size_t at = 2 * static_cast<size_t>(b) + k;
-                const btVector3 d = *v[k] - body_before_[at];
+                const btVector3 d = *v[k] - body_before[at];
                 if (step) {
-                    const btVector3 extra = body_direction_[at] * beta;
+                    const btVector3 extra = body_direction[at] * beta;
                     *v[k] += extra;
-                    body_direction_[at] = extra + d;
+                    body_direction[at] = extra + d;
                 } else {
-                    body_direction_[at] = d;
+                    body_direction[at] = d;
                 }
-                body_before_[at] = *v[k];
+                body_before[at] = *v[k];
             }
         }
         previous_ = d2;
@@ -639,6 +681,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     std::vector<int> block_, first_;
     std::vector<std::vector<int>> rows_of_body_;  // block: the rows so far on each solver body
     std::vector<char> in_block_;
+    std::vector<int> swept_;      // the joint rows each sweep solves one by one
+    std::vector<int> old_style_;  // the constraints whose solveConstraintObsolete each sweep calls
     std::vector<double> chol_, diag_, rhs_;
     // block, a chain of hinges: K's factors in blocks (empty: the profile above), and the first
     // group on each solver body
