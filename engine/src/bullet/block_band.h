@@ -165,6 +165,24 @@ inline void band_rows(BandRows& g, const btSolverConstraint* const* rows,
     }
 }
 
+inline btScalar band_dot(const btVector3& x, BandV4 y) {
+    return x.m_floats[0] * y[0] + x.m_floats[1] * y[1] + x.m_floats[2] * y[2];
+}
+
+/// J_x M^-1 J_y' for row x and row c of group g, as CoulombSolver::coupling computes it (over
+/// the bodies they share, x's first body first), from the group's M^-1 J'
+inline btScalar band_coupling(const btSolverConstraint& x, const BandRows& g, int c) {
+    btScalar sum = 0;
+    auto side = [&](int body, const btVector3& lin, const btVector3& ang) {
+        if (g.a == body) sum += band_dot(lin, g.lin_a[c]) + band_dot(ang, g.ang_a[c]);
+        if (g.b == body) sum += band_dot(lin, g.lin_b[c]) + band_dot(ang, g.ang_b[c]);
+    };
+    side(x.m_solverBodyIdA, x.m_contactNormal1, x.m_relpos1CrossNormal);
+    if (x.m_solverBodyIdB != x.m_solverBodyIdA)
+        side(x.m_solverBodyIdB, x.m_contactNormal2, x.m_relpos2CrossNormal);
+    return sum;
+}
+
 /// The right side of a group's rows (CoulombSolver::solve_block's, the change each row's own
 /// update would make over its diagonal, given the bodies' velocities now) into out[0..4].
 inline void band_rhs(const BandRows& g, const btSolverConstraint* pool, const btSolverBody* bodies,

@@ -603,6 +603,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         auto moving = [&](int body) { return !m_tmpSolverBodyPool[body].m_invMass.fuzzyZero(); };
         first_group_of_body_.assign(m_tmpSolverBodyPool.size(), -1);
         band_.resize(count);
+        band_rows_.resize(count);
+        band_fast_ = true;
         for (int b = 0; b < count; ++b) {
             const btSolverConstraint& head = pool[block_[b * kBandRows]];
             const int bodies[2] = {head.m_solverBodyIdA, head.m_solverBodyIdB};
@@ -625,44 +627,41 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             }
             if (!ok) {
                 band_.clear();
+                band_fast_ = false;
                 return false;
             }
-            BandGroup& g = band_[b];
-            g.coupled = coupled;
-            for (int r = 0; r < kBandRows; ++r) {
-                const btSolverConstraint& x = pool[block_[b * kBandRows + r]];
-                if (coupled) {
-                    for (int c = 0; c < kBandRows; ++c)
-                        g.prev[r][c] = coupling(x, pool[block_[(b - 1) * kBandRows + c]]);
-                }
-                for (int c = 0; c < r; ++c)
-                    g.lower[r][c] = coupling(x, pool[block_[b * kBandRows + c]]);
-                g.diag[r] = 1 / x.m_jacDiagABInv + x.m_cfm / x.m_jacDiagABInv;
-                g.own[r] = 1 / x.m_jacDiagABInv;
-            }
-        }
-        band_factor(band_.data(), count);
-        // the rows' data for band_rhs and band_apply, where every body takes impulses as
-        // btSolverBody::internalApplyImpulse does with factors of 1
-        band_fast_ = true;
-        band_rows_.resize(count);
-        for (int b = 0; b < count && band_fast_; ++b) {
+            // the rows' data for band_rhs and band_apply (used where every body takes
+            // impulses as btSolverBody::internalApplyImpulse does with factors of 1) and for K
             const btSolverConstraint* rows[kBandRows];
-            BandRows& g = band_rows_[b];
+            BandRows& data = band_rows_[b];
             for (int r = 0; r < kBandRows; ++r) {
-                g.row[r] = block_[b * kBandRows + r];
-                rows[r] = &pool[g.row[r]];
+                data.row[r] = block_[b * kBandRows + r];
+                rows[r] = &pool[data.row[r]];
             }
-            g.a = rows[0]->m_solverBodyIdA;
-            g.b = rows[0]->m_solverBodyIdB;
-            for (int body : {g.a, g.b}) {
+            data.a = bodies[0];
+            data.b = bodies[1];
+            for (int body : bodies) {
                 const btSolverBody& s = m_tmpSolverBodyPool[body];
                 band_fast_ = band_fast_ && s.m_originalBody &&
                              s.m_linearFactor == btVector3(1, 1, 1) &&
                              s.m_angularFactor == btVector3(1, 1, 1);
             }
-            band_rows(g, rows, m_tmpSolverBodyPool);
+            band_rows(data, rows, m_tmpSolverBodyPool);
+            BandGroup& g = band_[b];
+            g.coupled = coupled;
+            for (int r = 0; r < kBandRows; ++r) {
+                const btSolverConstraint& x = *rows[r];
+                if (coupled) {
+                    for (int c = 0; c < kBandRows; ++c)
+                        g.prev[r][c] = band_coupling(x, band_rows_[b - 1], c);
+                }
+                for (int c = 0; c < r; ++c)
+                    g.lower[r][c] = band_coupling(x, data, c);
+                g.diag[r] = 1 / x.m_jacDiagABInv + x.m_cfm / x.m_jacDiagABInv;
+                g.own[r] = 1 / x.m_jacDiagABInv;
+            }
         }
+        band_factor(band_.data(), count);
         return true;
     }
 
