@@ -50,7 +50,8 @@ enum class FrictionModel { per_step, disk };
 // projections then hold); block solves the joints' equality rows (those without bounds: not
 // motors or limits) as one linear system, exactly, in each iteration given the impulses of all
 // other rows (J M^-1 J' factored once per step, Cholesky on its profile, which for a chain
-// ordered along it is a band), then the other rows as pgs does; block_nncg is block with nncg's
+// ordered along it is a band: for a chain of hinges kept as 5x5 blocks, block_band.h), then
+// the other rows as pgs does; block_nncg is block with nncg's
 // step after each sweep (the block's rows among all others).
 enum class SolverMethod { pgs, symmetric, nncg, block, block_nncg };
 inline constexpr btScalar kSlideSpeed = btScalar(0.001);  // m/s: slower, the axes are fixed ones
