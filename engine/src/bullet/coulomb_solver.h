@@ -10,6 +10,8 @@
 #include <tuple>
 #include <vector>
 
+#include "block_band.h"
+
 namespace gaitlab {
 
 // The contact model: Coulomb friction, |f| <= μN, and where a contact slides f = μN against the
@@ -48,7 +50,8 @@ enum class FrictionModel { per_step, disk };
 // projections then hold); block solves the joints' equality rows (those without bounds: not
 // motors or limits) as one linear system, exactly, in each iteration given the impulses of all
 // other rows (J M^-1 J' factored once per step, Cholesky on its profile, which for a chain
-// ordered along it is a band), then the other rows as pgs does; block_nncg is block with nncg's
+// ordered along it is a band: for a chain of hinges kept as 5x5 blocks, block_band.h), then
+// the other rows as pgs does; block_nncg is block with nncg's
 // step after each sweep (the block's rows among all others).
 enum class SolverMethod { pgs, symmetric, nncg, block, block_nncg };
 inline constexpr btScalar kSlideSpeed = btScalar(0.001);  // m/s: slower, the axes are fixed ones
@@ -276,22 +279,34 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     btScalar sweep(int iteration, btTypedConstraint** constraints, int constraint_count,
                    const btContactSolverInfo& info, bool backward) {
         btScalar residual = 0;
-        const int joints = m_tmpSolverNonContactConstraintPool.size();
-        if (uses_block()) {
-            if (iteration == 0) factor_block();
-            residual = solve_block();
+        if (iteration == 0) {
+            if (uses_block()) factor_block();
+            // the joint rows swept one by one (the block's are solved together), and the
+            // constraints whose old-style solve does something: btHingeConstraint's is
+            // btTypedConstraint's, which does nothing (only btConeTwistConstraint has one)
+            swept_.clear();
+            for (int j = 0; j < m_tmpSolverNonContactConstraintPool.size(); ++j) {
+                if (!uses_block() || !in_block_[j]) swept_.push_back(j);
+            }
+            old_style_.clear();
+            for (int j = 0; j < constraint_count; ++j) {
+                if (constraints[j]->isEnabled() &&
+                    constraints[j]->getConstraintType() != HINGE_CONSTRAINT_TYPE) {
+                    old_style_.push_back(j);
+                }
+            }
         }
-        auto joint_row = [&](int j) {
-            btSolverConstraint& c = m_tmpSolverNonContactConstraintPool[j];
+        if (uses_block()) residual = solve_block();
+        const int joints = static_cast<int>(swept_.size());
+        auto joint_row = [&](int k) {
+            btSolverConstraint& c = m_tmpSolverNonContactConstraintPool[swept_[k]];
             if (iteration >= c.m_overrideNumSolverIterations) return;
-            if (uses_block() && in_block_[j]) return;
             const btScalar r = m_resolveSingleConstraintRowGeneric(
                 m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB], c);
             residual = btMax(residual, r * r);
         };
         auto old_style = [&] {
-            for (int j = 0; j < constraint_count; ++j) {
-                if (!constraints[j]->isEnabled()) continue;
+            for (int j : old_style_) {
                 const int a = getOrInitSolverBody(constraints[j]->getRigidBodyA(), info.m_timeStep);
                 const int b = getOrInitSolverBody(constraints[j]->getRigidBodyB(), info.m_timeStep);
                 constraints[j]->solveConstraintObsolete(m_tmpSolverBodyPool[a],
@@ -339,6 +354,19 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             f(m_tmpSolverContactFrictionConstraintPool[j]);
     }
 
+    // the same rows as pools: f(rows, count, the first's place in that order)
+    template <class F>
+    void for_each_pool(F f) {
+        size_t at = 0;
+        for (btConstraintArray* pool :
+             {&m_tmpSolverNonContactConstraintPool, &m_tmpSolverContactConstraintPool,
+              &m_tmpSolverContactFrictionConstraintPool}) {
+            const int n = pool->size();
+            if (n > 0) f(&(*pool)[0], n, at);
+            at += static_cast<size_t>(n);
+        }
+    }
+
     btScalar own_iteration(int iteration, btTypedConstraint** constraints, int constraint_count,
                            const btContactSolverInfo& info) {
         if (method_ == SolverMethod::block)
@@ -360,44 +388,61 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             }
         }
         const btScalar residual = sweep(iteration, constraints, constraint_count, info, false);
+        btScalar* before = before_.data();
+        btScalar* direction = direction_.data();
         btScalar d2 = 0;
-        size_t i = 0;
-        for_each_row([&](btSolverConstraint& c) {
-            const btScalar d = c.m_appliedImpulse - before_[i++];
-            d2 += d * d;
+        for_each_pool([&](btSolverConstraint* rows, int n, size_t at) {
+#pragma GCC unroll 4
+            for (int j = 0; j < n; ++j) {
+                const btScalar d = rows[j].m_appliedImpulse - before[at + j];
+                d2 += d * d;
+            }
         });
         const int last = btMax(m_maxOverrideNumSolverIterations, info.m_numIterations) - 1;
         const btScalar beta = iteration == 0 || !(previous_ > 0) ? 0 : d2 / previous_;
         const bool step = beta > 0 && beta <= 1 && iteration < last;
         // the rows' impulses move by beta p; the bodies' velocities by what those impulses do,
         // M^-1 J' beta p, kept per body (beta times last step's, plus this sweep's change)
-        i = 0;
-        for_each_row([&](btSolverConstraint& c) {
-            const btScalar d = c.m_appliedImpulse - before_[i];
+        for_each_pool([&](btSolverConstraint* rows, int n, size_t at) {
+            btScalar* b = before + at;
+            btScalar* p = direction + at;
             if (step) {
-                const btScalar extra = beta * direction_[i];
-                c.m_appliedImpulse += extra;
-                direction_[i] = extra + d;
+#pragma GCC unroll 4
+                for (int j = 0; j < n; ++j) {
+                    btScalar& impulse = rows[j].m_appliedImpulse;
+                    const btScalar d = impulse - b[j];
+                    const btScalar extra = beta * p[j];
+                    impulse += extra;
+                    p[j] = extra + d;
+                    b[j] = impulse;
+                }
             } else {
-                direction_[i] = d;
+#pragma GCC unroll 4
+                for (int j = 0; j < n; ++j) {
+                    const btScalar impulse = rows[j].m_appliedImpulse;
+                    p[j] = impulse - b[j];
+                    b[j] = impulse;
+                }
             }
-            before_[i] = c.m_appliedImpulse;
-            ++i;
         });
-        for (int b = 0; b < m_tmpSolverBodyPool.size(); ++b) {
-            btVector3* v[2] = {&m_tmpSolverBodyPool[b].internalGetDeltaLinearVelocity(),
-                               &m_tmpSolverBodyPool[b].internalGetDeltaAngularVelocity()};
+        const int bodies = m_tmpSolverBodyPool.size();
+        btVector3* body_before = body_before_.data();
+        btVector3* body_direction = body_direction_.data();
+        for (int b = 0; b < bodies; ++b) {
+            btSolverBody& s = m_tmpSolverBodyPool[b];
+            btVector3* v[2] = {&s.internalGetDeltaLinearVelocity(),
+                               &s.internalGetDeltaAngularVelocity()};
             for (int k = 0; k < 2; ++k) {
                 const size_t at = 2 * static_cast<size_t>(b) + k;
-                const btVector3 d = *v[k] - body_before_[at];
+                const btVector3 d = *v[k] - body_before[at];
                 if (step) {
-                    const btVector3 extra = body_direction_[at] * beta;
+                    const btVector3 extra = body_direction[at] * beta;
                     *v[k] += extra;
-                    body_direction_[at] = extra + d;
+                    body_direction[at] = extra + d;
                 } else {
-                    body_direction_[at] = d;
+                    body_direction[at] = d;
                 }
-                body_before_[at] = *v[k];
+                body_before[at] = *v[k];
             }
         }
         previous_ = d2;
@@ -410,6 +455,17 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
         const int n = static_cast<int>(block_.size());
         btScalar residual = 0;
+        if (band_fast_) {
+            const int count = static_cast<int>(band_.size());
+            for (int b = 0; b < count; ++b)
+                band_rhs(band_rows_[b], &pool[0], &m_tmpSolverBodyPool[0], &rhs_[b * kBandRows]);
+            band_solve(band_.data(), count, rhs_.data());
+            for (int b = 0; b < count; ++b) {
+                residual = band_apply(band_rows_[b], &pool[0], &m_tmpSolverBodyPool[0],
+                                      &rhs_[b * kBandRows], residual);
+            }
+            return residual;
+        }
         for (int i = 0; i < n; ++i) {
             const btSolverConstraint& c = pool[block_[i]];
             btSolverBody& a = m_tmpSolverBodyPool[c.m_solverBodyIdA];
@@ -417,7 +473,24 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             rhs_[i] = (c.m_rhs - c.m_appliedImpulse * c.m_cfm) / c.m_jacDiagABInv -
                       (row_velocity(c, a, b) + c.m_rhs / c.m_jacDiagABInv);
         }
-        // L y = r, D z = y, L' x = z (in place)
+        if (!band_.empty()) {
+            band_solve(band_.data(), static_cast<int>(band_.size()), rhs_.data());
+        } else {
+            profile_solve();
+        }
+        for (int i = 0; i < n; ++i) {
+            btSolverConstraint& c = pool[block_[i]];
+            const btScalar d = static_cast<btScalar>(rhs_[i]);
+            apply(c, m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB],
+                  d);
+            residual = btMax(residual, d * d / (c.m_jacDiagABInv * c.m_jacDiagABInv));
+        }
+        return residual;
+    }
+
+    // L y = r, D z = y, L' x = z (in place) on the profile
+    void profile_solve() {
+        const int n = static_cast<int>(block_.size());
         for (int i = 0; i < n; ++i) {
             double sum = rhs_[i];
             const double* l = &chol_[static_cast<size_t>(i) * n];
@@ -433,14 +506,6 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             for (int j = first_[k]; j < k; ++j)
                 rhs_[j] -= l[j] * x;
         }
-        for (int i = 0; i < n; ++i) {
-            btSolverConstraint& c = pool[block_[i]];
-            const btScalar d = static_cast<btScalar>(rhs_[i]);
-            apply(c, m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB],
-                  d);
-            residual = btMax(residual, d * d / (c.m_jacDiagABInv * c.m_jacDiagABInv));
-        }
-        return residual;
     }
 
     // J_i M^-1 J_j' over the bodies rows i and j share
@@ -474,11 +539,12 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             }
         }
         const int n = static_cast<int>(block_.size());
+        rhs_.assign(n, 0);
+        if (factor_band()) return;
         // only the profile is written and read: no n x n clearing
         chol_.resize(static_cast<size_t>(n) * n);
         first_.assign(n, 0);
         diag_.assign(n, 0);
-        rhs_.assign(n, 0);
         // the rows coupled to row i are those earlier on its bodies (a fixed body couples none)
         rows_of_body_.resize(m_tmpSolverBodyPool.size());
         for (std::vector<int>& rows : rows_of_body_)
@@ -525,6 +591,81 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         }
     }
 
+    // a chain of hinges (block_band.h): the block's rows in groups of kBandRows on the same two
+    // bodies, each group sharing moving bodies with no group but the one before it. Builds and
+    // factors K there and returns true; otherwise leaves band_ empty for the profile.
+    bool factor_band() {
+        band_.clear();
+        band_fast_ = false;
+        const btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
+        const int n = static_cast<int>(block_.size());
+        if (n == 0 || n % kBandRows != 0) return false;
+        const int count = n / kBandRows;
+        auto moving = [&](int body) { return !m_tmpSolverBodyPool[body].m_invMass.fuzzyZero(); };
+        first_group_of_body_.assign(m_tmpSolverBodyPool.size(), -1);
+        band_.resize(count);
+        band_rows_.resize(count);
+        band_fast_ = true;
+        for (int b = 0; b < count; ++b) {
+            const btSolverConstraint& head = pool[block_[b * kBandRows]];
+            const int bodies[2] = {head.m_solverBodyIdA, head.m_solverBodyIdB};
+            bool ok = bodies[0] != bodies[1];
+            for (int r = 1; r < kBandRows && ok; ++r) {
+                const btSolverConstraint& c = pool[block_[b * kBandRows + r]];
+                ok = c.m_solverBodyIdA == bodies[0] && c.m_solverBodyIdB == bodies[1];
+            }
+            bool coupled = false;
+            for (int body : bodies) {
+                if (!ok || !moving(body)) continue;
+                const int first = first_group_of_body_[body];
+                if (first == -1) {
+                    first_group_of_body_[body] = b;
+                } else if (first == b - 1) {
+                    coupled = true;
+                } else {
+                    ok = false;
+                }
+            }
+            if (!ok) {
+                band_.clear();
+                band_fast_ = false;
+                return false;
+            }
+            // the rows' data for band_rhs and band_apply (used where every body takes
+            // impulses as btSolverBody::internalApplyImpulse does with factors of 1) and for K
+            const btSolverConstraint* rows[kBandRows];
+            BandRows& data = band_rows_[b];
+            for (int r = 0; r < kBandRows; ++r) {
+                data.row[r] = block_[b * kBandRows + r];
+                rows[r] = &pool[data.row[r]];
+            }
+            data.a = bodies[0];
+            data.b = bodies[1];
+            for (int body : bodies) {
+                const btSolverBody& s = m_tmpSolverBodyPool[body];
+                band_fast_ = band_fast_ && s.m_originalBody &&
+                             s.m_linearFactor == btVector3(1, 1, 1) &&
+                             s.m_angularFactor == btVector3(1, 1, 1);
+            }
+            band_rows(data, rows, m_tmpSolverBodyPool);
+            BandGroup& g = band_[b];
+            g.coupled = coupled;
+            for (int r = 0; r < kBandRows; ++r) {
+                const btSolverConstraint& x = *rows[r];
+                if (coupled) {
+                    for (int c = 0; c < kBandRows; ++c)
+                        g.prev[r][c] = band_coupling(x, band_rows_[b - 1], c);
+                }
+                for (int c = 0; c < r; ++c)
+                    g.lower[r][c] = band_coupling(x, data, c);
+                g.diag[r] = 1 / x.m_jacDiagABInv + x.m_cfm / x.m_jacDiagABInv;
+                g.own[r] = 1 / x.m_jacDiagABInv;
+            }
+        }
+        band_factor(band_.data(), count);
+        return true;
+    }
+
     bool uses_block() const {
         return method_ == SolverMethod::block || method_ == SolverMethod::block_nncg;
     }
@@ -540,7 +681,15 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     std::vector<int> block_, first_;
     std::vector<std::vector<int>> rows_of_body_;  // block: the rows so far on each solver body
     std::vector<char> in_block_;
+    std::vector<int> swept_;      // the joint rows each sweep solves one by one
+    std::vector<int> old_style_;  // the constraints whose solveConstraintObsolete each sweep calls
     std::vector<double> chol_, diag_, rhs_;
+    // block, a chain of hinges: K's factors in blocks (empty: the profile above), and the first
+    // group on each solver body
+    std::vector<BandGroup> band_;
+    std::vector<BandRows> band_rows_;
+    bool band_fast_ = false;  // band_rows_ hold the rows (block_band.h)
+    std::vector<int> first_group_of_body_;
     std::vector<btPersistentManifold*> sorted_manifolds_;
     std::vector<btTypedConstraint*> sorted_constraints_;
 
