@@ -24,7 +24,7 @@ enum class ConstraintSolver {
     pgs,         ///< Bullet's sequential impulses (projected Gauss-Seidel): the default
     block_nncg,  ///< each robot's joints solved exactly as one system in every iteration, with
                  ///< a nonlinear conjugate-gradient step after each: converges in far fewer
-                 ///< iterations on chains pressed onto the floor, about 1.7x the cost per step
+                 ///< iterations on chains pressed onto the floor, about 1.05x the cost per step
 };
 
 /// "pgs" or "block_nncg".
