@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "block_band.h"
+#include "profile_ldl.h"
 
 namespace gaitlab {
 
@@ -490,22 +491,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
 
     // L y = r, D z = y, L' x = z (in place) on the profile
     void profile_solve() {
-        const int n = static_cast<int>(block_.size());
-        for (int i = 0; i < n; ++i) {
-            double sum = rhs_[i];
-            const double* l = &chol_[static_cast<size_t>(i) * n];
-            for (int k = first_[i]; k < i; ++k)
-                sum -= l[k] * rhs_[k];
-            rhs_[i] = sum;
-        }
-        for (int i = 0; i < n; ++i)
-            rhs_[i] /= diag_[i];
-        for (int k = n - 1; k > 0; --k) {  // x_k is final: take it out of the rows above
-            const double x = rhs_[k];
-            const double* l = &chol_[static_cast<size_t>(k) * n];
-            for (int j = first_[k]; j < k; ++j)
-                rhs_[j] -= l[j] * x;
-        }
+        profile_substitute(chol_.data(), diag_.data(), first_.data(),
+                           static_cast<int>(block_.size()), rhs_.data());
     }
 
     // J_i M^-1 J_j' over the bodies rows i and j share
@@ -573,22 +560,10 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                     rows_of_body_[body].push_back(i);
             }
         }
-        // L D L' on the profile: L(i,j) is zero left of first_[i], and so is its fill
-        for (int i = 0; i < n; ++i) {
-            for (int j = first_[i]; j <= i; ++j) {
-                double sum = chol_[i * n + j];
-                for (int k = std::max(first_[i], first_[j]); k < j; ++k)
-                    sum -= chol_[i * n + k] * chol_[j * n + k] * diag_[k];
-                if (j < i) {
-                    chol_[i * n + j] = sum / diag_[j];
-                } else {
-                    // redundant rows (a closed loop of joints) make K singular: such a row then
-                    // keeps its own diagonal, as pgs would solve it
-                    const double own = 1 / pool[block_[i]].m_jacDiagABInv;
-                    diag_[i] = sum > 1e-9 * own ? sum : own;
-                }
-            }
-        }
+        // L D L' on the profile: L(i,j) is zero left of first_[i], and so is its fill; a
+        // redundant row keeps its own diagonal, as pgs would solve it
+        profile_factor(chol_.data(), diag_.data(), first_.data(), n,
+                       [&](int i) { return 1 / pool[block_[i]].m_jacDiagABInv; });
     }
 
     // a chain of hinges (block_band.h): the block's rows in groups of kBandRows on the same two

@@ -8,11 +8,14 @@
 #include <vector>
 
 #include "bullet/block_band.h"
+#include "bullet/profile_ldl.h"
 
 namespace {
 
 using gaitlab::BandGroup;
 using gaitlab::kBandRows;
+using gaitlab::profile_factor;
+using gaitlab::profile_substitute;
 
 // a chain's K: J M^-1 J' of random rows, each group's 5 rows on bodies g and g + 1 (6 numbers
 // per body), so each group couples to the one before it through body g
@@ -74,7 +77,8 @@ std::vector<BandGroup> band_of(const Chain& c) {
     return band;
 }
 
-// CoulombSolver's profile factor and substitutions (factor_block, profile_solve)
+// CoulombSolver's profile factor and substitutions (profile_ldl.h, as factor_block and
+// profile_solve call them)
 std::vector<double> profile_solve(const Chain& c, std::vector<double> x) {
     const int n = c.n();
     std::vector<double> l = c.k, diag(n);
@@ -83,30 +87,9 @@ std::vector<double> profile_solve(const Chain& c, std::vector<double> x) {
         const int g = i / kBandRows;
         first[i] = c.coupled[g] ? (g - 1) * kBandRows : g * kBandRows;
     }
-    for (int i = 0; i < n; ++i) {
-        for (int j = first[i]; j <= i; ++j) {
-            double sum = l[i * n + j];
-            for (int k = std::max(first[i], first[j]); k < j; ++k)
-                sum -= l[i * n + k] * l[j * n + k] * diag[k];
-            if (j < i) {
-                l[i * n + j] = sum / diag[j];
-            } else {
-                diag[i] = sum > 1e-9 * c.k[i * n + i] ? sum : c.k[i * n + i];
-            }
-        }
-    }
-    for (int i = 0; i < n; ++i) {
-        double sum = x[i];
-        for (int k = first[i]; k < i; ++k)
-            sum -= l[i * n + k] * x[k];
-        x[i] = sum;
-    }
-    for (int i = 0; i < n; ++i)
-        x[i] /= diag[i];
-    for (int k = n - 1; k > 0; --k) {
-        for (int j = first[k]; j < k; ++j)
-            x[j] -= l[k * n + j] * x[k];
-    }
+    profile_factor(l.data(), diag.data(), first.data(), n,
+                   [&](int i) { return c.k[static_cast<size_t>(i) * n + i]; });
+    profile_substitute(l.data(), diag.data(), first.data(), n, x.data());
     return x;
 }
 
