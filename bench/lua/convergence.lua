@@ -101,6 +101,9 @@ local function convergence_row(gait, modules, friction)
   return r
 end
 
+local modules_grid = numbers(os.getenv("CONV_MODULES") or "2 8 32")
+local friction_grid = numbers(os.getenv("CONV_FRICTION") or "0.3 1.0")
+
 -- issue 14's measure: per-cycle speed at each setting, averaged over the start phases
 local phases_py = numbers(os.getenv("CONV_PHASES") or "0 72 144 216 288")
 
@@ -142,8 +145,8 @@ if measure == "speed" then
     return
   end
   for _, gait in ipairs{ "pp", "py-roll", "py-wave" } do
-    for _, n in ipairs(numbers(os.getenv("CONV_MODULES") or "2 8 32")) do
-      for _, mu in ipairs(numbers(os.getenv("CONV_FRICTION") or "0.3 1.0")) do
+    for _, n in ipairs(modules_grid) do
+      for _, mu in ipairs(friction_grid) do
         speed_row(gait, n, mu)
       end
     end
@@ -162,8 +165,6 @@ if arg[1] then
   return
 end
 
-local modules_grid = numbers(os.getenv("CONV_MODULES") or "2 8 32")
-local friction_grid = numbers(os.getenv("CONV_FRICTION") or "0.3 1.0")
 print(string.format("%d cycles of %g s after %g s; mm per cycle along x / across y", cycles,
                     1 / frequency, settle))
 print(header)
