@@ -55,6 +55,15 @@ enum class FrictionModel { per_step, disk };
 // the other rows as pgs does; block_nncg is block with nncg's
 // step after each sweep (the block's rows among all others).
 enum class SolverMethod { pgs, symmetric, nncg, block, block_nncg };
+
+// The three ways the block methods solve K dl = r (CoulombSolver::factor_block, solve_block),
+// all taking every sum in the same order, so a chain gives the same bits on each:
+// band_fast, a chain of hinges whose bodies are all ordinary rigid bodies with linear and
+// angular factors 1 (block_band.h's band_rhs and band_apply); band_generic, a chain with some
+// other body (a fixed one, or factors not 1): the generic right side and impulses around
+// band_solve; profile, any other structure (a body with three or more hinges, joints whose rows
+// do not come in fives): L D L' on K's profile (profile_ldl.h). `automatic` chooses as above.
+enum class BlockPath { automatic, band_fast, band_generic, profile };
 inline constexpr btScalar kSlideSpeed = btScalar(0.001);  // m/s: slower, the axes are fixed ones
 
 // The collision configuration of every gaitlab world: Bullet's default, except that a box on a
@@ -80,6 +89,15 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     void set_friction_model(FrictionModel m) { model_ = m; }
     /// The iteration (above); the engine's default is SolverMethod::pgs.
     void set_method(SolverMethod m) { method_ = m; }
+    /// A test hook (tests/engine/bullet/coulomb_solver_test.cpp), not part of any API: forces
+    /// the block methods' path (BlockPath above) where the structure allows it. band_generic
+    /// takes the generic loops on a chain that would take the fast ones (elsewhere the
+    /// profile, as automatic); profile takes the profile on any structure; automatic (the
+    /// default, what the engine always uses) and band_fast choose as BlockPath says.
+    void force_block_path(BlockPath p) { forced_path_ = p; }
+    /// The path the last factor took (band_fast, band_generic or profile: one factor per
+    /// group Bullet hands over, each step); automatic before any step of a block method.
+    BlockPath block_path() const { return block_path_; }
 
     // Solves the contacts and joints of a group in an order of their own (by the bodies'
     // user indices, then the contact's parts; joints by their user constraint id), not in the
@@ -527,7 +545,15 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         }
         const int n = static_cast<int>(block_.size());
         rhs_.assign(n, 0);
-        if (factor_band()) return;
+        if (forced_path_ != BlockPath::profile && factor_band()) {
+            if (forced_path_ == BlockPath::band_generic) band_fast_ = false;
+            block_path_ = band_fast_ ? BlockPath::band_fast : BlockPath::band_generic;
+            return;
+        }
+        // the profile: solve_block takes it where band_ is empty
+        band_.clear();
+        band_fast_ = false;
+        block_path_ = BlockPath::profile;
         // only the profile is written and read: no n x n clearing
         chol_.resize(static_cast<size_t>(n) * n);
         first_.assign(n, 0);
@@ -647,7 +673,9 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
 
     FrictionModel model_ = FrictionModel::disk;
     SolverMethod method_ = SolverMethod::pgs;
-    std::vector<btScalar> before_, direction_;  // nncg: impulses after the last sweep, p
+    BlockPath forced_path_ = BlockPath::automatic;  // force_block_path
+    BlockPath block_path_ = BlockPath::automatic;   // block_path
+    std::vector<btScalar> before_, direction_;      // nncg: impulses after the last sweep, p
     // nncg: each solver body's delta velocities (linear, angular) after the last sweep, M^-1 J' p
     std::vector<btVector3> body_before_, body_direction_;
     btScalar previous_ = 0;  // nncg: |d_k-1|^2
