@@ -6,7 +6,7 @@
 --   gaitlab run bench/lua/convergence.lua --no-record             the tables of performance.md
 --   gaitlab run bench/lua/convergence.lua --no-record GAIT N MU   one row (GAIT: pp, py-roll, py-wave)
 --
--- CONV_CYCLES (default 5) sets the cycles measured, CONV_MODULES (default "2 8 32") and
+-- CONV_CYCLES (default 5) sets the cycles measured, CONV_MAX_TORQUE the servos' torque (below), CONV_MODULES (default "2 8 32") and
 -- CONV_FRICTION (default "0.3 1.0") the grid, CONV_SOLVER the simulation's `solver` (default the
 -- engine's, "pgs"; "block_nncg" solves each robot's joints as one system, docs/architecture.md).
 -- Each run starts at time 0 (the same start every time), settles for 2 s, then measures; the
@@ -20,6 +20,7 @@
 -- whose heading wanders (a long pitch-yaw chain's does, from a perturbation of 1e-9 deg) is
 -- the heading more than the speed.
 local chain_run = require "chain_run"
+local gaits = require "standard_gaits"
 
 local measure = os.getenv("CONV_MEASURE") or "vector"
 if measure ~= "vector" and measure ~= "speed" then
@@ -29,6 +30,18 @@ local cycles = tonumber(os.getenv("CONV_CYCLES") or (measure == "speed" and "10"
 local solver = os.getenv("CONV_SOLVER")
 local frequency = 0.5
 local settle = 2
+-- CONV_MAX_TORQUE (N m): the chains' modules are y1 with this servo torque instead of y1's 0.4,
+-- an experiment (section 12: whether a gait the y1 servos cannot follow converges with servos
+-- that can)
+local module
+if os.getenv("CONV_MAX_TORQUE") then
+  local torque = tonumber(os.getenv("CONV_MAX_TORQUE"))
+  if not torque or torque <= 0 then
+    error("CONV_MAX_TORQUE: a torque in N m > 0 expected, got '" .. os.getenv("CONV_MAX_TORQUE")
+          .. "'", 0)
+  end
+  module = gaitlab.module{ name = "y1_torque", base = "y1", max_torque = torque }
+end
 
 local function numbers(text)
   local out = {}
@@ -36,39 +49,15 @@ local function numbers(text)
   return out
 end
 
--- the gaits: pp, the travelling wave of a pitch-pitch chain (Cube Revolutions), 40 deg and 120
--- deg between neighbours (`direction` -1 reverses the wave); py-roll, the rolling gait of a
--- pitch-yaw chain (Gonzalez-Gomez et al., CLAWAR 2006: all joints of a plane in phase, the yaw
--- joints 90 deg behind); py-wave, the benchmark's pitch-yaw gait (docs/performance.md,
--- "Workload": a 40 deg pitch wave and a 20 deg yaw wave, 120 deg between neighbours)
--- joints' phases (`start`, deg) added to every joint
-local function drive(robot, gait, direction, start)
-  local sine = gaitlab.controllers.sine
-  local function wrap(a) return (a + 180) % 360 - 180 end
-  local s = wrap(start or 0)
-  if gait == "pp" then
-    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = frequency,
-                                     phase = 120 * direction, phase0 = s })
-  elseif gait == "py-roll" then
-    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = frequency, phase = 0, phase0 = s })
-    robot:group("yaw"):drive(sine{ amplitude = 40, frequency = frequency, phase = 0,
-                                   phase0 = wrap(-90 + s) })
-  elseif gait == "py-wave" then
-    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = frequency, phase = 120,
-                                     phase0 = s })
-    robot:group("yaw"):drive(sine{ amplitude = 20, frequency = frequency, phase = 120,
-                                   phase0 = s })
-  else
-    error("unknown gait '" .. gait .. "' (expected pp, py-roll or py-wave)")
-  end
-end
-
 -- one run: mm per cycle along the body's axis at the start (x) and across it (y), CPU seconds
 local function run(gait, modules, friction, dt, iterations, direction, start)
-  return chain_run{ modules = modules, connection = gait == "pp" and "pitch-pitch" or "pitch-yaw",
+  return chain_run{ modules = modules, connection = gaits.connection(gait), module = module,
                     friction = friction, dt = dt, iterations = iterations, settle = settle,
                     cycles = cycles, frequency = frequency, solver = solver,
-                    drive = function(robot) drive(robot, gait, direction or 1, start) end }
+                    drive = function(robot)
+                      gaits.drive(robot, gait, { frequency = frequency, direction = direction,
+                                                 start = start })
+                    end }
 end
 
 -- change of a per-cycle displacement from `base`, in % of base's length
@@ -144,7 +133,7 @@ if measure == "speed" then
     speed_row(arg[1], tonumber(arg[2] or "8"), tonumber(arg[3] or "0.5"))
     return
   end
-  for _, gait in ipairs{ "pp", "py-roll", "py-wave" } do
+  for _, gait in ipairs(gaits.names) do
     for _, n in ipairs(modules_grid) do
       for _, mu in ipairs(friction_grid) do
         speed_row(gait, n, mu)
@@ -170,7 +159,7 @@ print(string.format("%d cycles of %g s after %g s; mm per cycle along x / across
 print(header)
 print(rule)
 local drift = {}
-for _, gait in ipairs{ "pp", "py-roll", "py-wave" } do
+for _, gait in ipairs(gaits.names) do
   for _, n in ipairs(modules_grid) do
     for _, mu in ipairs(friction_grid) do
       local r = convergence_row(gait, n, mu)

@@ -72,3 +72,50 @@ TEST_CASE("a long pitch-yaw chain's heading is chaotic, its per-cycle speed conv
     CAPTURE(turned);
     CHECK(turned > 3);
 }
+
+namespace {
+
+// the smallest pitch-yaw robot with a wave (CLAWAR 2005's PYP: 3 modules, two pitch joints and
+// one yaw joint) in the benchmark's pitch-yaw gait (pitch 40 deg, yaw 20 deg, 120 deg between
+// neighbours, 0.5 Hz): the per-cycle speed, m, averaged over start phases 0, 72, 144, 216, 288
+// deg added to every joint as point 5 of issue 14 asks, 10 cycles after 2 s
+double pyp_wave_speed(double friction, double dt, int iterations) {
+    double sum = 0;
+    constexpr int kPhases = 5, kCycles = 10;
+    for (int k = 0; k < kPhases; ++k) {
+        const double start = 72.0 * k > 180 ? 72.0 * k - 360 : 72.0 * k;
+        WorldSpec w = test::chain_world(3, Connection::pitch_yaw);
+        w.floor.friction = friction;
+        SimulationOptions o;
+        o.dt = dt;
+        o.control_every = static_cast<int>(std::lround(0.01 / dt));
+        o.solver_iterations = iterations;
+        Simulation sim(w, o);
+        test::drive(sim, "pitch", test::sine(40, 0.5, 120, start));
+        test::drive(sim, "yaw", test::sine(20, 0.5, 120, start));
+        sim.run(2);
+        Vec3 last = sim.robot_position(0);
+        for (int c = 0; c < kCycles; ++c) {
+            sim.run(2);
+            const Vec3 p = sim.robot_position(0);
+            sum += std::hypot(p.x - last.x, p.y - last.y) / (kCycles * kPhases);
+            last = p;
+        }
+    }
+    return sum;
+}
+
+}  // namespace
+
+TEST_CASE("the 3-module pitch-yaw wave's per-cycle speed is within 3 % at dt/4 and 4x iterations") {
+    // friction 1.0, the further of the table's two rows from its reference (1.4 %; 0.5 % at 0.3)
+    for (const double friction : {1.0}) {
+        const double base = pyp_wave_speed(friction, 0.001, 20);
+        const double fine = pyp_wave_speed(friction, 0.00025, 20);
+        const double more = pyp_wave_speed(friction, 0.001, 80);
+        CAPTURE(friction, base, fine, more);
+        CHECK(base > 0.015);  // it travels: about 22 mm per cycle
+        CHECK(std::abs(fine - base) < 0.03 * base);
+        CHECK(std::abs(more - base) < 0.03 * base);
+    }
+}

@@ -1,0 +1,37 @@
+-- The standard gaits of bench/lua/convergence.lua and bench/lua/servo_load.lua (docs/performance.md,
+-- section 12): pp, the travelling wave of a pitch-pitch chain (Cube Revolutions), 40 deg and 120
+-- deg between neighbours (`direction` -1 reverses the wave); py-roll, the rolling gait of a
+-- pitch-yaw chain (Gonzalez-Gomez et al., CLAWAR 2006: all joints of a plane in phase, the yaw
+-- joints 90 deg behind); py-wave, the benchmark's pitch-yaw gait (docs/performance.md,
+-- "Workload": a 40 deg pitch wave and a 20 deg yaw wave, 120 deg between neighbours).
+--
+--   local gaits = require "standard_gaits"
+--   gaits.drive(robot, "py-roll", { frequency = 0.5, direction = 1, start = 72 })
+--   gaits.connection("py-roll")  --> "pitch-yaw"
+-- `start` (deg) is added to every joint's phase.
+local gaits = { names = { "pp", "py-roll", "py-wave" } }
+
+function gaits.connection(gait)
+  return gait == "pp" and "pitch-pitch" or "pitch-yaw"
+end
+
+function gaits.drive(robot, gait, o)
+  local sine = gaitlab.controllers.sine
+  local function wrap(a) return (a + 180) % 360 - 180 end
+  local f, s, direction = o.frequency or 0.5, wrap(o.start or 0), o.direction or 1
+  if gait == "pp" then
+    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = f, phase = 120 * direction,
+                                     phase0 = s })
+  elseif gait == "py-roll" then
+    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = f, phase = 0, phase0 = s })
+    robot:group("yaw"):drive(sine{ amplitude = 40, frequency = f, phase = 0,
+                                   phase0 = wrap(-90 + s) })
+  elseif gait == "py-wave" then
+    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = f, phase = 120, phase0 = s })
+    robot:group("yaw"):drive(sine{ amplitude = 20, frequency = f, phase = 120, phase0 = s })
+  else
+    error("unknown gait '" .. tostring(gait) .. "' (expected pp, py-roll or py-wave)", 0)
+  end
+end
+
+return gaits
