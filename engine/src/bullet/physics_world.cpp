@@ -239,6 +239,7 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
         // (its row's cfm = 1/(dt k + c), erp = dt k/(dt k + c)) from the two bodies' values,
         // combined as k = 1/(1/k0 + 1/k1) and c = c0 + c1; every other body has k = infinity
         // and c = 0 (contact_values_neutral), so the floor's values are the contact's own
+        // (the stiffness as 1/(1/k) in single precision: k, or one unit in the last place off)
         if (spec.floor.stiffness && spec.floor.damping) {
             floor->setContactStiffnessAndDamping(btScalar(*spec.floor.stiffness),
                                                  btScalar(*spec.floor.damping));
