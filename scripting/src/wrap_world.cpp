@@ -43,9 +43,13 @@ int world_new(lua_State* L) {
             if (t == LUA_TBOOLEAN) {
                 world->spec.floor.enabled = lua_toboolean(L, -1);
             } else if (t == LUA_TTABLE) {
-                Fields floor(L, -1, 1, {"enabled", "friction"});
+                Fields floor(L, -1, 1, {"enabled", "friction", "stiffness", "damping"});
                 world->spec.floor.enabled = floor.boolean("enabled", true);
                 world->spec.floor.friction = floor.number("friction", 1.0);
+                // absent: a rigid floor (validate says when only one is given)
+                if (floor.has("stiffness"))
+                    world->spec.floor.stiffness = floor.number("stiffness", 0);
+                if (floor.has("damping")) world->spec.floor.damping = floor.number("damping", 0);
             } else if (t != LUA_TNIL) {
                 f.fail("floor", "table or boolean expected, got " + type_name(L, -1));
             }

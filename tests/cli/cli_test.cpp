@@ -587,6 +587,58 @@ TEST_CASE("gaitlab replay reproduces a run bit for bit and says when it does not
                   "gaitlab: no run folder at " + (tmp / "nothing"));
 }
 
+TEST_CASE("a run on a compliant floor replays bit for bit; a bad value in its copy is named",
+          "[cli][replay]") {
+    TempDir tmp("cli_replay_soft");
+    namespace fs = std::filesystem;
+    fs::copy(GAITLAB_SOURCE_DIR "/examples/walk", tmp / "walk", fs::copy_options::recursive);
+    fs::copy(GAITLAB_SOURCE_DIR "/examples/controllers", tmp / "controllers",
+             fs::copy_options::recursive);
+    const std::string environment =
+        "<?xml version=\"1.0\"?>\n"
+        "<gaitlab version=\"1\">\n"
+        "    <environment>\n"
+        "        <floor friction=\"0.8\" FLOOR/>\n"
+        "        <place robot=\"snake\" position=\"0 0 0\"/>\n"
+        "    </environment>\n"
+        "</gaitlab>\n";
+    auto floor = [&](const std::string& attrs) {
+        std::string text = environment;
+        text.replace(text.find("FLOOR"), 5, attrs);
+        return text;
+    };
+    write_text(tmp / "walk/flat.environment.xml", floor("stiffness=\"1e4\" damping=\"20\""));
+    write_text(tmp / "walk/rigid.environment.xml", floor(""));
+    const std::string sim = slurp(GAITLAB_SOURCE_DIR "/examples/walk.xml");
+    std::string rigid_sim = sim;
+    rigid_sim.replace(rigid_sim.find("flat.environment"), 16, "rigid.environment");
+    write_text(tmp / "soft.xml", sim);
+    write_text(tmp / "rigid.xml", rigid_sim);
+    for (const char* name : {"soft", "rigid"}) {
+        REQUIRE(cli({"run", "--record", tmp / name, (tmp / name) + ".xml"}, tmp.str()).status == 0);
+    }
+    // the run's copy of the environment holds the floor's values, and they made a difference
+    CHECK_THAT(slurp(tmp / "soft/config/walk/flat.environment.xml"),
+               Catch::Contains("stiffness=\"1e4\" damping=\"20\""));
+    CHECK(slurp(tmp / "soft/data.csv") != slurp(tmp / "rigid/data.csv"));
+    const Run r = cli({"replay", tmp / "soft"});
+    CHECK(r.status == 0);
+    CHECK_THAT(r.out, Catch::StartsWith("replay identical: "));
+    CHECK_THAT(r.out, Catch::Contains("bit for bit"));
+    // a bad value in the recording's copy: its file, line and what is expected
+    write_text(tmp / "soft/config/walk/flat.environment.xml",
+               floor("stiffness=\"-1e4\" damping=\"20\""));
+    check_failure(cli({"replay", tmp / "soft", "--into", tmp / "other"}),
+                  "gaitlab: replay failed: " + (tmp / "soft/config/walk/flat.environment.xml") +
+                      ":4: environment/floor[1]: floor stiffness must be positive (got -10000 "
+                      "N/m)");
+    write_text(tmp / "soft/config/walk/flat.environment.xml", floor("stiffness=\"1e4\""));
+    check_failure(cli({"replay", tmp / "soft", "--into", tmp / "other"}),
+                  "gaitlab: replay failed: " + (tmp / "soft/config/walk/flat.environment.xml") +
+                      ":4: environment/floor[1]: floor stiffness needs a floor damping (give "
+                      "both or neither: neither is a rigid floor)");
+}
+
 TEST_CASE("a run of the block_nncg solver replays with it, and not with pgs", "[cli][replay]") {
     TempDir tmp("cli_replay_solver");
     write_text(tmp / "pyroll.lua",

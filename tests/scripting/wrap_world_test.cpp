@@ -1,7 +1,11 @@
 // gaitlab.world: floor, gravity, boxes and placing robots (scripting/src/wrap_world.cpp).
 #include <catch2/catch.hpp>
 
+#include <fstream>
+#include <sstream>
+
 #include "lua_fixture.h"
+#include "temp_dir.h"
 
 using gaitlab::test::LuaFixture;
 
@@ -25,6 +29,73 @@ TEST_CASE("world rejects bad arguments with Lua-worded messages", "[wrap_world]"
     CHECK(lua.error_of("gaitlab.world{ gravty = { 0, 0, -1 } }") ==
           bad + "unknown key 'gravty'; did you mean 'gravity'?)");
     CHECK(lua.error_of("gaitlab.world(5)") == bad + "table expected, got number)");
+}
+
+TEST_CASE("a compliant floor takes a stiffness and a damping, both or neither", "[wrap_world]") {
+    LuaFixture lua;
+    const std::string bad = "test:1: bad argument #1 to 'world' (";
+    CHECK(lua.error_of("gaitlab.world{ floor = { stiffness = 1e4 } }") ==
+          bad +
+              "floor stiffness needs a floor damping (give both or neither: neither is a rigid "
+              "floor))");
+    CHECK(lua.error_of("gaitlab.world{ floor = { friction = 0.5, damping = 20 } }") ==
+          bad +
+              "floor damping needs a floor stiffness (give both or neither: neither is a rigid "
+              "floor))");
+    CHECK(lua.error_of("gaitlab.world{ floor = { stiffness = 0, damping = 20 } }") ==
+          bad + "floor stiffness must be positive (got 0 N/m))");
+    CHECK(lua.error_of("gaitlab.world{ floor = { stiffness = 1/0, damping = 20 } }") ==
+          bad + "floor stiffness must be positive (got inf N/m))");
+    CHECK(lua.error_of("gaitlab.world{ floor = { stiffness = 1e4, damping = -2 } }") ==
+          bad + "floor damping must not be negative (got -2 N·s/m))");
+    CHECK(lua.error_of("gaitlab.world{ floor = { stiffness = 'hard', damping = 20 } }") ==
+          bad + "field 'stiffness': number expected, got string)");
+    CHECK(lua.error_of("gaitlab.world{ floor = { stiffness = 1e4, damping = {} } }") ==
+          bad + "field 'damping': number expected, got table)");
+    CHECK(lua.error_of("gaitlab.world{ floor = { stifness = 1e4, damping = 20 } }") ==
+          bad + "unknown key 'stifness'; did you mean 'stiffness'?)");
+    lua.run("w = gaitlab.world{ floor = { friction = 0.8, stiffness = 1e4, damping = 0 } }");
+}
+
+TEST_CASE("a robot rests lower on a compliant floor, the same each run, and the floor saves",
+          "[wrap_world]") {
+    gaitlab::test::TempDir dir("soft_floor");
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.str() + "'");
+    lua.run(R"(
+        function rest(floor)
+          local r = gaitlab.robot.chain{ name = "r", modules = 4 }
+          local w = gaitlab.world{ floor = floor }
+          w:add(r)
+          local sim = gaitlab.simulation{ world = w }
+          sim:run(1)
+          local p = r:position()
+          return p.z, string.format("%a %a %a", p.x, p.y, p.z), w
+        end
+        rigid = rest({ friction = 0.8 })
+        soft, bits1, world = rest({ friction = 0.8, stiffness = 1e4, damping = 20 })
+        soft2, bits2 = rest({ friction = 0.8, stiffness = 1e4, damping = 20 })
+        stiff = rest({ friction = 0.8, stiffness = 1e5, damping = 20 })
+        assert(world:save(DIR .. "/soft.xml"))
+        loaded = assert(gaitlab.world.load(DIR .. "/soft.xml"))
+        r3 = gaitlab.robot.chain{ name = "r", modules = 4 }
+        loaded:add(r3)
+        sim3 = gaitlab.simulation{ world = loaded }
+        sim3:run(1)
+        p3 = r3:position()
+        bits3 = string.format("%a %a %a", p3.x, p3.y, p3.z)
+    )");
+    // 200 g on 20 corner points of k = 1e4 N/m: about 10 µm
+    CHECK(lua.number("rigid - soft") == Approx(1e-5).epsilon(0.1));
+    CHECK(lua.number("rigid - stiff") == Approx(1e-6).epsilon(0.1));
+    CHECK(lua.boolean("bits1 == bits2"));
+    // the saved world is the same world: the same run, bit for bit
+    CHECK(lua.boolean("bits3 == bits1"));
+    std::ifstream in(dir.file("soft.xml"));
+    std::stringstream text;
+    text << in.rdbuf();
+    CHECK(text.str().find("<floor friction=\"0.8\" stiffness=\"10000\" damping=\"20\"/>") !=
+          std::string::npos);
 }
 
 TEST_CASE("world:box checks its fields", "[wrap_world]") {

@@ -73,7 +73,8 @@ std::map<Key, Probe> probes() {
     add("robot", "sensor", {"joint"}, "r:sensor{ kind = 'joint', joint = BAD }");
     add("robot", "sensor", {"kind"}, "r:sensor{ kind = BAD }", "kind");
     add("environment", "environment", {"gravity"}, "gaitlab.world{ $ = BAD }");
-    add("environment", "floor", {"enabled", "friction"}, "gaitlab.world{ floor = { $ = BAD } }");
+    add("environment", "floor", {"enabled", "friction", "stiffness", "damping"},
+        "gaitlab.world{ floor = { $ = BAD } }");
     for (const char* kind : {"box", "wall", "ramp", "stairs", "cylinder", "pipe", "rubble"}) {
         add("environment", kind,
             {"size",        "position",   "yaw",       "orientation", "mass",       "friction",
@@ -226,7 +227,7 @@ TEST_CASE("an environment with every object kind is the same from XML and Lua", 
     const std::string xml = R"(<?xml version="1.0"?>
 <gaitlab version="1">
   <environment gravity="0 0 -3.7">
-    <floor enabled="false" friction="0.6"/>
+    <floor enabled="false" friction="0.6" stiffness="20000" damping="15.5"/>
     <box size="0.2 0.1 0.05" position="1 0 0.025" yaw="30" mass="0.2" friction="0.5"/>
     <box size="0.1 0.1 0.1" position="0 1 0.5"
          orientation="0.7071067811865476 0.7071067811865476 0 0"/>
@@ -254,7 +255,8 @@ TEST_CASE("an environment with every object kind is the same from XML and Lua", 
     const std::string from_xml =
         gaitlab::format_environment(gaitlab::parse_environment(xml, "world.xml"), out);
     const std::string from_lua = saved_by(R"(
-local w = gaitlab.world{ gravity = {0, 0, -3.7}, floor = { enabled = false, friction = 0.6 } }
+local w = gaitlab.world{ gravity = {0, 0, -3.7},
+                        floor = { enabled = false, friction = 0.6, stiffness = 2e4, damping = 15.5 } }
 w:box{ size = {0.2, 0.1, 0.05}, position = {1, 0, 0.025}, yaw = 30, mass = 0.2, friction = 0.5 }
 w:box{ size = {0.1, 0.1, 0.1}, position = {0, 1, 0.5},
        orientation = {0.7071067811865476, 0.7071067811865476, 0, 0} }
@@ -279,6 +281,7 @@ assert(w:save(OUT))
                                           dir, "world.environment.xml");
     CHECK(from_lua == from_xml);
     CHECK(from_xml.find("enabled=\"false\"") != std::string::npos);
+    CHECK(from_xml.find("stiffness=\"20000\" damping=\"15.5\"") != std::string::npos);
     CHECK(from_xml.find("<place robot=\"arm\"") != std::string::npos);
 }
 

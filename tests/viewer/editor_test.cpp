@@ -135,6 +135,42 @@ TEST_CASE("editor: a moved box, a new ramp and friction save as the engine reads
     CHECK(read_text(path) == once);
 }
 
+TEST_CASE("editor: a compliant floor keeps its stiffness and damping through the page") {
+    TempDir dir("editor");
+    const std::string path = dir / "soft.xml";
+    std::string text = kFlat;
+    text.replace(text.find("<floor friction=\"0.8\"/>"), 23,
+                 "<floor friction=\"0.8\" stiffness=\"10000\" damping=\"20\"/>");
+    write_text(path, text);
+    Editor ed = editor_of(path);
+    const json opened = json::parse(ed.open());
+    CHECK(opened["environment"]["floor"]["stiffness"] == 10000.0);
+    CHECK(opened["environment"]["floor"]["damping"] == 20.0);
+    // an edit elsewhere keeps them
+    ed.save(with(opened, [](json& env) { env["floor"]["friction"] = 0.5; }));
+    EnvironmentSpec back = read_environment(path);
+    CHECK(back.world.floor.friction == 0.5);
+    CHECK(back.world.floor.stiffness == 1e4);
+    CHECK(back.world.floor.damping == 20.0);
+    // a lone stiffness is refused as the engine refuses it
+    const json again = json::parse(ed.open());
+    const EditError e =
+        refusal([&] { ed.save(with(again, [](json& env) { env["floor"].erase("damping"); })); });
+    CHECK(e.status() == 400);
+    CHECK_THAT(e.what(), Catch::Contains("floor stiffness needs a floor damping"));
+    back = read_environment(path);
+    CHECK(back.world.floor.damping == 20.0);
+    // both removed: a rigid floor
+    const json third = json::parse(ed.open());
+    ed.save(with(third, [](json& env) {
+        env["floor"].erase("stiffness");
+        env["floor"].erase("damping");
+    }));
+    back = read_environment(path);
+    CHECK_FALSE(back.world.floor.stiffness);
+    CHECK_FALSE(back.world.floor.damping);
+}
+
 TEST_CASE("editor: bad values name the object and field, and nothing is saved") {
     TempDir dir("editor");
     const std::string path = dir / "flat.xml";

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <limits>
 #include <mutex>
+#include <optional>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -160,6 +161,14 @@ struct Read {
             fail(n, fmt::format("a number{} expected (got {})",
                                 *unit ? fmt::format(" in {}", unit) : "", quoted(*j)));
         }
+    }
+    // a field the spec may lack (a compliant floor's stiffness): absent or null, it lacks it
+    void number(const char* n, std::optional<double>& v, const char* unit) {
+        const json* j = find(n);
+        if (!j || j->is_null()) return;
+        double d = 0;
+        number(n, d, unit);
+        v = d;
     }
     void vec3(const char* n, Vec3& v, const char* unit) {
         const json* j = find(n);
@@ -360,8 +369,11 @@ struct Editor::Impl {
                  {"position", {p.pose.position.x, p.pose.position.y, p.pose.position.z}},
                  {"orientation", {q.w, q.x, q.y, q.z}}});
         }
+        json floor = {{"enabled", w.floor.enabled}, {"friction", w.floor.friction}};
+        if (w.floor.stiffness) floor["stiffness"] = *w.floor.stiffness;
+        if (w.floor.damping) floor["damping"] = *w.floor.damping;
         return {{"gravity", {w.gravity.x, w.gravity.y, w.gravity.z}},
-                {"floor", {{"enabled", w.floor.enabled}, {"friction", w.floor.friction}}},
+                {"floor", floor},
                 {"objects", objects},
                 {"placements", places}};
     }
@@ -529,10 +541,13 @@ struct Editor::Impl {
         }
         if (const auto f = j.find("floor"); f != j.end()) {
             if (!f->is_object())
-                throw EditError(400, "floor: an object {enabled, friction} expected");
+                throw EditError(
+                    400, "floor: an object {enabled, friction, stiffness, damping} expected");
             Read r{*f, "floor", -1, {}};
             r.flag("enabled", w.floor.enabled);
             r.number("friction", w.floor.friction, "");
+            r.number("stiffness", w.floor.stiffness, "N/m");
+            r.number("damping", w.floor.damping, "N·s/m");
             r.finish();
         }
         const auto objects = j.find("objects");

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,11 +31,22 @@ inline constexpr long long kMaxWorldSolids = 250000;  ///< bodies all objects ex
 /// samples of all heightfields together (one 4096 × 4096 grid)
 inline constexpr long long kMaxHeightSamples = 4096LL * 4096;
 inline constexpr int kMaxRobots = 1000;  ///< robots in one world
+/// N/m and N·s/m: a compliant floor's stiffness and damping at most this (Bullet's contact rows
+/// hold dt · stiffness + damping in single precision)
+inline constexpr double kMaxFloorStiffness = 1e12;
+inline constexpr double kMaxFloorDamping = 1e12;
 
-/// An infinite static plane at z = 0.
+/// An infinite static plane at z = 0: rigid (the default), or compliant when it has a stiffness
+/// and a damping (both or neither): then every contact point on it is a spring of `stiffness`
+/// and a damper of `damping` along the normal, implicit in the step, so a body of weight W
+/// resting on n points sinks by W / (n · stiffness).
 struct FloorSpec {
     bool enabled = true;    ///< false: no floor
     double friction = 1.0;  ///< in [0, 1]
+    /// N/m per contact point, in (0, 1e12]; absent: a rigid floor
+    std::optional<double> stiffness;
+    /// N·s/m per contact point, in [0, 1e12]; absent: a rigid floor
+    std::optional<double> damping;
 };
 
 /// A box obstacle. mass = 0 makes it static.

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <string>
 #include <unordered_map>
@@ -87,6 +88,17 @@ btTransform body_transform(const Solid& s) {
     }
     return t;
 }
+// a body's contact stiffness and damping as neither of them in the combination with a compliant
+// floor's (k = 1/(1/k0 + 1/k1): 1/infinity adds nothing; c = c0 + c1), instead of Bullet's
+// defaults (a huge stiffness, which adds a rounding, and a damping of 0.1 N s/m, which would be
+// added to the floor's). Without the flag that setContactStiffnessAndDamping sets, the values
+// are read only when the other body has it (the compliant floor): rigid contacts are unchanged
+void contact_values_neutral(btCollisionObject& body) {
+    body.setContactStiffnessAndDamping(std::numeric_limits<btScalar>::infinity(), 0);
+    body.setCollisionFlags(body.getCollisionFlags() &
+                           ~btCollisionObject::CF_HAS_CONTACT_STIFFNESS_DAMPING);
+}
+
 // robots get collision group bits 8..31 so that robots collide with each other but a robot's
 // bodies do not collide among themselves (unless self_collision asks for it)
 constexpr int kFirstRobotBit = 8;
@@ -156,6 +168,7 @@ struct PhysicsWorld::Impl {
         info.m_friction = btScalar(solids[group.front()].friction);
         info.m_restitution = 0;
         auto body = std::make_unique<btRigidBody>(info);
+        contact_values_neutral(*body);
         body->setUserIndex(-2 - static_cast<int>(fixed.size()));
         world.addRigidBody(body.get(), btBroadphaseProxy::StaticFilter,
                            btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
@@ -181,6 +194,7 @@ struct PhysicsWorld::Impl {
         info.m_friction = btScalar(solid.friction);
         info.m_restitution = 0;
         auto body = std::make_unique<btRigidBody>(info);
+        contact_values_neutral(*body);
         btRigidBody* raw = body.get();
         // the first user index numbers the bodies: dynamic ones from 0 (as body() does),
         // fixed ones from -2 down (fixed[k] is -2 - k), for overlap reports
@@ -221,6 +235,15 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
         btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, plane.get());
         info.m_friction = btScalar(spec.floor.friction);
         auto floor = std::make_unique<btRigidBody>(info);
+        // a compliant floor: Bullet makes each contact point with it an implicit spring-damper
+        // (its row's cfm = 1/(dt k + c), erp = dt k/(dt k + c)) from the two bodies' values,
+        // combined as k = 1/(1/k0 + 1/k1) and c = c0 + c1; every other body has k = infinity
+        // and c = 0 (contact_values_neutral), so the floor's values are the contact's own
+        // (the stiffness as 1/(1/k) in single precision: k, or one unit in the last place off)
+        if (spec.floor.stiffness && spec.floor.damping) {
+            floor->setContactStiffnessAndDamping(btScalar(*spec.floor.stiffness),
+                                                 btScalar(*spec.floor.damping));
+        }
         floor->setUserIndex(-2);
         s.world.addRigidBody(floor.get(), btBroadphaseProxy::StaticFilter,
                              btBroadphaseProxy::AllFilter);

@@ -185,6 +185,19 @@ void validate(const WorldSpec& world) {
     detail::check_within("gravity y", world.gravity.y, kMaxGravity, "m/s²");
     detail::check_within("gravity z", world.gravity.z, kMaxGravity, "m/s²");
     detail::check_range("floor friction", world.floor.friction, 0, 1);
+    const FloorSpec& floor = world.floor;
+    if (floor.stiffness.has_value() != floor.damping.has_value()) {
+        throw SpecError(floor.stiffness ? "floor stiffness needs a floor damping (give both or "
+                                          "neither: neither is a rigid floor)"
+                                        : "floor damping needs a floor stiffness (give both or "
+                                          "neither: neither is a rigid floor)");
+    }
+    if (floor.stiffness) {
+        detail::check_positive("floor stiffness", *floor.stiffness, "N/m");
+        detail::check_at_most("floor stiffness", *floor.stiffness, kMaxFloorStiffness, "N/m");
+        detail::check_non_negative("floor damping", *floor.damping, "N·s/m");
+        detail::check_at_most("floor damping", *floor.damping, kMaxFloorDamping, "N·s/m");
+    }
     // each kind is numbered from 1 in its own vector
     auto each = [](const auto& objects) {
         for (size_t i = 0; i < objects.size(); ++i)

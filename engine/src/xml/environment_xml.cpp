@@ -216,6 +216,8 @@ EnvironmentSpec read_environment_element(const Element& root) {
             k.allow(xml::attrs::floor);
             world.floor.enabled = k.boolean("enabled", true);
             world.floor.friction = k.number("friction", world.floor.friction);
+            if (k.has("stiffness")) world.floor.stiffness = k.number("stiffness", 0);
+            if (k.has("damping")) world.floor.damping = k.number("damping", 0);
             WorldSpec probe;
             probe.floor = world.floor;
             k.check([&] { validate(probe); });
@@ -310,6 +312,8 @@ std::string format_environment(const EnvironmentSpec& env, const std::string& fi
     w.open("floor");
     if (!world.floor.enabled) w.attr("enabled", false);
     w.attr("friction", world.floor.friction);
+    if (world.floor.stiffness) w.attr("stiffness", *world.floor.stiffness);
+    if (world.floor.damping) w.attr("damping", *world.floor.damping);
     w.close();
     for (const BoxSpec& b : world.boxes) {
         w.open("box");

@@ -480,3 +480,55 @@ TEST_CASE(
     CHECK(apart < 0.001);
     CHECK(generic.lowest < -0.09);
 }
+
+// A compliant floor (FloorSpec stiffness and damping): Bullet combines the two bodies' contact
+// values into each point (stiffness 1/(1/k0 + 1/k1), damping c0 + c1) and setupContactConstraint,
+// which CoulombSolver's rows take, turns them into the row's cfm and erp. The robot's bodies add
+// nothing, so the floor's values are the points' own; on a rigid floor no point has the flag,
+// as before the compliant floor existed.
+TEST_CASE("every contact point on a compliant floor has the floor's stiffness and damping") {
+    for (const bool compliant : {false, true}) {
+        CAPTURE(compliant);
+        WorldSpec world = test::chain_world(4, Connection::pitch_yaw);
+        if (compliant) {
+            world.floor.stiffness = 1e4;
+            world.floor.damping = 20;
+        }
+        // a box on the floor and a robot body touching a static box too
+        BoxSpec loose;
+        loose.size = {0.05, 0.05, 0.05};
+        loose.mass = 0.1;
+        loose.pose.position = {0, 0.3, 0.025};
+        world.boxes.push_back(loose);
+        BoxSpec fixed;
+        fixed.size = {0.05, 0.05, 0.05};
+        fixed.pose.position = {0.1, 0.026 + 0.025, 0.025};  // against the robot's side
+        world.boxes.push_back(fixed);
+        PhysicsWorld w(world, kDt, kIterations, ConstraintSolver::pgs);
+        for (int k = 0; k < 200; ++k)
+            w.step(kDt);
+        const btDispatcher& d = *w.bullet_world().getDispatcher();
+        int on_floor = 0, elsewhere = 0;
+        for (int i = 0; i < d.getNumManifolds(); ++i) {
+            const btPersistentManifold& m =
+                *const_cast<btDispatcher&>(d).getManifoldByIndexInternal(i);
+            const bool floor =
+                m.getBody0()->getUserIndex() == -2 || m.getBody1()->getUserIndex() == -2;
+            for (int p = 0; p < m.getNumContacts(); ++p) {
+                const btManifoldPoint& cp = m.getContactPoint(p);
+                const bool flagged =
+                    (cp.m_contactPointFlags & BT_CONTACT_FLAG_CONTACT_STIFFNESS_DAMPING) != 0;
+                CHECK(flagged == (compliant && floor));
+                if (flagged) {
+                    CHECK(cp.m_combinedContactStiffness1 == btScalar(1e4));
+                    CHECK(cp.m_combinedContactDamping1 == btScalar(20));
+                }
+                ++(floor ? on_floor : elsewhere);
+            }
+        }
+        // the robot's 5 bodies and the loose box lie on the floor on 4 corners each
+        CHECK(on_floor >= 20);
+        // and a robot body against the static box, whose points stay rigid
+        CHECK(elsewhere > 0);
+    }
+}

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 
 #include "engine/sim_support.h"
 #include "gaitlab/types.h"
@@ -660,4 +661,67 @@ TEST_CASE("a twist joint turns the head side about the chain's axis") {
     // 30 degrees about +x, counter-clockwise seen from the head
     CHECK(rad_to_deg(geometric_angle(tail, head, {1, 0, 0})) == Approx(30).margin(0.5));
     CHECK(rad_to_deg(sim.joint(0, 0).angle) == Approx(30).margin(0.5));
+}
+
+namespace {
+
+// where a 5 cm box of `mass` kg lying flat on the floor rests after 1 s (its centre's z, m),
+// and its whole final state, on a floor of the stiffness and damping given (none: rigid)
+struct Rest {
+    double z = 0;
+    BodyState state;
+};
+Rest box_at_rest(double mass, std::optional<double> stiffness, std::optional<double> damping) {
+    WorldSpec w;
+    w.floor.stiffness = stiffness;
+    w.floor.damping = damping;
+    BoxSpec b;
+    b.size = {0.05, 0.05, 0.05};
+    b.mass = mass;
+    b.pose.position = {0, 0, 0.025};
+    w.boxes.push_back(b);
+    Simulation sim(w);
+    sim.run(1);
+    return {sim.object(0).pose.position.z, sim.object(0)};
+}
+
+}  // namespace
+
+TEST_CASE("a box on a compliant floor sinks by its weight over its 4 corners' stiffness") {
+    const double g = 9.81;
+    const double rigid = box_at_rest(0.2, std::nullopt, std::nullopt).z;
+    CHECK(rigid == Approx(0.025).margin(1e-5));
+    for (const double mass : {0.05, 0.2}) {
+        for (const double k : {1e4, 1e5}) {
+            CAPTURE(mass, k);
+            const double sunk = rigid - box_at_rest(mass, k, 20.0).z;
+            // each corner carries a quarter of the weight: k · depth = m g / 4
+            CHECK(sunk == Approx(mass * g / (4 * k)).epsilon(0.1));
+        }
+    }
+    // stiffer sinks less, damping does not change where it rests
+    const double soft = box_at_rest(0.2, 1e4, 20.0).z, stiff = box_at_rest(0.2, 1e5, 20.0).z;
+    CHECK(soft < stiff);
+    CHECK(stiff < rigid);
+    CHECK(box_at_rest(0.2, 1e4, 0.0).z == Approx(soft).margin(1e-6));
+    // the same spec, the same run, bit for bit
+    const Rest a = box_at_rest(0.2, 1e4, 20.0), b = box_at_rest(0.2, 1e4, 20.0);
+    CHECK(a.state.pose.position == b.state.pose.position);
+    CHECK(a.state.pose.orientation == b.state.pose.orientation);
+}
+
+TEST_CASE("an undriven robot on a compliant floor lies lower by its weight over its contacts") {
+    auto rest_z = [](std::optional<double> k, std::optional<double> c) {
+        WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+        w.floor.stiffness = k;
+        w.floor.damping = c;
+        Simulation sim(w);
+        sim.run(1);
+        return sim.robot_position(0).z;
+    };
+    const double rigid = rest_z(std::nullopt, std::nullopt), soft = rest_z(1e4, 20.0);
+    // 200 g on the 4 bottom corners of each of its 5 bodies: 9.8 µm if the 20 points shared
+    // the weight equally (each body carrying its own alone would give 10.7 µm at the centre of
+    // mass)
+    CHECK(rigid - soft == Approx(0.2 * 9.81 / (20 * 1e4)).epsilon(0.1));
 }

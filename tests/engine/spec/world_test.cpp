@@ -56,6 +56,47 @@ TEST_CASE("floor friction must be in [0, 1]") {
     CHECK_NOTHROW(validate(w));
 }
 
+TEST_CASE("a compliant floor needs a stiffness and a damping, both in range") {
+    WorldSpec w = world_with_robot();
+    CHECK_FALSE(w.floor.stiffness);
+    CHECK_FALSE(w.floor.damping);
+    w.floor.stiffness = 1e4;
+    require_rejected(w,
+                     "floor stiffness needs a floor damping (give both or neither: neither is "
+                     "a rigid floor)");
+    w.floor.stiffness.reset();
+    w.floor.damping = 20;
+    require_rejected(w,
+                     "floor damping needs a floor stiffness (give both or neither: neither is "
+                     "a rigid floor)");
+    w.floor.stiffness = 1e4;
+    CHECK_NOTHROW(validate(w));
+    w.floor.damping = 0;
+    CHECK_NOTHROW(validate(w));
+    w.floor.damping = -1;
+    require_rejected(w, "floor damping must not be negative (got -1 N·s/m)");
+    w.floor.damping = std::numeric_limits<double>::infinity();
+    require_rejected(w, "floor damping must not be negative (got inf N·s/m)");
+    w.floor.damping = 2e12;
+    require_rejected(w,
+                     "floor damping must be at most 1000000000000 N·s/m (got 2000000000000 "
+                     "N·s/m)");
+    w.floor.damping = 20;
+    w.floor.stiffness = 0;
+    require_rejected(w, "floor stiffness must be positive (got 0 N/m)");
+    w.floor.stiffness = -5;
+    require_rejected(w, "floor stiffness must be positive (got -5 N/m)");
+    w.floor.stiffness = std::numeric_limits<double>::quiet_NaN();
+    require_rejected(w, "floor stiffness must be positive (got nan N/m)");
+    w.floor.stiffness = 1e13;
+    require_rejected(w,
+                     "floor stiffness must be at most 1000000000000 N/m (got 10000000000000 "
+                     "N/m)");
+    w.floor.stiffness = kMaxFloorStiffness;
+    w.floor.damping = kMaxFloorDamping;
+    CHECK_NOTHROW(validate(w));
+}
+
 TEST_CASE("boxes are checked and numbered from 1") {
     WorldSpec w = world_with_robot();
     w.boxes.resize(2);

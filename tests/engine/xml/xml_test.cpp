@@ -331,6 +331,58 @@ TEST_CASE("environment files round-trip gravity, floor, boxes and placements") {
     CHECK(back.placements[0].pose.orientation == env.placements[0].pose.orientation);
 }
 
+TEST_CASE("a compliant floor round-trips its stiffness and damping; a rigid one writes neither") {
+    EnvironmentSpec env;
+    env.world.floor.friction = 0.8;
+    const std::string rigid = format_environment(env);
+    CHECK(rigid.find("stiffness") == std::string::npos);
+    CHECK(rigid.find("damping") == std::string::npos);
+    const EnvironmentSpec rigid_back = parse_environment(rigid, "e.xml");
+    CHECK_FALSE(rigid_back.world.floor.stiffness);
+    CHECK_FALSE(rigid_back.world.floor.damping);
+    env.world.floor.stiffness = 12345.678901234567;
+    env.world.floor.damping = 0.1;
+    const std::string text = format_environment(env);
+    CHECK(text.find("<floor friction=\"0.8\" stiffness=\"12345.678901234567\" damping=\"0.1\"/>") !=
+          std::string::npos);
+    const EnvironmentSpec back = parse_environment(text, "e.xml");
+    REQUIRE(back.world.floor.stiffness);
+    REQUIRE(back.world.floor.damping);
+    CHECK(*back.world.floor.stiffness == *env.world.floor.stiffness);
+    CHECK(*back.world.floor.damping == *env.world.floor.damping);
+    CHECK(format_environment(back) == text);
+    const EnvironmentSpec zero =
+        parse_environment(doc("<environment><floor stiffness=\"1e4\" damping=\"0\"/>"
+                              "</environment>"),
+                          "e.xml");
+    CHECK(zero.world.floor.stiffness == 1e4);
+    CHECK(zero.world.floor.damping == 0.0);
+}
+
+TEST_CASE("a compliant floor's bad values name the file, the line and what is expected") {
+    CHECK_THAT(environment_error("<environment>\n<floor stiffness=\"1e4\"/></environment>"),
+               Equals("env.xml:4: environment/floor[1]: floor stiffness needs a floor damping "
+                      "(give both or neither: neither is a rigid floor)"));
+    CHECK_THAT(environment_error("<environment>\n<floor damping=\"20\"/></environment>"),
+               Equals("env.xml:4: environment/floor[1]: floor damping needs a floor stiffness "
+                      "(give both or neither: neither is a rigid floor)"));
+    CHECK_THAT(
+        environment_error("<environment>\n<floor stiffness=\"0\" damping=\"20\"/></environment>"),
+        Equals("env.xml:4: environment/floor[1]: floor stiffness must be positive (got 0 N/m)"));
+    CHECK_THAT(
+        environment_error("<environment>\n<floor stiffness=\"1e4\" damping=\"-1\"/></environment>"),
+        Equals("env.xml:4: environment/floor[1]: floor damping must not be negative (got "
+               "-1 N·s/m)"));
+    CHECK_THAT(
+        environment_error("<environment>\n<floor stiffness=\"inf\" damping=\"1\"/></environment>"),
+        Catch::StartsWith("env.xml:4: environment/floor[1]: "));
+    CHECK_THAT(
+        environment_error("<environment>\n<floor stiffness=\"hard\" damping=\"1\"/></environment>"),
+        Catch::StartsWith("env.xml:4: environment/floor[1]: attribute 'stiffness'"));
+    CHECK_THAT(environment_error("<environment>\n<floor stifness=\"1e4\"/></environment>"),
+               Catch::Contains("did you mean 'stiffness'?"));
+}
+
 TEST_CASE("environment files reject values out of range before anything runs") {
     CHECK_THAT(environment_error("<environment>\n<floor friction=\"1.5\"/></environment>"),
                Equals("env.xml:4: environment/floor[1]: floor friction must be in [0, 1] (got "
