@@ -25,7 +25,8 @@ local gait = {}
 gait.options = { cycles = nil, settle = nil, reverse = false, record = nil, quiet = false }
 
 local KEYS = { name = true, modules = true, connection = true, friction = true, groups = true,
-               cycles = true, settle = true, paper = true, dt = true, control_every = true }
+               cycles = true, settle = true, paper = true, dt = true, control_every = true,
+               floor = true }
 local SINE = { amplitude = true, frequency = true, phase = true, phase0 = true, offset = true }
 
 local function check(spec)
@@ -40,6 +41,10 @@ local function check(spec)
                         tostring(spec.settle)), 3)
   end
   if type(spec.name) ~= "string" then error("gait.run: 'name' must be a string", 3) end
+  if spec.floor ~= nil and (type(spec.floor) ~= "table" or spec.floor.friction ~= nil) then
+    error("gait.run: 'floor' must be a table of the floor's other keys (stiffness, damping: "
+          .. "docs/lua-api.md); its friction is the key 'friction'", 3)
+  end
   if type(spec.groups) ~= "table" or next(spec.groups) == nil then
     error("gait.run: 'groups' must map a joint group (\"pitch\", \"yaw\", \"all\") to sine parameters", 3)
   end
@@ -109,7 +114,9 @@ function gait.run(spec)
   end
   local robot = build("robot", gaitlab.robot.chain, { name = spec.name, modules = spec.modules,
                                                      connection = spec.connection or "pitch-pitch" })
-  local world = build("world", gaitlab.world, { floor = { friction = spec.friction or 1.0 } })
+  local floor = { friction = spec.friction or 1.0 }
+  for k, v in pairs(spec.floor or {}) do floor[k] = v end
+  local world = build("world", gaitlab.world, { floor = floor })
   world:add(robot)
   local order = {}
   for group in pairs(spec.groups) do order[#order + 1] = group end
@@ -191,8 +198,11 @@ end
 
 function gait.print(spec, m)
   local paper = spec.paper or {}
-  print(string.format("%s: %d modules %s, friction %.1f, %g Hz%s", spec.name, spec.modules,
-                      spec.connection or "pitch-pitch", spec.friction or 1.0, m.frequency,
+  local floor = spec.floor and spec.floor.stiffness
+      and string.format(" (a compliant floor: stiffness %g N/m, damping %g N s/m)",
+                        spec.floor.stiffness, spec.floor.damping or 0) or ""
+  print(string.format("%s: %d modules %s, friction %.1f%s, %g Hz%s", spec.name, spec.modules,
+                      spec.connection or "pitch-pitch", spec.friction or 1.0, floor, m.frequency,
                       m.reversed and ", reversed" or ""))
   print("  " .. describe(m.params))
   print(string.format("  measured over %d cycles after %d:", m.cycles, gait.options.settle or spec.settle or 1))
