@@ -146,6 +146,18 @@ try {
   await page.press('#editor-floor-friction', 'Enter');
   await waitCheck(n);
   check(/the engine takes it/.test(await page.textContent('#editor-status')), 'friction 0.3 is taken');
+  // a compliant floor from the page: a stiffness alone is refused, with its damping taken
+  n = await checks();
+  await page.fill('#editor-floor-stiffness', '1e4');
+  await page.press('#editor-floor-stiffness', 'Enter');
+  await waitCheck(n);
+  const lone = await page.textContent('#editor-status');
+  check(/floor stiffness needs a floor damping/.test(lone), `a stiffness without damping is refused (${lone})`);
+  n = await checks();
+  await page.fill('#editor-floor-damping', '20');
+  await page.press('#editor-floor-damping', 'Enter');
+  await waitCheck(n);
+  check(/the engine takes it/.test(await page.textContent('#editor-status')), 'stiffness 1e4 with damping 20 is taken');
   // a heightfield from a PNG of the folder, put behind the robot
   n = await checks();
   await page.selectOption('#editor-kind', 'heightfield');
@@ -206,7 +218,7 @@ try {
   await page.waitForFunction(() => /^saved world\.xml/.test(document.getElementById('editor-status').textContent));
   await page.screenshot({ path: path.join(out, 'editor.png') });
   const saved = fs.readFileSync(world, 'utf8');
-  check(/<floor friction="0\.7"\/>/.test(saved) && /<box size="0\.2 0\.6 0\.08" position="1 0\.1 0\.04" friction="0\.3"\/>/.test(saved) &&
+  check(/<floor friction="0\.7" stiffness="10000" damping="20"\/>/.test(saved) && /<box size="0\.2 0\.6 0\.08" position="1 0\.1 0\.04" friction="0\.3"\/>/.test(saved) &&
     /<place robot="snake" position="0 0 0"\/>/.test(saved) && /<heightfield [^>]*position="-1 0 0"[^>]* image="terrain\.png"\/>/.test(saved), `the file holds the box, the floor and the robot's place:\n${saved}`);
   // the grid's heights, as typed
   const stored = saved.match(/<heightfield length="0\.6" width="0\.4"[^>]*samples="4 3"[^>]*>\s*<heights>([^<]*)<\/heights>/);

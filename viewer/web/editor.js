@@ -681,8 +681,21 @@ function showFloor() {
   friction.id = 'editor-floor-friction';
   const row = el('div', { className: 'editor-field' }, el('label', {}, 'friction'), friction,
     el('label', {}, on, ' floor'));
-  if (ed.error && ed.error.field === 'floor') row.classList.add('bad');
-  box.appendChild(row);
+  // a compliant floor: stiffness and damping per contact point, both or neither (empty: the
+  // key goes, and with both gone the floor is rigid; docs/lua-api.md)
+  const rows = [row];
+  for (const [key, unit] of [['stiffness', 'N/m per point'], ['damping', 'N·s/m per point']]) {
+    const i = input(f[key], (t) => {
+      if (t.trim() === '') delete f[key]; else f[key] = typed(t);
+      changed(false);
+    }, `floor.${key}`);
+    i.id = `editor-floor-${key}`;
+    i.placeholder = 'rigid';
+    rows.push(el('div', { className: 'editor-field' }, el('label', {}, key), i,
+      el('span', { className: 'unit' }, unit)));
+  }
+  if (ed.error && ed.error.field === 'floor') for (const r of rows) r.classList.add('bad');
+  box.append(...rows);
 }
 
 function status(text, level) {
