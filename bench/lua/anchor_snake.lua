@@ -18,13 +18,13 @@
 -- simulation's constraint solver (gaitlab.simulation's `solver`); left out, the engine's default
 -- (pgs), and the line does not name it; given, the settings field ends with ",solver=NAME".
 local opt = { n = 8, conn = "pp", dt = 0.001, iters = 20, ce = 10, time = 20, phase0 = 0,
-              trace = 0, solver = false }
+              trace = 0, solver = false, floor_k = 0, floor_c = 0 }
 local solvers = { pgs = true, block_nncg = true }
 for _, a in ipairs(arg) do
   local k, v = a:match("^([%w_]+)=(.+)$")
   if not k or opt[k] == nil then
     error(string.format("anchor_snake.lua: unknown argument '%s' (expected KEY=VALUE with KEY "
-                        .. "one of n, conn, dt, iters, ce, time, phase0, trace, solver)", a), 0)
+                        .. "one of n, conn, dt, iters, ce, time, phase0, trace, solver, floor_k, floor_c)", a), 0)
   end
   if k == "conn" then
     if v ~= "pp" and v ~= "py" then
@@ -65,7 +65,9 @@ for j = 0, opt.n - 2 do
                           kp = 20, max_speed = math.deg(5.2), max_torque = 0.3 }
 end
 local robot = gaitlab.robot.new{ name = "snake", bodies = bodies, joints = joints }
-local world = gaitlab.world{ floor = { friction = 0.8 } }
+local floor = { friction = 0.8 }
+if opt.floor_k > 0 then floor.stiffness, floor.damping = opt.floor_k, opt.floor_c end
+local world = gaitlab.world{ floor = floor }
 world:add(robot)
 
 -- gaitlab's sine computes its first target at t = ce * dt; the anchors' at t = 0

@@ -1,18 +1,21 @@
-// The joints' equality rows of CoulombSolver's block methods (coulomb_solver.h) when they form a
-// chain of hinges: groups of kBandRows rows (the 5 rows of a hinge that have no bounds), each
-// coupled through K = J M^-1 J' only to itself and to the group before it (the hinge before it
-// along the chain, which shares a body with it). K is then block tridiagonal and so are its
+// The joints' rows of CoulombSolver's block methods (coulomb_solver.h) when they form a chain of
+// hinges: groups of kBandRows slots, a hinge's 5 rows without bounds and its motor's row (the
+// sixth slot, empty where the hinge has no motor row or its motor is at its torque limit), each
+// group coupled through K = J M^-1 J' only to itself and to the group before it (the hinge before
+// it along the chain, which shares a body with it). K is then block tridiagonal and so are its
 // factors: L D L' is kept as two kBandRows x kBandRows blocks per group, and the substitutions
 // run over fixed-size blocks without the profile's indexing (docs/performance.md, "Converging
-// the solve"). Every sum is taken in the order of the profile's factor and substitutions
-// (CoulombSolver::factor_block, solve_block), so both give the same bits.
+// the solve"). An empty slot has no couplings and a diagonal of 1, so its solution is 0 and it
+// changes no other row's: every sum is taken in the order of the profile's factor and
+// substitutions (CoulombSolver::factor_block, solve_block), which leave the empty slots out, and
+// both give the same bits.
 #pragma once
 
 #include <btBulletDynamicsCommon.h>
 
 namespace gaitlab {
 
-inline constexpr int kBandRows = 5;
+inline constexpr int kBandRows = 6;
 
 struct BandGroup {
     /// before band_factor: K within the group below the diagonal; after: L there
@@ -35,10 +38,10 @@ inline void band_factor(BandGroup* g, int count) {
         const BandGroup* p = b > 0 && x.coupled ? &g[b - 1] : nullptr;
         for (int r = 0; r < kBandRows; ++r) {
             if (p) {
-#pragma GCC unroll 5
+#pragma GCC unroll 6
                 for (int c = 0; c < kBandRows; ++c) {
                     double sum = x.prev[r][c];
-#pragma GCC unroll 5
+#pragma GCC unroll 6
                     for (int k = 0; k < c; ++k)
                         sum -= x.prev[r][k] * p->lower[c][k] * p->diag[k];
                     x.prev[r][c] = sum / p->diag[c];
@@ -47,11 +50,11 @@ inline void band_factor(BandGroup* g, int count) {
             for (int c = 0; c <= r; ++c) {
                 double sum = c < r ? x.lower[r][c] : x.diag[r];
                 if (p) {
-#pragma GCC unroll 5
+#pragma GCC unroll 6
                     for (int k = 0; k < kBandRows; ++k)
                         sum -= x.prev[r][k] * x.prev[c][k] * p->diag[k];
                 }
-#pragma GCC unroll 5
+#pragma GCC unroll 6
                 for (int k = 0; k < c; ++k)
                     sum -= x.lower[r][k] * x.lower[c][k] * x.diag[k];
                 if (c < r) {
@@ -74,15 +77,15 @@ inline void band_solve(const BandGroup* g, int count, double* v) {
         double* y = v + b * kBandRows;
         const double* yp = y - kBandRows;
         const bool coupled = b > 0 && x.coupled;
-#pragma GCC unroll 5
+#pragma GCC unroll 6
         for (int r = 0; r < kBandRows; ++r) {
             double sum = y[r];
             if (coupled) {
-#pragma GCC unroll 5
+#pragma GCC unroll 6
                 for (int c = 0; c < kBandRows; ++c)
                     sum -= x.prev[r][c] * yp[c];
             }
-#pragma GCC unroll 5
+#pragma GCC unroll 6
             for (int c = 0; c < r; ++c)
                 sum -= x.lower[r][c] * y[c];
             y[r] = sum;
@@ -93,15 +96,15 @@ inline void band_solve(const BandGroup* g, int count, double* v) {
         double* y = v + b * kBandRows;
         const double* yn = y + kBandRows;
         const BandGroup* next = b + 1 < count && g[b + 1].coupled ? &g[b + 1] : nullptr;
-#pragma GCC unroll 5
+#pragma GCC unroll 6
         for (int r = kBandRows - 1; r >= 0; --r) {
             double sum = y[r] / x.diag[r];
             if (next) {
-#pragma GCC unroll 5
+#pragma GCC unroll 6
                 for (int k = kBandRows - 1; k >= 0; --k)
                     sum -= next->prev[k][r] * yn[k];
             }
-#pragma GCC unroll 5
+#pragma GCC unroll 6
             for (int k = kBandRows - 1; k > r; --k)
                 sum -= x.lower[k][r] * y[k];
             y[r] = sum;
@@ -125,17 +128,19 @@ inline void band_store3(btVector3& v, BandV4 x) {
 }
 
 /// A group's rows as the solve reads them, copied from their btSolverConstraint once per step,
-/// lane k of half h being row 4 h + k (rows 5 to 7 empty): J (the normals and the arms' cross
-/// products of both bodies: x, y, z each), rhs, cfm and jacDiagABInv; per row M^-1 J' of each
-/// body (the linear part as CoulombSolver::apply computes it, the normal times the inverse mass).
+/// lane k of half h being row 4 h + k (rows 6 and 7, and an empty slot, all zero with a
+/// jacDiagABInv of 1): J (the normals and the arms' cross products of both bodies: x, y, z
+/// each), rhs, cfm and jacDiagABInv; per row M^-1 J' of each body (the linear part as
+/// CoulombSolver::apply computes it, the normal times the inverse mass).
 struct BandRows {
     BandV4 jac[12][2];
     BandV4 rhs[2], cfm[2], inv[2];
     BandV4 lin_a[kBandRows], ang_a[kBandRows], lin_b[kBandRows], ang_b[kBandRows];
-    int row[kBandRows];  // in the joint pool
+    int row[kBandRows];  // in the joint pool; -1: an empty slot
     int a, b;            // solver bodies
 };
 
+/// `rows[r]` null: slot r is empty
 inline void band_rows(BandRows& g, const btSolverConstraint* const* rows,
                       const btAlignedObjectArray<btSolverBody>& bodies) {
     for (auto& j : g.jac)
@@ -145,6 +150,10 @@ inline void band_rows(BandRows& g, const btSolverConstraint* const* rows,
         g.inv[h] = BandV4{1, 1, 1, 1};
     }
     for (int r = 0; r < kBandRows; ++r) {
+        if (!rows[r]) {
+            g.lin_a[r] = g.ang_a[r] = g.lin_b[r] = g.ang_b[r] = BandV4{0, 0, 0, 0};
+            continue;
+        }
         const btSolverConstraint& c = *rows[r];
         const btSolverBody& a = bodies[c.m_solverBodyIdA];
         const btSolverBody& b = bodies[c.m_solverBodyIdB];
@@ -184,7 +193,8 @@ inline btScalar band_coupling(const btSolverConstraint& x, const BandRows& g, in
 }
 
 /// The right side of a group's rows (CoulombSolver::solve_block's, the change each row's own
-/// update would make over its diagonal, given the bodies' velocities now) into out[0..4].
+/// update would make over its diagonal, given the bodies' velocities now) into out[0..5] (0 for
+/// an empty slot).
 inline void band_rhs(const BandRows& g, const btSolverConstraint* pool, const btSolverBody* bodies,
                      double* out) {
     const float* al = bodies[g.a].m_deltaLinearVelocity.m_floats;
@@ -209,6 +219,7 @@ inline void band_rhs(const BandRows& g, const btSolverConstraint* pool, const bt
             impulse[3] = pool[g.row[3]].m_appliedImpulse;
         } else {
             impulse[0] = pool[g.row[4]].m_appliedImpulse;
+            if (g.row[5] >= 0) impulse[1] = pool[g.row[5]].m_appliedImpulse;
         }
         r[h] = (g.rhs[h] - impulse * g.cfm[h]) / g.inv[h] - (velocity + g.rhs[h] / g.inv[h]);
     }
@@ -217,11 +228,12 @@ inline void band_rhs(const BandRows& g, const btSolverConstraint* pool, const bt
     out[2] = r[0][2];
     out[3] = r[0][3];
     out[4] = r[1][0];
+    out[5] = r[1][1];
 }
 
-/// Applies the group's impulses d[0..4] (the solve's, in double) to its rows and bodies, row by
-/// row as CoulombSolver::apply does (bodies whose linear and angular factors are 1); returns the
-/// largest squared velocity change, as solve_block does.
+/// Applies the group's impulses d[0..5] (the solve's, in double) to its rows and bodies, row by
+/// row as CoulombSolver::apply does (bodies whose linear and angular factors are 1), an empty
+/// slot left out; returns the largest squared velocity change, as solve_block does.
 inline btScalar band_apply(const BandRows& g, btSolverConstraint* pool, btSolverBody* bodies,
                            const double* d, btScalar residual) {
     btVector3& al = bodies[g.a].m_deltaLinearVelocity;
@@ -229,8 +241,9 @@ inline btScalar band_apply(const BandRows& g, btSolverConstraint* pool, btSolver
     btVector3& bl = bodies[g.b].m_deltaLinearVelocity;
     btVector3& ba = bodies[g.b].m_deltaAngularVelocity;
     BandV4 xal = band_v4(al), xaa = band_v4(aa), xbl = band_v4(bl), xba = band_v4(ba);
-#pragma GCC unroll 5
+#pragma GCC unroll 6
     for (int r = 0; r < kBandRows; ++r) {
+        if (g.row[r] < 0) continue;
         const btScalar impulse = static_cast<btScalar>(d[r]);
         xal += g.lin_a[r] * impulse;
         xaa += g.ang_a[r] * impulse;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "block_band.h"
@@ -178,6 +179,19 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                 m_tmpSolverContactFrictionConstraintPool[first + 1].m_frictionIndex == k;
             point->m_appliedImpulseLateral2 =
                 two ? m_tmpSolverContactFrictionConstraintPool[first + 1].m_appliedImpulse : 0;
+            // kept for the next step's warm start along two axes of the normal alone (the
+            // rows' own axes follow the slip, and a point Bullet's manifold replaces keeps
+            // its impulses but not its axes): the same friction, as contacts() reads it
+            if (warm_friction() && two) {
+                const btSolverConstraint& r1 = m_tmpSolverContactFrictionConstraintPool[first];
+                const btSolverConstraint& r2 = m_tmpSolverContactFrictionConstraintPool[first + 1];
+                const btVector3 f = r1.m_contactNormal1 * r1.m_appliedImpulse +
+                                    r2.m_contactNormal1 * r2.m_appliedImpulse;
+                btPlaneSpace1(point->m_normalWorldOnB, point->m_lateralFrictionDir1,
+                              point->m_lateralFrictionDir2);
+                point->m_appliedImpulseLateral1 = f.dot(point->m_lateralFrictionDir1);
+                point->m_appliedImpulseLateral2 = f.dot(point->m_lateralFrictionDir2);
+            }
         }
         return btSequentialImpulseConstraintSolver::solveGroupCacheFriendlyFinish(bodies, count,
                                                                                   info);
@@ -299,14 +313,13 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                    const btContactSolverInfo& info, bool backward) {
         btScalar residual = 0;
         if (iteration == 0) {
+            // every motor starts the step in the block (solve_block takes out the ones that
+            // reach their torque limit)
+            at_limit_.assign(m_tmpSolverNonContactConstraintPool.size(), 0);
             if (uses_block()) factor_block();
-            // the joint rows swept one by one (the block's are solved together), and the
-            // constraints whose old-style solve does something: btHingeConstraint's is
+            list_swept();
+            // the constraints whose old-style solve does something: btHingeConstraint's is
             // btTypedConstraint's, which does nothing (only btConeTwistConstraint has one)
-            swept_.clear();
-            for (int j = 0; j < m_tmpSolverNonContactConstraintPool.size(); ++j) {
-                if (!uses_block() || !in_block_[j]) swept_.push_back(j);
-            }
             old_style_.clear();
             for (int j = 0; j < constraint_count; ++j) {
                 if (constraints[j]->isEnabled() &&
@@ -468,42 +481,117 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         return residual;
     }
 
-    // block: the equality rows' system K dl = r, K = J M^-1 J' (+ the rows' cfm), r the change
-    // each row's own update would make, over its diagonal. Factored at the first iteration.
+    // the joint rows each sweep solves one by one: those not in the block (all of them for the
+    // methods without one)
+    void list_swept() {
+        swept_.clear();
+        for (int j = 0; j < m_tmpSolverNonContactConstraintPool.size(); ++j) {
+            if (!uses_block() || !in_block_[j]) swept_.push_back(j);
+        }
+    }
+
+    // whether a joint row is a motor's: bounded by +-its largest impulse (a hinge's limit row is
+    // bounded on one side only, and one that is both motor and limit, at its limit, is too)
+    static bool is_motor(const btSolverConstraint& c) {
+        return c.m_upperLimit > 0 && c.m_upperLimit < SIMD_INFINITY / 2 &&
+               c.m_lowerLimit == -c.m_upperLimit;
+    }
+
+    // block: the block rows' system K dl = r, K = J M^-1 J' (+ the rows' cfm), r the change each
+    // row's own update would make, over its diagonal: the joints' rows without bounds and the
+    // motors' rows, a motor's as if it had none. Where that takes a motor past its torque limit
+    // the motor is held at the limit and leaves the block for the rest of the step (swept one
+    // by one, as pgs does, with its bounds), K is factored again without it and the system
+    // solved again: the motors in the block are then exactly at their commanded speed, the
+    // others at their limit. Factored at the first iteration.
     btScalar solve_block() {
+        for (;;) {
+            solve_block_system();
+            if (!motors_past_limit()) return apply_block();
+            factor_block();
+            list_swept();
+        }
+    }
+
+    // the block's rows: in the band's slots (band_ not empty) or in block_'s order
+    template <class F>
+    void for_each_block_row(F f) {
         btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
+        if (!band_.empty()) {
+            const int count = static_cast<int>(band_.size());
+            for (int b = 0; b < count; ++b) {
+                for (int r = 0; r < kBandRows; ++r) {
+                    const int row = band_rows_[b].row[r];
+                    if (row >= 0) f(pool[row], rhs_[b * kBandRows + r]);
+                }
+            }
+            return;
+        }
         const int n = static_cast<int>(block_.size());
-        btScalar residual = 0;
+        for (int i = 0; i < n; ++i)
+            f(pool[block_[i]], rhs_[i]);
+    }
+
+    // the block's solution into rhs_
+    void solve_block_system() {
+        btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
         if (band_fast_) {
             const int count = static_cast<int>(band_.size());
             for (int b = 0; b < count; ++b)
                 band_rhs(band_rows_[b], &pool[0], &m_tmpSolverBodyPool[0], &rhs_[b * kBandRows]);
             band_solve(band_.data(), count, rhs_.data());
+            return;
+        }
+        std::fill(rhs_.begin(), rhs_.end(), 0.0);
+        for_each_block_row([&](const btSolverConstraint& c, double& r) {
+            btSolverBody& a = m_tmpSolverBodyPool[c.m_solverBodyIdA];
+            btSolverBody& b = m_tmpSolverBodyPool[c.m_solverBodyIdB];
+            r = (c.m_rhs - c.m_appliedImpulse * c.m_cfm) / c.m_jacDiagABInv -
+                (row_velocity(c, a, b) + c.m_rhs / c.m_jacDiagABInv);
+        });
+        if (!band_.empty()) {
+            band_solve(band_.data(), static_cast<int>(band_.size()), rhs_.data());
+        } else {
+            profile_solve();
+        }
+    }
+
+    // the motors the solution in rhs_ takes past their limit: each held at its limit (applied)
+    // and marked to leave the block; returns whether there was one
+    bool motors_past_limit() {
+        bool any = false;
+        const btSolverConstraint* first = &m_tmpSolverNonContactConstraintPool[0];
+        for_each_block_row([&](btSolverConstraint& c, double& r) {
+            if (c.m_upperLimit >= SIMD_INFINITY / 2) return;
+            const btScalar impulse = c.m_appliedImpulse + static_cast<btScalar>(r);
+            if (impulse <= c.m_upperLimit && impulse >= c.m_lowerLimit) return;
+            const btScalar limit = impulse > c.m_upperLimit ? c.m_upperLimit : c.m_lowerLimit;
+            apply(c, m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB],
+                  limit - c.m_appliedImpulse);
+            at_limit_[static_cast<size_t>(&c - first)] = 1;
+            any = true;
+        });
+        return any;
+    }
+
+    // the solution in rhs_ applied to the rows and bodies; the largest squared velocity change
+    btScalar apply_block() {
+        btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
+        btScalar residual = 0;
+        if (band_fast_) {
+            const int count = static_cast<int>(band_.size());
             for (int b = 0; b < count; ++b) {
                 residual = band_apply(band_rows_[b], &pool[0], &m_tmpSolverBodyPool[0],
                                       &rhs_[b * kBandRows], residual);
             }
             return residual;
         }
-        for (int i = 0; i < n; ++i) {
-            const btSolverConstraint& c = pool[block_[i]];
-            btSolverBody& a = m_tmpSolverBodyPool[c.m_solverBodyIdA];
-            btSolverBody& b = m_tmpSolverBodyPool[c.m_solverBodyIdB];
-            rhs_[i] = (c.m_rhs - c.m_appliedImpulse * c.m_cfm) / c.m_jacDiagABInv -
-                      (row_velocity(c, a, b) + c.m_rhs / c.m_jacDiagABInv);
-        }
-        if (!band_.empty()) {
-            band_solve(band_.data(), static_cast<int>(band_.size()), rhs_.data());
-        } else {
-            profile_solve();
-        }
-        for (int i = 0; i < n; ++i) {
-            btSolverConstraint& c = pool[block_[i]];
-            const btScalar d = static_cast<btScalar>(rhs_[i]);
+        for_each_block_row([&](btSolverConstraint& c, double& r) {
+            const btScalar d = static_cast<btScalar>(r);
             apply(c, m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB],
                   d);
             residual = btMax(residual, d * d / (c.m_jacDiagABInv * c.m_jacDiagABInv));
-        }
+        });
         return residual;
     }
 
@@ -538,19 +626,22 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         in_block_.assign(pool.size(), 0);
         for (int j = 0; j < pool.size(); ++j) {
             const btSolverConstraint& c = pool[j];
-            if (c.m_lowerLimit <= -big && c.m_upperLimit >= big && c.m_jacDiagABInv > 0) {
+            const bool equality = c.m_lowerLimit <= -big && c.m_upperLimit >= big;
+            if ((equality || (is_motor(c) && !at_limit_[static_cast<size_t>(j)])) &&
+                c.m_jacDiagABInv > 0) {
                 block_.push_back(j);
                 in_block_[j] = 1;
             }
         }
         const int n = static_cast<int>(block_.size());
-        rhs_.assign(n, 0);
         if (forced_path_ != BlockPath::profile && factor_band()) {
+            rhs_.assign(band_.size() * kBandRows, 0);
             if (forced_path_ == BlockPath::band_generic) band_fast_ = false;
             block_path_ = band_fast_ ? BlockPath::band_fast : BlockPath::band_generic;
             return;
         }
         // the profile: solve_block takes it where band_ is empty
+        rhs_.assign(n, 0);
         band_.clear();
         band_fast_ = false;
         block_path_ = BlockPath::profile;
@@ -592,32 +683,51 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                        [&](int i) { return 1 / pool[block_[i]].m_jacDiagABInv; });
     }
 
-    // a chain of hinges (block_band.h): the block's rows in groups of kBandRows on the same two
-    // bodies, each group sharing moving bodies with no group but the one before it. Builds and
-    // factors K there and returns true; otherwise leaves band_ empty for the profile.
+    // a chain of hinges (block_band.h): the block's rows in groups on the same two bodies, a
+    // hinge's 5 rows without bounds and, where it follows them, its motor's row, each group
+    // sharing moving bodies with no group but the one before it. Builds and factors K there and
+    // returns true; otherwise leaves band_ empty for the profile.
     bool factor_band() {
         band_.clear();
         band_fast_ = false;
         const btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
         const int n = static_cast<int>(block_.size());
-        if (n == 0 || n % kBandRows != 0) return false;
-        const int count = n / kBandRows;
+        constexpr int kEquality = kBandRows - 1;  // a hinge's rows without bounds
+        auto bodies_of = [&](int i) {
+            const btSolverConstraint& c = pool[block_[i]];
+            return std::make_pair(c.m_solverBodyIdA, c.m_solverBodyIdB);
+        };
+        // where each group starts in block_, and its size (kEquality, or kBandRows with a motor)
+        group_start_.clear();
+        group_size_.clear();
+        for (int i = 0; i < n;) {
+            if (i + kEquality > n) return false;
+            const auto bodies = bodies_of(i);
+            if (bodies.first == bodies.second) return false;
+            for (int r = 0; r < kEquality; ++r) {
+                if (bodies_of(i + r) != bodies || is_motor(pool[block_[i + r]])) return false;
+            }
+            const bool motor =
+                i + kEquality < n && bodies_of(i + kEquality) == bodies &&
+                is_motor(pool[block_[i + kEquality]]);
+            group_start_.push_back(i);
+            group_size_.push_back(motor ? kBandRows : kEquality);
+            i += motor ? kBandRows : kEquality;
+        }
+        const int count = static_cast<int>(group_start_.size());
+        if (count == 0) return false;
         auto moving = [&](int body) { return !m_tmpSolverBodyPool[body].m_invMass.fuzzyZero(); };
         first_group_of_body_.assign(m_tmpSolverBodyPool.size(), -1);
         band_.resize(count);
         band_rows_.resize(count);
         band_fast_ = true;
         for (int b = 0; b < count; ++b) {
-            const btSolverConstraint& head = pool[block_[b * kBandRows]];
-            const int bodies[2] = {head.m_solverBodyIdA, head.m_solverBodyIdB};
-            bool ok = bodies[0] != bodies[1];
-            for (int r = 1; r < kBandRows && ok; ++r) {
-                const btSolverConstraint& c = pool[block_[b * kBandRows + r]];
-                ok = c.m_solverBodyIdA == bodies[0] && c.m_solverBodyIdB == bodies[1];
-            }
+            const auto pair = bodies_of(group_start_[b]);
+            const int bodies[2] = {pair.first, pair.second};
+            bool ok = true;
             bool coupled = false;
             for (int body : bodies) {
-                if (!ok || !moving(body)) continue;
+                if (!moving(body)) continue;
                 const int first = first_group_of_body_[body];
                 if (first == -1) {
                     first_group_of_body_[body] = b;
@@ -637,8 +747,9 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             const btSolverConstraint* rows[kBandRows];
             BandRows& data = band_rows_[b];
             for (int r = 0; r < kBandRows; ++r) {
-                data.row[r] = block_[b * kBandRows + r];
-                rows[r] = &pool[data.row[r]];
+                const bool used = r < group_size_[b];
+                data.row[r] = used ? block_[group_start_[b] + r] : -1;
+                rows[r] = used ? &pool[data.row[r]] : nullptr;
             }
             data.a = bodies[0];
             data.b = bodies[1];
@@ -651,11 +762,20 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             band_rows(data, rows, m_tmpSolverBodyPool);
             BandGroup& g = band_[b];
             g.coupled = coupled;
+            // an empty slot: no couplings, a diagonal of 1 (its solution is 0)
             for (int r = 0; r < kBandRows; ++r) {
+                for (int c = 0; c < kBandRows; ++c)
+                    g.prev[r][c] = g.lower[r][c] = 0;
+                g.diag[r] = g.own[r] = 1;
+            }
+            for (int r = 0; r < kBandRows; ++r) {
+                if (!rows[r]) continue;
                 const btSolverConstraint& x = *rows[r];
                 if (coupled) {
-                    for (int c = 0; c < kBandRows; ++c)
-                        g.prev[r][c] = band_coupling(x, band_rows_[b - 1], c);
+                    for (int c = 0; c < kBandRows; ++c) {
+                        if (band_rows_[b - 1].row[c] >= 0)
+                            g.prev[r][c] = band_coupling(x, band_rows_[b - 1], c);
+                    }
                 }
                 for (int c = 0; c < r; ++c)
                     g.lower[r][c] = band_coupling(x, data, c);
@@ -666,6 +786,9 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         band_factor(band_.data(), count);
         return true;
     }
+
+    // whether contacts start their friction from the last step's (warm_start_friction)
+    bool warm_friction() const { return uses_block() && model_ == FrictionModel::disk; }
 
     bool uses_block() const {
         return method_ == SolverMethod::block || method_ == SolverMethod::block_nncg;
@@ -684,6 +807,9 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     std::vector<int> block_, first_;
     std::vector<std::vector<int>> rows_of_body_;  // block: the rows so far on each solver body
     std::vector<char> in_block_;
+    // block: the motor rows held at their limit this step (out of the block), by joint row
+    std::vector<char> at_limit_;
+    std::vector<int> group_start_, group_size_;  // block, a chain: each group's place in block_
     std::vector<int> swept_;      // the joint rows each sweep solves one by one
     std::vector<int> old_style_;  // the constraints whose solveConstraintObsolete each sweep calls
     std::vector<double> chol_, diag_, rhs_;
@@ -720,6 +846,14 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             sb.getVelocityInLocalPointNoDelta(rel_b, vb);
             const btVector3& n = cp.m_normalWorldOnB;
             const btVector3 slip = (va - vb) - n * n.dot(va - vb);  // of A relative to B
+            // the friction impulse the point kept from the last step (warm_friction)
+            btVector3 warm(0, 0, 0);
+            if (warm_friction()) {
+                btVector3 t1, t2;
+                btPlaneSpace1(n, t1, t2);
+                warm = (t1 * cp.m_appliedImpulseLateral1 + t2 * cp.m_appliedImpulseLateral2) *
+                       info.m_warmstartingFactor;
+            }
             btScalar relaxation;
             setupContactConstraint(contact, ia, ib, cp, info, relaxation, rel_a, rel_b);
             contact.m_frictionIndex = m_tmpSolverContactFrictionConstraintPool.size();
@@ -740,7 +874,31 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                 addFrictionConstraint(cp.m_lateralFrictionDir2, ia, ib, index, cp, rel_a, rel_b, a,
                                       b, relaxation, info);
             }
+            if (warm_friction()) warm_start_friction(contact, warm);
         }
+    }
+
+    // The block methods start a contact's friction disk where the last step left it (times
+    // the solver's warm-starting factor, as Bullet does for the normal rows), within the disk
+    // of its warm-started normal impulse: chains whose contacts stick need hundreds of
+    // iterations to build their friction from zero at a step of 5 ms (docs/performance.md,
+    // "Motors in the block, friction warm-started").
+    void warm_start_friction(const btSolverConstraint& contact, const btVector3& warm) {
+        btSolverConstraint& r1 = m_tmpSolverContactFrictionConstraintPool[contact.m_frictionIndex];
+        btSolverConstraint& r2 =
+            m_tmpSolverContactFrictionConstraintPool[contact.m_frictionIndex + 1];
+        btScalar l1 = warm.dot(r1.m_contactNormal1), l2 = warm.dot(r2.m_contactNormal1);
+        const btScalar limit = r1.m_friction * btMax(contact.m_appliedImpulse, btScalar(0));
+        const btScalar length2 = l1 * l1 + l2 * l2;
+        if (length2 > limit * limit) {
+            const btScalar scale = limit > 0 ? limit / btSqrt(length2) : 0;
+            l1 *= scale;
+            l2 *= scale;
+        }
+        btSolverBody& a = m_tmpSolverBodyPool[contact.m_solverBodyIdA];
+        btSolverBody& b = m_tmpSolverBodyPool[contact.m_solverBodyIdB];
+        apply(r1, a, b, l1);
+        apply(r2, a, b, l2);
     }
 };
 
