@@ -166,35 +166,46 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     btScalar solveGroupCacheFriendlyFinish(btCollisionObject** bodies, int count,
                                            const btContactSolverInfo& info) override {
         // the friction impulse of each contact along its directions, for contacts(): Bullet's
-        // own write-back (without SOLVER_USE_2_FRICTION_DIRECTIONS) keeps only the first row's
+        // own write-back (without SOLVER_USE_2_FRICTION_DIRECTIONS) keeps only the first row's,
+        // and writes it after this (then empties the pools): the values are kept aside and
+        // written once it has
+        written_.clear();
         for (int k = 0; k < m_tmpSolverContactConstraintPool.size(); ++k) {
             const btSolverConstraint& c = m_tmpSolverContactConstraintPool[k];
-            auto* point = static_cast<btManifoldPoint*>(c.m_originalContactPoint);
+            Written w;
+            w.point = static_cast<btManifoldPoint*>(c.m_originalContactPoint);
             const int first = c.m_frictionIndex;
             const int rows = m_tmpSolverContactFrictionConstraintPool.size();
-            point->m_appliedImpulseLateral1 =
-                m_tmpSolverContactFrictionConstraintPool[first].m_appliedImpulse;
+            const btSolverConstraint& r1 = m_tmpSolverContactFrictionConstraintPool[first];
             const bool two =
                 first + 1 < rows &&
                 m_tmpSolverContactFrictionConstraintPool[first + 1].m_frictionIndex == k;
-            point->m_appliedImpulseLateral2 =
-                two ? m_tmpSolverContactFrictionConstraintPool[first + 1].m_appliedImpulse : 0;
+            w.lateral1 = r1.m_appliedImpulse;
+            w.lateral2 = two ? m_tmpSolverContactFrictionConstraintPool[first + 1].m_appliedImpulse : 0;
+            w.dir1 = w.point->m_lateralFrictionDir1;
+            w.dir2 = w.point->m_lateralFrictionDir2;
             // kept for the next step's warm start along two axes of the normal alone (the
             // rows' own axes follow the slip, and a point Bullet's manifold replaces keeps
             // its impulses but not its axes): the same friction, as contacts() reads it
             if (warm_friction() && two) {
-                const btSolverConstraint& r1 = m_tmpSolverContactFrictionConstraintPool[first];
                 const btSolverConstraint& r2 = m_tmpSolverContactFrictionConstraintPool[first + 1];
                 const btVector3 f = r1.m_contactNormal1 * r1.m_appliedImpulse +
                                     r2.m_contactNormal1 * r2.m_appliedImpulse;
-                btPlaneSpace1(point->m_normalWorldOnB, point->m_lateralFrictionDir1,
-                              point->m_lateralFrictionDir2);
-                point->m_appliedImpulseLateral1 = f.dot(point->m_lateralFrictionDir1);
-                point->m_appliedImpulseLateral2 = f.dot(point->m_lateralFrictionDir2);
+                btPlaneSpace1(w.point->m_normalWorldOnB, w.dir1, w.dir2);
+                w.lateral1 = f.dot(w.dir1);
+                w.lateral2 = f.dot(w.dir2);
             }
+            written_.push_back(w);
         }
-        return btSequentialImpulseConstraintSolver::solveGroupCacheFriendlyFinish(bodies, count,
-                                                                                  info);
+        const btScalar residual =
+            btSequentialImpulseConstraintSolver::solveGroupCacheFriendlyFinish(bodies, count, info);
+        for (const Written& w : written_) {
+            w.point->m_appliedImpulseLateral1 = w.lateral1;
+            w.point->m_appliedImpulseLateral2 = w.lateral2;
+            w.point->m_lateralFrictionDir1 = w.dir1;
+            w.point->m_lateralFrictionDir2 = w.dir2;
+        }
+        return residual;
     }
 
   private:
@@ -820,6 +831,13 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     bool band_fast_ = false;  // band_rows_ hold the rows (block_band.h)
     std::vector<int> first_group_of_body_;
     std::vector<btPersistentManifold*> sorted_manifolds_;
+    // solveGroupCacheFriendlyFinish: each contact point's friction, written after Bullet's own
+    struct Written {
+        btManifoldPoint* point;
+        btScalar lateral1, lateral2;
+        btVector3 dir1, dir2;
+    };
+    std::vector<Written> written_;
     std::vector<btTypedConstraint*> sorted_constraints_;
 
     void convert(btPersistentManifold& manifold, const btContactSolverInfo& info) {

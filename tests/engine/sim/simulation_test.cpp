@@ -738,6 +738,20 @@ TEST_CASE("settings too coarse for a 3 % accurate gait get one warning naming th
         CHECK_THAT(sim.warnings()[0], StartsWith("solver_iterations = 5 is below 15"));
         CHECK_THAT(sim.warnings()[1], StartsWith("dt = 10 ms is above 1.5 ms"));
     }
+    SECTION("block_nncg converges in fewer iterations and at larger steps: its own limits") {
+        o.solver = ConstraintSolver::block_nncg;
+        o.solver_iterations = 7;
+        o.dt = 0.01;
+        o.control_every = 1;
+        CHECK(Simulation(w, o).warnings().empty());
+        o.solver_iterations = 5;
+        o.dt = 0.02;
+        Simulation sim(w, o);
+        REQUIRE(sim.warnings().size() == 2);
+        CHECK_THAT(sim.warnings()[0], StartsWith("solver_iterations = 5 is below 7") &&
+                                          Contains("with solver = \"block_nncg\""));
+        CHECK_THAT(sim.warnings()[1], StartsWith("dt = 20 ms is above 10 ms"));
+    }
     SECTION("a world without joints (boxes falling) is not warned about") {
         WorldSpec boxes;
         boxes.boxes.resize(1);
