@@ -4,8 +4,8 @@
 # the per-cycle speed of each against the engine's own converged reference (dt / 4, 4x the
 # default iterations), and the CPU time per step of every setting, all engines interleaved.
 #
-#   bench/anchors.sh [--anchors DIR] [--gaitlab BIN] [--reps R] [--jobs J] [--n N]
-#                    [--only accuracy|timing] [--quick]
+#   bench/anchors.sh [--anchors DIR] [--gaitlab BIN] [--reps R] [--seconds S] [--jobs J]
+#                    [--n N] [--only accuracy|timing] [--quick]
 #   bench/anchors.sh --prepare SRC DIR
 #   bench/anchors.sh --from RAW        (the tables again from the raw lines of a run)
 #
@@ -28,14 +28,16 @@
 # speed is the mean of |head displacement| over the 10 cycles after the first. Pitch-yaw
 # averages it over 5 start phases (0, 72, 144, 216, 288 deg). The runs are deterministic, so
 # --jobs of them run at once (default 2). Timing: R rounds (default 5), each running every
-# setting once for 10 simulated s, one program at a time, the order reversed every other round;
-# the table shows the median CPU time per step of the stepping loop (thread CPU time for ODE
-# and MuJoCo, process CPU time for gaitlab, which steps on one thread).
+# setting once for S simulated s (--seconds, default 10; longer for settings of large dt, whose
+# 10 s are few steps), one program at a time, the order reversed every other round; the table
+# shows the median CPU time per step of the stepping loop (thread CPU time for ODE and MuJoCo,
+# process CPU time for gaitlab, which steps on one thread).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 anchors=${ANCHORS_BUILD:-}
 gaitlab=${GAITLAB:-$root/build/gaitlab}
 reps=5
+seconds=10
 jobs=2
 n=8
 only=
@@ -62,7 +64,7 @@ prepare() {  # SRC DIR
 }
 
 usage() {
-    sed -n '8,9p' "$0" | sed 's/^# *//' >&2
+    sed -n '7,10p' "$0" | sed 's/^# *//' >&2
     exit 2
 }
 while [ $# -gt 0 ]; do
@@ -75,6 +77,7 @@ while [ $# -gt 0 ]; do
         --anchors) anchors=${2:?}; shift ;;
         --gaitlab) gaitlab=${2:?}; shift ;;
         --reps) reps=${2:?}; shift ;;
+        --seconds) seconds=${2:?}; shift ;;
         --jobs) jobs=${2:?}; shift ;;
         --n) n=${2:?}; shift ;;
         --only) only=${2:?}; shift ;;
@@ -84,8 +87,8 @@ while [ $# -gt 0 ]; do
     esac
     shift
 done
-for v in "$reps" "$jobs" "$n"; do
-    [[ $v =~ ^[1-9][0-9]*$ ]] || { echo "anchors.sh: --reps, --jobs and --n take a positive integer (got '$v')" >&2; exit 2; }
+for v in "$reps" "$seconds" "$jobs" "$n"; do
+    [[ $v =~ ^[1-9][0-9]*$ ]] || { echo "anchors.sh: --reps, --seconds, --jobs and --n take a positive integer (got '$v')" >&2; exit 2; }
 done
 case "$only" in "" | accuracy | timing | none) ;; *) echo "anchors.sh: --only takes accuracy or timing (got '$only')" >&2; exit 2 ;; esac
 
@@ -253,7 +256,7 @@ if [ -z "$from" ]; then
     echo "- load average at start: $(cut -d' ' -f1-3 /proc/loadavg)"
     echo "- accuracy: 22 simulated s, head sampled every 2 s, mean |displacement| per cycle over" \
         "cycles 2-11; pitch-yaw averaged over start phases $phases_py"
-    echo "- timing: $reps interleaved rounds of 10 simulated s, median CPU time per step"
+    echo "- timing: $reps interleaved rounds of $seconds simulated s, median CPU time per step"
 fi
 
 # ---------------------------------------------------------------------------- accuracy ----
@@ -303,7 +306,7 @@ if [ "$only" != accuracy ] && [ "$only" != none ]; then
         for row in "${order[@]}"; do
             read -r e conn dtms it pms <<< "$row"
             # shellcheck disable=SC2091  # runs the command it prints
-            out=$($(command_for "$e" "$conn" "$dtms" "$it" "$pms" 10 0 0) 2>&1 | tail -1) || out="status=FAILED"
+            out=$($(command_for "$e" "$conn" "$dtms" "$it" "$pms" "$seconds" 0 0) 2>&1 | tail -1) || out="status=FAILED"
             echo "tags=$e:$conn:$dtms:$it:$pms round=$r $out" >> "$tim"
         done
     done
