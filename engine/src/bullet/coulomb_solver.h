@@ -181,7 +181,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                 first + 1 < rows &&
                 m_tmpSolverContactFrictionConstraintPool[first + 1].m_frictionIndex == k;
             w.lateral1 = r1.m_appliedImpulse;
-            w.lateral2 = two ? m_tmpSolverContactFrictionConstraintPool[first + 1].m_appliedImpulse : 0;
+            w.lateral2 =
+                two ? m_tmpSolverContactFrictionConstraintPool[first + 1].m_appliedImpulse : 0;
             w.dir1 = w.point->m_lateralFrictionDir1;
             w.dir2 = w.point->m_lateralFrictionDir2;
             // kept for the next step's warm start along two axes of the normal alone (the
@@ -524,23 +525,23 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         }
     }
 
-    // the block's rows: in the band's slots (band_ not empty) or in block_'s order
+    // the block's rows, f(row in the joint pool, its place in rhs_): in the band's slots
+    // (band_ not empty) or in block_'s order
     template <class F>
     void for_each_block_row(F f) {
-        btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
         if (!band_.empty()) {
             const int count = static_cast<int>(band_.size());
             for (int b = 0; b < count; ++b) {
                 for (int r = 0; r < kBandRows; ++r) {
                     const int row = band_rows_[b].row[r];
-                    if (row >= 0) f(pool[row], rhs_[b * kBandRows + r]);
+                    if (row >= 0) f(row, rhs_[b * kBandRows + r]);
                 }
             }
             return;
         }
         const int n = static_cast<int>(block_.size());
         for (int i = 0; i < n; ++i)
-            f(pool[block_[i]], rhs_[i]);
+            f(block_[i], rhs_[i]);
     }
 
     // the block's solution into rhs_
@@ -554,7 +555,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             return;
         }
         std::fill(rhs_.begin(), rhs_.end(), 0.0);
-        for_each_block_row([&](const btSolverConstraint& c, double& r) {
+        for_each_block_row([&](int row, double& r) {
+            const btSolverConstraint& c = pool[row];
             btSolverBody& a = m_tmpSolverBodyPool[c.m_solverBodyIdA];
             btSolverBody& b = m_tmpSolverBodyPool[c.m_solverBodyIdB];
             r = (c.m_rhs - c.m_appliedImpulse * c.m_cfm) / c.m_jacDiagABInv -
@@ -571,15 +573,15 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     // and marked to leave the block; returns whether there was one
     bool motors_past_limit() {
         bool any = false;
-        const btSolverConstraint* first = &m_tmpSolverNonContactConstraintPool[0];
-        for_each_block_row([&](btSolverConstraint& c, double& r) {
+        for_each_block_row([&](int row, double& r) {
+            btSolverConstraint& c = m_tmpSolverNonContactConstraintPool[row];
             if (c.m_upperLimit >= SIMD_INFINITY / 2) return;
             const btScalar impulse = c.m_appliedImpulse + static_cast<btScalar>(r);
             if (impulse <= c.m_upperLimit && impulse >= c.m_lowerLimit) return;
             const btScalar limit = impulse > c.m_upperLimit ? c.m_upperLimit : c.m_lowerLimit;
             apply(c, m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB],
                   limit - c.m_appliedImpulse);
-            at_limit_[static_cast<size_t>(&c - first)] = 1;
+            at_limit_[static_cast<size_t>(row)] = 1;
             any = true;
         });
         return any;
@@ -597,7 +599,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             }
             return residual;
         }
-        for_each_block_row([&](btSolverConstraint& c, double& r) {
+        for_each_block_row([&](int row, double& r) {
+            btSolverConstraint& c = pool[row];
             const btScalar d = static_cast<btScalar>(r);
             apply(c, m_tmpSolverBodyPool[c.m_solverBodyIdA], m_tmpSolverBodyPool[c.m_solverBodyIdB],
                   d);
@@ -718,9 +721,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             for (int r = 0; r < kEquality; ++r) {
                 if (bodies_of(i + r) != bodies || is_motor(pool[block_[i + r]])) return false;
             }
-            const bool motor =
-                i + kEquality < n && bodies_of(i + kEquality) == bodies &&
-                is_motor(pool[block_[i + kEquality]]);
+            const bool motor = i + kEquality < n && bodies_of(i + kEquality) == bodies &&
+                               is_motor(pool[block_[i + kEquality]]);
             group_start_.push_back(i);
             group_size_.push_back(motor ? kBandRows : kEquality);
             i += motor ? kBandRows : kEquality;
@@ -799,7 +801,9 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     }
 
     // whether contacts start their friction from the last step's (warm_start_friction)
-    bool warm_friction() const { return uses_block() && model_ == FrictionModel::disk; }
+    bool warm_friction() const {
+        return uses_block() && model_ == FrictionModel::disk;
+    }
 
     bool uses_block() const {
         return method_ == SolverMethod::block || method_ == SolverMethod::block_nncg;
@@ -821,7 +825,7 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     // block: the motor rows held at their limit this step (out of the block), by joint row
     std::vector<char> at_limit_;
     std::vector<int> group_start_, group_size_;  // block, a chain: each group's place in block_
-    std::vector<int> swept_;      // the joint rows each sweep solves one by one
+    std::vector<int> swept_;                     // the joint rows each sweep solves one by one
     std::vector<int> old_style_;  // the constraints whose solveConstraintObsolete each sweep calls
     std::vector<double> chol_, diag_, rhs_;
     // block, a chain of hinges: K's factors in blocks (empty: the profile above), and the first

@@ -458,8 +458,8 @@ TEST_CASE(
 struct MotorStep {
     std::vector<double> speed, torque;
     std::vector<double> command = {1.2, -2.0, 1.5, 0.8};
-    static constexpr int kWeak = 1;                // joint 2, counted from 0
-    static constexpr double kWeakTorque = 1e-4;    // N m
+    static constexpr int kWeak = 1;              // joint 2, counted from 0
+    static constexpr double kWeakTorque = 1e-4;  // N m
 };
 
 MotorStep motor_step(ConstraintSolver solver, int iterations) {
