@@ -2,6 +2,7 @@
 // recorded run.
 #pragma once
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -14,6 +15,16 @@
 
 namespace gaitlab::test {
 
+/// A world holding `robot` on a floor of friction 0.8.
+inline WorldSpec world_of(RobotSpec robot) {
+    WorldSpec world;
+    world.floor.friction = 0.8;
+    PlacedRobot placed;
+    placed.robot = std::move(robot);
+    world.robots.push_back(std::move(placed));
+    return world;
+}
+
 /// A world holding one chain of `modules` modules lying on the floor (or floating, with
 /// `gravity` false: no gravity and no floor).
 inline WorldSpec chain_world(int modules, Connection connection, bool gravity = true) {
@@ -21,16 +32,24 @@ inline WorldSpec chain_world(int modules, Connection connection, bool gravity = 
     chain.name = "snake";
     chain.modules = modules;
     chain.connection = connection;
-    WorldSpec world;
+    WorldSpec world = world_of(make_chain(chain));
     if (!gravity) {
         world.gravity = {0, 0, 0};
         world.floor.enabled = false;
     }
-    world.floor.friction = 0.8;
-    PlacedRobot placed;
-    placed.robot = make_chain(chain);
-    world.robots.push_back(std::move(placed));
     return world;
+}
+
+/// The options of the convergence measurements: time step `dt` with the control period kept at
+/// 10 ms, `iterations` solver iterations, `solver`.
+inline SimulationOptions options_at(double dt, int iterations = 20,
+                                    ConstraintSolver solver = ConstraintSolver::pgs) {
+    SimulationOptions o;
+    o.dt = dt;
+    o.control_every = static_cast<int>(std::lround(0.01 / dt));
+    o.solver_iterations = iterations;
+    o.solver = solver;
+    return o;
 }
 
 /// A sine generator with the given parameters (degrees, Hz).

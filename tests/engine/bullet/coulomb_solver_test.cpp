@@ -205,12 +205,7 @@ WorldSpec star_world() {
         }
     }
     validate(robot);
-    WorldSpec world;
-    world.floor.friction = 0.8;
-    PlacedRobot placed;
-    placed.robot = std::move(robot);
-    world.robots.push_back(std::move(placed));
-    return world;
+    return test::world_of(std::move(robot));
 }
 
 // After one step of `iterations` from the star's rest pose, floating (no gravity, no floor),
@@ -539,17 +534,7 @@ double anchor_snake_speed(ConstraintSolver solver, double dt, int iterations) {
         robot.joints.push_back(joint);
     }
     validate(robot);
-    WorldSpec world;
-    world.floor.friction = 0.8;
-    PlacedRobot placed;
-    placed.robot = std::move(robot);
-    world.robots.push_back(std::move(placed));
-    SimulationOptions o;
-    o.dt = dt;
-    o.control_every = static_cast<int>(std::lround(0.01 / dt));
-    o.solver_iterations = iterations;
-    o.solver = solver;
-    Simulation sim(world, o);
+    Simulation sim(test::world_of(std::move(robot)), test::options_at(dt, iterations, solver));
     test::drive(sim, "pitch", test::sine(40, 0.5, 120));
     test::drive(sim, "yaw", test::sine(20, 0.5, 120));
     double length = 0;

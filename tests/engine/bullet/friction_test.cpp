@@ -217,12 +217,7 @@ TEST_CASE("block_nncg solves the rolling pitch-yaw chain in 20 iterations, pgs d
     auto travel = [](ConstraintSolver solver, double dt, int iterations) {
         WorldSpec w = test::chain_world(8, Connection::pitch_yaw);
         w.floor.friction = 1.0;
-        SimulationOptions o;
-        o.dt = dt;
-        o.control_every = static_cast<int>(std::lround(0.01 / dt));
-        o.solver_iterations = iterations;
-        o.solver = solver;
-        Simulation sim(w, o);
+        Simulation sim(w, test::options_at(dt, iterations, solver));
         test::drive(sim, "pitch", test::sine(40, 0.5, 0));
         test::drive(sim, "yaw", test::sine(40, 0.5, 0, -90));
         sim.run(2);

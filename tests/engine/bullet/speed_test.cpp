@@ -25,10 +25,7 @@ struct Gait {
 Gait py_wave_32(double dt, double offset) {
     WorldSpec w = test::chain_world(32, Connection::pitch_yaw);
     w.floor.friction = 1.0;
-    SimulationOptions o;
-    o.dt = dt;
-    o.control_every = static_cast<int>(std::lround(0.01 / dt));
-    Simulation sim(w, o);
+    Simulation sim(w, test::options_at(dt));
     test::drive(sim, "pitch", test::sine(40, 0.5, 120));
     test::drive(sim, "yaw", test::sine(20, 0.5, 120, 0, offset));
     sim.run(2);
@@ -86,11 +83,7 @@ double pyp_wave_speed(double friction, double dt, int iterations) {
         const double start = 72.0 * k > 180 ? 72.0 * k - 360 : 72.0 * k;
         WorldSpec w = test::chain_world(3, Connection::pitch_yaw);
         w.floor.friction = friction;
-        SimulationOptions o;
-        o.dt = dt;
-        o.control_every = static_cast<int>(std::lround(0.01 / dt));
-        o.solver_iterations = iterations;
-        Simulation sim(w, o);
+        Simulation sim(w, test::options_at(dt, iterations));
         test::drive(sim, "pitch", test::sine(40, 0.5, 120, start));
         test::drive(sim, "yaw", test::sine(20, 0.5, 120, start));
         sim.run(2);
