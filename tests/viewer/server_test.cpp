@@ -431,8 +431,12 @@ TEST_CASE("a page that never reads never holds up the simulation's side") {
     }
     // publishing never waited for the stuck page: that would take its write timeout (0.5 s);
     // what is left is the scheduler's noise on a loaded machine
+    INFO("frames published in 1.5 s: " << t << ", the slowest took " << slowest << " s");
     CHECK(slowest < 0.1);
-    CHECK(t > 300);
+    // and it went on publishing: a publish held up by the stuck page would leave a handful. Not
+    // a speed test: each frame is built and serialised, and under the sanitizers with both cores
+    // busy 218-259 frames go out in the 1.5 s (290 in a CI run where 300 was asked)
+    CHECK(t > 100);
     // the reading page kept up with the latest frames
     CHECK(eventually([&] { return last_tick.load() >= t - 5; }, 3));
     // the stuck page was dropped after the write timeout
