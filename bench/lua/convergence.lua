@@ -32,8 +32,8 @@ local frequency = 0.5
 -- CONV_SETTLE (s) before measuring: 2 for the vectors (the tables of section 12 were made so),
 -- 20 for issue 14's speed, the steady gait's: a 32-module pitch-yaw chain takes 10-20 s from
 -- its straight start to a gait whose speed no longer depends on where it started (at the
--- defaults; at dt 0.25 ms some starts of the 32-module wave hold a slower motion for minutes,
--- docs/performance.md section 12, "The slow motion is a long transient")
+-- defaults; at dt 0.25 ms and finer some starts of the 32-module wave hold a slower motion for
+-- minutes, docs/performance.md section 12, "The slow motion is a long transient")
 local settle = tonumber(os.getenv("CONV_SETTLE") or (measure == "speed" and "20" or "2"))
 if not settle or settle < 0 then
   error("CONV_SETTLE: seconds >= 0 expected, got '" .. tostring(os.getenv("CONV_SETTLE")) .. "'", 0)
