@@ -166,6 +166,8 @@ PlotFiles plot(const RunData& run, const PlotOptions& o) {
     }
     std::vector<std::string> names;
     long rows = 0;  // rows of a path plot
+    // a path plot's ranges, [lo, hi] for x and for y, over the rows that hold two numbers
+    double lo[2] = {0, 0}, hi[2] = {0, 0};
     if (path_plot) {
         names = {one_series(run, o.x, "x"), one_series(run, o.y, "y")};
         if (names[0] == names[1]) {
@@ -186,8 +188,15 @@ PlotFiles plot(const RunData& run, const PlotOptions& o) {
         }
         rows = static_cast<long>(d[0].time.size());
         long points = 0;  // rows that hold two numbers
-        for (size_t i = 0; i < d[0].time.size(); ++i)
-            points += std::isfinite(d[0].values[i]) && std::isfinite(d[1].values[i]);
+        for (size_t i = 0; i < d[0].time.size(); ++i) {
+            const double v[2] = {d[0].values[i], d[1].values[i]};
+            if (!std::isfinite(v[0]) || !std::isfinite(v[1])) continue;
+            for (int k = 0; k < 2; ++k) {
+                lo[k] = points == 0 ? v[k] : std::min(lo[k], v[k]);
+                hi[k] = points == 0 ? v[k] : std::max(hi[k], v[k]);
+            }
+            ++points;
+        }
         if (points == 0) {
             throw SpecError(
                 fmt::format("nothing to plot: '{}' and '{}' are never numbers at once {}", names[0],
@@ -234,7 +243,21 @@ PlotFiles plot(const RunData& run, const PlotOptions& o) {
         gp += "set xlabel " + gp_string(with_unit(run, names[0])) + "\n";
         gp += "set ylabel " + gp_string(with_unit(run, names[1])) + "\n";
         // a path keeps its shape: one metre is as long across as up (for series of one unit)
-        if (run.find(names[0]).unit == run.find(names[1]).unit) gp += "set size ratio -1\n";
+        if (run.find(names[0]).unit == run.find(names[1]).unit) {
+            gp += "set size ratio -1\n";
+            // each axis spans at least a quarter of the longer one, centred on its data, and
+            // both have a margin: a straight path is a line in a box, not a box of no height
+            // with its tick labels printed over each other
+            // (spans too large for a double keep gnuplot's own ranges)
+            const double longer = std::max({hi[0] - lo[0], hi[1] - lo[1], 1e-9});
+            for (int k = 0; k < 2; ++k) {
+                const double mid = 0.5 * lo[k] + 0.5 * hi[k];
+                const double half = 0.55 * std::max(hi[k] - lo[k], 0.25 * longer);
+                if (!std::isfinite(mid - half) || !std::isfinite(mid + half)) continue;
+                gp += fmt::format("set {}range [{:.17g}:{:.17g}]\n", k == 0 ? 'x' : 'y',
+                                  mid - half, mid + half);
+            }
+        }
         // the line, then where it starts and ends (the first and last rows)
         const long last = rows - 1;
         gp += fmt::format(

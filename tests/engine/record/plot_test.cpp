@@ -279,6 +279,27 @@ TEST_CASE("a path plot draws one series against another, at one scale", "[plot]"
                Catch::Contains("set xlabel \"snake.com.x (m)\"\nset ylabel \"snake.com.y (m)\"\n"
                                "set size ratio -1\n"));
     CHECK_THAT(gp, Catch::Contains("plot \"path.csv\" using 2:3 skip 1 with lines"));
+    // this path is straight along x (a planar gait): y still gets a range a quarter of x's
+    // wide, around the path, so the plot is a line in a box and its tick labels apart
+    const auto range = [&](const std::string& axis) {
+        const size_t at = gp.find("set " + axis + "range [");
+        REQUIRE(at != std::string::npos);
+        const size_t colon = gp.find(':', at);
+        return std::pair{std::stod(gp.substr(gp.find('[', at) + 1)),
+                         std::stod(gp.substr(colon + 1))};
+    };
+    const auto [x0, x1] = range("x");
+    const auto [y0, y1] = range("y");
+    const SeriesData y = run.get("snake.com.y", 0.5, 1.5);
+    const auto [xmin, xmax] = std::minmax_element(x.values.begin(), x.values.end());
+    const auto [ymin, ymax] = std::minmax_element(y.values.begin(), y.values.end());
+    CHECK(*ymax - *ymin < 0.01 * (*xmax - *xmin));
+    CHECK(x0 < *xmin);
+    CHECK(x1 > *xmax);
+    CHECK(y0 < *ymin);
+    CHECK(y1 > *ymax);
+    CHECK(y1 - y0 >= 0.25 * (*xmax - *xmin));
+    CHECK(y1 - y0 < 0.3 * (x1 - x0));
     CHECK_THAT(gp, Catch::Contains("every ::0::0 with points"));
     CHECK_THAT(gp, Catch::Contains("every ::" + std::to_string(rows - 1) +
                                    "::" + std::to_string(rows - 1) + " with points"));
