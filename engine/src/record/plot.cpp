@@ -250,12 +250,28 @@ PlotFiles plot(const RunData& run, const PlotOptions& o) {
             // with its tick labels printed over each other
             // (spans too large for a double keep gnuplot's own ranges)
             const double longer = std::max({hi[0] - lo[0], hi[1] - lo[1], 1e-9});
+            bool ranged = true;
             for (int k = 0; k < 2; ++k) {
                 const double mid = 0.5 * lo[k] + 0.5 * hi[k];
                 const double half = 0.55 * std::max(hi[k] - lo[k], 0.25 * longer);
-                if (!std::isfinite(mid - half) || !std::isfinite(mid + half)) continue;
+                if (!std::isfinite(mid - half) || !std::isfinite(mid + half)) {
+                    ranged = false;
+                    continue;
+                }
                 gp += fmt::format("set {}range [{:.17g}:{:.17g}]\n", k == 0 ? 'x' : 'y',
                                   mid - half, mid + half);
+            }
+            // one tick step on both axes, about six over the longer one (1, 2 or 5 times a
+            // power of ten): at one scale the shorter axis's ticks are as far apart, where
+            // gnuplot's own would crowd its few centimetres with labels
+            const double raw = 1.1 * longer / 6;
+            const double power = std::pow(10.0, std::floor(std::log10(raw)));
+            const double step = raw <= power ? power
+                                : raw <= 2 * power ? 2 * power
+                                : raw <= 5 * power ? 5 * power
+                                                   : 10 * power;
+            if (ranged && std::isfinite(step) && step > 0) {
+                gp += fmt::format("set xtics {0:.17g}\nset ytics {0:.17g}\n", step);
             }
         }
         // the line, then where it starts and ends (the first and last rows)

@@ -250,10 +250,14 @@ TEST_CASE("a path plot draws one series against another, at one scale", "[plot]"
     CHECK(f.script == tmp / "out/path.gp");
     const Image img = load_png(f.png);
     CHECK(img.width == 1000);
-    size_t ink = 0;
-    for (std::uint32_t p : img.rgba)
-        ink += p != img.rgba[0];
-    CHECK(ink > img.rgba.size() / 100);
+    // the path itself: gnuplot's first line colour (purple, #9400d3) across most of the
+    // plot's width (the legend's sample line is 40 pixels of it)
+    size_t purple = 0;
+    for (std::uint32_t p : img.rgba) {
+        const unsigned r = p & 0xff, g = (p >> 8) & 0xff, b = (p >> 16) & 0xff;
+        purple += b > 150 && r > 80 && g < 100;
+    }
+    CHECK(purple > 300);
 
     // the data: time, then the two series, the rows of the range and nothing else
     const SeriesData x = run.get("snake.com.x", 0.5, 1.5);
@@ -300,6 +304,14 @@ TEST_CASE("a path plot draws one series against another, at one scale", "[plot]"
     CHECK(y1 > *ymax);
     CHECK(y1 - y0 >= 0.25 * (*xmax - *xmin));
     CHECK(y1 - y0 < 0.3 * (x1 - x0));
+    // one tick step on both axes, about six over the longer one
+    const size_t xt = gp.find("set xtics "), yt = gp.find("set ytics ");
+    REQUIRE(xt != std::string::npos);
+    REQUIRE(yt != std::string::npos);
+    const double step = std::stod(gp.substr(xt + 10));
+    CHECK(std::stod(gp.substr(yt + 10)) == step);
+    CHECK((x1 - x0) / step >= 3);
+    CHECK((x1 - x0) / step <= 12);
     CHECK_THAT(gp, Catch::Contains("every ::0::0 with points"));
     CHECK_THAT(gp, Catch::Contains("every ::" + std::to_string(rows - 1) +
                                    "::" + std::to_string(rows - 1) + " with points"));
