@@ -21,8 +21,8 @@
 # PERIOD_MS [ref] [solver=pgs|block_nncg] (blank lines and lines from '#' on are skipped). A
 # gaitlab row with solver=block_nncg runs gaitlab.simulation{ solver = "block_nncg" } and is an
 # engine of its own in the tables, "gaitlab block_nncg", with its own reference row if the file
-# has one (else gaitlab's, the pgs reference, which the table then says); solver=pgs is plain
-# gaitlab (the engine's default).
+# has one (else gaitlab's, the pgs reference, which the table then says); plain gaitlab rows
+# and solver=pgs run pgs, named to the script (the engine's default is block_nncg).
 #
 # Accuracy: each run simulates 22 s and samples the head every 2 s (a gait cycle); the per-cycle
 # speed is the mean of |head displacement| over the 10 cycles after the first. Pitch-yaw
@@ -226,7 +226,8 @@ command_for() {
     ce=$(awk -v p="$pms" -v d="$dtms" 'BEGIN {printf "%d", p / d + 0.5}')
     case "$e" in
         gaitlab | gaitlab/*)
-            local solver=
+            # a row without solver= is pgs, named: the engine's default is block_nncg
+            local solver=" solver=pgs"
             [ "$e" = gaitlab ] || solver=" solver=${e#gaitlab/}"
             echo "$gaitlab run $script n=$n conn=$conn dt=$dt iters=$it ce=$ce time=$secs" \
                 "phase0=$ph trace=$tr$solver --no-record"

@@ -16,7 +16,7 @@
 -- process CPU time of the stepping alone (os.clock) per step; trace = the head's x,y (m) every
 -- `trace` simulated seconds from the start, and at the end, separated by ';'. solver: the
 -- simulation's constraint solver (gaitlab.simulation's `solver`); left out, the engine's default
--- (pgs), and the line does not name it; given, the settings field ends with ",solver=NAME".
+-- (block_nncg), and the line does not name it; given, the settings field ends with ",solver=NAME".
 local opt = { n = 8, conn = "pp", dt = 0.001, iters = 20, ce = 10, time = 20, phase0 = 0,
               trace = 0, solver = false, floor_k = 0, floor_c = 0 }
 local solvers = { pgs = true, block_nncg = true }

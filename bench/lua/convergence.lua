@@ -8,7 +8,7 @@
 --
 -- CONV_CYCLES (default 5) sets the cycles measured, CONV_MAX_TORQUE the servos' torque (below), CONV_MODULES (default "2 8 32") and
 -- CONV_FRICTION (default "0.3 1.0") the grid, CONV_SOLVER the simulation's `solver` (default the
--- engine's, "pgs"; "block_nncg" solves each robot's joints as one system, docs/architecture.md).
+-- engine's, "block_nncg", which solves each robot's joints as one system, docs/architecture.md; or "pgs").
 -- Each run starts at time 0 (the same start every time), settles (CONV_SETTLE, below), then
 -- measures; the control period stays 10 ms at every dt.
 --

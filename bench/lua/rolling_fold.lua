@@ -116,7 +116,7 @@ if which ~= "solver" then
     end
   end
 end
--- the folded robot's creep against the solver (the engine's default pgs, or block_nncg, whose
+-- the folded robot's creep against the solver (pgs, or the engine's default block_nncg, whose
 -- joints are one exact system in every iteration), its iterations, dt and self-collision (its
 -- free ends meet): y1, 0.1 Hz, friction 1.0. FOLD_SOLVER=block_nncg: the block_nncg rows only.
 print("| amplitude | solver | solver iterations | dt (ms) | self_collision | travel (mm/cycle) | x, y (mm/cycle) | peak angle | fundamental, lag | at max speed | end gap (mm) |")

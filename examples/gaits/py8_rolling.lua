@@ -4,8 +4,9 @@
 -- sideways. At 90 degrees the real robot folds into a square and stops; this prints what
 -- gaitlab's robot does at 40 and at 90 degrees. At 0.5 Hz the y1 servo (a first-order lag,
 -- docs/conventions.md) reaches only about 84 of the 90 degrees, the square does not close and
--- the robot goes on rolling; at 0.1 Hz it reaches 90, the square closes and it stops rolling
--- sideways, but creeps along its axis; on a compliant floor it stops (docs/gaits.md).
+-- the robot goes on rolling; at 0.1 Hz it reaches 90, the square closes and it stops (1 % of
+-- the 40 degree gait's travel at the defaults); on a compliant floor it stops at every solver
+-- setting (docs/gaits.md).
 --
 --   gaitlab run examples/gaits/py8_rolling.lua
 local gait = require "gait"
@@ -30,7 +31,7 @@ return {
                       outcome = "at 90 deg the robot folds into a square and stops (as issue 14 cites the paper)" } },
   -- the same on a compliant floor (a spring-damper per contact point, docs/lua-api.md): on the
   -- rigid floor a face's four corners share its weight in a way the contacts do not determine,
-  -- and the creep along the axis that is left is the solver's choice among them (docs/gaits.md)
+  -- and the solver chooses: other settings creep along the axis (docs/gaits.md)
   gait.run{ name = "py8_rolling_90_compliant", modules = 8, connection = "pitch-yaw",
             floor = { stiffness = 1e4, damping = 20 },
             groups = { pitch = { amplitude = 90, frequency = 0.1, phase = 0 },

@@ -79,19 +79,20 @@ function checks.py8_rolling(f, r)
   local ar, br = math.abs(r.py8_rolling_90.across), math.abs(r.py8_rolling_40.across)
   expect(ar < br / 3, "90 deg at 0.5 Hz reversed: %.1f mm/cycle sideways, %.0f%% of the %.1f at 40 deg", ar, 100 * ar / br, br)
   -- folded at 90 degrees (0.1 Hz: the joints reach 90) the robot is a closed square that stops
-  -- rolling sideways (CLAWAR 2006, issue 14): under 10 % of the 40 degree sideways speed (measured
-  -- 0.1 %); it still creeps along its axis (about 27 mm/cycle, docs/gaits.md): its whole travel
-  -- stays under a fifth of the 40 degree gait's (measured 13 %)
+  -- (CLAWAR 2006, issue 14): under 10 % of the 40 degree sideways speed (measured 1.1 %), and in
+  -- all under 5 % of the 40 degree gait's travel (measured 1.1–1.2 % with block_nncg, the default; pgs
+  -- crept along its axis, 13 %, and block_nncg at dt 0.25 ms does, 9 %: on a rigid floor the
+  -- corners' split of the load is the solver's choice, docs/gaits.md)
   for _, run in ipairs{ { f, "" }, { r, " reversed" } } do
     local m, ref = run[1].py8_rolling_90_slow, run[1].py8_rolling_40
     expect(math.abs(m.across) < 0.1 * math.abs(ref.across),
            "90 deg folded (0.1 Hz)%s: %+.1f mm/cycle sideways, %.1f%% of the %.1f at 40 deg (under 10%%: it stops rolling sideways)",
            run[2], m.across, 100 * math.abs(m.across / ref.across), math.abs(ref.across))
-    expect(m.speed < 0.2 * ref.speed,
-           "90 deg folded (0.1 Hz)%s: travels %.1f mm/cycle (%+.1f along its axis), %.0f%% of the %.1f at 40 deg (under a fifth)",
+    expect(m.speed < 0.05 * ref.speed,
+           "90 deg folded (0.1 Hz)%s: travels %.1f mm/cycle (%+.1f along its axis), %.1f%% of the %.1f at 40 deg (under 5%%: it stops)",
            run[2], m.speed, m.along, 100 * m.speed / ref.speed, ref.speed)
     -- on a compliant floor (1e4 N/m, 20 N s/m per contact point) the creep goes too: it stops
-    -- (measured 2 % of the 40 degree gait's travel with 20 iterations, 0.6 % with block_nncg)
+    -- at every setting measured (0.6 % of the 40 degree gait's travel with block_nncg, 2 % with pgs)
     local soft = run[1].py8_rolling_90_compliant
     expect(soft.speed < 0.05 * ref.speed,
            "90 deg folded (0.1 Hz) on a compliant floor%s: travels %.1f mm/cycle (%+.1f along, %+.1f across), %.1f%% of the %.1f at 40 deg (under 5%%: it stops)",

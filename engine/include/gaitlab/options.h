@@ -21,10 +21,11 @@ const char* to_string(ControllerErrorPolicy policy);
 
 /// How the constraint solver iterates (docs/architecture.md, "Physics formulation").
 enum class ConstraintSolver {
-    pgs,         ///< Bullet's sequential impulses (projected Gauss-Seidel): the default
-    block_nncg,  ///< each robot's joints solved exactly as one system in every iteration, with
-                 ///< a nonlinear conjugate-gradient step after each: converges in far fewer
-                 ///< iterations on chains pressed onto the floor, about 1.05x the cost per step
+    pgs,         ///< Bullet's sequential impulses (projected Gauss-Seidel), one row at a time
+    block_nncg,  ///< each robot's joints and motors solved exactly as one system in every
+                 ///< iteration, contacts warm-started, with a nonlinear conjugate-gradient step
+                 ///< after each: the default; converges in far fewer iterations on chains
+                 ///< pressed onto the floor, about 1.1-1.2x pgs's cost per step
 };
 
 /// "pgs" or "block_nncg".
@@ -56,7 +57,7 @@ struct SimulationOptions {
     /// a converged solution and resting robots still (see docs/performance.md)
     int solver_iterations = 20;
     /// how the solver iterates over the rows (ConstraintSolver above)
-    ConstraintSolver solver = ConstraintSolver::pgs;
+    ConstraintSolver solver = ConstraintSolver::block_nncg;
     std::uint64_t seed = 0;  ///< seeds everything random in the run
     /// In both cases the failed controller is marked failed and its joints hold the angles
     /// measured when it failed (targets frozen) until reset().

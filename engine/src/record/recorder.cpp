@@ -320,9 +320,7 @@ void Recorder::write_meta(const std::string& status, const std::string& message)
     s["seed"] = sim.options().seed;
     s["on_controller_error"] =
         sim.options().on_controller_error == ControllerErrorPolicy::stop ? "stop" : "continue";
-    // only when not the default: recordings of default runs stay as they were
-    if (sim.options().solver != ConstraintSolver::pgs)
-        s["solver"] = to_string(sim.options().solver);
+    s["solver"] = to_string(sim.options().solver);
     ordered_json& robots = s["robots"] = ordered_json::array();
     for (int r = 0; r < sim.robot_count(); ++r) {
         const RobotSpec& spec = sim.world().robots[static_cast<size_t>(r)].robot;

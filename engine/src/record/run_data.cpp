@@ -309,6 +309,9 @@ RunMeta meta_from(const formats::JsonDocument& doc) {
         if (formats::str_at(*s, "on_controller_error") == "continue") {
             m.options.on_controller_error = ControllerErrorPolicy::continue_;
         }
+        // recordings before the solver was written (and before block_nncg was the default)
+        // ran pgs
+        m.options.solver = ConstraintSolver::pgs;
         if (const json* solver = formats::find(*s, "solver")) {
             const std::string name = solver->is_string() ? solver->get<std::string>() : "";
             if (!parse_solver(name, m.options.solver)) {

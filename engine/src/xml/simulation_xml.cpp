@@ -57,7 +57,7 @@ SimulationFile read_simulation_element(const Element& root) {
     if (seed < 0) root.fail(fmt::format("seed must be >= 0 (got {})", seed));
     o.seed = static_cast<std::uint64_t>(seed);
     o.on_controller_error = parse_policy(root);
-    const std::string solver = root.string("solver", "pgs");
+    const std::string solver = root.string("solver", to_string(SimulationOptions{}.solver));
     if (!parse_solver(solver, o.solver)) {
         root.fail(fmt::format("attribute 'solver': {} expected, got '{}'", solver_names(), solver));
     }
@@ -124,8 +124,7 @@ std::string format_simulation(const SimulationFile& s) {
     w.attr_int("solver_iterations", o.solver_iterations);
     w.attr_int("seed", static_cast<long long>(o.seed));
     w.attr("on_controller_error", to_string(o.on_controller_error));
-    // the default is left out: files saved before the option read and compare the same
-    if (o.solver != ConstraintSolver::pgs) w.attr("solver", to_string(o.solver));
+    w.attr("solver", to_string(o.solver));
     w.open("environment");
     w.attr("file", s.environment);
     w.close();

@@ -265,7 +265,7 @@ TEST_CASE("run.json from elsewhere is checked value by value, with its line", "[
         "simulation.control_every: a whole number from 1 to 2147483647 expected");
     bad("\"control_every\": 30", "\"control_every\": 1e300",
         "simulation.control_every: a whole number from 1 to 2147483647 expected");
-    // a run of the default solver has no "solver" key: one written in by hand is checked
+    // a bad solver, in front of the one the recorder wrote, is named
     bad("\"solver_iterations\": 20", "\"solver\": \"fast\", \"solver_iterations\": 20",
         "simulation.solver: 'pgs' or 'block_nncg' expected");
     bad("\"solver_iterations\": 20", "\"solver\": 1, \"solver_iterations\": 20",
@@ -289,6 +289,11 @@ TEST_CASE("run.json from elsewhere is checked value by value, with its line", "[
     }
     write_text(dir + "/run.json", meta);
     CHECK(RunData(dir).meta().options.dt == 0.001);
+    // the solver is always written (block_nncg, the default); a folder recorded before it was,
+    // when pgs was the default and went unwritten, reads as pgs
+    CHECK(RunData(dir).meta().options.solver == ConstraintSolver::block_nncg);
+    edit_meta(dir, "\"solver\": \"block_nncg\",", "");
+    CHECK(RunData(dir).meta().options.solver == ConstraintSolver::pgs);
 }
 
 TEST_CASE("run folders written before the commit and the hashes were recorded still read",

@@ -708,11 +708,13 @@ TEST_CASE("settings too coarse for a 3 % accurate gait get one warning naming th
     SimulationOptions o = default_simulation_options();
     SECTION("the defaults and the limits themselves are quiet") {
         CHECK(Simulation(w, o).warnings().empty());
+        o.solver = ConstraintSolver::pgs;
         o.solver_iterations = 15;
         o.dt = 0.0015;
         CHECK(Simulation(w, o).warnings().empty());
     }
-    SECTION("too few iterations") {
+    SECTION("pgs: too few iterations") {
+        o.solver = ConstraintSolver::pgs;
         o.solver_iterations = 10;
         Simulation sim(w, o);
         REQUIRE(sim.warnings().size() == 1);
@@ -724,13 +726,15 @@ TEST_CASE("settings too coarse for a 3 % accurate gait get one warning naming th
         sim.run(0.1);
         CHECK(sim.warnings().size() == 1);
     }
-    SECTION("too large a dt") {
+    SECTION("pgs: too large a dt") {
+        o.solver = ConstraintSolver::pgs;
         o.dt = 0.002;
         Simulation sim(w, o);
         REQUIRE(sim.warnings().size() == 1);
         CHECK_THAT(sim.warnings()[0], StartsWith("dt = 2 ms is above 1.5 ms: gaits then move"));
     }
-    SECTION("both: one warning each") {
+    SECTION("pgs, both: one warning each") {
+        o.solver = ConstraintSolver::pgs;
         o.dt = 0.01;
         o.solver_iterations = 5;
         Simulation sim(w, o);
@@ -738,8 +742,9 @@ TEST_CASE("settings too coarse for a 3 % accurate gait get one warning naming th
         CHECK_THAT(sim.warnings()[0], StartsWith("solver_iterations = 5 is below 15"));
         CHECK_THAT(sim.warnings()[1], StartsWith("dt = 10 ms is above 1.5 ms"));
     }
-    SECTION("block_nncg converges in fewer iterations and at larger steps: its own limits") {
-        o.solver = ConstraintSolver::block_nncg;
+    SECTION("block_nncg (the default) converges in fewer iterations and at larger steps: its "
+            "own limits") {
+        CHECK(o.solver == ConstraintSolver::block_nncg);
         o.solver_iterations = 7;
         o.dt = 0.01;
         o.control_every = 1;

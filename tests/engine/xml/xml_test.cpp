@@ -433,7 +433,7 @@ TEST_CASE("simulation files round-trip and name missing parts by their resolved 
     s.options.solver_iterations = 30;
     s.options.seed = 42;
     s.options.on_controller_error = ControllerErrorPolicy::pause;
-    s.options.solver = ConstraintSolver::block_nncg;
+    s.options.solver = ConstraintSolver::pgs;  // not the default: it must round-trip
     s.environment = "env.xml";
     s.robots = {{"snake.xml", ""}};
     s.record.enabled = false;
@@ -448,7 +448,14 @@ TEST_CASE("simulation files round-trip and name missing parts by their resolved 
     CHECK(back.options.solver_iterations == 30);
     CHECK(back.options.seed == 42);
     CHECK(back.options.on_controller_error == ControllerErrorPolicy::pause);
-    CHECK(back.options.solver == ConstraintSolver::block_nncg);
+    CHECK(back.options.solver == ConstraintSolver::pgs);
+    // the solver is written even at its default; a file without it gets the default
+    s.options.solver = ConstraintSolver::block_nncg;
+    write_simulation(dir.file("sim2.xml"), s);
+    CHECK_THAT(test::read_text(dir.file("sim2.xml")), Catch::Contains("solver=\"block_nncg\""));
+    test::write_text(dir.file("plain.xml"),
+                     doc("<simulation><environment file=\"env.xml\"/></simulation>"));
+    CHECK(read_simulation(dir.file("plain.xml")).options.solver == ConstraintSolver::block_nncg);
     CHECK(back.environment == "env.xml");
     REQUIRE(back.robots.size() == 1);
     CHECK(back.robots[0].robot == "snake.xml");
