@@ -1,0 +1,105 @@
+-- The steady per-cycle speed of a standard gait, start phase by start phase (docs/performance.md,
+-- section 12, "The slow motion is a long transient" and "block_nncg the default"): a long
+-- chain settles for 10-20 s from its straight start, and some settings and starts hold a slower
+-- motion for minutes before they leave it, so the speed of one stretch of cycles can belong to
+-- either. This prints the speed of every block of cycles from time 0, then the mean of the last
+-- blocks, per start and over the starts.
+--
+--   gaitlab run bench/lua/steady_speed.lua --no-record GAIT N MU [DT_MS ITERATIONS [SOLVER]]
+--
+-- GAIT: pp, py-roll or py-wave (bench/lua/standard_gaits.lua); N modules; MU the floor's
+-- friction; DT_MS the step in ms and ITERATIONS the solver's (default 1 and 20, the engine's);
+-- SOLVER "block_nncg" or "pgs" (default the engine's). The controllers run every 10 ms at
+-- every dt. STEADY_PHASES (default "0 72 144 216 288") the start phases in degrees, added to
+-- every joint's phase; STEADY_BLOCKS (default 12) blocks of STEADY_CYCLES (default 5) cycles of
+-- 2 s; STEADY_LAST (default 6) the blocks averaged at the end. The speed of a block is the mean
+-- length of its cycles' displacements of the centre of mass, in mm per cycle.
+local gaits = require "standard_gaits"
+
+local function fail(message) error("steady_speed.lua: " .. message, 0) end
+
+local function count(name, default, min)
+  local text = os.getenv(name)
+  if not text then return default end
+  local n = math.tointeger(tonumber(text))
+  if not n or n < min then
+    fail(string.format("%s: a whole number >= %d expected, got '%s'", name, min, text))
+  end
+  return n
+end
+
+local gait, modules, friction = arg[1], math.tointeger(tonumber(arg[2] or "")), tonumber(arg[3] or "")
+if not gait or not arg[3] then
+  fail("usage: gaitlab run bench/lua/steady_speed.lua --no-record GAIT N MU [DT_MS ITERATIONS [SOLVER]]")
+end
+local known = false
+for _, g in ipairs(gaits.names) do known = known or g == gait end
+if not known then fail("GAIT: pp, py-roll or py-wave expected, got '" .. gait .. "'") end
+if not modules or modules < 2 then fail("N: a whole number of modules >= 2 expected, got '" .. arg[2] .. "'") end
+if not friction or friction < 0 then fail("MU: a friction >= 0 expected, got '" .. arg[3] .. "'") end
+local dt_ms = tonumber(arg[4] or "1")
+if not dt_ms or dt_ms <= 0 or dt_ms > 10 then fail("DT_MS: a step in (0, 10] ms expected, got '" .. arg[4] .. "'") end
+local iterations = math.tointeger(tonumber(arg[5] or "20"))
+if not iterations or iterations < 1 then fail("ITERATIONS: a whole number >= 1 expected, got '" .. arg[5] .. "'") end
+local solver = arg[6]
+if solver and solver ~= "pgs" and solver ~= "block_nncg" then
+  fail("SOLVER: pgs or block_nncg expected, got '" .. solver .. "'")
+end
+
+local phases = {}
+for w in (os.getenv("STEADY_PHASES") or "0 72 144 216 288"):gmatch("%S+") do
+  local p = tonumber(w)
+  if not p then fail("STEADY_PHASES: start phases in degrees expected, got '" .. w .. "'") end
+  phases[#phases + 1] = p
+end
+if #phases == 0 then fail("STEADY_PHASES: at least one start phase expected") end
+local blocks = count("STEADY_BLOCKS", 12, 1)
+local per_block = count("STEADY_CYCLES", 5, 1)
+local last = count("STEADY_LAST", 6, 1)
+if last > blocks then
+  fail(string.format("STEADY_LAST (%d) must be at most STEADY_BLOCKS (%d)", last, blocks))
+end
+
+local frequency = 0.5
+local dt = dt_ms / 1000
+local every = math.max(1, math.floor(0.01 / dt + 0.5))
+
+-- the speed of each block, mm per cycle
+local function run(start)
+  local robot = gaitlab.robot.chain{ name = "snake", modules = modules, connection = gaits.connection(gait) }
+  local world = gaitlab.world{ floor = { friction = friction } }
+  world:add(robot)
+  gaits.drive(robot, gait, { frequency = frequency, start = start })
+  local sim = gaitlab.simulation{ world = world, dt = dt, control_every = every,
+                                  solver_iterations = iterations, solver = solver, record = false }
+  local speeds, before = {}, robot:position()
+  for b = 1, blocks do
+    local length = 0
+    for _ = 1, per_block do
+      sim:run(1 / frequency)
+      local now = robot:position()
+      length = length + math.sqrt((now.x - before.x) ^ 2 + (now.y - before.y) ^ 2)
+      before = now
+    end
+    speeds[b] = 1000 * length / per_block
+  end
+  return speeds, sim.solver
+end
+
+local total = 0
+local used
+for _, start in ipairs(phases) do
+  local speeds, name = run(start)
+  used = name
+  local sum, cells = 0, {}
+  for b, v in ipairs(speeds) do
+    cells[b] = string.format("%.1f", v)
+    if b > blocks - last then sum = sum + v end
+  end
+  local mean = sum / last
+  total = total + mean
+  print(string.format("start %g deg: %s | last %d blocks %.1f", start, table.concat(cells, " "), last, mean))
+  io.stdout:flush()
+end
+print(string.format("%s N %d mu %g, dt %g ms, %d iterations, %s, blocks of %d cycles: mean over %d starts %.1f mm per cycle",
+                    gait, modules, friction, dt_ms, iterations, used, per_block, #phases, total / #phases))
