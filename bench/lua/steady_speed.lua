@@ -12,8 +12,11 @@
 -- SOLVER "block_nncg" or "pgs" (default the engine's). The controllers run every 10 ms at
 -- every dt. STEADY_PHASES (default "0 72 144 216 288") the start phases in degrees, added to
 -- every joint's phase; STEADY_BLOCKS (default 12) blocks of STEADY_CYCLES (default 5) cycles of
--- 2 s; STEADY_LAST (default 6) the blocks averaged at the end. The speed of a block is the mean
--- length of its cycles' displacements of the centre of mass, in mm per cycle.
+-- 2 s; STEADY_LAST (default 6) the blocks averaged at the end; STEADY_MAX_TORQUE (N m) makes the
+-- modules y1 with this servo torque instead of y1's 0.4 (an experiment: a gait the y1 servos
+-- cannot follow, with servos that can); STEADY_STIFFNESS and STEADY_DAMPING (N/m, N s/m, together)
+-- a compliant floor (gaitlab.world's floor keys, docs/lua-api.md) instead of the rigid one. The speed of a block is the mean length of its cycles'
+-- displacements of the centre of mass, in mm per cycle.
 local gaits = require "standard_gaits"
 
 local function fail(message) error("steady_speed.lua: " .. message, 0) end
@@ -60,14 +63,30 @@ if last > blocks then
   fail(string.format("STEADY_LAST (%d) must be at most STEADY_BLOCKS (%d)", last, blocks))
 end
 
+local module
+if os.getenv("STEADY_MAX_TORQUE") then
+  local torque = tonumber(os.getenv("STEADY_MAX_TORQUE"))
+  if not torque or torque <= 0 or torque == math.huge then
+    fail("STEADY_MAX_TORQUE: a torque in N m > 0 expected, got '" .. os.getenv("STEADY_MAX_TORQUE") .. "'")
+  end
+  module = gaitlab.module{ name = "y1_torque", base = "y1", max_torque = torque }
+end
+
+local stiffness, damping = os.getenv("STEADY_STIFFNESS"), os.getenv("STEADY_DAMPING")
+if (stiffness == nil) ~= (damping == nil) or (stiffness and not (tonumber(stiffness) and tonumber(damping))) then
+  fail("STEADY_STIFFNESS and STEADY_DAMPING go together, both numbers (N/m, N s/m)")
+end
+stiffness, damping = tonumber(stiffness), tonumber(damping)
+
 local frequency = 0.5
 local dt = dt_ms / 1000
 local every = math.max(1, math.floor(0.01 / dt + 0.5))
 
 -- the speed of each block, mm per cycle
 local function run(start)
-  local robot = gaitlab.robot.chain{ name = "snake", modules = modules, connection = gaits.connection(gait) }
-  local world = gaitlab.world{ floor = { friction = friction } }
+  local robot = gaitlab.robot.chain{ name = "snake", modules = modules, module = module,
+                                     connection = gaits.connection(gait) }
+  local world = gaitlab.world{ floor = { friction = friction, stiffness = stiffness, damping = damping } }
   world:add(robot)
   gaits.drive(robot, gait, { frequency = frequency, start = start })
   local sim = gaitlab.simulation{ world = world, dt = dt, control_every = every,
