@@ -231,7 +231,7 @@ int simulation_new(lua_State* L) {
             f.fail("on_controller_error",
                    "'stop', 'continue' or 'pause' expected, got '" + policy + "'");
         }
-        const std::string solver = f.string("solver", to_string(SimulationOptions{}.solver));
+        const std::string solver = f.string("solver", to_string(o.solver));
         if (!parse_solver(solver, o.solver)) {
             f.fail("solver", solver_names() + " expected, got '" + solver + "'");
         }

@@ -127,6 +127,34 @@ std::string one_series(const RunData& run, const std::string& pattern, const cha
                                 pattern, names.size(), listed, names.size() > 5 ? ", ..." : ""));
 }
 
+// The ranges and ticks of a path plot of one unit, for its data's [lo, hi] in x and y: each
+// axis spans at least a quarter of the longer one, centred on its data, with a margin (a
+// straight path is a line in a box, not a box of no height with its tick labels printed over
+// each other), and both share one tick step, about six over the longer axis (1, 2 or 5 times a
+// power of ten), where gnuplot's own would crowd the shorter axis. Spans too large for a double
+// keep gnuplot's own ranges and ticks.
+std::string one_scale_ranges(const double lo[2], const double hi[2]) {
+    const double longer = std::max({hi[0] - lo[0], hi[1] - lo[1], 1e-9});
+    std::string gp;
+    for (int k = 0; k < 2; ++k) {
+        const double mid = 0.5 * lo[k] + 0.5 * hi[k];
+        const double half = 0.55 * std::max(hi[k] - lo[k], 0.25 * longer);
+        if (!std::isfinite(mid - half) || !std::isfinite(mid + half)) return {};
+        gp += fmt::format("set {}range [{:.17g}:{:.17g}]\n", k == 0 ? 'x' : 'y', mid - half,
+                          mid + half);
+    }
+    const double raw = 1.1 * longer / 6;
+    const double power = std::pow(10.0, std::floor(std::log10(raw)));
+    const double step = raw <= power       ? power
+                        : raw <= 2 * power ? 2 * power
+                        : raw <= 5 * power ? 5 * power
+                                           : 10 * power;
+    if (std::isfinite(step) && step > 0) {
+        gp += fmt::format("set xtics {0:.17g}\nset ytics {0:.17g}\n", step);
+    }
+    return gp;
+}
+
 // "t1 s to t2 s" as messages state a time range
 std::string describe_range(double from, double to) {
     if (std::isinf(from) && std::isinf(to)) return "in the whole run";
@@ -245,34 +273,7 @@ PlotFiles plot(const RunData& run, const PlotOptions& o) {
         // a path keeps its shape: one metre is as long across as up (for series of one unit)
         if (run.find(names[0]).unit == run.find(names[1]).unit) {
             gp += "set size ratio -1\n";
-            // each axis spans at least a quarter of the longer one, centred on its data, and
-            // both have a margin: a straight path is a line in a box, not a box of no height
-            // with its tick labels printed over each other
-            // (spans too large for a double keep gnuplot's own ranges)
-            const double longer = std::max({hi[0] - lo[0], hi[1] - lo[1], 1e-9});
-            bool ranged = true;
-            for (int k = 0; k < 2; ++k) {
-                const double mid = 0.5 * lo[k] + 0.5 * hi[k];
-                const double half = 0.55 * std::max(hi[k] - lo[k], 0.25 * longer);
-                if (!std::isfinite(mid - half) || !std::isfinite(mid + half)) {
-                    ranged = false;
-                    continue;
-                }
-                gp += fmt::format("set {}range [{:.17g}:{:.17g}]\n", k == 0 ? 'x' : 'y',
-                                  mid - half, mid + half);
-            }
-            // one tick step on both axes, about six over the longer one (1, 2 or 5 times a
-            // power of ten): at one scale the shorter axis's ticks are as far apart, where
-            // gnuplot's own would crowd its few centimetres with labels
-            const double raw = 1.1 * longer / 6;
-            const double power = std::pow(10.0, std::floor(std::log10(raw)));
-            const double step = raw <= power ? power
-                                : raw <= 2 * power ? 2 * power
-                                : raw <= 5 * power ? 5 * power
-                                                   : 10 * power;
-            if (ranged && std::isfinite(step) && step > 0) {
-                gp += fmt::format("set xtics {0:.17g}\nset ytics {0:.17g}\n", step);
-            }
+            gp += one_scale_ranges(lo, hi);
         }
         // the line, then where it starts and ends (the first and last rows)
         const long last = rows - 1;

@@ -57,7 +57,7 @@ SimulationFile read_simulation_element(const Element& root) {
     if (seed < 0) root.fail(fmt::format("seed must be >= 0 (got {})", seed));
     o.seed = static_cast<std::uint64_t>(seed);
     o.on_controller_error = parse_policy(root);
-    const std::string solver = root.string("solver", to_string(SimulationOptions{}.solver));
+    const std::string solver = root.string("solver", to_string(o.solver));
     if (!parse_solver(solver, o.solver)) {
         root.fail(fmt::format("attribute 'solver': {} expected, got '{}'", solver_names(), solver));
     }

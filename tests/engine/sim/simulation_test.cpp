@@ -742,8 +742,9 @@ TEST_CASE("settings too coarse for a 3 % accurate gait get one warning naming th
         CHECK_THAT(sim.warnings()[0], StartsWith("solver_iterations = 5 is below 15"));
         CHECK_THAT(sim.warnings()[1], StartsWith("dt = 10 ms is above 1.5 ms"));
     }
-    SECTION("block_nncg (the default) converges in fewer iterations and at larger steps: its "
-            "own limits") {
+    SECTION(
+        "block_nncg (the default) converges in fewer iterations and at larger steps: its "
+        "own limits") {
         CHECK(o.solver == ConstraintSolver::block_nncg);
         o.solver_iterations = 7;
         o.dt = 0.01;
