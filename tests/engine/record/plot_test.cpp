@@ -374,6 +374,35 @@ TEST_CASE("path plot options are checked", "[plot]") {
     CHECK_FALSE(std::filesystem::exists(tmp / "out"));
 }
 
+TEST_CASE("a path plot of extreme spans still draws: a point, and values near the double's limit",
+          "[plot]") {
+    TempDir tmp("plot_path_extreme");
+    PlotOptions o;
+    o.x = "snake.com.x";
+    o.y = "snake.com.y";
+    // one point: no span at all; the ranges and ticks stay finite numbers
+    const std::string one = test::record_run(tmp / "one", 0.3);
+    set_column(one, "snake.com.x", "0.25");
+    set_column(one, "snake.com.y", "-0.5");
+    o.output = tmp / "one.png";
+    const std::string gp1 = read_text(plot(RunData(one), o).script);
+    CHECK_THAT(gp1, Catch::Contains("set xrange [") && Catch::Contains("set xtics "));
+    CHECK_THAT(gp1, !Catch::Contains("inf") && !Catch::Contains("nan"));
+    // x from -1.7e308 to 1.7e308: its span is not a double, the script leaves the ranges to
+    // gnuplot, which cannot draw it either: an error naming the script and data, not a crash
+    const std::string huge = test::record_run(tmp / "huge", 0.3);
+    set_column(huge, "snake.com.x", "-1.7e308", 0);
+    set_column(huge, "snake.com.x", "1.7e308", 1);
+    o.output = tmp / "huge.png";
+    CHECK_THROWS_WITH(plot(RunData(huge), o),
+                      Catch::StartsWith("gnuplot failed: ") &&
+                          Catch::EndsWith("(the script and data are in " + (tmp / "huge.gp") +
+                                          " and " + (tmp / "huge.csv") + ")"));
+    const std::string gp2 = read_text(tmp / "huge.gp");
+    CHECK_THAT(gp2, !Catch::Contains("range [") && !Catch::Contains("tics "));
+    CHECK_THAT(gp2, !Catch::Contains("inf") && !Catch::Contains("nan"));
+}
+
 TEST_CASE("names in a path plot are data: no name runs a command", "[plot]") {
     TempDir tmp("plot_path_hostile");
     const std::vector<std::string> hostile = {
