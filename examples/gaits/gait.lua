@@ -42,7 +42,7 @@ local function check(spec)
   end
   if type(spec.name) ~= "string" then error("gait.run: 'name' must be a string", 3) end
   if spec.floor ~= nil and (type(spec.floor) ~= "table" or spec.floor.friction ~= nil) then
-    error("gait.run: 'floor' must be a table of the floor's other keys (stiffness, damping: "
+    error("gait.run: 'floor' must be a table of the floor's other keys (rigid, stiffness, damping: "
           .. "docs/lua-api.md); its friction is the key 'friction'", 3)
   end
   if type(spec.groups) ~= "table" or next(spec.groups) == nil then
@@ -198,9 +198,12 @@ end
 
 function gait.print(spec, m)
   local paper = spec.paper or {}
-  local floor = spec.floor and spec.floor.stiffness
-      and string.format(" (a compliant floor: stiffness %g N/m, damping %g N s/m)",
-                        spec.floor.stiffness, spec.floor.damping or 0) or ""
+  local f = spec.floor or {}
+  local floor = f.rigid and " (a rigid floor)"
+      or (f.stiffness or f.damping) and string.format(" (a floor of stiffness %s, damping %s)",
+          f.stiffness and string.format("%g N/m", f.stiffness) or "the default",
+          f.damping and string.format("%g N s/m", f.damping) or "the default")
+      or ""
   print(string.format("%s: %d modules %s, friction %.1f%s, %g Hz%s", spec.name, spec.modules,
                       spec.connection or "pitch-pitch", spec.friction or 1.0, floor, m.frequency,
                       m.reversed and ", reversed" or ""))

@@ -43,10 +43,11 @@ int world_new(lua_State* L) {
             if (t == LUA_TBOOLEAN) {
                 world->spec.floor.enabled = lua_toboolean(L, -1);
             } else if (t == LUA_TTABLE) {
-                Fields floor(L, -1, 1, {"enabled", "friction", "stiffness", "damping"});
+                Fields floor(L, -1, 1, {"enabled", "friction", "rigid", "stiffness", "damping"});
                 world->spec.floor.enabled = floor.boolean("enabled", true);
                 world->spec.floor.friction = floor.number("friction", 1.0);
-                // absent: a rigid floor (validate says when only one is given)
+                world->spec.floor.rigid = floor.boolean("rigid", false);
+                // absent: the default (validate refuses them on a rigid floor)
                 if (floor.has("stiffness"))
                     world->spec.floor.stiffness = floor.number("stiffness", 0);
                 if (floor.has("damping")) world->spec.floor.damping = floor.number("damping", 0);

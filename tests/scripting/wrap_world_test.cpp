@@ -31,17 +31,23 @@ TEST_CASE("world rejects bad arguments with Lua-worded messages", "[wrap_world]"
     CHECK(lua.error_of("gaitlab.world(5)") == bad + "table expected, got number)");
 }
 
-TEST_CASE("a compliant floor takes a stiffness and a damping, both or neither", "[wrap_world]") {
+TEST_CASE("the floor takes a stiffness and a damping, or rigid = true and neither",
+          "[wrap_world]") {
     LuaFixture lua;
     const std::string bad = "test:1: bad argument #1 to 'world' (";
-    CHECK(lua.error_of("gaitlab.world{ floor = { stiffness = 1e4 } }") ==
+    CHECK(lua.error_of("gaitlab.world{ floor = { rigid = true, stiffness = 1e4 } }") ==
           bad +
-              "floor stiffness needs a floor damping (give both or neither: neither is a rigid "
-              "floor))");
-    CHECK(lua.error_of("gaitlab.world{ floor = { friction = 0.5, damping = 20 } }") ==
+              "a rigid floor takes no stiffness (a floor is rigid, or compliant with a "
+              "stiffness and a damping))");
+    CHECK(lua.error_of("gaitlab.world{ floor = { friction = 0.5, rigid = true, damping = 20 } }") ==
           bad +
-              "floor damping needs a floor stiffness (give both or neither: neither is a rigid "
-              "floor))");
+              "a rigid floor takes no damping (a floor is rigid, or compliant with a stiffness "
+              "and a damping))");
+    CHECK(lua.error_of("gaitlab.world{ floor = { rigid = 'yes' } }") ==
+          bad + "field 'rigid': boolean expected, got string)");
+    lua.run("gaitlab.world{ floor = { stiffness = 1e4 } }");
+    lua.run("gaitlab.world{ floor = { damping = 20 } }");
+    lua.run("gaitlab.world{ floor = { rigid = false, stiffness = 1e4, damping = 20 } }");
     CHECK(lua.error_of("gaitlab.world{ floor = { stiffness = 0, damping = 20 } }") ==
           bad + "floor stiffness must be positive (got 0 N/m))");
     CHECK(lua.error_of("gaitlab.world{ floor = { stiffness = 1/0, damping = 20 } }") ==
@@ -72,10 +78,27 @@ TEST_CASE("a robot rests lower on a compliant floor, the same each run, and the 
           local p = r:position()
           return p.z, string.format("%a %a %a", p.x, p.y, p.z), w
         end
-        rigid = rest({ friction = 0.8 })
+        rigid, _, rigid_world = rest({ friction = 0.8, rigid = true })
+        assert(rigid_world:save(DIR .. "/rigid.xml"))
+        rigid_loaded = assert(gaitlab.world.load(DIR .. "/rigid.xml"))
+        rr = gaitlab.robot.chain{ name = "r", modules = 4 }
+        rigid_loaded:add(rr)
+        simr = gaitlab.simulation{ world = rigid_loaded }
+        simr:run(1)
+        rigid_again = rr:position().z
         soft, bits1, world = rest({ friction = 0.8, stiffness = 1e4, damping = 20 })
         soft2, bits2 = rest({ friction = 0.8, stiffness = 1e4, damping = 20 })
         stiff = rest({ friction = 0.8, stiffness = 1e5, damping = 20 })
+        by_default, bits_default, default_world = rest({ friction = 0.8 })
+        _, bits_given = rest({ friction = 0.8, stiffness = 1e5, damping = 60 })
+        assert(default_world:save(DIR .. "/default.xml"))
+        loaded_default = assert(gaitlab.world.load(DIR .. "/default.xml"))
+        rd = gaitlab.robot.chain{ name = "r", modules = 4 }
+        loaded_default:add(rd)
+        simd = gaitlab.simulation{ world = loaded_default }
+        simd:run(1)
+        pd = rd:position()
+        bits_default_loaded = string.format("%a %a %a", pd.x, pd.y, pd.z)
         assert(world:save(DIR .. "/soft.xml"))
         loaded = assert(gaitlab.world.load(DIR .. "/soft.xml"))
         r3 = gaitlab.robot.chain{ name = "r", modules = 4 }
@@ -89,6 +112,11 @@ TEST_CASE("a robot rests lower on a compliant floor, the same each run, and the 
     CHECK(lua.number("rigid - soft") == Approx(1e-5).epsilon(0.1));
     CHECK(lua.number("rigid - stiff") == Approx(1e-6).epsilon(0.1));
     CHECK(lua.boolean("bits1 == bits2"));
+    // the default floor is 1e5 N/m and 60 N·s/m, and saves as such
+    CHECK(lua.number("rigid - by_default") == Approx(1e-6).epsilon(0.1));
+    CHECK(lua.boolean("bits_default == bits_given"));
+    CHECK(lua.boolean("bits_default_loaded == bits_default"));
+    CHECK(lua.boolean("rigid_again == rigid"));
     // the saved world is the same world: the same run, bit for bit
     CHECK(lua.boolean("bits3 == bits1"));
     std::ifstream in(dir.file("soft.xml"));

@@ -73,7 +73,7 @@ std::map<Key, Probe> probes() {
     add("robot", "sensor", {"joint"}, "r:sensor{ kind = 'joint', joint = BAD }");
     add("robot", "sensor", {"kind"}, "r:sensor{ kind = BAD }", "kind");
     add("environment", "environment", {"gravity"}, "gaitlab.world{ $ = BAD }");
-    add("environment", "floor", {"enabled", "friction", "stiffness", "damping"},
+    add("environment", "floor", {"enabled", "friction", "rigid", "stiffness", "damping"},
         "gaitlab.world{ floor = { $ = BAD } }");
     for (const char* kind : {"box", "wall", "ramp", "stairs", "cylinder", "pipe", "rubble"}) {
         add("environment", kind,

@@ -152,23 +152,39 @@ TEST_CASE("editor: a compliant floor keeps its stiffness and damping through the
     CHECK(back.world.floor.friction == 0.5);
     CHECK(back.world.floor.stiffness == 1e4);
     CHECK(back.world.floor.damping == 20.0);
-    // a lone stiffness is refused as the engine refuses it
+    // rigid with a stiffness is refused as the engine refuses it
     const json again = json::parse(ed.open());
     const EditError e =
-        refusal([&] { ed.save(with(again, [](json& env) { env["floor"].erase("damping"); })); });
+        refusal([&] { ed.save(with(again, [](json& env) { env["floor"]["rigid"] = true; })); });
     CHECK(e.status() == 400);
-    CHECK_THAT(e.what(), Catch::Contains("floor stiffness needs a floor damping"));
+    CHECK_THAT(e.what(), Catch::Contains("a rigid floor takes no stiffness"));
     back = read_environment(path);
+    CHECK_FALSE(back.world.floor.rigid);
     CHECK(back.world.floor.damping == 20.0);
-    // both removed: a rigid floor
+    // both removed: the defaults, written out
     const json third = json::parse(ed.open());
     ed.save(with(third, [](json& env) {
         env["floor"].erase("stiffness");
         env["floor"].erase("damping");
     }));
+    CHECK(read_text(path).find("stiffness=\"100000\" damping=\"60\"") != std::string::npos);
+    // rigid, as the page's check box sends it: neither value
+    const json fourth = json::parse(ed.open());
+    ed.save(with(fourth, [](json& env) {
+        env["floor"].erase("stiffness");
+        env["floor"].erase("damping");
+        env["floor"]["rigid"] = true;
+    }));
     back = read_environment(path);
+    CHECK(back.world.floor.rigid);
     CHECK_FALSE(back.world.floor.stiffness);
     CHECK_FALSE(back.world.floor.damping);
+    CHECK(json::parse(ed.open())["environment"]["floor"]["rigid"] == true);
+    const json fifth = json::parse(ed.open());
+    const EditError word =
+        refusal([&] { ed.save(with(fifth, [](json& env) { env["floor"]["rigid"] = "yes"; })); });
+    CHECK(word.status() == 400);
+    CHECK_THAT(word.what(), Catch::Contains("true or false expected"));
 }
 
 TEST_CASE("editor: bad values name the object and field, and nothing is saved") {

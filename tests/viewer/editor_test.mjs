@@ -146,13 +146,29 @@ try {
   await page.press('#editor-floor-friction', 'Enter');
   await waitCheck(n);
   check(/the engine takes it/.test(await page.textContent('#editor-status')), 'friction 0.3 is taken');
-  // a compliant floor from the page: a stiffness alone is refused, with its damping taken
+  // the floor's contact from the page: compliant by default (the empty fields show the
+  // defaults), rigid with the check box (its fields emptied and closed), then a stiffness and a
+  // damping of its own
+  check(await page.getAttribute('#editor-floor-stiffness', 'placeholder') === '1e5 (default)', 'the stiffness field shows the default');
   n = await checks();
   await page.fill('#editor-floor-stiffness', '1e4');
   await page.press('#editor-floor-stiffness', 'Enter');
   await waitCheck(n);
-  const lone = await page.textContent('#editor-status');
-  check(/floor stiffness needs a floor damping/.test(lone), `a stiffness without damping is refused (${lone})`);
+  check(/the engine takes it/.test(await page.textContent('#editor-status')), 'a stiffness alone is taken (the damping its default)');
+  n = await checks();
+  await page.check('#editor-floor-rigid');
+  await waitCheck(n);
+  check(/the engine takes it/.test(await page.textContent('#editor-status')), 'a rigid floor is taken');
+  check(await page.inputValue('#editor-floor-stiffness') === '' && await page.isDisabled('#editor-floor-stiffness') &&
+    await page.isDisabled('#editor-floor-damping'), 'a rigid floor empties and closes the stiffness and damping');
+  n = await checks();
+  await page.uncheck('#editor-floor-rigid');
+  await waitCheck(n);
+  check(!(await page.isDisabled('#editor-floor-stiffness')), 'compliant again, the stiffness opens');
+  n = await checks();
+  await page.fill('#editor-floor-stiffness', '1e4');
+  await page.press('#editor-floor-stiffness', 'Enter');
+  await waitCheck(n);
   n = await checks();
   await page.fill('#editor-floor-damping', '20');
   await page.press('#editor-floor-damping', 'Enter');

@@ -370,6 +370,7 @@ struct Editor::Impl {
                  {"orientation", {q.w, q.x, q.y, q.z}}});
         }
         json floor = {{"enabled", w.floor.enabled}, {"friction", w.floor.friction}};
+        if (w.floor.rigid) floor["rigid"] = true;
         if (w.floor.stiffness) floor["stiffness"] = *w.floor.stiffness;
         if (w.floor.damping) floor["damping"] = *w.floor.damping;
         return {{"gravity", {w.gravity.x, w.gravity.y, w.gravity.z}},
@@ -542,10 +543,12 @@ struct Editor::Impl {
         if (const auto f = j.find("floor"); f != j.end()) {
             if (!f->is_object())
                 throw EditError(
-                    400, "floor: an object {enabled, friction, stiffness, damping} expected");
+                    400,
+                    "floor: an object {enabled, friction, rigid, stiffness, damping} expected");
             Read r{*f, "floor", -1, {}};
             r.flag("enabled", w.floor.enabled);
             r.number("friction", w.floor.friction, "");
+            r.flag("rigid", w.floor.rigid);
             r.number("stiffness", w.floor.stiffness, "N/m");
             r.number("damping", w.floor.damping, "N·s/m");
             r.finish();

@@ -681,19 +681,36 @@ function showFloor() {
   friction.id = 'editor-floor-friction';
   const row = el('div', { className: 'editor-field' }, el('label', {}, 'friction'), friction,
     el('label', {}, on, ' floor'));
-  // a compliant floor: stiffness and damping per contact point, both or neither (empty: the
-  // key goes, and with both gone the floor is rigid; docs/lua-api.md)
+  // the floor's contact: compliant, with a stiffness and a damping per contact point (empty:
+  // the key goes and the engine's default holds), or rigid (then neither; docs/lua-api.md)
+  const rigid = el('input', { type: 'checkbox', id: 'editor-floor-rigid', checked: f.rigid === true });
   const rows = [row];
+  const springs = [];
   for (const [key, unit] of [['stiffness', 'N/m per point'], ['damping', 'N·s/m per point']]) {
     const i = input(f[key], (t) => {
       if (t.trim() === '') delete f[key]; else f[key] = typed(t);
       changed(false);
     }, `floor.${key}`);
     i.id = `editor-floor-${key}`;
-    i.placeholder = 'rigid';
+    i.placeholder = key === 'stiffness' ? '1e5 (default)' : '60 (default)';
+    i.disabled = f.rigid === true;
+    springs.push(i);
     rows.push(el('div', { className: 'editor-field' }, el('label', {}, key), i,
       el('span', { className: 'unit' }, unit)));
   }
+  rigid.addEventListener('change', () => {
+    if (rigid.checked) {
+      f.rigid = true;
+      delete f.stiffness;
+      delete f.damping;
+      for (const i of springs) i.value = '';
+    } else {
+      delete f.rigid;
+    }
+    for (const i of springs) i.disabled = rigid.checked;
+    changed(false);
+  });
+  rows.splice(1, 0, el('div', { className: 'editor-field' }, el('label', {}, rigid, ' rigid floor')));
   if (ed.error && ed.error.field === 'floor') for (const r of rows) r.classList.add('bad');
   box.append(...rows);
 }

@@ -36,16 +36,25 @@ inline constexpr int kMaxRobots = 1000;  ///< robots in one world
 inline constexpr double kMaxFloorStiffness = 1e12;
 inline constexpr double kMaxFloorDamping = 1e12;
 
-/// An infinite static plane at z = 0: rigid (the default), or compliant when it has a stiffness
-/// and a damping (both or neither): then every contact point on it is a spring of `stiffness`
-/// and a damper of `damping` along the normal, implicit in the step, so a body of weight W
-/// resting on n points sinks by W / (n · stiffness).
+/// N/m and N·s/m: the floor's stiffness and damping per contact point when a script gives
+/// neither. Stiff enough that robots sink by micrometres (a 0.05 kg module resting on its 8
+/// corners: 0.6 µm; a 1 kg body on 4: 25 µm), damped at about 1.2x critical for that module's
+/// share per corner, and it makes each contact's forces unique where a rigid floor's are not
+/// (docs/performance.md, section 12)
+inline constexpr double kDefaultFloorStiffness = 1e5;
+inline constexpr double kDefaultFloorDamping = 60;
+
+/// An infinite static plane at z = 0. Compliant by default: every contact point on it is a
+/// spring of `stiffness` and a damper of `damping` along the normal, implicit in the step, so a
+/// body of weight W resting on n points sinks by W / (n · stiffness). `rigid` makes it a hard
+/// constraint instead (the solver's projection, with no stiffness or damping).
 struct FloorSpec {
     bool enabled = true;    ///< false: no floor
     double friction = 1.0;  ///< in [0, 1]
-    /// N/m per contact point, in (0, 1e12]; absent: a rigid floor
+    bool rigid = false;     ///< true: a rigid floor (then no stiffness and no damping)
+    /// N/m per contact point, in (0, 1e12]; absent: kDefaultFloorStiffness
     std::optional<double> stiffness;
-    /// N·s/m per contact point, in [0, 1e12]; absent: a rigid floor
+    /// N·s/m per contact point, in [0, 1e12]; absent: kDefaultFloorDamping
     std::optional<double> damping;
 };
 

@@ -240,9 +240,10 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
         // combined as k = 1/(1/k0 + 1/k1) and c = c0 + c1; every other body has k = infinity
         // and c = 0 (contact_values_neutral), so the floor's values are the contact's own
         // (the stiffness as 1/(1/k) in single precision: k, or one unit in the last place off)
-        if (spec.floor.stiffness && spec.floor.damping) {
-            floor->setContactStiffnessAndDamping(btScalar(*spec.floor.stiffness),
-                                                 btScalar(*spec.floor.damping));
+        if (!spec.floor.rigid) {
+            floor->setContactStiffnessAndDamping(
+                btScalar(spec.floor.stiffness.value_or(kDefaultFloorStiffness)),
+                btScalar(spec.floor.damping.value_or(kDefaultFloorDamping)));
         }
         floor->setUserIndex(-2);
         s.world.addRigidBody(floor.get(), btBroadphaseProxy::StaticFilter,

@@ -186,15 +186,17 @@ void validate(const WorldSpec& world) {
     detail::check_within("gravity z", world.gravity.z, kMaxGravity, "m/s²");
     detail::check_range("floor friction", world.floor.friction, 0, 1);
     const FloorSpec& floor = world.floor;
-    if (floor.stiffness.has_value() != floor.damping.has_value()) {
-        throw SpecError(floor.stiffness ? "floor stiffness needs a floor damping (give both or "
-                                          "neither: neither is a rigid floor)"
-                                        : "floor damping needs a floor stiffness (give both or "
-                                          "neither: neither is a rigid floor)");
+    if (floor.rigid && (floor.stiffness || floor.damping)) {
+        throw SpecError(
+            fmt::format("a rigid floor takes no {} (a floor is rigid, or compliant "
+                        "with a stiffness and a damping)",
+                        floor.stiffness ? "stiffness" : "damping"));
     }
     if (floor.stiffness) {
         detail::check_positive("floor stiffness", *floor.stiffness, "N/m");
         detail::check_at_most("floor stiffness", *floor.stiffness, kMaxFloorStiffness, "N/m");
+    }
+    if (floor.damping) {
         detail::check_non_negative("floor damping", *floor.damping, "N·s/m");
         detail::check_at_most("floor damping", *floor.damping, kMaxFloorDamping, "N·s/m");
     }

@@ -216,6 +216,7 @@ EnvironmentSpec read_environment_element(const Element& root) {
             k.allow(xml::attrs::floor);
             world.floor.enabled = k.boolean("enabled", true);
             world.floor.friction = k.number("friction", world.floor.friction);
+            world.floor.rigid = k.boolean("rigid", false);
             if (k.has("stiffness")) world.floor.stiffness = k.number("stiffness", 0);
             if (k.has("damping")) world.floor.damping = k.number("damping", 0);
             WorldSpec probe;
@@ -312,8 +313,14 @@ std::string format_environment(const EnvironmentSpec& env, const std::string& fi
     w.open("floor");
     if (!world.floor.enabled) w.attr("enabled", false);
     w.attr("friction", world.floor.friction);
-    if (world.floor.stiffness) w.attr("stiffness", *world.floor.stiffness);
-    if (world.floor.damping) w.attr("damping", *world.floor.damping);
+    // the floor's contact as it runs, defaults written out: the file keeps its physics if a
+    // later version changes a default
+    if (world.floor.rigid) {
+        w.attr("rigid", true);
+    } else {
+        w.attr("stiffness", world.floor.stiffness.value_or(kDefaultFloorStiffness));
+        w.attr("damping", world.floor.damping.value_or(kDefaultFloorDamping));
+    }
     w.close();
     for (const BoxSpec& b : world.boxes) {
         w.open("box");

@@ -24,7 +24,7 @@ const std::vector<const char*> sensor_range = {"kind",      "name",      "module
 const std::vector<const char*> sensor_position = {"kind", "name", "enabled"};
 
 const std::vector<const char*> environment = {"gravity"};
-const std::vector<const char*> floor = {"enabled", "friction", "stiffness", "damping"};
+const std::vector<const char*> floor = {"enabled", "friction", "rigid", "stiffness", "damping"};
 const std::vector<const char*> box = {"size", "position", "yaw", "orientation", "mass", "friction"};
 const std::vector<const char*> heightfield_source = {"image", "samples"};
 const std::vector<const char*> place = {"robot", "position", "yaw", "orientation"};

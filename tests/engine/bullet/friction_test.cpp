@@ -162,8 +162,8 @@ TEST_CASE("block_nncg starts each contact's friction where the last step left it
     // conjugate-gradient steps: the two solvers differ only in where a step's friction starts,
     // from zero (pgs) or from the last step's times the warm-starting factor (block_nncg,
     // CoulombSolver::warm_start_friction). At 10 ms steps a box below its friction angle then
-    // holds, where friction built from zero in one pass each step lets it slide (measured:
-    // 4.8 mm in 10 s against 88 mm)
+    // holds, where friction built from zero in one pass each step lets it slide (measured on
+    // the default compliant floor: 2.9 mm in 10 s against 27.5 mm; on a rigid one 4.8 and 88)
     auto moved = [](ConstraintSolver solver) {
         SimulationOptions o;
         o.dt = 0.01;
@@ -179,7 +179,7 @@ TEST_CASE("block_nncg starts each contact's friction where the last step left it
     const double warm = moved(ConstraintSolver::block_nncg), cold = moved(ConstraintSolver::pgs);
     CAPTURE(warm, cold);
     CHECK(warm < 0.01);
-    CHECK(cold > 0.05);
+    CHECK(cold > 0.02);
 }
 
 TEST_CASE("the sliding contacts of the pitch-yaw rolling gait obey Coulomb friction") {

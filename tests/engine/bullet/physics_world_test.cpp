@@ -671,8 +671,10 @@ struct Rest {
     double z = 0;
     BodyState state;
 };
-Rest box_at_rest(double mass, std::optional<double> stiffness, std::optional<double> damping) {
+Rest box_at_rest(double mass, std::optional<double> stiffness, std::optional<double> damping,
+                 bool rigid_without = true) {
     WorldSpec w;
+    w.floor.rigid = rigid_without && !stiffness && !damping;
     w.floor.stiffness = stiffness;
     w.floor.damping = damping;
     BoxSpec b;
@@ -710,9 +712,25 @@ TEST_CASE("a box on a compliant floor sinks by its weight over its 4 corners' st
     CHECK(a.state.pose.orientation == b.state.pose.orientation);
 }
 
+TEST_CASE("the floor is compliant by default: 1e5 N/m and 60 N·s/m per contact point") {
+    const Rest by_default = box_at_rest(0.2, std::nullopt, std::nullopt, false);
+    const Rest given = box_at_rest(0.2, kDefaultFloorStiffness, kDefaultFloorDamping);
+    CHECK(by_default.state.pose.position == given.state.pose.position);
+    CHECK(by_default.state.pose.orientation == given.state.pose.orientation);
+    CHECK(by_default.state.linear_velocity == given.state.linear_velocity);
+    // one of the two given alone, the other its default
+    CHECK(box_at_rest(0.2, kDefaultFloorStiffness, std::nullopt, false).state.pose.position ==
+          given.state.pose.position);
+    CHECK(box_at_rest(0.2, std::nullopt, kDefaultFloorDamping, false).state.pose.position ==
+          given.state.pose.position);
+    const double rigid = box_at_rest(0.2, std::nullopt, std::nullopt).z;
+    CHECK(rigid - by_default.z == Approx(0.2 * 9.81 / (4 * 1e5)).epsilon(0.1));
+}
+
 TEST_CASE("an undriven robot on a compliant floor lies lower by its weight over its contacts") {
     auto rest_z = [](std::optional<double> k, std::optional<double> c) {
         WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+        w.floor.rigid = !k && !c;
         w.floor.stiffness = k;
         w.floor.damping = c;
         Simulation sim(w);

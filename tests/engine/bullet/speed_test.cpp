@@ -21,11 +21,11 @@ struct Gait {
 
 // the benchmark's pitch-yaw wave (pitch 40 deg, yaw 20 deg, 120 deg between neighbours, 0.5 Hz)
 // on a 32-module chain, friction 1.0, the yaw sine moved by `offset` degrees: 2 s to settle,
-// then 10 cycles
+// then 10 cycles, with the engine's solver and floor
 Gait py_wave_32(double dt, double offset) {
     WorldSpec w = test::chain_world(32, Connection::pitch_yaw);
     w.floor.friction = 1.0;
-    Simulation sim(w, test::options_at(dt));
+    Simulation sim(w, test::options_at(dt, 20, SimulationOptions{}.solver));
     test::drive(sim, "pitch", test::sine(40, 0.5, 120));
     test::drive(sim, "yaw", test::sine(20, 0.5, 120, 0, offset));
     sim.run(2);
@@ -57,13 +57,14 @@ TEST_CASE("a long pitch-yaw chain's heading is chaotic, its per-cycle speed conv
     // (issue 14's bar)
     CHECK(base.speed > 0.05);
     CHECK(std::abs(fine.speed - base.speed) < 0.03 * fine.speed);
-    // a yaw offset of +-1e-9 deg turns its path by degrees (6 deg measured for +1e-9) while its
-    // speed stays within 2 %
+    // a yaw offset of +-1e-9 deg turns its path by degrees (7 and 53 deg measured) while its
+    // speed stays within 8 %: 80.4, 75.1 and 75.0 mm per cycle over these 10 cycles, which are
+    // still the chain's settling (its steady speed is 76.7, performance.md section 12)
     double turned = 0;
     for (const double nudge : {1e-9, -1e-9}) {
         const Gait nudged = py_wave_32(0.001, nudge);
         CAPTURE(nudge, nudged.speed, nudged.travel.x, nudged.travel.y);
-        CHECK(std::abs(nudged.speed - base.speed) < 0.02 * base.speed);
+        CHECK(std::abs(nudged.speed - base.speed) < 0.08 * base.speed);
         turned = std::max(turned, std::abs(heading_deg(nudged.travel) - heading_deg(base.travel)));
     }
     CAPTURE(turned);
@@ -83,7 +84,7 @@ double pyp_wave_speed(double friction, double dt, int iterations) {
         const double start = 72.0 * k > 180 ? 72.0 * k - 360 : 72.0 * k;
         WorldSpec w = test::chain_world(3, Connection::pitch_yaw);
         w.floor.friction = friction;
-        Simulation sim(w, test::options_at(dt, iterations));
+        Simulation sim(w, test::options_at(dt, iterations, SimulationOptions{}.solver));
         test::drive(sim, "pitch", test::sine(40, 0.5, 120, start));
         test::drive(sim, "yaw", test::sine(20, 0.5, 120, start));
         sim.run(2);
@@ -101,13 +102,14 @@ double pyp_wave_speed(double friction, double dt, int iterations) {
 }  // namespace
 
 TEST_CASE("the 3-module pitch-yaw wave's per-cycle speed is within 3 % at dt/4 and 4x iterations") {
-    // friction 1.0, the further of the table's two rows from its reference (1.4 %; 0.5 % at 0.3)
+    // friction 1.0, with the engine's solver and floor: 26.2, 26.2 and 26.2 mm per cycle
+    // (pgs on this floor: 24.5 at the defaults, 6 % below)
     for (const double friction : {1.0}) {
         const double base = pyp_wave_speed(friction, 0.001, 20);
         const double fine = pyp_wave_speed(friction, 0.00025, 20);
         const double more = pyp_wave_speed(friction, 0.001, 80);
         CAPTURE(friction, base, fine, more);
-        CHECK(base > 0.015);  // it travels: about 22 mm per cycle
+        CHECK(base > 0.015);  // it travels: about 26 mm per cycle
         CHECK(std::abs(fine - base) < 0.03 * base);
         CHECK(std::abs(more - base) < 0.03 * base);
     }

@@ -56,20 +56,31 @@ TEST_CASE("floor friction must be in [0, 1]") {
     CHECK_NOTHROW(validate(w));
 }
 
-TEST_CASE("a compliant floor needs a stiffness and a damping, both in range") {
+TEST_CASE("the floor's stiffness and damping are in range, and a rigid floor takes neither") {
     WorldSpec w = world_with_robot();
+    // compliant by default, each value its default until given
+    CHECK_FALSE(w.floor.rigid);
     CHECK_FALSE(w.floor.stiffness);
     CHECK_FALSE(w.floor.damping);
     w.floor.stiffness = 1e4;
-    require_rejected(w,
-                     "floor stiffness needs a floor damping (give both or neither: neither is "
-                     "a rigid floor)");
+    CHECK_NOTHROW(validate(w));
     w.floor.stiffness.reset();
     w.floor.damping = 20;
+    CHECK_NOTHROW(validate(w));
+    w.floor.rigid = true;
     require_rejected(w,
-                     "floor damping needs a floor stiffness (give both or neither: neither is "
-                     "a rigid floor)");
+                     "a rigid floor takes no damping (a floor is rigid, or compliant with a "
+                     "stiffness and a damping)");
     w.floor.stiffness = 1e4;
+    require_rejected(w,
+                     "a rigid floor takes no stiffness (a floor is rigid, or compliant with a "
+                     "stiffness and a damping)");
+    w.floor.stiffness.reset();
+    w.floor.damping.reset();
+    CHECK_NOTHROW(validate(w));
+    w.floor.rigid = false;
+    w.floor.stiffness = 1e4;
+    w.floor.damping = 20;
     CHECK_NOTHROW(validate(w));
     w.floor.damping = 0;
     CHECK_NOTHROW(validate(w));

@@ -331,15 +331,26 @@ TEST_CASE("environment files round-trip gravity, floor, boxes and placements") {
     CHECK(back.placements[0].pose.orientation == env.placements[0].pose.orientation);
 }
 
-TEST_CASE("a compliant floor round-trips its stiffness and damping; a rigid one writes neither") {
+TEST_CASE("the floor round-trips its stiffness and damping, the defaults written out, or rigid") {
     EnvironmentSpec env;
     env.world.floor.friction = 0.8;
+    // the defaults are written, so the file keeps its physics if a default changes
+    const std::string by_default = format_environment(env);
+    CHECK(by_default.find("<floor friction=\"0.8\" stiffness=\"100000\" damping=\"60\"/>") !=
+          std::string::npos);
+    const EnvironmentSpec default_back = parse_environment(by_default, "e.xml");
+    CHECK_FALSE(default_back.world.floor.rigid);
+    CHECK(default_back.world.floor.stiffness == kDefaultFloorStiffness);
+    CHECK(default_back.world.floor.damping == kDefaultFloorDamping);
+    env.world.floor.rigid = true;
     const std::string rigid = format_environment(env);
-    CHECK(rigid.find("stiffness") == std::string::npos);
-    CHECK(rigid.find("damping") == std::string::npos);
+    CHECK(rigid.find("<floor friction=\"0.8\" rigid=\"true\"/>") != std::string::npos);
     const EnvironmentSpec rigid_back = parse_environment(rigid, "e.xml");
+    CHECK(rigid_back.world.floor.rigid);
     CHECK_FALSE(rigid_back.world.floor.stiffness);
     CHECK_FALSE(rigid_back.world.floor.damping);
+    CHECK(format_environment(rigid_back) == rigid);
+    env.world.floor.rigid = false;
     env.world.floor.stiffness = 12345.678901234567;
     env.world.floor.damping = 0.1;
     const std::string text = format_environment(env);
@@ -357,15 +368,25 @@ TEST_CASE("a compliant floor round-trips its stiffness and damping; a rigid one 
                           "e.xml");
     CHECK(zero.world.floor.stiffness == 1e4);
     CHECK(zero.world.floor.damping == 0.0);
+    // one alone: the other keeps its default
+    const EnvironmentSpec lone =
+        parse_environment(doc("<environment><floor stiffness=\"1e4\"/></environment>"), "e.xml");
+    CHECK(lone.world.floor.stiffness == 1e4);
+    CHECK_FALSE(lone.world.floor.damping);
+    CHECK(format_environment(lone).find("stiffness=\"10000\" damping=\"60\"") != std::string::npos);
 }
 
-TEST_CASE("a compliant floor's bad values name the file, the line and what is expected") {
-    CHECK_THAT(environment_error("<environment>\n<floor stiffness=\"1e4\"/></environment>"),
-               Equals("env.xml:4: environment/floor[1]: floor stiffness needs a floor damping "
-                      "(give both or neither: neither is a rigid floor)"));
-    CHECK_THAT(environment_error("<environment>\n<floor damping=\"20\"/></environment>"),
-               Equals("env.xml:4: environment/floor[1]: floor damping needs a floor stiffness "
-                      "(give both or neither: neither is a rigid floor)"));
+TEST_CASE("a floor's bad values name the file, the line and what is expected") {
+    CHECK_THAT(
+        environment_error("<environment>\n<floor rigid=\"true\" stiffness=\"1e4\"/></environment>"),
+        Equals("env.xml:4: environment/floor[1]: a rigid floor takes no stiffness (a floor is "
+               "rigid, or compliant with a stiffness and a damping)"));
+    CHECK_THAT(
+        environment_error("<environment>\n<floor rigid=\"true\" damping=\"20\"/></environment>"),
+        Equals("env.xml:4: environment/floor[1]: a rigid floor takes no damping (a floor is "
+               "rigid, or compliant with a stiffness and a damping)"));
+    CHECK_THAT(environment_error("<environment>\n<floor rigid=\"hard\"/></environment>"),
+               Catch::StartsWith("env.xml:4: environment/floor[1]: attribute 'rigid'"));
     CHECK_THAT(
         environment_error("<environment>\n<floor stiffness=\"0\" damping=\"20\"/></environment>"),
         Equals("env.xml:4: environment/floor[1]: floor stiffness must be positive (got 0 N/m)"));
