@@ -3,7 +3,8 @@
 -- (bench/anchors.sh runs them side by side; docs/performance.md, section 12):
 --
 --   gaitlab run bench/lua/anchor_snake.lua [n=8] [conn=pp|py] [dt=0.001] [iters=20] [ce=10]
---       [time=20] [phase0=0] [trace=0] [solver=pgs|block_nncg] --no-record
+--       [time=20] [phase0=0] [trace=0] [solver=pgs|block_nncg] [rigid=0|1] [floor_k=N/m]
+--       [floor_c=N s/m] --no-record
 --
 -- The robot: n solid boxes of 72 x 52 x 52 mm and 50 g in a row (not gaitlab's y1 module, whose
 -- chain has n + 1 bodies), head (module 0) at x = 0, the chain towards -x, n - 1 hinges through
@@ -17,14 +18,17 @@
 -- `trace` simulated seconds from the start, and at the end, separated by ';'. solver: the
 -- simulation's constraint solver (gaitlab.simulation's `solver`); left out, the engine's default
 -- (block_nncg), and the line does not name it; given, the settings field ends with ",solver=NAME".
+-- The floor is the engine's default (compliant: 1e5 N/m and 60 N s/m per contact point) unless
+-- rigid=1 (a rigid floor; the settings field then ends with ",floor=rigid") or floor_k /
+-- floor_c (its stiffness and damping) say otherwise.
 local opt = { n = 8, conn = "pp", dt = 0.001, iters = 20, ce = 10, time = 20, phase0 = 0,
-              trace = 0, solver = false, floor_k = 0, floor_c = 0 }
+              trace = 0, solver = false, floor_k = false, floor_c = false, rigid = 0 }
 local solvers = { pgs = true, block_nncg = true }
 for _, a in ipairs(arg) do
   local k, v = a:match("^([%w_]+)=(.+)$")
   if not k or opt[k] == nil then
     error(string.format("anchor_snake.lua: unknown argument '%s' (expected KEY=VALUE with KEY "
-                        .. "one of n, conn, dt, iters, ce, time, phase0, trace, solver, floor_k, floor_c)", a), 0)
+                        .. "one of n, conn, dt, iters, ce, time, phase0, trace, solver, floor_k, floor_c, rigid)", a), 0)
   end
   if k == "conn" then
     if v ~= "pp" and v ~= "py" then
@@ -65,8 +69,9 @@ for j = 0, opt.n - 2 do
                           kp = 20, max_speed = math.deg(5.2), max_torque = 0.3 }
 end
 local robot = gaitlab.robot.new{ name = "snake", bodies = bodies, joints = joints }
-local floor = { friction = 0.8 }
-if opt.floor_k > 0 then floor.stiffness, floor.damping = opt.floor_k, opt.floor_c end
+if opt.rigid ~= 0 and opt.rigid ~= 1 then error("anchor_snake.lua: rigid must be 0 or 1", 0) end
+local floor = { friction = 0.8, rigid = opt.rigid == 1 or nil, stiffness = opt.floor_k or nil,
+                damping = opt.floor_c or nil }
 local world = gaitlab.world{ floor = floor }
 world:add(robot)
 
@@ -116,8 +121,9 @@ if opt.trace > 0 and steps % chunk == 0 then
   trace[#trace + 1] = string.format("%.7f,%.7f", h1.x, h1.y)
 end
 print(string.format("engine=gaitlab conn=%s n=%d steps=%d sim_s=%.3f head_dx=%.4f head_dy=%.4f "
-                    .. "settings=iters=%d,dt=%g,ce=%d%s cpu_us_per_step=%.3f trace=%s",
+                    .. "settings=iters=%d,dt=%g,ce=%d%s%s cpu_us_per_step=%.3f trace=%s",
                     opt.conn, opt.n, steps, steps * opt.dt, h1.x - h0.x, h1.y - h0.y, opt.iters,
                     opt.dt, opt.ce, opt.solver and ",solver=" .. opt.solver or "",
+                    floor.rigid and ",floor=rigid" or "",
                     cpu / steps * 1e6,
                     #trace > 0 and table.concat(trace, ";") or "-"))

@@ -8,7 +8,9 @@
 --
 -- CONV_CYCLES (default 5) sets the cycles measured, CONV_MAX_TORQUE the servos' torque (below), CONV_MODULES (default "2 8 32") and
 -- CONV_FRICTION (default "0.3 1.0") the grid, CONV_SOLVER the simulation's `solver` (default the
--- engine's, "block_nncg", which solves each robot's joints as one system, docs/architecture.md; or "pgs").
+-- engine's, "block_nncg", which solves each robot's joints as one system, docs/architecture.md; or "pgs"),
+-- CONV_RIGID=1 a rigid floor and CONV_STIFFNESS / CONV_DAMPING the compliant floor's values
+-- (default the engine's floor: 1e5 N/m and 60 N s/m per contact point; bench/lua/floor_env.lua).
 -- Each run starts at time 0 (the same start every time), settles (CONV_SETTLE, below), then
 -- measures; the control period stays 10 ms at every dt.
 --
@@ -51,6 +53,10 @@ if os.getenv("CONV_MAX_TORQUE") then
   module = gaitlab.module{ name = "y1_torque", base = "y1", max_torque = torque }
 end
 
+-- CONV_RIGID=1, CONV_STIFFNESS, CONV_DAMPING: the floor (bench/lua/floor_env.lua), by default
+-- the engine's
+local floor = require "floor_env"("CONV", nil, "convergence.lua")
+
 local function numbers(text)
   local out = {}
   for w in text:gmatch("%S+") do out[#out + 1] = tonumber(w) end
@@ -60,6 +66,7 @@ end
 -- one run: mm per cycle along the body's axis at the start (x) and across it (y), CPU seconds
 local function run(gait, modules, friction, dt, iterations, direction, start)
   return chain_run{ modules = modules, connection = gaits.connection(gait), module = module,
+                    rigid = floor.rigid, stiffness = floor.stiffness, damping = floor.damping,
                     friction = friction, dt = dt, iterations = iterations, settle = settle,
                     cycles = cycles, frequency = frequency, solver = solver,
                     drive = function(robot)
@@ -131,9 +138,9 @@ local function speed_row(gait, modules, friction)
 end
 
 if measure == "speed" then
-  print(string.format("per-cycle speed (mm), %d cycles of %g s after %g s; pitch-yaw: the mean "
-                      .. "of start phases %s deg", cycles, 1 / frequency, settle,
-                      table.concat(phases_py, ", ")))
+  print(string.format("per-cycle speed (mm), %d cycles of %g s after %g s, %s; pitch-yaw: the "
+                      .. "mean of start phases %s deg", cycles, 1 / frequency, settle,
+                      require("floor_env").describe(floor), table.concat(phases_py, ", ")))
   print("| gait | N | μ | default (1 ms, 20 it) | dt/4 | 4× it | ref (dt/4, 4× it) | Δ dt/4 % "
         .. "| Δ 4× it % | default vs ref % | worst start phase % | heading, default vs ref |")
   print("|---|---|---|---|---|---|---|---|---|---|---|---|")

@@ -9,19 +9,16 @@
 --   gaitlab run bench/lua/rolling_fold.lua --no-record
 --   FOLD_TABLE=solver gaitlab run bench/lua/rolling_fold.lua --no-record   (the second table only)
 --   FOLD_TABLE=solver FOLD_SOLVER=block_nncg gaitlab run ...   (its block_nncg rows only)
---   FOLD_STIFFNESS=1e4 FOLD_DAMPING=20 FOLD_TABLE=solver gaitlab run ...   (on a compliant floor)
+--   FOLD_RIGID=1 FOLD_TABLE=solver gaitlab run ...   (on a rigid floor)
+--   FOLD_STIFFNESS=1e4 FOLD_DAMPING=20 FOLD_TABLE=solver gaitlab run ...   (on a softer floor)
 --
 -- Each row is one run from time 0: one cycle to settle, then `cycles` cycles measured, sampled
 -- every 10 ms (the control period, kept at every dt). Deterministic: the machine's load does not
 -- change the numbers.
 local cycles = tonumber(os.getenv("FOLD_CYCLES") or "10")
--- FOLD_STIFFNESS and FOLD_DAMPING (N/m, N s/m): every row on a compliant floor of these
--- (gaitlab.world's floor keys, docs/lua-api.md) instead of the rigid one
-local stiffness, damping = os.getenv("FOLD_STIFFNESS"), os.getenv("FOLD_DAMPING")
-if (stiffness == nil) ~= (damping == nil) or (stiffness and not (tonumber(stiffness) and tonumber(damping))) then
-  error("rolling_fold.lua: FOLD_STIFFNESS and FOLD_DAMPING go together, both numbers (N/m, N s/m)", 0)
-end
-stiffness, damping = tonumber(stiffness), tonumber(damping)
+-- FOLD_RIGID=1: every row on a rigid floor; FOLD_STIFFNESS and FOLD_DAMPING (N/m, N s/m): on a
+-- compliant floor of these instead of the engine's default one (bench/lua/floor_env.lua)
+local floor_env = require "floor_env"
 
 -- the servos: y1's own (docs/conventions.md), and two stiffer ones that are not y1's, to see
 -- what the joints reaching 90 degrees changes
@@ -53,7 +50,7 @@ end
 local function run(servo, f, amplitude, friction, dt, iterations, self_collision, solver)
   local robot = gaitlab.robot.chain{ name = "snake", modules = 8, connection = "pitch-yaw", module = servo.module,
                                      self_collision = self_collision }
-  local world = gaitlab.world{ floor = { friction = friction, stiffness = stiffness, damping = damping } }
+  local world = gaitlab.world{ floor = floor_env("FOLD", friction, "rolling_fold.lua") }
   world:add(robot)
   robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = amplitude, frequency = f, phase = 0 })
   robot:group("yaw"):drive(gaitlab.controllers.sine{ amplitude = amplitude, frequency = f, phase = 0, phase0 = -90 })

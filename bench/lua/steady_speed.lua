@@ -14,9 +14,10 @@
 -- every joint's phase; STEADY_BLOCKS (default 12) blocks of STEADY_CYCLES (default 5) cycles of
 -- 2 s; STEADY_LAST (default 6) the blocks averaged at the end; STEADY_MAX_TORQUE (N m) makes the
 -- modules y1 with this servo torque instead of y1's 0.4 (an experiment: a gait the y1 servos
--- cannot follow, with servos that can); STEADY_STIFFNESS and STEADY_DAMPING (N/m, N s/m, together)
--- a compliant floor (gaitlab.world's floor keys, docs/lua-api.md) instead of the rigid one. The speed of a block is the mean length of its cycles'
--- displacements of the centre of mass, in mm per cycle.
+-- cannot follow, with servos that can); STEADY_RIGID=1 a rigid floor, STEADY_STIFFNESS and
+-- STEADY_DAMPING (N/m, N s/m) the compliant floor's values instead of the engine's defaults
+-- (bench/lua/floor_env.lua; gaitlab.world's floor keys, docs/lua-api.md). The speed of a block
+-- is the mean length of its cycles' displacements of the centre of mass, in mm per cycle.
 local gaits = require "standard_gaits"
 
 local function fail(message) error("steady_speed.lua: " .. message, 0) end
@@ -72,11 +73,7 @@ if os.getenv("STEADY_MAX_TORQUE") then
   module = gaitlab.module{ name = "y1_torque", base = "y1", max_torque = torque }
 end
 
-local stiffness, damping = os.getenv("STEADY_STIFFNESS"), os.getenv("STEADY_DAMPING")
-if (stiffness == nil) ~= (damping == nil) or (stiffness and not (tonumber(stiffness) and tonumber(damping))) then
-  fail("STEADY_STIFFNESS and STEADY_DAMPING go together, both numbers (N/m, N s/m)")
-end
-stiffness, damping = tonumber(stiffness), tonumber(damping)
+local floor = require "floor_env"("STEADY", friction, "steady_speed.lua")
 
 local frequency = 0.5
 local dt = dt_ms / 1000
@@ -86,7 +83,7 @@ local every = math.max(1, math.floor(0.01 / dt + 0.5))
 local function run(start)
   local robot = gaitlab.robot.chain{ name = "snake", modules = modules, module = module,
                                      connection = gaits.connection(gait) }
-  local world = gaitlab.world{ floor = { friction = friction, stiffness = stiffness, damping = damping } }
+  local world = gaitlab.world{ floor = floor }
   world:add(robot)
   gaits.drive(robot, gait, { frequency = frequency, start = start })
   local sim = gaitlab.simulation{ world = world, dt = dt, control_every = every,
@@ -120,5 +117,6 @@ for _, start in ipairs(phases) do
   print(string.format("start %g deg: %s | last %d blocks %.1f", start, table.concat(cells, " "), last, mean))
   io.stdout:flush()
 end
-print(string.format("%s N %d mu %g, dt %g ms, %d iterations, %s, blocks of %d cycles: mean over %d starts %.1f mm per cycle",
-                    gait, modules, friction, dt_ms, iterations, used, per_block, #phases, total / #phases))
+print(string.format("%s N %d mu %g, dt %g ms, %d iterations, %s, %s, blocks of %d cycles: mean over %d starts %.1f mm per cycle",
+                    gait, modules, friction, dt_ms, iterations, used, require("floor_env").describe(floor),
+                    per_block, #phases, total / #phases))
