@@ -57,8 +57,15 @@ for _, example in ipairs(examples) do
                           title = m.name .. ": centre of mass from above, " .. (cycles + 1) .. " cycles" }
     copy(png, out .. "/" .. m.name .. ".png")
     local chain = m.robot.chain
-    print(string.format("| %s | %d %s | %s | %+.1f | %+.1f | %+.1f | %+.1f | ![](images/gaits/%s.png) |", m.name,
-                        chain.modules, chain.connection, params(m), m.along, m.across, m.turn, m.roll, m.name))
+    -- what is not the gallery's usual: another frequency than 0.5 Hz, another floor
+    local extra = m.frequency ~= 0.5 and string.format(", %g Hz", m.frequency) or ""
+    if m.floor.rigid then
+      extra = extra .. ", rigid floor"
+    elseif m.floor.stiffness or m.floor.damping then
+      extra = extra .. string.format(", floor %g N/m, %g N·s/m", m.floor.stiffness or 1e5, m.floor.damping or 60)
+    end
+    print(string.format("| %s | %d %s | %s%s | %+.1f | %+.1f | %+.1f | %+.1f | ![](images/gaits/%s.png) |", m.name,
+                        chain.modules, chain.connection, params(m), extra, m.along, m.across, m.turn, m.roll, m.name))
   end
 end
 os.execute("rm -rf '" .. runs:gsub("'", "'\\''") .. "'")

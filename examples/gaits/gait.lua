@@ -169,7 +169,7 @@ function gait.run(spec)
     along = 1000 * along / cycles, across = 1000 * across / cycles,
     speed = 1000 * math.sqrt(dx * dx + dy * dy) / cycles,
     turn = turn / cycles, roll = math.deg(roll) / cycles, path = path, sim = sim, robot = r,
-    params = params,
+    params = params, floor = floor,
   }
   if not o.quiet then gait.print(spec, m) end
   return m
