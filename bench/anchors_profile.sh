@@ -7,7 +7,8 @@
 #
 # SETTING is ENGINE:CONN:DT_MS:ITERS[:SOLVER], e.g. gaitlab:pp:1:7 ode:py:1:14
 # gaitlab:py:2.5:10:block_nncg (ENGINE gaitlab or ode; SOLVER, gaitlab's only, pgs or block_nncg:
-# gaitlab.simulation's solver, the engine's default pgs if left out). The run simulates S seconds (default 2) with the control period 10 ms, the gait from phase 0; ODE
+# gaitlab.simulation's solver, the engine's default block_nncg if left out; the floor is the
+# engine's default, compliant). The run simulates S seconds (default 2) with the control period 10 ms, the gait from phase 0; ODE
 # needs the anchors' build with bench/anchors/trace.patch (bench/anchors.sh --prepare SRC DIR).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)

@@ -69,44 +69,31 @@ TEST_CASE("a robot rests lower on a compliant floor, the same each run, and the 
     LuaFixture lua;
     lua.run("DIR = '" + dir.str() + "'");
     lua.run(R"(
-        function rest(floor)
+        -- a 4-module chain at rest after 1 s on a world of `floor` (or on `world` as given):
+        -- its height, its position to the bit, and the world
+        function rest(floor, world)
           local r = gaitlab.robot.chain{ name = "r", modules = 4 }
-          local w = gaitlab.world{ floor = floor }
+          local w = world or gaitlab.world{ floor = floor }
           w:add(r)
           local sim = gaitlab.simulation{ world = w }
           sim:run(1)
           local p = r:position()
           return p.z, string.format("%a %a %a", p.x, p.y, p.z), w
         end
+        -- the same on the world saved to FILE and loaded back
+        function rest_saved(world, file)
+          assert(world:save(DIR .. "/" .. file))
+          return rest(nil, assert(gaitlab.world.load(DIR .. "/" .. file)))
+        end
         rigid, _, rigid_world = rest({ friction = 0.8, rigid = true })
-        assert(rigid_world:save(DIR .. "/rigid.xml"))
-        rigid_loaded = assert(gaitlab.world.load(DIR .. "/rigid.xml"))
-        rr = gaitlab.robot.chain{ name = "r", modules = 4 }
-        rigid_loaded:add(rr)
-        simr = gaitlab.simulation{ world = rigid_loaded }
-        simr:run(1)
-        rigid_again = rr:position().z
+        rigid_again = rest_saved(rigid_world, "rigid.xml")
         soft, bits1, world = rest({ friction = 0.8, stiffness = 1e4, damping = 20 })
         soft2, bits2 = rest({ friction = 0.8, stiffness = 1e4, damping = 20 })
         stiff = rest({ friction = 0.8, stiffness = 1e5, damping = 20 })
         by_default, bits_default, default_world = rest({ friction = 0.8 })
         _, bits_given = rest({ friction = 0.8, stiffness = 1e5, damping = 60 })
-        assert(default_world:save(DIR .. "/default.xml"))
-        loaded_default = assert(gaitlab.world.load(DIR .. "/default.xml"))
-        rd = gaitlab.robot.chain{ name = "r", modules = 4 }
-        loaded_default:add(rd)
-        simd = gaitlab.simulation{ world = loaded_default }
-        simd:run(1)
-        pd = rd:position()
-        bits_default_loaded = string.format("%a %a %a", pd.x, pd.y, pd.z)
-        assert(world:save(DIR .. "/soft.xml"))
-        loaded = assert(gaitlab.world.load(DIR .. "/soft.xml"))
-        r3 = gaitlab.robot.chain{ name = "r", modules = 4 }
-        loaded:add(r3)
-        sim3 = gaitlab.simulation{ world = loaded }
-        sim3:run(1)
-        p3 = r3:position()
-        bits3 = string.format("%a %a %a", p3.x, p3.y, p3.z)
+        _, bits_default_loaded = rest_saved(default_world, "default.xml")
+        _, bits3 = rest_saved(world, "soft.xml")
     )");
     // 200 g on 20 corner points of k = 1e4 N/m: about 10 µm
     CHECK(lua.number("rigid - soft") == Approx(1e-5).epsilon(0.1));
