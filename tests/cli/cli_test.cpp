@@ -587,7 +587,7 @@ TEST_CASE("gaitlab replay reproduces a run bit for bit and says when it does not
                   "gaitlab: no run folder at " + (tmp / "nothing"));
 }
 
-TEST_CASE("a run on a compliant floor replays bit for bit; a bad value in its copy is named",
+TEST_CASE("a run on a compliant floor replays bit for bit, a bad value in its copy is named",
           "[cli][replay]") {
     TempDir tmp("cli_replay_soft");
     namespace fs = std::filesystem;
@@ -608,7 +608,7 @@ TEST_CASE("a run on a compliant floor replays bit for bit; a bad value in its co
         return text;
     };
     write_text(tmp / "walk/flat.environment.xml", floor("stiffness=\"1e4\" damping=\"20\""));
-    write_text(tmp / "walk/rigid.environment.xml", floor(""));
+    write_text(tmp / "walk/rigid.environment.xml", floor("rigid=\"true\""));
     const std::string sim = slurp(GAITLAB_SOURCE_DIR "/examples/walk.xml");
     std::string rigid_sim = sim;
     rigid_sim.replace(rigid_sim.find("flat.environment"), 16, "rigid.environment");
@@ -632,11 +632,12 @@ TEST_CASE("a run on a compliant floor replays bit for bit; a bad value in its co
                   "gaitlab: replay failed: " + (tmp / "soft/config/walk/flat.environment.xml") +
                       ":4: environment/floor[1]: floor stiffness must be positive (got -10000 "
                       "N/m)");
-    write_text(tmp / "soft/config/walk/flat.environment.xml", floor("stiffness=\"1e4\""));
+    write_text(tmp / "soft/config/walk/flat.environment.xml",
+               floor("rigid=\"true\" stiffness=\"1e4\""));
     check_failure(cli({"replay", tmp / "soft", "--into", tmp / "other"}),
                   "gaitlab: replay failed: " + (tmp / "soft/config/walk/flat.environment.xml") +
-                      ":4: environment/floor[1]: floor stiffness needs a floor damping (give "
-                      "both or neither: neither is a rigid floor)");
+                      ":4: environment/floor[1]: a rigid floor takes no stiffness (a floor is "
+                      "rigid, or compliant with a stiffness and a damping)");
 }
 
 TEST_CASE("a run of the block_nncg solver replays with it, and not with pgs", "[cli][replay]") {

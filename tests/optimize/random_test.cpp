@@ -41,7 +41,7 @@ TEST_CASE("uniform, below and normal have the expected moments and stay in range
         CHECK(static_cast<double>(c) / n == Approx(1.0 / 3).margin(0.01));
 }
 
-TEST_CASE("a saved state continues the same stream; a bad state is refused") {
+TEST_CASE("a saved state continues the same stream, a bad state is refused") {
     Random a(42);
     for (int i = 0; i < 1000; ++i)
         a.normal();

@@ -243,7 +243,7 @@ TEST_CASE("a sweep evaluates every point, the best wins, a failed point is marke
                       Catch::Contains("the folder exists and is not empty"));
 }
 
-TEST_CASE("a sweep over one parameter draws a line plot; over three, none") {
+TEST_CASE("a sweep over one parameter draws a line plot, over three, none") {
     TempDir dir("sweep_axes");
     write_text(dir / "spec.lua", kSpec);
     const Spec spec = load_spec(dir / "spec.lua");

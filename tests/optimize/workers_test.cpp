@@ -99,7 +99,7 @@ TEST_CASE("a run gives the same result with 1, 2 or 3 workers, whatever the arri
     }
 }
 
-TEST_CASE("evaluations that throw anything are failures with a message; the pool goes on") {
+TEST_CASE("evaluations that throw anything are failures with a message, the pool goes on") {
     WorkerPool pool(2);
     const std::vector<std::vector<double>> xs = {{0}, {1}, {2}, {3}};
     const auto r = pool.evaluate(xs, [](const std::vector<double>& x, int) -> double {

@@ -130,7 +130,7 @@ TEST_CASE("bindings read argument tables raw: no script code runs inside a bindi
     CHECK(lua.integer("calls") == 0);
 }
 
-TEST_CASE("strings keep their zero bytes; paths with one are refused", "[lua_util]") {
+TEST_CASE("strings keep their zero bytes, paths with one are refused", "[lua_util]") {
     LuaFixture lua;
     // a field keeps all of its string: "pitch-pitch\0x" is not "pitch-pitch"
     CHECK_THAT(lua.error_of("gaitlab.robot.chain{ modules = 2, connection = 'pitch-pitch\\0x' }"),

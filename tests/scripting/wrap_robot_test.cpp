@@ -85,7 +85,7 @@ TEST_CASE("a controller drives one group only", "[wrap_robot]") {
     CHECK(lua.string("table.concat(g:joints(), ',')") == "1,2");
 }
 
-TEST_CASE("a group is driven once; groups that partly overlap add up", "[wrap_robot]") {
+TEST_CASE("a group is driven once, groups that partly overlap add up", "[wrap_robot]") {
     LuaFixture lua;
     lua.run(R"(
         r = gaitlab.robot.chain{ name = "snake", modules = 5, connection = "pitch-yaw" }

@@ -210,7 +210,7 @@ TEST_CASE("sensors read in degrees and SI units, booleans for on/off", "[wrap_se
     }
 }
 
-TEST_CASE("switching a sensor off stops its readings; on resumes them", "[wrap_sensor]") {
+TEST_CASE("switching a sensor off stops its readings, on resumes them", "[wrap_sensor]") {
     LuaFixture lua;
     lua.run(kSnake);
     lua.run(R"(

@@ -423,7 +423,7 @@ TEST_CASE("editor: through the server, edits need JSON, and the token beyond loo
     }
 }
 
-TEST_CASE("gaitlab edit: a missing file is made after saying so; unreadable ones are refused") {
+TEST_CASE("gaitlab edit: a missing file is made after saying so, unreadable ones are refused") {
     TempDir dir("editor_cli");
     // a file that does not parse: its file and line, and it stays
     write_text(dir / "bad.xml",

@@ -119,7 +119,7 @@ TEST_CASE("an IMU on a resting robot reads no tilt, no rotation and gravity upwa
     }
 }
 
-TEST_CASE("an IMU in free fall reads no specific force; placement turns its yaw") {
+TEST_CASE("an IMU in free fall reads no specific force, placement turns its yaw") {
     WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
     w.floor.enabled = false;
     w.robots[0].pose.orientation = Quat::from_axis_angle({0, 0, 1}, deg_to_rad(90));
@@ -267,7 +267,7 @@ TEST_CASE("a position sensor reads the centre of mass and its velocity") {
     CHECK(std::abs(sim.sensor_values(i)[3]) > 1e-4);  // it moves
 }
 
-TEST_CASE("a switched-off sensor keeps its last reading; switched on it reads again") {
+TEST_CASE("a switched-off sensor keeps its last reading, switched on it reads again") {
     WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
     // each switched sensor has an always-on twin on the same joint or module
     w.robots[0].robot.sensors = {joint_sensor(2), joint_sensor(2), contact(3), contact(3)};
