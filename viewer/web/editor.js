@@ -710,7 +710,8 @@ function showFloor() {
     for (const i of springs) i.disabled = rigid.checked;
     changed(false);
   });
-  rows.splice(1, 0, el('div', { className: 'editor-field' }, el('label', {}, rigid, ' rigid floor')));
+  rows.splice(1, 0, el('div', { className: 'editor-field' }, el('label', {}, 'contact'),
+    el('label', {}, rigid, ' rigid')));
   if (ed.error && ed.error.field === 'floor') for (const r of rows) r.classList.add('bad');
   box.append(...rows);
 }
