@@ -59,11 +59,8 @@ for _, example in ipairs(examples) do
     local chain = m.robot.chain
     -- what is not the gallery's usual: another frequency than 0.5 Hz, another floor
     local extra = m.frequency ~= 0.5 and string.format(", %g Hz", m.frequency) or ""
-    if m.floor.rigid then
-      extra = extra .. ", rigid floor"
-    elseif m.floor.stiffness or m.floor.damping then
-      extra = extra .. string.format(", floor %g N/m, %g N·s/m", m.floor.stiffness or 1e5, m.floor.damping or 60)
-    end
+    local floor = gait.floor_text(m.floor)
+    if floor then extra = extra .. ", " .. floor end
     print(string.format("| %s | %d %s | %s%s | %+.1f | %+.1f | %+.1f | %+.1f | ![](images/gaits/%s.png) |", m.name,
                         chain.modules, chain.connection, params(m), extra, m.along, m.across, m.turn, m.roll, m.name))
   end

@@ -7,15 +7,14 @@
 --                        settle =, cycles =, frequency =, drive = function(robot) ... end,
 --                        solver = (optional: the simulation's solver, default the engine's),
 --                        module = (optional: the chain's module type, default y1),
---                        rigid, stiffness, damping = (optional: the floor's, gaitlab.world) }
+--                        floor = (optional: the floor's other keys, bench/lua/floor_env.lua) }
 --   -- r.x, r.y: mm per cycle along x (the chain's axis at the start) and across it (y);
 --   -- r.speed: the per-cycle speed, the mean over the cycles of the length of each cycle's
 --   -- horizontal displacement (mm), which a robot that turns slowly keeps; r.cpu: CPU seconds of the run
 return function(o)
   local robot = gaitlab.robot.chain{ name = "snake", modules = o.modules,
                                      connection = o.connection, module = o.module }
-  local world = gaitlab.world{ floor = { friction = o.friction, rigid = o.rigid,
-                                         stiffness = o.stiffness, damping = o.damping } }
+  local world = gaitlab.world{ floor = require("floor_env").on(o.floor or {}, o.friction) }
   world:add(robot)
   o.drive(robot)
   local sim = gaitlab.simulation{ world = world, dt = o.dt,

@@ -55,7 +55,8 @@ end
 
 -- CONV_RIGID=1, CONV_STIFFNESS, CONV_DAMPING: the floor (bench/lua/floor_env.lua), by default
 -- the engine's
-local floor = require "floor_env"("CONV", nil, "convergence.lua")
+local floor_env = require "floor_env"
+local floor = floor_env("CONV", "convergence.lua")
 
 local function numbers(text)
   local out = {}
@@ -66,7 +67,7 @@ end
 -- one run: mm per cycle along the body's axis at the start (x) and across it (y), CPU seconds
 local function run(gait, modules, friction, dt, iterations, direction, start)
   return chain_run{ modules = modules, connection = gaits.connection(gait), module = module,
-                    rigid = floor.rigid, stiffness = floor.stiffness, damping = floor.damping,
+                    floor = floor,
                     friction = friction, dt = dt, iterations = iterations, settle = settle,
                     cycles = cycles, frequency = frequency, solver = solver,
                     drive = function(robot)
@@ -140,7 +141,7 @@ end
 if measure == "speed" then
   print(string.format("per-cycle speed (mm), %d cycles of %g s after %g s, %s; pitch-yaw: the "
                       .. "mean of start phases %s deg", cycles, 1 / frequency, settle,
-                      require("floor_env").describe(floor), table.concat(phases_py, ", ")))
+                      floor_env.describe(floor), table.concat(phases_py, ", ")))
   print("| gait | N | μ | default (1 ms, 20 it) | dt/4 | 4× it | ref (dt/4, 4× it) | Δ dt/4 % "
         .. "| Δ 4× it % | default vs ref % | worst start phase % | heading, default vs ref |")
   print("|---|---|---|---|---|---|---|---|---|---|---|---|")

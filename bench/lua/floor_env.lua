@@ -6,8 +6,9 @@
 -- error, named); this names a variable that is not a number.
 --
 --   local floor_env = require "floor_env"
---   local floor = floor_env("STEADY", friction)   -- a table for gaitlab.world{ floor = }
---   floor_env.describe(floor)                     -- "the default floor", "a rigid floor", ...
+--   local floor = floor_env("STEADY", "steady_speed.lua")  -- read once, before any run
+--   gaitlab.world{ floor = floor_env.on(floor, friction) }  -- the floor's keys with a friction
+--   floor_env.describe(floor)                              -- "the default floor", ...
 local function number(script, name)
   local text = os.getenv(name)
   if text == nil then return nil end
@@ -21,16 +22,21 @@ local M = {}
 function M.describe(floor)
   if floor.rigid then return "a rigid floor" end
   if not floor.stiffness and not floor.damping then return "the default floor" end
-  return string.format("a floor of %s N/m, %s N s/m", floor.stiffness and string.format("%g", floor.stiffness) or "1e5",
-                       floor.damping and string.format("%g", floor.damping) or "60")
+  local function value(v, unit) return v and string.format("%g %s", v, unit) or "the default" end
+  return string.format("a floor of stiffness %s, damping %s", value(floor.stiffness, "N/m"),
+                       value(floor.damping, "N s/m"))
 end
 
-return setmetatable(M, { __call = function(_, prefix, friction, script)
-  script = script or (prefix:lower() .. ".lua")
+-- a copy of the floor's keys with a friction, for gaitlab.world{ floor = }
+function M.on(floor, friction)
+  return { friction = friction, rigid = floor.rigid, stiffness = floor.stiffness, damping = floor.damping }
+end
+
+return setmetatable(M, { __call = function(_, prefix, script)
   local rigid = os.getenv(prefix .. "_RIGID")
   if rigid ~= nil and rigid ~= "0" and rigid ~= "1" then
     error(string.format("%s: %s_RIGID: 1 (a rigid floor) or 0 expected, got '%s'", script, prefix, rigid), 0)
   end
-  return { friction = friction, rigid = rigid == "1" or nil,
-           stiffness = number(script, prefix .. "_STIFFNESS"), damping = number(script, prefix .. "_DAMPING") }
+  return { rigid = rigid == "1" or nil, stiffness = number(script, prefix .. "_STIFFNESS"),
+           damping = number(script, prefix .. "_DAMPING") }
 end })

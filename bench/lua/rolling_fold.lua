@@ -19,6 +19,7 @@ local cycles = tonumber(os.getenv("FOLD_CYCLES") or "10")
 -- FOLD_RIGID=1: every row on a rigid floor; FOLD_STIFFNESS and FOLD_DAMPING (N/m, N s/m): on a
 -- compliant floor of these instead of the engine's default one (bench/lua/floor_env.lua)
 local floor_env = require "floor_env"
+local floor = floor_env("FOLD", "rolling_fold.lua")
 
 -- the servos: y1's own (docs/conventions.md), and two stiffer ones that are not y1's, to see
 -- what the joints reaching 90 degrees changes
@@ -50,7 +51,7 @@ end
 local function run(servo, f, amplitude, friction, dt, iterations, self_collision, solver)
   local robot = gaitlab.robot.chain{ name = "snake", modules = 8, connection = "pitch-yaw", module = servo.module,
                                      self_collision = self_collision }
-  local world = gaitlab.world{ floor = floor_env("FOLD", friction, "rolling_fold.lua") }
+  local world = gaitlab.world{ floor = floor_env.on(floor, friction) }
   world:add(robot)
   robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = amplitude, frequency = f, phase = 0 })
   robot:group("yaw"):drive(gaitlab.controllers.sine{ amplitude = amplitude, frequency = f, phase = 0, phase0 = -90 })

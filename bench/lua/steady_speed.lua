@@ -73,7 +73,8 @@ if os.getenv("STEADY_MAX_TORQUE") then
   module = gaitlab.module{ name = "y1_torque", base = "y1", max_torque = torque }
 end
 
-local floor = require "floor_env"("STEADY", friction, "steady_speed.lua")
+local floor_env = require "floor_env"
+local floor = floor_env("STEADY", "steady_speed.lua")
 
 local frequency = 0.5
 local dt = dt_ms / 1000
@@ -83,7 +84,7 @@ local every = math.max(1, math.floor(0.01 / dt + 0.5))
 local function run(start)
   local robot = gaitlab.robot.chain{ name = "snake", modules = modules, module = module,
                                      connection = gaits.connection(gait) }
-  local world = gaitlab.world{ floor = floor }
+  local world = gaitlab.world{ floor = floor_env.on(floor, friction) }
   world:add(robot)
   gaits.drive(robot, gait, { frequency = frequency, start = start })
   local sim = gaitlab.simulation{ world = world, dt = dt, control_every = every,
@@ -118,5 +119,5 @@ for _, start in ipairs(phases) do
   io.stdout:flush()
 end
 print(string.format("%s N %d mu %g, dt %g ms, %d iterations, %s, %s, blocks of %d cycles: mean over %d starts %.1f mm per cycle",
-                    gait, modules, friction, dt_ms, iterations, used, require("floor_env").describe(floor),
+                    gait, modules, friction, dt_ms, iterations, used, floor_env.describe(floor),
                     per_block, #phases, total / #phases))

@@ -196,14 +196,20 @@ local function reported(paper, key, unit)
   return tostring(v)
 end
 
+-- the floor of a spec's `floor` keys in words, nil for the engine's default floor
+function gait.floor_text(f)
+  f = f or {}
+  if f.rigid then return "a rigid floor" end
+  if not (f.stiffness or f.damping) then return nil end
+  return string.format("a floor of stiffness %s, damping %s",
+                       f.stiffness and string.format("%g N/m", f.stiffness) or "the default",
+                       f.damping and string.format("%g N s/m", f.damping) or "the default")
+end
+
 function gait.print(spec, m)
   local paper = spec.paper or {}
-  local f = spec.floor or {}
-  local floor = f.rigid and " (a rigid floor)"
-      or (f.stiffness or f.damping) and string.format(" (a floor of stiffness %s, damping %s)",
-          f.stiffness and string.format("%g N/m", f.stiffness) or "the default",
-          f.damping and string.format("%g N s/m", f.damping) or "the default")
-      or ""
+  local text = gait.floor_text(spec.floor)
+  local floor = text and " (" .. text .. ")" or ""
   print(string.format("%s: %d modules %s, friction %.1f%s, %g Hz%s", spec.name, spec.modules,
                       spec.connection or "pitch-pitch", spec.friction or 1.0, floor, m.frequency,
                       m.reversed and ", reversed" or ""))

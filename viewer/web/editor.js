@@ -684,7 +684,8 @@ function showFloor() {
   // the floor's contact: compliant, with a stiffness and a damping per contact point (empty:
   // the key goes and the engine's default holds), or rigid (then neither; docs/lua-api.md)
   const rigid = el('input', { type: 'checkbox', id: 'editor-floor-rigid', checked: f.rigid === true });
-  const rows = [row];
+  const rows = [row, el('div', { className: 'editor-field' }, el('label', {}, 'contact'),
+    el('label', {}, rigid, ' rigid'))];
   const springs = [];
   for (const [key, unit] of [['stiffness', 'N/m per point'], ['damping', 'N·s/m per point']]) {
     const i = input(f[key], (t) => {
@@ -710,8 +711,6 @@ function showFloor() {
     for (const i of springs) i.disabled = rigid.checked;
     changed(false);
   });
-  rows.splice(1, 0, el('div', { className: 'editor-field' }, el('label', {}, 'contact'),
-    el('label', {}, rigid, ' rigid')));
   if (ed.error && ed.error.field === 'floor') for (const r of rows) r.classList.add('bad');
   box.append(...rows);
 }
