@@ -18,6 +18,14 @@
 -- STEADY_DAMPING (N/m, N s/m) the compliant floor's values instead of the engine's defaults
 -- (bench/lua/floor_env.lua; gaitlab.world's floor keys, docs/lua-api.md). The speed of a block
 -- is the mean length of its cycles' displacements of the centre of mass, in mm per cycle.
+--
+-- STEADY_MOTION=1 also prints, per start, what motion the last blocks are (docs/performance.md,
+-- section 12, "What the 32-module rolling chain does"): the speed to 0.01 mm; the net travel
+-- per cycle; the direction of travel against the body's axis (tail to head, -90: sideways to the
+-- right); the turn of that axis per cycle; the head-to-tail distance; the highest mean height of
+-- the bodies; and the centre's horizontal path per cycle, sampled every 10 ms (the to and fro a
+-- small net travel is the rest of). It samples the bodies every 10 ms, which leaves the
+-- trajectory as it is (the same steps, run in pieces).
 local gaits = require "standard_gaits"
 
 local function fail(message) error("steady_speed.lua: " .. message, 0) end
@@ -76,11 +84,64 @@ end
 local floor_env = require "floor_env"
 local floor = floor_env("STEADY", "steady_speed.lua")
 
+local motion = os.getenv("STEADY_MOTION")
+if motion ~= nil and motion ~= "0" and motion ~= "1" then
+  fail("STEADY_MOTION: 1 (describe each start's motion) or 0 expected, got '" .. motion .. "'")
+end
+motion = motion == "1"
+
 local frequency = 0.5
 local dt = dt_ms / 1000
 local every = math.max(1, math.floor(0.01 / dt + 0.5))
 
--- the speed of each block, mm per cycle
+local function wrap(radians) return (radians + math.pi) % (2 * math.pi) - math.pi end
+local function horizontal(d) return math.sqrt(d.x ^ 2 + d.y ^ 2) end
+
+-- STEADY_MOTION: the sums over the measured cycles that describe_motion turns into a line
+local function motion_sums()
+  return { cycles = 0, speed = 0, travel = 0, turn = 0, length = 0, height = 0, path = 0 }
+end
+
+-- the robot's axis (tail to head): its heading in the plane and its length
+local function axis(robot)
+  local bodies = robot:bodies()
+  local d = bodies[#bodies].position - bodies[1].position
+  return math.atan(d.y, d.x), math.sqrt(d.x ^ 2 + d.y ^ 2 + d.z ^ 2)
+end
+
+-- one cycle, sampled every 10 ms into `sums` (a measured cycle) or not (nil)
+local function sampled_cycle(sim, robot, sums)
+  local heading0 = axis(robot)
+  local from = robot:position()
+  local last = from
+  for _ = 1, math.floor(100 / frequency + 0.5) do
+    sim:run(0.01)
+    local now, z = robot:position(), 0
+    local bodies = robot:bodies()
+    for _, b in ipairs(bodies) do z = z + b.position.z end
+    sums.height = math.max(sums.height, z / #bodies)
+    sums.path = sums.path + horizontal(now - last)
+    last = now
+  end
+  local heading, length = axis(robot)
+  local d = last - from
+  sums.cycles = sums.cycles + 1
+  sums.speed = sums.speed + horizontal(d)
+  sums.travel = sums.travel + wrap(math.atan(d.y, d.x) - heading)
+  sums.turn = sums.turn + wrap(heading - heading0)
+  sums.length = sums.length + length
+end
+
+local function describe_motion(sums, net)
+  local n = sums.cycles
+  return string.format("speed %.2f mm/cycle, net %.2f, travel %+.0f deg from the axis, turn %+.1f deg/cycle, "
+                       .. "head to tail %.0f mm, highest mean height %.1f mm, path %.2f mm/cycle",
+                       1000 * sums.speed / n, 1000 * net / n, math.deg(sums.travel / n),
+                       math.deg(sums.turn / n), 1000 * sums.length / n, 1000 * sums.height,
+                       1000 * sums.path / n)
+end
+
+-- the speed of each block, mm per cycle; with STEADY_MOTION the last blocks' motion, described
 local function run(start)
   local robot = gaitlab.robot.chain{ name = "snake", modules = modules, module = module,
                                      connection = gaits.connection(gait) }
@@ -90,24 +151,32 @@ local function run(start)
   local sim = gaitlab.simulation{ world = world, dt = dt, control_every = every,
                                   solver_iterations = iterations, solver = solver, record = false }
   local speeds, before = {}, robot:position()
+  local sums, measured_from = motion_sums(), nil
   for b = 1, blocks do
     local length = 0
+    if b == blocks - last + 1 then measured_from = robot:position() end
     for _ = 1, per_block do
-      sim:run(1 / frequency)
+      if motion and b > blocks - last then
+        sampled_cycle(sim, robot, sums)
+      else
+        sim:run(1 / frequency)
+      end
       local now = robot:position()
       length = length + math.sqrt((now.x - before.x) ^ 2 + (now.y - before.y) ^ 2)
       before = now
     end
     speeds[b] = 1000 * length / per_block
   end
-  return speeds, sim.solver
+  local described = motion and describe_motion(sums, horizontal(robot:position() - measured_from))
+  return speeds, sim.solver, described, motion and 1000 * sums.speed / sums.cycles
 end
 
-local total = 0
+local total, precise = 0, 0
 local used
 for _, start in ipairs(phases) do
-  local speeds, name = run(start)
+  local speeds, name, described, speed = run(start)
   used = name
+  precise = precise + (speed or 0)
   local sum, cells = 0, {}
   for b, v in ipairs(speeds) do
     cells[b] = string.format("%.1f", v)
@@ -116,8 +185,13 @@ for _, start in ipairs(phases) do
   local mean = sum / last
   total = total + mean
   print(string.format("start %g deg: %s | last %d blocks %.1f", start, table.concat(cells, " "), last, mean))
+  if described then print(string.format("start %g deg, last %d blocks: %s", start, last, described)) end
   io.stdout:flush()
 end
 print(string.format("%s N %d mu %g, dt %g ms, %d iterations, %s, %s, blocks of %d cycles: mean over %d starts %.1f mm per cycle",
                     gait, modules, friction, dt_ms, iterations, used, floor_env.describe(floor),
                     per_block, #phases, total / #phases))
+if motion then
+  print(string.format("mean speed over %d starts, last %d blocks: %.3f mm per cycle", #phases, last,
+                      precise / #phases))
+end
