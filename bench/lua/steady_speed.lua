@@ -20,7 +20,7 @@
 -- is the mean length of its cycles' displacements of the centre of mass, in mm per cycle.
 --
 -- STEADY_MOTION=1 also prints, per start, what motion the last blocks are (docs/performance.md,
--- section 12, "What the 32-module rolling chain does"): the speed to 0.01 mm; the net travel
+-- section 12, "Two rows looked at closer"): the speed to 0.01 mm; the net travel
 -- per cycle; the direction of travel against the body's axis (tail to head, -90: sideways to the
 -- right); the turn of that axis per cycle; the head-to-tail distance; the highest mean height of
 -- the bodies; and the centre's horizontal path per cycle, sampled every 10 ms (the to and fro a
@@ -99,7 +99,7 @@ local function horizontal(d) return math.sqrt(d.x ^ 2 + d.y ^ 2) end
 
 -- STEADY_MOTION: the sums over the measured cycles that describe_motion turns into a line
 local function motion_sums()
-  return { cycles = 0, speed = 0, travel = 0, turn = 0, length = 0, height = 0, path = 0 }
+  return { cycles = 0, travel = 0, turn = 0, length = 0, height = 0, path = 0 }
 end
 
 -- the robot's axis (tail to head): its heading in the plane and its length
@@ -126,22 +126,23 @@ local function sampled_cycle(sim, robot, sums)
   local heading, length = axis(robot)
   local d = last - from
   sums.cycles = sums.cycles + 1
-  sums.speed = sums.speed + horizontal(d)
   sums.travel = sums.travel + wrap(math.atan(d.y, d.x) - heading)
   sums.turn = sums.turn + wrap(heading - heading0)
   sums.length = sums.length + length
 end
 
-local function describe_motion(sums, net)
+-- `speed`: the measured blocks' mean speed (mm per cycle), `net`: their net travel (m)
+local function describe_motion(sums, speed, net)
   local n = sums.cycles
   return string.format("speed %.2f mm/cycle, net %.2f, travel %+.0f deg from the axis, turn %+.1f deg/cycle, "
                        .. "head to tail %.0f mm, highest mean height %.1f mm, path %.2f mm/cycle",
-                       1000 * sums.speed / n, 1000 * net / n, math.deg(sums.travel / n),
+                       speed, 1000 * net / n, math.deg(sums.travel / n),
                        math.deg(sums.turn / n), 1000 * sums.length / n, 1000 * sums.height,
                        1000 * sums.path / n)
 end
 
--- the speed of each block, mm per cycle; with STEADY_MOTION the last blocks' motion, described
+-- the speed of each block, mm per cycle; with STEADY_MOTION the last blocks' motion sums and
+-- net travel (m)
 local function run(start)
   local robot = gaitlab.robot.chain{ name = "snake", modules = modules, module = module,
                                      connection = gaits.connection(gait) }
@@ -162,21 +163,19 @@ local function run(start)
         sim:run(1 / frequency)
       end
       local now = robot:position()
-      length = length + math.sqrt((now.x - before.x) ^ 2 + (now.y - before.y) ^ 2)
+      length = length + horizontal(now - before)
       before = now
     end
     speeds[b] = 1000 * length / per_block
   end
-  local described = motion and describe_motion(sums, horizontal(robot:position() - measured_from))
-  return speeds, sim.solver, described, motion and 1000 * sums.speed / sums.cycles
+  return speeds, sim.solver, sums, motion and horizontal(robot:position() - measured_from)
 end
 
-local total, precise = 0, 0
+local total = 0
 local used
 for _, start in ipairs(phases) do
-  local speeds, name, described, speed = run(start)
+  local speeds, name, sums, net = run(start)
   used = name
-  precise = precise + (speed or 0)
   local sum, cells = 0, {}
   for b, v in ipairs(speeds) do
     cells[b] = string.format("%.1f", v)
@@ -185,7 +184,9 @@ for _, start in ipairs(phases) do
   local mean = sum / last
   total = total + mean
   print(string.format("start %g deg: %s | last %d blocks %.1f", start, table.concat(cells, " "), last, mean))
-  if described then print(string.format("start %g deg, last %d blocks: %s", start, last, described)) end
+  if motion then
+    print(string.format("start %g deg, last %d blocks: %s", start, last, describe_motion(sums, mean, net)))
+  end
   io.stdout:flush()
 end
 print(string.format("%s N %d mu %g, dt %g ms, %d iterations, %s, %s, blocks of %d cycles: mean over %d starts %.1f mm per cycle",
@@ -193,5 +194,5 @@ print(string.format("%s N %d mu %g, dt %g ms, %d iterations, %s, %s, blocks of %
                     per_block, #phases, total / #phases))
 if motion then
   print(string.format("mean speed over %d starts, last %d blocks: %.3f mm per cycle", #phases, last,
-                      precise / #phases))
+                      total / #phases))
 end
