@@ -26,6 +26,12 @@
 -- the bodies; and the centre's horizontal path per cycle, sampled every 10 ms (the to and fro a
 -- small net travel is the rest of). It samples the bodies every 10 ms, which leaves the
 -- trajectory as it is (the same steps, run in pieces).
+--
+-- STEADY_CHECK=SECONDS runs, for each start, the engine's accuracy check instead
+-- (sim:check_accuracy, docs/lua-api.md; STEADY_SETTLE its settling time, default 0): the gait
+-- for SECONDS from time 0 at the given settings,
+-- at dt/4 and at 4x the iterations, and prints each run's path sampled once per cycle, the
+-- given one's in % off the finer ones', with the warnings the check gives.
 local gaits = require "standard_gaits"
 
 local function fail(message) error("steady_speed.lua: " .. message, 0) end
@@ -90,6 +96,20 @@ if motion ~= nil and motion ~= "0" and motion ~= "1" then
 end
 motion = motion == "1"
 
+local check = os.getenv("STEADY_CHECK")
+if check ~= nil then
+  local seconds = tonumber(check)
+  if not seconds or not (seconds > 0 and seconds <= 3600) then
+    fail("STEADY_CHECK: the check's seconds in (0, 3600] expected, got '" .. check .. "'")
+  end
+  check = seconds
+end
+-- STEADY_SETTLE: the check's settling time, s (default 0)
+local check_settle = tonumber(os.getenv("STEADY_SETTLE") or "0")
+if not check_settle or not (check_settle >= 0) or (check and check_settle >= check) then
+  fail("STEADY_SETTLE: seconds in [0, STEADY_CHECK) expected, got '" .. os.getenv("STEADY_SETTLE") .. "'")
+end
+
 local frequency = 0.5
 local dt = dt_ms / 1000
 local every = math.max(1, math.floor(0.01 / dt + 0.5))
@@ -143,14 +163,20 @@ end
 
 -- the speed of each block, mm per cycle; with STEADY_MOTION the last blocks' motion sums and
 -- net travel (m)
-local function run(start)
+-- the gait from phase `start` at time 0: its simulation and robot
+local function build(start)
   local robot = gaitlab.robot.chain{ name = "snake", modules = modules, module = module,
                                      connection = gaits.connection(gait) }
   local world = gaitlab.world{ floor = floor_env.on(floor, friction) }
   world:add(robot)
   gaits.drive(robot, gait, { frequency = frequency, start = start })
-  local sim = gaitlab.simulation{ world = world, dt = dt, control_every = every,
-                                  solver_iterations = iterations, solver = solver, record = false }
+  return gaitlab.simulation{ world = world, dt = dt, control_every = every,
+                             solver_iterations = iterations, solver = solver, record = false },
+         robot
+end
+
+local function run(start)
+  local sim, robot = build(start)
   local speeds, before = {}, robot:position()
   local sums, measured_from = motion_sums(), nil
   for b = 1, blocks do
@@ -172,6 +198,25 @@ local function run(start)
 end
 
 local total = 0
+-- STEADY_CHECK: the engine's accuracy check (sim:check_accuracy) of each start instead
+if check then
+  local worst = { dt = 0, iterations = 0 }
+  for _, start in ipairs(phases) do
+    local r = build(start):check_accuracy{ seconds = check, cycle = 1 / frequency,
+                                          settle = check_settle }.robots[1]
+    print(string.format("start %g deg: path %.1f mm; dt/4 %.1f mm (%+.1f %%), 4x iterations %.1f mm (%+.1f %%)",
+                        start, 1000 * r.given.path, 1000 * r.dt.path, r.dt_off,
+                        1000 * r.iterations.path, r.iterations_off))
+    worst.dt = math.max(worst.dt, math.abs(r.dt_off))
+    worst.iterations = math.max(worst.iterations, math.abs(r.iterations_off))
+    io.stdout:flush()
+  end
+  print(string.format("%s N %d mu %g, dt %g ms, %d iterations, %s: the check from %g to %g s, worst of %d starts: dt/4 %.1f %%, 4x iterations %.1f %%",
+                      gait, modules, friction, dt_ms, iterations, floor_env.describe(floor),
+                      check_settle, check, #phases, worst.dt, worst.iterations))
+  return
+end
+
 local used
 for _, start in ipairs(phases) do
   local speeds, name, sums, net = run(start)

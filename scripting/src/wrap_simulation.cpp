@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "config_files.h"
+#include "gaitlab/accuracy.h"
 #include "gaitlab/checked.h"
 #include "gaitlab/controller.h"
 #include "gaitlab/files.h"
@@ -622,6 +623,123 @@ int simulation_clone(lua_State* L) {
     });
 }
 
+// sim:check_accuracy([{ seconds =, cycle =, settle = }]): the world of this simulation run
+// again from time 0 for `seconds` (default 20) at its options, at dt / 4 and at 4x the solver
+// iterations, each robot's path sampled every `cycle` seconds (default 1: the gait's cycle)
+// from `settle` seconds on (default 0) compared (check_accuracy, gaitlab/accuracy.h); reports a
+// warning per setting that changes a robot's path by more than 3 % and returns what it
+// measured. The simulation itself is not touched.
+int simulation_check_accuracy(lua_State* L) {
+    return protect(L, [&] {
+        const std::shared_ptr<Simulation> kept = check_sim(L, 1);
+        const Simulation& sim = *kept;
+        double seconds = 20, cycle = 1, settle = 0;
+        if (!lua_isnoneornil(L, 2)) {
+            Fields f(L, 2, 2, {"seconds", "cycle", "settle"});
+            seconds = f.number("seconds", seconds);
+            if (!(std::isfinite(seconds) && seconds > 0))
+                f.fail("seconds", "a positive number of seconds expected");
+            // the longest of the runs, at dt / 4, must fit (checked again by check_accuracy)
+            try {
+                checked_ticks("seconds", seconds, sim.options().dt / 4);
+            } catch (const SpecError& e) {
+                f.fail("seconds", e.what());
+            }
+            settle = f.number("settle", settle);
+            if (!(std::isfinite(settle) && settle >= 0 && settle < seconds))
+                f.fail("settle",
+                       fmt::format("seconds in [0, seconds) = [0, {:g}) expected", seconds));
+            cycle = f.number("cycle", std::min(cycle, seconds - settle));
+            const double dt = sim.options().dt;
+            if (!(std::isfinite(cycle) && cycle >= dt && cycle <= seconds - settle)) {
+                f.fail("cycle", fmt::format("the gait's cycle in seconds expected, in [dt, seconds "
+                                            "- settle] = [{:g}, {:g}]",
+                                            dt, seconds - settle));
+            }
+        }
+        lua_State* main = main_thread(L);
+        Guard* guard = &Guard::of(L);
+        const InterruptScope interruptible(L);  // Ctrl-C in an interpreter (guard.h)
+        const AccuracyReport found = check_accuracy(
+            sim.world(), sim.options(), seconds, cycle, settle, [main, guard](Simulation& run) {
+                run.set_controller_error_handler(
+                    [main](const Controller& c, const std::exception& e) {
+                        report(main, fmt::format("accuracy check: controller '{}' failed: {}",
+                                                 c.name(), e.what()));
+                    });
+                run.add_pre_tick([guard](Simulation&) {
+                    if (guard->interrupted() != 0) throw Error(guard->interrupt_message());
+                });
+            });
+        for (const std::string& w : found.warnings)
+            report(main, "warning: " + w);
+        const auto push_run = [&](const AccuracyRun& r) {
+            lua_createtable(L, 0, 4);
+            lua_pushnumber(L, r.path);
+            lua_setfield(L, -2, "path");
+            lua_pushnumber(L, r.displacement.x);
+            lua_setfield(L, -2, "x");
+            lua_pushnumber(L, r.displacement.y);
+            lua_setfield(L, -2, "y");
+            lua_pushnumber(L, r.turned * 180 / 3.14159265358979323846);
+            lua_setfield(L, -2, "turned");
+        };
+        const auto push_options = [&](const SimulationOptions& o) {
+            lua_createtable(L, 0, 3);
+            lua_pushnumber(L, o.dt);
+            lua_setfield(L, -2, "dt");
+            lua_pushinteger(L, o.control_every);
+            lua_setfield(L, -2, "control_every");
+            lua_pushinteger(L, o.solver_iterations);
+            lua_setfield(L, -2, "solver_iterations");
+        };
+        const auto set_number = [&](const char* key, double value) {
+            lua_pushnumber(L, value);
+            lua_setfield(L, -2, key);
+        };
+        lua_createtable(L, 0, 4);
+        set_number("seconds", found.seconds);
+        set_number("cycle", found.cycle);
+        set_number("settle", found.settle);
+        lua_createtable(L, 0, 3);
+        push_options(found.given);
+        lua_setfield(L, -2, "given");
+        if (found.dt_checked) {
+            push_options(found.finer_dt);
+            lua_setfield(L, -2, "dt");
+        }
+        push_options(found.more_iterations);
+        lua_setfield(L, -2, "iterations");
+        lua_setfield(L, -2, "settings");
+        lua_createtable(L, static_cast<int>(found.robots.size()), 0);
+        for (size_t r = 0; r < found.robots.size(); ++r) {
+            const AccuracyRobot& robot = found.robots[r];
+            lua_createtable(L, 0, 8);
+            lua_pushstring(L, robot.name.c_str());
+            lua_setfield(L, -2, "name");
+            push_run(robot.given);
+            lua_setfield(L, -2, "given");
+            if (found.dt_checked) {
+                push_run(robot.finer_dt);
+                lua_setfield(L, -2, "dt");
+                set_number("dt_off", robot.dt_off);
+            }
+            push_run(robot.more_iterations);
+            lua_setfield(L, -2, "iterations");
+            set_number("iterations_off", robot.iterations_off);
+            lua_rawseti(L, -2, static_cast<lua_Integer>(r + 1));
+        }
+        lua_setfield(L, -2, "robots");
+        lua_createtable(L, static_cast<int>(found.warnings.size()), 0);
+        for (size_t i = 0; i < found.warnings.size(); ++i) {
+            lua_pushstring(L, found.warnings[i].c_str());
+            lua_rawseti(L, -2, static_cast<lua_Integer>(i + 1));
+        }
+        lua_setfield(L, -2, "warnings");
+        return 1;
+    });
+}
+
 // sim:robot(name): the handle of this simulation's robot called `name` (its label: "snake",
 // "snake_2" ...)
 int simulation_robot(lua_State* L) {
@@ -774,6 +892,7 @@ void open_simulation(lua_State* L) {
                                 {"step", simulation_step},
                                 {"reset", simulation_reset},
                                 {"clone", simulation_clone},
+                                {"check_accuracy", simulation_check_accuracy},
                                 {"robot", simulation_robot},
                                 {"save", simulation_save},
                                 {"objects", simulation_objects},

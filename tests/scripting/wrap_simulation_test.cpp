@@ -270,3 +270,71 @@ TEST_CASE("counts and run lengths never wrap into other numbers", "[wrap_simulat
           "test:1: bad argument #1 to 'rubble' (rubble 1 count must be in [0, 100000] (got "
           "1099511627776))");
 }
+
+TEST_CASE("sim:check_accuracy runs the world again at finer settings and warns naming them",
+          "[wrap_simulation][accuracy]") {
+    LuaFixture lua;
+    std::vector<std::string> reports;
+    lua.host.set_reporter([&](const std::string& m) { reports.push_back(m); });
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ name = "snake", modules = 4, connection = "pitch-pitch" }
+        world = gaitlab.world{ floor = { friction = 0.8 } }
+        world:add(robot)
+        robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 40, frequency = 0.5,
+                                                             phase = 120 })
+        fine = gaitlab.simulation{ world = world, control_every = 10, record = false }
+        fine:run(0.5)
+        r = fine:check_accuracy{ seconds = 6, cycle = 2 }
+    )");
+    // the defaults: quiet, and the check ran the world from time 0, not this simulation
+    CHECK(reports.empty());
+    CHECK(lua.number("fine.time") == Approx(0.5));
+    CHECK(lua.boolean("robot:displacement() == fine:robot('snake'):displacement()"));
+    CHECK(lua.number("r.seconds") == 6);
+    CHECK(lua.number("r.cycle") == 2);
+    CHECK(lua.number("r.settle") == 0);
+    CHECK(lua.number("r.settings.given.dt") == 0.001);
+    CHECK(lua.number("r.settings.dt.dt") == 0.00025);
+    CHECK(lua.integer("r.settings.dt.control_every") == 40);
+    CHECK(lua.integer("r.settings.iterations.solver_iterations") == 80);
+    CHECK(lua.integer("#r.robots") == 1);
+    CHECK(lua.string("r.robots[1].name") == "snake");
+    CHECK(lua.number("r.robots[1].given.path") > 0.15);
+    CHECK(lua.number("r.robots[1].given.x") < -0.15);
+    CHECK(std::abs(lua.number("r.robots[1].dt_off")) < 1);
+    CHECK(std::abs(lua.number("r.robots[1].iterations_off")) < 1);
+    CHECK(lua.integer("#r.warnings") == 0);
+
+    // pgs with 2 iterations: a warning for each setting, reported once and returned
+    lua.run(R"(
+        coarse = gaitlab.simulation{ world = world, control_every = 10, solver = "pgs",
+                                     solver_iterations = 2, record = false }
+    )");
+    REQUIRE(reports.size() == 1);  // the static warning: below 15 iterations
+    CHECK(reports[0].rfind("warning: solver_iterations = 2 is below 15", 0) == 0);
+    lua.run("r = coarse:check_accuracy{ seconds = 6, cycle = 2 }");
+    REQUIRE(reports.size() == 3);
+    CHECK(reports[1].rfind("warning: dt = 1 ms: robot 'snake' moves ", 0) == 0);
+    CHECK(reports[2].rfind("warning: solver_iterations = 2: robot 'snake' moves ", 0) == 0);
+    CHECK(lua.integer("#r.warnings") == 2);
+    CHECK(
+        lua.boolean("('warning: ' .. r.warnings[2]) == " + std::string("[[") + reports[2] + "]]"));
+
+    // bad arguments, named
+    const std::string bad = "test:1: bad argument #1 to 'check_accuracy' (";
+    CHECK(lua.error_of("fine:check_accuracy{ second = 6 }") ==
+          bad + "unknown key 'second'; did you mean 'seconds'?)");
+    CHECK(lua.error_of("fine:check_accuracy{ seconds = 0 }") ==
+          bad + "field 'seconds': a positive number of seconds expected)");
+    CHECK(lua.error_of("fine:check_accuracy{ seconds = 0/0 }") ==
+          bad + "field 'seconds': a positive number of seconds expected)");
+    CHECK(lua.error_of("fine:check_accuracy{ seconds = 6, settle = 6 }") ==
+          bad + "field 'settle': seconds in [0, seconds) = [0, 6) expected)");
+    CHECK(lua.error_of("fine:check_accuracy{ seconds = 6, settle = 2, cycle = 5 }") ==
+          bad +
+              "field 'cycle': the gait's cycle in seconds expected, in [dt, seconds - settle] "
+              "= [0.001, 4])");
+    CHECK(lua.error_of("fine:check_accuracy{ seconds = 1e300 }")
+              .rfind(bad + "field 'seconds': seconds must be in [0, ", 0) == 0);
+    CHECK(lua.error_of("fine:check_accuracy(6)") == bad + "table expected, got number)");
+}
