@@ -245,6 +245,83 @@ int parse_port(const std::string& text) {
     return v;
 }
 
+struct CheckArgs {
+    std::string file;
+    std::string seconds, cycle, settle;  // as given ("": the check's default)
+};
+
+// `gaitlab check FILE.xml`: the accuracy check of a simulation file (LuaHost::
+// check_simulation_file); exit status 0 within 3 %, 3 a setting warned, 1 or 2 an error
+int check_command(const CheckArgs& a) {
+    if (!ends_with(a.file, ".xml")) {
+        std::fprintf(stderr,
+                     "gaitlab: %s: expected a simulation file (FILE.xml); a Lua script checks "
+                     "its simulation itself with sim:check_accuracy{} (docs/lua-api.md)\n",
+                     printable(a.file).c_str());
+        return 2;
+    }
+    struct stat st {};
+    if (::stat(a.file.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+        std::fprintf(stderr, "gaitlab: %s: %s\n", printable(a.file).c_str(),
+                     S_ISDIR(st.st_mode) ? "is a directory"
+                                         : "not a regular file (a FIFO, device or socket)");
+        return 2;
+    }
+    double seconds = 0, cycle = 0, settle = 0;
+    try {
+        const auto positive = [](const char* option, const std::string& text) {
+            if (text.empty()) return 0.0;
+            const double v = parse_seconds(option, text);
+            if (!(v > 0)) {
+                throw gaitlab::SpecError(
+                    fmt::format("{}: a number of seconds > 0 expected (got "
+                                "'{}')",
+                                option, printable(text)));
+            }
+            return v;
+        };
+        seconds = positive("--seconds", a.seconds);
+        cycle = positive("--cycle", a.cycle);
+        if (!a.settle.empty()) {
+            settle = parse_seconds("--settle", a.settle);
+            if (!(settle >= 0)) {
+                throw gaitlab::SpecError(fmt::format(
+                    "--settle: a number of seconds >= 0 expected (got '{}')", printable(a.settle)));
+            }
+        }
+    } catch (const gaitlab::Error& e) {
+        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab check --help')\n", e.what());
+        return 2;
+    }
+    std::string error;
+    int warned = 0;
+    try {
+        gaitlab::scripting::LuaHost host;
+        host.set_reporter([](const std::string& message) {
+            std::fprintf(stderr, "gaitlab: %s\n", message.c_str());
+        });
+        struct Interruptible {
+            explicit Interruptible(gaitlab::scripting::LuaHost& h) { g_host.store(&h); }
+            ~Interruptible() { g_host.store(nullptr); }
+        } interruptible(host);
+        if (g_signal != 0) host.interrupt(g_signal);
+        warned = host.check_simulation_file(a.file, seconds, cycle, settle);
+    } catch (const std::exception& e) {
+        error = e.what();
+    }
+    if (g_signal != 0) {
+        if (g_signal != SIGPIPE) {
+            std::fprintf(stderr, "gaitlab: %s\n", error.empty() ? "interrupted" : error.c_str());
+        }
+        return 128 + g_signal;
+    }
+    if (!error.empty()) {
+        std::fprintf(stderr, "gaitlab: %s\n", error.c_str());
+        return 1;
+    }
+    return warned > 0 ? 3 : 0;
+}
+
 // The progress line of a long sim:run(T) (or the duration of a simulation file) on a terminal:
 // "t = 12.0 / 60 s (20%), 4.1x real time, 12 s left", rewritten in place on stderr, taken away
 // before anything else is written there and when the run ends. Never on stdout (which holds
@@ -896,6 +973,35 @@ int main(int argc, char** argv) {
         "the controllers' parameters there), starting when the page opens; after the script\n"
         "the page still serves until Ctrl-C. See docs/viewer.md.");
 
+    CheckArgs cka;
+    CLI::App* check = app.add_subcommand(
+        "check",
+        "Check that a simulation file's result does not depend on dt or the solver iterations");
+    check->allow_extras();
+    check->add_option("file", cka.file, "The simulation file (FILE.xml)")
+        ->required()
+        ->type_name("FILE.xml");
+    check
+        ->add_option("--seconds", cka.seconds,
+                     "How long each run is (default: the file's duration)")
+        ->type_name("S");
+    check
+        ->add_option("--cycle", cka.cycle,
+                     "Seconds between the samples of each robot's path: the gait's cycle "
+                     "(default 1)")
+        ->type_name("C");
+    check
+        ->add_option("--settle", cka.settle,
+                     "Seconds left out at the start, before the first sample (default 0)")
+        ->type_name("T");
+    check->footer(
+        "Runs the file's world three times from time 0, recording nothing: at its settings, at\n"
+        "dt / 4 (control_every x 4, the same control period) and with 4x the solver iterations;\n"
+        "prints each robot's path (its centre of mass on the floor, sampled once per cycle) in\n"
+        "each run, and a warning naming each setting that changes a path by more than 3 %.\n"
+        "Exit status 0: within 3 %; 3: a setting was warned; 1 or 2: an error. It costs about\n"
+        "6-8 runs of S seconds. See docs/performance.md, \"The accuracy check\".");
+
     gaitlab::cli::ConsoleArgs ca;
     CLI::App* console = gaitlab::cli::add_console_command(app, ca);
 
@@ -1037,7 +1143,10 @@ int main(int argc, char** argv) {
     da.has_to = to->count() > 0;
     int status = 0;
     try {
-        if (*data) {
+        if (*check) {
+            catch_signals();
+            status = check_command(cka);
+        } else if (*data) {
             status = data_command(da);
         } else if (new_command.chosen()) {
             status = new_command.run();

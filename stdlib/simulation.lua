@@ -23,6 +23,49 @@ function gaitlab.simulation.run_file(path)
   return sim, setup
 end
 
+-- gaitlab.simulation.check_file(path, { seconds =, cycle =, settle = }): what `gaitlab check
+-- FILE.xml` does. Loads the simulation file, runs sim:check_accuracy on it (seconds default: the
+-- file's duration) and prints one line per robot: its path at the file's settings, at dt / 4
+-- and at 4x the iterations. The warnings are reported as the check's are; returns the report.
+-- Errors name the simulation file, as run_file's do.
+function gaitlab.simulation.check_file(path, options)
+  local sim, setup = gaitlab.simulation.load(path)
+  if not sim then error(setup, 0) end
+  local function fail(message) error(format("%s:%d: %s", path, setup.line, message), 0) end
+  local o = options or {}
+  local seconds, settle = o.seconds or setup.duration, o.settle or 0
+  local cycle = o.cycle or math.min(1, seconds - settle)
+  if not (seconds > 0) then
+    fail(format("the check runs for the file's duration, %g s: give it a duration > 0", seconds))
+  end
+  if not (settle < seconds) then
+    fail(format("the settling time (%g s) must be shorter than the check (%g s)", settle, seconds))
+  end
+  if not (cycle >= sim.dt and cycle <= seconds - settle) then
+    fail(format("the cycle (%g s) must be from dt (%g s) to the time checked after the settling"
+      .. " time (%g s)", cycle, sim.dt, seconds - settle))
+  end
+  local ok, report = pcall(sim.check_accuracy, sim, { seconds = seconds, cycle = cycle,
+    settle = settle })
+  -- called through pcall, the check's argument errors name no function: keep what they say
+  if not ok then fail((tostring(report):gsub("^bad argument #%d+ to '%?' %((.*)%)$", "%1"))) end
+  local s = report.settings
+  print(format("%s: the paths from %g to %g s, sampled every %g s, at the file's dt %g ms and"
+    .. " %d iterations, at dt %g ms and with %d iterations", path, report.settle, report.seconds,
+    report.cycle, s.given.dt * 1000, s.given.solver_iterations,
+    (s.dt or s.given).dt * 1000, s.iterations.solver_iterations))
+  for _, r in ipairs(report.robots) do
+    local dt = r.dt and format("at dt / 4 %.1f mm (%+.1f %%)", r.dt.path * 1000, r.dt_off)
+      or "dt / 4 not checked (below 1 us)"
+    print(format("%s: path %.1f mm; %s; with 4x the iterations %.1f mm (%+.1f %%)", r.name,
+      r.given.path * 1000, dt, r.iterations.path * 1000, r.iterations_off))
+  end
+  print(#report.warnings == 0 and "within 3 % at both finer settings"
+    or format("%d setting(s) move a robot by more than 3 %% (the warnings above)",
+      #report.warnings))
+  return report
+end
+
 -- how sim:status() prints: a few lines a console shows as they are
 local registry = select(2, ...)
 local concat = table.concat

@@ -86,6 +86,26 @@ int run_simulation_file_of(lua_State* L) {
     return 0;
 }
 
+// gaitlab.simulation.check_file(argument 1, { seconds = 2, cycle = 3, settle = 4 }), a zero
+// leaving the key out; returns how many warnings it gave
+int check_simulation_file_of(lua_State* L) {
+    lua_getglobal(L, "gaitlab");
+    lua_getfield(L, -1, "simulation");
+    lua_getfield(L, -1, "check_file");
+    lua_pushvalue(L, 1);
+    lua_createtable(L, 0, 3);
+    const char* keys[] = {"seconds", "cycle", "settle"};
+    for (int k = 0; k < 3; ++k) {
+        if (lua_tonumber(L, 2 + k) == 0) continue;
+        lua_pushvalue(L, 2 + k);
+        lua_setfield(L, -2, keys[k]);
+    }
+    lua_call(L, 2, 1);
+    lua_getfield(L, -1, "warnings");
+    lua_pushinteger(L, static_cast<lua_Integer>(luaL_len(L, -1)));
+    return 1;
+}
+
 // message handler: turns the error into a table {message, file, line, traceback} while the
 // stack of the failed call is still there
 int message_handler(lua_State* L) {
@@ -356,6 +376,22 @@ void LuaHost::run_simulation_file(const std::string& path) {
     lua_pushcfunction(L_, run_simulation_file_of);
     lua_pushstring(L_, file.c_str());
     protected_call(L_, 1, 0);
+}
+
+int LuaHost::check_simulation_file(const std::string& path, double seconds, double cycle,
+                                   double settle) {
+    std::error_code ec;
+    const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
+    const std::string file = ec ? path : absolute.lexically_normal().string();
+    lua_pushcfunction(L_, check_simulation_file_of);
+    lua_pushstring(L_, file.c_str());
+    lua_pushnumber(L_, seconds);
+    lua_pushnumber(L_, cycle);
+    lua_pushnumber(L_, settle);
+    protected_call(L_, 4, 1);
+    const int warned = static_cast<int>(lua_tointeger(L_, -1));
+    lua_pop(L_, 1);
+    return warned;
 }
 
 }  // namespace gaitlab::scripting

@@ -1042,3 +1042,72 @@ TEST_CASE("a long run shows a progress line on a terminal only", "[cli][progress
     CHECK(plain.find("\x1b") == std::string::npos);
     CHECK_THAT(plain, Catch::Contains("done at t = 6.0\r\n"));
 }
+
+TEST_CASE(
+    "gaitlab check runs a simulation file again at finer settings and says whether it "
+    "moved",
+    "[cli][check]") {
+    // the walk at its own settings: within 3 %, status 0, one line per robot
+    const Run r =
+        cli({"check", "examples/walk.xml", "--seconds", "4", "--cycle", "2"}, GAITLAB_SOURCE_DIR);
+    INFO(r.err);
+    CHECK(r.status == 0);
+    CHECK(r.err.empty());
+    CHECK_THAT(r.out,
+               Catch::Matches(".*/examples/walk\\.xml: the paths from 0 to 4 s, sampled every "
+                              "2 s, at the file's dt 1 ms and 20 iterations, at dt 0\\.25 ms and "
+                              "with 80 iterations\nsnake: path [0-9]+\\.[0-9] mm; at dt / 4 "
+                              "[0-9]+\\.[0-9] mm \\([+-][0-2]\\.[0-9] %\\); with 4x the "
+                              "iterations [0-9]+\\.[0-9] mm \\([+-][0-2]\\.[0-9] %\\)\nwithin 3 "
+                              "% at both finer settings\n"));
+
+    // the same walk with pgs and 2 iterations: both settings warned, status 3
+    TempDir tmp("cli_check");
+    namespace fs = std::filesystem;
+    fs::copy(GAITLAB_SOURCE_DIR "/examples/walk", tmp / "walk", fs::copy_options::recursive);
+    fs::copy(GAITLAB_SOURCE_DIR "/examples/controllers", tmp / "controllers",
+             fs::copy_options::recursive);
+    std::string sim = slurp(GAITLAB_SOURCE_DIR "/examples/walk.xml");
+    sim.replace(sim.find("seed=\"0\""), 8, "seed=\"0\" solver=\"pgs\" solver_iterations=\"2\"");
+    std::ofstream(tmp / "coarse.xml") << sim;
+    const Run c = cli({"check", "coarse.xml", "--seconds", "6", "--cycle", "2"}, tmp.str());
+    CHECK(c.status == 3);
+    // nothing recorded where it ran
+    CHECK(fs::exists(tmp / "coarse.xml"));
+    CHECK_FALSE(fs::exists(tmp / "runs"));
+    CHECK_THAT(c.err, Catch::Contains("gaitlab: warning: solver_iterations = 2 is below 15"));
+    CHECK_THAT(c.err, Catch::Contains("gaitlab: warning: dt = 1 ms: robot 'snake' moves "));
+    CHECK_THAT(c.err, Catch::Contains("gaitlab: warning: solver_iterations = 2: robot 'snake' "
+                                      "moves "));
+    CHECK_THAT(c.out, Catch::EndsWith("2 setting(s) move a robot by more than 3 % (the warnings "
+                                      "above)\n"));
+
+    // bad input: named, one line, before anything runs
+    const std::string help = " (see 'gaitlab check --help')";
+    check_failure(cli({"check", "examples/walk.xml", "--seconds", "0"}, GAITLAB_SOURCE_DIR),
+                  "gaitlab: --seconds: a number of seconds > 0 expected (got '0')" + help);
+    check_failure(cli({"check", "examples/walk.xml", "--cycle", "x"}, GAITLAB_SOURCE_DIR),
+                  "gaitlab: --cycle: a number of seconds expected (got 'x')" + help);
+    check_failure(cli({"check", "examples/walk.xml", "--settle", "-1"}, GAITLAB_SOURCE_DIR),
+                  "gaitlab: --settle: a number of seconds >= 0 expected (got '-1')" + help);
+    check_failure(cli({"check", "examples/walk.xml", "--seconds", "inf"}, GAITLAB_SOURCE_DIR),
+                  "gaitlab: --seconds: a number of seconds expected (got 'inf')" + help);
+    const std::string walk = std::string(GAITLAB_SOURCE_DIR) + "/examples/walk.xml";
+    check_failure(
+        cli({"check", walk, "--settle", "30"}),
+        "gaitlab: " + walk + ":5: the settling time (30 s) must be shorter than the check (20 s)");
+    check_failure(cli({"check", walk, "--settle", "2", "--seconds", "4", "--cycle", "3"}),
+                  "gaitlab: " + walk +
+                      ":5: the cycle (3 s) must be from dt (0.001 s) to the time checked after "
+                      "the settling time (2 s)");
+    check_failure(cli({"check", "examples/first_snake.lua"}, GAITLAB_SOURCE_DIR),
+                  "gaitlab: examples/first_snake.lua: expected a simulation file (FILE.xml); a "
+                  "Lua script checks its simulation itself with sim:check_accuracy{} "
+                  "(docs/lua-api.md)");
+    check_failure(
+        cli({"check", tmp / "none.xml"}),
+        "gaitlab: " + (tmp / "none.xml") + ": cannot read the file: No such file or directory");
+    fs::create_directory(tmp / "folder.xml");
+    check_failure(cli({"check", tmp / "folder.xml"}),
+                  "gaitlab: " + (tmp / "folder.xml") + ": is a directory");
+}

@@ -248,6 +248,12 @@ class LuaHost {
     /// Loads a simulation file and the parts it names, runs it for its duration and prints how
     /// far each robot moved (`gaitlab run FILE.xml`); throws ScriptError.
     void run_simulation_file(const std::string& path);
+    /// The accuracy check of a simulation file (`gaitlab check FILE.xml`): loads it, runs
+    /// sim:check_accuracy (docs/lua-api.md) for `seconds` (0: the file's duration) sampled every
+    /// `cycle` seconds (0: the check's default) from `settle` on, prints a line per robot and
+    /// reports the warnings; returns how many settings were warned. Throws ScriptError.
+    int check_simulation_file(const std::string& path, double seconds, double cycle,
+                              double settle);
 
   private:
     struct Memory;
