@@ -187,6 +187,18 @@ void catch_signals() {
         sigaction(sig, &sa, nullptr);
 }
 
+// from its making a signal interrupts the host (one that came earlier does so at once), until
+// it goes
+struct Interruptible {
+    explicit Interruptible(gaitlab::scripting::LuaHost& h) {
+        g_host.store(&h);
+        if (g_signal != 0) h.interrupt(g_signal);
+    }
+    ~Interruptible() { g_host.store(nullptr); }
+    Interruptible(const Interruptible&) = delete;
+    Interruptible& operator=(const Interruptible&) = delete;
+};
+
 // ---------------------------------------------------------------------------------------------
 // option values
 
@@ -300,11 +312,7 @@ int check_command(const CheckArgs& a) {
         host.set_reporter([](const std::string& message) {
             std::fprintf(stderr, "gaitlab: %s\n", message.c_str());
         });
-        struct Interruptible {
-            explicit Interruptible(gaitlab::scripting::LuaHost& h) { g_host.store(&h); }
-            ~Interruptible() { g_host.store(nullptr); }
-        } interruptible(host);
-        if (g_signal != 0) host.interrupt(g_signal);
+        const Interruptible interruptible(host);
         warned = host.check_simulation_file(a.file, seconds, cycle, settle);
     } catch (const std::exception& e) {
         error = e.what();
@@ -479,13 +487,7 @@ int run_script(const RunArgs& a, const std::string& command) {
         host.set_args(a.file, a.args);
         // gaitlab.optimize{...}: stopped by the signal that interrupts the host
         host.set_optimize_handler(gaitlab::cli::lua_optimize_handler());
-        // from here a signal interrupts the host (one that came earlier does so now), until
-        // the host goes
-        struct Interruptible {
-            explicit Interruptible(gaitlab::scripting::LuaHost& h) { g_host.store(&h); }
-            ~Interruptible() { g_host.store(nullptr); }
-        } interruptible(host);
-        if (g_signal != 0) host.interrupt(g_signal);
+        const Interruptible interruptible(host);
         try {
             if (xml) {
                 host.run_simulation_file(a.file);

@@ -76,11 +76,16 @@ int seed_random(lua_State* L) {
     return 0;
 }
 
-// gaitlab.simulation.run_file(argument 1)
-int run_simulation_file_of(lua_State* L) {
+// pushes gaitlab.simulation[name] (a function of stdlib/simulation.lua)
+void push_simulation_function(lua_State* L, const char* name) {
     lua_getglobal(L, "gaitlab");
     lua_getfield(L, -1, "simulation");
-    lua_getfield(L, -1, "run_file");
+    lua_getfield(L, -1, name);
+}
+
+// gaitlab.simulation.run_file(argument 1)
+int run_simulation_file_of(lua_State* L) {
+    push_simulation_function(L, "run_file");
     lua_pushvalue(L, 1);
     lua_call(L, 1, 0);
     return 0;
@@ -89,9 +94,7 @@ int run_simulation_file_of(lua_State* L) {
 // gaitlab.simulation.check_file(argument 1, { seconds = 2, cycle = 3, settle = 4 }), a zero
 // leaving the key out; returns how many warnings it gave
 int check_simulation_file_of(lua_State* L) {
-    lua_getglobal(L, "gaitlab");
-    lua_getfield(L, -1, "simulation");
-    lua_getfield(L, -1, "check_file");
+    push_simulation_function(L, "check_file");
     lua_pushvalue(L, 1);
     lua_createtable(L, 0, 3);
     const char* keys[] = {"seconds", "cycle", "settle"};
