@@ -285,10 +285,8 @@ int check_command(const CheckArgs& a) {
             if (text.empty()) return 0.0;
             const double v = parse_seconds(option, text);
             if (!(v > 0)) {
-                throw gaitlab::SpecError(
-                    fmt::format("{}: a number of seconds > 0 expected (got "
-                                "'{}')",
-                                option, printable(text)));
+                throw gaitlab::SpecError(fmt::format(
+                    "{}: a number of seconds > 0 expected (got '{}')", option, printable(text)));
             }
             return v;
         };

@@ -39,7 +39,8 @@ std::vector<AccuracyRun> run(const WorldSpec& world, const SimulationOptions& op
     for (long k = 0;; ++k) {
         const long to =
             std::min(total, sim.ticks_for(check.settle + static_cast<double>(k) * check.cycle));
-        if (sim.step(to - sim.ticks()) < to - sim.ticks()) break;  // paused by a failure
+        const long ticks = to - sim.ticks();
+        if (sim.step(ticks) < ticks) break;  // paused by a controller's failure
         for (int r = 0; r < robots; ++r) {
             const Vec3 now = sim.robot_position(r);
             if (k > 0)

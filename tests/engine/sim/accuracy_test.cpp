@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <stdexcept>
 
 #include "engine/sim_support.h"
 #include "gaitlab/accuracy.h"
@@ -30,6 +32,24 @@ SimulationOptions with(ConstraintSolver solver, double dt, int iterations) {
     o.control_every = std::max(1, o.control_every);
     return o;
 }
+
+// a wave that throws once the simulation time reaches `fail_at` (copied with its time)
+class Faulty final : public Controller {
+  public:
+    explicit Faulty(double fail_at)
+        : Controller(ControllerDef{"faulty", {}, {}}), fail_at_(fail_at) {}
+    void step(ControlIO& io) override {
+        if (io.time() >= fail_at_) throw std::runtime_error("faulty broke");
+        for (int m = 0; m < io.joints(); ++m)
+            io.set_target(m, 0.6 * std::sin(6.0 * io.time() + m));
+    }
+    std::unique_ptr<Controller> clone() const override {
+        return std::unique_ptr<Controller>(new Faulty(*this));
+    }
+
+  private:
+    double fail_at_;
+};
 
 }  // namespace
 
@@ -149,4 +169,35 @@ TEST_CASE("a dt too small to quarter is not checked, the iterations still are", 
     CHECK(r.more_iterations.solver_iterations == 80);
     REQUIRE(r.robots.size() == 1);
     CHECK(r.robots[0].dt_off == 0);
+}
+
+TEST_CASE("a controller that fails in the check's runs: as its policy says", "[accuracy]") {
+    SimulationOptions o = default_simulation_options();
+    auto faulty = [&](ControllerErrorPolicy policy) {
+        o.on_controller_error = policy;
+        auto sim = std::make_unique<Simulation>(test::chain_world(4, Connection::pitch_pitch), o);
+        test::drive(*sim, "pitch", std::make_shared<Faulty>(1.0));
+        return sim;
+    };
+    SECTION("stop: the error leaves the check") {
+        const auto sim = faulty(ControllerErrorPolicy::stop);
+        CHECK_THROWS_WITH(check_accuracy(sim->world(), sim->options(), 4, 1, 0), "faulty broke");
+    }
+    SECTION("pause: each run ends where it failed, reported to the host, and the check returns") {
+        const auto sim = faulty(ControllerErrorPolicy::pause);
+        int reports = 0;
+        const AccuracyReport r =
+            check_accuracy(sim->world(), sim->options(), 4, 1, 0, [&](Simulation& run) {
+                run.set_controller_error_handler(
+                    [&](const Controller&, const std::exception&) { ++reports; });
+            });
+        CHECK(reports == 3);
+        REQUIRE(r.robots.size() == 1);
+        CHECK(r.robots[0].given.path > 0);  // the path up to the failure
+    }
+    SECTION("continue: the runs go on with the group held") {
+        const auto sim = faulty(ControllerErrorPolicy::continue_);
+        const AccuracyReport r = check_accuracy(sim->world(), sim->options(), 4, 1, 0);
+        REQUIRE(r.robots.size() == 1);
+    }
 }
