@@ -263,7 +263,7 @@ constexpr const char* kMethods[] = {
     "add",   "box",      "heightfield", "triangles", "run",     "step",   "reset", "record",
     "live",  "objects",  "params",      "values",    "set",     "read",   "on",    "off",
     "get",   "series",   "export",      "plot",      "groups",  "norm",   "flush", "channels",
-    "play",  "pause",    "status",      "heading",   "turned"};
+    "play",  "pause",    "status",      "heading",   "turned",  "check_accuracy"};
 
 constexpr const char* kSetupWorld =
     "try(function() R[1] = gaitlab.robot.chain{ name = 'snake', modules = 4, connection = "
