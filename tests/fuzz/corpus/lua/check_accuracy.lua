@@ -19,7 +19,7 @@ sim:run(0.05)
 local r = sim:check_accuracy{ seconds = 0.2, cycle = 0.05, settle = 0.05 }
 print(#r.robots, #r.warnings, r.robots[1].given.path, sim.time)
 for _, bad in ipairs({ { seconds = 0 }, { seconds = 0 / 0 }, { seconds = 1 / 0 }, { seconds = 2 ^ 63 },
-                       { cycle = -1 }, { cycle = 1e-9 }, { settle = 20 }, { settle = -0.0 },
+                       { cycle = -1 }, { cycle = 1e-9 }, { settle = 20 }, { settle = -0.0, seconds = 0.1 },
                        { seconds = "x" }, { seconds = {} }, { sekonds = 1 } }) do
   print(pcall(sim.check_accuracy, sim, bad))
 end
