@@ -29,9 +29,9 @@
 --
 -- STEADY_CHECK=SECONDS runs, for each start, the engine's accuracy check instead
 -- (sim:check_accuracy, docs/lua-api.md; STEADY_SETTLE its settling time, default 0): the gait
--- for SECONDS from time 0 at the given settings,
--- at dt/4 and at 4x the iterations, and prints each run's path sampled once per cycle, the
--- given one's in % off the finer ones', with the warnings the check gives.
+-- for SECONDS from time 0 at the given settings, at dt/4 and at 4x the iterations, and prints
+-- each run's path sampled once per cycle, the given one's in % off the finer ones', with the
+-- warnings the check gives.
 local gaits = require "standard_gaits"
 
 local function fail(message) error("steady_speed.lua: " .. message, 0) end
@@ -161,8 +161,6 @@ local function describe_motion(sums, speed, net)
                        1000 * sums.path / n)
 end
 
--- the speed of each block, mm per cycle; with STEADY_MOTION the last blocks' motion sums and
--- net travel (m)
 -- the gait from phase `start` at time 0: its simulation and robot
 local function build(start)
   local robot = gaitlab.robot.chain{ name = "snake", modules = modules, module = module,
@@ -175,6 +173,8 @@ local function build(start)
          robot
 end
 
+-- the speed of each block, mm per cycle; with STEADY_MOTION the last blocks' motion sums and
+-- net travel (m)
 local function run(start)
   local sim, robot = build(start)
   local speeds, before = {}, robot:position()
@@ -197,7 +197,6 @@ local function run(start)
   return speeds, sim.solver, sums, motion and horizontal(robot:position() - measured_from)
 end
 
-local total = 0
 -- STEADY_CHECK: the engine's accuracy check (sim:check_accuracy) of each start instead
 if check then
   local worst = { dt = 0, iterations = 0 }
@@ -217,7 +216,7 @@ if check then
   return
 end
 
-local used
+local total, used = 0, nil
 for _, start in ipairs(phases) do
   local speeds, name, sums, net = run(start)
   used = name

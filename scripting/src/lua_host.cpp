@@ -76,6 +76,14 @@ int seed_random(lua_State* L) {
     return 0;
 }
 
+// `path` made absolute and normal (as given if that fails): what a simulation file's messages
+// and its parts' paths start from
+std::string absolute_path(const std::string& path) {
+    std::error_code ec;
+    const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
+    return ec ? path : absolute.lexically_normal().string();
+}
+
 // pushes gaitlab.simulation[name] (a function of stdlib/simulation.lua)
 void push_simulation_function(lua_State* L, const char* name) {
     lua_getglobal(L, "gaitlab");
@@ -365,9 +373,7 @@ void LuaHost::run_string(const std::string& code, const std::string& name) {
 }
 
 void LuaHost::run_simulation_file(const std::string& path) {
-    std::error_code ec;
-    const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
-    const std::string file = ec ? path : absolute.lexically_normal().string();
+    const std::string file = absolute_path(path);
     Recordings& r = Recordings::of(L_);
     if (!r.settings.script.empty() && path == r.settings.script) {
         // the run folders keep the simulation file and its parts as one folder that replays
@@ -383,9 +389,7 @@ void LuaHost::run_simulation_file(const std::string& path) {
 
 int LuaHost::check_simulation_file(const std::string& path, double seconds, double cycle,
                                    double settle) {
-    std::error_code ec;
-    const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
-    const std::string file = ec ? path : absolute.lexically_normal().string();
+    const std::string file = absolute_path(path);
     lua_pushcfunction(L_, check_simulation_file_of);
     lua_pushstring(L_, file.c_str());
     lua_pushnumber(L_, seconds);

@@ -681,7 +681,7 @@ int simulation_check_accuracy(lua_State* L) {
             lua_setfield(L, -2, "x");
             lua_pushnumber(L, r.displacement.y);
             lua_setfield(L, -2, "y");
-            lua_pushnumber(L, r.turned * 180 / 3.14159265358979323846);
+            lua_pushnumber(L, rad_to_deg(r.turned));
             lua_setfield(L, -2, "turned");
         };
         const auto push_options = [&](const SimulationOptions& o) {

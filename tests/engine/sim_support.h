@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
+#include "gaitlab/controller.h"
 #include "gaitlab/controllers/sine.h"
 #include "gaitlab/recorder.h"
 #include "gaitlab/robot.h"
@@ -83,6 +85,27 @@ inline void drive_pitch_yaw_gait(Simulation& sim) {
     drive(sim, "pitch", sine(40, 0.5, 120));
     drive(sim, "yaw", sine(30, 0.5, 120, 90));
 }
+
+/// A sine wave on every joint of its group that throws "faulty broke" once the simulation
+/// time reaches `fail_at`; `steps` counts the steps it made. Copied with its state.
+class Faulty final : public Controller {
+  public:
+    explicit Faulty(double fail_at)
+        : Controller(ControllerDef{"faulty", {}, {}}), fail_at_(fail_at) {}
+    void step(ControlIO& io) override {
+        if (io.time() >= fail_at_) throw std::runtime_error("faulty broke");
+        ++steps;
+        for (int m = 0; m < io.joints(); ++m)
+            io.set_target(m, 0.6 * std::sin(6.0 * io.time() + m));
+    }
+    std::unique_ptr<Controller> clone() const override {
+        return std::unique_ptr<Controller>(new Faulty(*this));
+    }
+    int steps = 0;
+
+  private:
+    double fail_at_;
+};
 
 /// Records `seconds` of a 4-module snake crawling with a sine on its pitch joints into the run
 /// folder `dir`, closed as finished; returns `dir`.

@@ -33,24 +33,6 @@ SimulationOptions with(ConstraintSolver solver, double dt, int iterations) {
     return o;
 }
 
-// a wave that throws once the simulation time reaches `fail_at` (copied with its time)
-class Faulty final : public Controller {
-  public:
-    explicit Faulty(double fail_at)
-        : Controller(ControllerDef{"faulty", {}, {}}), fail_at_(fail_at) {}
-    void step(ControlIO& io) override {
-        if (io.time() >= fail_at_) throw std::runtime_error("faulty broke");
-        for (int m = 0; m < io.joints(); ++m)
-            io.set_target(m, 0.6 * std::sin(6.0 * io.time() + m));
-    }
-    std::unique_ptr<Controller> clone() const override {
-        return std::unique_ptr<Controller>(new Faulty(*this));
-    }
-
-  private:
-    double fail_at_;
-};
-
 }  // namespace
 
 TEST_CASE("the check passes the defaults on a caterpillar and reports what it ran", "[accuracy]") {
@@ -176,7 +158,7 @@ TEST_CASE("a controller that fails in the check's runs: as its policy says", "[a
     auto faulty = [&](ControllerErrorPolicy policy) {
         o.on_controller_error = policy;
         auto sim = std::make_unique<Simulation>(test::chain_world(4, Connection::pitch_pitch), o);
-        test::drive(*sim, "pitch", std::make_shared<Faulty>(1.0));
+        test::drive(*sim, "pitch", std::make_shared<test::Faulty>(1.0));
         return sim;
     };
     SECTION("stop: the error leaves the check") {

@@ -54,23 +54,6 @@ void operator delete(void* p, std::size_t) noexcept {
 
 namespace {
 
-// a sine wave that throws once the simulation time reaches `fail_at`
-class Faulty final : public Controller {
-  public:
-    explicit Faulty(double fail_at)
-        : Controller(ControllerDef{"faulty", {}, {}}), fail_at_(fail_at) {}
-    void step(ControlIO& io) override {
-        if (io.time() >= fail_at_) throw std::runtime_error("faulty broke");
-        ++steps;
-        for (int m = 0; m < io.joints(); ++m)
-            io.set_target(m, 0.6 * std::sin(6.0 * io.time() + m));
-    }
-    int steps = 0;
-
-  private:
-    double fail_at_;
-};
-
 SimulationOptions with_policy(ControllerErrorPolicy policy) {
     SimulationOptions o;
     o.on_controller_error = policy;
@@ -82,7 +65,7 @@ SimulationOptions with_policy(ControllerErrorPolicy policy) {
 TEST_CASE("the default policy stops: the error leaves step and the controller is failed") {
     CHECK(default_simulation_options().on_controller_error == ControllerErrorPolicy::stop);
     Simulation sim(test::chain_world(4, Connection::pitch_pitch));
-    auto c = std::make_shared<Faulty>(0.3);
+    auto c = std::make_shared<test::Faulty>(0.3);
     test::drive(sim, "pitch", c);
     int reported = 0;
     sim.set_controller_error_handler([&](const Controller&, const std::exception&) { ++reported; });
@@ -96,7 +79,7 @@ TEST_CASE("the default policy stops: the error leaves step and the controller is
 TEST_CASE("the continue policy reports once, holds the joints and keeps running") {
     Simulation sim(test::chain_world(4, Connection::pitch_pitch),
                    with_policy(ControllerErrorPolicy::continue_));
-    auto c = std::make_shared<Faulty>(0.5);
+    auto c = std::make_shared<test::Faulty>(0.5);
     test::drive(sim, "pitch", c);
     std::vector<std::string> reports;
     sim.set_controller_error_handler([&](const Controller& ctl, const std::exception& e) {
@@ -125,7 +108,7 @@ TEST_CASE("the continue policy reports once, holds the joints and keeps running"
 TEST_CASE("reset clears the failure and the controller runs again") {
     Simulation sim(test::chain_world(3, Connection::pitch_pitch),
                    with_policy(ControllerErrorPolicy::continue_));
-    auto c = std::make_shared<Faulty>(0.2);
+    auto c = std::make_shared<test::Faulty>(0.2);
     test::drive(sim, "pitch", c);
     sim.run(0.5);
     REQUIRE(c->failed());

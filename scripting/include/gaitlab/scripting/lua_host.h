@@ -252,8 +252,7 @@ class LuaHost {
     /// sim:check_accuracy (docs/lua-api.md) for `seconds` (0: the file's duration) sampled every
     /// `cycle` seconds (0: the check's default) from `settle` on, prints a line per robot and
     /// reports the warnings; returns how many settings were warned. Throws ScriptError.
-    int check_simulation_file(const std::string& path, double seconds, double cycle,
-                              double settle);
+    int check_simulation_file(const std::string& path, double seconds, double cycle, double settle);
 
   private:
     struct Memory;
