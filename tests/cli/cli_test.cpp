@@ -1111,3 +1111,23 @@ TEST_CASE(
     check_failure(cli({"check", tmp / "folder.xml"}),
                   "gaitlab: " + (tmp / "folder.xml") + ": is a directory");
 }
+
+TEST_CASE("a signal stops gaitlab check midway, with one line", "[cli][check][signal]") {
+    for (int sig : {SIGINT, SIGTERM}) {
+        const std::string name = signal_name(sig);
+        INFO(name);
+        TempDir tmp(std::string("cli_check_signal_") + name);
+        const std::string err = tmp / "err";
+        // 300 s of the walk at three settings: minutes of work, stopped after 1.5 s (past the
+        // start-up, where the signal handlers are set, also under the sanitizers)
+        const pid_t pid = spawn(
+            {GAITLAB_BINARY, "check", GAITLAB_SOURCE_DIR "/examples/walk.xml", "--seconds", "300"},
+            err);
+        usleep(1500000);
+        const double start = now_seconds();
+        REQUIRE(kill(pid, sig) == 0);
+        CHECK(exit_status(pid) == 128 + sig);
+        CHECK(now_seconds() - start < 10);
+        CHECK(slurp(err) == "gaitlab: interrupted (" + name + ")\n");
+    }
+}
