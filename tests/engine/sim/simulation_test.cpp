@@ -768,6 +768,58 @@ TEST_CASE("settings too coarse for a 3 % accurate gait get one warning naming th
     }
 }
 
+TEST_CASE("a long chain bent in two planes is warned about below 80 iterations, naming the robot",
+          "[simulation][warning]") {
+    using Catch::Matchers::Contains;
+    using Catch::Matchers::StartsWith;
+    SimulationOptions o = default_simulation_options();
+    SECTION("16 pitch-yaw joints at the defaults: one warning naming the setting and the robot") {
+        Simulation sim(test::chain_world(16, Connection::pitch_yaw), o);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0],
+                   StartsWith("solver_iterations = 20 is below 80: robot 'snake' has 16 joints "
+                              "bending it in more than one plane") &&
+                       Contains("sim:check_accuracy()") && Contains("docs/performance.md"));
+        sim.run(0.05);
+        CHECK(sim.warnings().size() == 1);
+    }
+    SECTION("80 iterations are quiet, and so are planar and 8-joint chains at the defaults") {
+        o.solver_iterations = 80;
+        CHECK(Simulation(test::chain_world(16, Connection::pitch_yaw), o).warnings().empty());
+        o.solver_iterations = 20;
+        CHECK(Simulation(test::chain_world(32, Connection::pitch_pitch), o).warnings().empty());
+        CHECK(Simulation(test::chain_world(9, Connection::yaw_yaw), o).warnings().empty());
+        CHECK(Simulation(test::chain_world(8, Connection::pitch_yaw), o).warnings().empty());
+        CHECK_FALSE(Simulation(test::chain_world(9, Connection::pitch_yaw), o).warnings().empty());
+    }
+    SECTION("one warning for the iterations even below the general limit of 7") {
+        o.solver_iterations = 5;
+        Simulation sim(test::chain_world(12, Connection::pitch_yaw), o);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0], StartsWith("solver_iterations = 5 is below 80: robot"));
+    }
+    SECTION("the longest of several such robots is the one named") {
+        WorldSpec w = test::chain_world(10, Connection::pitch_yaw);
+        ChainSpec longer;
+        longer.name = "long";
+        longer.modules = 20;
+        longer.connection = Connection::pitch_yaw;
+        w.robots.push_back({make_chain(longer), {}, {}});
+        w.robots.back().pose.position = {0, 1, 0};
+        Simulation sim(w, o);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0], Contains("robot 'long' has 20 joints"));
+    }
+    SECTION("pgs, which does not converge on such chains, gets a warning naming the solver") {
+        o.solver = ConstraintSolver::pgs;
+        o.solver_iterations = 80;
+        Simulation sim(test::chain_world(16, Connection::pitch_yaw), o);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0], StartsWith("solver = \"pgs\": robot 'snake' has 16 joints") &&
+                                          Contains("take solver = \"block_nncg\""));
+    }
+}
+
 TEST_CASE("a robot started inside a stone of a rubble field is warned about by the field's name",
           "[simulation][overlap]") {
     WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
