@@ -55,25 +55,26 @@ AccuracyLimits accuracy_limits(ConstraintSolver solver) {
     return {15, 0.0015};
 }
 
-// A robot whose joints bend it in more than one plane (pitch and yaw, or a twist) with more
-// joints than this needs more iterations than the limits above: its rolling gait, at 20
+// A robot whose joints bend it in two planes (pitch and yaw joints both) with more joints
+// than this needs more iterations than the limits above: its rolling gait, at 20
 // iterations against 80 (block_nncg, dt 1 ms), is 4.0 % off at 12 modules (friction 1.0), 3.7 %
 // at 16 (0.3) and 12 % at 32 (0.3); within 0.5 % at 8 modules and in every planar chain to 32
 // modules. docs/performance.md, "Long chains bent in two planes"
 constexpr int kLongChainJoints = 8;
 constexpr int kLongChainIterations = 80;
 
-// the robot with the most joints among those bending in more than one plane, if it has more
+// the robot with the most joints among those with pitch and yaw joints both, if it has more
 // than kLongChainJoints: its index, else -1
 int longest_bent_chain(const WorldSpec& world) {
     int found = -1;
     size_t most = kLongChainJoints;
     for (size_t r = 0; r < world.robots.size(); ++r) {
         const std::vector<JointSpec>& joints = world.robots[r].robot.joints;
-        const bool planes = std::any_of(joints.begin(), joints.end(), [&](const JointSpec& j) {
-            return j.role != joints.front().role;
-        });
-        if (planes && joints.size() > most) {
+        const auto has = [&](JointRole role) {
+            return std::any_of(joints.begin(), joints.end(),
+                               [&](const JointSpec& j) { return j.role == role; });
+        };
+        if (has(JointRole::pitch) && has(JointRole::yaw) && joints.size() > most) {
             most = joints.size();
             found = static_cast<int>(r);
         }
@@ -104,7 +105,7 @@ std::vector<std::string> accuracy_warnings(const WorldSpec& world,
     const int chain = longest_bent_chain(world);
     const std::string chain_is =
         chain < 0 ? ""
-                  : fmt::format("robot '{}' has {} joints bending it in more than one plane",
+                  : fmt::format("robot '{}' has {} joints bending it in two planes (pitch and yaw)",
                                 world.robots[static_cast<size_t>(chain)].robot.name,
                                 world.robots[static_cast<size_t>(chain)].robot.joints.size());
     if (chain >= 0 && !block) {

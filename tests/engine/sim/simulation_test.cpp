@@ -778,7 +778,7 @@ TEST_CASE("a long chain bent in two planes is warned about below 80 iterations, 
         REQUIRE(sim.warnings().size() == 1);
         CHECK_THAT(sim.warnings()[0],
                    StartsWith("solver_iterations = 20 is below 80: robot 'snake' has 16 joints "
-                              "bending it in more than one plane") &&
+                              "bending it in two planes (pitch and yaw)") &&
                        Contains("sim:check_accuracy()") && Contains("docs/performance.md"));
         sim.run(0.05);
         CHECK(sim.warnings().size() == 1);
