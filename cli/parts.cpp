@@ -676,6 +676,7 @@ void PartMaker::check_sim(const SimChoice& sim) {
     SimulationOptions o;
     o.dt = sim.dt;
     o.control_every = sim.control_every;
+    o.solver_iterations = sim.solver_iterations;
     validate(o);
 }
 
@@ -714,6 +715,7 @@ void PartMaker::write_sim(const SimChoice& sim, const std::string& robot_file,
     f.duration = sim.duration;
     f.options.dt = sim.dt;
     f.options.control_every = sim.control_every;
+    f.options.solver_iterations = sim.solver_iterations;
     f.environment = relative_path(world_file, path);
     f.robots.push_back({relative_path(robot_file, path),
                         actuation_file.empty() ? "" : relative_path(actuation_file, path), 0});

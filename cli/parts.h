@@ -67,6 +67,7 @@ struct SimChoice {
     double duration = 10;    ///< s
     double dt = 0.001;       ///< s
     int control_every = 30;  ///< physics steps between controller steps
+    int solver_iterations = 20;
     bool record = true;
 };
 

@@ -241,6 +241,41 @@ TEST_CASE("garbage answers are explained and asked again", "[cli][wizard]") {
     CHECK(moved(r.out, "snake") >= 0);
 }
 
+TEST_CASE("a pitch-yaw chain of more than 8 modules is asked for its solver iterations",
+          "[cli][wizard]") {
+    TempDir dir("wizard_long_chain");
+    // name, modules, connection, then sensors .. control_every as offered but 1 s simulated
+    const auto answers = [](const std::string& modules, const std::vector<std::string>& rest) {
+        std::vector<std::string> a = {"", modules, "2", "", "",  "", "",
+                                      "", "",      "",  "", "1", "", ""};
+        a.insert(a.end(), rest.begin(), rest.end());
+        return lines(a);
+    };
+    // 16 modules: asked, 80 offered; the run is quiet
+    const Output r = run_gaitlab({"new", "long"}, dir.str(), answers("16", {"", "no"}));
+    INFO(r.out << r.err);
+    REQUIRE(r.status == 0);
+    CHECK_THAT(r.out, Catch::Contains("Solver iterations per step [80]: "));
+    CHECK_THAT(r.out, Catch::Contains("80 solver iterations per step"));
+    CHECK(gaitlab::read_simulation(dir / "long/simulation.xml").options.solver_iterations == 80);
+    CHECK(r.err.find("warning") == std::string::npos);
+    CHECK(moved(r.out, "snake") >= 0);
+    // fewer, after a garbage answer: written as answered, and the run warns naming the setting
+    const Output few = run_gaitlab({"new", "few"}, dir.str(), answers("12", {"many", "20", "no"}));
+    INFO(few.out << few.err);
+    REQUIRE(few.status == 0);
+    CHECK_THAT(few.out, Catch::Contains("  ! 'many': a whole number from 1 to 10000 expected\n"));
+    CHECK(gaitlab::read_simulation(dir / "few/simulation.xml").options.solver_iterations == 20);
+    CHECK_THAT(few.err, Catch::Contains("solver_iterations = 20 is below 80: robot 'snake' has "
+                                        "12 joints"));
+    // 8 modules: not asked, the default kept
+    const Output eight = run_gaitlab({"new", "eight"}, dir.str(), answers("8", {"no"}));
+    INFO(eight.out << eight.err);
+    REQUIRE(eight.status == 0);
+    CHECK(eight.out.find("Solver iterations") == std::string::npos);
+    CHECK(gaitlab::read_simulation(dir / "eight/simulation.xml").options.solver_iterations == 20);
+}
+
 TEST_CASE("the end of input half-way leaves nothing behind", "[cli][wizard]") {
     TempDir dir("wizard_eof");
     // after a few answers, and in the middle of a new controller's parameters

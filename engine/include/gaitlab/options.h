@@ -38,6 +38,12 @@ std::string solver_names();
 /// Limits of simulation options and run lengths (docs/formats.md).
 inline constexpr int kMaxControlEvery = 1000000;  ///< also the limit of a recording's every
 inline constexpr int kMaxSolverIterations = 10000;
+/// A robot with pitch and yaw joints both and more than kLongChainJoints joints needs
+/// kLongChainIterations with block_nncg: from 12 modules on a pitch-yaw chain's rolling gait
+/// moves 4-12 % faster or slower at 20 iterations than at 80, and 80 are within 0.3 % of 320
+/// (docs/performance.md, "Long chains bent in two planes"). A simulation warns below them.
+inline constexpr int kLongChainJoints = 8;
+inline constexpr int kLongChainIterations = 80;
 /// ticks a simulation runs in all (2^53: time = ticks · dt stays exact, and a tick count is a
 /// Lua integer and a double alike)
 inline constexpr long kMaxTicks = 9007199254740992L;

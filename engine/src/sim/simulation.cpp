@@ -55,14 +55,6 @@ AccuracyLimits accuracy_limits(ConstraintSolver solver) {
     return {15, 0.0015};
 }
 
-// A robot whose joints bend it in two planes (pitch and yaw joints both) with more joints
-// than this needs more iterations than the limits above: its rolling gait, at 20
-// iterations against 80 (block_nncg, dt 1 ms), is 4.0 % off at 12 modules (friction 1.0), 3.7 %
-// at 16 (0.3) and 12 % at 32 (0.3); within 0.5 % at 8 modules and in every planar chain to 32
-// modules. docs/performance.md, "Long chains bent in two planes"
-constexpr int kLongChainJoints = 8;
-constexpr int kLongChainIterations = 80;
-
 // the robot with the most joints among those with pitch and yaw joints both, if it has more
 // than kLongChainJoints: its index, else -1
 int longest_bent_chain(const WorldSpec& world) {
