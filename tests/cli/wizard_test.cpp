@@ -241,39 +241,54 @@ TEST_CASE("garbage answers are explained and asked again", "[cli][wizard]") {
     CHECK(moved(r.out, "snake") >= 0);
 }
 
-TEST_CASE("a pitch-yaw chain of more than 8 modules is asked for its solver iterations",
+TEST_CASE("a pitch-yaw chain of more than 8 modules is offered the finer settings it needs",
           "[cli][wizard]") {
     TempDir dir("wizard_long_chain");
-    // name, modules, connection, then sensors .. control_every as offered but 1 s simulated
+    // name, modules, connection, then sensors .. friction as offered, 1 s simulated
     const auto answers = [](const std::string& modules, const std::vector<std::string>& rest) {
-        std::vector<std::string> a = {"", modules, "2", "", "",  "", "",
-                                      "", "",      "",  "", "1", "", ""};
+        std::vector<std::string> a = {"", modules, "2", "", "", "", "", "", "", "", "", "1"};
         a.insert(a.end(), rest.begin(), rest.end());
         return lines(a);
     };
-    // 16 modules: asked, 80 offered; the run is quiet
-    const Output r = run_gaitlab({"new", "long"}, dir.str(), answers("16", {"", "no"}));
+    // 16 modules: dt 0.5 ms, 60 steps (the same 30 ms control period) and 40 iterations
+    // offered; the run is quiet
+    const Output r = run_gaitlab({"new", "long"}, dir.str(), answers("16", {"", "", "", "no"}));
     INFO(r.out << r.err);
     REQUIRE(r.status == 0);
-    CHECK_THAT(r.out, Catch::Contains("Solver iterations per step [80]: "));
-    CHECK_THAT(r.out, Catch::Contains("80 solver iterations per step"));
-    CHECK(gaitlab::read_simulation(dir / "long/simulation.xml").options.solver_iterations == 80);
+    CHECK_THAT(r.out, Catch::Contains("needs a finer step and more solver iterations"));
+    CHECK_THAT(r.out, Catch::Contains("Time step, s (smaller: more accurate, slower) [0.0005]: "));
+    CHECK_THAT(r.out, Catch::Contains("Physics steps between two controller steps [60]: "));
+    CHECK_THAT(r.out, Catch::Contains("Solver iterations per step (more: more accurate, slower) "
+                                      "[40]: "));
+    CHECK_THAT(r.out, Catch::Contains("40 solver iterations per step"));
+    const gaitlab::SimulationOptions o =
+        gaitlab::read_simulation(dir / "long/simulation.xml").options;
+    CHECK(o.dt == 0.0005);
+    CHECK(o.control_every == 60);
+    CHECK(o.solver_iterations == 40);
     CHECK(r.err.find("warning") == std::string::npos);
     CHECK(moved(r.out, "snake") >= 0);
-    // fewer, after a garbage answer: written as answered, and the run warns naming the setting
-    const Output few = run_gaitlab({"new", "few"}, dir.str(), answers("12", {"many", "20", "no"}));
+    // coarser answers, one after a garbage answer: written as answered, and the run warns
+    // naming both settings
+    const Output few =
+        run_gaitlab({"new", "few"}, dir.str(), answers("12", {"0.001", "30", "many", "20", "no"}));
     INFO(few.out << few.err);
     REQUIRE(few.status == 0);
     CHECK_THAT(few.out, Catch::Contains("  ! 'many': a whole number from 1 to 10000 expected\n"));
     CHECK(gaitlab::read_simulation(dir / "few/simulation.xml").options.solver_iterations == 20);
-    CHECK_THAT(few.err, Catch::Contains("solver_iterations = 20 is below 80: robot 'snake' has "
-                                        "12 joints"));
-    // 8 modules: not asked, the default kept
-    const Output eight = run_gaitlab({"new", "eight"}, dir.str(), answers("8", {"no"}));
+    CHECK_THAT(few.err, Catch::Contains("dt = 1 ms is above 0.5 ms and solver_iterations = 20 "
+                                        "below 40: robot 'snake' has 12 joints"));
+    // 8 modules: the usual questions and defaults
+    const Output eight = run_gaitlab({"new", "eight"}, dir.str(), answers("8", {"", "", "no"}));
     INFO(eight.out << eight.err);
     REQUIRE(eight.status == 0);
     CHECK(eight.out.find("Solver iterations") == std::string::npos);
-    CHECK(gaitlab::read_simulation(dir / "eight/simulation.xml").options.solver_iterations == 20);
+    CHECK_THAT(eight.out,
+               Catch::Contains("Time step, s (smaller: more accurate, slower) [0.001]: "));
+    const gaitlab::SimulationOptions d =
+        gaitlab::read_simulation(dir / "eight/simulation.xml").options;
+    CHECK(d.dt == 0.001);
+    CHECK(d.solver_iterations == 20);
 }
 
 TEST_CASE("the end of input half-way leaves nothing behind", "[cli][wizard]") {

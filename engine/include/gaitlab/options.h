@@ -38,12 +38,15 @@ std::string solver_names();
 /// Limits of simulation options and run lengths (docs/formats.md).
 inline constexpr int kMaxControlEvery = 1000000;  ///< also the limit of a recording's every
 inline constexpr int kMaxSolverIterations = 10000;
-/// A robot with pitch and yaw joints both and more than kLongChainJoints joints needs
-/// kLongChainIterations with block_nncg: from 12 modules on a pitch-yaw chain's rolling gait
-/// moves 4-12 % faster or slower at 20 iterations than at 80, and 80 are within 0.3 % of 320
-/// (docs/performance.md, "Long chains bent in two planes"). A simulation warns below them.
+/// A robot with pitch and yaw joints both and more than kLongChainJoints joints (a pitch-yaw
+/// chain of 9 modules or more) needs a finer step and more iterations than the defaults: from
+/// 12 modules on its rolling gait moves 4-14 % faster or slower at dt / 4 or with 4x the
+/// iterations, and dt <= kLongChainMaxDt with solver_iterations >= kLongChainIterations
+/// (block_nncg) keep it within 3 % of a converged solver (docs/performance.md, "Long chains
+/// bent in two planes"). A simulation warns outside them; gaitlab new offers them.
 inline constexpr int kLongChainJoints = 8;
-inline constexpr int kLongChainIterations = 80;
+inline constexpr double kLongChainMaxDt = 0.0005;  // s
+inline constexpr int kLongChainIterations = 40;
 /// ticks a simulation runs in all (2^53: time = ticks · dt stays exact, and a tick count is a
 /// Lua integer and a double alike)
 inline constexpr long kMaxTicks = 9007199254740992L;

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "bullet/physics_world.h"
 #include "gaitlab/checked.h"
@@ -105,17 +106,34 @@ std::vector<std::string> accuracy_warnings(const WorldSpec& world,
             "solver = \"pgs\": {}, and pgs does not converge on such chains (the 32-module "
             "rolling chain moves 77.0, 70.5 and 66.9 mm per cycle at 20, 80 and 320 "
             "iterations, where block_nncg converges to 83.2); take solver = \"block_nncg\" with "
-            "solver_iterations >= {} (docs/performance.md, \"Long chains bent in two planes\")",
-            chain_is, kLongChainIterations));
+            "dt <= {:g} ms and solver_iterations >= {} (docs/performance.md, \"Long chains bent "
+            "in two planes\")",
+            chain_is, kLongChainMaxDt * 1000, kLongChainIterations));
     }
-    if (chain >= 0 && block && options.solver_iterations < kLongChainIterations) {
-        warnings.push_back(fmt::format(
-            "solver_iterations = {} is below {}: {}, and from 12 modules on the rolling gait of "
-            "such chains moves 4-12 % faster or slower at 20 iterations than at 80; "
-            "sim:check_accuracy() or gaitlab check measures whether this robot's gait needs {} "
-            "(docs/performance.md, \"Long chains bent in two planes\")",
-            options.solver_iterations, kLongChainIterations, chain_is, kLongChainIterations));
-    } else if (options.solver_iterations < limits.min_iterations) {
+    if (chain >= 0 && block) {
+        // stricter than the general limits: one warning for both settings
+        std::vector<std::string> coarse;
+        if (options.dt > kLongChainMaxDt * (1 + 1e-9))
+            coarse.push_back(fmt::format("dt = {:g} ms is above {:g} ms", options.dt * 1000,
+                                         kLongChainMaxDt * 1000));
+        if (options.solver_iterations < kLongChainIterations) {
+            coarse.push_back(fmt::format("solver_iterations = {} {}below {}",
+                                         options.solver_iterations, coarse.empty() ? "is " : "",
+                                         kLongChainIterations));
+        }
+        if (!coarse.empty()) {
+            warnings.push_back(fmt::format(
+                "{}: {}, and from 12 modules on the rolling gait of such chains moves 4-14 % "
+                "faster or slower at dt / 4 or with 4x the iterations than at dt 1 ms and 20 "
+                "iterations; dt <= {:g} ms with solver_iterations >= {} keep it within 3 % of a "
+                "converged solver; sim:check_accuracy() or gaitlab check measures this robot's "
+                "gait (docs/performance.md, \"Long chains bent in two planes\")",
+                fmt::join(coarse, " and "), chain_is, kLongChainMaxDt * 1000,
+                kLongChainIterations));
+        }
+        return warnings;
+    }
+    if (options.solver_iterations < limits.min_iterations) {
         warn(fmt::format("solver_iterations = {} is below {}", options.solver_iterations,
                          limits.min_iterations));
     }

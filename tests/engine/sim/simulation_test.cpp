@@ -768,35 +768,54 @@ TEST_CASE("settings too coarse for a 3 % accurate gait get one warning naming th
     }
 }
 
-TEST_CASE("a long chain bent in two planes is warned about below 80 iterations, naming the robot",
-          "[simulation][warning]") {
+TEST_CASE(
+    "a long chain bent in two planes is warned about above dt 0.5 ms or below 40 "
+    "iterations, naming the settings and the robot",
+    "[simulation][warning]") {
     using Catch::Matchers::Contains;
     using Catch::Matchers::StartsWith;
     SimulationOptions o = default_simulation_options();
-    SECTION("16 pitch-yaw joints at the defaults: one warning naming the setting and the robot") {
+    SECTION("16 pitch-yaw joints at the defaults: one warning naming both settings and the robot") {
         Simulation sim(test::chain_world(16, Connection::pitch_yaw), o);
         REQUIRE(sim.warnings().size() == 1);
         CHECK_THAT(sim.warnings()[0],
-                   StartsWith("solver_iterations = 20 is below 80: robot 'snake' has 16 joints "
-                              "bending it in two planes (pitch and yaw)") &&
+                   StartsWith("dt = 1 ms is above 0.5 ms and solver_iterations = 20 below 40: "
+                              "robot 'snake' has 16 joints bending it in two planes (pitch and "
+                              "yaw)") &&
                        Contains("sim:check_accuracy()") && Contains("docs/performance.md"));
         sim.run(0.05);
         CHECK(sim.warnings().size() == 1);
     }
-    SECTION("80 iterations are quiet, and so are planar and 8-joint chains at the defaults") {
-        o.solver_iterations = 80;
+    SECTION("each setting alone is named alone") {
+        o.dt = 0.0005;
+        Simulation iterations(test::chain_world(16, Connection::pitch_yaw), o);
+        REQUIRE(iterations.warnings().size() == 1);
+        CHECK_THAT(iterations.warnings()[0],
+                   StartsWith("solver_iterations = 20 is below 40: robot"));
+        o.dt = 0.001;
+        o.solver_iterations = 40;
+        Simulation dt(test::chain_world(16, Connection::pitch_yaw), o);
+        REQUIRE(dt.warnings().size() == 1);
+        CHECK_THAT(dt.warnings()[0], StartsWith("dt = 1 ms is above 0.5 ms: robot"));
+    }
+    SECTION("the finer settings are quiet, and so are planar and 8-joint chains at the defaults") {
+        o.dt = 0.0005;
+        o.solver_iterations = 40;
         CHECK(Simulation(test::chain_world(16, Connection::pitch_yaw), o).warnings().empty());
-        o.solver_iterations = 20;
+        o = default_simulation_options();
         CHECK(Simulation(test::chain_world(32, Connection::pitch_pitch), o).warnings().empty());
         CHECK(Simulation(test::chain_world(9, Connection::yaw_yaw), o).warnings().empty());
         CHECK(Simulation(test::chain_world(8, Connection::pitch_yaw), o).warnings().empty());
         CHECK_FALSE(Simulation(test::chain_world(9, Connection::pitch_yaw), o).warnings().empty());
     }
-    SECTION("one warning for the iterations even below the general limit of 7") {
+    SECTION("one warning even beyond the general limits (7 iterations, dt 10 ms)") {
         o.solver_iterations = 5;
+        o.dt = 0.02;
+        o.control_every = 1;
         Simulation sim(test::chain_world(12, Connection::pitch_yaw), o);
         REQUIRE(sim.warnings().size() == 1);
-        CHECK_THAT(sim.warnings()[0], StartsWith("solver_iterations = 5 is below 80: robot"));
+        CHECK_THAT(sim.warnings()[0],
+                   StartsWith("dt = 20 ms is above 0.5 ms and solver_iterations = 5 below 40"));
     }
     SECTION("the longest of several such robots is the one named") {
         WorldSpec w = test::chain_world(10, Connection::pitch_yaw);
@@ -815,8 +834,10 @@ TEST_CASE("a long chain bent in two planes is warned about below 80 iterations, 
         o.solver_iterations = 80;
         Simulation sim(test::chain_world(16, Connection::pitch_yaw), o);
         REQUIRE(sim.warnings().size() == 1);
-        CHECK_THAT(sim.warnings()[0], StartsWith("solver = \"pgs\": robot 'snake' has 16 joints") &&
-                                          Contains("take solver = \"block_nncg\""));
+        CHECK_THAT(sim.warnings()[0],
+                   StartsWith("solver = \"pgs\": robot 'snake' has 16 joints") &&
+                       Contains("take solver = \"block_nncg\" with dt <= 0.5 ms and "
+                                "solver_iterations >= 40"));
     }
 }
 
