@@ -8,6 +8,7 @@
 
 #include <lua.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -102,9 +103,13 @@ class Reloader {
 
     /// Wall time between two checks, s.
     double interval() const { return std::chrono::duration<double>(interval_).count(); }
+    /// A shorter interval takes effect at once: the next check is due no later than `seconds`
+    /// from now (not at the end of the longer interval already begun).
     void set_interval(double seconds) {
         interval_ = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
             std::chrono::duration<double>(seconds));
+        if (next_check_ != std::chrono::steady_clock::time_point{})
+            next_check_ = std::min(next_check_, std::chrono::steady_clock::now() + interval_);
     }
 
   private:

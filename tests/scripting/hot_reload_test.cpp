@@ -188,6 +188,39 @@ TEST_CASE("a script can rewrite its controller while sim:run runs it", "[hot_rel
     CHECK(lua.number("targets[2]") == Approx(25));
 }
 
+TEST_CASE("a shorter reload interval takes effect at once, not after the longer one begun",
+          "[hot_reload]") {
+    TempDir dir("interval");
+    const std::string file = dir.file("level.lua");
+    LuaFixture lua;
+    lua.host.set_reload_interval(3600);  // the next check an hour away
+    lua.run("FILE = '" + file + "'");
+    lua.run(R"(
+        function write_text(level)
+            local f = assert(io.open(FILE, "w"))
+            f:write(string.format([[return gaitlab.controller{ name = "level",
+              step = function(self) self:set_angle(1, %d) end }
+            ]], level))
+            f:close()
+        end
+        write_text(10)
+        local Level = gaitlab.controller.load(FILE)
+        robot = gaitlab.robot.chain{ modules = 2 }
+        world = gaitlab.world()
+        world:add(robot)
+        robot:group{ 1 }:drive(Level())
+        sim = gaitlab.simulation{ world = world }
+        sim:run(0.1)
+        write_text(25)
+        sim:run(0.1)
+        before = robot:joints()[1].target
+    )");
+    CHECK(lua.number("before") == Approx(10));  // within the hour: not checked
+    lua.host.set_reload_interval(0);
+    lua.run("sim:run(0.1) after = robot:joints()[1].target");
+    CHECK(lua.number("after") == Approx(25));
+}
+
 TEST_CASE("snapshot and on_reload carry state the names do not", "[hot_reload]") {
     TempDir dir("hooks");
     const std::string file = dir.file("hooks.lua");

@@ -113,7 +113,8 @@ class LuaHost {
     /// One message per call, without "gaitlab: " or a trailing newline. Without a reporter they
     /// go to stderr as "gaitlab: MESSAGE".
     void set_reporter(std::function<void(const std::string&)> fn);
-    /// Wall time between two checks of the controller files for changes (default 0.2 s).
+    /// Wall time between two checks of the controller files for changes (default 0.2 s); a
+    /// shorter one takes effect at once.
     void set_reload_interval(double seconds);
 
     /// How simulations created from now on are recorded (see RecordSettings).
