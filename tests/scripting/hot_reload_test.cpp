@@ -156,31 +156,36 @@ TEST_CASE("a changed controller file replaces the running version at the next co
     CHECK(lua.number("a.old") == 1);
 }
 
+// Lua that defines write_level(level), a controller file at FILE holding joint 1 at `level`
+// degrees, writes it at 10 and drives a 2-module robot's first joint with it in `sim`
+const char* const kLevelSim = R"(
+    function write_level(level)
+        local f = assert(io.open(FILE, "w"))
+        f:write(string.format([[return gaitlab.controller{ name = "level",
+          step = function(self) self:set_angle(1, %d) end }
+        ]], level))
+        f:close()
+    end
+    write_level(10)
+    local Level = gaitlab.controller.load(FILE)
+    robot = gaitlab.robot.chain{ modules = 2 }
+    world = gaitlab.world()
+    world:add(robot)
+    robot:group{ 1 }:drive(Level())
+    sim = gaitlab.simulation{ world = world }
+)";
+
 TEST_CASE("a script can rewrite its controller while sim:run runs it", "[hot_reload]") {
     TempDir dir("script");
-    const std::string file = dir.file("level.lua");
     LuaFixture lua;
     lua.host.set_reload_interval(0);
-    lua.run("FILE = '" + file + "'");
+    lua.run("FILE = '" + dir.file("level.lua") + "'");
+    lua.run(kLevelSim);
     lua.run(R"(
-        local function write_text(level)
-            local f = assert(io.open(FILE, "w"))
-            f:write(string.format([[return gaitlab.controller{ name = "level",
-              step = function(self) self:set_angle(1, %d) end }
-            ]], level))
-            f:close()
-        end
-        write_text(10)
-        local Level = gaitlab.controller.load(FILE)
-        robot = gaitlab.robot.chain{ modules = 2 }
-        world = gaitlab.world()
-        world:add(robot)
-        robot:group{ 1 }:drive(Level())
-        sim = gaitlab.simulation{ world = world }
         targets = {}
         sim:run(0.1)
         targets[1] = robot:joints()[1].target
-        write_text(25)
+        write_level(25)
         sim:run(0.1)
         targets[2] = robot:joints()[1].target
     )");
@@ -191,30 +196,11 @@ TEST_CASE("a script can rewrite its controller while sim:run runs it", "[hot_rel
 TEST_CASE("a shorter reload interval takes effect at once, not after the longer one begun",
           "[hot_reload]") {
     TempDir dir("interval");
-    const std::string file = dir.file("level.lua");
     LuaFixture lua;
     lua.host.set_reload_interval(3600);  // the next check an hour away
-    lua.run("FILE = '" + file + "'");
-    lua.run(R"(
-        function write_text(level)
-            local f = assert(io.open(FILE, "w"))
-            f:write(string.format([[return gaitlab.controller{ name = "level",
-              step = function(self) self:set_angle(1, %d) end }
-            ]], level))
-            f:close()
-        end
-        write_text(10)
-        local Level = gaitlab.controller.load(FILE)
-        robot = gaitlab.robot.chain{ modules = 2 }
-        world = gaitlab.world()
-        world:add(robot)
-        robot:group{ 1 }:drive(Level())
-        sim = gaitlab.simulation{ world = world }
-        sim:run(0.1)
-        write_text(25)
-        sim:run(0.1)
-        before = robot:joints()[1].target
-    )");
+    lua.run("FILE = '" + dir.file("level.lua") + "'");
+    lua.run(kLevelSim);
+    lua.run("sim:run(0.1) write_level(25) sim:run(0.1) before = robot:joints()[1].target");
     CHECK(lua.number("before") == Approx(10));  // within the hour: not checked
     lua.host.set_reload_interval(0);
     lua.run("sim:run(0.1) after = robot:joints()[1].target");
