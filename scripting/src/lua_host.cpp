@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "config_files.h"
+#include "fixed_order.h"
 #include "gaitlab/files.h"
 #include "guard.h"
 #include "hot_reload.h"
@@ -50,10 +51,11 @@ int script_folder_searcher(lua_State* L) {
     });
 }
 
-// what a new host's state starts with: Lua's libraries, the searcher above, and gaitlab as the
-// global `gaitlab`
+// what a new host's state starts with: Lua's libraries with `pairs` and `table.sort` in a fixed
+// order (fixed_order.h), the searcher above, and gaitlab as the global `gaitlab`
 int open_host_libraries(lua_State* L) {
     luaL_openlibs(L);
+    open_fixed_order(L);
     lua_getglobal(L, "package");
     lua_getfield(L, -1, "searchers");
     for (lua_Integer i = static_cast<lua_Integer>(luaL_len(L, -1)); i >= 2; --i) {

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <new>
 
+#include "fixed_order.h"
 #include "guard.h"
 #include "lua_util.h"
 #include "wrap.h"
@@ -213,6 +214,8 @@ void guard_patterns(lua_State* L) {
     for (const char* name : kBaseFunctions) {
         if (std::strcmp(name, "xpcall") == 0) {
             Guard::push_xpcall(L);  // a message handler cannot outlast a spent budget
+        } else if (std::strcmp(name, "pairs") == 0) {
+            lua_pushcfunction(L, fixed_order_pairs);  // also under an interpreter's require
         } else {
             raw_getglobal(L, name);
         }
@@ -234,6 +237,10 @@ void guard_patterns(lua_State* L) {
     for (const char* lib : kLibraries) {
         if (raw_getglobal(L, lib) == LUA_TTABLE) {
             replace_with_copy(L);
+            if (std::strcmp(lib, "table") == 0) {
+                lua_pushcfunction(L, stable_sort);
+                raw_setfield(L, -2, "sort");
+            }
             raw_setfield(L, -2, lib);
         } else {
             lua_pop(L, 1);

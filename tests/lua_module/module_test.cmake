@@ -132,7 +132,9 @@ elseif(STEP STREQUAL "defaults")
         "print and os.exit are the interpreter's\ttrue\ttrue"
         "guarded: xpcall, coroutine.resume, string.find\ttrue\ttrue\ttrue"
         "string.find still finds\t5\t7"
-        "optimize\tdefaults.lua:23: gaitlab.optimize: no optimizer here: call it from a script run by gaitlab run FILE.lua or in the console (gaitlab, gaitlab -i FILE.lua), or run the spec with gaitlab optimize SPEC.lua"
+        "pairs and table.sort are the interpreter's\ttrue\ttrue"
+        "a sandbox's order\tk1,k10,k11 bdac"
+        "optimize\tdefaults.lua:37: gaitlab.optimize: no optimizer here: call it from a script run by gaitlab run FILE.lua or in the console (gaitlab, gaitlab -i FILE.lua), or run the spec with gaitlab optimize SPEC.lua"
         "records only when asked\ttrue"
         "record_dir\truns/defaults-NNNNNNNN-NNNNNN\n")
     if(NOT m_rc EQUAL 0 OR NOT m_out STREQUAL expected)

@@ -170,6 +170,102 @@ TEST_CASE("seed makes math.random reproducible", "[lua_host]") {
     CHECK(draws(1) != draws(2));
 }
 
+TEST_CASE("pairs visits a table's keys in one order, whatever the process or state", "[lua_host]") {
+    // Lua's own next visits string keys in an order seeded from addresses and the clock: two
+    // states, even in one process, disagree. The host's pairs orders them by value.
+    const std::string order = R"(
+        local t = {}
+        for i = 1, 200 do t["key" .. i] = i end
+        local seen = {}
+        for k in pairs(t) do seen[#seen + 1] = k end
+        return table.concat(seen, ",", 1, 5))";
+    LuaFixture one, two;
+    one.run("first = (function() " + order + " end)()");
+    two.run("first = (function() " + order + " end)()");
+    CHECK(one.string("first") == "key1,key10,key100,key101,key102");
+    CHECK(two.string("first") == one.string("first"));
+
+    LuaFixture lua;
+    lua.run(R"(
+        local long = string.rep("x", 60)  -- a long string, which Lua does not intern
+        local t = { 30, 10, b = 1, a = 1, [long .. "b"] = 1, [long .. "a"] = 1, [true] = 1,
+                    [false] = 1, [2.5] = 1, [-7] = 1, ab = 1, [""] = 1 }
+        local seen = {}
+        for k in pairs(t) do
+            seen[#seen + 1] = type(k) == "string" and #k > 50 and k:sub(-1) .. "#" .. #k
+                              or tostring(k)
+        end
+        order = table.concat(seen, " ")
+        -- fields cleared during the loop are passed over, values changed are seen changed
+        local u = { a = 1, b = 2, c = 3, d = 4 }
+        local visited = {}
+        for k, v in pairs(u) do
+            visited[#visited + 1] = k .. v
+            u.c = nil
+            if k == "a" then u.d = 40 end
+        end
+        cleared = table.concat(visited, " ")
+        -- a __pairs metamethod still decides
+        local p = setmetatable({}, { __pairs = function(self)
+            return function(_, k) if not k then return "only", 1 end end, self, nil end })
+        for k, v in pairs(p) do meta = k .. v end
+        empty = 0
+        for _ in pairs({}) do empty = empty + 1 end
+    )");
+    CHECK(lua.string("order") == "-7 1 2 2.5  a ab b a#61 b#61 false true");
+    CHECK(lua.string("cleared") == "a1 b2 d40");
+    CHECK(lua.string("meta") == "only1");
+    CHECK(lua.integer("empty") == 0);
+    CHECK_THAT(lua.error_of("for k in pairs(42) do end"),
+               Catch::Contains("bad argument #1 to 'pairs' (table expected, got number)"));
+}
+
+TEST_CASE(
+    "table.sort keeps equal elements in their order, so a sort's result is the same in "
+    "every run",
+    "[lua_host]") {
+    // Lua's own sort picks pivots from the clock on long arrays: equal elements came out in a
+    // different order from run to run. The host's is a stable merge sort.
+    LuaFixture lua;
+    lua.run(R"(
+        local list = {}
+        for i = 1, 1000 do list[i] = { fitness = (i * 7919) % 13, id = i } end
+        table.sort(list, function(a, b) return a.fitness > b.fitness end)
+        stable = true
+        for i = 2, #list do
+            local a, b = list[i - 1], list[i]
+            if a.fitness < b.fitness or (a.fitness == b.fitness and a.id > b.id) then
+                stable = false
+            end
+        end
+        first = list[1].id .. " " .. list[2].id
+        local words = { "pear", "apple", "fig", "banana", "apple" }
+        table.sort(words)
+        words_sorted = table.concat(words, " ")
+        local numbers = {}
+        for i = 1, 777 do numbers[i] = (i * 104729) % 1009 end
+        table.sort(numbers)
+        ascending = true
+        for i = 2, #numbers do if numbers[i - 1] > numbers[i] then ascending = false end end
+        -- an order function that is no order still ends, with every element still there
+        local any = { 5, 3, 9, 1, 7 }
+        table.sort(any, function() return true end)
+        local sum = 0
+        for _, v in ipairs(any) do sum = sum + v end
+        kept = sum
+    )");
+    CHECK(lua.boolean("stable"));
+    CHECK(lua.string("first") == "6 19");  // the first two of fitness 12, in their order
+    CHECK(lua.string("words_sorted") == "apple apple banana fig pear");
+    CHECK(lua.boolean("ascending"));
+    CHECK(lua.integer("kept") == 25);
+    CHECK_THAT(lua.error_of("table.sort({ 3, 1, 2 }, function(a, b) error('no order') end)"),
+               Catch::Contains("no order"));
+    CHECK_THAT(lua.error_of("table.sort({ 3, {}, 2 })"), Catch::Contains("attempt to compare"));
+    CHECK_THAT(lua.error_of("table.sort(nil)"),
+               Catch::Contains("bad argument #1 to 'sort' (table expected, got nil)"));
+}
+
 TEST_CASE("set_args makes the arg table as lua.c does", "[lua_host]") {
     LuaFixture lua;
     lua.host.set_args("script.lua", {"one", "2", "--three"});
