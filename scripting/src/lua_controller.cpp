@@ -168,23 +168,61 @@ void LuaController::set_methods() {
 
 namespace {
 
-// what the copy of a controller's instance table meets: the controller, the path of the
-// field it is in, and the copies made so far (memo: original -> copy, at index `memo`), so
-// tables shared or cyclic in the original are shared or cyclic in the copy
-struct DeepCopy {
-    lua_State* L;
-    const std::string& controller;
-    int memo;
-
-    [[noreturn]] void refuse(const std::string& path, const std::string& what) const {
-        throw SpecError(fmt::format(
-            "controller '{}' cannot be copied: {} holds {} (only numbers, strings, booleans, "
-            "tables and functions without upvalues can be copied; the copy would share it with "
-            "the original)",
-            controller, path, what));
+// The copy of a controller's instance table, made breadth first with a work list in Lua tables
+// (a linked list of 100 000 nodes is as deep as it is long: a copy that recursed once per level
+// ran out of C stack). Tables shared or cyclic in the original are shared or cyclic in the
+// copy. What cannot be copied is named by its path, rebuilt from the tables it was met in.
+class DeepCopy {
+  public:
+    DeepCopy(lua_State* state, const std::string& controller) : L(state), controller_(controller) {
+        luaL_checkstack(L, 32, "copying a controller");
+        for (int* t : {&memo_, &queue_, &parent_, &key_, &as_key_}) {
+            lua_newtable(L);
+            *t = lua_gettop(L);
+        }
     }
 
-    // how a key shows in a path: self.x, self[3], self["a b"], self[<table>]
+    /// Copies the table at `original`: its fields, and every table they reach, into the table
+    /// at `copy` and new tables. Leaves the stack as it was.
+    void copy_into(int original, int copy) {
+        original = lua_absindex(L, original);
+        copy = lua_absindex(L, copy);
+        lua_pushvalue(L, original);
+        lua_pushvalue(L, copy);
+        lua_rawset(L, memo_);
+        lua_pushvalue(L, original);
+        lua_rawseti(L, queue_, ++queued_);
+        for (lua_Integer next = 1; next <= queued_; ++next) {
+            lua_rawgeti(L, queue_, next);
+            const int from = lua_gettop(L);
+            lua_pushvalue(L, from);
+            lua_rawget(L, memo_);
+            const int to = lua_gettop(L);
+            lua_pushnil(L);
+            while (lua_next(L, from) != 0) {
+                const int key = lua_gettop(L) - 1;
+                push_copy(key, from, key, true);
+                push_copy(key + 1, from, key, false);
+                lua_rawset(L, to);
+                lua_pop(L, 1);  // the value; the key stays for lua_next
+            }
+            // a metatable (a class of methods, typically) is shared, not copied
+            if (from != original && lua_getmetatable(L, from)) lua_setmetatable(L, to);
+            lua_settop(L, from - 1);
+        }
+    }
+
+  private:
+    lua_State* L;
+    const std::string& controller_;
+    int memo_ = 0;    // original table -> its copy
+    int queue_ = 0;   // the originals whose fields are still to copy, in the order met
+    int parent_ = 0;  // original table -> the table it was met in
+    int key_ = 0;     // original table -> the key it was met at
+    int as_key_ = 0;  // original table -> true when it was met as a key
+    lua_Integer queued_ = 0;
+
+    // how a key shows in a path: .x, [3], ["a b"], [<table>]
     std::string key_text(int index) const {
         if (lua_type(L, index) == LUA_TSTRING) {
             size_t n = 0;
@@ -206,8 +244,40 @@ struct DeepCopy {
         return "[<" + std::string(luaL_typename(L, index)) + ">]";
     }
 
-    // pushes the copy of the value at `index`
-    void push(int index, const std::string& path) {
+    // the path of the field at key `key` of table `table`: self.plan.steps[1]
+    std::string path(int table, int key, bool is_key) const {
+        std::string text = key_text(key) + (is_key ? " (a key)" : "");
+        lua_pushvalue(L, table);
+        while (true) {  // from the table up to self, whose parent is none
+            const int t = lua_gettop(L);
+            lua_pushvalue(L, t);
+            if (lua_rawget(L, parent_) == LUA_TNIL) {
+                lua_pop(L, 2);
+                break;
+            }
+            lua_pushvalue(L, t);
+            lua_rawget(L, key_);
+            lua_pushvalue(L, t);
+            const bool met_as_key = lua_rawget(L, as_key_) != LUA_TNIL;
+            text = key_text(-2) + (met_as_key ? " (a key)" : "") + text;
+            lua_pop(L, 2);
+            lua_replace(L, t);  // go on from the parent
+        }
+        return "self" + text;
+    }
+
+    [[noreturn]] void refuse(int table, int key, bool is_key, const std::string& what) const {
+        throw SpecError(fmt::format(
+            "controller '{}' cannot be copied: {} holds {} (only numbers, strings, booleans, "
+            "tables and functions without upvalues can be copied; the copy would share it with "
+            "the original)",
+            controller_, path(table, key, is_key), what));
+    }
+
+    // pushes the copy of the value at `index`, the key `key` (itself when `is_key`) of table
+    // `table`; a table not met before gets an empty copy, filled when its turn in the queue
+    // comes
+    void push_copy(int index, int table, int key, bool is_key) {
         index = lua_absindex(L, index);
         switch (lua_type(L, index)) {
             case LUA_TNIL:
@@ -225,11 +295,13 @@ struct DeepCopy {
                         const char* name = lua_getupvalue(L, index, u);
                         if (!name) break;
                         lua_pop(L, 1);
-                        if (std::string(name) != "_ENV") refuse(path, "a function with upvalues");
+                        if (std::string(name) != "_ENV") {
+                            refuse(table, key, is_key, "a function with upvalues");
+                        }
                     }
                 } else if (lua_getupvalue(L, index, 1)) {
                     lua_pop(L, 1);
-                    refuse(path, "a C function with upvalues");
+                    refuse(table, key, is_key, "a C function with upvalues");
                 }
                 lua_pushvalue(L, index);
                 return;
@@ -237,30 +309,29 @@ struct DeepCopy {
             case LUA_TTABLE:
                 break;
             case LUA_TTHREAD:
-                refuse(path, "a coroutine");
+                refuse(table, key, is_key, "a coroutine");
             default:
-                refuse(path, std::string("a ") + luaL_typename(L, index));
+                refuse(table, key, is_key, std::string("a ") + luaL_typename(L, index));
         }
         lua_pushvalue(L, index);
-        if (lua_rawget(L, memo) != LUA_TNIL) return;  // copied already: the same copy
+        if (lua_rawget(L, memo_) != LUA_TNIL) return;  // met already: the same copy
         lua_pop(L, 1);
-        luaL_checkstack(L, 8, "copying a controller");
         lua_newtable(L);
-        const int copy = lua_gettop(L);
         lua_pushvalue(L, index);
-        lua_pushvalue(L, copy);
-        lua_rawset(L, memo);
-        lua_pushnil(L);
-        while (lua_next(L, index) != 0) {
-            const int key = lua_gettop(L) - 1;
-            const std::string at = path + key_text(key);
-            push(key, at + " (a key)");
-            push(key + 1, at);
-            lua_rawset(L, copy);
-            lua_pop(L, 1);  // the value; the key stays for lua_next
+        lua_pushvalue(L, -2);
+        lua_rawset(L, memo_);
+        for (const auto& [map, value] : {std::pair{parent_, table}, {key_, key}}) {
+            lua_pushvalue(L, index);
+            lua_pushvalue(L, value);
+            lua_rawset(L, map);
         }
-        // a metatable (a class of methods, typically) is shared, not copied
-        if (lua_getmetatable(L, index)) lua_setmetatable(L, copy);
+        if (is_key) {
+            lua_pushvalue(L, index);
+            lua_pushboolean(L, 1);
+            lua_rawset(L, as_key_);
+        }
+        lua_pushvalue(L, index);
+        lua_rawseti(L, queue_, ++queued_);
     }
 };
 
@@ -273,26 +344,14 @@ LuaController::LuaController(const LuaController& o)
         luaL_checkstack(L, 8, "copying a controller");
         const int top = lua_gettop(L);
         try {
-            lua_newtable(L);  // the memo of copies
-            DeepCopy copy{L, name(), lua_gettop(L)};
+            DeepCopy copy(L, name());
             lua_rawgeti(L, LUA_REGISTRYINDEX, o.self_ref_);
             const int self = lua_gettop(L);
             // the instance table itself: its fields copied, its methods made anew for this
             // controller (the original's reach the original)
             lua_newtable(L);
             const int mine = lua_gettop(L);
-            lua_pushvalue(L, self);
-            lua_pushvalue(L, mine);
-            lua_rawset(L, copy.memo);
-            lua_pushnil(L);
-            while (lua_next(L, self) != 0) {
-                const int key = lua_gettop(L) - 1;
-                const std::string at = "self" + copy.key_text(key);
-                copy.push(key, at + " (a key)");
-                copy.push(key + 1, at);
-                lua_rawset(L, mine);
-                lua_pop(L, 1);
-            }
+            copy.copy_into(self, mine);
             lua_settop(L, mine);
             set_methods();
             self_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);

@@ -170,6 +170,73 @@ TEST_CASE("one world builds several simulations", "[clone]") {
     CHECK(lua.boolean("robot:position() == c:robot('snake'):position()"));
 }
 
+TEST_CASE("clone: a Lua controller's tables are copied however deep they nest", "[clone]") {
+    // a linked list of 200 000 nodes is as deep as it is long: a copy that recursed once per
+    // level ran out of C stack and crashed the process
+    LuaFixture lua;
+    lua.run(R"(
+        Deep = gaitlab.controller{ name = "deep", values = { "length", "step" },
+          step = function(self)
+            if not self.list then
+              local head = { n = 1 }
+              local node = head
+              for i = 2, 200000 do node.next = { n = i }; node = node.next end
+              node.next = head  -- and round again: a cycle 200 000 long
+              self.list, self.tail = head, node
+            end
+            -- the list as the copy sees it: its length round the cycle, and the tail the same
+            -- table as the last node; each step moves the head one on
+            local n, node = 1, self.list
+            while node.next ~= self.list do n = n + 1; node = node.next end
+            for m = 1, self.joints do
+              self.length[m] = (node == self.tail) and n or -n
+              self.step[m] = self.list.n
+              self:set_angle(m, 0)
+            end
+            self.tail, self.list = self.list, self.list.next
+          end }
+        r = gaitlab.robot.chain{ name = "r", modules = 2 }
+        w = gaitlab.world()
+        w:add(r)
+        r:group("all"):drive(Deep{})
+        s = gaitlab.simulation{ world = w, control_every = 1 }
+        s:step(3)
+        c = s:clone()
+        c:step(2)
+        mine = c:robot("r"):controllers()[1]:values()
+        theirs = s:robot("r"):controllers()[1]:values()
+    )");
+    CHECK(lua.number("mine.length[1]") == 200000);
+    CHECK(lua.number("mine.step[1]") == 5);    // the copy went on from where the original was
+    CHECK(lua.number("theirs.step[1]") == 3);  // and the original stayed there
+    lua.run("s:step(1) theirs = s:robot('r'):controllers()[1]:values()");
+    CHECK(lua.number("theirs.step[1]") == 4);
+
+    // what cannot be copied is still named by its path, however deep
+    lua.run(R"(
+        Holder = gaitlab.controller{ name = "holder",
+          step = function(self)
+            if not self.chain then
+              local node = {}
+              self.chain = node
+              for i = 1, 1000 do node.next = {}; node = node.next end
+              node[{ "as key" }] = { co = coroutine.create(function() end) }
+            end
+            for m = 1, self.joints do self:set_angle(m, 0) end
+          end }
+        r2 = gaitlab.robot.chain{ name = "r2", modules = 2 }
+        w2 = gaitlab.world()
+        w2:add(r2)
+        r2:group("all"):drive(Holder{})
+        s2 = gaitlab.simulation{ world = w2 }
+        s2:step(1)
+    )");
+    const std::string message = lua.error_of("s2:clone()");
+    CHECK_THAT(message, Catch::StartsWith("test:1: controller 'holder' cannot be copied: "
+                                          "self.chain.next.next.next"));
+    CHECK_THAT(message, Catch::Contains(".next.next[<table>].co holds a coroutine"));
+}
+
 TEST_CASE("clone: bad uses", "[clone]") {
     LuaFixture lua;
     lua.run(kSetUp);
