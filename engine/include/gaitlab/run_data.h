@@ -124,13 +124,20 @@ class RunData {
     /// log.txt ("" if missing).
     std::string log() const;
 
-    /// Writes "time,<names...>" and the rows in [from, to] as CSV; throws IoError.
+    /// Throws IoError naming the file if writing `path` would replace one of this run's own
+    /// files (run.json, series.csv, data.csv, events.csv, log.txt) or write into its config/,
+    /// whatever link or alias leads there. Every export and plot of the run checks its files.
+    void refuse_own(const std::string& path) const;
+
+    /// Writes "time,<names...>" and the rows in [from, to] as CSV; throws IoError (also for a
+    /// path refuse_own refuses).
     void write_csv(const std::string& path, const std::vector<std::string>& names,
                    double from = -kInf, double to = kInf) const;
 
     /// Writes each series into a file of its own in `dir` (made if missing), named by
     /// series_file_names, with "time,<name>" and the rows in [from, to]; returns the files in
-    /// the order of `names`. Throws IoError.
+    /// the order of `names`. Throws IoError (also, before writing anything, for a file
+    /// refuse_own refuses).
     std::vector<std::string> write_split(const std::string& dir,
                                          const std::vector<std::string>& names, double from = -kInf,
                                          double to = kInf) const;

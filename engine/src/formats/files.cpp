@@ -133,8 +133,14 @@ void write_file_atomic(const std::string& path, std::string_view text, MissingFo
     // a temporary name of this process and call: two writers of one path never share it, and
     // O_EXCL never follows a link someone left at that name; messages name `path`, never it
     static std::atomic<unsigned> counter{0};
-    const std::string tmp =
-        fmt::format("{}.tmp-{}-{}", target, static_cast<long>(::getpid()), counter++);
+    const std::string suffix = fmt::format(".tmp-{}-{}", static_cast<long>(::getpid()), counter++);
+    // a name near the file system's 255 bytes is cut to leave room for the suffix (bytes, not
+    // characters: the name lives for one rename)
+    const std::filesystem::path t(target);
+    std::string name = t.filename().string();
+    constexpr size_t kMaxName = 255;
+    if (name.size() + suffix.size() > kMaxName) name.resize(kMaxName - suffix.size());
+    const std::string tmp = (t.parent_path() / (name + suffix)).string();
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
     if (fd < 0) throw WriteError(path, reason(errno));
     const auto fail = [&](int e) {

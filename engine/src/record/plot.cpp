@@ -241,6 +241,8 @@ PlotFiles plot(const RunData& run, const PlotOptions& o) {
     files.png = o.output;
     files.script = (png.parent_path() / (png.stem().string() + ".gp")).string();
     files.data = (png.parent_path() / (png.stem().string() + ".csv")).string();
+    for (const std::string& f : {files.png, files.script, files.data})
+        run.refuse_own(f);
     std::error_code ec;
     if (!png.parent_path().empty()) fs::create_directories(png.parent_path(), ec);
     run.write_csv(files.data, names, o.from, o.to);

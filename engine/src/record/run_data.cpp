@@ -712,8 +712,28 @@ std::string csv_text(const std::vector<std::string>& names, const SeriesData* d,
 
 }  // namespace
 
+void RunData::refuse_own(const std::string& path) const {
+    std::error_code ec;
+    const fs::path target = fs::weakly_canonical(fs::absolute(path, ec), ec);
+    const fs::path folder = fs::weakly_canonical(fs::absolute(dir_, ec), ec);
+    if (target.empty() || folder.empty()) return;  // unresolvable: the write itself will say
+    const fs::path relative = target.lexically_relative(folder);
+    if (relative.empty() || *relative.begin() == "..") return;
+    const std::string first = relative.begin()->string();
+    const bool own =
+        first == "config" || (std::next(relative.begin()) == relative.end() &&
+                              (first == "run.json" || first == "series.csv" ||
+                               first == "data.csv" || first == "events.csv" || first == "log.txt"));
+    if (own) {
+        throw IoError(fmt::format(
+            "cannot write {}: it is {} of the run {} being read (write it elsewhere)", path,
+            first == "config" ? "in the config/ folder" : "one of the files", dir_));
+    }
+}
+
 void RunData::write_csv(const std::string& path, const std::vector<std::string>& names, double from,
                         double to) const {
+    refuse_own(path);
     const std::vector<SeriesData> d = get(names, from, to);
     write_file_atomic(path, csv_text(names, d.data(), d.size()));
 }
@@ -723,10 +743,12 @@ std::vector<std::string> RunData::write_split(const std::string& dir,
                                               double to) const {
     for (const std::string& n : names)
         find(n);  // unknown names fail before anything is written
+    const std::vector<std::string> files = series_file_names(names);
+    for (const std::string& f : files)
+        refuse_own((fs::path(dir) / f).string());
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) throw IoError(fmt::format("cannot create folder {}: {}", dir, ec.message()));
-    const std::vector<std::string> files = series_file_names(names);
     std::vector<std::string> written;
     // a few hundred series per pass over data.csv: few passes, bounded memory
     constexpr size_t kBatch = 256;

@@ -87,6 +87,22 @@ TEST_CASE("atomic writes replace regular files only, and keep links", "[files]")
     CHECK(read_file(tmp / "real.txt") == "two");
 }
 
+TEST_CASE("atomic writes of names as long as the file system allows", "[files]") {
+    // the temporary name beside the file was the name plus ".tmp-PID-N": a name of 240 bytes or
+    // more could not be written at all ("File name too long")
+    TempDir tmp("files_atomic_long");
+    for (const size_t length : {240, 250, 255}) {
+        const std::string path = tmp / std::string(length, 'n');
+        write_file_atomic(path, "long " + std::to_string(length));
+        CHECK(read_file(path) == "long " + std::to_string(length));
+        write_file_atomic(path, "again");
+        CHECK(read_file(path) == "again");
+    }
+    // nothing else is left in the folder
+    CHECK(std::distance(std::filesystem::directory_iterator(tmp.path),
+                        std::filesystem::directory_iterator()) == 3);
+}
+
 TEST_CASE("writes may create the missing folders above the file, and say which one failed",
           "[files]") {
     TempDir tmp("files_folders");

@@ -16,6 +16,7 @@
 
 #include "engine/sim_support.h"
 #include "gaitlab/error.h"
+#include "gaitlab/plot.h"
 #include "gaitlab/recorder.h"
 #include "gaitlab/run_data.h"
 #include "temp_dir.h"
@@ -478,4 +479,37 @@ TEST_CASE("a split export of hostile names writes inside its folder only", "[run
     CHECK_THAT(read_text(files[0]), Catch::StartsWith("time,../../x.com.x\n0,"));
     CHECK_THROWS_WITH(run.get("../../x.com.x", std::nan(""), 1),
                       "the time range must be numbers (got nan to 1)");
+}
+
+TEST_CASE("exports and plots never write over the run they read", "[run_data]") {
+    // `gaitlab data RUN --csv RUN/data.csv` replaced the run's data with the export, and
+    // `--plot RUN/data.png` did the same through the plot's data file beside the PNG
+    TempDir tmp("run_data_own");
+    const std::string dir = test::record_run(tmp / "run", 1);
+    const RunData run(dir);
+    const std::string data = read_text(tmp / "run/data.csv");
+    fs::create_symlink(tmp / "run", tmp / "alias");
+    for (const std::string& own :
+         {tmp / "run/data.csv", tmp / "run/series.csv", tmp / "run/run.json",
+          tmp / "run/events.csv", tmp / "run/log.txt", tmp / "run/config/anything.csv",
+          tmp / "alias/data.csv", tmp / "run/../run/./series.csv"}) {
+        INFO(own);
+        CHECK_THROWS_WITH(run.write_csv(own, {"snake.com.x"}),
+                          Catch::StartsWith("cannot write " + own + ": it is") &&
+                              Catch::Contains("of the run " + dir + " being read"));
+    }
+    PlotOptions o;
+    o.series = {"snake.com.x"};
+    o.output = tmp / "run/data.png";
+    CHECK_THROWS_WITH(plot(run, o), Catch::StartsWith("cannot write " + tmp / "run/data.csv"));
+    CHECK_FALSE(fs::exists(tmp / "run/data.png"));
+    // a series whose file name would be one of the run's: refused before the folder is made
+    CHECK_THROWS_WITH(run.write_split(tmp / "run/config/split", {"snake.com.x"}),
+                      Catch::Contains("in the config/ folder"));
+    CHECK_FALSE(fs::exists(tmp / "run/config/split"));
+    CHECK(read_text(tmp / "run/data.csv") == data);
+    CHECK(RunData(dir).rows() == run.rows());
+    // beside the run's files is fine
+    run.write_csv(tmp / "run/com.csv", {"snake.com.x"});
+    CHECK_THAT(read_text(tmp / "run/com.csv"), Catch::StartsWith("time,snake.com.x\n"));
 }
