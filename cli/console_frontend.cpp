@@ -2,9 +2,10 @@
 
 #include <poll.h>
 #include <sys/ioctl.h>
+#include <termios.h>
 #include <unistd.h>
 
-#include <editline/readline.h>
+#include <histedit.h>
 
 #include <algorithm>
 #include <cctype>
@@ -16,6 +17,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <stdexcept>
 #include <system_error>
 
 namespace gaitlab::cli {
@@ -26,26 +28,29 @@ namespace fs = std::filesystem;
 
 volatile std::sig_atomic_t g_prompt_interrupted = 0;
 
-// the LineInput libedit works for (its readline interface keeps global state)
-LineInput* g_terminal = nullptr;
+// The terminal side is libedit's own interface (histedit.h), not its readline emulation: the
+// emulation's rl_line_buffer keeps pointing at the line's first buffer after libedit has
+// reallocated it for a line of more than about a thousand bytes, and every key after that
+// wrote into freed memory (a pasted line of 3000 characters aborted the console). Here the
+// line is read through el_line each time it is needed, never kept.
+EditLine* g_el = nullptr;
+History* g_history = nullptr;
+const std::string* g_prompt = nullptr;  // the prompt libedit draws
 std::function<std::vector<std::string>(std::string_view)>* g_complete = nullptr;
 
-// the line libedit handed over, and whether it did
-struct Handed {
-    bool done = false;
-    bool eof = false;
-    std::string text;
-} g_handed;
+extern "C" char* prompt_text(EditLine*) {
+    return const_cast<char*>(g_prompt ? g_prompt->c_str() : "");
+}
 
-extern "C" void on_line(char* line) {
-    g_handed.done = true;
-    g_handed.eof = line == nullptr;
-    if (line) {
-        g_handed.text = line;
-        std::free(line);
+// the text of the line being edited, and the cursor's offset in it
+std::string line_text(std::size_t* cursor = nullptr) {
+    const LineInfo* li = el_line(g_el);
+    if (!li || !li->buffer) {
+        if (cursor) *cursor = 0;
+        return {};
     }
-    // no prompt while the line runs: libedit gives the terminal back (cooked mode)
-    rl_callback_handler_remove();
+    if (cursor) *cursor = static_cast<std::size_t>(li->cursor - li->buffer);
+    return std::string(li->buffer, static_cast<std::size_t>(li->lastchar - li->buffer));
 }
 
 double now_seconds() {
@@ -53,55 +58,54 @@ double now_seconds() {
     return duration<double>(steady_clock::now().time_since_epoch()).count();
 }
 
-char* dup(const std::string& s) {
-    char* p = static_cast<char*>(std::malloc(s.size() + 1));
-    if (p) std::memcpy(p, s.c_str(), s.size() + 1);
-    return p;
-}
+size_t terminal_columns();
 
-// libedit's completion: the candidates of the text before the cursor, as readline wants them
-// ([0] what replaces the word: their longest common prefix, then each candidate, then NULL)
-extern "C" char** attempt_completion(const char* text, int start, int end) {
-    rl_attempted_completion_over = 1;  // never file names
-    rl_completion_append_character = '\0';
-    if (!g_complete || !*g_complete || end < start) return nullptr;
-    const std::string before(rl_line_buffer, static_cast<size_t>(end));
+// Tab: the candidates of the text before the cursor (Options::complete), each replacing the
+// trailing word (letters, digits, '_', '.' and ':': robot:gr, gaitlab.sim). One candidate, or
+// a longer common beginning, is put in; otherwise the candidates are listed below the line.
+extern "C" unsigned char complete_word(EditLine*, int) {
+    if (!g_complete || !*g_complete) return CC_ERROR;
+    std::size_t cursor = 0;
+    const std::string before = line_text(&cursor).substr(0, cursor);
     std::vector<std::string> found;
     try {
         found = (*g_complete)(before);
     } catch (const std::exception&) {
-        return nullptr;
+        return CC_ERROR;
     }
-    // the candidates replace the word complete() saw; libedit replaces `text`
-    (void)text;
-    const size_t ws = static_cast<size_t>(start);
-    size_t ours = before.size();
-    while (ours > 0 &&
-           (std::isalnum(static_cast<unsigned char>(before[ours - 1])) || before[ours - 1] == '_' ||
-            before[ours - 1] == '.' || before[ours - 1] == ':'))
-        --ours;
-    std::vector<std::string> matches;
+    if (found.empty()) return CC_ERROR;
+    size_t word = before.size();
+    while (word > 0 &&
+           (std::isalnum(static_cast<unsigned char>(before[word - 1])) || before[word - 1] == '_' ||
+            before[word - 1] == '.' || before[word - 1] == ':'))
+        --word;
+    const std::string typed = before.substr(word);
+    std::string common = found.front();
     for (const std::string& f : found) {
-        if (ours >= ws) {
-            matches.push_back(before.substr(ws, ours - ws) + f);
-        } else if (f.size() >= ws - ours) {
-            matches.push_back(f.substr(ws - ours));
-        }
-    }
-    if (matches.empty()) return nullptr;
-    std::string common = matches.front();
-    for (const std::string& m : matches) {
         size_t n = 0;
-        while (n < common.size() && n < m.size() && common[n] == m[n])
+        while (n < common.size() && n < f.size() && common[n] == f[n])
             ++n;
         common.resize(n);
     }
-    char** out = static_cast<char**>(std::calloc(matches.size() + 2, sizeof(char*)));
-    if (!out) return nullptr;
-    out[0] = dup(matches.size() == 1 ? matches.front() : common);
-    for (size_t i = 0; i < matches.size() && matches.size() > 1; ++i)
-        out[i + 1] = dup(matches[i]);
-    return out;
+    if (found.size() == 1 || common.size() > typed.size()) {
+        el_deletestr(g_el, static_cast<int>(typed.size()));
+        el_insertstr(g_el, (found.size() == 1 ? found.front() : common).c_str());
+        return CC_REFRESH;
+    }
+    // nothing to add: the candidates in columns under the line, then the line again
+    size_t width = 0;
+    for (const std::string& f : found)
+        width = std::max(width, f.size() + 2);
+    const size_t per_row = std::max<size_t>(1, terminal_columns() / width);
+    std::string list = "\n";
+    for (size_t i = 0; i < found.size(); ++i) {
+        list += found[i];
+        const bool last = (i + 1) % per_row == 0 || i + 1 == found.size();
+        list += last ? std::string("\n") : std::string(width - found[i].size(), ' ');
+    }
+    std::fwrite(list.data(), 1, list.size(), stdout);
+    std::fflush(stdout);
+    return CC_REDISPLAY;
 }
 
 // columns `text` takes on the screen as libedit draws it: UTF-8 sequences one, control
@@ -126,10 +130,7 @@ size_t display_columns(std::string_view text, size_t column) {
 size_t terminal_columns() {
     winsize ws{};
     if (::ioctl(STDOUT_FILENO, TIOCGWINSZ, &ws) == 0 && ws.ws_col > 0) return ws.ws_col;
-    int rows = 0;
-    int cols = 0;
-    rl_get_screen_size(&rows, &cols);
-    return cols > 0 ? static_cast<size_t>(cols) : 80;
+    return 80;
 }
 
 }  // namespace
@@ -150,19 +151,32 @@ void LineInput::interrupt_prompt() {
 LineInput::LineInput(Options options) : options_(std::move(options)) {
     next_idle_ = now_seconds();
     if (!options_.terminal) return;
-    g_terminal = this;
     g_complete = &options_.complete;
+    g_prompt = &prompt_;
+    g_el = el_init("gaitlab", stdin, stdout, stderr);
+    g_history = history_init();
+    if (!g_el || !g_history) throw std::runtime_error("cannot start the line editor (libedit)");
+    HistEvent event;
+    history(g_history, &event, H_SETSIZE, 1000);
+    el_set(g_el, EL_HIST, history, g_history);
+    el_set(g_el, EL_EDITOR, "emacs");
     // gaitlab's own handlers take the signals (Ctrl-C at the prompt, SIGTERM ...)
-    rl_catch_signals = 0;
-    rl_readline_name = "gaitlab";
-    // '.' and ':' are part of the word completed (robot:gr, gaitlab.sim)
-    static char breaks[] = " \t\n\"\\'`@$><=;|&{(,+-*/%^~#[])}";
-    rl_basic_word_break_characters = breaks;
-    rl_completer_word_break_characters = breaks;
-    rl_attempted_completion_function = attempt_completion;
-    rl_initialize();
-    using_history();
-    stifle_history(1000);
+    el_set(g_el, EL_SIGNAL, 0);
+    el_set(g_el, EL_PROMPT, prompt_text);
+    el_set(g_el, EL_ADDFN, "gaitlab-complete", "complete the name before the cursor",
+           complete_word);
+    el_set(g_el, EL_BIND, "^I", "gaitlab-complete", nullptr);
+    // the keys a terminal's Home, End and Delete send, and Ctrl-R searching back
+    for (const char* home : {"\\e[1~", "\\e[7~", "\\e[H", "\\eOH"})
+        el_set(g_el, EL_BIND, home, "ed-move-to-beg", nullptr);
+    for (const char* end : {"\\e[4~", "\\e[8~", "\\e[F", "\\eOF"})
+        el_set(g_el, EL_BIND, end, "ed-move-to-end", nullptr);
+    el_set(g_el, EL_BIND, "\\e[3~", "ed-delete-next-char", nullptr);
+    el_set(g_el, EL_BIND, "^R", "em-inc-search-prev", nullptr);
+    el_source(g_el, nullptr);  // the user's ~/.editrc (lines for all programs or "gaitlab:")
+    termios tty{};
+    if (::tcgetattr(0, &tty) == 0 && tty.c_cc[VEOF] != 0)
+        eof_char_ = static_cast<char>(tty.c_cc[VEOF]);
     if (!options_.history_file.empty()) {
         std::error_code ec;
         fs::create_directories(fs::path(options_.history_file).parent_path(), ec);
@@ -173,12 +187,12 @@ LineInput::LineInput(Options options) : options_(std::move(options)) {
             return;
         }
         errno = 0;
-        const int r = read_history(options_.history_file.c_str());
+        const int r = history(g_history, &event, H_LOAD, options_.history_file.c_str());
         // a first session has no history yet
         const bool missing = ::access(options_.history_file.c_str(), F_OK) != 0;
-        if (r != 0 && !missing && options_.warn) {
+        if (r == -1 && !missing && options_.warn) {
             options_.warn("cannot read the history " + options_.history_file + ": " +
-                          std::strerror(r > 0 ? r : (errno ? errno : EIO)));
+                          std::strerror(errno ? errno : EIO));
         }
         history_ok_ = true;
     }
@@ -186,26 +200,31 @@ LineInput::LineInput(Options options) : options_(std::move(options)) {
 
 LineInput::~LineInput() {
     if (!options_.terminal) return;
-    if (prompting_) rl_callback_handler_remove();
+    if (prompting_) el_set(g_el, EL_UNBUFFERED, 0);
     save_history();
-    g_terminal = nullptr;
+    el_end(g_el);  // the terminal as it was
+    history_end(g_history);
+    g_el = nullptr;
+    g_history = nullptr;
     g_complete = nullptr;
+    g_prompt = nullptr;
 }
 
 void LineInput::save_history() {
     if (!history_ok_) return;
     errno = 0;
-    const int r = write_history(options_.history_file.c_str());
-    if (r != 0 && options_.warn) {
+    HistEvent event;
+    if (history(g_history, &event, H_SAVE, options_.history_file.c_str()) == -1 && options_.warn) {
         options_.warn("cannot write the history " + options_.history_file + ": " +
-                      std::strerror(r > 0 ? r : (errno ? errno : EIO)));
+                      std::strerror(errno ? errno : EIO));
     }
 }
 
 void LineInput::add_history(const std::string& entry) {
     if (!options_.terminal || entry.empty()) return;
     // a NUL would cut the entry: libedit keeps C strings
-    ::add_history(entry.substr(0, entry.find('\0')).c_str());
+    HistEvent event;
+    history(g_history, &event, H_ENTER, entry.substr(0, entry.find('\0')).c_str());
 }
 
 int LineInput::idle_wait() {
@@ -275,28 +294,22 @@ LineInput::Line LineInput::read_plain() {
 }
 
 LineInput::Line LineInput::read_terminal(const char* prompt) {
-    g_handed = Handed{};
     g_prompt_interrupted = 0;
     prompt_ = prompt;
-    rl_callback_handler_install(prompt, on_line);
+    // a key at a time (el_gets returns after each), the terminal in raw mode, the prompt drawn
+    el_set(g_el, EL_UNBUFFERED, 1);
     prompting_ = true;
+    // the terminal back as it was (cooked) while the line runs
+    const auto done = [this] {
+        el_set(g_el, EL_UNBUFFERED, 0);
+        prompting_ = false;
+    };
     for (;;) {
-        if (g_handed.done) {
-            prompting_ = false;
-            if (g_handed.eof) {
-                // Ctrl-D: leave the prompt's line
-                std::fputs("\n", stdout);
-                std::fflush(stdout);
-                return {Line::Kind::end, {}};
-            }
-            return {Line::Kind::text, g_handed.text};
-        }
         if (g_prompt_interrupted) {
             g_prompt_interrupted = 0;
-            // what was typed stays on the screen, ended by ^C, and goes
-            rl_replace_line("", 0);
-            rl_callback_handler_remove();
-            prompting_ = false;
+            // what was typed stays on the screen, ended by ^C, and goes (the next prompt starts
+            // an empty line)
+            done();
             std::fputs("^C\n", stdout);
             std::fflush(stdout);
             return {Line::Kind::interrupted, {}};
@@ -304,20 +317,30 @@ LineInput::Line LineInput::read_terminal(const char* prompt) {
         pollfd p{0, POLLIN, 0};
         const int r = ::poll(&p, 1, idle_wait());
         if (r < 0 && errno != EINTR) {
-            rl_callback_handler_remove();
-            prompting_ = false;
+            done();
             return {Line::Kind::end, {}};
         }
-        if (r > 0) {
-            if (p.revents & POLLIN) {
-                rl_callback_read_char();
-            } else {
-                // the terminal went away (POLLHUP, POLLERR)
-                rl_callback_handler_remove();
-                prompting_ = false;
-                return {Line::Kind::end, {}};
-            }
+        if (r <= 0) continue;
+        if (p.revents & (POLLHUP | POLLERR | POLLNVAL)) {
+            // the terminal went away
+            done();
+            return {Line::Kind::end, {}};
         }
+        int count = 0;
+        const char* got = el_gets(g_el, &count);
+        if (!got) continue;  // the line is empty (a key deleted the last character)
+        // el_gets hands over the line so far after every key: a line is complete when it ends
+        // in a newline; the terminal's end-of-file character alone is Ctrl-D at an empty prompt
+        const std::string_view line(got, static_cast<size_t>(std::max(count, 0)));
+        const bool complete = !line.empty() && (line.back() == '\n' || line.back() == '\r');
+        const bool eof = line.size() == 1 && line[0] == eof_char_;
+        if (!complete && !eof) continue;
+        std::string text(line.substr(0, complete ? line.size() - 1 : 0));
+        done();
+        if (complete) return {Line::Kind::text, std::move(text)};
+        std::fputs("\n", stdout);
+        std::fflush(stdout);
+        return {Line::Kind::end, {}};
     }
 }
 
@@ -330,13 +353,10 @@ void LineInput::write(std::FILE* stream, const std::string& text) {
     // clear the prompt and the typed text from the row where they start (a long line wraps onto
     // several rows, and the cursor is on the row of its position in the text), write there,
     // then draw the prompt and the typed text again below
-    const size_t point = rl_line_buffer ? std::min(static_cast<size_t>(std::max(rl_point, 0)),
-                                                   std::strlen(rl_line_buffer))
-                                        : 0;
+    size_t point = 0;
+    const std::string typed = line_text(&point);
     const size_t before = display_columns(prompt_, 0);
-    const size_t at =
-        before +
-        display_columns(std::string_view(rl_line_buffer ? rl_line_buffer : "", point), before);
+    const size_t at = before + display_columns(std::string_view(typed).substr(0, point), before);
     const size_t row = at / terminal_columns();
     std::fflush(stdout);
     std::fputs("\r", stdout);
@@ -346,7 +366,7 @@ void LineInput::write(std::FILE* stream, const std::string& text) {
     std::fwrite(text.data(), 1, text.size(), stream);
     if (!text.empty() && text.back() != '\n') std::fputc('\n', stream);
     std::fflush(stream);
-    rl_forced_update_display();
+    el_set(g_el, EL_REFRESH);
 }
 
 }  // namespace gaitlab::cli

@@ -73,6 +73,7 @@ class LineInput {
     std::string prompt_;      // the prompt on the screen
     double next_idle_ = 0;    // monotonic seconds when the idle hook is due
     bool history_ok_ = false;
+    char eof_char_ = '\x04';  // the terminal's end-of-file character (Ctrl-D)
 };
 
 /// $XDG_STATE_HOME/gaitlab/history, or ~/.local/state/gaitlab/history ("" when neither

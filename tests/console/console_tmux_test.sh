@@ -61,6 +61,24 @@ wait_for '^advanced +true +false$' "the simulation running on"
 keys C-d
 wait_exit 0
 
+# --- a pasted line of 5000 characters, recalled and edited: the line editor's buffer grows
+# (libedit's readline emulation wrote into its freed first buffer past about 1000 bytes, and a
+# paste of 3100 characters aborted the console)
+start console --no-record
+awk 'BEGIN { printf "long = \""; for (i = 0; i < 5000; i++) printf "a"; printf "\"" }' > long.txt
+tmux -L "$sock" load-buffer long.txt
+tmux -L "$sock" paste-buffer
+keys Enter
+line '=#long'
+wait_for '^5000$' "the length of the pasted string"
+keys Up Up C-e BSpace BSpace
+type_text 'b"'
+keys Enter
+line '=long:sub(-3), #long'
+wait_for '^aab +5000$' "the recalled line, edited at its end"
+keys C-d
+wait_exit 0
+
 # --- -i FILE.lua: its globals stay; a typed change is recorded with origin console; Ctrl-D
 # closes the recording as finished
 cat > walk.lua <<'EOF'
