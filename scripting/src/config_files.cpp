@@ -302,6 +302,13 @@ void save_simulation(const std::string& path, const WorldBinding& world,
                      const std::string& simulation_name, const RecordSpec& record) {
     const fs::path master(path);
     const std::string stem = master.stem().string();
+    // the parts are named after the file: a name without a stem ("", ".", "dir/") would make
+    // hidden files (".environment.xml") beside a folder
+    if (stem.empty() || stem == "." || stem == ".." || master.filename().empty()) {
+        throw WriteError(path,
+                         "a file name expected, as in walk.xml (its parts are named "
+                         "walk.environment.xml, walk.ROBOT.robot.xml ...)");
+    }
     const auto next_to = [&](const std::string& name) {
         return (master.parent_path() / name).string();
     };
@@ -311,28 +318,27 @@ void save_simulation(const std::string& path, const WorldBinding& world,
     file.duration = duration;
     file.record = record;
     file.environment = stem + ".environment.xml";
-    // every part is built and checked before the first file is written
-    const EnvironmentSpec env = environment_of(world);
-    std::vector<std::pair<std::string, RobotSpec>> robots;
-    std::vector<std::pair<std::string, ActuationSpec>> actuations;
+    // every part is built and checked, then every file written at once (write_files_atomic):
+    // a save that fails leaves every file as it was
+    std::vector<std::pair<std::string, std::string>> files;
     std::set<std::string> taken;
     for (const WorldBinding::Entry& e : world.robots) {
         // the robot's name names its files only once it cannot leave the folder
         const std::string name = file_name_part(e.robot->spec.name, taken);
         RobotEntry entry;
         entry.robot = stem + "." + name + ".robot.xml";
-        robots.emplace_back(next_to(entry.robot), e.robot->spec);
-        format_robot(e.robot->spec);
+        files.emplace_back(next_to(entry.robot), format_robot(e.robot->spec));
         if (!e.robot->drives.empty()) {
             entry.actuation = stem + "." + name + ".actuation.xml";
             const std::string act_path = next_to(entry.actuation);
-            actuations.emplace_back(act_path, relative_to(actuation_of(*e.robot), act_path));
-            format_actuation(actuations.back().second);
+            files.emplace_back(act_path,
+                               format_actuation(relative_to(actuation_of(*e.robot), act_path)));
         }
         file.robots.push_back(entry);
     }
-    format_environment(env, next_to(file.environment));
-    format_simulation(file);
+    const std::string env_path = next_to(file.environment);
+    files.emplace_back(env_path, format_environment(environment_of(world), env_path));
+    files.emplace_back(path, format_simulation(file));
     create_folders_above(path);
     // a folder that cannot be written to fails the save as a whole, not its first part
     const std::string folder =
@@ -340,20 +346,13 @@ void save_simulation(const std::string& path, const WorldBinding& world,
     if (::access(folder.c_str(), W_OK | X_OK) != 0) {
         throw WriteError(path, std::generic_category().message(errno));
     }
-    // a part that fails is named with the file asked for, so the message says which save it was
-    const auto part = [&](const std::string& p, const auto& write) {
-        try {
-            write();
-        } catch (const WriteError& e) {
-            throw WriteError(path, e.reason(), e.folder(), p);
-        }
-    };
-    for (const auto& r : robots)
-        part(r.first, [&] { write_robot(r.first, r.second); });
-    for (const auto& a : actuations)
-        part(a.first, [&] { write_actuation(a.first, a.second); });
-    part(next_to(file.environment), [&] { write_environment(next_to(file.environment), env); });
-    write_simulation(path, file);
+    try {
+        write_files_atomic(files);
+    } catch (const WriteError& e) {
+        // a part that fails is named with the file asked for: the message says which save
+        if (e.path() == path) throw;
+        throw WriteError(path, e.reason(), e.folder(), e.path());
+    }
 }
 
 }  // namespace gaitlab::scripting

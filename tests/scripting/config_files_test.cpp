@@ -486,6 +486,45 @@ TEST_CASE("saves make the folders they need and name the file as the script gave
     }
 }
 
+TEST_CASE("a save that fails changes nothing on disk", "[config_files][save]") {
+    // the parts were written one by one before the simulation file: a simulation file that
+    // could not be written (a folder of that name) still replaced the user's robot file beside it
+    TempDir dir("save_all_or_none");
+    namespace fs = std::filesystem;
+    fs::create_directories(dir.file("walk.xml"));
+    gaitlab::test::write_text(dir.file("walk.snake.robot.xml"), "my own robot file");
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.path.string() + "'");
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
+        robot:group("pitch"):drive(gaitlab.controllers.sine{})
+        world = gaitlab.world()
+        world:add(robot)
+        sim = gaitlab.simulation{ world = world }
+        local function both(...) return { ... } end
+        folder = both(sim:save(DIR .. "/walk.xml"))
+        empty = both(sim:save(""))
+        dot = both(sim:save(DIR .. "/."))
+        slash = both(sim:save(DIR .. "/sub/"))
+    )");
+    CHECK(lua.boolean("folder[1] == nil"));
+    CHECK(lua.string("folder[2]") == "cannot write " + dir.file("walk.xml") + ": is a directory");
+    CHECK(gaitlab::test::read_text(dir.file("walk.snake.robot.xml")) == "my own robot file");
+    for (const char* name : {"empty", "dot", "slash"}) {
+        INFO(name);
+        CHECK(lua.boolean(std::string(name) + "[1] == nil"));
+        CHECK_THAT(lua.string(std::string(name) + "[2]"),
+                   Catch::Contains(": a file name expected, as in walk.xml"));
+    }
+    // nothing else was made: no parts, no hidden files, no temporary files
+    std::vector<std::string> left;
+    for (const auto& e : fs::recursive_directory_iterator(dir.path))
+        left.push_back(fs::relative(e.path(), dir.path).string());
+    std::sort(left.begin(), left.end());
+    CHECK(left == std::vector<std::string>{"walk.snake.robot.xml", "walk.xml"});
+    CHECK_FALSE(fs::exists(".environment.xml"));
+}
+
 TEST_CASE("an actuation file that drives the same joints twice names the file and line",
           "[config_files]") {
     TempDir dir("act_twice");

@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "gaitlab/error.h"
 
@@ -81,5 +82,13 @@ void create_folders_above(const std::string& path);
 /// created first (they stay if the write then fails).
 void write_file_atomic(const std::string& path, std::string_view text,
                        MissingFolders folders = MissingFolders::refuse);
+
+/// Writes several files, each as write_file_atomic does, all or none: every text is written to
+/// its temporary file first, and only when all of them are written are they renamed over their
+/// paths. A failure before the renames (a folder in the way, a full disk) leaves every path as
+/// it was and throws WriteError naming the path it failed on. (The renames themselves fail
+/// only when the folder changes under them.)
+void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& files,
+                        MissingFolders folders = MissingFolders::refuse);
 
 }  // namespace gaitlab

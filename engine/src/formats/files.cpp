@@ -113,7 +113,16 @@ void create_folders_above(const std::string& path) {
     }
 }
 
-void write_file_atomic(const std::string& path, std::string_view text, MissingFolders folders) {
+namespace {
+
+// a file written to its temporary name, not yet renamed over its path
+struct Staged {
+    std::string path;    // as given, for messages
+    std::string target;  // what the rename replaces: the path, or a link's target
+    std::string tmp;
+};
+
+Staged stage(const std::string& path, std::string_view text, MissingFolders folders) {
     if (folders == MissingFolders::create) create_folders_above(path);
     // the file replaced: a link's target (links stay links); never what is not a regular file
     // (renaming over /dev/full would replace the device with a file)
@@ -158,7 +167,44 @@ void write_file_atomic(const std::string& path, std::string_view text, MissingFo
         done += static_cast<size_t>(n);
     }
     if (::close(fd) != 0) fail(errno);
-    if (std::rename(tmp.c_str(), target.c_str()) != 0) fail(errno);
+    return {path, target, tmp};
+}
+
+void commit(const Staged& s) {
+    if (std::rename(s.tmp.c_str(), s.target.c_str()) != 0) {
+        const int e = errno;
+        std::remove(s.tmp.c_str());
+        throw WriteError(s.path, reason(e));
+    }
+}
+
+}  // namespace
+
+void write_file_atomic(const std::string& path, std::string_view text, MissingFolders folders) {
+    commit(stage(path, text, folders));
+}
+
+void write_files_atomic(const std::vector<std::pair<std::string, std::string>>& files,
+                        MissingFolders folders) {
+    std::vector<Staged> staged;
+    staged.reserve(files.size());
+    try {
+        for (const auto& [path, text] : files)
+            staged.push_back(stage(path, text, folders));
+    } catch (...) {
+        for (const Staged& s : staged)
+            std::remove(s.tmp.c_str());
+        throw;
+    }
+    for (size_t i = 0; i < staged.size(); ++i) {
+        try {
+            commit(staged[i]);
+        } catch (...) {
+            for (size_t j = i + 1; j < staged.size(); ++j)
+                std::remove(staged[j].tmp.c_str());
+            throw;
+        }
+    }
 }
 
 }  // namespace gaitlab
