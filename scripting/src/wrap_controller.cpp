@@ -394,6 +394,17 @@ const char* sandbox_folder(lua_State* L) {
                                                            : nullptr;
 }
 
+// whether `path` lies inside the sandbox's `folder`, links resolved (folders that do not exist
+// yet are taken as the system will resolve them); the folder, absolute, in `root`
+bool inside_sandbox(const std::filesystem::path& path, const char* folder,
+                    std::filesystem::path& root) {
+    std::error_code ec;
+    const auto target = std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec);
+    root = std::filesystem::weakly_canonical(std::filesystem::absolute(folder, ec), ec);
+    const std::filesystem::path rel = target.lexically_relative(root);
+    return !ec && !rel.empty() && *rel.begin() != ".." && rel != ".";
+}
+
 // gaitlab.controller.load(path [, { sandbox = }]): runs a controller file once (in a sandbox
 // unless told otherwise), caches the class it returns and watches the file for changes
 int class_load(lua_State* L) {
@@ -410,6 +421,14 @@ int class_load(lua_State* L) {
             }
         }
         const std::filesystem::path path = script_path(L, arg);
+        std::filesystem::path root;
+        if (const char* folder = sandbox_folder(L); folder && !inside_sandbox(path, folder, root)) {
+            // no access to files: not even whether one exists, or its first line in a message
+            throw Error(
+                fmt::format("cannot load controller '{}': outside the folder of the "
+                            "sandboxed controller file ({}), where it may load files",
+                            arg, root.string()));
+        }
         // a replay has the code even where the file is gone (a path outside the run folder)
         if (!std::filesystem::exists(path) && !Reloader::of(L).has_override()) {
             throw Error(
@@ -466,24 +485,15 @@ int class_write_template(lua_State* L) {
         const std::string& file = target.path();
         const std::filesystem::path path(file);
         std::error_code ec;
-        if (const char* folder = sandbox_folder(L)) {
-            // a sandboxed file writes only inside its own folder, links resolved (the folders
-            // it may create are checked before they exist: ".." after them is resolved as the
-            // system will resolve it)
-            const auto inside =
-                std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec);
-            const auto root =
-                std::filesystem::weakly_canonical(std::filesystem::absolute(folder, ec), ec);
-            const std::filesystem::path rel = inside.lexically_relative(root);
-            if (ec || rel.empty() || *rel.begin() == ".." || rel == ".") {
-                lua_pushnil(L);
-                lua_pushstring(L, (target.shown(file) +
-                                   ": outside the folder of the sandboxed controller "
-                                   "file (" +
-                                   root.string() + "), where it may write")
-                                      .c_str());
-                return 2;
-            }
+        std::filesystem::path root;
+        if (const char* folder = sandbox_folder(L); folder && !inside_sandbox(path, folder, root)) {
+            // a sandboxed file writes only inside its own folder
+            lua_pushnil(L);
+            lua_pushstring(
+                L, (target.shown(file) + ": outside the folder of the sandboxed controller file (" +
+                    root.string() + "), where it may write")
+                       .c_str());
+            return 2;
         }
         if (std::filesystem::exists(path, ec)) {
             lua_pushnil(L);

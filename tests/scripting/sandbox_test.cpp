@@ -42,6 +42,34 @@ return Evil)");
     lua.run("gaitlab.controller.load('" + (tmp / "reloader.lua") + "')");
 }
 
+TEST_CASE("a sandboxed file loads controller files from its own folder only", "[sandbox]") {
+    // it could load any path: the error then told whether a file existed and showed its first
+    // words ("secret.txt:1: syntax error near 'stuff'")
+    TempDir tmp("sandbox_load_outside");
+    namespace fs = std::filesystem;
+    fs::create_directories(tmp.path / "ctl/sub");
+    write_text(tmp / "secret.txt", "very secret stuff\n");
+    write_text(tmp / "ctl/sub/helper.lua",
+               "return gaitlab.controller{ name = 'helper', step = function() end }");
+    fs::create_symlink(tmp / "secret.txt", tmp / "ctl/link.lua");
+    LuaFixture lua;
+    for (const std::string& target :
+         {std::string("../secret.txt"), tmp / "secret.txt", std::string("link.lua"),
+          std::string("../nothing.lua"), std::string("/etc/passwd")}) {
+        INFO(target);
+        write_text(tmp / "ctl/spy.lua", "return gaitlab.controller.load('" + target + "')");
+        const std::string message =
+            lua.error_of("gaitlab.controller.load('" + (tmp / "ctl/spy.lua") + "')");
+        CHECK_THAT(message, Catch::Contains("cannot load controller '" + target +
+                                            "': outside the folder of the sandboxed controller "
+                                            "file"));
+        CHECK_THAT(message, !Catch::Contains("secret stuff") && !Catch::Contains("no file"));
+    }
+    // inside its folder, subfolders too, it loads as before
+    write_text(tmp / "ctl/user.lua", "return gaitlab.controller.load('sub/helper.lua')");
+    CHECK(lua.string("gaitlab.controller.load('" + (tmp / "ctl/user.lua") + "').name") == "helper");
+}
+
 TEST_CASE("a sandboxed file cannot change what the script uses", "[sandbox]") {
     TempDir tmp("sandbox_meta");
     LuaFixture lua;
