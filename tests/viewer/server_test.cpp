@@ -172,6 +172,13 @@ TEST_CASE("bad commands get a clear 4xx and change nothing") {
     };
     const std::vector<Bad> bad = {
         {"{\"command\": ", 400, "malformed JSON at byte"},
+        // a number beyond a double was a 500 with the JSON library's internals
+        {R"({"command":"seek","time":1e400})", 400,
+         "malformed JSON: a number beyond the range of a double (about \u00b11.8e308): a command "
+         "is an object such as"},
+        // a NUL in a string cut the message that quoted it
+        {R"({"command":"sensor","name":"snake.ir\u0000x","enabled":true})", 400,
+         "malformed JSON: a string holds a NUL character (\\u0000)"},
         {"[1, 2]", 400, "(got array)"},
         {"{}", 400,
          "field 'command' expected: play, pause, step, reset, speed, delay, param, live, sensor, "
@@ -525,7 +532,16 @@ TEST_CASE("the pages choose among the published simulations: show is checked aga
              {R"({"command":"show","simulation":"2"})",
               "field 'simulation': a simulation number (from 1) expected"},
              {R"({"command":"show","simulation":2,"name":"x"})",
-              "command 'show' takes no field 'name' (it takes command, simulation)"}}) {
+              "command 'show' takes no field 'name' (it takes command, simulation)"},
+             // every command, not only show, names a simulation there is (they were answered
+             // ok, and refused later on the event stream only)
+             {R"({"command":"reset","simulation":99})",
+              "reset: there is no simulation 99 (there are 1, 2, 3)"},
+             {R"({"command":"speed","value":2,"simulation":99})",
+              "speed: there is no simulation 99 (there are 1, 2, 3)"},
+             {R"({"command":"param","controller":"sine","name":"amplitude","value":5,)"
+              R"("simulation":99})",
+              "param: there is no simulation 99 (there are 1, 2, 3)"}}) {
         r = post(c, b.body);
         REQUIRE(r);
         INFO(b.body << " -> " << r->body);

@@ -15,6 +15,7 @@
 #include "gaitlab/geometry.h"
 #include "gaitlab/simulation.h"
 #include "gaitlab/world_fields.h"
+#include "request_json.h"
 
 namespace gaitlab::viewer {
 
@@ -710,11 +711,10 @@ std::string Editor::open() {
 namespace {
 
 json parse_body(const std::string& body) {
-    try {
-        return json::parse(body);
-    } catch (const json::parse_error& e) {
-        throw EditError(400, fmt::format("malformed JSON at byte {}", e.byte));
-    }
+    json j;
+    std::string error;
+    if (!parse_request_json(body, j, error)) throw EditError(400, error);
+    return j;
 }
 
 json pose_json(const Pose& p) {

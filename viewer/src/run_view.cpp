@@ -33,6 +33,7 @@
 #include "gaitlab/player.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/simulation.h"
+#include "request_json.h"
 
 extern char** environ;
 
@@ -558,10 +559,10 @@ struct RunView::Impl {
                 reply.body = listing().dump(-1, ' ', false, json::error_handler_t::replace);
             } else if (req.path == "/api/run/open" && req.method == "POST") {
                 json j;
-                try {
-                    j = json::parse(req.body);
-                } catch (const json::parse_error&) {
-                    throw ServerError("open: a JSON object {\"path\": \"RUN_FOLDER\"} expected");
+                std::string error;
+                if (!parse_request_json(req.body, j, error)) {
+                    throw ServerError("open: " + error +
+                                      ": a JSON object {\"path\": \"RUN_FOLDER\"} expected");
                 }
                 if (!j.is_object() || !j.contains("path") || !j["path"].is_string()) {
                     throw ServerError("open: a JSON object {\"path\": \"RUN_FOLDER\"} expected");

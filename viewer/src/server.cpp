@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "assets.h"
+#include "request_json.h"
 
 namespace gaitlab::viewer {
 
@@ -309,13 +310,8 @@ struct Server::State {
 Command Server::State::parse_command(const std::string& body, std::string& error) const {
     Command c;
     json j;
-    try {
-        j = json::parse(body);
-    } catch (const json::parse_error& e) {
-        error = fmt::format(
-            "malformed JSON at byte {}: a command is an object such as "
-            "{{\"command\": \"pause\"}}",
-            e.byte);
+    if (!parse_request_json(body, j, error)) {
+        error += ": a command is an object such as {\"command\": \"pause\"}";
         return c;
     }
     if (!j.is_object()) {
@@ -379,6 +375,19 @@ Command Server::State::parse_command(const std::string& body, std::string& error
             return c;
         }
         c.simulation = s->get<int>();
+    }
+    // a simulation named must be one there is, for every command (not only show): a command
+    // for no simulation was answered ok and refused later, on the event stream only. (A
+    // recorded run publishes no list: its page names the run's one simulation.)
+    std::string numbers;
+    for (int n : simulation_numbers)
+        numbers += (numbers.empty() ? "" : ", ") + std::to_string(n);
+    if (c.simulation != 0 && !simulation_numbers.empty() &&
+        std::find(simulation_numbers.begin(), simulation_numbers.end(), c.simulation) ==
+            simulation_numbers.end()) {
+        error = fmt::format("{}: there is no simulation {} (there {} {})", what, c.simulation,
+                            simulation_numbers.size() == 1 ? "is" : "are", numbers);
+        return c;
     }
     if (c.kind == Command::Kind::step) {
         c.count = 1;
@@ -445,9 +454,6 @@ Command Server::State::parse_command(const std::string& body, std::string& error
         }
     }
     if (c.kind == Command::Kind::show) {
-        std::string numbers;
-        for (int n : simulation_numbers)
-            numbers += (numbers.empty() ? "" : ", ") + std::to_string(n);
         if (simulation_numbers.empty()) {
             error =
                 "show: there are no simulations to choose from here (a recorded run, or no "
@@ -459,12 +465,6 @@ Command Server::State::parse_command(const std::string& body, std::string& error
                 "show: field 'simulation' expected: the number of the simulation "
                 "to show ({})",
                 numbers);
-            return c;
-        }
-        if (std::find(simulation_numbers.begin(), simulation_numbers.end(), c.simulation) ==
-            simulation_numbers.end()) {
-            error = fmt::format("show: there is no simulation {} (there {} {})", c.simulation,
-                                simulation_numbers.size() == 1 ? "is" : "are", numbers);
             return c;
         }
     }
