@@ -38,8 +38,80 @@ using Clock = std::chrono::steady_clock;
 constexpr std::size_t kMaxMessages = 200;
 // a stream with nothing new writes a comment this often, so a page that went away is noticed
 constexpr double kHeartbeatSeconds = 1.0;
-// threads serving requests: every open page holds one for its stream, plus its commands
-constexpr std::size_t kThreads = 2 * kMaxStreams + 4;
+// Connections served at once, each on a thread of its own (cpp-httplib reads a request's
+// headers on the thread that serves it): every open page holds one for its stream, plus its
+// commands, and a client that sends its requests slowly holds one while it does. With a fixed
+// pool of 36 threads, 100 connections sending a header line a second left no thread for
+// anybody else, token or not; threads are now made as connections come, up to this many.
+constexpr std::size_t kMaxConnections = 512;
+// a connection's reads: a header line, a body's next bytes (browsers send them at once)
+constexpr time_t kReadTimeoutSeconds = 2;
+
+// cpp-httplib's TaskQueue as a pool that grows with the connections: an idle thread takes the
+// next one, a new thread is made when none is idle, up to kMaxConnections (then connections
+// wait their turn); threads idle for a while end
+class GrowingPool : public httplib::TaskQueue {
+  public:
+    ~GrowingPool() override { shutdown(); }
+
+    void enqueue(std::function<void()> fn) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        // threads that ended are joined here: they released the lock on their way out
+        for (const std::thread::id id : ended_) {
+            const auto t = std::find_if(threads_.begin(), threads_.end(),
+                                        [&](const std::thread& x) { return x.get_id() == id; });
+            if (t == threads_.end()) continue;
+            t->join();
+            threads_.erase(t);
+        }
+        ended_.clear();
+        jobs_.push_back(std::move(fn));
+        if (idle_ == 0 && threads_.size() < kMaxConnections) {
+            threads_.emplace_back([this] { work(); });
+        } else {
+            wake_.notify_one();
+        }
+    }
+
+    void shutdown() override {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (stopping_) return;
+            stopping_ = true;
+        }
+        wake_.notify_all();
+        for (std::thread& t : threads_)
+            if (t.joinable()) t.join();
+    }
+
+  private:
+    void work() {
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (;;) {
+            ++idle_;
+            const bool woke = wake_.wait_for(lock, std::chrono::seconds(30),
+                                             [&] { return stopping_ || !jobs_.empty(); });
+            --idle_;
+            if (stopping_ || !woke) {  // shut down, or idle for 30 s: the thread ends
+                ended_.push_back(std::this_thread::get_id());
+                return;
+            }
+            std::function<void()> fn = std::move(jobs_.front());
+            jobs_.pop_front();
+            lock.unlock();
+            fn();
+            lock.lock();
+        }
+    }
+
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::deque<std::function<void()>> jobs_;
+    std::vector<std::thread> threads_;
+    std::vector<std::thread::id> ended_;  // threads that ended, to join
+    std::size_t idle_ = 0;
+    bool stopping_ = false;
+};
 
 std::string json_error(const std::string& message) {
     return json{{"error", message}}.dump();
@@ -265,6 +337,7 @@ struct Server::State {
     std::uint64_t simulations_version = 0;
     std::string simulations_json;  // the list the pages choose from ("" until published)
     std::vector<int> simulation_numbers;
+    socket_t listening = -1;  // the socket cpp-httplib listens on
     std::vector<ParamControl> controls;
     std::vector<std::string> sensors;
     std::uint64_t frame_version = 0;
@@ -891,20 +964,22 @@ Server::Server(ServerOptions options) : state_(std::make_shared<State>()) {
     }
     if (options.token.empty() && !is_loopback(options.host)) options.token = random_token();
     s.options = options;
-    s.http.new_task_queue = [] { return new httplib::ThreadPool(kThreads); };
+    s.http.new_task_queue = [] { return new GrowingPool(); };
     s.http.set_payload_max_length(kMaxWorldBytes);
     s.http.set_keep_alive_max_count(1000);
     s.http.set_keep_alive_timeout(5);
-    s.http.set_read_timeout(5, 0);
+    s.http.set_read_timeout(kReadTimeoutSeconds, 0);
     const double wt = std::max(0.05, options.write_timeout);
     s.http.set_write_timeout(static_cast<time_t>(wt),
                              static_cast<time_t>((wt - std::floor(wt)) * 1e6));
     s.http.set_tcp_nodelay(true);
     // SO_REUSEADDR only: cpp-httplib's default adds SO_REUSEPORT, with which a second viewer
     // on the same port would start and share the first one's connections
-    s.http.set_socket_options([](socket_t sock) {
+    // (the listening socket is the one this is called for, before it is bound)
+    s.http.set_socket_options([state = &s](socket_t sock) {
         const int yes = 1;
         ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+        state->listening = sock;
     });
     s.routes();
     // the address may be a name: cpp-httplib resolves it; IPv6 literals come without brackets
@@ -924,6 +999,10 @@ Server::Server(ServerOptions options) : state_(std::make_shared<State>()) {
         throw ServerError(fmt::format("cannot serve the viewer on {}:{}: {}", options.host,
                                       options.port, bind_failure(bind_host, options.port)));
     }
+    // cpp-httplib listens with a backlog of 5: a burst of connections beyond the threads
+    // taking them had its handshakes dropped, and a page's request waited a second for its SYN
+    // to be sent again. Listening again on the bound socket sets the backlog (Linux).
+    if (s.listening >= 0) ::listen(s.listening, SOMAXCONN);
     const std::string p = std::to_string(s.port);
     s.hosts = {"127.0.0.1:" + p, "localhost:" + p, "[::1]:" + p};
     if (!options.host.empty()) s.hosts.push_back(options.host + ":" + p);
