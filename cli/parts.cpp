@@ -102,6 +102,8 @@ function P.controller(c)
     class = gaitlab.controllers[c.builtin]
   elseif c.template then
     class = gaitlab.controller.template(c.template)
+  elseif c.stub then
+    class = gaitlab.controller{ name = c.stub, step = function() end }
   else
     class = gaitlab.controller.load(c.file)
   end
@@ -217,6 +219,7 @@ std::string lua_robot(const RobotChoice& r) {
 std::string lua_controller(const ControllerChoice& c) {
     const char* key = c.kind == ControllerChoice::Kind::builtin     ? "builtin"
                       : c.kind == ControllerChoice::Kind::template_ ? "template"
+                      : c.kind == ControllerChoice::Kind::stub      ? "stub"
                                                                     : "file";
     std::string name = c.name;
     if (c.kind == ControllerChoice::Kind::file) name = fs::absolute(name).string();

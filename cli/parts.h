@@ -40,7 +40,9 @@ struct RobotChoice {
 /// The controller of a group: a built-in, a template or a Lua controller file, with parameter
 /// values (parameters not listed keep their defaults).
 struct ControllerChoice {
-    enum class Kind { builtin, template_, file };
+    /// stub: a Lua controller of that name that does nothing, standing in for a new
+    /// controller whose file is not written yet (the wizard checks its groups with it)
+    enum class Kind { builtin, template_, file, stub };
     Kind kind = Kind::builtin;
     std::string name = "sine";  ///< built-in or template name, or the file's path
     ParamValues params;

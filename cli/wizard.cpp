@@ -337,11 +337,19 @@ class Wizard {
         });
     }
 
+    // the joints a controller drives unless told: the robot's natural group, or none (an
+    // answer needed) when an earlier controller drives that group already (one controller per
+    // group)
     std::string default_joints(size_t k) const {
         const std::string& c = p_.robot.connection;
-        if (c == "yaw-yaw") return "yaw";
-        if (c == "pitch-yaw") return k == 0 ? "pitch" : k == 1 ? "yaw" : "all";
-        return "all";
+        const std::string joints = c == "yaw-yaw"     ? "yaw"
+                                   : c != "pitch-yaw" ? "all"
+                                   : k == 0           ? "pitch"
+                                   : k == 1           ? "yaw"
+                                                      : "all";
+        for (const GroupChoice& g : p_.groups)
+            if (g.joints == joints) return "";
+        return joints;
     }
 
     void ask_controllers() {
@@ -366,15 +374,16 @@ class Wizard {
             p_.groups.push_back(g);
             bool more = false;
             explain(in_,
-                    "\nAnother controller can drive another group (their angles add up "
-                    "where groups overlap).\n");
+                    "\nAnother controller can drive other joints (where groups only partly "
+                    "overlap, their angles add up;\nthe same group twice is refused).\n");
             in_.ask("Another controller", "no", [&](const std::string& a) { more = yes_no(a); });
             if (!more) break;
         }
     }
 
     // the groups as they can be checked before any file is written: a copied template as the
-    // template itself, a new controller (its declaration is checked on its own) as `offset`
+    // template itself, a new controller (its declaration is checked on its own) as a controller
+    // of its name that does nothing, so messages name it
     std::vector<GroupChoice> project_groups(std::vector<GroupChoice> groups) const {
         for (GroupChoice& g : groups) {
             if (g.controller.kind != ControllerChoice::Kind::file) continue;
@@ -382,7 +391,8 @@ class Wizard {
                 g.controller.kind = ControllerChoice::Kind::template_;
                 g.controller.name = t->second;
             } else {
-                g.controller = ControllerChoice{ControllerChoice::Kind::builtin, "offset", {}};
+                g.controller = ControllerChoice{
+                    ControllerChoice::Kind::stub, fs::path(g.controller.name).stem().string(), {}};
             }
         }
         return groups;

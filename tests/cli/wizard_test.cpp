@@ -482,6 +482,36 @@ TEST_CASE("a template chosen after a new controller of its name gets a file of i
     CHECK(moved(r.out, "snake") >= 0);
 }
 
+TEST_CASE(
+    "a second controller on the same joints is refused naming the first, and is not "
+    "offered them",
+    "[cli][wizard]") {
+    // the refusal named a controller 'offset' the project did not have (the new controller stood
+    // in as one while its file was not written), and the second controller's default joints
+    // were the first's, so Enter could never get past the question
+    TempDir dir("wizard_same_group");
+    const std::string answers = lines({
+        "nw",       "4",    "",  "",  // 4 modules, pitch-pitch, no sensors
+        "new",      "foo",  "0", "",  // a new controller foo, no parameters
+        "all",      "yes",            // on every joint; another
+        "built-in", "sine", "",       // sine
+        "all",                        // on the same joints: refused
+        "",                           // Enter: no default to take
+        "1 2",      "no",   "",  "", "", "1", "", "", "no",
+    });
+    const Output r = run_gaitlab({"new", "p"}, dir.str(), answers);
+    INFO(r.out << r.err);
+    REQUIRE(r.status == 0);
+    CHECK_THAT(r.out, Catch::Contains("! controller 'sine' cannot drive joints 1, 2, 3, 4 of "
+                                      "robot 'nw': controller 'foo' already drives exactly "
+                                      "these joints"));
+    CHECK(r.out.find("'offset'") == std::string::npos);
+    CHECK_THAT(r.out, Catch::Contains("Joints [none]: \n  ! no joints given"));
+    const gaitlab::ActuationSpec act = gaitlab::read_actuation(dir / "p/actuation.xml");
+    REQUIRE(act.groups.size() == 2);
+    CHECK(act.groups[1].controller.name == "sine");
+}
+
 TEST_CASE("mixed joint words, twice-given parameters and three-number ranges are explained",
           "[cli][wizard]") {
     TempDir dir("wizard_words");
