@@ -88,6 +88,8 @@ class Reloader {
         next_check_ = now + interval_;
         check(L, false, Origin::file);
     }
+    /// Whether poll has files to check.
+    bool watching() const { return !files_.empty() && polling_; }
     /// Reloads every watched file, changed or not; returns the first error ("" if none).
     std::string reload_all(lua_State* L) { return check(L, true, Origin::script); }
     /// Reloads file `index` now (a recorded reload being replayed); returns the error, "" if

@@ -115,7 +115,11 @@ double Playback::pump(lua_State* L) {
     playing_.erase(std::remove_if(playing_.begin(), playing_.end(),
                                   [](const Entry& e) { return !e.player->playing(); }),
                    playing_.end());
-    if (playing_.empty()) return kInf;
+    // with nothing playing, controller files are still checked at the reload interval: a fix
+    // saved while a failed simulation waits reloads (and says so) at once, not at the next
+    // command typed
+    const double reload_wait = reloader.watching() ? std::max(reloader.interval(), 0.05) : kInf;
+    if (playing_.empty()) return reload_wait;
     const Guard& guard = Guard::of(L);
     if (guard.interrupted() != 0) {
         pause_all(L, guard.interrupt_message());
@@ -174,9 +178,8 @@ double Playback::pump(lua_State* L) {
     const double now = clock();
     for (const Entry& e : playing_)
         wait = std::min(wait, e.player->wait(now));
-    // a playing simulation has its controller files checked at least this often
-    if (playing() > 0) wait = std::min(wait, std::max(reloader.interval(), 0.05));
-    return wait;
+    // controller files are checked at least this often
+    return std::min(wait, reload_wait);
 }
 
 void Playback::before_output() const {
