@@ -313,8 +313,18 @@ int class_new(lua_State* L) {
         };
         for (const std::string& v : cls->def.values)
             check_free("values", v);
-        for (const ParamDef& p : cls->def.params)
+        for (const ParamDef& p : cls->def.params) {
             check_free("params", p.name);
+            // a parameter reads and writes as a field of the controller's handle (ctl.amplitude):
+            // one named as the handle's own fields and methods hid them (ctl.failed read 0)
+            for (const char* h : {"name", "failed", "error", "params", "values", "set"}) {
+                if (p.name == h) {
+                    f.fail("params", fmt::format("'{}' is reserved (the controller handle's "
+                                                 "ctl.{} would be hidden by it)",
+                                                 h, h));
+                }
+            }
+        }
         try {
             validate(cls->def);
         } catch (const SpecError& e) {

@@ -165,6 +165,15 @@ TEST_CASE("gaitlab.controller declares a class and a call makes an instance", "[
     CHECK(lua.error_of("gaitlab.controller{ name = 'x', values = { 'joints' }, "
                        "step = function() end }") ==
           bad + "field 'values': 'joints' is reserved (it holds the joint count))");
+    // a parameter named as a field or method of the controller's handle would hide it: a
+    // controller with a parameter 'failed' read ctl.failed == 0 after it failed
+    for (const char* name : {"name", "failed", "error", "params", "values", "set"}) {
+        INFO(name);
+        CHECK(lua.error_of(std::string("gaitlab.controller{ name = 'x', params = { ") + name +
+                           " = { 0, min = 0, max = 1 } }, step = function() end }") ==
+              bad + "field 'params': '" + name + "' is reserved (the controller handle's ctl." +
+                  name + " would be hidden by it))");
+    }
 }
 
 TEST_CASE("controller.load caches per file and resolves relative to the caller",
