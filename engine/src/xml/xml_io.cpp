@@ -32,6 +32,40 @@ std::string quoted_list(const std::vector<const char*>& names) {
     return out;
 }
 
+// what a tinyxml2 parse error means, in the words of someone who wrote the file
+std::string describe_xml_error(tinyxml2::XMLError e) {
+    switch (e) {
+        case tinyxml2::XML_ERROR_EMPTY_DOCUMENT:
+            return "the file holds no element (it is empty, or spaces only)";
+        case tinyxml2::XML_ERROR_PARSING_ELEMENT:
+            return "an element that is not well formed (<name attribute=\"value\" ...> or "
+                   "<name ... /> expected)";
+        case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE:
+            return "an attribute that is not name=\"value\" (values are quoted)";
+        case tinyxml2::XML_ERROR_PARSING_TEXT:
+            return "text where an element is expected (a stray '<' or '&', or text outside the "
+                   "root element; write &lt; and &amp; for the characters themselves)";
+        case tinyxml2::XML_ERROR_PARSING_CDATA:
+            return "a <![CDATA[ section that does not end with ]]>";
+        case tinyxml2::XML_ERROR_PARSING_COMMENT:
+            return "a comment that does not end with -->";
+        case tinyxml2::XML_ERROR_PARSING_DECLARATION:
+            return "a declaration that is not <?xml version=\"1.0\"?>";
+        case tinyxml2::XML_ERROR_PARSING_UNKNOWN:
+            return "a <! ...> that is not XML";
+        case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT:
+            return "the element that starts here is closed by a tag of another name (<name> ends "
+                   "with </name>)";
+        case tinyxml2::XML_ERROR_PARSING:
+            return "the element that starts here is never closed (its </name> is missing, or the "
+                   "file ends early)";
+        case tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED:
+            return "elements nested deeper than XML files here ever need";
+        default:
+            return tinyxml2::XMLDocument::ErrorIDToName(e);
+    }
+}
+
 }  // namespace
 
 std::string read_text(const std::string& path) {
@@ -58,7 +92,7 @@ Document::Document(std::string_view text, std::string file)
         // document has no line: its error is on line 1, where the text was expected
         const int line = std::max(doc_->ErrorLineNum(), 1);
         throw FormatError(fmt::format("{}:{}: malformed XML: {}", file_, line,
-                                      tinyxml2::XMLDocument::ErrorIDToName(doc_->ErrorID())),
+                                      describe_xml_error(doc_->ErrorID())),
                           file_, line);
     }
 }

@@ -181,5 +181,7 @@ TEST_CASE("a link whose body is invalid is named at its own line", "[lines]") {
                             "</collision></link>\n</robot>"),
                Equals("r.urdf:4: robot/link[2]: robot 'r' body 'b' size y must be positive (got "
                       "-0.1 m)"));
-    CHECK_THAT(import_error(""), Equals("r.urdf:1: malformed XML: XML_ERROR_EMPTY_DOCUMENT"));
+    CHECK_THAT(
+        import_error(""),
+        Equals("r.urdf:1: malformed XML: the file holds no element (it is empty, or spaces only)"));
 }

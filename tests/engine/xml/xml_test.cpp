@@ -198,7 +198,8 @@ TEST_CASE("robot files reject bad input with file, line, element path and a sugg
 
 TEST_CASE("every reader checks the document: XML, root, version, kind") {
     CHECK_THAT(robot_error("<robot><chain modules=\"2\"></robot>"),
-               Equals("robot.xml:3: malformed XML: XML_ERROR_MISMATCHED_ELEMENT"));
+               Equals("robot.xml:3: malformed XML: the element that starts here is closed by a tag "
+                      "of another name (<name> ends with </name>)"));
     try {
         parse_robot("<robot/>", "r.xml");
         FAIL("no error");
@@ -577,8 +578,12 @@ TEST_CASE("errors name the line of what is wrong: an empty file is line 1", "[li
                              +[](std::string_view t) { parse_actuation(t, "f.xml"); },
                              +[](std::string_view t) { parse_environment(t, "f.xml"); },
                              +[](std::string_view t) { parse_simulation(t, "f.xml"); }}) {
-        CHECK_THROWS_WITH(read(""), "f.xml:1: malformed XML: XML_ERROR_EMPTY_DOCUMENT");
-        CHECK_THROWS_WITH(read("\n\n  \n"), "f.xml:1: malformed XML: XML_ERROR_EMPTY_DOCUMENT");
+        CHECK_THROWS_WITH(
+            read(""),
+            "f.xml:1: malformed XML: the file holds no element (it is empty, or spaces only)");
+        CHECK_THROWS_WITH(
+            read("\n\n  \n"),
+            "f.xml:1: malformed XML: the file holds no element (it is empty, or spaces only)");
     }
     // a body's error names the body, not the robot
     CHECK_THAT(robot_error("<robot name=\"s\">\n<body name=\"a\" size=\"1 1 1\" mass=\"1\"/>\n"
@@ -593,6 +598,33 @@ TEST_CASE("errors name the line of what is wrong: an empty file is line 1", "[li
     CHECK_THAT(robot_error("<robot name=\"s\x01\">\n<chain modules=\"2\"/>\n</robot>"),
                Equals("robot.xml:4: robot/chain[1]: robot name must be valid UTF-8 without "
                       "control characters (got \"s\\x01\")"));
+}
+
+TEST_CASE("malformed XML says what is wrong in words, at its line", "[lines]") {
+    // the messages were tinyxml2's codes (XML_ERROR_PARSING_TEXT), which say nothing to whoever
+    // wrote the file
+    const auto error = [](const std::string& text) {
+        try {
+            parse_robot(text, "f.xml");
+        } catch (const FormatError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    CHECK(error("<?xml version=\"1.0\"?>\n<gaitlab version=\"1\">\n<robot name=\"s\">\n"
+                "<chain modules=\"2\"/>\n</robot>\n") ==
+          "f.xml:2: malformed XML: the element that starts here is never closed (its </name> is "
+          "missing, or the file ends early)");
+    CHECK(error("<gaitlab version=\"1\">\n<robot name=s>\n</robot>\n</gaitlab>\n") ==
+          "f.xml:2: malformed XML: an attribute that is not name=\"value\" (values are quoted)");
+    CHECK(error("notes about my robot\n") ==
+          "f.xml:1: malformed XML: text where an element is expected (a stray '<' or '&', or text "
+          "outside the root element; write &lt; and &amp; for the characters themselves)");
+    CHECK(error("<gaitlab version=\"1\">\n<!-- a comment\n</gaitlab>\n") ==
+          "f.xml:2: malformed XML: a comment that does not end with -->");
+    CHECK(error("<gaitlab version=\"1\">\n<robot name=\"s\">\n</gaitlab>\n") ==
+          "f.xml:2: malformed XML: the element that starts here is closed by a tag of another "
+          "name (<name> ends with </name>)");
 }
 
 TEST_CASE("writers check before writing and replace files atomically") {
