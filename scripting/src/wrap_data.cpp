@@ -336,10 +336,13 @@ int run_tostring(lua_State* L) {
     });
 }
 
-// live:get(name): { time = {...}, values = {...} }; live:get(): every series by name
+// live:get(name): { time = {...}, values = {...} }; live:get(): every series by name. The
+// script runs on the simulation's thread: the samples taken since the last refresh are
+// published first, so what it reads ends at the last sample
 int live_get(lua_State* L) {
     return protect(L, [&] {
-        const LiveBuffers& b = check_live(L, 1);
+        LiveBuffers& b = check_live(L, 1);
+        b.flush();
         std::vector<std::string> names;
         if (!lua_isnoneornil(L, 2)) names.push_back(check_string(L, 2));
         LiveSnapshot s;

@@ -322,6 +322,16 @@ TEST_CASE("live buffers keep the latest samples of chosen series", "[wrap_data]"
           "you mean 'snake.com.x'?)");
     CHECK(lua.error_of("sim:live{ size = 1, sample_every = 0 }") ==
           "test:1: bad argument #1 to 'live' (field 'sample_every': at least 1 expected)");
+    // publications come every `refresh` s of wall time, but what a script reads after a run
+    // ends at its last sample (it ended at the last publication, seconds behind)
+    lua.run(R"(
+        slow = sim:live{ series = { 'snake.com.x' }, sample_every = 10, refresh = 1000,
+                         size = 500 }
+        sim:run(0.5)
+        slow_x = slow:get('snake.com.x')
+    )");
+    CHECK(lua.number("slow_x.time[#slow_x.time]") == Approx(lua.number("sim.time")));
+    CHECK(lua.integer("#slow_x.time") == 50);
 }
 
 TEST_CASE("a Lua controller's parameters and values are recorded like a built-in's",

@@ -60,6 +60,11 @@ class LiveBuffers {
     std::uint64_t version() const { return version_.load(std::memory_order_acquire); }
     /// Publishes the samples taken since the last publication now (simulation thread).
     void publish();
+    /// publish() if samples were taken since the last publication (simulation thread): what a
+    /// script reads after sim:run returns is up to the last sample, not to the last refresh.
+    void flush() {
+        if (pending_count_ > 0) publish();
+    }
 
   private:
     void on_tick(const Simulation& sim);
