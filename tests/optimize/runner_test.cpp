@@ -199,6 +199,46 @@ TEST_CASE("runner: an individual whose evaluation fails is marked failed and the
     CHECK(jsonl.find(file + ":4: no simulation for x = ") != std::string::npos);
 }
 
+TEST_CASE("runner: os.exit in a spec fails its evaluation; huge fitness values keep a mean") {
+    // os.exit ended gaitlab optimize at once with no word; fitness values near 1e308 made the
+    // generation's mean (and the convergence plot's) NaN through an infinite sum
+    TempDir dir("optimize_exit");
+    write_text(dir / "exit.lua", R"(return {
+  parameters = { x = {0, 1} },
+  build = function(p)
+    local robot = gaitlab.robot.chain{ name = "r", modules = 2, connection = "pitch-pitch" }
+    local world = gaitlab.world{}
+    world:add(robot)
+    return gaitlab.simulation{ world = world, dt = 0.01 }
+  end,
+  fitness = function(sim, p)
+    if p.x > 0.7 then os.exit(3) end
+    return p.x > 0.35 and 1e308 or -1e308
+  end,
+  duration = 0.05,
+  method = "ga", population = 12, generations = 2,
+})");
+    const Spec spec = load_spec(dir / "exit.lua");
+    RunOptions o;
+    o.seed = 5;
+    o.out = dir / "out";
+    std::vector<double> means;
+    const auto r = run_optimization(
+        spec, o, [&](const gaitlab::optimize::Progress& p) { means.push_back(p.mean); });
+    CHECK(r.best_fitness == 1e308);
+    const std::string jsonl = read_text(dir / "out/evaluations.jsonl");
+    CHECK(jsonl.find("\"error\":\"" + dir / "exit.lua" + ":10: os.exit ends no evaluation") !=
+          std::string::npos);
+    REQUIRE(means.size() == 2);
+    for (const double m : means) {
+        CHECK(std::isfinite(m));
+        CHECK(std::abs(m) <= 1e308);
+    }
+    const std::string csv = read_text(dir / "out/convergence.csv");
+    INFO(csv);
+    CHECK(csv.find("NaN") == std::string::npos);
+}
+
 TEST_CASE("runner: a build that returns no simulation or a robot that is not there fails") {
     TempDir dir("optimize_bad_build");
     write_text(dir / "nosim.lua", R"(return {
@@ -254,7 +294,11 @@ TEST_CASE("runner: bad spec files are refused naming the file and the field") {
         {"return { parameters = { a = {0, 1} }, build = function() end, fitness = 'speed' }",
          "duration: missing (a number of seconds > 0 expected)"},
         {"return { parameters = { a = {0, 1} }, " + good_build + ", settle = -1 }",
-         "settle: a number of seconds >= 0 expected, got -1"},
+         "settle: a number of seconds in [0, 1e6] expected, got -1"},
+        // no simulation runs 1e300 s: every evaluation failed instead of the spec refused
+        {"return { parameters = { a = {0, 1} }, build = function() end, fitness = 'speed', "
+         "duration = 1e300 }",
+         "duration: a number of seconds in (0, 1e6] expected, got 1e+300"},
         {"return { parameters = {}, " + good_build + " }",
          "parameters: at least one parameter expected ({ amplitude = {10, 60} })"},
         {"return { parameters = { a = {0, 1, initial = 2} }, " + good_build + " }",

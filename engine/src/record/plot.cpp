@@ -96,20 +96,22 @@ std::string run_gnuplot(const fs::path& dir, const std::string& script) {
         return "cannot run gnuplot (install the gnuplot-nox package)";
     }
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        // gnuplot's own message, on one line
-        std::string first;
-        for (char c : messages) {
+        // gnuplot's own message, on one line: it echoes the command that failed, marks the
+        // place with '^', then says what is wrong ("gp" line 12: all points y value
+        // undefined!), so the last line with words in it is the reason
+        std::string line, reason;
+        for (const char c : messages + "\n") {
             if (c == '\n') {
-                if (!first.empty() && first.find_first_not_of(" ^") != std::string::npos &&
-                    first.find_first_not_of(' ') != std::string::npos)
-                    break;
-                first.clear();
+                if (line.find_first_not_of(" ^") != std::string::npos) reason = line;
+                line.clear();
                 continue;
             }
             // gnuplot may echo the script's text: no control characters reach the terminal
-            first += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? '?' : c;
+            line += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? '?' : c;
         }
-        return fmt::format("gnuplot failed{}{}", first.empty() ? "" : ": ", first);
+        const size_t start = reason.find_first_not_of(' ');
+        if (start != std::string::npos) reason.erase(0, start);
+        return fmt::format("gnuplot failed{}{}", reason.empty() ? "" : ": ", reason);
     }
     return "";
 }

@@ -139,11 +139,21 @@ void read_fitness(lua_State* L, Spec& spec) {
         for (int i = 0; i < 2; ++i) {
             lua_rawgeti(L, -1, i + 1);
             const bool ok = lua_type(L, -1) == LUA_TNUMBER;
+            const std::string type = luaL_typename(L, -1);
             d[i] = lua_tonumber(L, -1);
             lua_pop(L, 1);
-            if (!ok || !std::isfinite(d[i])) {
-                bad(fmt::format("direction: a direction {{X, Y}} of two numbers expected, got {}",
-                                luaL_typename(L, -1)));
+            if (!ok) {
+                bad(
+                    fmt::format("direction: a direction {{X, Y}} of two numbers expected, its {} "
+                                "is a {}",
+                                i == 0 ? "X" : "Y", type));
+            }
+            if (!std::isfinite(d[i])) {
+                bad(fmt::format("direction: {} must be a finite number (got {})",
+                                i == 0 ? "X" : "Y",
+                                std::isnan(d[i]) ? "nan"
+                                : d[i] > 0       ? "inf"
+                                                 : "-inf"));
             }
         }
         const bool longer = lua_rawlen(L, -1) != 2;

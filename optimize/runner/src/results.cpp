@@ -88,10 +88,10 @@ std::string plot_convergence(const fs::path& out, const std::string& title,
     const fs::path jsonl = out / "evaluations.jsonl";
     std::ifstream in(jsonl, std::ios::binary);
     if (!in) return fmt::format("{}: cannot read", jsonl.string());
-    // per generation: the sum and number of its successful fitness values
+    // per generation: its successful fitness values and the best of them
     struct Generation {
-        double sum = 0, best = -std::numeric_limits<double>::infinity();
-        int ok = 0;
+        std::vector<double> values;
+        double best = -std::numeric_limits<double>::infinity();
     };
     std::map<long, Generation> generations;
     long line_number = 0;
@@ -103,9 +103,8 @@ std::string plot_convergence(const fs::path& out, const std::string& title,
             const nlohmann::json& f = j.at("fitness");
             if (f.is_number()) {
                 const double v = f.get<double>();
-                g.sum += v;
+                g.values.push_back(v);
                 g.best = std::max(g.best, v);
-                ++g.ok;
             }
         } catch (const nlohmann::json::exception& e) {
             return fmt::format("{}:{}: {}", jsonl.string(), line_number, e.what());
@@ -120,8 +119,14 @@ std::string plot_convergence(const fs::path& out, const std::string& title,
     const double nan = std::numeric_limits<double>::quiet_NaN();
     double best = nan;
     for (const auto& [number, g] : generations) {
-        if (g.ok > 0 && !(g.best <= best)) best = g.best;
-        t.rows.push_back({static_cast<double>(number + 1), best, g.ok > 0 ? g.sum / g.ok : nan});
+        const auto n = static_cast<double>(g.values.size());
+        if (n > 0 && !(g.best <= best)) best = g.best;
+        // each value divided before they are added, as the run's progress line does: values
+        // near the largest double made the sum infinite
+        double mean = n > 0 ? 0 : nan;
+        for (const double v : g.values)
+            mean += v / n;
+        t.rows.push_back({static_cast<double>(number + 1), best, mean});
     }
     try {
         plot_table(t);

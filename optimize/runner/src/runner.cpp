@@ -35,6 +35,10 @@ using detail::fitness_json;
 using detail::parameters_json;
 using scripting::LuaHost;
 
+// settle and duration, s each: a million simulated seconds (11 days) is more than any
+// evaluation runs, and within what a simulation can run at any dt (>= 1e-6 s)
+constexpr double kMaxEvaluationSeconds = 1e6;
+
 const std::vector<std::string> kFields = {
     "parameters", "build",       "fitness", "duration", "settle",     "robot", "method",
     "population", "generations", "worlds",  "seeds",    "simulation", "set"};
@@ -63,6 +67,19 @@ std::unique_ptr<LuaHost> make_host(const std::string& file) {
     host->set_reporter([](const std::string&) {});
     host->set_args(file, {});
     host->seed(0);
+    // os.exit in a spec ended gaitlab optimize at once and silently: here it is an error, so
+    // the evaluation that called it fails (named, with its line) and the run goes on
+    lua_State* L = host->state();
+    lua_getglobal(L, "os");
+    if (lua_istable(L, -1)) {
+        lua_pushcfunction(L, [](lua_State* S) -> int {
+            return luaL_error(S,
+                              "os.exit ends no evaluation: return from build or the fitness "
+                              "function (an error fails the evaluation; the run goes on)");
+        });
+        lua_setfield(L, -2, "exit");
+    }
+    lua_pop(L, 1);
     return host;
 }
 
@@ -269,14 +286,17 @@ Spec read_spec(lua_State* L, const std::string& file) {
     lua_pop(L, 1);
 
     detail::read_cases(L, spec);
+    // an evaluation runs settle + duration simulated seconds: beyond kMaxEvaluationSeconds no
+    // simulation could run them (every evaluation failed instead of the spec being refused)
     spec.duration = number_field(L, file, "duration", 0, true, "a number of seconds > 0");
-    if (!(spec.duration > 0)) {
+    if (!(spec.duration > 0 && spec.duration <= kMaxEvaluationSeconds)) {
         bad(file, "duration",
-            fmt::format("a number of seconds > 0 expected, got {}", spec.duration));
+            fmt::format("a number of seconds in (0, 1e6] expected, got {}", spec.duration));
     }
     spec.settle = number_field(L, file, "settle", 0, false, "a number of seconds >= 0");
-    if (!(spec.settle >= 0)) {
-        bad(file, "settle", fmt::format("a number of seconds >= 0 expected, got {}", spec.settle));
+    if (!(spec.settle >= 0 && spec.settle <= kMaxEvaluationSeconds)) {
+        bad(file, "settle",
+            fmt::format("a number of seconds in [0, 1e6] expected, got {}", spec.settle));
     }
 
     lua_getfield(L, -1, "robot");
@@ -615,7 +635,6 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
         p.generation = g;
         p.generations = result.generations;
         p.individuals = static_cast<int>(ev.size());
-        double sum = 0;
         int ok = 0;
         std::string lines;
         for (size_t i = 0; i < ev.size(); ++i) {
@@ -624,7 +643,6 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
                 ++p.failed;
                 if (p.first_error.empty()) p.first_error = ev[i].error;
             } else {
-                sum += fitness[i];
                 ++ok;
             }
             lines += detail::evaluation_line(spec, g, i, xs[i], ev[i]);
@@ -634,7 +652,11 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
         if (!jsonl) throw IoError(fmt::format("{}: cannot write", jsonl_path.string()));
         method->tell(fitness);
         p.best = method->best_fitness();
-        p.mean = ok > 0 ? sum / ok : std::numeric_limits<double>::quiet_NaN();
+        // each value divided before they are added: fitness values near the largest double
+        // (1e308) made the sum, and the mean, infinite
+        p.mean = ok > 0 ? 0 : std::numeric_limits<double>::quiet_NaN();
+        for (size_t i = 0; i < ev.size(); ++i)
+            if (!ev[i].failed()) p.mean += fitness[i] / ok;
         p.evaluations = method->evaluations();
         p.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
         state.first_population = static_cast<int>(first_population);
