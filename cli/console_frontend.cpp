@@ -37,6 +37,11 @@ EditLine* g_el = nullptr;
 History* g_history = nullptr;
 const std::string* g_prompt = nullptr;  // the prompt libedit draws
 std::function<std::vector<std::string>(std::string_view)>* g_complete = nullptr;
+LineInput* g_input = nullptr;  // the terminal LineInput, whose history the process's end saves
+
+extern "C" void save_history_at_exit() {
+    if (g_input) g_input->save_history();
+}
 
 extern "C" char* prompt_text(EditLine*) {
     return const_cast<char*>(g_prompt ? g_prompt->c_str() : "");
@@ -195,6 +200,9 @@ LineInput::LineInput(Options options) : options_(std::move(options)) {
                           std::strerror(errno ? errno : EIO));
         }
         history_ok_ = true;
+        g_input = this;
+        static const bool registered = std::atexit(save_history_at_exit) == 0;
+        (void)registered;
     }
 }
 
@@ -202,6 +210,7 @@ LineInput::~LineInput() {
     if (!options_.terminal) return;
     if (prompting_) el_set(g_el, EL_UNBUFFERED, 0);
     save_history();
+    g_input = nullptr;
     el_end(g_el);  // the terminal as it was
     history_end(g_history);
     g_el = nullptr;

@@ -59,12 +59,15 @@ class LineInput {
     /// Ctrl-C at the prompt: read() returns Kind::interrupted. Async-signal-safe.
     static void interrupt_prompt();
 
+    /// Writes the history file now. The destructor does, and so does the end of the process
+    /// while a terminal LineInput lives (os.exit() typed at the console skips destructors).
+    void save_history();
+
   private:
     Line read_plain();
     Line read_terminal(const char* prompt);
     // calls the idle hook if it is due; returns the milliseconds poll may wait
     int idle_wait();
-    void save_history();
 
     Options options_;
     std::string pending_;  // bytes read after the last line (plain input)

@@ -99,6 +99,18 @@ wait_exit 0
 grep -q '^300,0.3,console,param,sine.phase,90,' run1/events.csv || fail "event of origin console: $(cat run1/events.csv)"
 grep -q '"status": *"finished"' run1/run.json || fail "run.json not finished: $(cat run1/run.json)"
 
+# --- os.exit() typed at the console keeps the session's history (it skipped the save)
+start console --no-record
+line '=40 + 2'
+wait_for '^42$' "a line before os.exit"
+line 'os.exit(0)'
+wait_exit 0
+start console --no-record
+keys Up
+wait_for '^> =40 \+ 2$' "the line typed before os.exit, in the history"
+keys C-u C-d
+wait_exit 0
+
 # --- SIGTERM at the prompt closes the recording as interrupted
 start -i walk.lua --record run2
 type_text 'ctl.phase' # something typed
