@@ -45,7 +45,7 @@ int script_folder_searcher(lua_State* L) {
         const std::string text = read_file(read);
         const std::string chunk = "@" + read;
         if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") != LUA_OK)
-            throw Error(lua_tostring(L, -1));  // a syntax error, at its file and line
+            throw Error(located_load_error(lua_tostring(L, -1), read));  // at its file and line
         lua_pushstring(L, read.c_str());
         return 2;
     });

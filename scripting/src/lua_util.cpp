@@ -35,8 +35,24 @@ void load_source(lua_State* L, std::string_view code, const std::string& chunk) 
     if (luaL_loadbufferx(L, code.data(), code.size(), name.c_str(), "t") != LUA_OK) {
         std::string msg = lua_tostring(L, -1);
         lua_pop(L, 1);
-        throw ScriptError(msg, chunk, 0, "");
+        throw ScriptError(located_load_error(msg, chunk), chunk, 0, "");
     }
+}
+
+std::string located_load_error(const std::string& message, const std::string& chunk) {
+    if (message.rfind(chunk + ":", 0) == 0) return message;  // a syntax error: FILE:LINE: ...
+    // the parser's own limits say no place ("C stack overflow"): name the file, and why
+    if (message.find("C stack overflow") != std::string::npos) {
+        return chunk + ": " + message +
+               " (the code nests too deep to read: more than about 200 levels of parentheses, "
+               "tables, blocks or function calls in one expression)";
+    }
+    if (message.find("binary chunk") != std::string::npos) {
+        return chunk +
+               ": a compiled Lua chunk (luac's output): gaitlab reads Lua source only "
+               "(give the .lua file it was compiled from)";
+    }
+    return chunk + ": " + message;
 }
 
 Origin default_origin(lua_State* L) {

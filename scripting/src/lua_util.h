@@ -58,6 +58,11 @@ class ArgError : public Error {
 /// simulation) keep it, never the thread they were made on: a coroutine may be collected.
 lua_State* main_thread(lua_State* L);
 
+/// A load error as it should read: a syntax error already names "CHUNK:LINE:"; the parser's
+/// other errors ("C stack overflow", "not enough memory") get "CHUNK: " and, for the nesting
+/// limit, what it means.
+std::string located_load_error(const std::string& message, const std::string& chunk);
+
 /// Compiles `source` (text only) as the chunk "@`chunk`" and pushes it; a first line starting
 /// with '#' (a shebang) and a UTF-8 byte order mark are skipped, as luaL_loadfile does, keeping
 /// the line numbers. Throws ScriptError with the syntax error.

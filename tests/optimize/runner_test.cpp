@@ -199,7 +199,7 @@ TEST_CASE("runner: an individual whose evaluation fails is marked failed and the
     CHECK(jsonl.find(file + ":4: no simulation for x = ") != std::string::npos);
 }
 
-TEST_CASE("runner: os.exit in a spec fails its evaluation; huge fitness values keep a mean") {
+TEST_CASE("runner: os.exit in a spec fails its evaluation, and huge fitness values keep a mean") {
     // os.exit ended gaitlab optimize at once with no word; fitness values near 1e308 made the
     // generation's mean (and the convergence plot's) NaN through an infinite sum
     TempDir dir("optimize_exit");

@@ -35,6 +35,32 @@ TEST_CASE("syntax errors name the chunk and line", "[lua_host]") {
     CHECK(lua_gettop(host.state()) == 0);
 }
 
+TEST_CASE("a file too deep to read or compiled by luac is named, with what is wrong",
+          "[lua_host]") {
+    // "gaitlab: C stack overflow" named no file; a binary chunk said "mode is 't'"
+    TempDir dir("lua_host_deep");
+    const std::string deep = dir / "deep.lua";
+    write_text(deep, "x = " + std::string(300, '(') + "1" + std::string(300, ')') + "\n");
+    const std::string binary = dir / "compiled.lua";
+    write_text(binary, std::string("\x1bLua\x54\x00 compiled", 16));
+    for (const auto& [file, says] :
+         {std::pair{deep,
+                    ": C stack overflow (the code nests too deep to read: more than about "
+                    "200 levels of parentheses"},
+          std::pair{binary,
+                    ": a compiled Lua chunk (luac's output): gaitlab reads Lua source "
+                    "only"}}) {
+        INFO(file);
+        LuaHost host;
+        try {
+            host.run_file(file);
+            FAIL("no error");
+        } catch (const ScriptError& err) {
+            CHECK_THAT(std::string(err.what()), Catch::StartsWith(file + says));
+        }
+    }
+}
+
 TEST_CASE("a missing file is a ScriptError naming it", "[lua_host]") {
     LuaHost host;
     const std::string file = lua_dir() + "/none.lua";
