@@ -24,6 +24,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -1107,8 +1108,22 @@ int main(int argc, char** argv) {
         }
         // a failure is one line on stderr, like every other failure of gaitlab
         // (status 2, a usage error, as for an unknown option; not CLI11's codes 101-127,
-        // which shells read as "not found", "killed"...)
-        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab --help')\n", e.what());
+        // which shells read as "not found", "killed"...), pointing at the help of the
+        // subcommand it was for, in gaitlab's words where CLI11's say little
+        std::string help = "gaitlab";
+        for (const CLI::App* at = &app; at != nullptr;) {
+            const std::vector<CLI::App*> subs = at->get_subcommands();
+            at = subs.empty() ? nullptr : subs.front();
+            if (at) help += " " + at->get_name();
+        }
+        help += " --help";
+        std::string what = e.what();
+        static const std::regex twice(R"(^(\S+): At Most 1 required but received (\d+)$)");
+        std::smatch m;
+        if (std::regex_match(what, m, twice)) {
+            what = m[1].str() + " given " + m[2].str() + " times (give it once)";
+        }
+        std::fprintf(stderr, "gaitlab: %s (see '%s')\n", what.c_str(), help.c_str());
         return 2;
     }
     if (const std::string error = leftover_error(app); !error.empty()) {

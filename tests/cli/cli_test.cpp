@@ -418,7 +418,13 @@ TEST_CASE("gaitlab run records into --record DIR, or nothing with --no-record", 
     CHECK(n.out == r.out);
     CHECK_FALSE(std::filesystem::exists(tmp / "runs"));
     check_failure(cli({"run", "--record", tmp / "x", "--no-record", kFirstSnake}),
-                  "gaitlab: --record excludes --no-record (see 'gaitlab --help')");
+                  "gaitlab: --record excludes --no-record (see 'gaitlab run --help')");
+    // an option given twice says so, and the help meant is the subcommand's (CLI11 said "At
+    // Most 1 required but received 2 (see 'gaitlab --help')")
+    check_failure(cli({"run", "--seed", "1", "--seed", "2", "x.lua"}),
+                  "gaitlab: --seed given 2 times (give it once) (see 'gaitlab run --help')");
+    check_failure(cli({"make", "robot"}),
+                  "gaitlab: --output is required (see 'gaitlab make robot --help')");
 
     // a folder that cannot be made: one line naming it, exit 1
     std::ofstream(tmp / "file") << "x";

@@ -96,7 +96,7 @@ TEST_CASE("gaitlab sweep: bad options and grids give one line and no results") {
     };
     const std::string see = " (see 'gaitlab sweep --help')\n";
     const std::vector<Case> cases = {
-        {{"sweep", "spec.lua"}, 2, "gaitlab: --grid is required (see 'gaitlab --help')\n"},
+        {{"sweep", "spec.lua"}, 2, "gaitlab: --grid is required (see 'gaitlab sweep --help')\n"},
         {{"sweep", "spec.lua", "--grid", "phase=30:180", "--out", "out"},
          2,
          "gaitlab: --grid 'phase=30:180': NAME=FROM:TO:STEP expected, e.g. phase=30:180:15" + see},
