@@ -282,6 +282,8 @@ int check_command(const CheckArgs& a) {
     }
     double seconds = 0, cycle = 0, settle = 0;
     try {
+        // at most a million simulated seconds: more would be blamed on the file's line by the
+        // simulation that cannot run it
         const auto positive = [](const char* option, const std::string& text) {
             if (text.empty()) return 0.0;
             const double v = parse_seconds(option, text);
@@ -289,15 +291,21 @@ int check_command(const CheckArgs& a) {
                 throw gaitlab::SpecError(fmt::format(
                     "{}: a number of seconds > 0 expected (got '{}')", option, printable(text)));
             }
+            if (!(v <= 1e6)) {
+                throw gaitlab::SpecError(
+                    fmt::format("{}: a number of seconds up to 1e6 expected (got '{}')", option,
+                                printable(text)));
+            }
             return v;
         };
         seconds = positive("--seconds", a.seconds);
         cycle = positive("--cycle", a.cycle);
         if (!a.settle.empty()) {
             settle = parse_seconds("--settle", a.settle);
-            if (!(settle >= 0)) {
-                throw gaitlab::SpecError(fmt::format(
-                    "--settle: a number of seconds >= 0 expected (got '{}')", printable(a.settle)));
+            if (!(settle >= 0 && settle <= 1e6)) {
+                throw gaitlab::SpecError(
+                    fmt::format("--settle: a number of seconds from 0 to 1e6 expected (got '{}')",
+                                printable(a.settle)));
             }
         }
     } catch (const gaitlab::Error& e) {
@@ -1136,7 +1144,12 @@ int main(int argc, char** argv) {
             script_tail.erase(script_tail.begin());
         }
         if (ra.file.empty()) {
-            std::fprintf(stderr, "gaitlab: file is required (see 'gaitlab run --help')\n");
+            // an empty name given, or the file taken as an option's value (--seed base.lua)
+            std::fprintf(stderr, "gaitlab: %s (see 'gaitlab run --help')\n",
+                         run->get_option("file")->count() > 0
+                             ? "a script or simulation file expected, got an empty name"
+                             : "a script or simulation file is required (gaitlab run FILE.lua; "
+                               "an option before it takes its value first)");
             return 2;
         }
         ra.args.insert(ra.args.end(), script_tail.begin(), script_tail.end());
@@ -1144,6 +1157,13 @@ int main(int argc, char** argv) {
         return Stdout::finish(run_script(ra, command));
     }
     if (*console || argl.empty()) {
+        // `gaitlab -i ""`: a file asked for and none named is no plain console
+        if (console->get_option("file")->count() > 0 && ca.file.empty()) {
+            std::fprintf(stderr,
+                         "gaitlab: a Lua file to run first expected, got an empty name (see "
+                         "'gaitlab console --help')\n");
+            return 2;
+        }
         if (ca.file.empty() && !script_tail.empty()) {
             ca.file = script_tail.front();
             script_tail.erase(script_tail.begin());

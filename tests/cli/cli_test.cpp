@@ -351,7 +351,16 @@ TEST_CASE("the seed option makes math.random reproducible", "[cli]") {
     check_failure(cli({"run", "--seed", "many", "random.lua"}),
                   "gaitlab: --seed: a whole number from 0 to 18446744073709551615 expected (got "
                   "'many') (see 'gaitlab run --help')");
-    check_failure(cli({"run"}), "gaitlab: file is required (see 'gaitlab run --help')");
+    check_failure(cli({"run"}),
+                  "gaitlab: a script or simulation file is required (gaitlab run FILE.lua; an "
+                  "option before it takes its value first) (see 'gaitlab run --help')");
+    check_failure(cli({"run", ""}),
+                  "gaitlab: a script or simulation file expected, got an "
+                  "empty name (see 'gaitlab run --help')");
+    // an empty name after -i opened a plain console, as if none had been given
+    check_failure(cli({"-i", ""}),
+                  "gaitlab: a Lua file to run first expected, got an empty "
+                  "name (see 'gaitlab console --help')");
     check_failure(cli({"launch"}), "gaitlab: unknown command 'launch' (see 'gaitlab --help')");
 }
 
@@ -1094,8 +1103,13 @@ TEST_CASE(
                   "gaitlab: --seconds: a number of seconds > 0 expected (got '0')" + help);
     check_failure(cli({"check", "examples/walk.xml", "--cycle", "x"}, GAITLAB_SOURCE_DIR),
                   "gaitlab: --cycle: a number of seconds expected (got 'x')" + help);
-    check_failure(cli({"check", "examples/walk.xml", "--settle", "-1"}, GAITLAB_SOURCE_DIR),
-                  "gaitlab: --settle: a number of seconds >= 0 expected (got '-1')" + help);
+    check_failure(
+        cli({"check", "examples/walk.xml", "--settle", "-1"}, GAITLAB_SOURCE_DIR),
+        "gaitlab: --settle: a number of seconds from 0 to 1e6 expected (got '-1')" + help);
+    // a length no simulation can run was blamed on the file's line 5 and a Lua field
+    check_failure(
+        cli({"check", "examples/walk.xml", "--seconds", "1e300"}, GAITLAB_SOURCE_DIR),
+        "gaitlab: --seconds: a number of seconds up to 1e6 expected (got '1e300')" + help);
     check_failure(cli({"check", "examples/walk.xml", "--seconds", "inf"}, GAITLAB_SOURCE_DIR),
                   "gaitlab: --seconds: a number of seconds expected (got 'inf')" + help);
     const std::string walk = std::string(GAITLAB_SOURCE_DIR) + "/examples/walk.xml";
