@@ -11,6 +11,7 @@
 #include "gaitlab/suggest.h"
 #include "gaitlab/xml.h"
 #include "parts.h"
+#include "shell_word.h"
 
 namespace gaitlab::cli {
 
@@ -311,7 +312,8 @@ int MakeCommand::run() {
             s.control_every = whole_number("--control-every", a.control_every);
             s.record = !a.no_record;
             maker.write_sim(s, a.robot_file, a.actuation_file, a.world_file, a.out);
-            std::printf("wrote %s (run it: gaitlab run %s)\n", a.out.c_str(), a.out.c_str());
+            std::printf("wrote %s (run it: gaitlab run %s)\n", a.out.c_str(),
+                        shell_word(a.out).c_str());
         }
     } catch (const std::exception& e) {
         // "gaitlab: make robot: ..."

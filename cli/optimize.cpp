@@ -22,6 +22,7 @@
 #include "gaitlab/optimize/runner.h"
 #include "progress.h"
 #include "ranks.h"
+#include "shell_word.h"
 
 namespace gaitlab::cli {
 
@@ -189,7 +190,7 @@ int OptimizeCommand::run(const std::string& command) {
     print_best_simulation(r.simulation, r.simulation_error);
     if (!r.run.empty()) {
         std::printf("the best's run recorded: gaitlab view %s, gaitlab data %s --list\n",
-                    r.run.c_str(), r.run.c_str());
+                    shell_word(r.run).c_str(), shell_word(r.run).c_str());
     } else if (!r.run_error.empty()) {
         std::printf("the best's run could not be recorded: %s\n", r.run_error.c_str());
     }

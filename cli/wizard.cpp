@@ -30,6 +30,7 @@
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/suggest.h"
 #include "parts.h"
+#include "shell_word.h"
 
 namespace gaitlab::cli {
 
@@ -852,7 +853,7 @@ int write_and_run(Wizard& wizard, const Project& p, PartMaker& maker, const fs::
     }
     for (const auto& [file, name] : wizard.copied_templates())
         line(file, "the " + name + " template, yours to change");
-    line("run.lua", "runs it all: gaitlab run " + (dir / "run.lua").string());
+    line("run.lua", "runs it all: gaitlab run " + shell_word((dir / "run.lua").string()));
     say(list);
 
     const char* editor = std::getenv("EDITOR");
@@ -906,8 +907,8 @@ int write_and_run(Wizard& wizard, const Project& p, PartMaker& maker, const fs::
     if (g_signal != 0) {
         std::fprintf(stderr,
                      "gaitlab: interrupted; the project is complete in %s (run it again: "
-                     "gaitlab run %s/run.lua)\n",
-                     d.c_str(), d.c_str());
+                     "gaitlab run %s)\n",
+                     d.c_str(), shell_word(d + "/run.lua").c_str());
         return 128 + g_signal;
     }
     if (!error.empty()) {
@@ -915,9 +916,10 @@ int write_and_run(Wizard& wizard, const Project& p, PartMaker& maker, const fs::
         return 1;
     }
     for (const std::string& f : folders) {
-        say(fmt::format("The recording is in {} (see its series: gaitlab data {} --list)\n", f, f));
+        say(fmt::format("The recording is in {} (see its series: gaitlab data {} --list)\n", f,
+                        shell_word(f)));
     }
-    say(fmt::format("Run it again: gaitlab run {}/run.lua\n", d));
+    say(fmt::format("Run it again: gaitlab run {}\n", shell_word(d + "/run.lua")));
     return 0;
 }
 

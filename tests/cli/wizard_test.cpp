@@ -83,6 +83,18 @@ TEST_CASE("gaitlab new --defaults writes a project that runs and moves", "[cli][
     CHECK(entries(dir.path) == std::vector<std::string>{"snake", "snake-2"});
 }
 
+TEST_CASE("the commands the wizard prints can be pasted into a shell", "[cli][wizard]") {
+    // a folder with a space printed "gaitlab run my snake/run.lua", which a shell splits, and a
+    // folder holding $(...) printed a command substitution for the user to paste
+    TempDir dir("wizard_quoted");
+    const Output r = run_gaitlab({"new", "my $(touch x) snake", "--defaults"}, dir.str());
+    INFO(r.out << r.err);
+    REQUIRE(r.status == 0);
+    CHECK_THAT(r.out, Catch::Contains("Run it again: gaitlab run 'my $(touch x) snake/run.lua'"));
+    CHECK_THAT(r.out, Catch::Contains("runs it all: gaitlab run 'my $(touch x) snake/run.lua'"));
+    CHECK_FALSE(fs::exists(dir.path / "x"));
+}
+
 TEST_CASE("pressing Enter at every question gives the defaults", "[cli][wizard]") {
     TempDir dir("wizard_enter");
     const Output r = run_gaitlab({"new", "p", "--record-not-an-option"}, dir.str(), "");
