@@ -507,6 +507,23 @@ const SeriesInfo& RunData::find(SeriesKind kind, std::string_view value, int joi
                     source.empty() ? std::string() : fmt::format(" from '{}'", source));
     if (hits.size() == 1) return *hits[0];
     if (hits.empty()) {
+        // the value is there, but for other joints (or for none): say which, not "did you
+        // mean" the same word
+        std::vector<int> joints;
+        for (const SeriesInfo& s : series_) {
+            if (s.kind == kind && s.value == value && (source.empty() || s.source == source) &&
+                std::find(joints.begin(), joints.end(), s.joint) == joints.end())
+                joints.push_back(s.joint);
+        }
+        if (!joints.empty()) {
+            std::sort(joints.begin(), joints.end());
+            if (joints.front() == 0) {
+                throw SpecError(
+                    fmt::format("no {}: '{}' is not per joint (leave the joint out)", what, value));
+            }
+            throw SpecError(fmt::format("no {}: '{}' is per joint (joint = {} to {})", what, value,
+                                        joints.front(), joints.back()));
+        }
         std::vector<std::string> values;
         for (const SeriesInfo& s : series_) {
             if (s.kind == kind && std::find(values.begin(), values.end(), s.value) == values.end())

@@ -50,6 +50,14 @@ TEST_CASE("series by name, by kind + value + joint, and over a time range", "[ru
                       "no robot series 'angel' of joint 3; did you mean 'angle'?");
     CHECK_THROWS_WITH(run.find(SeriesKind::sensor, "range", 1),
                       "no sensor series 'range' of joint 1");
+    // the value exists for other joints: said so, not "did you mean 'angle'?"
+    CHECK_THROWS_WITH(run.find(SeriesKind::robot, "angle", 0),
+                      "no robot series 'angle': 'angle' is per joint (joint = 1 to 4)");
+    CHECK_THROWS_WITH(run.find(SeriesKind::robot, "angle", 7),
+                      "no robot series 'angle' of joint 7: 'angle' is per joint (joint = 1 to 4)");
+    CHECK_THROWS_WITH(run.find(SeriesKind::robot, "com.x", 2),
+                      "no robot series 'com.x' of joint 2: 'com.x' is not per joint (leave the "
+                      "joint out)");
 
     const SeriesData r = run.get("snake.com.x", 0.25, 0.5);
     REQUIRE(r.time.size() == 8);  // 0.27, 0.30, ..., 0.48
