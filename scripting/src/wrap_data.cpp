@@ -398,11 +398,15 @@ int live_newindex(lua_State* L) {
         const std::string key = check_string(L, 2);
         try {
             if (key == "sample_every") {
-                b.set_sample_every(static_cast<int>(check_integer(L, 3)));
+                const long long every = check_integer(L, 3);
+                LiveBuffers::check_sample_every(every);
+                b.set_sample_every(static_cast<int>(every));
             } else if (key == "refresh") {
                 b.set_refresh_seconds(check_number(L, 3));
             } else if (key == "size") {
-                b.set_size(static_cast<int>(check_integer(L, 3)));
+                const long long size = check_integer(L, 3);
+                LiveBuffers::check_size(size);
+                b.set_size(static_cast<int>(size));
             } else {
                 throw Error(fmt::format("live buffers have no setting '{}'{}", key,
                                         did_you_mean(key, {"sample_every", "refresh", "size"})));
@@ -428,12 +432,19 @@ int live_new(lua_State* L) {
                 o.series = to_names(L, -1, 2, "field 'series': ");
                 lua_pop(L, 1);
             }
-            o.sample_every = static_cast<int>(f.integer("sample_every", 0));
-            if (f.has("sample_every") && o.sample_every < 1) {
-                f.fail("sample_every", "at least 1 expected");
+            // checked as given before they become ints (1e12 was refused as -727379968)
+            const long long every = f.integer("sample_every", 0);
+            if (f.has("sample_every") && every < 1) f.fail("sample_every", "at least 1 expected");
+            const long long size = f.integer("size", o.size);
+            try {
+                if (f.has("sample_every")) LiveBuffers::check_sample_every(every);
+                LiveBuffers::check_size(size);
+            } catch (const SpecError& e) {
+                throw ArgError(2, e.what());
             }
+            o.sample_every = static_cast<int>(every);
             o.refresh_seconds = f.number("refresh", o.refresh_seconds);
-            o.size = static_cast<int>(f.integer("size", o.size));
+            o.size = static_cast<int>(size);
         }
         try {
             auto buffers = std::make_shared<LiveBuffers>(*h.sim, o);

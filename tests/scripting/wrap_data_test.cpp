@@ -316,6 +316,14 @@ TEST_CASE("live buffers keep the latest samples of chosen series", "[wrap_data]"
     CHECK(lua.number("live:get('snake.com.x').time[3]") == Approx(0.48));
     CHECK(lua.number("live:get('snake.com.x').time[1]") == Approx(0.42));
     CHECK(lua.error_of("live.size = 0") == "test:1: size must be in [1, 10000000] samples (got 0)");
+    // beyond an int: the number as given (it was refused as -727379968)
+    CHECK(lua.error_of("live.size = 1e12") ==
+          "test:1: size must be in [1, 10000000] samples (got 1000000000000)");
+    CHECK(lua.error_of("sim:live{ size = 1e12 }") ==
+          "test:1: bad argument #1 to 'live' (size must be in [1, 10000000] samples (got "
+          "1000000000000))");
+    CHECK(lua.error_of("live.sample_every = 2^40") ==
+          "test:1: sample_every must be in [1, 1000000000] ticks (got 1099511627776)");
     CHECK(lua.error_of("live.colour = 1") == "test:1: live buffers have no setting 'colour'");
     CHECK(lua.error_of("live:get('snake.com.y')") ==
           "test:1: bad argument #1 to 'get' (the live buffers keep no series 'snake.com.y'; did "

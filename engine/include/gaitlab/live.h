@@ -51,6 +51,10 @@ class LiveBuffers {
     void set_refresh_seconds(double seconds);
     /// Keeps the newest samples that fit.
     void set_size(int samples);
+    /// The checks of size and sample_every, for callers holding a wider number than an int (a
+    /// Lua integer): SpecError naming the value as given.
+    static void check_size(long long samples);
+    static void check_sample_every(long long ticks);
     LiveOptions options() const;
 
     /// Thread-safe copy of what has been published; `names` empty: every series. Throws

@@ -15,8 +15,11 @@ namespace gaitlab {
 
 namespace {
 
-void check_every(int ticks) {
-    if (ticks < 1) throw SpecError(fmt::format("sample_every must be at least 1 (got {})", ticks));
+void check_every(long long ticks) {
+    if (ticks < 1 || ticks > 1'000'000'000) {
+        throw SpecError(
+            fmt::format("sample_every must be in [1, 1000000000] ticks (got {})", ticks));
+    }
 }
 void check_refresh(double s) {
     if (!(std::isfinite(s) && s >= 0)) {
@@ -24,7 +27,7 @@ void check_refresh(double s) {
                                     detail::shown(s)));
     }
 }
-void check_size(int n) {
+void check_size(long long n) {
     if (n < 1 || n > 10'000'000) {
         throw SpecError(fmt::format("size must be in [1, 10000000] samples (got {})", n));
     }
@@ -34,6 +37,13 @@ std::int64_t to_ns(double s) {
 }
 
 }  // namespace
+
+void LiveBuffers::check_size(long long samples) {
+    gaitlab::check_size(samples);
+}
+void LiveBuffers::check_sample_every(long long ticks) {
+    check_every(ticks);
+}
 
 LiveBuffers::LiveBuffers(Simulation& sim, LiveOptions o)
     : sim_(sim),
