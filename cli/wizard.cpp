@@ -756,6 +756,15 @@ fs::path destination(fs::path dir) {
         throw Error(fmt::format("cannot create {}: cannot write in {} ({})", given, up.string(),
                                 std::strerror(errno)));
     }
+    // the system may still refuse what access() allows (/proc, /sys, a read-only mount, and
+    // root, to whom access() says yes): make a folder there and take it away again, so the
+    // answers are never asked for a project that cannot be written
+    std::string probe = (up / ".gaitlab-new-XXXXXX").string();
+    if (!::mkdtemp(probe.data())) {
+        throw Error(fmt::format("cannot create {}: cannot make a folder in {} ({})", given,
+                                up.string(), std::strerror(errno)));
+    }
+    ::rmdir(probe.c_str());
     return dir;
 }
 

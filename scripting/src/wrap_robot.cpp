@@ -292,7 +292,15 @@ int robot_save_urdf(lua_State* L) {
     return protect(L, [&] {
         RobotBinding& r = check_robot(L, 1);
         const ScriptPath path(L, check_string(L, 2));
-        return file_written(L, path, [&] { write_urdf(path.path(), r.spec); });
+        // a robot URDF cannot hold (joints that are no tree) is a failure to write, as the
+        // docs promise: nil and the message, not an error that ends the script
+        std::optional<std::string> cannot;
+        try {
+            return file_written(L, path, [&] { write_urdf(path.path(), r.spec); });
+        } catch (const SpecError& e) {
+            cannot = path.shown(path.path()) + ": " + e.what();
+        }
+        return push_fail(L, *cannot);
     });
 }
 

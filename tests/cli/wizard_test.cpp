@@ -457,6 +457,12 @@ TEST_CASE("a project folder that cannot be made is refused before the first ques
     CHECK(r.err ==
           "gaitlab: new: cannot create file/p: " + (dir / "file") + " is a file, not a folder\n");
     CHECK(read_text(dir / "file") == "mine");
+    // a folder the system refuses though access() allows it (root may "write" in /proc): the
+    // questions were all asked first, and the answers lost
+    r = run_gaitlab({"new", "/proc/gaitlab_project"}, dir.str(), "");
+    CHECK(r.status == 1);
+    CHECK(r.out.empty());
+    CHECK_THAT(r.err, Catch::StartsWith("gaitlab: new: cannot create /proc/gaitlab_project: "));
     // folders that do not exist yet are made; a trailing '/' names the same folder
     r = run_gaitlab({"new", "--defaults", "a/b/"}, dir.str());
     INFO(r.err);

@@ -487,6 +487,40 @@ TEST_CASE("saves make the folders they need and name the file as the script gave
     }
 }
 
+TEST_CASE("a robot URDF cannot hold is nil and a message naming why", "[config_files][save]") {
+    // save_urdf raised an error that ended the script, and a robot joined a to b and b to a was
+    // said to be "not connected"
+    TempDir dir("save_urdf_tree");
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.path.string() + "'");
+    lua.run(R"(
+        local function body(name, x)
+          return { name = name, size = {0.05, 0.05, 0.05}, mass = 0.1, position = {x, 0, 0.03} }
+        end
+        local function joint(name, parent, child)
+          return { name = name, parent = parent, child = child, pivot = {0.025, 0, 0.03},
+                   axis = {0, 1, 0} }
+        end
+        loop = gaitlab.robot.new{ name = "loop", bodies = { body("a", 0), body("b", 0.05) },
+                                  joints = { joint("ab", "a", "b"), joint("ba", "b", "a") } }
+        apart = gaitlab.robot.new{ name = "apart",
+                                   bodies = { body("a", 0), body("b", 0.05), body("c", 0.3) },
+                                   joints = { joint("ab", "a", "b") } }
+        looped = { loop:save_urdf(DIR .. "/loop.urdf") }
+        parted = { apart:save_urdf(DIR .. "/apart.urdf") }
+    )");
+    CHECK(lua.boolean("looped[1] == nil and parted[1] == nil"));
+    CHECK(lua.string("looped[2]") ==
+          dir.file("loop.urdf") +
+              ": robot 'loop' has a loop of joints: every body hangs from one, so none is the "
+              "root (URDF needs a tree)");
+    CHECK(lua.string("parted[2]") ==
+          dir.file("apart.urdf") +
+              ": robot 'apart' is not connected: bodies 'a', 'c' hang from no joint (URDF needs "
+              "a single root body)");
+    CHECK_FALSE(std::filesystem::exists(dir.file("loop.urdf")));
+}
+
 TEST_CASE("a save that fails changes nothing on disk", "[config_files][save]") {
     // the parts were written one by one before the simulation file: a simulation file that
     // could not be written (a folder of that name) still replaced the user's robot file beside it

@@ -124,7 +124,10 @@ class LineReader {
         record_line_ = number_;
         record.assign(line);
         while (std::count(record.begin(), record.end(), '"') % 2 != 0) {
-            if (!next(line)) return false;  // cut short inside a quoted field
+            if (!next(line)) {  // cut short inside a quoted field
+                unterminated_ = true;
+                return false;
+            }
             if (record.size() + line.size() > kMaxLineBytes) too_long();
             record += '\n';
             record.append(line);
@@ -133,6 +136,9 @@ class LineReader {
     }
     long number() const { return number_; }
     long record_line() const { return record_line_; }
+    // whether the file ended inside a quoted field: the last record (from record_line()) has a
+    // '"' that never closes
+    bool unterminated() const { return unterminated_; }
     bool truncated() const { return truncated_; }
     const std::string& path() const { return path_; }
 
@@ -148,6 +154,7 @@ class LineReader {
 
     std::string path_;
     int fd_ = -1;
+    bool unterminated_ = false;
     std::string buf_;
     size_t pos_ = 0;
     long number_ = 0;
@@ -414,6 +421,14 @@ RunData::RunData(std::string dir) : dir_(std::move(dir)) {
         }
         series_.push_back(series_from(f, fmt::format("{}:{}", list.path(), list.record_line())));
         index_.emplace(series_.back().name, series_.size() - 1);  // the first of a name
+    }
+    // series.csv is written whole, never cut short: a quote that never closes is a broken
+    // file here (it swallowed the lines after it, and data.csv was blamed)
+    if (list.unterminated()) {
+        throw FormatError(fmt::format("{}:{}: a quoted field that never ends (a '\"' without its "
+                                      "closing '\"')",
+                                      list.path(), list.record_line()),
+                          list.path(), static_cast<int>(list.record_line()));
     }
 
     LineReader rows((p / "data.csv").string());

@@ -10,6 +10,7 @@
 #include <map>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "gaitlab/files.h"
 #include "gaitlab/xml.h"
@@ -76,9 +77,21 @@ std::vector<int> carriers(const RobotSpec& robot) {
         }
         by[static_cast<size_t>(child)] = static_cast<int>(j);
     }
-    if (std::count(by.begin(), by.end(), -1) != 1) {
+    std::vector<std::string> roots;
+    for (size_t b = 0; b < by.size(); ++b)
+        if (by[b] < 0) roots.push_back("'" + robot.bodies[b].name + "'");
+    if (roots.empty()) {
+        // every body hangs from a joint: the joints make a loop (a joined to b and b to a)
         throw SpecError(
-            fmt::format("robot '{}' is not connected: URDF needs a single root body", robot.name));
+            fmt::format("robot '{}' has a loop of joints: every body hangs from one, "
+                        "so none is the root (URDF needs a tree)",
+                        robot.name));
+    }
+    if (roots.size() > 1) {
+        throw SpecError(
+            fmt::format("robot '{}' is not connected: bodies {} hang from no joint "
+                        "(URDF needs a single root body)",
+                        robot.name, fmt::join(roots, ", ")));
     }
     return by;
 }

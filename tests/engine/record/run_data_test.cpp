@@ -102,6 +102,20 @@ TEST_CASE("a last line cut short is dropped, malformed lines name file and line"
     write_text(dir + "/data.csv", data.substr(0, data.find('\n') + 1) + "0,1,2\n");
     CHECK_THROWS_WITH(RunData(dir).get("snake.com.z"),
                       dir + "/data.csv:2: 81 fields expected, got 3");
+    // a quote that never closes in series.csv swallowed the lines after it, and data.csv was
+    // blamed for having more columns than series
+    {
+        write_text(dir + "/data.csv", data);
+        const std::string series = read_text(dir + "/series.csv");
+        std::string quoted = series;
+        const size_t third = quoted.find('\n', quoted.find('\n') + 1) + 1;
+        quoted.insert(third, "\"");
+        write_text(dir + "/series.csv", quoted);
+        CHECK_THROWS_WITH(RunData(dir), dir +
+                                            "/series.csv:3: a quoted field that never ends (a "
+                                            "'\"' without its closing '\"')");
+        write_text(dir + "/series.csv", series);
+    }
     write_text(dir + "/data.csv", "time,a\n");
     CHECK_THROWS_WITH(RunData(dir),
                       dir +
