@@ -802,7 +802,12 @@ int view_command(const ViewArgs& a) {
         }
         if (!a.port.empty()) server.port = parse_port(a.port);
         if (!a.host.empty()) server.host = a.host;
-        speed = parse_seconds("--speed", a.speed);
+        // a factor, not seconds: parsed as a number, refused in the factor's words
+        try {
+            speed = parse_seconds("--speed", a.speed);
+        } catch (const gaitlab::SpecError&) {
+            speed = 0;
+        }
         if (!(speed > 0 && speed <= 100)) {
             throw gaitlab::SpecError(fmt::format(
                 "--speed: a real-time factor in (0, 100] expected (got '{}')", printable(a.speed)));

@@ -316,6 +316,9 @@ TEST_CASE("runner: bad spec files are refused naming the file and the field") {
          "\"pgpe\")"},
         {"return { parameters = { a = {0, 1} }, " + good_build + ", population = 0 }",
          "population: a whole number >= 1 expected, got 0"},
+        // Lua's 0/0 has its sign bit set: it was shown as "-nan"
+        {"return { parameters = { a = {0, 1} }, " + good_build + ", generations = 0/0 }",
+         "generations: a whole number >= 1 expected, got nan"},
         {"return 42",
          "the spec file must return a table { parameters =, build =, fitness =, "
          "duration = ... } (got number)"},

@@ -384,6 +384,11 @@ TEST_CASE("gaitlab view from the command line: bad folders and options and no ch
     r = run_gaitlab({"view", "walk", "--video", "out.webm", "--speed", "0"}, dir.str());
     CHECK(r.status == 2);
     CHECK(r.err.find("--speed: a real-time factor in (0, 100] expected") != std::string::npos);
+    // not a number at all: still the factor's words (it said "a number of seconds expected")
+    r = run_gaitlab({"view", "walk", "--video", "out.webm", "--speed", "nan"}, dir.str());
+    CHECK(r.status == 2);
+    CHECK(r.err.find("--speed: a real-time factor in (0, 100] expected (got 'nan')") !=
+          std::string::npos);
     r = run_gaitlab({"view", "walk", "--video", "out.webm", "--size", "big"}, dir.str());
     CHECK(r.status == 2);
     CHECK(r.err.find("--size: WIDTHxHEIGHT in pixels expected") != std::string::npos);

@@ -52,6 +52,11 @@ std::string lua_type_name(lua_State* L, int index) {
     return luaL_typename(L, index);
 }
 
+// a number as messages show it: "nan" whatever its sign bit (0/0 in Lua is printed "-nan")
+std::string shown(double v) {
+    return std::isnan(v) ? "nan" : fmt::format("{}", v);
+}
+
 // "FILE: FIELD: WHAT"
 [[noreturn]] void bad(const std::string& file, const std::string& field, const std::string& what) {
     throw SpecError(fmt::format("{}: {}: {}", file, field, what));
@@ -126,7 +131,7 @@ double number_field(lua_State* L, const std::string& file, const char* field, do
     }
     const double v = lua_tonumber(L, -1);
     lua_pop(L, 1);
-    if (!std::isfinite(v)) bad(file, field, fmt::format("{} expected, got {}", expected, v));
+    if (!std::isfinite(v)) bad(file, field, fmt::format("{} expected, got {}", expected, shown(v)));
     return v;
 }
 
@@ -137,7 +142,7 @@ int count_field(lua_State* L, const std::string& file, const char* field, int fa
     if (absent) return fallback;
     const double v = number_field(L, file, field, fallback, false, "a whole number >= 1");
     if (v < 1 || v != std::floor(v) || v > 1e9) {
-        bad(file, field, fmt::format("a whole number >= 1 expected, got {}", v));
+        bad(file, field, fmt::format("a whole number >= 1 expected, got {}", shown(v)));
     }
     return static_cast<int>(v);
 }
@@ -241,7 +246,7 @@ void read_parameters(lua_State* L, Spec& spec) {
             const double v = e.has_initial ? e.initial : (e.p.min + e.p.max) / 2;
             if (!(v >= e.p.min && v <= e.p.max)) {
                 bad(file, "parameters." + e.p.name + ".initial",
-                    fmt::format("{} is outside the range [{}, {}]", v, e.p.min, e.p.max));
+                    fmt::format("{} is outside the range [{}, {}]", shown(v), e.p.min, e.p.max));
             }
             spec.initial.push_back(v);
         }
