@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <optional>
+#include <regex>
 
 #include <fmt/format.h>
 
@@ -392,7 +393,21 @@ void LuaController::push_params() {
 
 void LuaController::call(int nargs, int nresults, long long budget, const char* suffix) {
     const Budget limit(L_, budget, label_, suffix);
-    protected_call(L_, nargs, nresults);
+    std::optional<ScriptError> placed;
+    try {
+        protected_call(L_, nargs, nresults);
+        return;
+    } catch (const ScriptError& e) {
+        // errors raised inside Lua's own C functions carry no place ("attempt to yield from
+        // outside a coroutine"), and running out of memory none at all: say where, and whose
+        const std::string message = e.what();
+        static const std::regex located(R"(^[^:\n]+:[0-9]+: )");
+        if (std::regex_search(message, located) || message.rfind(label_, 0) == 0) throw;
+        const std::string where =
+            e.line() > 0 ? fmt::format("{}:{}: ", e.file(), e.line()) : label_ + ": ";
+        placed.emplace(where + message, e.file(), e.line(), e.traceback());
+    }
+    throw *placed;
 }
 
 void LuaController::check_values() {

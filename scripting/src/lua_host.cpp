@@ -39,7 +39,17 @@ int script_folder_searcher(lua_State* L) {
         const std::string read = input_path(L, relative);
         std::error_code ec;
         if (!std::filesystem::is_regular_file(read, ec)) {
-            lua_pushfstring(L, "no file '%s' (beside the requiring script)", read.c_str());
+            // something else of that name is there: say what, not that nothing is
+            const auto status = std::filesystem::status(read, ec);
+            const char* what = !std::filesystem::exists(status) ? nullptr
+                               : std::filesystem::is_directory(status)
+                                   ? "is a directory"
+                                   : "not a regular file (a FIFO, device or socket)";
+            if (what) {
+                lua_pushfstring(L, "'%s' beside the requiring script %s", read.c_str(), what);
+            } else {
+                lua_pushfstring(L, "no file '%s' (beside the requiring script)", read.c_str());
+            }
             return 1;
         }
         const std::string text = read_file(read);

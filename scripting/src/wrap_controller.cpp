@@ -506,9 +506,14 @@ int class_write_template(lua_State* L) {
             return 2;
         }
         if (std::filesystem::exists(path, ec)) {
+            // a folder or a device there is no template of the user's
+            const auto status = std::filesystem::status(path, ec);
+            const char* what = std::filesystem::is_directory(status) ? "is a directory"
+                               : !std::filesystem::is_regular_file(status)
+                                   ? "not a regular file (a FIFO, device or socket)"
+                                   : "file exists (templates never overwrite)";
             lua_pushnil(L);
-            lua_pushstring(
-                L, (target.shown(file) + ": file exists (templates never overwrite)").c_str());
+            lua_pushstring(L, (target.shown(file) + ": " + what).c_str());
             return 2;
         }
         return file_written(L, target,

@@ -47,6 +47,26 @@ TEST_CASE("on_controller_error = 'stop' raises from sim:run and marks the contro
     CHECK(lua.number("sim.time") == Approx(0.27));
 }
 
+TEST_CASE("an error Lua raises without a place is placed at the step's line",
+          "[controller_failure]") {
+    // "attempt to yield from outside a coroutine" named no file, line or controller
+    LuaFixture lua;
+    lua.run(R"(
+        Yielder = gaitlab.controller{ name = "yielder",
+          step = function(self, dt)
+            coroutine.yield()
+          end }
+        robot = gaitlab.robot.chain{ modules = 3 }
+        world = gaitlab.world()
+        world:add(robot)
+        ctl = robot:group("pitch"):drive(Yielder())
+        sim = gaitlab.simulation{ world = world, on_controller_error = "continue" }
+        sim:run(0.1)
+    )");
+    CHECK(lua.boolean("ctl.failed"));
+    CHECK(lua.string("ctl.error") == "test:4: attempt to yield from outside a coroutine");
+}
+
 TEST_CASE("on_controller_error = 'continue' holds the failed group and keeps running",
           "[controller_failure]") {
     LuaFixture lua;

@@ -94,5 +94,10 @@ TEST_CASE("write_template copies a template to a file that loads and runs the sa
     CHECK(lua.string("err") == file + ": file exists (templates never overwrite)");
     lua.run("ok, err = gaitlab.controller.write_template('blank', FILE .. '/no/such/dir.lua')");
     CHECK(lua.string("err").rfind("cannot write " + file + "/no/such/dir.lua: ", 0) == 0);
+    // a folder or a device there is no template that exists (both said "file exists")
+    lua.run("ok, err = gaitlab.controller.write_template('blank', '" + dir.string() + "')");
+    CHECK(lua.string("err") == dir.string() + ": is a directory");
+    lua.run("ok, err = gaitlab.controller.write_template('blank', '/dev/null')");
+    CHECK(lua.string("err") == "/dev/null: not a regular file (a FIFO, device or socket)");
     fs::remove_all(dir);
 }
