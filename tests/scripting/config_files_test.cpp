@@ -43,6 +43,17 @@ const char* kScene = R"(
     end
 )";
 
+// a 3-module snake driven by a sine, its world and simulation, and both(...), which keeps every
+// result of a call (a save's path, or nil and its message)
+const char* kSavedSnake = R"(
+        robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
+        robot:group("pitch"):drive(gaitlab.controllers.sine{})
+        world = gaitlab.world()
+        world:add(robot)
+        sim = gaitlab.simulation{ world = world }
+        local function both(...) return { ... } end
+)";
+
 // the value of the first attribute `name` in the file at `path` ("" if there is none)
 std::string attribute(const std::string& path, const std::string& name) {
     const std::string text = gaitlab::test::read_text(path);
@@ -411,13 +422,7 @@ TEST_CASE("saves make the folders they need and name the file as the script gave
     fs::create_directories(dir.file("proj/parts/s.snake.robot.xml"));  // a folder in the way
     gaitlab::test::write_text(dir.file("proj/blocker"), "a file where a folder must go");
     // a script file: relative paths are relative to its folder, and shown as it wrote them
-    gaitlab::test::write_text(dir.file("proj/save.lua"), R"(
-        robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
-        robot:group("pitch"):drive(gaitlab.controllers.sine{})
-        world = gaitlab.world()
-        world:add(robot)
-        sim = gaitlab.simulation{ world = world }
-        local function both(...) return { ... } end
+    gaitlab::test::write_text(dir.file("proj/save.lua"), std::string(kSavedSnake) + R"(
         ok = {
           sim = both(sim:save("runs/x/sim.xml")),
           robot = both(robot:save("robots/a/b/snake.xml")),
@@ -530,13 +535,7 @@ TEST_CASE("a save that fails changes nothing on disk", "[config_files][save]") {
     gaitlab::test::write_text(dir.file("walk.snake.robot.xml"), "my own robot file");
     LuaFixture lua;
     lua.run("DIR = '" + dir.path.string() + "'");
-    lua.run(R"(
-        robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
-        robot:group("pitch"):drive(gaitlab.controllers.sine{})
-        world = gaitlab.world()
-        world:add(robot)
-        sim = gaitlab.simulation{ world = world }
-        local function both(...) return { ... } end
+    lua.run(std::string(kSavedSnake) + R"(
         folder = both(sim:save(DIR .. "/walk.xml"))
         empty = both(sim:save(""))
         dot = both(sim:save(DIR .. "/."))
