@@ -125,11 +125,11 @@ void push_ordered_keys(lua_State* L, int table) {
     lua_remove(L, found);
 }
 
+}  // namespace
+
 // pairs(t): as Lua's (a __pairs metamethod decides if there is one), but a table's keys come
 // in a fixed order: numbers ascending, then strings in byte order, then false and true, then
 // other keys in Lua's order
-}  // namespace
-
 int fixed_order_pairs(lua_State* L) {
     luaL_checkany(L, 1);
     if (luaL_getmetafield(L, 1, "__pairs") != LUA_TNIL) {

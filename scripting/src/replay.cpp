@@ -97,6 +97,13 @@ ReplayResult replay(const std::string& run_dir, const std::string& into,
     if (fs::weakly_canonical(result.into) == fs::weakly_canonical(dir)) {
         throw Error("cannot replay a run into its own folder");
     }
+    // a run still being written has no end yet to compare with: its replay would "differ"
+    if (m.status == "running" && liveness(m.process) == Liveness::alive) {
+        throw Error(
+            fmt::format("cannot replay {}: it is still being recorded (by process {}); "
+                        "replay it once that run has ended",
+                        run_dir, m.process.pid));
+    }
 
     auto plan = std::make_shared<ReplayPlan>();
     plan->into = result.into;

@@ -202,6 +202,16 @@ TEST_CASE("a run cut short replays up to its last row", "[replay]") {
     write_text(tmp / "run/run.json", meta);
     const std::string data = read_text(tmp / "run/data.csv");
     write_text(tmp / "run/data.csv", data.substr(0, data.size() * 2 / 3));
+    // while the process that wrote it runs (this one), the run is still being recorded: its
+    // replay would be compared with a run that has not ended ("replay differs")
+    CHECK_THROWS_WITH(scripting::replay(tmp / "run"),
+                      Catch::StartsWith("cannot replay " + tmp / "run" +
+                                        ": it is still being recorded (by process "));
+    // the process gone (a start time no process of this pid has): replayed to its last row
+    const size_t start = meta.find("\"start_time\":");
+    REQUIRE(start != std::string::npos);
+    meta.insert(meta.find_first_of("0123456789", start), "9");
+    write_text(tmp / "run/run.json", meta);
     const RunData run(tmp / "run");
     CHECK(run.truncated());
     const scripting::ReplayResult r = scripting::replay(tmp / "run");
