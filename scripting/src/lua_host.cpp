@@ -32,6 +32,16 @@ namespace {
 int script_folder_searcher(lua_State* L) {
     return protect(L, [&] {
         std::string relative = luaL_checkstring(L, 1);
+        // "a.b" is a/b.lua; a name with an empty part ("..x", "a..b", ".a") would make a path
+        // from the file system's root or with "//": no module of this folder has such a name
+        if (relative.empty() || relative.front() == '.' || relative.back() == '.' ||
+            relative.find("..") != std::string::npos) {
+            lua_pushfstring(L,
+                            "no module '%s' beside the requiring script (names are NAME or "
+                            "FOLDER.NAME)",
+                            relative.c_str());
+            return 1;
+        }
         std::replace(relative.begin(), relative.end(), '.', '/');
         relative += ".lua";
         // the file beside the script, or in a replay the run folder's copy of it; noted as an

@@ -3,6 +3,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "lua_fixture.h"
@@ -59,6 +60,25 @@ TEST_CASE("a file too deep to read or compiled by luac is named, with what is wr
             CHECK_THAT(std::string(err.what()), Catch::StartsWith(file + says));
         }
     }
+}
+
+TEST_CASE("require finds modules beside the script only: a name cannot climb to the root",
+          "[lua_host]") {
+    // require ".tmp.x.evil" became the path "/tmp/x/evil.lua", absolute, and loaded it
+    TempDir dir("lua_host_require_root");
+    write_text(dir / "evil.lua", "return 'loaded from anywhere'");
+    std::string name = dir / "evil";
+    std::replace(name.begin(), name.end(), '/', '.');
+    REQUIRE(name.find('.', 1) != std::string::npos);
+    std::filesystem::create_directories(dir.path / "sub");
+    write_text(dir / "sub/main.lua",
+               "ok, got = pcall(require, '" + name + "')\nok2, got2 = pcall(require, '..evil')\n");
+    LuaFixture lua;
+    lua.host.run_file(dir / "sub/main.lua");
+    CHECK_FALSE(lua.boolean("ok"));
+    CHECK_THAT(lua.string("got"), Catch::Contains("(names are NAME or FOLDER.NAME)") &&
+                                      !Catch::Contains("loaded from anywhere"));
+    CHECK_FALSE(lua.boolean("ok2"));
 }
 
 TEST_CASE("a missing file is a ScriptError naming it", "[lua_host]") {

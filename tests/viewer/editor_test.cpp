@@ -373,6 +373,10 @@ TEST_CASE("editor: shapes are the engine's solids of one object in its own frame
     CHECK(img.field() == "image");
     CHECK(std::string(img.what()).find("heightfield 1 image: image: a file name in the folder") ==
           0);
+    // an object posted alone is "the object", not "object 0" (the list's objects count from 1)
+    const EditError kind =
+        refusal([&] { ed.shape(R"({"object": {"kind": "nope"}, "number": 1})"); });
+    CHECK_THAT(std::string(kind.what()), Catch::StartsWith("the object: unknown kind 'nope' ("));
 }
 
 TEST_CASE("editor: through the server, edits need JSON, and the token beyond loopback") {

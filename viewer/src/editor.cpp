@@ -483,12 +483,14 @@ struct Editor::Impl {
     // object `index` of the page's list into `w`, numbered `number` among its kind (0: after
     // those of its kind in `w`)
     void read_one(const json& o, int index, int number, WorldSpec& w) {
+        // "object 3" of the page's list; an object posted alone (index -1) is "the object"
+        const std::string which =
+            index >= 0 ? fmt::format("object {}", index + 1) : std::string("the object");
         const auto kind = o.is_object() ? o.find("kind") : o.end();
         if (!o.is_object() || kind == o.end() || !kind->is_string()) {
-            throw EditError(400,
-                            fmt::format("object {}: an object with a 'kind' expected ({})",
-                                        index + 1, kinds_list()),
-                            index, "kind");
+            throw EditError(
+                400, fmt::format("{}: an object with a 'kind' expected ({})", which, kinds_list()),
+                index, "kind");
         }
         const std::string k = kind->get<std::string>();
         auto n = [number](const auto& v) {
@@ -512,7 +514,7 @@ struct Editor::Impl {
             read_heightfield(o, index, n(w.heightfields), w.heightfields);
         } else {
             throw EditError(400,
-                            fmt::format("object {}: unknown kind '{}' ({} expected)", index + 1,
+                            fmt::format("{}: unknown kind '{}' ({} expected)", which,
                                         k.substr(0, 40), kinds_list()),
                             index, "kind");
         }
