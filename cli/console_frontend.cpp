@@ -158,27 +158,34 @@ LineInput::LineInput(Options options) : options_(std::move(options)) {
     if (!options_.terminal) return;
     g_complete = &options_.complete;
     g_prompt = &prompt_;
-    g_el = el_init("gaitlab", stdin, stdout, stderr);
-    g_history = history_init();
-    if (!g_el || !g_history) throw std::runtime_error("cannot start the line editor (libedit)");
     HistEvent event;
-    history(g_history, &event, H_SETSIZE, 1000);
-    el_set(g_el, EL_HIST, history, g_history);
-    el_set(g_el, EL_EDITOR, "emacs");
-    // gaitlab's own handlers take the signals (Ctrl-C at the prompt, SIGTERM ...)
-    el_set(g_el, EL_SIGNAL, 0);
-    el_set(g_el, EL_PROMPT, prompt_text);
-    el_set(g_el, EL_ADDFN, "gaitlab-complete", "complete the name before the cursor",
-           complete_word);
-    el_set(g_el, EL_BIND, "^I", "gaitlab-complete", nullptr);
-    // the keys a terminal's Home, End and Delete send, and Ctrl-R searching back
-    for (const char* home : {"\\e[1~", "\\e[7~", "\\e[H", "\\eOH"})
-        el_set(g_el, EL_BIND, home, "ed-move-to-beg", nullptr);
-    for (const char* end : {"\\e[4~", "\\e[8~", "\\e[F", "\\eOF"})
-        el_set(g_el, EL_BIND, end, "ed-move-to-end", nullptr);
-    el_set(g_el, EL_BIND, "\\e[3~", "ed-delete-next-char", nullptr);
-    el_set(g_el, EL_BIND, "^R", "em-inc-search-prev", nullptr);
-    el_source(g_el, nullptr);  // the user's ~/.editrc (lines for all programs or "gaitlab:")
+    if (g_el) {  // a terminal LineInput before this one: its editor, with an empty history
+        history(g_history, &event, H_CLEAR);
+    } else {
+        // made once and kept for the process, as libedit's readline emulation keeps its own:
+        // el_end would lose the names EL_ADDFN copied (libedit frees its function table but not
+        // them), and the terminal is left in its ordinary mode after every line anyway
+        g_el = el_init("gaitlab", stdin, stdout, stderr);
+        g_history = history_init();
+        if (!g_el || !g_history) throw std::runtime_error("cannot start the line editor (libedit)");
+        history(g_history, &event, H_SETSIZE, 1000);
+        el_set(g_el, EL_HIST, history, g_history);
+        el_set(g_el, EL_EDITOR, "emacs");
+        // gaitlab's own handlers take the signals (Ctrl-C at the prompt, SIGTERM ...)
+        el_set(g_el, EL_SIGNAL, 0);
+        el_set(g_el, EL_PROMPT, prompt_text);
+        el_set(g_el, EL_ADDFN, "gaitlab-complete", "complete the name before the cursor",
+               complete_word);
+        el_set(g_el, EL_BIND, "^I", "gaitlab-complete", nullptr);
+        // the keys a terminal's Home, End and Delete send, and Ctrl-R searching back
+        for (const char* home : {"\\e[1~", "\\e[7~", "\\e[H", "\\eOH"})
+            el_set(g_el, EL_BIND, home, "ed-move-to-beg", nullptr);
+        for (const char* end : {"\\e[4~", "\\e[8~", "\\e[F", "\\eOF"})
+            el_set(g_el, EL_BIND, end, "ed-move-to-end", nullptr);
+        el_set(g_el, EL_BIND, "\\e[3~", "ed-delete-next-char", nullptr);
+        el_set(g_el, EL_BIND, "^R", "em-inc-search-prev", nullptr);
+        el_source(g_el, nullptr);  // the user's ~/.editrc (lines for all programs or "gaitlab:")
+    }
     termios tty{};
     if (::tcgetattr(0, &tty) == 0 && tty.c_cc[VEOF] != 0)
         eof_char_ = static_cast<char>(tty.c_cc[VEOF]);
@@ -211,10 +218,6 @@ LineInput::~LineInput() {
     if (prompting_) el_set(g_el, EL_UNBUFFERED, 0);
     save_history();
     g_input = nullptr;
-    el_end(g_el);  // the terminal as it was
-    history_end(g_history);
-    g_el = nullptr;
-    g_history = nullptr;
     g_complete = nullptr;
     g_prompt = nullptr;
 }

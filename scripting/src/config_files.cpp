@@ -337,7 +337,8 @@ void save_simulation(const std::string& path, const WorldBinding& world,
         file.robots.push_back(entry);
     }
     const std::string env_path = next_to(file.environment);
-    files.emplace_back(env_path, format_environment(environment_of(world), env_path));
+    files.emplace_back(
+        env_path, checked_environment_text(format_environment(environment_of(world), env_path)));
     files.emplace_back(path, format_simulation(file));
     create_folders_above(path);
     // a folder that cannot be written to fails the save as a whole, not its first part

@@ -880,7 +880,7 @@ std::string Editor::save(const std::string& body) {
     }
     std::string text;
     try {
-        text = format_environment(env, target);
+        text = checked_environment_text(format_environment(env, target));
     } catch (const SpecError& e) {
         throw EditError(400, e.what());
     }

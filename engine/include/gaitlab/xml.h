@@ -81,6 +81,9 @@ std::string format_robot(const RobotSpec& robot);
 void write_actuation(const std::string& path, const ActuationSpec& actuation);
 std::string format_actuation(const ActuationSpec& actuation);
 void write_environment(const std::string& path, const EnvironmentSpec& environment);
+/// `text` (an environment file's) unchanged if gaitlab can read it back; SpecError when it is
+/// larger than the reader's limit (kMaxInputBytes), saying how to make it smaller.
+std::string checked_environment_text(std::string text);
 /// `file`: where the text will be written (heightfield images are named relative to it; "":
 /// as the spec holds them).
 std::string format_environment(const EnvironmentSpec& environment, const std::string& file = "");

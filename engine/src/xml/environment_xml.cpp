@@ -10,6 +10,7 @@
 
 #include "gaitlab/checked.h"
 #include "gaitlab/files.h"
+#include "gaitlab/geometry.h"
 #include "gaitlab/world_fields.h"
 #include "gaitlab/xml.h"
 #include "xml/xml_io.h"
@@ -169,6 +170,9 @@ void read_heightfield(const Element& e, std::vector<HeightfieldSpec>& out) {
         }
     }
     e.check([&] { validate(h, static_cast<int>(out.size()) + 1); });
+    // an image is read now, as the Lua heightfield{ image = } reads it: a missing or broken one
+    // is named with this file's line, not later by the simulation without a place
+    if (!h.image.empty()) e.check([&] { height_grid(h, static_cast<int>(out.size()) + 1); });
     out.push_back(std::move(h));
 }
 
@@ -350,7 +354,22 @@ std::string format_environment(const EnvironmentSpec& env, const std::string& fi
 }
 
 void write_environment(const std::string& path, const EnvironmentSpec& env) {
-    write_file_atomic(path, format_environment(env, path), MissingFolders::create);
+    write_file_atomic(path, checked_environment_text(format_environment(env, path)),
+                      MissingFolders::create);
+}
+
+std::string checked_environment_text(std::string text) {
+    // a file gaitlab would refuse to read back is not written: heights written out as numbers
+    // (a generated terrain, or a grid of millions) can pass the reader's limit
+    if (text.size() > kMaxInputBytes) {
+        throw SpecError(fmt::format(
+            "the environment would be a file of {:.0f} MiB, more than the {} gaitlab reads: "
+            "make its heightfields smaller or coarser (fewer samples), or keep the terrain as an "
+            "image",
+            std::ceil(static_cast<double>(text.size()) / (1 << 20)),
+            describe_size(kMaxInputBytes)));
+    }
+    return text;
 }
 
 }  // namespace gaitlab

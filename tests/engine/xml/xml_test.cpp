@@ -441,6 +441,21 @@ TEST_CASE("environment files range-check gravity and heightfield heights", "[lim
     CHECK_THAT(environment_error("<environment>\n<box position=\"1e30 0 0\"/></environment>"),
                Equals("env.xml:4: environment/box[1]: box 1 position x must be in [-10000, "
                       "10000] m (got 1e+30)"));
+    // an image that cannot be read is named at the file's line when the file is read (it was
+    // accepted, and the simulation failed later naming neither file nor line)
+    CHECK_THAT(environment_error("<environment>\n<heightfield image=\"/nonexistent/t.png\"/>"
+                                 "</environment>"),
+               Equals("env.xml:4: environment/heightfield[1]: heightfield 1 cannot read image "
+                      "'/nonexistent/t.png': no such file or directory"));
+    CHECK_THAT(environment_error("<environment>\n<heightfield image=\"/dev/zero\"/>"
+                                 "</environment>"),
+               Catch::Contains("env.xml:4: environment/heightfield[1]: heightfield 1 cannot read "
+                               "image '/dev/zero': not a regular file"));
+    // and a file gaitlab could not read back is never written
+    CHECK_THROWS_WITH(checked_environment_text(std::string(kMaxInputBytes + 1, ' ')),
+                      Catch::StartsWith("the environment would be a file of 65 MiB, more than "
+                                        "the 64 MiB gaitlab reads: make its heightfields"));
+    CHECK(checked_environment_text("<environment/>") == "<environment/>");
 }
 
 TEST_CASE("simulation files round-trip and name missing parts by their resolved path") {
