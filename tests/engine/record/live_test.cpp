@@ -53,7 +53,8 @@ TEST_CASE("live buffers hold the newest samples, oldest first", "[live]") {
     CHECK(s.time[0] == 0);
 
     CHECK_THROWS_WITH(live.set_size(0), "size must be in [1, 10000000] samples (got 0)");
-    CHECK_THROWS_WITH(live.set_sample_every(0), "sample_every must be in [1, 1000000000] ticks (got 0)");
+    CHECK_THROWS_WITH(live.set_sample_every(0),
+                      "sample_every must be in [1, 1000000000] ticks (got 0)");
     CHECK_THROWS_WITH(live.set_refresh_seconds(-1),
                       "refresh must be a non-negative number of seconds (got -1)");
     CHECK_THROWS_WITH(live.snapshot({"snake.angle[9]"}),

@@ -396,10 +396,11 @@ TEST_CASE("a path plot of extreme spans still draws: a point, and values near th
     o.output = tmp / "huge.png";
     // the reason is gnuplot's last line (its complaint, naming the script's line), not the
     // command it echoes first
-    CHECK_THROWS_WITH(plot(RunData(huge), o),
-                      Catch::StartsWith("gnuplot failed: \"./huge.gp\" line 14: x range is invalid") &&
-                          Catch::EndsWith("(the script and data are in " + (tmp / "huge.gp") +
-                                          " and " + (tmp / "huge.csv") + ")"));
+    CHECK_THROWS_WITH(
+        plot(RunData(huge), o),
+        Catch::StartsWith("gnuplot failed: \"./huge.gp\" line 14: x range is invalid") &&
+            Catch::EndsWith("(the script and data are in " + (tmp / "huge.gp") + " and " +
+                            (tmp / "huge.csv") + ")"));
     const std::string gp2 = read_text(tmp / "huge.gp");
     CHECK_THAT(gp2, !Catch::Contains("range [") && !Catch::Contains("tics "));
     CHECK_THAT(gp2, !Catch::Contains("inf") && !Catch::Contains("nan"));
