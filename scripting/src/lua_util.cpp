@@ -8,6 +8,16 @@
 
 namespace gaitlab::scripting {
 
+namespace {
+
+// nan, inf or -inf, as Lua's tostring writes them
+const char* lua_number_name(double d) {
+    if (std::isnan(d)) return "nan";
+    return d > 0 ? "inf" : "-inf";
+}
+
+}  // namespace
+
 std::string type_name(lua_State* L, int index) {
     if (luaL_getmetafield(L, index, "__name") == LUA_TSTRING) {
         std::string name = lua_tostring(L, -1);
@@ -289,6 +299,9 @@ long long Fields::integer(const char* key, long long fallback) const {
         if (std::isfinite(d) && std::floor(d) == d) {
             fail(key, fmt::format("integer expected, got {} (beyond the 64-bit integers)", d));
         }
+        // nan and inf are no fractions: name them as Lua prints them
+        if (!std::isfinite(d))
+            fail(key, fmt::format("integer expected, got {}", lua_number_name(d)));
         fail(key, "integer expected, got a fractional number");
     }
     return v;

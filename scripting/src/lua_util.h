@@ -355,6 +355,7 @@ class Fields {
     Vec3 vec3(const char* key, const Vec3& fallback) const;
     /// Pushes the field (any type) and returns its Lua type.
     int push(const char* key) const;
+    lua_State* state() const { return L_; }
     int index() const { return index_; }
     int arg() const { return arg_; }
 

@@ -1,10 +1,10 @@
 // gaitlab.sensor, robot:sensor{...}, robot:sensors() and sensor handles.
 #include <algorithm>
+#include <cmath>
 #include <string_view>
 
 #include <fmt/format.h>
 
-#include "gaitlab/checked.h"
 #include "lua_util.h"
 #include "scene.h"
 #include "wrap.h"
@@ -66,22 +66,34 @@ SensorKind parse_kind(const std::string& name) {
     return parse_sensor_kind(name);
 }
 
-// a 1-based number field that must be there
-int required_index(const Fields& f, const char* key, const char* what) {
+// a 1-based module or joint number field that must be there, as a 0-based index of one of the
+// robot's `count` modules or joints: a number the robot does not have is refused here, with the
+// robot's range, before a default sensor name ("imu-1") is made of it
+int required_index(const Fields& f, const RobotSpec& robot, const char* key, const char* what) {
     if (!f.has(key)) f.fail(key, fmt::format("{} number expected, got nil", what));
+    const auto count = static_cast<long long>(robot.joints.size());
+    const auto absent = [&](const std::string& number) {
+        if (count == 0) {
+            throw ArgError(f.arg(), fmt::format("robot '{}' has no {}s", robot.name, what));
+        }
+        throw ArgError(f.arg(), fmt::format("robot '{}' has no {} {} (it has {}s 1 to {})",
+                                            robot.name, what, number, what, count));
+    };
+    // a whole number beyond the 64-bit integers (1e19) is one the robot does not have either
+    lua_State* L = f.state();
+    int fits = 1;
+    const bool number = f.push(key) == LUA_TNUMBER;
+    const double d = lua_tonumber(L, -1);
+    lua_tointegerx(L, -1, &fits);
+    lua_pop(L, 1);
+    if (number && !fits && std::isfinite(d) && std::floor(d) == d) absent(fmt::format("{}", d));
     const long long v = f.integer(key, 0);
-    // numbers the robot does not have are reported by validate_sensor with the robot's range;
-    // beyond any robot's size they are refused before they can wrap into it
-    try {
-        return checked_int(fmt::format("{} number", what), v, -kMaxRobotBodies, kMaxRobotBodies) -
-               1;
-    } catch (const SpecError& e) {
-        f.fail(key, e.what());
-    }
+    if (v < 1 || v > count) absent(std::to_string(v));
+    return static_cast<int>(v - 1);
 }
 
 // builds a sensor spec from the table at index 2 (argument #1 of the method)
-SensorSpec sensor_from_table(lua_State* L) {
+SensorSpec sensor_from_table(lua_State* L, const RobotSpec& robot) {
     const int arg = 2;
     check_table(L, arg);
     if (raw_getfield(L, arg, "kind") != LUA_TSTRING) {
@@ -114,12 +126,12 @@ SensorSpec sensor_from_table(lua_State* L) {
     s.enabled = f.boolean("enabled", true);
     switch (s.kind) {
         case SensorKind::joint:
-            s.joint = required_index(f, "joint", "joint");
+            s.joint = required_index(f, robot, "joint", "joint");
             break;
         case SensorKind::imu:
         case SensorKind::contact:
         case SensorKind::range:
-            s.module = required_index(f, "module", "module");
+            s.module = required_index(f, robot, "module", "module");
             break;
         case SensorKind::position:
             break;
@@ -352,7 +364,7 @@ int robot_sensor(lua_State* L) {
         if (!lua_istable(L, 2)) {
             throw ArgError(2, "sensor table or sensor name expected, got " + type_name(L, 2));
         }
-        SensorSpec spec = sensor_from_table(L);
+        SensorSpec spec = sensor_from_table(L, robot->spec);
         try {
             validate_sensor(robot->spec, spec);
         } catch (const SpecError& e) {

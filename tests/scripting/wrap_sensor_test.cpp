@@ -254,11 +254,46 @@ TEST_CASE("sensors can be attached while the simulation runs", "[wrap_sensor]") 
 TEST_CASE("sensor module and joint numbers never wrap", "[wrap_sensor][limits]") {
     LuaFixture lua;
     lua.run("r = gaitlab.robot.chain{ name = 'snake', modules = 3 }");
+    const std::string bad = "test:1: bad argument #1 to 'sensor' (";
     // 2^32 + 1 used to become module 1
     CHECK(lua.error_of("r:sensor{ kind = 'imu', module = 2^32 + 1 }") ==
-          "test:1: bad argument #1 to 'sensor' (field 'module': module number must be in "
-          "[-10000, 10000] (got 4294967297))");
+          bad + "robot 'snake' has no module 4294967297 (it has modules 1 to 3))");
     CHECK(lua.error_of("r:sensor{ kind = 'joint', joint = -2^40 }") ==
-          "test:1: bad argument #1 to 'sensor' (field 'joint': joint number must be in [-10000, "
-          "10000] (got -1099511627776))");
+          bad + "robot 'snake' has no joint -1099511627776 (it has joints 1 to 3))");
+    CHECK(lua.error_of("r:sensor{ kind = 'imu', module = 1e19 }") ==
+          bad + "robot 'snake' has no module 1e+19 (it has modules 1 to 3))");
+}
+
+TEST_CASE("a sensor on a module or joint the robot does not have names the robot's range",
+          "[wrap_sensor]") {
+    LuaFixture lua;
+    lua.run("r = gaitlab.robot.chain{ name = 'snake', modules = 4 }");
+    const std::string bad = "test:1: bad argument #1 to 'sensor' (";
+    // negative numbers used to reach the default name ("imu-1") and fail on its characters
+    for (const char* kind : {"imu", "contact", "range"}) {
+        CAPTURE(kind);
+        const std::string k = kind;
+        CHECK(lua.error_of("r:sensor{ kind = '" + k + "', module = -1 }") ==
+              bad + "robot 'snake' has no module -1 (it has modules 1 to 4))");
+        CHECK(lua.error_of("r:sensor{ kind = '" + k + "', module = 2^62 }") ==
+              bad + "robot 'snake' has no module 4611686018427387904 (it has modules 1 to 4))");
+        CHECK(lua.error_of("r:sensor{ kind = '" + k + "', module = 0/0 }") ==
+              bad + "field 'module': integer expected, got nan)");
+        CHECK(lua.error_of("r:sensor{ kind = '" + k + "', module = -1/0 }") ==
+              bad + "field 'module': integer expected, got -inf)");
+    }
+    CHECK(lua.error_of("r:sensor{ kind = 'joint', joint = -1 }") ==
+          bad + "robot 'snake' has no joint -1 (it has joints 1 to 4))");
+    CHECK(lua.error_of("r:sensor{ kind = 'joint', joint = 0/0 }") ==
+          bad + "field 'joint': integer expected, got nan)");
+    // a robot without joints has no modules at all
+    lua.run(
+        "b = gaitlab.robot.new{ name = 'brick', bodies = { { name = 'b', size = {0.1, 0.1, "
+        "0.1}, mass = 1 } } }");
+    CHECK(lua.error_of("b:sensor{ kind = 'imu', module = 1 }") ==
+          bad + "robot 'brick' has no modules)");
+    CHECK(lua.error_of("b:sensor{ kind = 'joint', joint = 1 }") ==
+          bad + "robot 'brick' has no joints)");
+    // nothing was attached
+    CHECK(lua.number("#r:sensors()") == 0);
 }
