@@ -9,12 +9,20 @@
 
 namespace gaitlab {
 
+/// The largest servo gain, 1/s: a time constant (1 / kp) no shorter than the smallest dt, 1 µs.
+inline constexpr double kMaxServoKp = 1e6;
+/// The largest servo speed, rad/s (about 9500 rpm; hobby servos turn at 5 to 35 rad/s).
+inline constexpr double kMaxServoSpeed = 1000;
+/// The largest servo torque, N·m: holds the heaviest body (1e6 kg) out level at the end of the
+/// longest (100 m) under Earth's gravity.
+inline constexpr double kMaxServoTorque = 1e9;
+
 /// A position servo like a hobby RC servo: omega_cmd = clamp(kp * (target - angle), +-max_speed),
 /// applied as a velocity motor whose torque is limited to max_torque.
 struct ServoDef {
-    double kp = 8.3;          ///< proportional gain, 1/s
-    double max_speed = 4.5;   ///< rad/s
-    double max_torque = 0.4;  ///< N·m
+    double kp = 8.3;          ///< proportional gain, 1/s, in (0, kMaxServoKp]
+    double max_speed = 4.5;   ///< rad/s, in (0, kMaxServoSpeed]
+    double max_torque = 0.4;  ///< N·m, in (0, kMaxServoTorque]
 };
 
 inline bool operator==(const ServoDef& a, const ServoDef& b) {

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "gaitlab/error.h"
+#include "gaitlab/module.h"
 
 namespace gaitlab::detail {
 
@@ -66,6 +67,18 @@ inline void check_at_most(const std::string& what, double v, double hi, const ch
 inline void check_size(const std::string& what, double v, double hi, const char* unit = "m") {
     check_positive(what, v, unit);
     check_at_most(what, v, hi, unit);
+}
+
+/// A servo's gain, speed and torque, each positive and at most its kMaxServo* bound (module.h:
+/// far beyond any servo, and the motor's single-precision rows hold them). `p` starts the
+/// messages ("module 'm' ").
+inline void check_servo(const std::string& p, const ServoDef& s) {
+    check_positive(p + "servo kp", s.kp, "1/s");
+    check_at_most(p + "servo kp", s.kp, kMaxServoKp, "1/s");
+    check_positive(p + "servo max_speed", s.max_speed, "rad/s");
+    check_at_most(p + "servo max_speed", s.max_speed, kMaxServoSpeed, "rad/s");
+    check_positive(p + "servo max_torque", s.max_torque, "N·m");
+    check_at_most(p + "servo max_torque", s.max_torque, kMaxServoTorque, "N·m");
 }
 
 /// The longest name gaitlab accepts (robots, bodies, joints, modules, controllers), bytes.

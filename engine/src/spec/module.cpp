@@ -55,9 +55,7 @@ void validate(const ModuleDef& m) {
     detail::check_positive(p + "mass", m.mass, "kg");
     detail::check_at_most(p + "mass", m.mass, kMaxBodyMass, "kg");
     detail::check_range(p + "friction", m.friction, 0, 1);
-    detail::check_positive(p + "servo kp", m.servo.kp, "1/s");
-    detail::check_positive(p + "servo max_speed", m.servo.max_speed, "rad/s");
-    detail::check_positive(p + "servo max_torque", m.servo.max_torque, "N·m");
+    detail::check_servo(p, m.servo);
     if (!(m.min_angle < m.max_angle && m.min_angle >= -kPi && m.max_angle <= kPi)) {
         throw SpecError(p + "joint range must satisfy -180 <= min < max <= 180 deg");
     }

@@ -159,9 +159,14 @@ void validate_joint(const RobotSpec& robot, const JointSpec& j) {
     if (!(j.min_angle < j.max_angle)) throw SpecError(q + "range must have min < max");
     detail::check_finite(q + "range min", j.min_angle);
     detail::check_finite(q + "range max", j.max_angle);
-    detail::check_positive(q + "servo kp", j.servo.kp, "1/s");
-    detail::check_positive(q + "servo max_speed", j.servo.max_speed, "rad/s");
-    detail::check_positive(q + "servo max_torque", j.servo.max_torque, "N·m");
+    // the bounds of a module's range (module.cpp): a joint turns at most half a turn either way
+    if (!(j.min_angle >= -kPi && j.max_angle <= kPi)) {
+        throw SpecError(
+            fmt::format("{}range must satisfy -180 <= min < max <= 180 deg (got {} to "
+                        "{} deg)",
+                        q, rad_to_deg(j.min_angle), rad_to_deg(j.max_angle)));
+    }
+    detail::check_servo(q, j.servo);
 }
 
 void validate(const RobotSpec& robot) {

@@ -173,3 +173,35 @@ TEST_CASE("a target beyond the range is clamped and the joint stays within +-90 
     if (sign > 0) CHECK(e.max_angle > deg_to_rad(88));
     if (sign < 0) CHECK(e.min_angle < -deg_to_rad(88));
 }
+
+TEST_CASE("the largest servo values a module takes run without overflow at the default dt") {
+    // kp, max_speed and max_torque at their bounds on a light, a heavy and a long chain: the
+    // joints whip around (bang-bang at 1000 rad/s), but every state stays finite
+    struct Case {
+        double mass, length;
+        int modules;
+    };
+    const Case c = GENERATE(Case{0.05, 0.072, 3}, Case{1e6, 100, 3}, Case{0.001, 0.01, 3},
+                            Case{0.05, 0.072, 8});
+    ModuleDef m;
+    m.name = "extreme";
+    m.mass = c.mass;
+    m.length = c.length;
+    m.width = m.height = 0.7 * c.length;
+    m.min_angle = -kPi;
+    m.max_angle = kPi;
+    m.servo = {kMaxServoKp, kMaxServoSpeed, kMaxServoTorque};
+    ChainSpec spec;
+    spec.name = "r";
+    spec.modules = c.modules;
+    spec.connection = Connection::pitch_yaw;
+    spec.module = m;
+    CAPTURE(c.mass, c.length, c.modules);
+    Simulation sim(test::world_of(make_chain(spec)));
+    test::drive(sim, "all", test::sine(90, 1, 90));
+    REQUIRE_NOTHROW(sim.run(1.0));
+    for (int j = 0; j < c.modules; ++j) {
+        CHECK(std::isfinite(sim.joint(0, j).angle));
+        CHECK(std::abs(sim.joint(0, j).velocity) <= kMaxServoSpeed * kStartTolerance);
+    }
+}

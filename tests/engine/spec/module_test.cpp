@@ -87,6 +87,26 @@ TEST_CASE("module validation checks the fields of its shape") {
         REQUIRE_THROWS_WITH(validate(m), Equals("module 'big' joint range must satisfy -180 <= "
                                                 "min < max <= 180 deg"));
     }
+    SECTION("servo values have upper bounds") {
+        // kp = 1e308 or max_speed = 1e308 once passed and made the first step NaN
+        m.servo.kp = 1e308;
+        REQUIRE_THROWS_WITH(
+            validate(m),
+            Equals("module 'big' servo kp must be at most 1000000 1/s (got 1e+308 1/s)"));
+        m.servo.kp = kMaxServoKp;
+        m.servo.max_speed = 1e308;
+        REQUIRE_THROWS_WITH(validate(m), Equals("module 'big' servo max_speed must be at most 1000 "
+                                                "rad/s (got 1e+308 rad/s)"));
+        m.servo.max_speed = kMaxServoSpeed;
+        m.servo.max_torque = 2e9;
+        REQUIRE_THROWS_WITH(validate(m), Equals("module 'big' servo max_torque must be at most "
+                                                "1000000000 N·m (got 2000000000 N·m)"));
+        m.servo.max_torque = kMaxServoTorque;
+        CHECK_NOTHROW(validate(m));
+        m.servo.kp = std::numeric_limits<double>::infinity();
+        REQUIRE_THROWS_WITH(validate(m),
+                            Equals("module 'big' servo kp must be positive (got inf 1/s)"));
+    }
     SECTION("a module type needs a name") {
         m.name = "";
         REQUIRE_THROWS_WITH(validate(m), Equals("a module type needs a name"));

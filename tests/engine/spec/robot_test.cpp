@@ -11,6 +11,7 @@
 
 using namespace gaitlab;
 using Catch::Matchers::Equals;
+using Catch::Matchers::StartsWith;
 
 namespace {
 
@@ -369,6 +370,34 @@ TEST_CASE("validate(RobotSpec) rejects broken robots") {
         r.joints[1].max_angle = -1;
         REQUIRE_THROWS_WITH(validate(r),
                             Equals("robot 'x' joint 'joint2' range must have min < max"));
+    }
+    SECTION("a joint range beyond half a turn either way") {
+        // as a module's range: a URDF <limit lower="-100" upper="100"> once passed as +-5730 deg
+        r.joints[1].min_angle = -100;
+        r.joints[1].max_angle = 100;
+        REQUIRE_THROWS_WITH(validate(r), Equals("robot 'x' joint 'joint2' range must satisfy -180 "
+                                                "<= min < max <= 180 deg (got -5729.5779513082325 "
+                                                "to 5729.5779513082325 deg)"));
+        r.joints[1].min_angle = -kPi;
+        r.joints[1].max_angle = 3.2;
+        REQUIRE_THROWS_WITH(validate(r), StartsWith("robot 'x' joint 'joint2' range must satisfy "
+                                                    "-180 <= min < max <= 180 deg (got -180 to "
+                                                    "183.3"));
+        r.joints[1].max_angle = kPi;
+        CHECK_NOTHROW(validate(r));
+    }
+    SECTION("a joint's servo beyond its bounds") {
+        r.joints[1].servo.max_speed = 1e308;
+        REQUIRE_THROWS_WITH(validate(r), Equals("robot 'x' joint 'joint2' servo max_speed must be "
+                                                "at most 1000 rad/s (got 1e+308 rad/s)"));
+        r.joints[1].servo.max_speed = 1;
+        r.joints[1].servo.max_torque = 1e308;
+        REQUIRE_THROWS_WITH(validate(r), Equals("robot 'x' joint 'joint2' servo max_torque must be "
+                                                "at most 1000000000 N·m (got 1e+308 N·m)"));
+        r.joints[1].servo.max_torque = 1;
+        r.joints[1].servo.kp = 2e6;
+        REQUIRE_THROWS_WITH(validate(r), Equals("robot 'x' joint 'joint2' servo kp must be at most "
+                                                "1000000 1/s (got 2000000 1/s)"));
     }
 }
 
