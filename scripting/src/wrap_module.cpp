@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include "fixed_order.h"
 #include "lua_util.h"
 #include "wrap.h"
 
@@ -10,7 +11,7 @@ namespace gaitlab::scripting {
 
 namespace {
 
-// registry key of the module library table, which is also gaitlab.modules
+// registry key of the module library table, which gaitlab.modules shows read-only
 constexpr const char* kLibraryKey = "gaitlab.modules";
 
 ModuleDef& check_module(lua_State* L, int index) {
@@ -129,7 +130,7 @@ int module_new(lua_State* L) {
         lua_getfield(L, LUA_REGISTRYINDEX, kLibraryKey);
         push_module(L, m);
         lua_pushvalue(L, -1);
-        raw_setfield(L, -3, name.c_str());  // gaitlab.modules: scripts may give it metamethods
+        raw_setfield(L, -3, name.c_str());
         return 1;
     });
 }
@@ -180,6 +181,26 @@ int module_tostring(lua_State* L) {
     });
 }
 
+// gaitlab.modules[key] = value: the library changes only through gaitlab.module{...}, so the
+// built-in types stay and every entry is a module type of that name
+int library_newindex(lua_State* L) {
+    return protect(L, [&]() -> int {
+        const std::string key =
+            lua_type(L, 2) == LUA_TSTRING ? " (cannot set '" + to_string(L, 2) + "')" : "";
+        throw Error("gaitlab.modules is read-only" + key +
+                    ": define a module type with gaitlab.module{ name = ..., ... }");
+    });
+}
+
+// pairs(gaitlab.modules): the library's types, in the fixed order of the host's pairs (names in
+// byte order), whichever pairs the script calls
+int library_pairs(lua_State* L) {
+    lua_pushcfunction(L, fixed_order_pairs);
+    lua_getfield(L, LUA_REGISTRYINDEX, kLibraryKey);
+    lua_call(L, 1, 3);
+    return 3;
+}
+
 }  // namespace
 
 ModuleDef to_module(lua_State* L, int index) {
@@ -211,15 +232,31 @@ void open_module(lua_State* L) {
         {"__index", module_index}, {"__tostring", module_tostring}, {nullptr, nullptr}};
     register_type<ModuleDef>(L, kModuleType, nullptr, meta);
 
-    // gaitlab.modules: the library, built-in types first; gaitlab.module{...} adds to it
+    // the library, built-in types first; gaitlab.module{...} adds to it
     lua_newtable(L);
     for (const ModuleDef& m : builtin_modules()) {
         push_module(L, m);
         lua_setfield(L, -2, m.name.c_str());
     }
-    lua_pushvalue(L, -1);
+    const int library = lua_gettop(L);
+    lua_pushvalue(L, library);
     lua_setfield(L, LUA_REGISTRYINDEX, kLibraryKey);
-    lua_setfield(L, -2, "modules");
+    // gaitlab.modules: an empty table that reads the library and refuses writes (a table with
+    // the types in it could not refuse `gaitlab.modules.cube = nil`); its metatable is
+    // protected, so no script takes the guard off or gives the library metamethods
+    lua_newtable(L);
+    lua_createtable(L, 0, 4);
+    lua_pushvalue(L, library);
+    lua_setfield(L, -2, "__index");
+    lua_pushcfunction(L, library_newindex);
+    lua_setfield(L, -2, "__newindex");
+    lua_pushcfunction(L, library_pairs);
+    lua_setfield(L, -2, "__pairs");
+    lua_pushliteral(L, "gaitlab.modules");
+    lua_setfield(L, -2, "__metatable");
+    lua_setmetatable(L, -2);
+    lua_setfield(L, -3, "modules");
+    lua_pop(L, 1);
 
     lua_newtable(L);
     lua_createtable(L, 0, 1);

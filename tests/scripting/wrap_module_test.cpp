@@ -139,3 +139,41 @@ TEST_CASE("a pitch-yaw chain of flat box modules is rejected", "[wrap_module]") 
           "cross-section (module 'flat' is 0.052 x 0.03 m; make width = height or use a "
           "cylinder))");
 }
+
+TEST_CASE("gaitlab.modules is read-only and lists the types gaitlab.module defines",
+          "[wrap_module]") {
+    LuaFixture lua;
+    const std::string read_only = "test:1: gaitlab.modules is read-only";
+    const std::string how = ": define a module type with gaitlab.module{ name = ..., ... }";
+    // the built-in types cannot be removed or replaced, nor other values added
+    CHECK(lua.error_of("gaitlab.modules.cube = nil") == read_only + " (cannot set 'cube')" + how);
+    CHECK(lua.error_of("gaitlab.modules.y1 = nil") == read_only + " (cannot set 'y1')" + how);
+    CHECK(lua.error_of("gaitlab.modules.y1 = gaitlab.modules.cube") ==
+          read_only + " (cannot set 'y1')" + how);
+    CHECK(lua.error_of("gaitlab.modules.newthing = 5") ==
+          read_only + " (cannot set 'newthing')" + how);
+    CHECK(lua.error_of("gaitlab.modules[1] = 5") == read_only + how);
+    CHECK(lua.error_of("setmetatable(gaitlab.modules, nil)") ==
+          "test:1: cannot change a protected metatable");
+    CHECK(lua.string("getmetatable(gaitlab.modules)") == "gaitlab.modules");
+    CHECK(lua.string("tostring(gaitlab.modules.y1)") == "gaitlab.Module 'y1'");
+    CHECK(lua.number("gaitlab.robot.chain{ modules = 2, module = 'cube' }:bodies()[2].mass") ==
+          Approx(0.1));
+    CHECK(lua.boolean("gaitlab.modules.newthing == nil"));
+    // gaitlab.module still adds types, which pairs lists in name order; # and ipairs see no
+    // list, as before
+    lua.run(R"(
+        gaitlab.module{ name = "tube", shape = "cylinder" }
+        gaitlab.module{ name = "big", mass = 0.2 }
+        names = {}
+        for name, m in pairs(gaitlab.modules) do names[#names + 1] = name .. "=" .. m.name end
+        listed = 0
+        for _ in ipairs(gaitlab.modules) do listed = listed + 1 end
+    )");
+    CHECK(lua.string("table.concat(names, ' ')") == "big=big cube=cube tube=tube y1=y1");
+    CHECK(lua.integer("listed") == 0);
+    CHECK(lua.integer("#gaitlab.modules") == 0);
+    CHECK(lua.number("gaitlab.modules.big.mass") == 0.2);
+    CHECK(lua.error_of("gaitlab.modules.tube = nil") == read_only + " (cannot set 'tube')" + how);
+    CHECK(lua.string("gaitlab.modules.tube.shape") == "cylinder");
+}

@@ -79,13 +79,14 @@ end)
 -- sandboxed controller files: a costly pattern, a finalizer, a protected metatable
 try("sandbox pattern", gaitlab.controller.load, "controllers/pattern.lua")
 try("sandbox gc", gaitlab.controller.load, "controllers/finalizer.lua")
--- the module library with metamethods: names are looked up raw
-setmetatable(gaitlab.modules, { __index = function() error("modules metamethod ran") end,
-                                __newindex = function() error("modules metamethod ran") end })
--- (names longer than a short string: a binding that a metamethod's error jumped out of would
--- leak their copies, which leak checkers see)
+-- the module library cannot be given metamethods, nor written but by gaitlab.module
+try("module library metatable", setmetatable, gaitlab.modules,
+    { __index = function() error("modules metamethod ran") end })
+try("module library write", function() gaitlab.modules.cube = nil end)
+-- module names longer than a short string: a binding that an error jumped out of would leak
+-- their copies, which leak checkers see
 try("module name", gaitlab.robot.chain, { modules = 2, module = "a module type nobody defined" })
 try("module new", gaitlab.module, { name = "a plank of wood, 10 cm long", length = 0.1 })
-print(rawget(gaitlab.modules, "a plank of wood, 10 cm long") ~= nil)
+print(gaitlab.modules["a plank of wood, 10 cm long"] ~= nil)
 -- and one error nobody catches
 gaitlab.robot.chain{ modules = 4, connection = "diagonal" }
