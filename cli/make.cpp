@@ -201,7 +201,9 @@ MakeCommand::MakeCommand(CLI::App& app) : a_(std::make_unique<Args>()) {
         ->type_name("FILE");
     a.sim->add_option("--name", a.sim_name, "The simulation's name (default: FILE's name)")
         ->type_name("NAME");
-    a.sim->add_option("--duration", a.duration, "Simulated time `gaitlab run` runs, s")
+    a.sim
+        ->add_option("--duration", a.duration,
+                     "Simulated time `gaitlab run` runs, s (0 to 2^53 ticks of --dt)")
         ->type_name("S")
         ->capture_default_str();
     a.sim->add_option("--dt", a.dt, "Physics step, s")->type_name("S")->capture_default_str();

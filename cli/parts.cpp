@@ -16,6 +16,7 @@
 #include <lua.hpp>
 
 #include "gaitlab/files.h"
+#include "gaitlab/options.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/suggest.h"
 #include "gaitlab/xml.h"
@@ -672,15 +673,13 @@ void PartMaker::check_world(const WorldChoice& world) {
 }
 
 void PartMaker::check_sim(const SimChoice& sim) {
-    if (!(sim.duration > 0) || sim.duration > 1e6) {
-        throw SpecError(
-            fmt::format("duration must be in (0, 1000000] s (got {})", number_text(sim.duration)));
-    }
     SimulationOptions o;
     o.dt = sim.dt;
     o.control_every = sim.control_every;
     o.solver_iterations = sim.solver_iterations;
     validate(o);
+    // the simulation file's own check (read_simulation): what a file takes, make takes
+    checked_ticks("duration", sim.duration, o.dt);
 }
 
 void PartMaker::write_robot(const RobotChoice& robot, const std::string& path) {

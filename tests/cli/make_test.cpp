@@ -252,3 +252,36 @@ TEST_CASE("make refuses a parameter given twice instead of keeping the last", "[
     CHECK(!std::filesystem::exists(dir / "w.xml"));
     CHECK(!std::filesystem::exists(dir / "a.xml"));
 }
+
+TEST_CASE("make sim takes every duration a simulation file takes, and refuses the rest as it does",
+          "[cli][make]") {
+    TempDir dir("make_duration");
+    REQUIRE(make({"robot", "-o", "r.xml"}, dir).status == 0);
+    REQUIRE(make({"world", "-o", "w.xml"}, dir).status == 0);
+    // beyond the 1e6 s make once stopped at, and 0: a file loads both
+    for (const char* duration : {"2000000", "0", "9e12"}) {
+        INFO(duration);
+        const Output r = make({"sim", "--robot", "r.xml", "--world", "w.xml", "--duration",
+                               duration, "--no-record", "-o", "s.xml"},
+                              dir);
+        CHECK(r.status == 0);
+        CHECK(r.err.empty());
+        CHECK(gaitlab::read_simulation(dir / "s.xml").duration == std::stod(duration));
+    }
+    // 2^53 ticks at dt: the file's limit, said in the file's words
+    check_failure(
+        make({"sim", "--robot", "r.xml", "--world", "w.xml", "--duration", "1e16", "-o", "t.xml"},
+             dir),
+        "gaitlab: make sim: duration must be in [0, 9.0072e+12] s at dt = 0.001 s (got "
+        "1e+16 s)");
+    check_failure(make({"sim", "--robot", "r.xml", "--world", "w.xml", "--duration", "1e10", "--dt",
+                        "1e-6", "-o", "t.xml"},
+                       dir),
+                  "gaitlab: make sim: duration must be in [0, 9.0072e+09] s at dt = 1e-06 s (got "
+                  "1e+10 s)");
+    check_failure(
+        make({"sim", "--robot", "r.xml", "--world", "w.xml", "--duration", "-1", "-o", "t.xml"},
+             dir),
+        "gaitlab: make sim: duration must be a non-negative number of seconds (got -1)");
+    CHECK(!std::filesystem::exists(dir / "t.xml"));
+}
