@@ -8,6 +8,10 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -183,7 +187,8 @@ void write_urdf(const std::string& path, const RobotSpec& robot) {
 namespace {
 
 struct UrdfLink {
-    int line = 0;
+    Element element;    // the <link>
+    Element placed_by;  // the <origin> that places its body in the link frame (or the <link>)
     Shape shape = Shape::box;
     Pose geometry;  // of the body (x along a cylinder's axis), in the link frame
     Vec3 size;
@@ -191,6 +196,8 @@ struct UrdfLink {
 };
 
 struct UrdfJoint {
+    Element element;    // the <joint>
+    Element placed_by;  // its <origin> (or the <joint>)
     std::string name;
     std::string parent, child;
     Pose origin;  // of the joint (child link) frame in the parent link frame
@@ -198,17 +205,36 @@ struct UrdfJoint {
     double lower = 0, upper = 0, effort = 0, velocity = 0;
 };
 
-Pose read_origin(const Element& e) {
+// the <origin> of `e` (identity if none) and the element that gave it
+std::pair<Pose, Element> read_origin(const Element& e) {
     const std::optional<Element> o = e.child("origin");
-    if (!o) return {};
+    if (!o) return {Pose{}, e};
     o->allow({"xyz", "rpy"});
     const std::vector<double> rpy = o->numbers("rpy", 3, {0, 0, 0});
-    return {o->vec3("xyz", {}), from_rpy(rpy[0], rpy[1], rpy[2])};
+    return {Pose{o->vec3("xyz", {}), from_rpy(rpy[0], rpy[1], rpy[2])}, *o};
+}
+
+// A joint that passes validate_joint, so that the values one element gives can be checked
+// alone and an error named at that element: -1 to 1 rad, y1's servo.
+JointSpec probe_joint(const std::string& name) {
+    JointSpec j;
+    j.name = name;
+    j.axis = {1, 0, 0};
+    j.min_angle = -1;
+    j.max_angle = 1;
+    return j;
+}
+
+// validate_joint's SpecError for `joint`, named at `at`
+void check_joint(const Element& at, const std::string& robot, const JointSpec& joint) {
+    RobotSpec r;
+    r.name = robot;
+    r.bodies.resize(2);  // the probe joins bodies 0 and 1
+    at.check([&] { validate_joint(r, joint); });
 }
 
 UrdfLink read_link(const Element& link, const std::string& robot, const std::string& link_name) {
-    UrdfLink out;
-    out.line = link.line();
+    UrdfLink out{link, link, Shape::box, {}, {}, 0};
     bool geometry = false;
     for (const Element& k : link.children({"inertial", "visual", "collision"})) {
         const std::string kind = k.name();
@@ -224,7 +250,9 @@ UrdfLink read_link(const Element& link, const std::string& robot, const std::str
             if (std::string(g.name()) != "geometry") continue;
             for (const Element& shape : g.children({"box", "cylinder", "sphere", "mesh"})) {
                 const std::string name = shape.name();
-                out.geometry = read_origin(k);
+                auto [pose, from] = read_origin(k);
+                out.geometry = pose;
+                out.placed_by = from;
                 if (name == "box") {
                     if (!shape.has("size")) shape.fail("attribute 'size' is required");
                     out.shape = Shape::box;
@@ -255,14 +283,14 @@ UrdfLink read_link(const Element& link, const std::string& robot, const std::str
     return out;
 }
 
-UrdfJoint read_joint(const Element& e) {
-    UrdfJoint j;
-    j.name = e.required_string("name");
+UrdfJoint read_joint(const Element& e, const std::string& robot) {
+    UrdfJoint j{e, e, e.required_string("name"), {}, {}, {}, {1, 0, 0}, 0, 0, 0, 0};
+    check_joint(e, robot, probe_joint(j.name));
     const std::string type = e.required_string("type");
     if (type != "revolute") {
         e.fail(fmt::format("only revolute joints can be imported (got type '{}')", type));
     }
-    j.origin = read_origin(e);
+    std::tie(j.origin, j.placed_by) = read_origin(e);
     bool limit = false;
     for (const Element& k : e.children({"origin", "parent", "child", "axis", "limit", "dynamics",
                                         "safety_controller", "calibration", "mimic"})) {
@@ -271,9 +299,14 @@ UrdfJoint read_joint(const Element& e) {
         if (kind == "child") j.child = k.required_string("link");
         if (kind == "axis") {
             const Vec3 a = k.vec3("xyz", {1, 0, 0});
-            const double n = a.norm();
-            if (!(n > 0)) k.fail("attribute 'xyz': a non-zero axis expected");
-            j.axis = a * (1 / n);
+            // scaled by its largest component first, so that neither 1e300 nor 1e-320 fails
+            const double big = std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z)});
+            if (!(big > 0)) k.fail("attribute 'xyz': a non-zero axis expected");
+            const Vec3 s{a.x / big, a.y / big, a.z / big};
+            j.axis = s * (1 / s.norm());
+            JointSpec probe = probe_joint(j.name);
+            probe.axis = j.axis;
+            check_joint(k, robot, probe);
         }
         if (kind == "limit") {
             limit = true;
@@ -281,9 +314,21 @@ UrdfJoint read_joint(const Element& e) {
             j.upper = k.required_number("upper");
             j.effort = k.required_number("effort");
             j.velocity = k.required_number("velocity");
+            JointSpec probe = probe_joint(j.name);
+            probe.min_angle = j.lower;
+            probe.max_angle = j.upper;
+            probe.servo.max_torque = j.effort;
+            probe.servo.max_speed = j.velocity;
+            check_joint(k, robot, probe);
         }
     }
     if (j.parent.empty() || j.child.empty()) e.fail("a joint needs <parent link> and <child link>");
+    if (j.parent == j.child) {
+        e.fail(
+            fmt::format("a joint must join two different links (parent and child are both "
+                        "'{}')",
+                        j.parent));
+    }
     if (!limit) e.fail("a revolute joint needs a <limit lower upper effort velocity>");
     return j;
 }
@@ -294,6 +339,11 @@ Pose compose(const Pose& a, const Pose& b) {
 
 }  // namespace
 
+// Every value of the robot is checked at the element that gave it: a link's name, size and mass
+// at the <link>, a joint's name at the <joint>, its axis at <axis>, range and servo at <limit>
+// as they are read; positions, which add up along the chain, at the <origin> that takes a pivot
+// or a body out of range as the chain is walked; what the final shift of the robot onto the
+// floor takes out of range at the <link> or <joint>.
 RobotSpec parse_urdf(std::string_view text, const std::string& file) {
     const auto doc = xml::Document::foreign(text, file, "robot");
     const Element root = doc->root();
@@ -301,8 +351,10 @@ RobotSpec parse_urdf(std::string_view text, const std::string& file) {
     robot.name = root.string("name", "robot");
     std::map<std::string, UrdfLink> links;
     std::vector<std::string> link_order;
-    std::map<std::string, UrdfJoint> by_child;    // the joint that carries each link
+    std::vector<UrdfJoint> joints;                // in file order
+    std::map<std::string, size_t> by_child;       // the joint that carries each link
     std::map<std::string, std::string> child_of;  // a link's one child link
+    std::map<std::string, int> joint_names;
     for (const Element& k :
          root.children({"link", "joint", "material", "gazebo", "transmission"})) {
         const std::string kind = k.name();
@@ -312,10 +364,11 @@ RobotSpec parse_urdf(std::string_view text, const std::string& file) {
             if (links.size() >= static_cast<size_t>(kMaxRobotBodies)) {
                 k.fail(fmt::format("a robot has at most {} links", kMaxRobotBodies));
             }
-            links[name] = read_link(k, robot.name, name);
+            links.emplace(name, read_link(k, robot.name, name));
             link_order.push_back(name);
         } else if (kind == "joint") {
-            UrdfJoint j = read_joint(k);
+            UrdfJoint j = read_joint(k, robot.name);
+            if (joint_names[j.name]++) k.fail(fmt::format("a second joint named '{}'", j.name));
             if (by_child.count(j.child)) {
                 k.fail(fmt::format("link '{}' hangs from two joints", j.child));
             }
@@ -326,20 +379,22 @@ RobotSpec parse_urdf(std::string_view text, const std::string& file) {
                                 j.parent));
             }
             child_of[j.parent] = j.child;
-            by_child[j.child] = j;
+            by_child[j.child] = joints.size();
+            joints.push_back(std::move(j));
         }
     }
     if (links.empty()) root.fail("a robot needs at least one <link>");
-    for (const auto& [child, j] : by_child) {
+    for (const UrdfJoint& j : joints) {
         for (const std::string& l : {j.parent, j.child}) {
-            if (!links.count(l)) root.fail(fmt::format("joint '{}' names no link '{}'", j.name, l));
+            if (!links.count(l))
+                j.element.fail(fmt::format("joint '{}' names no link '{}'", j.name, l));
         }
     }
     std::string first;
     for (const std::string& l : link_order) {
         if (!by_child.count(l)) {
             if (!first.empty()) {
-                root.fail(
+                links.at(l).element.fail(
                     fmt::format("links '{}' and '{}' both have no parent: a chain has one "
                                 "root",
                                 first, l));
@@ -347,21 +402,29 @@ RobotSpec parse_urdf(std::string_view text, const std::string& file) {
             first = l;
         }
     }
-    if (first.empty()) root.fail("the joints form a loop: a chain has one root link");
+    if (first.empty()) {
+        // every link hangs from a joint, so every joint is on a loop: name the first
+        joints.front().element.fail("the joints form a loop: a chain has one root link");
+    }
     // walk the chain from the root, placing every link frame in the robot frame
     Pose frame;
+    std::vector<const UrdfLink*> link_of;    // by body
+    std::vector<const UrdfJoint*> joint_of;  // by joint
     for (std::string l = first;;) {
-        const UrdfLink& link = links[l];
+        const UrdfLink& link = links.at(l);
         BodySpec b;
         b.name = l;
         b.shape = link.shape;
         b.size = link.size;
         b.mass = link.mass;
         b.pose = compose(frame, link.geometry);
+        // the frame is in range (its joint's pivot was checked): the body's own origin is not
+        link.placed_by.check([&] { validate_body(robot.name, b); });
         robot.bodies.push_back(b);
+        link_of.push_back(&link);
         const auto next = child_of.find(l);
         if (next == child_of.end()) break;
-        const UrdfJoint& j = by_child[next->second];
+        const UrdfJoint& j = joints[by_child.at(next->second)];
         frame = compose(frame, j.origin);
         JointSpec js;
         js.name = j.name;
@@ -378,11 +441,21 @@ RobotSpec parse_urdf(std::string_view text, const std::string& file) {
         js.max_angle = j.upper;
         js.servo.max_torque = j.effort;
         js.servo.max_speed = j.velocity;
+        JointSpec probe = probe_joint(j.name);
+        probe.pivot = js.pivot;
+        check_joint(j.placed_by, robot.name, probe);
         robot.joints.push_back(js);
+        joint_of.push_back(&j);
         l = next->second;
     }
     if (robot.bodies.size() != links.size()) {
-        root.fail("some links are not on the chain from the root link");
+        for (const std::string& l : link_order) {
+            if (std::none_of(robot.bodies.begin(), robot.bodies.end(),
+                             [&](const BodySpec& b) { return b.name == l; })) {
+                links.at(l).element.fail(
+                    fmt::format("link '{}' is not on the chain from the root link '{}'", l, first));
+            }
+        }
     }
     // gaitlab's robot frame: the rearmost point at x = 0, the lowest on the floor (z = 0)
     Vec3 low{std::numeric_limits<double>::infinity(), 0, std::numeric_limits<double>::infinity()};
@@ -399,11 +472,12 @@ RobotSpec parse_urdf(std::string_view text, const std::string& file) {
         b.pose.position = b.pose.position - low;
     for (JointSpec& j : robot.joints)
         j.pivot = j.pivot - low;
-    try {
-        validate(robot);
-    } catch (const SpecError& e) {
-        root.fail(e.what());
-    }
+    for (size_t i = 0; i < robot.bodies.size(); ++i)
+        link_of[i]->element.check([&] { validate_body(robot.name, robot.bodies[i]); });
+    for (size_t i = 0; i < robot.joints.size(); ++i)
+        joint_of[i]->element.check([&] { validate_joint(robot, robot.joints[i]); });
+    // what is left is the robot's own: its name
+    root.check([&] { validate(robot); });
     return robot;
 }
 

@@ -1,6 +1,7 @@
 #include "xml/xml_io.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -66,6 +67,107 @@ std::string describe_xml_error(tinyxml2::XMLError e) {
     }
 }
 
+bool is_name_char(char c) {
+    const auto u = static_cast<unsigned char>(c);
+    return std::isalnum(u) || c == '_' || c == '-' || c == '.' || c == ':' || u >= 0x80;
+}
+
+// the name in the reference that starts at text[i] ('&'): "lt", "#65", "#x41"; empty when
+// the '&' starts no reference
+std::string_view reference_name(std::string_view text, size_t i) {
+    const size_t start = i + 1;
+    const bool hex = text.substr(start, 2) == "#x";
+    const bool number = hex || text.substr(start, 1) == "#";
+    const size_t first = start + (hex ? 2 : number ? 1 : 0);
+    size_t end = first;
+    while (end < text.size()) {
+        const auto c = static_cast<unsigned char>(text[end]);
+        if (!(hex ? std::isxdigit(c) : number ? std::isdigit(c) : is_name_char(text[end]))) break;
+        ++end;
+    }
+    if (end == first || end == text.size() || text[end] != ';') return {};
+    return text.substr(start, end - start);
+}
+
+// tinyxml2 replaces XML's five entities and character references and keeps any other &name;
+// as written: a DTD's entity would be read as its own name ("&h;"), and a '&' that is no
+// reference becomes another character when a reference precedes it in the same value. So
+// entity declarations, other entities and stray '&' are refused, at their line, before tinyxml2
+// reads the text.
+void check_entities(std::string_view text, const std::string& file) {
+    int line = 1;
+    size_t i = 0;
+    const auto at = [&](std::string_view s) { return text.substr(i, s.size()) == s; };
+    // moves past the next `end`, counting lines; to the end of the text if there is none
+    const auto skip_past = [&](std::string_view end) {
+        const size_t found = text.find(end, i);
+        const size_t stop = found == std::string_view::npos ? text.size() : found + end.size();
+        line +=
+            static_cast<int>(std::count(text.begin() + static_cast<std::ptrdiff_t>(i),
+                                        text.begin() + static_cast<std::ptrdiff_t>(stop), '\n'));
+        i = stop;
+    };
+    const auto fail = [&](const std::string& message) {
+        throw FormatError(fmt::format("{}:{}: {}", file, line, message), file, line);
+    };
+    while (i < text.size()) {
+        if (at("<!--")) {
+            skip_past("-->");
+        } else if (at("<![CDATA[")) {
+            skip_past("]]>");
+        } else if (at("<?")) {
+            skip_past("?>");
+        } else if (at("<!DOCTYPE")) {
+            // to its closing '>', past quoted text and the [ ... ] of declarations
+            int depth = 0;
+            for (i += 9; i < text.size(); ++i) {
+                const char c = text[i];
+                if (c == '\n') ++line;
+                if (c == '"' || c == '\'') {
+                    ++i;
+                    skip_past(std::string_view(&c, 1));
+                    --i;
+                } else if (at("<!--")) {
+                    skip_past("-->");
+                    --i;
+                } else if (at("<!ENTITY")) {
+                    fail(
+                        "entity declarations (<!ENTITY ...>) are not supported: write the "
+                        "values out where they are used");
+                } else if (c == '[') {
+                    ++depth;
+                } else if (c == ']') {
+                    --depth;
+                } else if (c == '>' && depth <= 0) {
+                    break;
+                }
+            }
+            ++i;
+        } else {
+            if (text[i] == '\n') ++line;
+            if (text[i] == '&') {
+                const std::string_view name = reference_name(text, i);
+                // tinyxml2 would keep a stray '&', or write another character for it when a
+                // reference came before it in the same value
+                if (name.empty()) {
+                    fail(
+                        "a '&' that starts no entity or character reference (write &amp; for "
+                        "the character itself)");
+                }
+                if (name[0] != '#' && name != "lt" && name != "gt" && name != "amp" &&
+                    name != "quot" && name != "apos") {
+                    fail(
+                        fmt::format("unknown entity '&{};' (XML files here use only &lt; &gt; "
+                                    "&amp; &quot; &apos; and &#...; character references: "
+                                    "write the value out)",
+                                    name));
+                }
+            }
+            ++i;
+        }
+    }
+}
+
 }  // namespace
 
 std::string read_text(const std::string& path) {
@@ -79,6 +181,7 @@ std::string read_text(const std::string& path) {
 Document::Document(std::string_view text, std::string file)
     : doc_(std::make_unique<tinyxml2::XMLDocument>(true, tinyxml2::COLLAPSE_WHITESPACE)),
       file_(std::move(file)) {
+    check_entities(text, file_);
     tinyxml2::XMLError parsed = tinyxml2::XML_SUCCESS;
     try {
         parsed = doc_->Parse(text.data(), text.size());

@@ -185,3 +185,131 @@ TEST_CASE("a link whose body is invalid is named at its own line", "[lines]") {
         import_error(""),
         Equals("r.urdf:1: malformed XML: the file holds no element (it is empty, or spaces only)"));
 }
+
+namespace {
+
+// a two-link chain a - j - b, one element a line: <robot> on line 1, link a on 2, link b on 3,
+// the joint on 4 with its <origin> on 5, <axis> on 6 and <limit> on 7
+std::string chain_urdf(const std::string& origin, const std::string& axis, const std::string& limit,
+                       const std::string& b_origin = "0 0 0", const std::string& joint = "j") {
+    const std::string link = R"(<inertial><mass value="0.1"/></inertial><collision><origin xyz=")";
+    const std::string box = R"("/><geometry><box size="0.1 0.05 0.05"/></geometry></collision>)";
+    return "<robot name=\"r\">\n<link name=\"a\">" + link + "0 0 0" + box + "</link>\n" +
+           "<link name=\"b\">" + link + b_origin + box + "</link>\n" + "<joint name=\"" + joint +
+           "\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/>\n" + "<origin xyz=\"" +
+           origin + "\"/>\n" + "<axis xyz=\"" + axis + "\"/>\n" + "<limit " + limit +
+           "/>\n</joint>\n</robot>";
+}
+
+const char* kLimit = R"(lower="-1" upper="1" effort="0.5" velocity="5")";
+
+}  // namespace
+
+TEST_CASE("a joint's range and servo are named at its limit element", "[lines]") {
+    CHECK_NOTHROW(parse_urdf(chain_urdf("0.1 0 0", "0 1 0", kLimit), "r.urdf"));
+    CHECK_THAT(import_error(chain_urdf("0.1 0 0", "0 1 0",
+                                       R"(lower="1" upper="-1" effort="0.5" velocity="5")")),
+               Equals("r.urdf:7: robot/joint[1]/limit[1]: robot 'r' joint 'j' range must have "
+                      "min < max"));
+    CHECK_THAT(import_error(chain_urdf("0.1 0 0", "0 1 0",
+                                       R"(lower="-1" upper="1" effort="0.5" velocity="0")")),
+               Equals("r.urdf:7: robot/joint[1]/limit[1]: robot 'r' joint 'j' servo max_speed "
+                      "must be positive (got 0 rad/s)"));
+    CHECK_THAT(import_error(chain_urdf("0.1 0 0", "0 1 0",
+                                       R"(lower="-1" upper="1" effort="-2" velocity="5")")),
+               Equals("r.urdf:7: robot/joint[1]/limit[1]: robot 'r' joint 'j' servo max_torque "
+                      "must be positive (got -2 N·m)"));
+}
+
+TEST_CASE("a joint's name is checked at the joint and its axis at the axis element", "[lines]") {
+    CHECK_THAT(import_error(chain_urdf("0.1 0 0", "0 1 0", kLimit, "0 0 0", "j\x01")),
+               Equals("r.urdf:4: robot/joint[1]: robot 'r' joint 'j\x01' name must be valid "
+                      "UTF-8 without control characters (got \"j\\x01\")"));
+    // an axis too long or too short to square is still an axis
+    for (const char* axis : {"0 1e300 0", "0 1e-320 0"}) {
+        CAPTURE(axis);
+        const RobotSpec r = parse_urdf(chain_urdf("0.1 0 0", axis, kLimit), "r.urdf");
+        CHECK(r.joints[0].axis == Vec3{0, 1, 0});
+    }
+}
+
+TEST_CASE("positions out of range are named at the origin that puts them there", "[lines]") {
+    // the joint's origin takes its pivot out of range
+    CHECK_THAT(import_error(chain_urdf("1e30 0 0", "0 1 0", kLimit)),
+               Equals("r.urdf:5: robot/joint[1]/origin: robot 'r' joint 'j' pivot must be in "
+                      "[-1000000, 1000000] m (got 1e+30)"));
+    // the pivot is in range, the child link's own origin is not
+    CHECK_THAT(import_error(chain_urdf("0.1 0 0", "0 1 0", kLimit, "0 0 2e6")),
+               Equals("r.urdf:3: robot/link[2]/collision[1]/origin: robot 'r' body 'b' "
+                      "position must be in [-1000000, 1000000] m (got 2000000)"));
+    // each in range in the root link's frame, but not once the robot is put on the floor
+    CHECK_THAT(import_error(chain_urdf("-1e6 0 0", "0 1 0", kLimit)),
+               Equals("r.urdf:2: robot/link[1]: robot 'r' body 'a' position must be in "
+                      "[-1000000, 1000000] m (got 1000000.05)"));
+}
+
+TEST_CASE("joints that do not make a chain of known links are named at their line", "[lines]") {
+    const std::string link = kLink;
+    const std::string limit = R"(<limit lower="-1" upper="1" effort="1" velocity="1"/>)";
+    const auto joint = [&](const std::string& name, const std::string& parent,
+                           const std::string& child) {
+        return "<joint name=\"" + name + "\" type=\"revolute\"><parent link=\"" + parent +
+               "\"/><child link=\"" + child + "\"/>" + limit + "</joint>\n";
+    };
+    const std::string ab = "<robot name=\"r\">\n<link name=\"a\">" + link +
+                           "</link>\n<link name=\"b\">" + link + "</link>\n";
+    CHECK_THAT(import_error(ab + joint("j", "a", "ghost") + "</robot>"),
+               Equals("r.urdf:6: robot/joint[1]: joint 'j' names no link 'ghost'"));
+    CHECK_THAT(import_error(ab + joint("j", "b", "b") + "</robot>"),
+               Equals("r.urdf:6: robot/joint[1]: a joint must join two different links (parent "
+                      "and child are both 'b')"));
+    CHECK_THAT(import_error(ab + joint("j", "a", "b") + "<link name=\"c\">" + link + "</link>\n" +
+                            joint("j", "b", "c") + "</robot>"),
+               Equals("r.urdf:9: robot/joint[2]: a second joint named 'j'"));
+    CHECK_THAT(import_error(ab + joint("j", "a", "b") + joint("k", "b", "a") + "</robot>"),
+               Equals("r.urdf:6: robot/joint[1]: the joints form a loop: a chain has one root "
+                      "link"));
+    CHECK_THAT(import_error(ab + "<link name=\"c\">" + link + "</link>\n" + joint("j", "a", "b") +
+                            "</robot>"),
+               Equals("r.urdf:6: robot/link[3]: links 'a' and 'c' both have no parent: a chain "
+                      "has one root"));
+    CHECK_THAT(import_error(ab + "<link name=\"c\">" + link + "</link>\n" + "<link name=\"d\">" +
+                            link + "</link>\n" + joint("j", "a", "b") + joint("k", "c", "d") +
+                            joint("m", "d", "c") + "</robot>"),
+               Equals("r.urdf:6: robot/link[3]: link 'c' is not on the chain from the root link "
+                      "'a'"));
+}
+
+TEST_CASE("entity declarations and unknown entities are refused at their line", "[lines]") {
+    const std::string robot = chain_urdf("0.1 0 0", "0 1 0", kLimit);
+    const std::string body = robot.substr(robot.find('\n'));
+    // tinyxml2 would keep "&h;" as the robot's name: the declaration is refused instead
+    CHECK_THAT(import_error("<?xml version=\"1.0\"?>\n<!DOCTYPE robot [\n<!-- <!ENTITY -->\n"
+                            "<!ENTITY h \"snake\">]>\n<robot name=\"&h;\">" +
+                            body),
+               Equals("r.urdf:4: entity declarations (<!ENTITY ...>) are not supported: write "
+                      "the values out where they are used"));
+    CHECK_THAT(import_error("<!DOCTYPE robot SYSTEM \"robot.dtd\">\n<!-- &h; -->\n<robot "
+                            "name=\"&h;\">" +
+                            body),
+               Equals("r.urdf:3: unknown entity '&h;' (XML files here use only &lt; &gt; &amp; "
+                      "&quot; &apos; and &#...; character references: write the value out)"));
+    // tinyxml2 would read "&#65;a & b" as "Aa 5 b"
+    CHECK_THAT(import_error("<robot name=\"&#65;a & b\">" + body),
+               Equals("r.urdf:1: a '&' that starts no entity or character reference (write "
+                      "&amp; for the character itself)"));
+    // XML's own entities, character references and a DOCTYPE without declarations read as before
+    const RobotSpec r = parse_urdf(
+        "<!DOCTYPE robot [ <!-- ]> <!ENTITY --> ]>\n<robot name=\"&lt;&amp;h;&#65;&#x42;"
+        " &amp; x\">" +
+            body,
+        "r.urdf");
+    CHECK(r.name == "<&h;AB & x");
+    // every gaitlab file is read the same way
+    try {
+        parse_robot("<gaitlab version=\"1\">\n<robot name=\"&nbsp;\"/></gaitlab>", "r.robot.xml");
+        FAIL("no error");
+    } catch (const FormatError& e) {
+        CHECK_THAT(e.what(), Catch::StartsWith("r.robot.xml:2: unknown entity '&nbsp;'"));
+    }
+}
