@@ -31,8 +31,11 @@ struct BandGroup {
 };
 
 /// L D L' of the block tridiagonal K, in place (as CoulombSolver's profile factor: row by row,
-/// each row's columns left to right, each sum over k ascending).
-inline void band_factor(BandGroup* g, int count) {
+/// each row's columns left to right, each sum over k ascending). Returns false where a pivot
+/// fell to its row's own diagonal: no row of a chain is redundant, so K as given was not
+/// positive definite and the factor is not its own (CoulombSolver::band_matrix).
+inline bool band_factor(BandGroup* g, int count) {
+    bool definite = true;
     for (int b = 0; b < count; ++b) {
         BandGroup& x = g[b];
         const BandGroup* p = b > 0 && x.coupled ? &g[b - 1] : nullptr;
@@ -61,11 +64,13 @@ inline void band_factor(BandGroup* g, int count) {
                     x.lower[r][c] = sum / x.diag[c];
                 } else {
                     // redundant rows make K singular: such a row keeps its own diagonal
+                    definite = definite && sum > 1e-9 * x.own[r];
                     x.diag[r] = sum > 1e-9 * x.own[r] ? sum : x.own[r];
                 }
             }
         }
     }
+    return definite;
 }
 
 /// Solves L D L' v = rhs in place (v, rhs: kBandRows values per group): L y = rhs row by
@@ -172,6 +177,72 @@ inline void band_rows(BandRows& g, const btSolverConstraint* const* rows,
         g.lin_b[r] = band_v4(c.m_contactNormal2 * b.internalGetInvMass());
         g.ang_b[r] = band_v4(c.m_angularComponentB);
     }
+}
+
+/// A group's rows for K's entries in double (CoulombSolver::band_matrix): per row and per body
+/// (a, b) its normal n and arm a = r x n, and what they do to that body: n over its mass and
+/// W a, W the body's inverse inertia in world axes made symmetric, all in double. K = J W J'
+/// is then positive definite to double's rounding, where entries taken in float, each off by
+/// float's rounding of itself, are not once K's smallest eigenvalue is below float's rounding
+/// of its largest (a chain of about a thousand hinges).
+struct BandPrecise {
+    double n[kBandRows][2][3], arm[kBandRows][2][3];
+    double lin[kBandRows][2][3], ang[kBandRows][2][3];
+};
+
+/// `rows[r]` null: slot r is empty (all zero); `a`, `b` the group's solver bodies
+inline void band_precise(BandPrecise& g, const btSolverConstraint* const* rows,
+                         const btSolverBody& a, const btSolverBody& b) {
+    const btSolverBody* body[2] = {&a, &b};
+    double inertia[2][3][3];
+    for (int s = 0; s < 2; ++s) {
+        const btRigidBody* rigid = body[s]->m_originalBody;  // none: a fixed body
+        const btMatrix3x3 w =
+            rigid ? rigid->getInvInertiaTensorWorld() : btMatrix3x3::getIdentity();
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j)
+                inertia[s][i][j] = rigid ? (double(w[i][j]) + double(w[j][i])) / 2 : 0;
+        }
+    }
+    for (int r = 0; r < kBandRows; ++r) {
+        for (int s = 0; s < 2; ++s) {
+            const btVector3 zero(0, 0, 0);
+            const btVector3& n = !rows[r] ? zero
+                                 : s == 0 ? rows[r]->m_contactNormal1
+                                          : rows[r]->m_contactNormal2;
+            const btVector3& arm = !rows[r] ? zero
+                                   : s == 0 ? rows[r]->m_relpos1CrossNormal
+                                            : rows[r]->m_relpos2CrossNormal;
+            for (int i = 0; i < 3; ++i) {
+                g.n[r][s][i] = n[i];
+                g.arm[r][s][i] = arm[i];
+                g.lin[r][s][i] = double(n[i]) * double(body[s]->m_invMass[i]);
+            }
+            for (int i = 0; i < 3; ++i) {
+                double sum = 0;
+                for (int j = 0; j < 3; ++j)
+                    sum += inertia[s][i][j] * g.arm[r][s][j];
+                g.ang[r][s][i] = sum;
+            }
+        }
+    }
+}
+
+/// J_x W J_y' in double for row rx of group x (bodies xa, xb) and row ry of group y (bodies
+/// ya, yb), over the bodies they share, x's first body first
+inline double band_precise_coupling(const BandPrecise& x, int rx, int xa, int xb,
+                                    const BandPrecise& y, int ry, int ya, int yb) {
+    double sum = 0;
+    auto side = [&](int s, int body) {
+        for (int t = 0; t < 2; ++t) {
+            if ((t == 0 ? ya : yb) != body) continue;
+            for (int i = 0; i < 3; ++i)
+                sum += x.n[rx][s][i] * y.lin[ry][t][i] + x.arm[rx][s][i] * y.ang[ry][t][i];
+        }
+    };
+    side(0, xa);
+    if (xb != xa) side(1, xb);
+    return sum;
 }
 
 inline btScalar band_dot(const btVector3& x, BandV4 y) {

@@ -66,6 +66,9 @@ enum class SolverMethod { pgs, symmetric, nncg, block, block_nncg };
 // do not come in fives): L D L' on K's profile (profile_ldl.h). `automatic` chooses as above.
 enum class BlockPath { automatic, band_fast, band_generic, profile };
 inline constexpr btScalar kSlideSpeed = btScalar(0.001);  // m/s: slower, the axes are fixed ones
+// hinges in a chain from which the block's K is taken in double (CoulombSolver::band_matrix):
+// the float entries broke down from about 1200 on a chain lying still; a quarter of that
+inline constexpr int kPreciseBand = 256;
 
 // The collision configuration of every gaitlab world: Bullet's default, except that a box on a
 // plane (a module on the floor) gets the corners of its whole face or edge on the floor. By
@@ -773,31 +776,70 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                              s.m_angularFactor == btVector3(1, 1, 1);
             }
             band_rows(data, rows, m_tmpSolverBodyPool);
+            band_[b].coupled = coupled;
+        }
+        // K's entries in float unless the chain is long or they fail (band_matrix)
+        const bool long_chain = count >= kPreciseBand;
+        band_matrix(band_fast_ && long_chain);
+        if (!band_factor(band_.data(), count) && band_fast_ && !long_chain) {
+            band_matrix(true);
+            band_factor(band_.data(), count);
+        }
+        return true;
+    }
+
+    // K of the band's groups, for band_factor. Its entries as coupling() takes them (in float,
+    // the diagonal Bullet's 1 / jacDiagABInv), or, `precise`, as J W J' in double
+    // (block_band.h, BandPrecise): on a chain of about a thousand hinges K's float entries make
+    // it indefinite (its smallest eigenvalue falls below their rounding), the factor breaks
+    // down and the solve sends the chain to NaN (a 1200-link URDF chain lying still, within
+    // 60 ms). Precise where the chain has kPreciseBand hinges or more, or where the float
+    // factor broke down; every shorter chain keeps the float entries, and its bits. Only for
+    // chains of ordinary bodies (band_fast_: the arms' inertia is the body's own).
+    void band_matrix(bool precise) {
+        const btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
+        const int count = static_cast<int>(band_.size());
+        if (precise) {
+            band_precise_.resize(band_.size());
+            for (int b = 0; b < count; ++b) {
+                const BandRows& data = band_rows_[b];
+                const btSolverConstraint* rows[kBandRows];
+                for (int r = 0; r < kBandRows; ++r)
+                    rows[r] = data.row[r] >= 0 ? &pool[data.row[r]] : nullptr;
+                band_precise(band_precise_[b], rows, m_tmpSolverBodyPool[data.a],
+                             m_tmpSolverBodyPool[data.b]);
+            }
+        }
+        for (int b = 0; b < count; ++b) {
             BandGroup& g = band_[b];
-            g.coupled = coupled;
+            const BandRows& data = band_rows_[b];
             // an empty slot: no couplings, a diagonal of 1 (its solution is 0)
             for (int r = 0; r < kBandRows; ++r) {
                 for (int c = 0; c < kBandRows; ++c)
                     g.prev[r][c] = g.lower[r][c] = 0;
                 g.diag[r] = g.own[r] = 1;
             }
+            auto entry = [&](const btSolverConstraint& x, int r, int group, int c) -> double {
+                const BandRows& other = band_rows_[group];
+                if (!precise) return band_coupling(x, other, c);
+                return band_precise_coupling(band_precise_[b], r, data.a, data.b,
+                                             band_precise_[group], c, other.a, other.b);
+            };
             for (int r = 0; r < kBandRows; ++r) {
-                if (!rows[r]) continue;
-                const btSolverConstraint& x = *rows[r];
-                if (coupled) {
+                if (data.row[r] < 0) continue;
+                const btSolverConstraint& x = pool[data.row[r]];
+                if (g.coupled) {
                     for (int c = 0; c < kBandRows; ++c) {
-                        if (band_rows_[b - 1].row[c] >= 0)
-                            g.prev[r][c] = band_coupling(x, band_rows_[b - 1], c);
+                        if (band_rows_[b - 1].row[c] >= 0) g.prev[r][c] = entry(x, r, b - 1, c);
                     }
                 }
                 for (int c = 0; c < r; ++c)
-                    g.lower[r][c] = band_coupling(x, data, c);
-                g.diag[r] = 1 / x.m_jacDiagABInv + x.m_cfm / x.m_jacDiagABInv;
+                    g.lower[r][c] = entry(x, r, b, c);
+                g.diag[r] = precise ? entry(x, r, b, r) + x.m_cfm / x.m_jacDiagABInv
+                                    : 1 / x.m_jacDiagABInv + x.m_cfm / x.m_jacDiagABInv;
                 g.own[r] = 1 / x.m_jacDiagABInv;
             }
         }
-        band_factor(band_.data(), count);
-        return true;
     }
 
     // whether contacts start their friction from the last step's (warm_start_friction)
@@ -825,6 +867,7 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     // block: the motor rows held at their limit this step (out of the block), by joint row
     std::vector<char> at_limit_;
     std::vector<int> group_start_, group_size_;  // block, a chain: each group's place in block_
+    std::vector<BandPrecise> band_precise_;      // block, a chain: its rows in double (band_matrix)
     std::vector<int> swept_;                     // the joint rows each sweep solves one by one
     std::vector<int> old_style_;  // the constraints whose solveConstraintObsolete each sweep calls
     std::vector<double> chol_, diag_, rhs_;

@@ -20,6 +20,7 @@
 #include "bullet/physics_world.h"
 #include "engine/sim_support.h"
 #include "gaitlab/servo.h"
+#include "gaitlab/urdf.h"
 
 using namespace gaitlab;
 
@@ -637,5 +638,52 @@ TEST_CASE("every contact point on a compliant floor has the floor's stiffness an
         CHECK(on_floor >= 20);
         // and a robot body against the static box, whose points stay rigid
         CHECK(elsewhere > 0);
+    }
+}
+
+// A chain of a thousand hinges or more: K's smallest eigenvalue falls below float's rounding
+// of its largest, so with its entries in float K is indefinite, the factor breaks down and the
+// solve sends the chain to NaN. From kPreciseBand hinges on the band takes them in double
+// (CoulombSolver::band_matrix).
+// every body's state finite (Run::diverged also counts a body 100 m out, as the 160 m chain's)
+bool all_finite(const Run& r) {
+    for (const BodyState& b : r.states) {
+        const Vec3 &p = b.pose.position, &v = b.linear_velocity;
+        if (!std::isfinite(p.x + p.y + p.z + v.x + v.y + v.z)) return false;
+    }
+    return !r.states.empty();
+}
+
+TEST_CASE("block_nncg keeps a chain of a thousand modules and more finite") {
+    SECTION("1000 y1 modules driven by the pitch-pitch gait (NaN at 3 ms in float)") {
+        const WorldSpec world = test::chain_world(1000, Connection::pitch_pitch);
+        const Run r = run(world, chain_gait(world.robots[0].robot, Connection::pitch_pitch), 20,
+                          ConstraintSolver::block_nncg);
+        CHECK_FALSE(r.diverged);
+        CHECK(r.max_separation < 1e-3);
+    }
+    SECTION("a URDF chain of 2000 links lying still (NaN at 59 ms in float)") {
+        std::string urdf = "<robot name='r'>\n";
+        const std::string inertial =
+            "<inertial><mass value='0.05'/><inertia ixx='1e-5' ixy='0' ixz='0' iyy='1e-5' "
+            "iyz='0' izz='1e-5'/></inertial><collision><origin xyz='0.04 0 0'/><geometry><box "
+            "size='0.08 0.05 0.03'/></geometry></collision>";
+        const int links = 2000;
+        for (int i = 0; i < links; ++i)
+            urdf += "<link name='l" + std::to_string(i) + "'>" + inertial + "</link>\n";
+        for (int i = 1; i < links; ++i) {
+            urdf += "<joint name='j" + std::to_string(i) +
+                    "' type='revolute'><origin xyz='0.08 0 0'/><parent link='l" +
+                    std::to_string(i - 1) + "'/><child link='l" + std::to_string(i) +
+                    "'/><axis xyz='0 -1 0'/><limit lower='-1.2' upper='1.2' effort='0.5' "
+                    "velocity='5'/></joint>\n";
+        }
+        urdf += "</robot>\n";
+        WorldSpec world = test::chain_world(2, Connection::pitch_pitch);  // its floor
+        world.robots[0].robot = parse_urdf(urdf, "chain.urdf");
+        const Run r = run(world, {}, 100, ConstraintSolver::block_nncg);
+        CHECK(all_finite(r));
+        CHECK(r.max_separation < 1e-4);
+        CHECK((r.end - r.start).norm() < 1e-4);  // it lies still
     }
 }
