@@ -350,22 +350,73 @@ Vec3 Fields::vec3(const char* key, const Vec3& fallback) const {
         fail(key, "vector expected ({x, y, z}), got " + n);
     }
     double c[3];
-    const char* names[3] = {"x", "y", "z"};
-    for (int i = 0; i < 3; ++i) {
-        if (raw_getfield(L_, -1, names[i]) == LUA_TNIL) {
+    numbers(key, {"x", "y", "z"}, "vector", c);
+    return {c[0], c[1], c[2]};
+}
+
+void Fields::numbers(const char* key, std::initializer_list<const char*> names, const char* what,
+                     double* out) const {
+    const int table = lua_gettop(L_);
+    const auto n = static_cast<lua_Integer>(names.size());
+    const std::vector<std::string> keys(names.begin(), names.end());
+    const std::string shape = "{" + fmt::format("{}", fmt::join(keys, ", ")) + "}";
+    const char* count_words[] = {"", "one", "two", "three", "four"};
+    const std::string count = n < 5 ? count_words[n] : std::to_string(n);
+    // every key is a component's name or place: a fourth number or a key 'w' would otherwise be
+    // dropped without a word, where every other unknown key is an error
+    lua_Integer given = 0;  // keys that are not names: the numbers given by place
+    bool extra = false;
+    std::optional<std::string> unknown;  // the first in byte order, whatever order next gives
+    lua_pushnil(L_);
+    while (lua_next(L_, table) != 0) {
+        lua_pop(L_, 1);
+        if (lua_type(L_, -1) == LUA_TSTRING) {
+            std::string name = to_string(L_, -1);
+            if (std::find(keys.begin(), keys.end(), name) == keys.end() &&
+                (!unknown || name < *unknown)) {
+                unknown = std::move(name);
+            }
+            continue;
+        }
+        ++given;
+        if (!lua_isinteger(L_, -1) || lua_tointeger(L_, -1) < 1 || lua_tointeger(L_, -1) > n) {
+            extra = true;
+        }
+    }
+    if (unknown) {
+        lua_settop(L_, table - 1);
+        fail(key, fmt::format("unknown key '{}' (a {}'s keys are {} and {})", *unknown, what,
+                              fmt::join(keys.begin(), keys.end() - 1, ", "), keys.back()));
+    }
+    if (extra) {
+        lua_settop(L_, table - 1);
+        fail(key, fmt::format("{} numbers expected ({}), got {}", n, shape, given));
+    }
+    lua_Integer i = 0;
+    for (const char* name : names) {
+        ++i;
+        const bool named = raw_getfield(L_, table, name) != LUA_TNIL;
+        if (named) {
+            const bool placed = lua_rawgeti(L_, table, i) != LUA_TNIL;
             lua_pop(L_, 1);
-            lua_rawgeti(L_, -1, i + 1);
+            if (placed) {
+                lua_settop(L_, table - 1);
+                fail(key,
+                     fmt::format("{} given twice: by name and as number {} of {}", name, i, shape));
+            }
+        } else {
+            lua_pop(L_, 1);
+            lua_rawgeti(L_, table, i);
         }
         int ok = 0;
-        c[i] = lua_tonumberx(L_, -1, &ok);
+        out[i - 1] = lua_tonumberx(L_, -1, &ok);
         lua_pop(L_, 1);
         if (!ok) {
-            lua_pop(L_, 1);
-            fail(key, "vector expected ({x, y, z} with three numbers)");
+            lua_settop(L_, table - 1);
+            fail(key, fmt::format("{} expected ({} with {} numbers)", what, shape, count));
         }
     }
     lua_pop(L_, 1);
-    return {c[0], c[1], c[2]};
 }
 
 }  // namespace gaitlab::scripting

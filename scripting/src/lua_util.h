@@ -353,6 +353,12 @@ class Fields {
     bool boolean(const char* key, bool fallback) const;
     /// {x, y, z} or {x = , y = , z = }.
     Vec3 vec3(const char* key, const Vec3& fallback) const;
+    /// The table on top of the stack (popped) as the numbers `names` ({a, b, c} or
+    /// {a = , b = , c = }, into `out`), the value of field `key`: a number missing or not a
+    /// number, a number too many and a key not in `names` are errors naming the field, `what`
+    /// ("vector") saying what was expected.
+    void numbers(const char* key, std::initializer_list<const char*> names, const char* what,
+                 double* out) const;
     /// Pushes the field (any type) and returns its Lua type.
     int push(const char* key) const;
     lua_State* state() const { return L_; }

@@ -26,21 +26,7 @@ Quat quat_field(lua_State* L, const Fields& f, const char* key, const Quat& fall
         f.fail(key, fmt::format("{}, got {}", expected, n));
     }
     double c[4];
-    const char* names[4] = {"w", "x", "y", "z"};
-    for (int i = 0; i < 4; ++i) {
-        if (raw_getfield(L, -1, names[i]) == LUA_TNIL) {
-            lua_pop(L, 1);
-            lua_rawgeti(L, -1, i + 1);
-        }
-        int ok = 0;
-        c[i] = lua_tonumberx(L, -1, &ok);
-        lua_pop(L, 1);
-        if (!ok) {
-            lua_pop(L, 1);
-            f.fail(key, fmt::format("{} with four numbers", expected));
-        }
-    }
-    lua_pop(L, 1);
+    f.numbers(key, {"w", "x", "y", "z"}, "unit quaternion", c);
     const double norm = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] + c[3] * c[3]);
     if (!(std::abs(norm - 1) <= 1e-6)) {
         f.fail(key, fmt::format("a unit quaternion expected (its norm is {})", norm));

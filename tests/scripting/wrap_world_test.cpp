@@ -132,6 +132,53 @@ TEST_CASE("world:box checks its fields", "[wrap_world]") {
           "gaitlab.World (0 robots, 2 boxes)");
 }
 
+TEST_CASE("a vector or a quaternion with a number or a key too many is refused, naming the field",
+          "[wrap_world]") {
+    LuaFixture lua;
+    lua.run("w = gaitlab.world()");
+    const std::string bad = "test:1: bad argument #1 to 'box' (";
+    // these used to be accepted, the fourth number or the key 'w' dropped
+    CHECK(lua.error_of("w:box{ size = { 0.1, 0.1, 0.1, 0.1 } }") ==
+          bad + "field 'size': 3 numbers expected ({x, y, z}), got 4)");
+    CHECK(lua.error_of("w:box{ position = { x = 1, y = 2, z = 3, w = 4 } }") ==
+          bad + "field 'position': unknown key 'w' (a vector's keys are x, y and z))");
+    // of several unknown keys the first in byte order, the same in every run
+    CHECK(lua.error_of("w:box{ position = { x = 1, y = 2, z = 3, zz = 1, b = 2, a = 3 } }") ==
+          bad + "field 'position': unknown key 'a' (a vector's keys are x, y and z))");
+    CHECK(lua.error_of("w:box{ position = { 1, 2, 3, [10] = 4 } }") ==
+          bad + "field 'position': 3 numbers expected ({x, y, z}), got 4)");
+    CHECK(lua.error_of("w:box{ position = { [0] = 1, 1, 2, 3 } }") ==
+          bad + "field 'position': 3 numbers expected ({x, y, z}), got 4)");
+    CHECK(lua.error_of("w:box{ position = { 1, x = 2, 0, 0 } }") ==
+          bad + "field 'position': x given twice: by name and as number 1 of {x, y, z})");
+    CHECK(lua.error_of("w:box{ orientation = { 1, 0, 0, 0, 0 } }") ==
+          bad + "field 'orientation': 4 numbers expected ({w, x, y, z}), got 5)");
+    CHECK(lua.error_of("w:box{ orientation = { w = 1, x = 0, y = 0, z = 0, s = 1 } }") ==
+          bad +
+              "field 'orientation': unknown key 's' (a unit quaternion's keys are w, x, y and "
+              "z))");
+    CHECK(lua.error_of("gaitlab.world{ gravity = { 0, 0, -9.81, 0 } }") ==
+          "test:1: bad argument #1 to 'world' (field 'gravity': 3 numbers expected ({x, y, z}), "
+          "got 4)");
+    // every other reader of vectors: sensor directions, bodies and joints
+    lua.run("r = gaitlab.robot.chain{ name = 'snake', modules = 2 }");
+    CHECK(lua.error_of("r:sensor{ kind = 'range', module = 1, direction = { 0, 0, -1, 0 } }") ==
+          "test:1: bad argument #1 to 'sensor' (field 'direction': 3 numbers expected ({x, y, "
+          "z}), got 4)");
+    CHECK(lua.error_of("gaitlab.robot.new{ bodies = { { name = 'b', size = { 0.1, 0.1, 0.1 }, "
+                       "mass = 1, position = { x = 0, y = 0, z = 0, t = 0 } } } }") ==
+          "test:1: bad argument #1 to 'new' (bodies[1]: field 'position': unknown key 't' (a "
+          "vector's keys are x, y and z))");
+    // the forms that were valid still are: three numbers, x y z keys, a gaitlab.Vec3, a
+    // quaternion {w, x, y, z} by place or by name
+    lua.run(R"(
+        w:box{ size = { 0.1, 0.2, 0.3 }, position = { x = 1, y = 2, z = 3 } }
+        w:box{ position = gaitlab.vec3(1, 2, 0.5), orientation = { w = 1, x = 0, y = 0, z = 0 } }
+        w:box{ position = { 1, 2, z = 3 }, orientation = { 1, 0, 0, 0 } }
+    )");
+    CHECK(lua.string("tostring(w)") == "gaitlab.World (0 robots, 3 boxes)");
+}
+
 TEST_CASE("world:add places a robot once", "[wrap_world]") {
     LuaFixture lua;
     lua.run("w = gaitlab.world() r = gaitlab.robot.chain{ name = 'a', modules = 2 }");

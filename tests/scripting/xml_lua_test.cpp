@@ -484,9 +484,7 @@ TEST_CASE("the Lua keys of the XML attributes refuse bad values, naming the key"
     CHECK(lua.error_of("w:box{ yaw = 10, orientation = {1, 0, 0, 0} }") ==
           box + "field 'orientation': give 'yaw' or 'orientation', not both)");
     CHECK(lua.error_of("w:box{ orientation = {1, 0, 0} }") ==
-          box +
-              "field 'orientation': unit quaternion expected ({w, x, y, z}) with four "
-              "numbers)");
+          box + "field 'orientation': unit quaternion expected ({w, x, y, z} with four numbers))");
     CHECK(lua.error_of("w:box{ orientation = {2, 0, 0, 0} }") ==
           box + "field 'orientation': a unit quaternion expected (its norm is 2))");
     const std::string place = "test:1: bad argument #1 to 'place' (";
