@@ -179,71 +179,65 @@ inline void band_rows(BandRows& g, const btSolverConstraint* const* rows,
     }
 }
 
-/// A group's rows for K's entries in double (CoulombSolver::band_matrix): per row and per body
-/// (a, b) its normal n and arm a = r x n, and what they do to that body: n over its mass and
-/// W a, W the body's inverse inertia in world axes made symmetric, all in double. K = J W J'
-/// is then positive definite to double's rounding, where entries taken in float, each off by
-/// float's rounding of itself, are not once K's smallest eigenvalue is below float's rounding
-/// of its largest (a chain of about a thousand hinges).
-struct BandPrecise {
-    double n[kBandRows][2][3], arm[kBandRows][2][3];
-    double lin[kBandRows][2][3], ang[kBandRows][2][3];
+/// A joint row for K's entries in double (CoulombSolver::band_matrix, profile_matrix): per body
+/// (its A and B) the row's normal n and arm a = r x n, and what they do to that body: n over its
+/// mass and W a, W the body's inverse inertia in world axes made symmetric, all in double.
+/// K = J W J' is then positive definite to double's rounding, where entries taken in float, each
+/// off by float's rounding of itself, are not once K's smallest eigenvalue is below float's
+/// rounding of its largest (a chain of about a thousand hinges).
+struct PreciseRow {
+    double n[2][3], arm[2][3];
+    double lin[2][3], ang[2][3];
 };
 
-/// `rows[r]` null: slot r is empty (all zero); `a`, `b` the group's solver bodies
-inline void band_precise(BandPrecise& g, const btSolverConstraint* const* rows,
-                         const btSolverBody& a, const btSolverBody& b) {
+/// `row` null: an empty slot (all zero); `a`, `b` its solver bodies
+inline void precise_row(PreciseRow& p, const btSolverConstraint* row, const btSolverBody& a,
+                        const btSolverBody& b) {
     const btSolverBody* body[2] = {&a, &b};
-    double inertia[2][3][3];
+    const btVector3 zero(0, 0, 0);
     for (int s = 0; s < 2; ++s) {
         const btRigidBody* rigid = body[s]->m_originalBody;  // none: a fixed body
         const btMatrix3x3 w =
-            rigid ? rigid->getInvInertiaTensorWorld() : btMatrix3x3::getIdentity();
+            rigid ? rigid->getInvInertiaTensorWorld() : btMatrix3x3(0, 0, 0, 0, 0, 0, 0, 0, 0);
+        const btVector3& n = !row ? zero : s == 0 ? row->m_contactNormal1 : row->m_contactNormal2;
+        const btVector3& arm = !row     ? zero
+                               : s == 0 ? row->m_relpos1CrossNormal
+                                        : row->m_relpos2CrossNormal;
         for (int i = 0; i < 3; ++i) {
-            for (int j = 0; j < 3; ++j)
-                inertia[s][i][j] = rigid ? (double(w[i][j]) + double(w[j][i])) / 2 : 0;
+            p.n[s][i] = n[i];
+            p.arm[s][i] = arm[i];
+            p.lin[s][i] = double(n[i]) * double(body[s]->m_invMass[i]);
         }
-    }
-    for (int r = 0; r < kBandRows; ++r) {
-        for (int s = 0; s < 2; ++s) {
-            const btVector3 zero(0, 0, 0);
-            const btVector3& n = !rows[r] ? zero
-                                 : s == 0 ? rows[r]->m_contactNormal1
-                                          : rows[r]->m_contactNormal2;
-            const btVector3& arm = !rows[r] ? zero
-                                   : s == 0 ? rows[r]->m_relpos1CrossNormal
-                                            : rows[r]->m_relpos2CrossNormal;
-            for (int i = 0; i < 3; ++i) {
-                g.n[r][s][i] = n[i];
-                g.arm[r][s][i] = arm[i];
-                g.lin[r][s][i] = double(n[i]) * double(body[s]->m_invMass[i]);
-            }
-            for (int i = 0; i < 3; ++i) {
-                double sum = 0;
-                for (int j = 0; j < 3; ++j)
-                    sum += inertia[s][i][j] * g.arm[r][s][j];
-                g.ang[r][s][i] = sum;
-            }
+        for (int i = 0; i < 3; ++i) {
+            double sum = 0;
+            for (int j = 0; j < 3; ++j)
+                sum += (double(w[i][j]) + double(w[j][i])) / 2 * p.arm[s][j];
+            p.ang[s][i] = sum;
         }
     }
 }
 
-/// J_x W J_y' in double for row rx of group x (bodies xa, xb) and row ry of group y (bodies
-/// ya, yb), over the bodies they share, x's first body first
-inline double band_precise_coupling(const BandPrecise& x, int rx, int xa, int xb,
-                                    const BandPrecise& y, int ry, int ya, int yb) {
+/// J_x W J_y' in double for row x (bodies xa, xb) and row y (bodies ya, yb), over the bodies
+/// they share, x's first body first
+inline double precise_coupling(const PreciseRow& x, int xa, int xb, const PreciseRow& y, int ya,
+                               int yb) {
     double sum = 0;
     auto side = [&](int s, int body) {
         for (int t = 0; t < 2; ++t) {
             if ((t == 0 ? ya : yb) != body) continue;
             for (int i = 0; i < 3; ++i)
-                sum += x.n[rx][s][i] * y.lin[ry][t][i] + x.arm[rx][s][i] * y.ang[ry][t][i];
+                sum += x.n[s][i] * y.lin[t][i] + x.arm[s][i] * y.ang[t][i];
         }
     };
     side(0, xa);
     if (xb != xa) side(1, xb);
     return sum;
 }
+
+/// a group's rows in double, slot by slot
+struct BandPrecise {
+    PreciseRow row[kBandRows];
+};
 
 inline btScalar band_dot(const btVector3& x, BandV4 y) {
     return x.m_floats[0] * y[0] + x.m_floats[1] * y[1] + x.m_floats[2] * y[2];

@@ -614,7 +614,7 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
 
     // L y = r, D z = y, L' x = z (in place) on the profile
     void profile_solve() {
-        profile_substitute(chol_.data(), diag_.data(), first_.data(),
+        profile_substitute(chol_.data(), profile_start_.data(), diag_.data(), first_.data(),
                            static_cast<int>(block_.size()), rhs_.data());
     }
 
@@ -662,42 +662,88 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         band_.clear();
         band_fast_ = false;
         block_path_ = BlockPath::profile;
-        // only the profile is written and read: no n x n clearing
-        chol_.resize(static_cast<size_t>(n) * n);
-        first_.assign(n, 0);
-        diag_.assign(n, 0);
-        // the rows coupled to row i are those earlier on its bodies (a fixed body couples none)
+        // the rows coupled to row i are those earlier on its bodies (a fixed body couples none):
+        // its profile starts at the first of them
         rows_of_body_.resize(m_tmpSolverBodyPool.size());
         for (std::vector<int>& rows : rows_of_body_)
             rows.clear();
         auto moving = [&](int body) { return !m_tmpSolverBodyPool[body].m_invMass.fuzzyZero(); };
+        first_.assign(n, 0);
+        diag_.assign(n, 0);
+        profile_start_.assign(static_cast<size_t>(n) + 1, 0);
+        bool ordinary = true;  // every moving body's factors 1: the rows can be taken precisely
         for (int i = 0; i < n; ++i) {
             const btSolverConstraint& x = pool[block_[i]];
             const int bodies[2] = {x.m_solverBodyIdA, x.m_solverBodyIdB};
             int first = i;
             for (int body : bodies) {
                 if (!moving(body)) continue;
-                for (int j : rows_of_body_[body])
-                    first = std::min(first, j);
+                const btSolverBody& s = m_tmpSolverBodyPool[body];
+                ordinary = ordinary && s.m_originalBody && s.m_linearFactor == btVector3(1, 1, 1) &&
+                           s.m_angularFactor == btVector3(1, 1, 1);
+                if (!rows_of_body_[body].empty())
+                    first = std::min(first, rows_of_body_[body].front());
             }
             first_[i] = first;
-            double* row = &chol_[static_cast<size_t>(i) * n];
-            std::fill(row + first, row + i, 0.0);
-            for (int body : bodies) {
-                if (!moving(body)) continue;
-                for (int j : rows_of_body_[body])
-                    row[j] = coupling(x, pool[block_[j]]);
-            }
-            row[i] = 1 / x.m_jacDiagABInv + x.m_cfm / x.m_jacDiagABInv;
+            profile_start_[i + 1] = profile_start_[i] + static_cast<size_t>(i - first + 1);
             for (int body : bodies) {
                 if (moving(body) && (body == bodies[0] || bodies[0] != bodies[1]))
                     rows_of_body_[body].push_back(i);
             }
         }
+        chol_.resize(profile_start_[n]);
+        // K's entries in float unless the block is large or they fail, as band_matrix
+        const bool large = n >= kPreciseBand * (kBandRows - 1);
+        profile_matrix(ordinary && large);
+        const auto own = [&](int i) { return 1 / pool[block_[i]].m_jacDiagABInv; };
         // L D L' on the profile: L(i,j) is zero left of first_[i], and so is its fill; a
         // redundant row keeps its own diagonal, as pgs would solve it
-        profile_factor(chol_.data(), diag_.data(), first_.data(), n,
-                       [&](int i) { return 1 / pool[block_[i]].m_jacDiagABInv; });
+        if (!profile_factor(chol_.data(), profile_start_.data(), diag_.data(), first_.data(), n,
+                            own) &&
+            ordinary && !large) {
+            profile_matrix(true);
+            profile_factor(chol_.data(), profile_start_.data(), diag_.data(), first_.data(), n,
+                           own);
+        }
+    }
+
+    // K on the profile (first_, profile_start_ and rows_of_body_ made), as band_matrix takes
+    // the band's: `precise`, each entry J W J' in double
+    void profile_matrix(bool precise) {
+        const btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
+        const int n = static_cast<int>(block_.size());
+        if (precise) {
+            profile_precise_.resize(static_cast<size_t>(n));
+            for (int i = 0; i < n; ++i) {
+                const btSolverConstraint& x = pool[block_[i]];
+                precise_row(profile_precise_[i], &x, m_tmpSolverBodyPool[x.m_solverBodyIdA],
+                            m_tmpSolverBodyPool[x.m_solverBodyIdB]);
+            }
+        }
+        auto moving = [&](int body) { return !m_tmpSolverBodyPool[body].m_invMass.fuzzyZero(); };
+        for (int i = 0; i < n; ++i) {
+            const btSolverConstraint& x = pool[block_[i]];
+            const int bodies[2] = {x.m_solverBodyIdA, x.m_solverBodyIdB};
+            double* row = &chol_[profile_start_[i]];  // row[j - first_[i]]: column j
+            std::fill(row, row + (i - first_[i]), 0.0);
+            for (int body : bodies) {
+                if (!moving(body)) continue;
+                for (int j : rows_of_body_[body]) {
+                    if (j >= i) break;
+                    const btSolverConstraint& y = pool[block_[j]];
+                    row[j - first_[i]] =
+                        precise ? precise_coupling(profile_precise_[i], x.m_solverBodyIdA,
+                                                   x.m_solverBodyIdB, profile_precise_[j],
+                                                   y.m_solverBodyIdA, y.m_solverBodyIdB)
+                                : coupling(x, y);
+                }
+            }
+            row[i - first_[i]] = precise ? precise_coupling(profile_precise_[i], x.m_solverBodyIdA,
+                                                            x.m_solverBodyIdB, profile_precise_[i],
+                                                            x.m_solverBodyIdA, x.m_solverBodyIdB) +
+                                               x.m_cfm / x.m_jacDiagABInv
+                                         : 1 / x.m_jacDiagABInv + x.m_cfm / x.m_jacDiagABInv;
+        }
     }
 
     // a chain of hinges (block_band.h): the block's rows in groups on the same two bodies, a
@@ -806,8 +852,10 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                 const btSolverConstraint* rows[kBandRows];
                 for (int r = 0; r < kBandRows; ++r)
                     rows[r] = data.row[r] >= 0 ? &pool[data.row[r]] : nullptr;
-                band_precise(band_precise_[b], rows, m_tmpSolverBodyPool[data.a],
-                             m_tmpSolverBodyPool[data.b]);
+                for (int r = 0; r < kBandRows; ++r) {
+                    precise_row(band_precise_[b].row[r], rows[r], m_tmpSolverBodyPool[data.a],
+                                m_tmpSolverBodyPool[data.b]);
+                }
             }
         }
         for (int b = 0; b < count; ++b) {
@@ -822,8 +870,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             auto entry = [&](const btSolverConstraint& x, int r, int group, int c) -> double {
                 const BandRows& other = band_rows_[group];
                 if (!precise) return band_coupling(x, other, c);
-                return band_precise_coupling(band_precise_[b], r, data.a, data.b,
-                                             band_precise_[group], c, other.a, other.b);
+                return precise_coupling(band_precise_[b].row[r], data.a, data.b,
+                                        band_precise_[group].row[c], other.a, other.b);
             };
             for (int r = 0; r < kBandRows; ++r) {
                 if (data.row[r] < 0) continue;
@@ -870,7 +918,9 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     std::vector<BandPrecise> band_precise_;      // block, a chain: its rows in double (band_matrix)
     std::vector<int> swept_;                     // the joint rows each sweep solves one by one
     std::vector<int> old_style_;  // the constraints whose solveConstraintObsolete each sweep calls
-    std::vector<double> chol_, diag_, rhs_;
+    std::vector<double> chol_, diag_, rhs_;    // block: L on the profile, D, the right side
+    std::vector<size_t> profile_start_;        // block: where each row of chol_ starts
+    std::vector<PreciseRow> profile_precise_;  // block: its rows in double (profile_matrix)
     // block, a chain of hinges: K's factors in blocks (empty: the profile above), and the first
     // group on each solver body
     std::vector<BandGroup> band_;

@@ -81,15 +81,19 @@ std::vector<BandGroup> band_of(const Chain& c) {
 // profile_solve call them)
 std::vector<double> profile_solve(const Chain& c, std::vector<double> x) {
     const int n = c.n();
-    std::vector<double> l = c.k, diag(n);
+    std::vector<double> diag(n), l;
     std::vector<int> first(n);
+    std::vector<size_t> start(n + 1, 0);
     for (int i = 0; i < n; ++i) {
         const int g = i / kBandRows;
         first[i] = c.coupled[g] ? (g - 1) * kBandRows : g * kBandRows;
+        start[i + 1] = start[i] + static_cast<size_t>(i - first[i] + 1);
+        for (int j = first[i]; j <= i; ++j)  // the profile of row i, as factor_block keeps it
+            l.push_back(c.k[static_cast<size_t>(i) * n + j]);
     }
-    profile_factor(l.data(), diag.data(), first.data(), n,
-                   [&](int i) { return c.k[static_cast<size_t>(i) * n + i]; });
-    profile_substitute(l.data(), diag.data(), first.data(), n, x.data());
+    CHECK(profile_factor(l.data(), start.data(), diag.data(), first.data(), n,
+                         [&](int i) { return c.k[static_cast<size_t>(i) * n + i]; }));
+    profile_substitute(l.data(), start.data(), diag.data(), first.data(), n, x.data());
     return x;
 }
 

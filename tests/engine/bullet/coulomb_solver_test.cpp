@@ -644,7 +644,7 @@ TEST_CASE("every contact point on a compliant floor has the floor's stiffness an
 // A chain of a thousand hinges or more: K's smallest eigenvalue falls below float's rounding
 // of its largest, so with its entries in float K is indefinite, the factor breaks down and the
 // solve sends the chain to NaN. From kPreciseBand hinges on the band takes them in double
-// (CoulombSolver::band_matrix).
+// (CoulombSolver::band_matrix), and so does the profile from as many rows (profile_matrix).
 // every body's state finite (Run::diverged also counts a body 100 m out, as the 160 m chain's)
 bool all_finite(const Run& r) {
     for (const BodyState& b : r.states) {
@@ -662,7 +662,9 @@ TEST_CASE("block_nncg keeps a chain of a thousand modules and more finite") {
         CHECK_FALSE(r.diverged);
         CHECK(r.max_separation < 1e-3);
     }
-    SECTION("a URDF chain of 2000 links lying still (NaN at 59 ms in float)") {
+    SECTION("a URDF chain of 2000 links lying still (NaN at 59 ms in float), and with a branch") {
+        const bool branch = GENERATE(false, true);
+        CAPTURE(branch);
         std::string urdf = "<robot name='r'>\n";
         const std::string inertial =
             "<inertial><mass value='0.05'/><inertia ixx='1e-5' ixy='0' ixz='0' iyy='1e-5' "
@@ -681,6 +683,22 @@ TEST_CASE("block_nncg keeps a chain of a thousand modules and more finite") {
         urdf += "</robot>\n";
         WorldSpec world = test::chain_world(2, Connection::pitch_pitch);  // its floor
         world.robots[0].robot = parse_urdf(urdf, "chain.urdf");
+        if (branch) {  // a side link on link 1990 (a body of three hinges: the profile)
+            RobotSpec& robot = world.robots[0].robot;
+            BodySpec side = robot.bodies[1990];
+            side.name = "side";
+            side.pose.position.y += 0.06;
+            robot.bodies.push_back(side);
+            JointSpec j = robot.joints[0];
+            j.name = "js";
+            j.parent = 1990;
+            j.child = static_cast<int>(robot.bodies.size()) - 1;
+            j.pivot = robot.bodies[1990].pose.position;
+            j.pivot.y += 0.03;
+            j.axis = {1, 0, 0};
+            robot.joints.push_back(j);
+            validate(robot);
+        }
         const Run r = run(world, {}, 100, ConstraintSolver::block_nncg);
         CHECK(all_finite(r));
         CHECK(r.max_separation < 1e-4);
