@@ -123,6 +123,15 @@ void each_entry(lua_State* L, const Fields& f, const char* key, int arg, F&& eac
 
 }  // namespace
 
+double servo_speed_field(const Fields& f, const char* key, double fallback) {
+    const double speed = f.number(key, rad_to_deg(fallback));
+    const double most = rad_to_deg(kMaxServoSpeed);
+    if (!(speed > 0 && speed <= most)) {
+        f.fail(key, fmt::format("must be in (0, {}] deg/s (got {} deg/s)", most, speed));
+    }
+    return deg_to_rad(speed);
+}
+
 int robot_new(lua_State* L) {
     return protect(L, [&] {
         Fields f(L, 1, 1, {"name", "self_collision", "bodies", "joints"});
@@ -169,8 +178,7 @@ int robot_new(lua_State* L) {
                 j.max_angle = e.has("max") ? deg_to_rad(e.number("max", 0)) : y1.max_angle;
                 j.servo.kp = e.number("kp", y1.servo.kp);
                 // degrees per second, as every angle a script gives
-                j.servo.max_speed =
-                    e.has("max_speed") ? deg_to_rad(e.number("max_speed", 0)) : y1.servo.max_speed;
+                j.servo.max_speed = servo_speed_field(e, "max_speed", y1.servo.max_speed);
                 j.servo.max_torque = e.number("max_torque", y1.servo.max_torque);
                 validate_joint(robot, j);
                 robot.joints.push_back(j);

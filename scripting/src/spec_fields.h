@@ -17,6 +17,11 @@ Quat quat_field(lua_State* L, const Fields& f, const char* key, const Quat& fall
 /// `yaw` (degrees about +z) or `orientation` (a unit quaternion), not both; identity if neither.
 Quat orientation_field(lua_State* L, const Fields& f);
 
+/// Field `key` as a servo's max speed: deg/s in Lua (as every angle a script gives), in
+/// (0, kMaxServoSpeed] once in rad/s, refused with that range in deg/s; returned in rad/s,
+/// `fallback` (rad/s) if absent.
+double servo_speed_field(const Fields& f, const char* key, double fallback);
+
 /// gaitlab.robot.new{ name =, self_collision =, bodies = {...}, joints = {...} }: a robot made
 /// of bodies and joints, as a robot file's <body> and <joint> elements make it.
 int robot_new(lua_State* L);

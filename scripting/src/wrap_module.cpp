@@ -5,6 +5,7 @@
 
 #include "fixed_order.h"
 #include "lua_util.h"
+#include "spec_fields.h"
 #include "wrap.h"
 
 namespace gaitlab::scripting {
@@ -90,22 +91,16 @@ int module_new(lua_State* L) {
         } else {
             f.fail("axis", "'bend' or 'twist' expected, got '" + axis + "'");
         }
-        if (f.push("range") != LUA_TNIL) {
-            double r[2] = {0, 0};
-            bool ok = lua_istable(L, -1) && lua_rawlen(L, -1) == 2;
-            for (int k = 0; ok && k < 2; ++k) {
-                lua_rawgeti(L, -1, k + 1);
-                int is_num = 0;
-                r[k] = lua_tonumberx(L, -1, &is_num);
-                ok = is_num != 0;
-                lua_pop(L, 1);
-            }
-            lua_pop(L, 1);
-            if (!ok) f.fail("range", "{min, max} in degrees expected");
+        const int range = f.push("range");
+        if (range == LUA_TTABLE) {
+            // two numbers and nothing else, as a vector's three (Fields::numbers)
+            double r[2];
+            f.numbers("range", {"min", "max"}, "range", r);
             m.min_angle = deg_to_rad(r[0]);
             m.max_angle = deg_to_rad(r[1]);
         } else {
             lua_pop(L, 1);
+            if (range != LUA_TNIL) f.fail("range", "{min, max} in degrees expected");
         }
         // min and max (degrees), as a robot file's <module min= max=>
         if (f.has("range") && (f.has("min") || f.has("max"))) {
@@ -113,12 +108,7 @@ int module_new(lua_State* L) {
         }
         if (f.has("min")) m.min_angle = deg_to_rad(f.number("min", 0));
         if (f.has("max")) m.max_angle = deg_to_rad(f.number("max", 0));
-        // degrees per second at the Lua boundary, like every angle users type
-        const double max_speed = f.number("max_speed", rad_to_deg(m.servo.max_speed));
-        if (!(std::isfinite(max_speed) && max_speed > 0)) {
-            f.fail("max_speed", fmt::format("must be positive (got {} deg/s)", max_speed));
-        }
-        m.servo.max_speed = deg_to_rad(max_speed);
+        m.servo.max_speed = servo_speed_field(f, "max_speed", m.servo.max_speed);
         m.servo.max_torque = f.number("max_torque", m.servo.max_torque);
         m.servo.kp = f.number("kp", m.servo.kp);
         m.friction = f.number("friction", m.friction);

@@ -121,7 +121,17 @@ TEST_CASE("gaitlab.module rejects bad definitions", "[wrap_module]") {
     CHECK(lua.error_of("gaitlab.module{ name = 'm', range = 60 }") ==
           bad + "field 'range': {min, max} in degrees expected)");
     CHECK(lua.error_of("gaitlab.module{ name = 'm', max_speed = -3 }") ==
-          bad + "field 'max_speed': must be positive (got -3 deg/s))");
+          bad + "field 'max_speed': must be in (0, 57295.77951308232] deg/s (got -3 deg/s))");
+    // the engine's bound (1000 rad/s) in the unit the script gave
+    CHECK(lua.error_of("gaitlab.module{ name = 'm', max_speed = 1e308 }") ==
+          bad + "field 'max_speed': must be in (0, 57295.77951308232] deg/s (got 1e+308 deg/s))");
+    // a range is two numbers and nothing else, as a vector is three
+    CHECK(lua.error_of("gaitlab.module{ name = 'm', range = { -60, 60, 90 } }") ==
+          bad + "field 'range': 2 numbers expected ({min, max}), got 3)");
+    CHECK(lua.error_of("gaitlab.module{ name = 'm', range = { -60, 60, step = 5 } }") ==
+          bad + "field 'range': unknown key 'step' (a range's keys are min and max))");
+    CHECK(lua.error_of("gaitlab.module{ name = 'm', range = { -60, 'x' } }") ==
+          bad + "field 'range': range expected ({min, max} with two numbers))");
     CHECK(lua.error_of("gaitlab.module{ name = 'm', max_torqe = 1 }") ==
           bad + "unknown key 'max_torqe'; did you mean 'max_torque'?)");
     CHECK(lua.error_of("gaitlab.module{ name = 'm', base = 'nope' }") ==

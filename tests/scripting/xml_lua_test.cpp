@@ -474,6 +474,13 @@ TEST_CASE("the Lua keys of the XML attributes refuse bad values, naming the key"
                        "joints = { { name = 'j', parent = 'base', child = 'b', pivot = {0, 0, "
                        "0}, axis = {0, 1, 0}, min = 30, max = -30 } } }") ==
           bad("new") + "joints[1]: robot 'robot' joint 'j' range must have min < max)");
+    // the servo's speed in deg/s, as the script gave it, not the engine's rad/s
+    CHECK(lua.error_of("gaitlab.robot.new{ " + two +
+                       "joints = { { name = 'j', parent = 'base', child = 'b', pivot = {0, 0, "
+                       "0}, axis = {0, 1, 0}, max_speed = 1e6 } } }") ==
+          bad("new") +
+              "joints[1]: field 'max_speed': must be in (0, 57295.77951308232] deg/s (got "
+              "1000000 deg/s))");
     CHECK(lua.error_of("gaitlab.module{ name = 'mm', range = {1, 2}, min = 3 }") ==
           bad("module") + "field 'min': give range or min and max, not both)");
     // environments
