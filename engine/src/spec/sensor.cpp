@@ -22,13 +22,7 @@ bool valid_name_char(char c) {
 
 // the checks of one sensor that do not depend on the robot's other sensors
 void check_sensor(const RobotSpec& robot, const SensorSpec& s, const std::string& name) {
-    detail::check_name("sensor name", name);
-    for (char c : name) {
-        if (!valid_name_char(c)) {
-            throw SpecError(
-                fmt::format("sensor name '{}' may contain only letters, digits and '_'", name));
-        }
-    }
+    // the module or joint first: an unnamed sensor's name is made of its number ('imu-1')
     const int nj = static_cast<int>(robot.joints.size());
     switch (s.kind) {
         case SensorKind::joint:
@@ -50,6 +44,13 @@ void check_sensor(const RobotSpec& robot, const SensorSpec& s, const std::string
             break;
         case SensorKind::position:
             break;
+    }
+    detail::check_name("sensor name", name);
+    for (char c : name) {
+        if (!valid_name_char(c)) {
+            throw SpecError(
+                fmt::format("sensor name '{}' may contain only letters, digits and '_'", name));
+        }
     }
     if (s.kind == SensorKind::range) {
         const std::string p = "sensor '" + name + "' ";

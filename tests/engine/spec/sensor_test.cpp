@@ -142,6 +142,15 @@ TEST_CASE("range sensors need a direction and a maximum range within limits") {
     REQUIRE_NOTHROW(validate_sensor(r, i));
 }
 
+TEST_CASE("an unnamed sensor on a module or joint out of range names the robot's range") {
+    const RobotSpec r = snake(3);
+    // not its default name 'imu-1', which is made of the number
+    REQUIRE_THROWS_WITH(validate_sensor(r, of_kind(SensorKind::imu, -2)),
+                        Equals("robot 'snake' has no module -1 (it has modules 1 to 3)"));
+    REQUIRE_THROWS_WITH(validate_sensor(r, of_kind(SensorKind::joint, -5)),
+                        Equals("robot 'snake' has no joint -4 (it has joints 1 to 3)"));
+}
+
 TEST_CASE("sensor names are unique within a robot and made of letters, digits and '_'") {
     RobotSpec r = snake(3);
     r.sensors.push_back(of_kind(SensorKind::imu, 2));
