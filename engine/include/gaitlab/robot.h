@@ -17,6 +17,15 @@ inline constexpr int kMaxModules = 1000;       ///< modules of one chain
 inline constexpr int kMaxRobotBodies = 10000;  ///< bodies of one robot (joints: as many)
 inline constexpr double kMaxBodyExtent = 100;  ///< m, each size of a body
 inline constexpr double kMaxBodyMass = 1e6;    ///< kg
+/// m, each size of a body: a chain of 0.1 mm modules (bodies half that long at its ends) keeps
+/// its gait's shape at dt 0.1 ms, and at the default 1 ms stays finite
+inline constexpr double kMinBodyExtent = 1e-4;
+/// kg: a body of water at kMinBodyExtent; at the default dt and solver, 1e-16 kg bodies still
+/// move as heavier ones and 1e-20 kg ones do not (their inertia is near single precision's end)
+inline constexpr double kMinBodyMass = 1e-9;
+/// m, the radius of every cylinder (bodies, modules, world objects): Bullet rounds a shape by
+/// its 1 mm collision margin, and a thinner cylinder sinks into the floor
+inline constexpr double kMinCylinderRadius = 1e-3;
 
 /// How consecutive modules of a chain are joined.
 enum class Connection { pitch_pitch, pitch_yaw, yaw_yaw };

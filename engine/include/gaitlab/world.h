@@ -31,6 +31,11 @@ inline constexpr long long kMaxWorldSolids = 250000;  ///< bodies all objects ex
 /// samples of all heightfields together (one 4096 × 4096 grid)
 inline constexpr long long kMaxHeightSamples = 4096LL * 4096;
 inline constexpr int kMaxRobots = 1000;  ///< robots in one world
+/// m: sizes and lengths of objects, as a robot body's (kMinBodyExtent); cylinders' radii are at
+/// least kMinCylinderRadius
+inline constexpr double kMinExtent = 1e-4;
+/// kg, of an object that moves (0 makes it static), as a robot body's (kMinBodyMass)
+inline constexpr double kMinObjectMass = 1e-9;
 /// N/m and N·s/m: a compliant floor's stiffness and damping at most this (Bullet's contact rows
 /// hold dt · stiffness + damping in single precision)
 inline constexpr double kMaxFloorStiffness = 1e12;

@@ -63,10 +63,27 @@ inline void check_at_most(const std::string& what, double v, double hi, const ch
     }
 }
 
-/// A size: positive, at most `hi`.
-inline void check_size(const std::string& what, double v, double hi, const char* unit = "m") {
+/// `what`, already known to be a number, must not be below `lo`.
+inline void check_at_least(const std::string& what, double v, double lo, const char* unit = "") {
+    if (v < lo) {
+        throw SpecError(fmt::format("{} must be at least {}{}{} (got {}{}{})", what, lo,
+                                    *unit ? " " : "", unit, v, *unit ? " " : "", unit));
+    }
+}
+
+/// A size: positive, in [lo, hi] (a positive size below `lo` is refused with `lo`).
+inline void check_size(const std::string& what, double v, double lo, double hi,
+                       const char* unit = "m") {
     check_positive(what, v, unit);
+    check_at_least(what, v, lo, unit);
     check_at_most(what, v, hi, unit);
+}
+
+/// A mass: positive, in [lo, hi] kg.
+inline void check_mass(const std::string& what, double v, double lo, double hi) {
+    check_positive(what, v, "kg");
+    check_at_least(what, v, lo, "kg");
+    check_at_most(what, v, hi, "kg");
 }
 
 /// A servo's gain, speed and torque, each positive and at most its kMaxServo* bound (module.h:

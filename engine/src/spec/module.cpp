@@ -44,16 +44,16 @@ void validate(const ModuleDef& m) {
     const std::string p = "module '" + m.name + "' ";
     if (m.name.empty()) throw SpecError("a module type needs a name");
     detail::check_name("module name", m.name);
-    // the limits of the bodies a chain makes of it (robot.h)
-    detail::check_size(p + "length", m.length, kMaxBodyExtent);
+    // the limits of the bodies a chain makes of it (robot.h), whose two end bodies are half a
+    // module: half its length and half its mass
+    detail::check_size(p + "length", m.length, 2 * kMinBodyExtent, kMaxBodyExtent);
     if (m.shape == Shape::box) {
-        detail::check_size(p + "width", m.width, kMaxBodyExtent);
-        detail::check_size(p + "height", m.height, kMaxBodyExtent);
+        detail::check_size(p + "width", m.width, kMinBodyExtent, kMaxBodyExtent);
+        detail::check_size(p + "height", m.height, kMinBodyExtent, kMaxBodyExtent);
     } else {
-        detail::check_size(p + "radius", m.radius, kMaxBodyExtent / 2);
+        detail::check_size(p + "radius", m.radius, kMinCylinderRadius, kMaxBodyExtent / 2);
     }
-    detail::check_positive(p + "mass", m.mass, "kg");
-    detail::check_at_most(p + "mass", m.mass, kMaxBodyMass, "kg");
+    detail::check_mass(p + "mass", m.mass, 2 * kMinBodyMass, kMaxBodyMass);
     detail::check_range(p + "friction", m.friction, 0, 1);
     detail::check_servo(p, m.servo);
     if (!(m.min_angle < m.max_angle && m.min_angle >= -kPi && m.max_angle <= kPi)) {

@@ -128,11 +128,14 @@ RobotSpec make_chain(const ChainSpec& spec) {
 void validate_body(const std::string& robot_name, const BodySpec& b) {
     const std::string q = "robot '" + robot_name + "' body '" + b.name + "' ";
     detail::check_name(q + "name", b.name);
-    detail::check_positive(q + "mass", b.mass, "kg");
-    detail::check_at_most(q + "mass", b.mass, kMaxBodyMass, "kg");
-    detail::check_size(q + "size x", b.size.x, kMaxBodyExtent);
-    detail::check_size(q + "size y", b.size.y, kMaxBodyExtent);
-    detail::check_size(q + "size z", b.size.z, kMaxBodyExtent);
+    detail::check_mass(q + "mass", b.mass, kMinBodyMass, kMaxBodyMass);
+    detail::check_size(q + "size x", b.size.x, kMinBodyExtent, kMaxBodyExtent);
+    // a cylinder's size y and z are its diameter
+    const bool cylinder = b.shape == Shape::cylinder;
+    const double min_section = cylinder ? 2 * kMinCylinderRadius : kMinBodyExtent;
+    const char* const section = cylinder ? " (a cylinder's diameter)" : "";
+    detail::check_size(q + "size y" + section, b.size.y, min_section, kMaxBodyExtent);
+    detail::check_size(q + "size z" + section, b.size.z, min_section, kMaxBodyExtent);
     detail::check_range(q + "friction", b.friction, 0, 1);
     if (b.shape == Shape::cylinder && b.size.y != b.size.z) {
         throw SpecError(q + "is a cylinder: size y and z (its diameter) must be equal");

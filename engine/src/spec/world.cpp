@@ -24,11 +24,16 @@ void check_position(const std::string& p, const Vec3& v) {
 }
 
 void check_size(const std::string& what, double v) {
-    detail::check_size(what, v, kMaxExtent);
+    detail::check_size(what, v, kMinExtent, kMaxExtent);
 }
 
+// 0 (static), or a mass that moves the object as physics says
 void check_mass(const std::string& what, double v) {
     detail::check_non_negative(what, v, "kg");
+    if (v > 0 && v < kMinObjectMass) {
+        throw SpecError(fmt::format("{} must be 0 (static) or at least {} kg (got {} kg)", what,
+                                    kMinObjectMass, v));
+    }
     detail::check_at_most(what, v, kMaxObjectMass, "kg");
 }
 
@@ -110,7 +115,7 @@ void validate(const StairsSpec& s, int number) {
 
 void validate(const CylinderSpec& c, int number) {
     const std::string p = object_name("cylinder", number);
-    check_size(p + "radius", c.radius);
+    detail::check_size(p + "radius", c.radius, kMinCylinderRadius, kMaxExtent);
     check_size(p + "length", c.length);
     check_mass(p + "mass", c.mass);
     check_placement(p, c.position, c.yaw, c.friction);
@@ -145,7 +150,7 @@ void validate(const HeightfieldSpec& h, int number) {
     check_size(p + "width", h.width);
     if (h.heights.empty()) {
         if (h.image.empty()) throw SpecError(p + "needs heights or an image");
-        detail::check_size(p + "max_height", h.max_height, kMaxTerrainHeight);
+        detail::check_size(p + "max_height", h.max_height, kMinExtent, kMaxTerrainHeight);
     } else {
         if (!h.image.empty()) throw SpecError(p + "has both heights and an image (give one)");
         check_count(p + "samples_x", h.samples_x, 2, kMaxHeightfieldSide);

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "gaitlab/error.h"
+#include "gaitlab/robot.h"
 
 using namespace gaitlab;
 using Catch::Matchers::Equals;
@@ -110,6 +111,64 @@ TEST_CASE("module validation checks the fields of its shape") {
     SECTION("a module type needs a name") {
         m.name = "";
         REQUIRE_THROWS_WITH(validate(m), Equals("a module type needs a name"));
+    }
+}
+
+TEST_CASE("module sizes and mass have lower bounds, twice a body's where a chain halves them") {
+    // a mass of 1e-40 kg once made the first step NaN ("simulation diverged ... try a smaller
+    // dt"), 1e-300 kg became 0 in single precision (a static body), a 1e-300 m module passed
+    ModuleDef m;
+    m.name = "m";
+    SECTION("mass") {
+        m.mass = 1e-40;
+        REQUIRE_THROWS_WITH(validate(m),
+                            Equals("module 'm' mass must be at least 2e-09 kg (got 1e-40 kg)"));
+        m.mass = 1e-300;
+        REQUIRE_THROWS_WITH(validate(m),
+                            Equals("module 'm' mass must be at least 2e-09 kg (got 1e-300 kg)"));
+        m.mass = 0;
+        REQUIRE_THROWS_WITH(validate(m), Equals("module 'm' mass must be positive (got 0 kg)"));
+        m.mass = 2 * kMinBodyMass;
+        CHECK_NOTHROW(validate(m));
+    }
+    SECTION("a box's length, width and height") {
+        m.length = 1e-300;
+        REQUIRE_THROWS_WITH(validate(m),
+                            Equals("module 'm' length must be at least 0.0002 m (got 1e-300 m)"));
+        m.length = 2 * kMinBodyExtent;
+        m.width = 5e-5;
+        REQUIRE_THROWS_WITH(validate(m),
+                            Equals("module 'm' width must be at least 0.0001 m (got 5e-05 m)"));
+        m.width = kMinBodyExtent;
+        m.height = 1e-6;
+        REQUIRE_THROWS_WITH(validate(m),
+                            Equals("module 'm' height must be at least 0.0001 m (got 1e-06 m)"));
+        m.height = kMinBodyExtent;
+        CHECK_NOTHROW(validate(m));
+    }
+    SECTION("a cylinder's radius: no thinner than Bullet's collision margin") {
+        m.shape = Shape::cylinder;
+        m.radius = 5e-4;
+        REQUIRE_THROWS_WITH(validate(m),
+                            Equals("module 'm' radius must be at least 0.001 m (got 0.0005 m)"));
+        m.radius = kMinCylinderRadius;
+        CHECK_NOTHROW(validate(m));
+    }
+    SECTION("a chain of modules at every lower bound is a valid robot") {
+        for (Shape shape : {Shape::box, Shape::cylinder}) {
+            m.shape = shape;
+            m.length = 2 * kMinBodyExtent;
+            m.width = m.height = kMinBodyExtent;
+            m.radius = kMinCylinderRadius;
+            m.mass = 2 * kMinBodyMass;
+            ChainSpec chain;
+            chain.module = m;
+            chain.modules = 3;
+            const RobotSpec robot = make_chain(chain);
+            CHECK_NOTHROW(validate(robot));
+            CHECK(robot.bodies.front().mass == kMinBodyMass);
+            CHECK(robot.bodies.front().size.x == kMinBodyExtent);
+        }
     }
 }
 

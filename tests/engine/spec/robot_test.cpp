@@ -401,6 +401,40 @@ TEST_CASE("validate(RobotSpec) rejects broken robots") {
     }
 }
 
+TEST_CASE("a body's mass and sizes have lower bounds, a cylinder's diameter Bullet's margin's") {
+    RobotSpec r = chain(2, Connection::pitch_pitch, "x");
+    BodySpec& b = r.bodies[1];
+    SECTION("mass") {
+        b.mass = 1e-300;
+        REQUIRE_THROWS_WITH(validate(r), Equals("robot 'x' body 'segment1' mass must be at least "
+                                                "1e-09 kg (got 1e-300 kg)"));
+        b.mass = kMinBodyMass;
+        CHECK_NOTHROW(validate(r));
+    }
+    SECTION("sizes of a box") {
+        b.size.x = 1e-300;
+        REQUIRE_THROWS_WITH(validate(r), Equals("robot 'x' body 'segment1' size x must be at least "
+                                                "0.0001 m (got 1e-300 m)"));
+        b.size = {kMinBodyExtent, 1e-5, kMinBodyExtent};
+        REQUIRE_THROWS_WITH(validate(r), Equals("robot 'x' body 'segment1' size y must be at least "
+                                                "0.0001 m (got 1e-05 m)"));
+        b.size = {kMinBodyExtent, kMinBodyExtent, 9e-5};
+        REQUIRE_THROWS_WITH(validate(r), Equals("robot 'x' body 'segment1' size z must be at least "
+                                                "0.0001 m (got 9e-05 m)"));
+        b.size.z = kMinBodyExtent;
+        CHECK_NOTHROW(validate(r));
+    }
+    SECTION("a cylinder's diameter") {
+        b.shape = Shape::cylinder;
+        b.size = {kMinBodyExtent, 1e-3, 1e-3};
+        REQUIRE_THROWS_WITH(validate(r),
+                            Equals("robot 'x' body 'segment1' size y (a cylinder's diameter) must "
+                                   "be at least 0.002 m (got 0.001 m)"));
+        b.size.y = b.size.z = 2 * kMinCylinderRadius;
+        CHECK_NOTHROW(validate(r));
+    }
+}
+
 TEST_CASE("names are valid UTF-8 without control characters", "[names]") {
     RobotSpec r = chain(2, Connection::pitch_pitch);
     const auto rejected = [&](const std::string& message) {

@@ -5,12 +5,15 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 
+#include "gaitlab/controller.h"
 #include "gaitlab/error.h"
 #include "gaitlab/simulation.h"
 
 using namespace gaitlab;
 using Catch::Matchers::Equals;
+using Catch::Matchers::StartsWith;
 
 namespace {
 
@@ -180,6 +183,167 @@ TEST_CASE("positions, sizes and masses beyond what single-precision physics mean
         w.robots[0].robot.bodies[1].mass = 1e9;
         require_rejected(
             w, "robot 'snake' body 'segment1' mass must be at most 1000000 kg (got 1000000000 kg)");
+    }
+}
+
+TEST_CASE("sizes and masses too small for single-precision physics are refused with their bound") {
+    // each was accepted before, down to 1e-300, and became 0 or a denormal in Bullet's floats
+    WorldSpec w = world_with_robot();
+    SECTION("boxes") {
+        w.boxes.resize(1);
+        w.boxes[0].size.y = 1e-300;
+        require_rejected(w, "box 1 size y must be at least 0.0001 m (got 1e-300 m)");
+        w.boxes[0].size.y = kMinExtent;
+        w.boxes[0].mass = 1e-300;
+        require_rejected(w, "box 1 mass must be 0 (static) or at least 1e-09 kg (got 1e-300 kg)");
+        w.boxes[0].mass = kMinObjectMass;
+        CHECK_NOTHROW(validate(w));
+        w.boxes[0].mass = 0;
+        CHECK_NOTHROW(validate(w));
+    }
+    SECTION("cylinders: the radius no smaller than Bullet's collision margin") {
+        w.cylinders.resize(1);
+        w.cylinders[0].radius = 9e-4;
+        require_rejected(w, "cylinder 1 radius must be at least 0.001 m (got 0.0009 m)");
+        w.cylinders[0].radius = kMinCylinderRadius;
+        w.cylinders[0].length = 1e-5;
+        require_rejected(w, "cylinder 1 length must be at least 0.0001 m (got 1e-05 m)");
+        w.cylinders[0].length = kMinExtent;
+        w.cylinders[0].mass = 1e-40;
+        require_rejected(w,
+                         "cylinder 1 mass must be 0 (static) or at least 1e-09 kg (got 1e-40 kg)");
+        w.cylinders[0].mass = kMinObjectMass;
+        CHECK_NOTHROW(validate(w));
+    }
+    SECTION("walls, ramps, stairs, pipes") {
+        w.walls.resize(1);
+        w.walls[0].thickness = 1e-300;
+        require_rejected(w, "wall 1 thickness must be at least 0.0001 m (got 1e-300 m)");
+        w.walls[0].thickness = kMinExtent;
+        w.ramps.resize(1);
+        w.ramps[0].width = 1e-300;
+        require_rejected(w, "ramp 1 width must be at least 0.0001 m (got 1e-300 m)");
+        w.ramps[0].width = kMinExtent;
+        // a slope so gentle that the wedge is thinner than the bound
+        w.ramps[0].length = 1;
+        w.ramps[0].slope = 1e-5;
+        REQUIRE_THROWS_WITH(validate(w),
+                            StartsWith("ramp 1 height must be at least 0.0001 m (got 1.0000000"));
+        w.ramps[0].slope = 1e-4;
+        w.stairs.resize(1);
+        w.stairs[0].step_depth = 1e-300;
+        require_rejected(w, "stairs 1 step_depth must be at least 0.0001 m (got 1e-300 m)");
+        w.stairs[0].step_depth = kMinExtent;
+        w.pipes.resize(1);
+        w.pipes[0].thickness = 1e-300;
+        require_rejected(w, "pipe 1 thickness must be at least 0.0001 m (got 1e-300 m)");
+        w.pipes[0].thickness = kMinExtent;
+        CHECK_NOTHROW(validate(w));
+    }
+    SECTION("rubble and heightfields") {
+        w.rubble.resize(1);
+        w.rubble[0].min_size = 1e-300;
+        require_rejected(w, "rubble 1 min_size must be at least 0.0001 m (got 1e-300 m)");
+        w.rubble[0].min_size = kMinExtent;
+        w.rubble[0].min_height = 1e-300;
+        require_rejected(w, "rubble 1 min_height must be at least 0.0001 m (got 1e-300 m)");
+        w.rubble[0].min_height = kMinExtent;
+        w.heightfields.resize(1);
+        HeightfieldSpec& h = w.heightfields[0];
+        h.image = "x.png";
+        h.length = 1e-300;
+        require_rejected(w, "heightfield 1 length must be at least 0.0001 m (got 1e-300 m)");
+        h.length = kMinExtent;
+        h.max_height = 1e-300;
+        REQUIRE_THROWS_WITH(validate(w), Equals("heightfield 1 max_height must be at least 0.0001 "
+                                                "m (got 1e-300 m)"));
+        h.max_height = kMinExtent;
+        CHECK_NOTHROW(validate(w));
+    }
+    SECTION("a robot body") {
+        w.robots[0].robot.bodies[0].mass = 1e-40;
+        require_rejected(w,
+                         "robot 'snake' body 'tail' mass must be at least 1e-09 kg (got 1e-40 kg)");
+    }
+}
+
+namespace {
+
+// a travelling wave on every joint of its group: amplitude 40 deg, 1 Hz, 120 deg between joints
+class Wave final : public Controller {
+  public:
+    Wave() : Controller(ControllerDef{"wave", {}, {}}) {}
+    void step(ControlIO& io) override {
+        for (int m = 0; m < io.joints(); ++m)
+            io.set_target(m, deg_to_rad(40) * std::sin(2 * kPi * io.time() - m * deg_to_rad(120)));
+    }
+};
+
+bool finite(const BodyState& b) {
+    const Vec3& p = b.pose.position;
+    const Vec3& v = b.linear_velocity;
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(v.x) &&
+           std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+}  // namespace
+
+TEST_CASE("a world at the lower bounds simulates at the default dt and solver") {
+    // a chain of the smallest, lightest modules under a wave gait, and the smallest, lightest
+    // box and cylinders dropped onto the floor, 1 s at dt 1 ms
+    for (Shape shape : {Shape::box, Shape::cylinder}) {
+        CAPTURE(shape == Shape::box ? "box modules" : "cylinder modules");
+        ChainSpec chain;
+        chain.name = "snake";
+        chain.modules = 8;
+        chain.module.shape = shape;
+        chain.module.length = 2 * kMinBodyExtent;
+        chain.module.width = chain.module.height = kMinBodyExtent;
+        chain.module.radius = kMinCylinderRadius;
+        chain.module.mass = 2 * kMinBodyMass;
+        WorldSpec w;
+        w.floor.friction = 0.8;
+        PlacedRobot placed;
+        placed.robot = make_chain(chain);
+        w.robots.push_back(std::move(placed));
+        BoxSpec box;
+        box.size = {kMinExtent, kMinExtent, kMinExtent};
+        box.mass = kMinObjectMass;
+        box.pose.position = {0, 0.01, 2 * kMinExtent};
+        w.boxes.push_back(box);
+        CylinderSpec disc;  // upright, on a face
+        disc.radius = kMinCylinderRadius;
+        disc.length = kMinExtent;
+        disc.mass = kMinObjectMass;
+        disc.position = {0, 0.02, 2 * kMinExtent};
+        w.cylinders.push_back(disc);
+        CylinderSpec roller = disc;  // lying, on its side
+        roller.lying = true;
+        roller.length = 2 * kMinCylinderRadius;
+        roller.position = {0, 0.03, 2 * kMinCylinderRadius};
+        w.cylinders.push_back(roller);
+
+        Simulation sim(w);
+        Drive d;
+        d.joints = select_joints(sim.world().robots[0].robot, "all");
+        d.controller = std::make_shared<Wave>();
+        sim.add_drive(0, std::move(d));
+        REQUIRE_NOTHROW(sim.run(1));
+        const int bodies = static_cast<int>(sim.world().robots[0].robot.bodies.size());
+        for (int b = 0; b < bodies; ++b)
+            CHECK(finite(sim.body(0, b)));
+        // the gait moves the chain by a good part of a module (0.4 of one for boxes) and keeps
+        // it on the floor
+        const Vec3 moved = sim.robot_displacement(0);
+        CHECK(moved.norm() > 0.1 * chain.module.length);
+        CHECK(moved.norm() < 20 * chain.module.length);
+        // the objects rest on the floor where they should, within 1 %
+        REQUIRE(sim.object_count() == 3);
+        for (int k = 0; k < 3; ++k)
+            CHECK(finite(sim.object(k)));
+        CHECK(sim.object(0).pose.position.z == Approx(kMinExtent / 2).epsilon(0.01));
+        CHECK(sim.object(1).pose.position.z == Approx(kMinExtent / 2).epsilon(0.01));
+        CHECK(sim.object(2).pose.position.z == Approx(kMinCylinderRadius).epsilon(0.01));
     }
 }
 

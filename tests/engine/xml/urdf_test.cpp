@@ -186,6 +186,39 @@ TEST_CASE("a link whose body is invalid is named at its own line", "[lines]") {
         Equals("r.urdf:1: malformed XML: the file holds no element (it is empty, or spaces only)"));
 }
 
+TEST_CASE("a link smaller or lighter than a body may be is refused at its line", "[lines]") {
+    // link b's mass and geometry (b on line 4: link a's text has a line break); an <inertia> is not
+    // read: Bullet computes the inertia from the solid and the mass, which these bounds bound
+    const auto with_b = [](const std::string& mass, const std::string& geometry) {
+        return "<robot name=\"r\">\n<link name=\"a\">" + std::string(kLink) +
+               "</link>\n<link name=\"b\"><inertial><mass value=\"" + mass +
+               "\"/><inertia ixx=\"1e-300\" ixy=\"0\" ixz=\"0\" iyy=\"1e-300\" iyz=\"0\" "
+               "izz=\"1e-300\"/></inertial><collision><geometry>" +
+               geometry +
+               "</geometry></collision></link>\n<joint name=\"j\" type=\"revolute\"><parent "
+               "link=\"a\"/><child link=\"b\"/><limit lower=\"-1\" upper=\"1\" "
+               "effort=\"0.5\" velocity=\"5\"/></joint>\n</robot>";
+    };
+    CHECK_THAT(import_error(with_b("1e-40", "<box size=\"0.1 0.05 0.05\"/>")),
+               Equals("r.urdf:4: robot/link[2]: robot 'r' body 'b' mass must be at least 1e-09 kg "
+                      "(got 1e-40 kg)"));
+    CHECK_THAT(import_error(with_b("0.1", "<box size=\"0.1 1e-300 0.05\"/>")),
+               Equals("r.urdf:4: robot/link[2]: robot 'r' body 'b' size y must be at least 0.0001 "
+                      "m (got 1e-300 m)"));
+    CHECK_THAT(import_error(with_b("0.1", "<cylinder radius=\"0.0005\" length=\"0.1\"/>")),
+               Equals("r.urdf:4: robot/link[2]: robot 'r' body 'b' size y (a cylinder's "
+                      "diameter) must be at least 0.002 m (got 0.001 m)"));
+    CHECK_THAT(import_error(with_b("0.1", "<cylinder radius=\"0.01\" length=\"1e-5\"/>")),
+               Equals("r.urdf:4: robot/link[2]: robot 'r' body 'b' size x must be at least 0.0001 "
+                      "m (got 1e-05 m)"));
+    // at the bounds, the link is a body
+    const std::string at_bounds = with_b("1e-9", "<cylinder radius=\"0.001\" length=\"0.0001\"/>");
+    const RobotSpec robot = parse_urdf(at_bounds, "r.urdf");
+    REQUIRE(robot.bodies.size() == 2);
+    CHECK(robot.bodies[1].mass == 1e-9);
+    check_close(robot.bodies[1].size, {1e-4, 2e-3, 2e-3});
+}
+
 namespace {
 
 // a two-link chain a - j - b, one element a line: <robot> on line 1, link a on 2, link b on 3,
