@@ -17,11 +17,11 @@ inline constexpr int kMaxModules = 1000;       ///< modules of one chain
 inline constexpr int kMaxRobotBodies = 10000;  ///< bodies of one robot (joints: as many)
 inline constexpr double kMaxBodyExtent = 100;  ///< m, each size of a body
 inline constexpr double kMaxBodyMass = 1e6;    ///< kg
-/// m, each size of a body: a chain of 0.1 mm modules (bodies half that long at its ends) keeps
-/// its gait's shape at dt 0.1 ms, and at the default 1 ms stays finite
+/// m, each size of a body: a chain of modules 0.2 mm long (its end bodies 0.1 mm) moves as one
+/// 100 times larger at dt 0.1 ms, and 10 % less at the default 1 ms (docs/formats.md, Limits)
 inline constexpr double kMinBodyExtent = 1e-4;
-/// kg: a body of water at kMinBodyExtent; at the default dt and solver, 1e-16 kg bodies still
-/// move as heavier ones and 1e-20 kg ones do not (their inertia is near single precision's end)
+/// kg: a cube of water kMinBodyExtent wide; at the default dt and solver 5 cm modules of
+/// 1e-18 kg still move as heavier ones, and of 1e-20 kg diverge (single precision's end)
 inline constexpr double kMinBodyMass = 1e-9;
 /// m, the radius of every cylinder (bodies, modules, world objects): Bullet rounds a shape by
 /// its 1 mm collision margin, and a thinner cylinder sinks into the floor
