@@ -49,7 +49,7 @@ struct BodySpec {
     std::string name;
     Shape shape = Shape::box;
     Vec3 size;    ///< box: full extents along x, y, z; cylinder: length, diameter, diameter; m
-    double mass;  ///< kg, > 0
+    double mass;  ///< kg, in [kMinBodyMass, kMaxBodyMass]
     Pose pose;    ///< at rest, in the robot frame
     double friction = 1.0;  ///< in [0, 1]
 };

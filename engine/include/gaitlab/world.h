@@ -67,7 +67,7 @@ struct FloorSpec {
 struct BoxSpec {
     Vec3 size{0.1, 0.1, 0.1};  ///< full extents, m, > 0
     Pose pose;                 ///< centre and orientation, world frame
-    double mass = 0;           ///< kg, >= 0 (0: static)
+    double mass = 0;           ///< kg: 0 (static) or in [kMinObjectMass, kMaxObjectMass]
     double friction = 1.0;     ///< in [0, 1]
 };
 
@@ -112,7 +112,7 @@ struct CylinderSpec {
     bool lying = false;     ///< false: axis along z; true: axis along its local x
     Vec3 position;          ///< centre, world frame, m
     double yaw = 0;         ///< rad about +z
-    double mass = 0;        ///< kg, >= 0 (0: static)
+    double mass = 0;        ///< kg: 0 (static) or in [kMinObjectMass, kMaxObjectMass]
     double friction = 1.0;  ///< in [0, 1]
 };
 
