@@ -139,6 +139,10 @@ class Simulation {
     /// Mechanical power of every servo of robot r, torque × velocity, W, into
     /// out[0 .. joints) (cheaper than joint() for each).
     void joint_powers(int robot, double* out) const;
+    /// Energy every servo of robot r has spent since time 0, J, into out[0 .. joints): the
+    /// integral of |torque × velocity| dt, summed at every physics step by the simulation
+    /// itself (whether anything records it or not). clone() copies it; reset() sets it to 0.
+    void joint_energies(int robot, double* out) const;
     JointError joint_error(int robot, int joint) const;
     /// Number of dynamic objects of the world (boxes and cylinders with mass > 0).
     int object_count() const;
@@ -230,6 +234,8 @@ class Simulation {
     double heading_now(int robot, double previous) const;
     // follows every robot's heading; at time 0 (build) `start` sets turned to 0
     void track_headings(bool start);
+    // adds every servo's |power| dt of the step just taken to energy_
+    void integrate_energy();
     struct DriveSlot {
         int robot;
         Drive drive;
@@ -273,6 +279,7 @@ class Simulation {
     std::vector<double> angles_;    // per global joint, rad, read in sense
     std::vector<double> targets_;   // per global joint, rad, summed in think
     std::vector<double> commands_;  // per global joint, rad/s, computed in act
+    std::vector<double> energy_;    // per global joint, J, ∫ |torque × velocity| dt since time 0
     // A list of callbacks that the callbacks themselves may change while it is walked: those
     // added during a walk wait in `added_` and removed ones are only marked, until the next
     // walk that starts outside any other (walks nest when a listener posts an event).

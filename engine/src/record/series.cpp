@@ -99,14 +99,6 @@ class RobotSource final : public SeriesSource {
 
     const std::vector<SeriesInfo>& series() const override { return series_; }
 
-    // mechanical power of each servo, and its integral |P| dt, every tick
-    void tick(const Simulation& sim) override {
-        const double dt = sim.options().dt;
-        sim.joint_powers(robot_, power_.data());
-        for (size_t j = 0; j < power_.size(); ++j)
-            energy_[j] += std::abs(power_[j]) * dt;
-    }
-
     void sample(const Simulation& sim, double* out) override {
         const Vec3 c = sim.robot_position(robot_), v = sim.robot_velocity(robot_);
         for (double x : {c.x, c.y, c.z, v.x, v.y, v.z})
@@ -123,6 +115,10 @@ class RobotSource final : public SeriesSource {
         double* torque = velocity + joints_;
         double* power = torque + joints_;
         double* energy = power + joints_;
+        // the simulation integrates the energy from time 0, recorded or not
+        // (Simulation::joint_energies): every recording of it reads the same
+        sim.joint_powers(robot_, power_.data());
+        sim.joint_energies(robot_, energy_.data());
         double total_power = 0, total_energy = 0;
         for (int j = 0; j < joints_; ++j) {
             const JointState s = sim.joint(robot_, j);
@@ -140,18 +136,13 @@ class RobotSource final : public SeriesSource {
         out[1] = total_energy;
     }
 
-    void restart() override {
-        std::fill(power_.begin(), power_.end(), 0.0);
-        std::fill(energy_.begin(), energy_.end(), 0.0);
-    }
-
   private:
     int robot_;
     int bodies_ = 0;
     int joints_ = 0;
     std::vector<SeriesInfo> series_;
-    std::vector<double> power_;   // W, per joint, from the last tick
-    std::vector<double> energy_;  // J, per joint, since time 0
+    std::vector<double> power_;   // W, per joint, now (scratch)
+    std::vector<double> energy_;  // J, per joint, since time 0 (scratch)
 };
 
 // one drive's controller: its parameters, then its per-joint values

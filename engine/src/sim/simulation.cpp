@@ -213,6 +213,7 @@ class Simulation::Phases final : public TickPhases, public JointReader {
         // do the observers
         sim_.sensing_->update(*sim_.physics_);
         sim_.track_headings(false);
+        sim_.integrate_energy();
         if (sim_.observers_.idle()) return;
         const Busy busy(sim_, kObserver);
         sim_.observers_.call(std::as_const(sim_));
@@ -285,6 +286,7 @@ void Simulation::compile() {
     angles_.assign(static_cast<size_t>(first_joint), 0.0);
     targets_.assign(angles_.size(), 0.0);
     commands_.assign(angles_.size(), 0.0);
+    energy_.assign(angles_.size(), 0.0);
     sensing_ = std::make_unique<Sensing>(world_, options_.dt);
 
     // bind every drive of the spec; the spec keeps them so reset() and copies see them too.
@@ -339,6 +341,7 @@ void Simulation::build() {
         robots_[r].start_position = robot_position(static_cast<int>(r));
     }
     track_headings(true);
+    std::fill(energy_.begin(), energy_.end(), 0.0);
     physics_->read_angles(angles_.data());
     sensing_->attach(*physics_);
 }
@@ -419,6 +422,7 @@ Simulation::Simulation(const Simulation& from, Copying)
     angles_ = from.angles_;
     targets_ = from.targets_;
     commands_ = from.commands_;
+    energy_ = from.energy_;
     phases_ = std::make_unique<Phases>(*this);
     phases_->servos_ = from.phases_->servos_;
     phases_->min_ = from.phases_->min_;
@@ -653,6 +657,16 @@ void Simulation::track_headings(bool start) {
     }
 }
 
+void Simulation::integrate_energy() {
+    // every physics step, recorded or not, so every recording of this simulation (and of its
+    // clones) reads the same energy at the same time
+    const double dt = options_.dt;
+    for (size_t j = 0; j < energy_.size(); ++j) {
+        const int g = static_cast<int>(j);
+        energy_[j] += std::abs(physics_->torque(g) * physics_->velocity(g)) * dt;
+    }
+}
+
 double Simulation::robot_heading(int robot) const {
     check_robot(robot);
     return robots_[static_cast<size_t>(robot)].heading;
@@ -689,6 +703,13 @@ void Simulation::joint_powers(int robot, double* out) const {
     const int first = robots_[static_cast<size_t>(robot)].first_joint;
     for (int j = 0; j < n; ++j)
         out[j] = physics_->torque(first + j) * physics_->velocity(first + j);
+}
+
+void Simulation::joint_energies(int robot, double* out) const {
+    check_robot(robot);
+    const size_t n = world_.robots[static_cast<size_t>(robot)].robot.joints.size();
+    const auto first = energy_.begin() + robots_[static_cast<size_t>(robot)].first_joint;
+    std::copy(first, first + static_cast<std::ptrdiff_t>(n), out);
 }
 
 JointError Simulation::joint_error(int robot, int j) const {
