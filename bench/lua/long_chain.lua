@@ -5,10 +5,21 @@
 -- "Long chains").
 --
 --   LINKS=2000 SECONDS=0.2 [BRANCH=1] [DRIVE=1] gaitlab run bench/lua/long_chain.lua
-local links = tonumber(os.getenv("LINKS") or "2000")
-local seconds = tonumber(os.getenv("SECONDS") or "0.2")
+local function setting(name, default, ok, expected)
+  local text = os.getenv(name) or default
+  local v = tonumber(text)
+  if not (v and ok(v)) then
+    error(string.format("%s: %s expected, got '%s'", name, expected, text), 0)
+  end
+  return v
+end
 local branch = os.getenv("BRANCH") == "1"
 local drive = os.getenv("DRIVE") == "1"
+local most = branch and 9999 or 10000  -- a robot's bodies, with the side link's
+local links = setting("LINKS", "2000", function(v) return v % 1 == 0 and v >= 12 and v <= most end,
+                      string.format("a whole number of links in [12, %d]", most))
+local seconds = setting("SECONDS", "0.2", function(v) return v > 0 and v <= 1e6 end,
+                        "seconds in (0, 1e6]")
 
 local bodies, joints = {}, {}
 for i = 0, links - 1 do
