@@ -175,3 +175,33 @@ TEST_CASE("gaitlab optimize: SIGINT stops the evaluations under way and writes n
     CHECK(read_text(out + "/evaluations.jsonl").empty());
     CHECK_FALSE(std::filesystem::exists(out + "/best.json"));
 }
+
+TEST_CASE("gaitlab optimize: a full disk names the reason and leaves no temporary file") {
+    TempDir dir("cli_optimize_full");
+    write_text(dir / "spec.lua", kSpec);
+    REQUIRE(run_gaitlab({"optimize", "spec.lua", "--out", "out"}, dir.str()).status == 0);
+    // best.json written again by --resume into a file every write of which fails (ENOSPC)
+    std::filesystem::remove(dir / "out/best.json");
+    std::filesystem::create_symlink("/dev/full", dir / "out/best.json.tmp");
+    const auto r = run_gaitlab({"optimize", "spec.lua", "--resume", "--out", "out"}, dir.str());
+    CHECK(r.status == 1);
+    CHECK(r.err == "gaitlab: out/best.json.tmp: cannot write: No space left on device\n");
+    CHECK_FALSE(std::filesystem::is_symlink(dir / "out/best.json.tmp"));
+    CHECK_FALSE(std::filesystem::exists(dir / "out/best.json"));
+}
+
+TEST_CASE("gaitlab optimize: a best's run that cannot be recorded is named in best.json") {
+    TempDir dir("cli_optimize_fsize");
+    write_text(dir / "spec.lua", kSpec);
+    // a file size limit (20 kB) stands in for a disk that fills up while the run is recorded
+    const std::string cmd = "cd " + dir.str() + " && (trap '' XFSZ; ulimit -f 20; exec " +
+                            GAITLAB_BINARY + " optimize spec.lua --out out) >out.txt 2>err.txt";
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    CHECK(read_text(dir / "out.txt")
+              .find("the best's run could not be recorded: cannot write out/run/data.csv: File "
+                    "too large") != std::string::npos);
+    const std::string best = read_text(dir / "out/best.json");
+    CHECK(best.find("\"run_error\": \"cannot write out/run/data.csv: File too large") !=
+          std::string::npos);
+    CHECK(best.find("\"run\": ") == std::string::npos);
+}

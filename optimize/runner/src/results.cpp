@@ -2,7 +2,12 @@
 // its end besides best.json: the convergence plot and the best individual's run (see results.h).
 #include "results.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -70,17 +75,53 @@ std::string json_text(const nlohmann::ordered_json& j, int indent) {
     return j.dump(indent, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
 
+std::string reason(int error) {
+    return error == 0 ? std::string() : fmt::format(": {}", std::strerror(error));
+}
+
+bool write_all(int fd, const std::string& text) {
+    size_t done = 0;
+    while (done < text.size()) {
+        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return false;
+        if (n == 0) {  // no progress and no error: say so rather than loop
+            errno = EIO;
+            return false;
+        }
+        done += static_cast<size_t>(n);
+    }
+    return true;
+}
+
 void write_file(const std::string& path, const std::string& text) {
     const std::string tmp = path + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out << text;
-        out.flush();
-        if (!out) throw IoError(fmt::format("{}: cannot write", tmp));
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) throw IoError(fmt::format("{}: cannot write{}", tmp, reason(errno)));
+    bool ok = write_all(fd, text);
+    int error = ok ? 0 : errno;
+    if (::close(fd) != 0 && ok) {  // some file systems report a full disk only here
+        ok = false;
+        error = errno;
     }
     std::error_code ec;
+    if (!ok) {
+        fs::remove(tmp, ec);  // a full disk must not keep a cut or empty temporary file
+        throw IoError(fmt::format("{}: cannot write{}", tmp, reason(error)));
+    }
     fs::rename(tmp, path, ec);
-    if (ec) throw IoError(fmt::format("{}: cannot write: {}", path, ec.message()));
+    if (ec) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw IoError(fmt::format("{}: cannot write: {}", path, ec.message()));
+    }
+}
+
+void append_text(std::ofstream& out, const fs::path& path, const std::string& text) {
+    errno = 0;  // the stream sets it when the write under it fails
+    out << text;
+    out.flush();
+    if (!out) throw IoError(fmt::format("{}: cannot write{}", path.string(), reason(errno)));
 }
 
 std::string plot_convergence(const fs::path& out, const std::string& title,

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -33,8 +34,20 @@ std::string evaluation_line(const Spec& spec, int generation, std::size_t indivi
 /// JSON text as the results folder holds it (indented or one line; invalid UTF-8 replaced).
 std::string json_text(const nlohmann::ordered_json& j, int indent);
 
-/// Writes `text` to `path` through a temporary file renamed over it. Throws IoError.
+/// Writes `text` to `path` through a temporary file renamed over it. Throws IoError naming
+/// the file and the reason ("No space left on device"); the temporary file is then removed.
 void write_file(const std::string& path, const std::string& text);
+
+/// Writes all of `text` to the file descriptor `fd`, retrying after signals; false (errno
+/// saying why) if it could not.
+bool write_all(int fd, const std::string& text);
+
+/// Appends `text` to the open stream `out` of the file `path` and flushes it. Throws IoError
+/// naming the file and the reason.
+void append_text(std::ofstream& out, const std::filesystem::path& path, const std::string& text);
+
+/// ": " and the reason of the failed system call (strerror of `error`), or "" for 0.
+std::string reason(int error);
 
 /// OUT/convergence.png (with convergence.gp and convergence.csv): generation against the best
 /// fitness so far and the generation's mean, read from OUT/evaluations.jsonl. Returns "" or

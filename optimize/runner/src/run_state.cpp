@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gaitlab/error.h"
+#include "results.h"
 
 namespace gaitlab::optimize::detail {
 
@@ -22,18 +23,6 @@ namespace {
 
 constexpr const char* kFormat = "gaitlab-optimize-run";
 constexpr int kVersion = 1;
-
-// writes all of `text` to `fd`; false on an error
-bool write_all(int fd, const std::string& text) {
-    size_t done = 0;
-    while (done < text.size()) {
-        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) return false;
-        done += static_cast<size_t>(n);
-    }
-    return true;
-}
 
 }  // namespace
 
@@ -72,10 +61,17 @@ void write_run_state(const fs::path& out, const RunState& state) {
     const bool ok = write_all(fd, text) && ::fsync(fd) == 0;
     const int saved = errno;
     ::close(fd);
-    if (!ok) throw IoError(fmt::format("{}: cannot write: {}", tmp.string(), std::strerror(saved)));
     std::error_code ec;
+    if (!ok) {
+        fs::remove(tmp, ec);  // no cut or empty temporary file left on a full disk
+        throw IoError(fmt::format("{}: cannot write: {}", tmp.string(), std::strerror(saved)));
+    }
     fs::rename(tmp, path, ec);
-    if (ec) throw IoError(fmt::format("{}: cannot write: {}", path.string(), ec.message()));
+    if (ec) {
+        std::error_code ignored;
+        fs::remove(tmp, ignored);
+        throw IoError(fmt::format("{}: cannot write: {}", path.string(), ec.message()));
+    }
 }
 
 RunState read_run_state(const fs::path& out) {

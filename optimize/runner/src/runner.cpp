@@ -5,6 +5,7 @@
 #include <lua.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -595,7 +596,10 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     const fs::path jsonl_path = out / "evaluations.jsonl";
     std::ofstream jsonl(jsonl_path,
                         std::ios::binary | (options.resume ? std::ios::app : std::ios::trunc));
-    if (!jsonl) throw IoError(fmt::format("{}: cannot create", jsonl_path.string()));
+    if (!jsonl) {
+        throw IoError(
+            fmt::format("{}: cannot create{}", jsonl_path.string(), detail::reason(errno)));
+    }
     state.method_state = method->save();
     if (!options.resume) detail::write_run_state(out, state);
 
@@ -652,9 +656,7 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
             }
             lines += detail::evaluation_line(spec, g, i, xs[i], ev[i]);
         }
-        jsonl << lines;
-        jsonl.flush();
-        if (!jsonl) throw IoError(fmt::format("{}: cannot write", jsonl_path.string()));
+        detail::append_text(jsonl, jsonl_path, lines);
         method->tell(fitness);
         p.best = method->best_fitness();
         // each value divided before they are added: fitness values near the largest double
@@ -728,7 +730,15 @@ RunResult run_optimization(const Spec& spec, const RunOptions& options,
     if (!result.plot.empty()) best["plot"] = "convergence.png";
     if (!result.plot_error.empty()) best["plot_error"] = result.plot_error;
     best["command"] = state.command;  // the one that began the run
-    detail::write_file((out / "best.json").string(), detail::json_text(best, 2) + "\n");
+    try {
+        detail::write_file((out / "best.json").string(), detail::json_text(best, 2) + "\n");
+    } catch (const IoError& e) {
+        // a disk that fills up usually stopped the best's run first: best.json would have
+        // said so (run_error), and cannot, so the message does
+        if (result.run_error.empty()) throw;
+        throw IoError(fmt::format("{} (the best's run could not be recorded either: {})", e.what(),
+                                  result.run_error));
+    }
     return result;
 }
 

@@ -2,6 +2,7 @@
 #include "gaitlab/optimize/sweep.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -282,7 +283,10 @@ SweepResult run_sweep(const Spec& spec, const Grid& grid, const SweepOptions& op
     detail::open_results_folder(options.out);
     const fs::path jsonl_path = out / "evaluations.jsonl";
     std::ofstream jsonl(jsonl_path, std::ios::binary | std::ios::trunc);
-    if (!jsonl) throw IoError(fmt::format("{}: cannot create", jsonl_path.string()));
+    if (!jsonl) {
+        throw IoError(
+            fmt::format("{}: cannot create{}", jsonl_path.string(), detail::reason(errno)));
+    }
 
     EvaluationPool pool(spec, options.workers, options.seed, stop, options.backend);
     const auto started = std::chrono::steady_clock::now();
@@ -323,9 +327,7 @@ SweepResult run_sweep(const Spec& spec, const Grid& grid, const SweepOptions& op
                 result.best_point = i;
             }
         }
-        jsonl << lines;
-        jsonl.flush();
-        if (!jsonl) throw IoError(fmt::format("{}: cannot write", jsonl_path.string()));
+        detail::append_text(jsonl, jsonl_path, lines);
         all.insert(all.end(), xs.begin(), xs.end());
         evaluations.insert(evaluations.end(), ev.begin(), ev.end());
     }
