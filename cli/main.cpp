@@ -608,6 +608,24 @@ std::vector<std::string> split_names(const std::vector<std::string>& given) {
     return out;
 }
 
+// a time for people, with as many decimals as the time step has (dt 0.001: "50.73", where the
+// tick times in data.csv read 50.730000000000004); the CSV output keeps every digit
+std::string seconds_text(double t, double dt) {
+    int decimals = 0;
+    for (; decimals < 17; ++decimals) {
+        const std::string d = fmt::format("{:.{}f}", dt, decimals);
+        double back = 0;
+        std::from_chars(d.data(), d.data() + d.size(), back);
+        if (back == dt) break;
+    }
+    std::string s = fmt::format("{:.{}f}", t, decimals);
+    if (s.find('.') != std::string::npos) {
+        s.erase(s.find_last_not_of('0') + 1);
+        if (s.back() == '.') s.pop_back();
+    }
+    return s == "-0" ? "0" : s;
+}
+
 void print_summary(const gaitlab::RunData& run) {
     const gaitlab::RunMeta& m = run.meta();
     const std::vector<double> t = run.times();
@@ -628,8 +646,9 @@ void print_summary(const gaitlab::RunData& run) {
     }
     Stdout::print("rows     {}{}, t = {} .. {} s, every {} ticks of {} s\n", t.size(),
                   run.truncated() ? " (last line cut short, dropped)" : "",
-                  t.empty() ? "-" : fmt::format("{}", t.front()),
-                  t.empty() ? "-" : fmt::format("{}", t.back()), m.record_every, m.options.dt);
+                  t.empty() ? "-" : seconds_text(t.front(), m.options.dt),
+                  t.empty() ? "-" : seconds_text(t.back(), m.options.dt), m.record_every,
+                  m.options.dt);
     Stdout::print("series   {} (gaitlab data {} --list)\n", run.series().size(),
                   printable(run.dir()));
     Stdout::print("events   {}\n", run.events().size());

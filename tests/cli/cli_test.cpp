@@ -1151,3 +1151,21 @@ TEST_CASE("a signal stops gaitlab check midway, with one line", "[cli][check][si
         CHECK(slurp(err) == "gaitlab: interrupted (" + name + ")\n");
     }
 }
+
+TEST_CASE("gaitlab data's summary gives times with the time step's decimals", "[cli][data]") {
+    TempDir tmp("cli_data_times");
+    // the last row's time, tick 570 × 0.001 s, is 0.5700000000000001 in data.csv
+    write_text(tmp / "short.lua",
+               "local robot = gaitlab.robot.chain{ name = 'snake', modules = 2 }\n"
+               "local world = gaitlab.world{}\n"
+               "world:add(robot)\n"
+               "gaitlab.simulation{ world = world }:run(0.57)\n");
+    REQUIRE(cli({"run", "--record", tmp / "run", tmp / "short.lua"}, tmp.str()).status == 0);
+    const Run summary = cli({"data", tmp / "run"});
+    CHECK(summary.status == 0);
+    CHECK_THAT(summary.out,
+               Catch::Contains("rows     20, t = 0 .. 0.57 s, every 30 ticks of 0.001 s\n"));
+    // the CSV keeps every digit
+    const Run csv = cli({"data", tmp / "run", "--series", "snake.com.x"});
+    CHECK_THAT(csv.out, Catch::Contains("\n0.5700000000000001,"));
+}
