@@ -779,16 +779,21 @@ int replay_command(const std::string& dir, const std::string& into) {
         return 1;
     }
     if (!r.ok()) {
-        std::fprintf(
-            stderr, "gaitlab: replay differs: %s\n",
-            printable(!r.divergence.empty() ? r.divergence : r.comparison.difference).c_str());
+        // a run that failed: how the replay's failure departs from it comes with the data's
+        std::string why = !r.divergence.empty() ? r.divergence : r.comparison.difference;
+        if (!r.failure.empty()) why = why.empty() ? r.failure : why + "; " + r.failure;
+        std::fprintf(stderr, "gaitlab: replay differs: %s\n", printable(why).c_str());
         return 1;
     }
+    const std::string how = !r.run_error.empty()
+                                ? fmt::format(" (the run failed the same way at t = {} s: {})",
+                                              r.failed_at, printable(r.run_error))
+                            : r.stopped_early ? " (up to where the run stopped)"
+                                              : "";
     Stdout::print(
         "replay identical: {} rows x {} series, bit for bit{}; {} recorded {} applied (into "
         "{})\n",
-        r.comparison.rows, r.comparison.series,
-        r.stopped_early ? " (up to where the run stopped)" : "", r.applied,
+        r.comparison.rows, r.comparison.series, how, r.applied,
         r.applied == 1 ? "change" : "changes", r.into);
     return 0;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <regex>
 
 #include <fmt/format.h>
 
@@ -76,6 +77,14 @@ std::string step_on(Simulation& sim, EventReplay& replay, const std::vector<Even
     }
 }
 
+// an error message with the folders of the files it names left out ("cf/config/a/b.lua:7: x"
+// and ".../a/b.lua:7: x" are "b.lua:7: x"): the run and its replay ran the same files from
+// different folders (the replay's are in RUN/config/), and Lua shortens long names with "..."
+std::string located_in_file(const std::string& message) {
+    static const std::regex folders(R"([^\s'"(]*/([^/\s'"(]+:[0-9]+:))");
+    return std::regex_replace(message, folders, "$1");
+}
+
 }  // namespace
 
 ReplayResult replay(const std::string& run_dir, const std::string& into,
@@ -105,6 +114,11 @@ ReplayResult replay(const std::string& run_dir, const std::string& into,
                         run_dir, m.process.pid));
     }
 
+    // a run that its script or a controller stopped with an error: the replay must stop with
+    // the same error at the same tick (a failed write, a full disk, stopped only the recording)
+    const bool run_failed = m.status == "failed" && !m.recording_failed;
+    std::string replay_error;
+
     auto plan = std::make_shared<ReplayPlan>();
     plan->into = result.into;
     plan->simulation = m.simulation;
@@ -117,8 +131,9 @@ ReplayResult replay(const std::string& run_dir, const std::string& into,
     if (m.status == "interrupted" && m.last_tick >= 0) {
         // a signal stopped the run: replay up to the tick where it stopped
         plan->stop_tick = m.last_tick;
-    } else if (m.status == "running") {
-        // the process ended without closing the run: replay up to its last complete row
+    } else if (m.status == "running" || (m.status == "failed" && m.recording_failed)) {
+        // the process ended without closing the run, or a write failed (a full disk) and the
+        // recording stopped there: replay up to its last complete row
         const std::vector<double> t = run.times();
         const double ticks = t.empty() ? 0 : std::round(t.back() / m.options.dt);
         plan->stop_tick = ticks >= 0 && ticks < 9e18 ? static_cast<long>(ticks) : 0;
@@ -237,8 +252,13 @@ ReplayResult replay(const std::string& run_dir, const std::string& into,
         if (!plan->mismatch.empty() && result.divergence.empty()) {
             result.divergence = plan->mismatch;
         }
-        // the run's own error, if it ended with one, is expected again
-        if (!error.empty() && !(m.status == "failed" && m.message == error)) {
+        // the run's own error, if it ended with one, is expected again (checked below, with
+        // the tick); an error before the replay recorded (its folder refused ...), or one that
+        // stopped the replay from outside, is the replay's own failure
+        const int stopped_by = host.interrupted();
+        if (run_failed && plan->recorder && (stopped_by == 0 || stopped_by == kReplayEndSignal)) {
+            replay_error = error;
+        } else if (!error.empty()) {
             result.script_error = error;
         }
         // the end of the run stopped the script (recording.cpp): no interrupt of the caller's
@@ -253,7 +273,26 @@ ReplayResult replay(const std::string& run_dir, const std::string& into,
         result.comparison.difference = "the replay recorded nothing";
         return result;
     }
-    result.comparison = compare(run, RunData(result.into));
+    const RunData replayed(result.into);
+    result.comparison = compare(run, replayed);
+    if (run_failed) {
+        const auto at = [&](long tick) { return static_cast<double>(tick) * m.options.dt; };
+        if (replay_error.empty()) {
+            result.failure = fmt::format("the run failed at t = {} s ({}) and the replay did not",
+                                         at(m.last_tick), m.message);
+        } else if (located_in_file(replay_error) != located_in_file(m.message)) {
+            result.failure = fmt::format(
+                "the run failed at t = {} s with: {}; the replay at t = {} s with: {}",
+                at(m.last_tick), m.message, at(replayed.meta().last_tick), replay_error);
+        } else if (replayed.meta().last_tick != m.last_tick) {
+            result.failure =
+                fmt::format("the run failed at t = {} s and the replay at t = {} s: {}",
+                            at(m.last_tick), at(replayed.meta().last_tick), m.message);
+        } else {
+            result.run_error = m.message;
+            result.failed_at = at(m.last_tick);
+        }
+    }
     return result;
 }
 

@@ -449,6 +449,23 @@ TEST_CASE("gaitlab run records into --record DIR, or nothing with --no-record", 
                Catch::Contains("controllers/bad_step.lua:5: attempt to perform arithmetic"));
     CHECK(slurp(tmp / "failed/config/controllers/bad_step.lua") ==
           slurp(kScripts + "/controllers/bad_step.lua"));
+    // its replay fails the same way, at the same time: identical, exit status 0
+    const Run same = cli({"replay", tmp / "failed"});
+    CHECK(same.status == 0);
+    CHECK(same.err.empty());
+    CHECK_THAT(same.out, Catch::StartsWith("replay identical: ") &&
+                             Catch::Contains(" series, bit for bit (the run failed the same way "
+                                             "at t = 0 s: controllers/bad_step.lua:5: attempt to "
+                                             "perform arithmetic"));
+    // a replay that fails otherwise differs, with both errors
+    std::string meta = slurp(tmp / "failed/run.json");
+    meta.replace(meta.find("(field 'gain')"), 14, "(field 'gains')");
+    std::ofstream(tmp / "failed/run.json") << meta;
+    const Run other = cli({"replay", tmp / "failed", "--into", tmp / "other"});
+    CHECK(other.status == 1);
+    CHECK_THAT(other.err, Catch::StartsWith("gaitlab: replay differs: the run failed at t = 0 s "
+                                            "with: controllers/bad_step.lua:5: ") &&
+                              Catch::Contains("(field 'gains'); the replay at t = 0 s with: "));
 }
 
 TEST_CASE("each simulation of a script gets its own run folder", "[cli][data]") {
@@ -756,6 +773,11 @@ TEST_CASE("a full disk stops the run with one clear line and keeps what was writ
     CHECK(run.rows() > 10);
     CHECK(run.meta().status == "failed");
     CHECK_THAT(run.log(), Catch::Contains("recording stopped at t = "));
+    // the replay stops where the data does, as for a killed run
+    const Run replay = cli({"replay", tmp / "run"});
+    CHECK(replay.status == 0);
+    CHECK_THAT(replay.out, Catch::Contains("bit for bit (up to where the run stopped)"));
+    CHECK(gaitlab::RunData(tmp / "run-replay").rows() == run.rows());
 }
 
 namespace {

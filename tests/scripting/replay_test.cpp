@@ -226,6 +226,124 @@ TEST_CASE("a run cut short replays up to its last row", "[replay]") {
                       "cannot replay a run into its own folder");
 }
 
+TEST_CASE("a run whose recording failed replays up to its last row", "[replay]") {
+    TempDir tmp("replay_full_disk");
+    record(tmp, [](Simulation&) {});
+    // as a full disk leaves it: "failed" with recording_failed, a partly written last line
+    std::string meta = read_text(tmp / "run/run.json");
+    meta.replace(meta.find("\"finished\""), 10,
+                 "\"failed\", \"message\": \"cannot write data.csv: No space left on device\", "
+                 "\"recording_failed\": true");
+    write_text(tmp / "run/run.json", meta);
+    const std::string data = read_text(tmp / "run/data.csv");
+    write_text(tmp / "run/data.csv", data.substr(0, data.size() * 2 / 3));
+    const RunData run(tmp / "run");
+    REQUIRE(run.meta().recording_failed);
+    const scripting::ReplayResult r = scripting::replay(tmp / "run");
+    INFO(r.divergence << " / " << r.comparison.difference << " / " << r.failure);
+    CHECK(r.ok());
+    CHECK(r.stopped_early);
+    CHECK(r.run_error.empty());
+    CHECK(r.comparison.rows == run.rows());
+    CHECK(RunData(r.into).rows() == run.rows());
+}
+
+TEST_CASE("a run that failed replays, and is identical when it fails the same way", "[replay]") {
+    TempDir tmp("replay_failed");
+    fs::create_directories(tmp.path / "src/controllers");
+    // a controller that fails at t = 0.4 s, stopping the run (on_controller_error = "stop"),
+    // and a script that fails after its run
+    write_text(tmp / "src/controllers/breaks.lua", R"(return gaitlab.controller{
+  name = "breaks",
+  values = { "time" },
+  step = function(self, dt)
+    for m = 1, self.joints do
+      self.time[m] = self.time[m] + dt
+      if self.time[m] > 0.4 then error("joint " .. m .. " out of range") end
+      self:set_angle(m, 30 * math.sin(math.pi * self.time[m] + m))
+    end
+  end,
+}
+)");
+    const std::string head = R"(local robot = gaitlab.robot.chain{ name = "snake", modules = 4 }
+local world = gaitlab.world{ floor = { friction = 0.8 } }
+world:add(robot)
+)";
+    write_text(tmp / "src/breaks.lua",
+               "local B = gaitlab.controller.load(\"controllers/breaks.lua\")\n" + head +
+                   "robot:group(\"pitch\"):drive(B{})\nlocal sim = gaitlab.simulation{ world = "
+                   "world }\nsim:run(2)\n");
+    write_text(tmp / "src/after.lua",
+               head +
+                   "local sim = gaitlab.simulation{ world = world }\nsim:run(0.3)\n"
+                   "if sim.time > 0.2 then error(\"too far\") end\n");
+    const auto run_script = [&](const std::string& name) {
+        scripting::LuaHost host;
+        scripting::RecordSettings s;
+        s.by_default = true;
+        s.dir = tmp / name;
+        s.script = tmp / ("src/" + name + ".lua");
+        host.set_recording(s);
+        host.set_print(false);
+        std::string error;
+        try {
+            host.run_file(s.script);
+        } catch (const std::exception& e) {
+            error = e.what();
+        }
+        host.finish(error);
+        return error;
+    };
+    for (const std::string name : {"breaks", "after"}) {
+        INFO(name);
+        const std::string error = run_script(name);
+        REQUIRE_FALSE(error.empty());
+        const RunData run(tmp / name);
+        REQUIRE(run.meta().status == "failed");
+        REQUIRE(run.meta().message == error);
+        const scripting::ReplayResult r = scripting::replay(tmp / name);
+        INFO(r.divergence << " / " << r.comparison.difference << " / " << r.failure << " / "
+                          << r.script_error);
+        CHECK(r.ok());
+        CHECK(r.script_error.empty());
+        CHECK(r.run_error == error);
+        CHECK(r.failed_at == Approx(name == "breaks" ? 0.4 : 0.3).margin(0.05));
+        CHECK(r.comparison.rows == run.rows());
+    }
+    CHECK_THAT(RunData(tmp / "breaks").meta().message,
+               Catch::EndsWith("controllers/breaks.lua:7: joint 1 out of range"));
+
+    // another error, or none, is not the same failure, even with the same data
+    std::string meta = read_text(tmp / "after/run.json");
+    const size_t at = meta.find("too far");
+    meta.replace(at, 7, "far too far");
+    write_text(tmp / "after/run.json", meta);
+    scripting::ReplayResult o = scripting::replay(tmp / "after", tmp / "other");
+    CHECK(o.comparison.identical);
+    CHECK_FALSE(o.ok());
+    CHECK(o.run_error.empty());
+    CHECK_THAT(o.failure, Catch::StartsWith("the run failed at t = 0.3 s with: ") &&
+                              Catch::Contains("far too far; the replay at t = 0.3 s with: ") &&
+                              Catch::EndsWith(": too far"));
+    meta.replace(meta.find("\"failed\""), 8, "\"finished\"");
+    write_text(tmp / "after/run.json", meta);
+    o = scripting::replay(tmp / "after", tmp / "other");
+    CHECK_FALSE(o.ok());
+    CHECK_THAT(o.script_error, Catch::EndsWith(": too far"));
+    // a run that failed where its replay does not
+    write_text(tmp / "src/fine.lua", head +
+                                         "local sim = gaitlab.simulation{ world = world }\n"
+                                         "sim:run(0.3)\n");
+    REQUIRE(run_script("fine").empty());
+    meta = read_text(tmp / "fine/run.json");
+    meta.replace(meta.find("\"finished\""), 10, "\"failed\", \"message\": \"boom\"");
+    write_text(tmp / "fine/run.json", meta);
+    o = scripting::replay(tmp / "fine");
+    CHECK(o.comparison.identical);
+    CHECK_FALSE(o.ok());
+    CHECK(o.failure == "the run failed at t = 0.3 s (boom) and the replay did not");
+}
+
 TEST_CASE("a run stopped by a signal replays up to the tick where it stopped", "[replay]") {
     TempDir tmp("replay_interrupted");
     record(tmp, [](Simulation&) {});

@@ -136,7 +136,9 @@ class Recorder {
     void maybe_flush();
     // a write failed: stop recording, keep what was written, say so in the exception
     [[noreturn]] void fail(const std::exception& e);
-    void write_meta(const std::string& status, const std::string& message);
+    // write_failed: the recording stopped because a write failed (run.json says so)
+    void write_meta(const std::string& status, const std::string& message,
+                    bool write_failed = false);
     void unlock();
 
     Simulation* sim_;

@@ -39,6 +39,9 @@ struct RunMeta {
     /// without closing it (killed); "finished" or "failed" (see message) otherwise
     std::string status;
     std::string message;
+    /// "failed" because writing the folder failed (a full disk): the data ends at its last
+    /// complete row, before the run itself stopped
+    bool recording_failed = false;
     std::string started, ended;  ///< UTC, ISO 8601
     long first_tick = 0;         ///< tick of the first row
     long last_tick = -1;         ///< tick when recording ended (-1: not closed)

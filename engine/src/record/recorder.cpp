@@ -90,6 +90,56 @@ std::string writer_of(const fs::path& dir) {
     return "";
 }
 
+// "run.json.tmp-4242-0": a temporary file of write_file_atomic (files.cpp) for run.json or
+// series.csv, left by a process killed between writing and renaming it
+bool run_file_leftover(const std::string& name) {
+    for (const char* f : {"run.json", "series.csv"}) {
+        const std::string prefix = std::string(f) + ".tmp-";
+        if (name.rfind(prefix, 0) != 0) continue;
+        const std::string rest = name.substr(prefix.size());  // PID-N
+        const size_t dash = rest.find('-');
+        const auto digits = [](const std::string& t) {
+            return !t.empty() && t.find_first_not_of("0123456789") == std::string::npos;
+        };
+        if (dash != std::string::npos && digits(rest.substr(0, dash)) &&
+            digits(rest.substr(dash + 1)))
+            return true;
+    }
+    return false;
+}
+
+// whether `p` holds only what a recorder killed in its first milliseconds leaves before its
+// run.json exists: temporary files of run.json or series.csv, and its config/ (recorders
+// before run.json was written first copied the configuration before it). A folder of
+// config/ alone is not taken for one: that may well be the user's.
+bool stillborn_run(const fs::path& p) {
+    std::error_code ec;
+    bool leftover = false;
+    for (fs::directory_iterator it(p, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        const fs::file_status st = it->symlink_status(ec);
+        if (ec) return false;
+        if (name == "config" && fs::is_directory(st)) continue;
+        if (!fs::is_regular_file(st) || !run_file_leftover(name)) return false;
+        leftover = true;
+    }
+    return !ec && leftover;
+}
+
+// why `m` may still be written by a recorder that cannot be checked from here (another host,
+// or no process named), for the refusal; "" if it has ended or its process is gone
+std::string maybe_running(const RunMeta& m) {
+    if (m.status != "running" || liveness(m.process) != Liveness::unknown) return "";
+    if (m.process.pid > 0) {
+        return fmt::format(
+            "another recording may be writing into it on {} (process {}), which "
+            "cannot be checked from here",
+            m.process.host.empty() ? "another host" : m.process.host, m.process.pid);
+    }
+    return "another recording may be writing into it (its run.json says it is running and names "
+           "no process to check)";
+}
+
 // creates the folder (or finds it), locks it against every other recorder, in this process
 // or another, then empties it if it is an earlier run folder; anything else is refused.
 // Returns the locked folder's descriptor.
@@ -117,25 +167,44 @@ int lock_run_dir(const std::string& dir) {
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK) throw busy();
     if (fs::exists(p / "run.json", ec)) {
         bool alive = false;
+        std::string unknown;
         try {
             const RunMeta m = RunData::read_meta((p / "run.json").string());
             alive = m.status == "running" && liveness(m.process) == Liveness::alive;
+            unknown = maybe_running(m);
         } catch (const Error&) {
             // not readable as a run: emptied like any earlier run folder
         }
         if (alive) throw busy();
-        for (const char* f : kRunFiles)
-            fs::remove(p / f, ec);
-        fs::remove_all(p / "config", ec);
-        return fd;
-    }
-    if (!fs::is_empty(p, ec)) {
+        // a run that may still be recording elsewhere (a shared file system): replacing it
+        // could empty a colleague's run under it
+        if (!unknown.empty()) {
+            ::close(fd);
+            throw IoError(fmt::format(
+                "cannot record into {}: {}; if that run has ended, remove the folder, or record "
+                "into another folder",
+                dir, unknown));
+        }
+    } else if (!fs::is_empty(p, ec) && !stillborn_run(p)) {
         ::close(fd);
         throw IoError(fmt::format(
             "cannot record into {}: the folder is not empty and holds no earlier run (record "
             "into a new or empty folder)",
             dir));
     }
+    // an earlier run: its run files go, run.json last, so a process killed on the way leaves
+    // a folder that is still an earlier run
+    std::vector<fs::path> leftovers;
+    for (fs::directory_iterator it(p, ec), end; !ec && it != end; it.increment(ec)) {
+        if (run_file_leftover(it->path().filename().string())) leftovers.push_back(it->path());
+    }
+    for (const fs::path& f : leftovers)
+        fs::remove(f, ec);
+    for (const char* f : kRunFiles) {
+        if (std::string_view(f) != "run.json") fs::remove(p / f, ec);
+    }
+    fs::remove_all(p / "config", ec);
+    fs::remove(p / "run.json", ec);
     return fd;
 }
 
@@ -226,6 +295,9 @@ Recorder::Recorder(Simulation& sim, RecordOptions options, RunContext context)
         started_ = utc_now();
         first_tick_ = sim.ticks();
         process_ = this_process();
+        // run.json first: a process killed at any point after this leaves an earlier run,
+        // which the next recorder replaces, never a folder of stray files that blocks it
+        write_meta("running", "");
 
         for (const ConfigFile& f : context_.files) {
             const fs::path target = dir / "config" / f.path;
@@ -240,7 +312,6 @@ Recorder::Recorder(Simulation& sim, RecordOptions options, RunContext context)
             list += '\n';
         }
         write_file_atomic((dir / "series.csv").string(), list);
-        write_meta("running", "");
 
         data_ = std::make_unique<formats::AppendFile>((dir / "data.csv").string());
         events_ = std::make_unique<formats::AppendFile>((dir / "events.csv").string());
@@ -291,7 +362,8 @@ void Recorder::unlock() {
     }
 }
 
-void Recorder::write_meta(const std::string& status, const std::string& message) {
+void Recorder::write_meta(const std::string& status, const std::string& message,
+                          bool write_failed) {
     const Simulation& sim = *sim_;
     ordered_json j = ordered_json::object();
     j["format"] = "gaitlab run";
@@ -299,6 +371,8 @@ void Recorder::write_meta(const std::string& status, const std::string& message)
     j["name"] = fs::path(options_.dir).filename().string();
     j["status"] = status;
     if (!message.empty()) j["message"] = message;
+    // the data stops at its last complete row, before the run did (a full disk ...)
+    if (write_failed) j["recording_failed"] = true;
     j["started"] = started_;
     if (status != "running") j["ended"] = utc_now();
     j["first_tick"] = first_tick_;
@@ -478,7 +552,7 @@ void Recorder::fail(const std::exception& e) {
             // the disk that refused the data may refuse this too
         }
         try {
-            write_meta("failed", message);
+            write_meta("failed", message, true);
         } catch (const std::exception&) {
         }
         data_->close();

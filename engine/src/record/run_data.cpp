@@ -270,6 +270,14 @@ class MetaReader {
         return out;
     }
 
+    // a true/false member (`fallback` when it is absent)
+    bool boolean(const json& o, const char* key, const char* name, bool fallback) const {
+        const json* v = formats::find(o, key);
+        if (!v) return fallback;
+        if (!v->is_boolean()) fail(*v, fmt::format("{}: true or false expected", name));
+        return v->get<bool>();
+    }
+
   private:
     const formats::JsonDocument& doc_;
 };
@@ -290,6 +298,7 @@ RunMeta meta_from(const formats::JsonDocument& doc) {
     m.name = formats::str_at(j, "name");
     m.status = formats::str_at(j, "status");
     m.message = formats::str_at(j, "message");
+    m.recording_failed = r.boolean(j, "recording_failed", "recording_failed", false);
     m.started = formats::str_at(j, "started");
     m.ended = formats::str_at(j, "ended");
     m.first_tick = static_cast<long>(r.integer(j, "first_tick", "first_tick", 0, 0, kMaxTick));
@@ -928,9 +937,10 @@ Comparison compare(const RunData& run, const RunData& replay) {
         ++c.rows;
     }
     // a run that ran to its end must not be shorter than its replay (one that was killed or
-    // interrupted stops earlier)
+    // interrupted, or whose recording failed, stops earlier)
     const std::string& status = run.meta().status;
-    if ((status == "finished" || status == "failed") && rb.next(lb)) {
+    if ((status == "finished" || (status == "failed" && !run.meta().recording_failed)) &&
+        rb.next(lb)) {
         c.difference = fmt::format("the replay has more rows than the run ({})", c.rows);
         return c;
     }

@@ -274,6 +274,21 @@ TEST_CASE("a write failure stops the run with a clear message and keeps what was
     CHECK_THAT(run.meta().message, Catch::Contains("File too large"));
     CHECK_THAT(run.log(), Catch::Contains("recording stopped at t = "));
     rec.close();  // nothing more to do, no second error
+    // run.json says the recording stopped there: the data ends before the run did, so the
+    // same run recorded to its end is identical up to the last row (what a replay checks)
+    CHECK(run.meta().recording_failed);
+    Simulation again = snake_sim(4);
+    test::drive(again, "pitch", test::sine(40, 0.5, 120));
+    o.dir = tmp / "whole";
+    {
+        Recorder whole(again, o);
+        again.run(sim.time());
+    }
+    CHECK_FALSE(RunData(o.dir).meta().recording_failed);
+    const Comparison c = compare(run, RunData(o.dir));
+    INFO(c.difference);
+    CHECK(c.identical);
+    CHECK(c.rows == run.rows());
 }
 
 TEST_CASE("two recorders never share a folder: the second is refused, the first goes on",
@@ -323,6 +338,88 @@ TEST_CASE("a folder whose run.json names a process still writing it is refused",
                                                           ": another recording is writing "
                                                           "into it (process "));
     CHECK(fs::exists(tmp / "run/data.csv"));
+}
+
+TEST_CASE("a folder that may still be recording on another host is refused, not replaced",
+          "[recorder]") {
+    // a shared file system: run.json names a process of another host, which cannot be checked
+    TempDir tmp("recorder_elsewhere");
+    Simulation sim = snake_sim(2);
+    RecordOptions o;
+    o.dir = tmp / "run";
+    o.flush_seconds = 0;
+    {
+        Recorder rec(sim, o);
+        sim.run(0.3);
+    }
+    const long rows = RunData(o.dir).rows();
+    std::string meta = read_text(tmp / "run/run.json");
+    const std::string host = "\"host\": \"" + this_process().host + "\"";
+    meta.replace(meta.find("\"status\": \"finished\""), 20, "\"status\": \"running\"");
+    meta.replace(meta.find(host), host.size(), "\"host\": \"cluster-node-7\"");
+    test::write_text(tmp / "run/run.json", meta);
+    const std::string pid = std::to_string(getpid());
+    CHECK_THROWS_WITH(Recorder(sim, o),
+                      "cannot record into " + o.dir +
+                          ": another recording may be writing into it on cluster-node-7 "
+                          "(process " +
+                          pid +
+                          "), which cannot be checked from here; if that run has ended, "
+                          "remove the folder, or record into another folder");
+    CHECK(RunData(o.dir).rows() == rows);  // nothing of it was lost
+    // an older run.json that names no process cannot be checked either
+    const size_t at = meta.find("\"process\"");
+    meta.erase(at, meta.find('}', at) + 2 - at);
+    test::write_text(tmp / "run/run.json", meta);
+    REQUIRE(RunData::read_meta(tmp / "run/run.json").process.pid == 0);
+    CHECK_THROWS_WITH(Recorder(sim, o), Catch::Contains(": another recording may be writing into "
+                                                        "it (its run.json says it is running and "
+                                                        "names no process to check)"));
+    CHECK(RunData(o.dir).rows() == rows);
+    // once it says it has ended there, it is an earlier run: replaced
+    meta.replace(meta.find("\"status\": \"running\""), 19, "\"status\": \"finished\"");
+    test::write_text(tmp / "run/run.json", meta);
+    { Recorder again(sim, o); }
+    CHECK(RunData(o.dir).rows() == 1);
+}
+
+TEST_CASE("a folder a recorder left in its first milliseconds is an earlier run", "[recorder]") {
+    TempDir tmp("recorder_stillborn");
+    Simulation sim = snake_sim(2);
+    RecordOptions o;
+    o.dir = tmp / "run";
+    RunContext ctx;
+    ctx.script = "snake.lua";
+    ctx.files.push_back({"script", "snake.lua", "/x/snake.lua", "-- snake\n", "", 0, ""});
+    // killed before run.json existed (as recorders before it was written first could be): the
+    // configuration and a temporary series.csv
+    fs::create_directories(tmp / "run/config");
+    test::write_text(tmp / "run/config/old.lua", "-- old");
+    test::write_text(tmp / "run/series.csv.tmp-6952-1", "name,kind");
+    test::write_text(tmp / "run/run.json.tmp-6952-2", "{");
+    { Recorder rec(sim, o, ctx); }
+    CHECK(RunData(o.dir).rows() == 1);
+    CHECK(fs::exists(tmp / "run/config/snake.lua"));
+    CHECK_FALSE(fs::exists(tmp / "run/config/old.lua"));
+    CHECK_FALSE(fs::exists(tmp / "run/series.csv.tmp-6952-1"));
+    CHECK_FALSE(fs::exists(tmp / "run/run.json.tmp-6952-2"));
+    // anything else in it, or config/ alone, may be the user's: refused, nothing removed
+    const std::string refused = ": the folder is not empty and holds no earlier run";
+    for (const std::string& other : {"notes.txt", "series.csv.tmp-x", "data.csv.tmp-1-2"}) {
+        const std::string dir = tmp / ("user-" + other);
+        fs::create_directories(dir + "/config");
+        test::write_text(dir + "/series.csv.tmp-6952-1", "name,kind");
+        test::write_text(dir + "/" + other, "mine");
+        o.dir = dir;
+        CHECK_THROWS_WITH(Recorder(sim, o), Catch::Contains(refused));
+        CHECK(read_text(dir + "/" + other) == "mine");
+        CHECK(fs::exists(dir + "/series.csv.tmp-6952-1"));
+    }
+    fs::create_directories(tmp / "mine/config");
+    test::write_text(tmp / "mine/config/settings.lua", "mine");
+    o.dir = tmp / "mine";
+    CHECK_THROWS_WITH(Recorder(sim, o), Catch::Contains(refused));
+    CHECK(read_text(tmp / "mine/config/settings.lua") == "mine");
 }
 
 TEST_CASE("a run closed by a signal says so", "[recorder]") {

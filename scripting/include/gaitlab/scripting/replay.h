@@ -20,8 +20,18 @@ struct ReplayResult {
     int applied = 0;             ///< recorded events applied (the others came from the script)
     bool stopped_early = false;  ///< the run did not finish: the replay stopped at its last row
     std::string script_error;    ///< the replayed script failed ("" if not)
+    /// a run that failed (its script or a controller raised an error): how the replay's end
+    /// departs from it (another error, another time, none); "" if it failed the same way
+    std::string failure;
+    /// the error the run failed with, which the replay met again at the same time ("" if the
+    /// run did not fail), and that time, s
+    std::string run_error;
+    double failed_at = 0;
     /// identical data, no divergence, no error (other than the one the run ended with)
-    bool ok() const { return comparison.identical && divergence.empty(); }
+    bool ok() const {
+        return comparison.identical && divergence.empty() && failure.empty() &&
+               script_error.empty();
+    }
 };
 
 /// Replays the run in `run_dir` into `into` ("" : RUN_DIR-replay). Throws IoError or
