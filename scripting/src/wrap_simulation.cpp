@@ -187,6 +187,26 @@ long run_ticks(lua_State* L, const SimulationHandle& h, long ticks) {
     return playback.runner(*player, h.index, ticks);
 }
 
+// run_ticks for sim:run and sim:step, stopped by Ctrl-C in an interpreter (InterruptScope).
+// gaitlab raises that interrupt itself: the recordings end "interrupted" (naming the signal)
+// now, as in gaitlab run, rather than "finished" when the interpreter closes the state
+void run_interruptible(lua_State* L, const SimulationHandle& h, long ticks) {
+    const InterruptScope interruptible(L);  // Ctrl-C in an interpreter (guard.h)
+    try {
+        run_ticks(L, h, ticks);
+    } catch (...) {
+        const Guard& guard = Guard::of(L);
+        if (guard.owner() == StateOwner::interpreter && guard.interrupted() != 0) {
+            try {
+                Recordings::of(L).finish("");
+            } catch (const std::exception& e) {
+                report(main_thread(L), e.what());  // the interrupt stays the error
+            }
+        }
+        throw;
+    }
+}
+
 int simulation_new(lua_State* L) {
     // called as gaitlab.simulation{...}: argument 1 is the gaitlab.simulation table itself
     return protect(L, [&] {
@@ -271,8 +291,7 @@ int simulation_run(lua_State* L) {
         }
         sim.run(0);  // from inside its own tick: refused, naming run (run_ticks steps)
         const ProgressScope progress(L, sim, sim.time() + seconds);
-        const InterruptScope interruptible(L);  // Ctrl-C in an interpreter (guard.h)
-        run_ticks(L, check_handle(L, 1), sim.ticks_for(seconds));
+        run_interruptible(L, check_handle(L, 1), sim.ticks_for(seconds));
         return 0;
     });
 }
@@ -290,8 +309,7 @@ int simulation_step(lua_State* L) {
         }
         const double end = static_cast<double>(sim.ticks() + n) * sim.options().dt;
         const ProgressScope progress(L, sim, end);
-        const InterruptScope interruptible(L);  // Ctrl-C in an interpreter (guard.h)
-        run_ticks(L, check_handle(L, 1), static_cast<long>(n));
+        run_interruptible(L, check_handle(L, 1), static_cast<long>(n));
         return 0;
     });
 }

@@ -5,7 +5,8 @@
 #     whether or not the script catches errors (a host's interrupt holds until the end);
 #   lua5.4 with the module stops the run with the error "interrupted (SIGINT)": uncaught, lua5.4
 #     reports it (status 1); caught ("catch"), the script goes on, runs Lua code and
-#     simulations again, and the debug hook it had set is its own again.
+#     simulations again, and the debug hook it had set is its own again; its recording is
+#     closed as "interrupted" (SIGINT) when the interrupt is raised, caught or not.
 set -u
 mode=$1 work=$2 gaitlab=$3 c_host=$4 lua=$5 cpath=$6 script=$7 lua_env=${8:-}
 rm -rf "$work" && mkdir -p "$work" && cd "$work" || exit 1
@@ -43,7 +44,7 @@ args=()
 run gaitlab "$gaitlab" run --no-record "$script" "${args[@]}"
 run c_host "$c_host" "$script" "${args[@]}"
 env LUA_CPATH="$cpath" LUA_CPATH_5_4="$cpath" ${lua_env:+"$lua_env"} true  # the variable is valid
-run lua env LUA_CPATH="$cpath" LUA_CPATH_5_4="$cpath" ${lua_env:+"$lua_env"} \
+run lua env LUA_CPATH="$cpath" LUA_CPATH_5_4="$cpath" ${lua_env:+"$lua_env"} INTERRUPT_RECORD=rec \
     "$lua" -e "gaitlab = require 'gaitlab'" "$script" "${args[@]}"
 
 status=0
@@ -72,5 +73,9 @@ else
     check "lua5.4's script runs again: $(cat lua.out)" grep -q "^runs again:	true$" lua.out
     check "lua5.4's script has its hook back: $(cat lua.out)" grep -q "^hook kept:	true$" lua.out
 fi
+# gaitlab raised the interrupt: the recording says so (not "finished"), caught or not
+check "lua5.4's recording is closed as interrupted: $("$gaitlab" data rec 2>&1 | sed -n 2p)" \
+    grep -q '"status": "interrupted"' rec/run.json
+check "lua5.4's recording names the signal" grep -q '"message": "SIGINT"' rec/run.json
 for f in *.out *.err; do echo "--- $f"; cat "$f"; done
 exit $status
