@@ -405,7 +405,7 @@ TEST_CASE("a folder a recorder left in its first milliseconds is an earlier run"
     CHECK_FALSE(fs::exists(tmp / "run/run.json.tmp-6952-2"));
     // anything else in it, or config/ alone, may be the user's: refused, nothing removed
     const std::string refused = ": the folder is not empty and holds no earlier run";
-    for (const std::string& other : {"notes.txt", "series.csv.tmp-x", "data.csv.tmp-1-2"}) {
+    for (const std::string other : {"notes.txt", "series.csv.tmp-x", "data.csv.tmp-1-2"}) {
         const std::string dir = tmp / ("user-" + other);
         fs::create_directories(dir + "/config");
         test::write_text(dir + "/series.csv.tmp-6952-1", "name,kind");
