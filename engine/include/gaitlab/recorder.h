@@ -134,6 +134,8 @@ class Recorder {
     void on_event(const Simulation& sim, const Event& e);
     void write_row(const Simulation& sim);
     void maybe_flush();
+    /// throws IoError (and sets folder_gone_) if options_.dir is no longer the folder recorded
+    void check_folder();
     // a write failed: stop recording, keep what was written, say so in the exception
     [[noreturn]] void fail(const std::exception& e);
     // write_failed: the recording stopped because a write failed (run.json says so)
@@ -147,7 +149,8 @@ class Recorder {
     SeriesSet set_;
     std::vector<double> values_;
     std::unique_ptr<formats::AppendFile> data_, events_, log_;
-    int lock_ = -1;  // the folder, opened and locked (flock) while recording
+    int lock_ = -1;             // the folder, opened and locked (flock) while recording
+    bool folder_gone_ = false;  // the folder was moved or deleted while recording (flush)
     std::string data_buf_, events_buf_, log_buf_;
     long rows_ = 0;
     long first_tick_ = 0;

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <sys/utsname.h>
 #include <unistd.h>
 
@@ -536,6 +537,29 @@ void Recorder::flush() {
         log_buf_.clear();
     }
     next_flush_ = std::chrono::steady_clock::now() + flush_period_;
+    // the open files follow their folder wherever it goes: a folder moved or deleted while
+    // recording would take the rest of the run along unseen (and run.json, written by its path,
+    // would land in a new folder of that name), so the recording stops at the first flush after
+    if (lock_ >= 0) check_folder();
+}
+
+void Recorder::check_folder() {
+    struct stat held {};
+    struct stat named {};
+    if (::fstat(lock_, &held) != 0) return;
+    if (::stat(options_.dir.c_str(), &named) == 0 && named.st_dev == held.st_dev &&
+        named.st_ino == held.st_ino)
+        return;
+    folder_gone_ = true;
+    throw IoError(
+        held.st_nlink == 0
+            ? fmt::format("the run folder {} was deleted while recording: nothing of this run is "
+                          "kept",
+                          options_.dir)
+            : fmt::format("the run folder {} was moved or replaced while recording: what was "
+                          "written went with it (its run.json says running: gaitlab data reads "
+                          "it as incomplete)",
+                          options_.dir));
 }
 
 void Recorder::fail(const std::exception& e) {
@@ -552,7 +576,8 @@ void Recorder::fail(const std::exception& e) {
             // the disk that refused the data may refuse this too
         }
         try {
-            write_meta("failed", message, true);
+            // not by the path when the folder is gone: that would make a new folder of it
+            if (!folder_gone_) write_meta("failed", message, true);
         } catch (const std::exception&) {
         }
         data_->close();
@@ -560,7 +585,8 @@ void Recorder::fail(const std::exception& e) {
         log_->close();
         unlock();
     }
-    throw IoError(message + " (recording stopped; what was written before is kept)");
+    throw IoError(folder_gone_ ? message + " (recording stopped)"
+                               : message + " (recording stopped; what was written before is kept)");
 }
 
 void Recorder::close(const std::string& status, const std::string& message) {

@@ -291,6 +291,49 @@ TEST_CASE("a write failure stops the run with a clear message and keeps what was
     CHECK(c.rows == run.rows());
 }
 
+TEST_CASE("a run folder moved or deleted while recording stops the recording at once",
+          "[recorder]") {
+    TempDir tmp("recorder_moved");
+    const bool deleted = GENERATE(false, true);
+    CAPTURE(deleted);
+    Simulation sim = snake_sim(4);
+    test::drive(sim, "pitch", test::sine(40, 0.5, 120));
+    RecordOptions o;
+    o.dir = tmp / "run";
+    o.flush_seconds = 0;
+    Recorder rec(sim, o);
+    sim.run(0.3);
+    if (deleted) {
+        fs::remove_all(o.dir);
+    } else {
+        fs::rename(o.dir, tmp / "moved");
+    }
+    fs::create_directories(o.dir);  // another folder of that name, as `mv run moved; mkdir run`
+    std::string message;
+    try {
+        sim.run(60);
+    } catch (const IoError& e) {
+        message = e.what();
+    }
+    CHECK(sim.time() < 0.5);  // at the next flush, not when the run ends
+    CHECK(rec.closed());
+    if (deleted) {
+        CHECK(message == "the run folder " + o.dir +
+                             " was deleted while recording: nothing of this run is kept "
+                             "(recording stopped)");
+    } else {
+        CHECK_THAT(message, Catch::StartsWith("the run folder " + o.dir +
+                                              " was moved or replaced while recording"));
+        // what was written went with the folder, an incomplete run up to its last row
+        const RunData moved(tmp / "moved");
+        CHECK(moved.rows() >= 10);
+        CHECK(moved.meta().status == "running");
+    }
+    // nothing was written into the new folder of that name
+    CHECK(fs::is_empty(o.dir));
+    rec.close();  // nothing more to do, no second error
+}
+
 TEST_CASE("two recorders never share a folder: the second is refused, the first goes on",
           "[recorder]") {
     TempDir tmp("recorder_two");
