@@ -618,6 +618,19 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                            static_cast<int>(block_.size()), rhs_.data());
     }
 
+    // a body the solver moves (a fixed body has no inverse mass)
+    bool moving(int body) const {
+        return !m_tmpSolverBodyPool[body].m_invMass.fuzzyZero();
+    }
+
+    // a rigid body that takes impulses with factors of 1, as the block's fast and precise
+    // paths assume (not Bullet's shared fixed body, not a body locked along an axis)
+    bool plain(int body) const {
+        const btSolverBody& s = m_tmpSolverBodyPool[body];
+        return s.m_originalBody && s.m_linearFactor == btVector3(1, 1, 1) &&
+               s.m_angularFactor == btVector3(1, 1, 1);
+    }
+
     // J_i M^-1 J_j' over the bodies rows i and j share
     btScalar coupling(const btSolverConstraint& x, const btSolverConstraint& y) const {
         btScalar sum = 0;
@@ -667,7 +680,6 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         rows_of_body_.resize(m_tmpSolverBodyPool.size());
         for (std::vector<int>& rows : rows_of_body_)
             rows.clear();
-        auto moving = [&](int body) { return !m_tmpSolverBodyPool[body].m_invMass.fuzzyZero(); };
         first_.assign(n, 0);
         diag_.assign(n, 0);
         profile_start_.assign(static_cast<size_t>(n) + 1, 0);
@@ -678,9 +690,7 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             int first = i;
             for (int body : bodies) {
                 if (!moving(body)) continue;
-                const btSolverBody& s = m_tmpSolverBodyPool[body];
-                ordinary = ordinary && s.m_originalBody && s.m_linearFactor == btVector3(1, 1, 1) &&
-                           s.m_angularFactor == btVector3(1, 1, 1);
+                ordinary = ordinary && plain(body);
                 if (!rows_of_body_[body].empty())
                     first = std::min(first, rows_of_body_[body].front());
             }
@@ -720,7 +730,6 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                             m_tmpSolverBodyPool[x.m_solverBodyIdB]);
             }
         }
-        auto moving = [&](int body) { return !m_tmpSolverBodyPool[body].m_invMass.fuzzyZero(); };
         for (int i = 0; i < n; ++i) {
             const btSolverConstraint& x = pool[block_[i]];
             const int bodies[2] = {x.m_solverBodyIdA, x.m_solverBodyIdB};
@@ -778,7 +787,6 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         }
         const int count = static_cast<int>(group_start_.size());
         if (count == 0) return false;
-        auto moving = [&](int body) { return !m_tmpSolverBodyPool[body].m_invMass.fuzzyZero(); };
         first_group_of_body_.assign(m_tmpSolverBodyPool.size(), -1);
         band_.resize(count);
         band_rows_.resize(count);
@@ -815,12 +823,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             }
             data.a = bodies[0];
             data.b = bodies[1];
-            for (int body : bodies) {
-                const btSolverBody& s = m_tmpSolverBodyPool[body];
-                band_fast_ = band_fast_ && s.m_originalBody &&
-                             s.m_linearFactor == btVector3(1, 1, 1) &&
-                             s.m_angularFactor == btVector3(1, 1, 1);
-            }
+            for (int body : bodies)
+                band_fast_ = band_fast_ && plain(body);
             band_rows(data, rows, m_tmpSolverBodyPool);
             band_[b].coupled = coupled;
         }
@@ -943,9 +947,9 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         auto* b = const_cast<btCollisionObject*>(manifold.getBody1());
         const int ia = getOrInitSolverBody(*a, info.m_timeStep);
         const int ib = getOrInitSolverBody(*b, info.m_timeStep);
+        if (!moving(ia) && !moving(ib)) return;  // two fixed bodies
         const btSolverBody& sa = m_tmpSolverBodyPool[ia];
         const btSolverBody& sb = m_tmpSolverBodyPool[ib];
-        if (sa.m_invMass.fuzzyZero() && sb.m_invMass.fuzzyZero()) return;  // two fixed bodies
         for (int j = 0; j < manifold.getNumContacts(); ++j) {
             btManifoldPoint& cp = manifold.getContactPoint(j);
             if (cp.getDistance() > manifold.getContactProcessingThreshold()) continue;
