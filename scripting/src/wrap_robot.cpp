@@ -147,6 +147,14 @@ int robot_turned(lua_State* L) {
     });
 }
 
+int robot_energy(lua_State* L) {
+    return protect(L, [&] {
+        RobotBinding& r = check_robot(L, 1);
+        lua_pushnumber(L, r.live()->robot_energy(r.index));
+        return 1;
+    });
+}
+
 int robot_bodies(lua_State* L) {
     return protect(L, [&] {
         RobotBinding& r = check_robot(L, 1);
@@ -177,9 +185,10 @@ int robot_joints(lua_State* L) {
         RobotBinding& r = check_robot(L, 1);
         auto sim = r.sim.lock();
         const auto& joints = r.spec.joints;
+        std::vector<double> energies;  // J, filled for a robot in a simulation
         lua_createtable(L, static_cast<int>(joints.size()), 0);
         for (size_t j = 0; j < joints.size(); ++j) {
-            lua_createtable(L, 0, 8);
+            lua_createtable(L, 0, 10);
             lua_pushinteger(L, static_cast<lua_Integer>(j + 1));
             lua_setfield(L, -2, "index");
             lua_pushstring(L, joints[j].name.c_str());
@@ -191,6 +200,10 @@ int robot_joints(lua_State* L) {
             lua_pushnumber(L, rad_to_deg(joints[j].max_angle));
             lua_setfield(L, -2, "max");
             if (sim) {
+                if (energies.empty()) {
+                    energies.resize(joints.size());
+                    sim->joint_energies(r.index, energies.data());
+                }
                 const JointState s = sim->joint(r.index, static_cast<int>(j));
                 lua_pushnumber(L, rad_to_deg(s.angle));
                 lua_setfield(L, -2, "angle");
@@ -200,6 +213,8 @@ int robot_joints(lua_State* L) {
                 lua_setfield(L, -2, "velocity");
                 lua_pushnumber(L, s.torque);
                 lua_setfield(L, -2, "torque");
+                lua_pushnumber(L, energies[j]);
+                lua_setfield(L, -2, "energy");
             }
             lua_rawseti(L, -2, static_cast<lua_Integer>(j + 1));
         }
@@ -401,6 +416,7 @@ void open_robot(lua_State* L) {
                                 {"displacement", robot_displacement},
                                 {"heading", robot_heading},
                                 {"turned", robot_turned},
+                                {"energy", robot_energy},
                                 {"bodies", robot_bodies},
                                 {"joints", robot_joints},
                                 {"save", robot_save},

@@ -557,7 +557,7 @@ int simulation_status(lua_State* L) {
         lua_setfield(L, -2, "controllers");
         lua_createtable(L, sim.robot_count(), 0);
         for (int r = 0; r < sim.robot_count(); ++r) {
-            lua_createtable(L, 0, 4);
+            lua_createtable(L, 0, 5);
             lua_pushstring(L, sim.robot_label(r).c_str());
             lua_setfield(L, -2, "name");
             push_vec3(L, sim.robot_position(r));
@@ -566,6 +566,8 @@ int simulation_status(lua_State* L) {
             lua_setfield(L, -2, "heading");
             lua_pushnumber(L, rad_to_deg(sim.robot_turned(r)));
             lua_setfield(L, -2, "turned");
+            lua_pushnumber(L, sim.robot_energy(r));
+            lua_setfield(L, -2, "energy");
             lua_rawseti(L, -2, r + 1);
         }
         lua_setfield(L, -2, "robots");

@@ -231,6 +231,48 @@ TEST_CASE("robot names are valid UTF-8 without control characters", "[wrap_robot
     CHECK(lua.string("r.name") == "serpent à sonnettes / 2");
 }
 
+TEST_CASE("robot:energy() is the servos' work, as the recording and the fitness read it",
+          "[wrap_robot]") {
+    LuaFixture lua;
+    lua.run(kSnake);
+    lua.run(R"(
+        robot:group("all"):drive(gaitlab.controllers.sine{ amplitude = 40, frequency = 1 })
+        idle = gaitlab.robot.chain{ name = "idle", modules = 2 }
+        world:add(idle, { y = 1 })
+    )");
+    CHECK(lua.error_of("robot:energy()") ==
+          "test:1: robot 'snake' is not in a simulation (add it to a world, then create "
+          "gaitlab.simulation{world = ...})");
+    CHECK(lua.number("robot:joints()[1].energy or -1") == -1);  // state fields only in a sim
+    lua.run("sim = gaitlab.simulation{ world = world }");
+    CHECK(lua.number("robot:energy()") == 0);
+    // |torque x velocity| summed by hand over every physics step
+    lua.run(R"(
+        by_hand = 0
+        for _ = 1, 500 do
+          sim:step(1)
+          for _, j in ipairs(robot:joints()) do
+            by_hand = by_hand + math.abs(j.torque * math.rad(j.velocity)) * sim.dt
+          end
+        end
+        sum = 0
+        for _, j in ipairs(robot:joints()) do sum = sum + j.energy end
+    )");
+    const double energy = lua.number("robot:energy()");
+    INFO("energy " << energy << " J");
+    CHECK(energy > 0);
+    CHECK(energy == Approx(lua.number("by_hand")).epsilon(1e-9));
+    CHECK(energy == lua.number("sum"));  // the sum over the joints, in joint order
+    CHECK(energy == lua.number("sim:status().robots[1].energy"));
+    // the undriven robot holds its pose: next to no work
+    CHECK(lua.number("idle:energy()") < 1e-3 * energy);
+    CHECK(lua.number("sim:status().robots[2].energy") == lua.number("idle:energy()"));
+    // a clone carries it on; a reset sets it to 0
+    CHECK(lua.number("sim:clone():robot('snake'):energy()") == energy);
+    lua.run("sim:reset()");
+    CHECK(lua.number("robot:energy()") == 0);
+}
+
 TEST_CASE("robot:heading() and robot:turned() measure a turn", "[wrap_robot]") {
     LuaFixture lua;
     lua.run(R"(

@@ -143,6 +143,9 @@ class Simulation {
     /// integral of |torque × velocity| dt, summed at every physics step by the simulation
     /// itself (whether anything records it or not). clone() copies it; reset() sets it to 0.
     void joint_energies(int robot, double* out) const;
+    /// The sum of joint_energies over robot r's joints, in joint order (the recorded
+    /// ROBOT.energy series), J.
+    double robot_energy(int robot) const;
     JointError joint_error(int robot, int joint) const;
     /// Number of dynamic objects of the world (boxes and cylinders with mass > 0).
     int object_count() const;

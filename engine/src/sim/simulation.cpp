@@ -712,6 +712,16 @@ void Simulation::joint_energies(int robot, double* out) const {
     std::copy(first, first + static_cast<std::ptrdiff_t>(n), out);
 }
 
+double Simulation::robot_energy(int robot) const {
+    check_robot(robot);
+    const size_t n = world_.robots[static_cast<size_t>(robot)].robot.joints.size();
+    const auto first = energy_.begin() + robots_[static_cast<size_t>(robot)].first_joint;
+    double total = 0;
+    for (auto e = first; e != first + static_cast<std::ptrdiff_t>(n); ++e)
+        total += *e;
+    return total;
+}
+
 JointError Simulation::joint_error(int robot, int j) const {
     check_robot(robot);
     const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.joints.size());

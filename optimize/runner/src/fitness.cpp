@@ -1,18 +1,16 @@
 // The fitness of an optimization spec (see fitness.h).
 #include "fitness.h"
 
+#include <algorithm>
 #include <cmath>
-#include <map>
-#include <memory>
-#include <mutex>
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include <fmt/format.h>
 
 #include "gaitlab/error.h"
 #include "gaitlab/optimize/runner.h"
-#include "gaitlab/scripting/lua_host.h"
-#include "gaitlab/simulation.h"
 #include "gaitlab/suggest.h"
 
 namespace gaitlab::optimize::detail {
@@ -27,7 +25,7 @@ const char* const kExpected =
 
 // Errors are raised without a position (level 0): the runner adds the spec file's name.
 const char* const kMeasure = R"lua(
-local sim, settle, duration, kind, robot_name, fitness, p, energy, dx, dy = ...
+local sim, settle, duration, kind, robot_name, fitness, p, dx, dy = ...
 local index
 if kind ~= "function" then
   local robots = sim:status().robots
@@ -51,7 +49,8 @@ end
 if settle > 0 then sim:run(settle) end
 local status = index and sim:status()
 local start = index and status.robots[index]
-local joules = kind == "cost_of_transport" and energy(status.simulation, index)
+-- the servos' energy (robot:energy(), integrated by the simulation every physics step)
+local joules = kind == "cost_of_transport" and start.energy
 sim:run(duration)
 if kind == "function" then return fitness(sim, p) end
 local e = sim:status().robots[index]
@@ -62,7 +61,7 @@ if kind == "speed" then return d / duration end
 if kind == "direction" then return ddx * dx + ddy * dy end
 if kind == "heading" then return (e.turned - start.turned) / duration end
 -- cost of transport: energy / (weight * distance), negated (lower costs rank higher)
-joules = energy(status.simulation, index) - joules
+joules = e.energy - joules
 local mass = 0
 for _, b in ipairs(sim:robot(e.name):bodies()) do mass = mass + b.mass end
 if not (d >= 1e-3) then
@@ -70,37 +69,6 @@ if not (d >= 1e-3) then
 end
 return -joules / (mass * 9.81 * d)
 )lua";
-
-// per simulation (by creation index): the energy of each robot, filled by its observer; the
-// observer owns it, the meter only looks
-struct Meter {
-    std::mutex mutex;
-    std::map<int, std::weak_ptr<std::vector<double>>> energies;
-};
-
-int energy(lua_State* L) {
-    auto* meter = static_cast<std::shared_ptr<Meter>*>(lua_touserdata(L, lua_upvalueindex(1)));
-    const lua_Integer sim = luaL_checkinteger(L, 1);
-    const lua_Integer robot = luaL_checkinteger(L, 2);
-    std::shared_ptr<std::vector<double>> e;
-    {
-        std::lock_guard<std::mutex> lock((*meter)->mutex);
-        const auto it = (*meter)->energies.find(static_cast<int>(sim));
-        if (it != (*meter)->energies.end()) e = it->second.lock();
-    }
-    if (!e || robot < 1 || robot > static_cast<lua_Integer>(e->size())) {
-        return luaL_error(L, "no energy measured for robot %d of simulation %d",
-                          static_cast<int>(robot), static_cast<int>(sim));
-    }
-    lua_pushnumber(L, (*e)[static_cast<size_t>(robot - 1)]);
-    return 1;
-}
-
-int meter_gc(lua_State* L) {
-    auto* meter = static_cast<std::shared_ptr<Meter>*>(lua_touserdata(L, 1));
-    meter->~shared_ptr();
-    return 0;
-}
 
 }  // namespace
 
@@ -232,39 +200,6 @@ void read_cases(lua_State* L, Spec& spec) {
 
 const char* measure_chunk() {
     return kMeasure;
-}
-
-void push_energy_meter(scripting::LuaHost& host) {
-    auto meter = std::make_shared<Meter>();
-    host.on_simulation([meter](Simulation& sim, int index) {
-        auto e = std::make_shared<std::vector<double>>(static_cast<size_t>(sim.robot_count()), 0.0);
-        {
-            std::lock_guard<std::mutex> lock(meter->mutex);
-            // forget the simulations that are gone
-            for (auto it = meter->energies.begin(); it != meter->energies.end();) {
-                it = it->second.expired() ? meter->energies.erase(it) : std::next(it);
-            }
-            meter->energies[index] = e;
-        }
-        std::vector<double> power;
-        sim.add_observer([e, power](const Simulation& s) mutable {
-            const double dt = s.options().dt;
-            for (int r = 0; r < s.robot_count() && r < static_cast<int>(e->size()); ++r) {
-                power.resize(s.world().robots[static_cast<size_t>(r)].robot.joints.size());
-                s.joint_powers(r, power.data());
-                for (double p : power)
-                    (*e)[static_cast<size_t>(r)] += std::abs(p) * dt;
-            }
-        });
-    });
-    lua_State* L = host.state();
-    void* block = lua_newuserdatauv(L, sizeof(std::shared_ptr<Meter>), 0);
-    new (block) std::shared_ptr<Meter>(std::move(meter));
-    lua_createtable(L, 0, 1);
-    lua_pushcfunction(L, meter_gc);
-    lua_setfield(L, -2, "__gc");
-    lua_setmetatable(L, -2);
-    lua_pushcclosure(L, energy, 1);
 }
 
 }  // namespace gaitlab::optimize::detail

@@ -7,10 +7,6 @@
 
 #include <string>
 
-namespace gaitlab::scripting {
-class LuaHost;
-}
-
 namespace gaitlab::optimize {
 struct Spec;
 }
@@ -26,13 +22,8 @@ void read_fitness(lua_State* L, Spec& spec);
 void read_cases(lua_State* L, Spec& spec);
 
 /// The measuring chunk's text. Called with (sim, settle, duration, kind, robot, fitness, p,
-/// energy, dx, dy), it runs settle, then duration, and returns the fitness; its errors have
-/// no position (level 0).
+/// dx, dy), it runs settle, then duration, and returns the fitness; its errors have no
+/// position (level 0).
 const char* measure_chunk();
-
-/// Makes every simulation `host` creates integrate its robots' servo energy (∫ |torque ×
-/// velocity| dt, J, every physics step) and pushes the Lua function energy(simulation, robot)
-/// that reads it (simulation: sim:status().simulation; robot: 1-based).
-void push_energy_meter(scripting::LuaHost& host);
 
 }  // namespace gaitlab::optimize::detail

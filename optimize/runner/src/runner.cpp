@@ -46,8 +46,6 @@ const std::vector<std::string> kFields = {
 
 // the measuring part of an evaluation: fitness.cpp
 const char* const kMeasure = detail::measure_chunk();
-// the registry key of the energy meter's energy(simulation, robot)
-const char* const kEnergy = "gaitlab.optimize.energy";
 
 std::string lua_type_name(lua_State* L, int index) {
     return luaL_typename(L, index);
@@ -379,8 +377,6 @@ Evaluator::Evaluator(const Spec& spec, std::uint64_t seed)
         throw Error("optimize: " + message);
     }
     measure_ref_ = luaL_ref(L, LUA_REGISTRYINDEX);
-    detail::push_energy_meter(*host_);
-    lua_setfield(L, LUA_REGISTRYINDEX, kEnergy);
 }
 
 Evaluator::~Evaluator() = default;
@@ -447,10 +443,9 @@ double Evaluator::evaluate_case(const std::vector<double>& x, int world, std::ui
         lua_pushstring(L, spec_.robot.c_str());
         lua_getfield(L, spec_index, "fitness");
         push_parameters(L, spec_, x);
-        lua_getfield(L, LUA_REGISTRYINDEX, kEnergy);
         lua_pushnumber(L, spec_.direction.empty() ? 0.0 : spec_.direction[0]);
         lua_pushnumber(L, spec_.direction.empty() ? 0.0 : spec_.direction[1]);
-        scripting::protected_call(L, 10, 1);
+        scripting::protected_call(L, 9, 1);
         if (lua_type(L, -1) != LUA_TNUMBER) {
             throw Error(fmt::format("fitness: a number expected as its result, got {}",
                                     lua_type_name(L, -1)));

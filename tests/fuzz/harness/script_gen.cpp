@@ -259,12 +259,13 @@ constexpr const char* kReadBack =
 constexpr const char* kSlots[] = {"R", "W", "G", "C", "K", "S", "N",
                                   "M", "A", "D", "L", "X", "T", "P"};
 constexpr const char* kMethods[] = {
-    "group",   "position", "bodies",        "save",        "actuate",   "sensor", "drive",
-    "joints",  "add",      "box",           "heightfield", "triangles", "run",    "step",
-    "reset",   "record",   "live",          "objects",     "params",    "values", "set",
-    "read",    "on",       "off",           "get",         "series",    "export", "plot",
-    "groups",  "norm",     "flush",         "channels",    "play",      "pause",  "status",
-    "heading", "turned",   "check_accuracy"};
+    "group",  "position",       "bodies", "save",   "actuate",     "sensor",
+    "drive",  "joints",         "add",    "box",    "heightfield", "triangles",
+    "run",    "step",           "reset",  "record", "live",        "objects",
+    "params", "values",         "set",    "read",   "on",          "off",
+    "get",    "series",         "export", "plot",   "groups",      "norm",
+    "flush",  "channels",       "play",   "pause",  "status",      "heading",
+    "turned", "check_accuracy", "energy"};
 
 constexpr const char* kSetupWorld =
     "try(function() R[1] = gaitlab.robot.chain{ name = 'snake', modules = 4, connection = "
@@ -1081,7 +1082,7 @@ class Generator {
             case 51:
                 return cat({"local s = ", ref("S"), " local st = s:status() ", x_slot(),
                             " = { tostring(st), st.time, s.playing, s.speed, s.delay, ", ref("R"),
-                            ":heading(), ", ref("R"), ":turned() }"});
+                            ":heading(), ", ref("R"), ":turned(), ", ref("R"), ":energy() }"});
             default:
                 return cat({"local t = ", ref("W"), ":triangles() ", x_slot(), " = #t"});
         }
