@@ -116,7 +116,9 @@ class Recorder {
     long rows() const { return rows_; }
     bool closed() const { return closed_; }
 
-    /// Writes everything buffered (data, events, log) now; throws IoError.
+    /// Writes everything buffered (data, events, log) now. A write that fails stops the
+    /// recording, as every failed write does (run.json says "failed", recording_failed), and
+    /// throws IoError.
     void flush();
     /// Adds a line to log.txt (written with the next flush).
     void log(std::string_view line);
@@ -134,6 +136,10 @@ class Recorder {
     void on_event(const Simulation& sim, const Event& e);
     void write_row(const Simulation& sim);
     void maybe_flush();
+    // writes the buffers; throws IoError, the recording still open (flush() stops it)
+    void write_buffers();
+    // writes data_buf_, counting the rows that reach data.csv in full, also when it fails
+    void write_data();
     /// throws IoError (and sets folder_gone_) if options_.dir is no longer the folder recorded
     void check_folder();
     // a write failed: stop recording, keep what was written, say so in the exception
@@ -153,6 +159,15 @@ class Recorder {
     bool folder_gone_ = false;  // the folder was moved or deleted while recording (flush)
     std::string data_buf_, events_buf_, log_buf_;
     long rows_ = 0;
+    // the rows data.csv holds in full and the tick of the last of them: what run.json counts
+    long rows_written_ = 0;
+    long last_written_tick_ = 0;
+    std::uint64_t data_bytes_ = 0;  // bytes written to data.csv
+    struct BufferedRow {
+        size_t end;  // offset after the row's '\n' in data_buf_
+        long tick;
+    };
+    std::vector<BufferedRow> buffered_;  // the rows in data_buf_, in order
     long first_tick_ = 0;
     bool closed_ = false;
     int observer_ = 0;

@@ -44,9 +44,11 @@ struct RunMeta {
     bool recording_failed = false;
     std::string started, ended;  ///< UTC, ISO 8601
     long first_tick = 0;         ///< tick of the first row
-    long last_tick = -1;         ///< tick when recording ended (-1: not closed)
-    int simulation = 1;          ///< which simulation of the script (1-based)
-    SimulationOptions options;   ///< dt, control_every, solver_iterations, seed, policy
+    /// tick when recording ended (-1: not closed); with recording_failed, the tick of the last
+    /// row written in full, where the data ends
+    long last_tick = -1;
+    int simulation = 1;         ///< which simulation of the script (1-based)
+    SimulationOptions options;  ///< dt, control_every, solver_iterations, seed, policy
     int record_every = 0;
     double flush_seconds = 0;
     std::vector<std::string> select;  ///< the series selection

@@ -295,6 +295,7 @@ Recorder::Recorder(Simulation& sim, RecordOptions options, RunContext context)
         const fs::path dir(options_.dir);
         started_ = utc_now();
         first_tick_ = sim.ticks();
+        last_written_tick_ = first_tick_;
         process_ = this_process();
         // run.json first: a process killed at any point after this leaves an earlier run,
         // which the next recorder replaces, never a folder of stray files that blocks it
@@ -331,7 +332,7 @@ Recorder::Recorder(Simulation& sim, RecordOptions options, RunContext context)
         flush_period_ = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
             std::chrono::duration<double>(options_.flush_seconds));
         write_row(sim);
-        flush();  // the header and the first row are on disk from the start
+        write_buffers();  // the header and the first row are on disk from the start
         observer_ = sim.add_observer([this](const Simulation& s) { on_tick(s); });
         listener_ =
             sim.add_event_listener([this](const Simulation& s, const Event& e) { on_event(s, e); });
@@ -383,8 +384,10 @@ void Recorder::write_meta(const std::string& status, const std::string& message,
     proc["boot_id"] = process_.boot_id;
     proc["start_time"] = process_.start_time;
     if (status != "running") {
-        j["last_tick"] = sim.ticks();
-        j["rows"] = rows_;
+        // what data.csv holds: a failed write drops the rows after the last one written in
+        // full, and the data ends there
+        j["last_tick"] = write_failed ? last_written_tick_ : sim.ticks();
+        j["rows"] = rows_written_;
     }
 
     ordered_json& s = j["simulation"] = ordered_json::object();
@@ -475,6 +478,7 @@ void Recorder::write_row(const Simulation& sim) {
         formats::append_number(data_buf_, v);
     }
     data_buf_ += '\n';
+    buffered_.push_back({data_buf_.size(), sim.ticks()});
     ++rows_;
 }
 
@@ -487,11 +491,7 @@ void Recorder::on_tick(const Simulation& sim) {
 
 void Recorder::maybe_flush() {
     if (data_buf_.size() < kMaxBuffer && std::chrono::steady_clock::now() < next_flush_) return;
-    try {
-        flush();
-    } catch (const std::exception& e) {
-        fail(e);
-    }
+    flush();
 }
 
 void Recorder::on_event(const Simulation& sim, const Event& e) {
@@ -524,10 +524,15 @@ void Recorder::on_event(const Simulation& sim, const Event& e) {
 
 void Recorder::flush() {
     if (closed_) return;
-    if (!data_buf_.empty()) {
-        data_->write(data_buf_);
-        data_buf_.clear();
+    try {
+        write_buffers();
+    } catch (const std::exception& e) {
+        fail(e);
     }
+}
+
+void Recorder::write_buffers() {
+    if (!data_buf_.empty()) write_data();
     if (!events_buf_.empty()) {
         events_->write(events_buf_);
         events_buf_.clear();
@@ -541,6 +546,34 @@ void Recorder::flush() {
     // recording would take the rest of the run along unseen (and run.json, written by its path,
     // would land in a new folder of that name), so the recording stops at the first flush after
     if (lock_ >= 0) check_folder();
+}
+
+void Recorder::write_data() {
+    try {
+        data_->write(data_buf_);
+    } catch (const std::exception&) {
+        // the write may have put part of the buffer in the file (a disk that fills up on the
+        // way): the rows that got there in full are in data.csv, a cut one is dropped by
+        // every reader. The file's size says how far it got (if it cannot be told, no row of
+        // the buffer is counted).
+        struct stat st {};
+        std::uint64_t reached = 0;
+        if (lock_ >= 0 && ::fstatat(lock_, "data.csv", &st, AT_SYMLINK_NOFOLLOW) == 0 &&
+            static_cast<std::uint64_t>(st.st_size) > data_bytes_)
+            reached = static_cast<std::uint64_t>(st.st_size) - data_bytes_;
+        for (const BufferedRow& row : buffered_) {
+            if (row.end > reached) break;
+            ++rows_written_;
+            last_written_tick_ = row.tick;
+        }
+        buffered_.clear();
+        throw;
+    }
+    data_bytes_ += data_buf_.size();
+    rows_written_ += static_cast<long>(buffered_.size());
+    if (!buffered_.empty()) last_written_tick_ = buffered_.back().tick;
+    buffered_.clear();
+    data_buf_.clear();
 }
 
 void Recorder::check_folder() {
@@ -569,6 +602,7 @@ void Recorder::fail(const std::exception& e) {
         sim_->remove_observer(observer_);
         sim_->remove_event_listener(listener_);
         data_buf_.clear();
+        buffered_.clear();
         events_buf_.clear();
         try {
             log_->write(fmt::format("recording stopped at t = {} s: {}\n", sim_->time(), message));
@@ -598,7 +632,7 @@ void Recorder::close(const std::string& status, const std::string& message) {
             : fmt::format("recording {} at t = {} s: {} rows: {}", status, sim_->time(), rows_,
                           message));
     try {
-        flush();
+        write_buffers();
         write_meta(status, message);
     } catch (const std::exception& e) {
         fail(e);

@@ -291,6 +291,75 @@ TEST_CASE("a write failure stops the run with a clear message and keeps what was
     CHECK(c.rows == run.rows());
 }
 
+namespace {
+
+// the whole number run.json gives `key` ("rows": 12); -1 if it has none
+long meta_number(const std::string& meta, const std::string& key) {
+    const size_t at = meta.find("\"" + key + "\": ");
+    if (at == std::string::npos) return -1;
+    return std::stol(meta.substr(at + key.size() + 4));
+}
+
+}  // namespace
+
+TEST_CASE("after a failed write run.json counts the rows data.csv holds, not those dropped",
+          "[recorder]") {
+    // the failed write is the recorder's own (its buffer full) or one that sim:flush() asks for
+    const bool asked = GENERATE(false, true);
+    CAPTURE(asked);
+    TempDir tmp("recorder_counts");
+    Simulation sim = snake_sim(4);
+    test::drive(sim, "pitch", test::sine(40, 0.5, 120));
+    RecordOptions o;
+    o.dir = tmp / "run";
+    o.record_every = 1;
+    o.flush_seconds = 1e6;  // no flush by the clock: the buffer holds hundreds of rows
+    Recorder rec(sim, o);
+    if (asked) sim.run(0.2);
+    // the disk is "full" 100 kB on: the write of the buffer stops part way through its rows
+    const auto size = static_cast<rlim_t>(fs::file_size(tmp / "run/data.csv"));
+    rlimit old{};
+    REQUIRE(getrlimit(RLIMIT_FSIZE, &old) == 0);
+    const auto previous = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit small = old;
+    small.rlim_cur = size + 100000;
+    REQUIRE(setrlimit(RLIMIT_FSIZE, &small) == 0);
+    std::string message;
+    try {
+        if (asked) {
+            rec.flush();
+        } else {
+            sim.run(60);
+        }
+    } catch (const IoError& e) {
+        message = e.what();
+    }
+    setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, previous);
+    CHECK_THAT(message, Catch::Contains("File too large (recording stopped; what was written "
+                                        "before is kept)"));
+    CHECK(rec.closed());
+    if (asked) {
+        sim.run(0.1);  // nothing more is written
+    }
+    RunData run(tmp / "run");
+    const std::vector<double> t = run.times();
+    REQUIRE(!t.empty());
+    // rows were dropped: some never reached the file, one of them only in part
+    CHECK(run.rows() > 10);
+    CHECK(rec.rows() > run.rows() + 10);
+    CHECK(fs::file_size(tmp / "run/data.csv") == size + 100000);
+    CHECK(run.meta().status == "failed");
+    CHECK(run.meta().recording_failed);
+    // run.json counts what data.csv holds: its rows, and the tick of the last of them
+    const std::string meta = read_text(tmp / "run/run.json");
+    CHECK(meta_number(meta, "rows") == run.rows());
+    CHECK(meta_number(meta, "first_tick") == 0);
+    CHECK(run.meta().last_tick == std::lround(t.back() / sim.options().dt));
+    CHECK(run.meta().last_tick == run.rows() - 1);
+    CHECK(run.meta().last_tick < sim.ticks());
+}
+
 TEST_CASE("a run folder moved or deleted while recording stops the recording at once",
           "[recorder]") {
     TempDir tmp("recorder_moved");
