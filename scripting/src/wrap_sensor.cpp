@@ -1,6 +1,7 @@
 // gaitlab.sensor, robot:sensor{...}, robot:sensors() and sensor handles.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string_view>
 
 #include <fmt/format.h>
@@ -66,34 +67,32 @@ SensorKind parse_kind(const std::string& name) {
     return parse_sensor_kind(name);
 }
 
-// a 1-based module or joint number field that must be there, as a 0-based index of one of the
-// robot's `count` modules or joints: a number the robot does not have is refused here, with the
-// robot's range, before a default sensor name ("imu-1") is made of it
-int required_index(const Fields& f, const RobotSpec& robot, const char* key, const char* what) {
-    if (!f.has(key)) f.fail(key, fmt::format("{} number expected, got nil", what));
-    const auto count = static_cast<long long>(robot.joints.size());
-    const auto absent = [&](const std::string& number) {
-        if (count == 0) {
-            throw ArgError(f.arg(), fmt::format("robot '{}' has no {}s", robot.name, what));
-        }
-        throw ArgError(f.arg(), fmt::format("robot '{}' has no {} {} (it has {}s 1 to {})",
-                                            robot.name, what, number, what, count));
-    };
-    // a whole number beyond the 64-bit integers (1e19) is one the robot does not have either
+// a 1-based module or joint number field that must be there, as a 0-based index. Whether the
+// robot has it is validate_sensor's to say (it checks the number before the name made of it);
+// here only what the engine cannot see: a value that is no number, or one that is no int (a
+// fraction, nan, a whole number beyond int's range, which must not wrap on the way to it)
+int required_index(const Fields& f, const char* key, const char* what) {
     lua_State* L = f.state();
-    int fits = 1;
     const bool number = f.push(key) == LUA_TNUMBER;
+    int exact = 0;
+    const lua_Integer v = lua_tointegerx(L, -1, &exact);
     const double d = lua_tonumber(L, -1);
-    lua_tointegerx(L, -1, &fits);
+    const std::string type = type_name(L, -1);
     lua_pop(L, 1);
-    if (number && !fits && std::isfinite(d) && std::floor(d) == d) absent(fmt::format("{}", d));
-    const long long v = f.integer(key, 0);
-    if (v < 1 || v > count) absent(std::to_string(v));
-    return static_cast<int>(v - 1);
+    // not a numeric string either ("3"), which Lua would convert
+    if (!number) f.fail(key, fmt::format("{} number expected, got {}", what, type));
+    // the index, the number - 1, is an int
+    constexpr double kLowest = std::numeric_limits<int>::min() + 1.0;
+    constexpr double kHighest = std::numeric_limits<int>::max();
+    if (std::isfinite(d) && std::floor(d) == d && (d < kLowest || d > kHighest)) {
+        f.fail(key, fmt::format("{} number out of range, got {}", what,
+                                exact ? fmt::format("{}", v) : fmt::format("{}", d)));
+    }
+    return static_cast<int>(f.integer(key, 0) - 1);  // fails for a fraction, nan and inf
 }
 
 // builds a sensor spec from the table at index 2 (argument #1 of the method)
-SensorSpec sensor_from_table(lua_State* L, const RobotSpec& robot) {
+SensorSpec sensor_from_table(lua_State* L) {
     const int arg = 2;
     check_table(L, arg);
     if (raw_getfield(L, arg, "kind") != LUA_TSTRING) {
@@ -126,12 +125,12 @@ SensorSpec sensor_from_table(lua_State* L, const RobotSpec& robot) {
     s.enabled = f.boolean("enabled", true);
     switch (s.kind) {
         case SensorKind::joint:
-            s.joint = required_index(f, robot, "joint", "joint");
+            s.joint = required_index(f, "joint", "joint");
             break;
         case SensorKind::imu:
         case SensorKind::contact:
         case SensorKind::range:
-            s.module = required_index(f, robot, "module", "module");
+            s.module = required_index(f, "module", "module");
             break;
         case SensorKind::position:
             break;
@@ -364,7 +363,7 @@ int robot_sensor(lua_State* L) {
         if (!lua_istable(L, 2)) {
             throw ArgError(2, "sensor table or sensor name expected, got " + type_name(L, 2));
         }
-        SensorSpec spec = sensor_from_table(L, robot->spec);
+        SensorSpec spec = sensor_from_table(L);
         try {
             validate_sensor(robot->spec, spec);
         } catch (const SpecError& e) {

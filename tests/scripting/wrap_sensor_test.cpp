@@ -255,13 +255,50 @@ TEST_CASE("sensor module and joint numbers never wrap", "[wrap_sensor][limits]")
     LuaFixture lua;
     lua.run("r = gaitlab.robot.chain{ name = 'snake', modules = 3 }");
     const std::string bad = "test:1: bad argument #1 to 'sensor' (";
-    // 2^32 + 1 used to become module 1
+    // 2^32 + 1 used to become module 1: numbers beyond an int are refused as they are
     CHECK(lua.error_of("r:sensor{ kind = 'imu', module = 2^32 + 1 }") ==
-          bad + "robot 'snake' has no module 4294967297 (it has modules 1 to 3))");
+          bad + "field 'module': module number out of range, got 4294967297)");
     CHECK(lua.error_of("r:sensor{ kind = 'joint', joint = -2^40 }") ==
-          bad + "robot 'snake' has no joint -1099511627776 (it has joints 1 to 3))");
+          bad + "field 'joint': joint number out of range, got -1099511627776)");
     CHECK(lua.error_of("r:sensor{ kind = 'imu', module = 1e19 }") ==
-          bad + "robot 'snake' has no module 1e+19 (it has modules 1 to 3))");
+          bad + "field 'module': module number out of range, got 1e+19)");
+    CHECK(lua.error_of("r:sensor{ kind = 'contact', module = -1e300 }") ==
+          bad + "field 'module': module number out of range, got -1e+300)");
+    CHECK(lua.error_of("r:sensor{ kind = 'joint', joint = math.mininteger }") ==
+          bad + "field 'joint': joint number out of range, got -9223372036854775808)");
+    // one below an int's lowest would wrap as the 0-based index: refused here too
+    CHECK(lua.error_of("r:sensor{ kind = 'imu', module = -2^31 }") ==
+          bad + "field 'module': module number out of range, got -2147483648)");
+    // the numbers an int holds go to the robot's own check, which names its range
+    CHECK(lua.error_of("r:sensor{ kind = 'imu', module = 2^31 - 1 }") ==
+          bad + "robot 'snake' has no module 2147483647 (it has modules 1 to 3))");
+    CHECK(lua.error_of("r:sensor{ kind = 'joint', joint = -2^31 + 1 }") ==
+          bad + "robot 'snake' has no joint -2147483647 (it has joints 1 to 3))");
+    CHECK(lua.error_of("r:sensor{ kind = 'imu', module = 2^31 }") ==
+          bad + "field 'module': module number out of range, got 2147483648)");
+}
+
+TEST_CASE("a sensor's module or joint number must be a whole number", "[wrap_sensor]") {
+    LuaFixture lua;
+    lua.run("r = gaitlab.robot.chain{ name = 'snake', modules = 3 }");
+    const std::string bad = "test:1: bad argument #1 to 'sensor' (";
+    CHECK(lua.error_of("r:sensor{ kind = 'imu' }") ==
+          bad + "field 'module': module number expected, got nil)");
+    // a numeric string is not taken for its number
+    CHECK(lua.error_of("r:sensor{ kind = 'imu', module = '3' }") ==
+          bad + "field 'module': module number expected, got string)");
+    CHECK(lua.error_of("r:sensor{ kind = 'joint', joint = true }") ==
+          bad + "field 'joint': joint number expected, got boolean)");
+    CHECK(lua.error_of("r:sensor{ kind = 'joint', joint = {} }") ==
+          bad + "field 'joint': joint number expected, got table)");
+    CHECK(lua.error_of("r:sensor{ kind = 'imu', module = 2.5 }") ==
+          bad + "field 'module': integer expected, got a fractional number)");
+    CHECK(lua.error_of("r:sensor{ kind = 'imu', module = 1/0 }") ==
+          bad + "field 'module': integer expected, got inf)");
+    // a whole float is its integer
+    lua.run("s = r:sensor{ kind = 'imu', module = 3.0 }");
+    CHECK(lua.string("s.name") == "imu3");
+    CHECK(lua.number("#r:sensors()") == 1);
 }
 
 TEST_CASE("a sensor on a module or joint the robot does not have names the robot's range",
@@ -276,7 +313,7 @@ TEST_CASE("a sensor on a module or joint the robot does not have names the robot
         CHECK(lua.error_of("r:sensor{ kind = '" + k + "', module = -1 }") ==
               bad + "robot 'snake' has no module -1 (it has modules 1 to 4))");
         CHECK(lua.error_of("r:sensor{ kind = '" + k + "', module = 2^62 }") ==
-              bad + "robot 'snake' has no module 4611686018427387904 (it has modules 1 to 4))");
+              bad + "field 'module': module number out of range, got 4611686018427387904)");
         CHECK(lua.error_of("r:sensor{ kind = '" + k + "', module = 0/0 }") ==
               bad + "field 'module': integer expected, got nan)");
         CHECK(lua.error_of("r:sensor{ kind = '" + k + "', module = -1/0 }") ==

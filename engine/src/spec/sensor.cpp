@@ -27,6 +27,7 @@ void check_sensor(const RobotSpec& robot, const SensorSpec& s, const std::string
     switch (s.kind) {
         case SensorKind::joint:
             if (s.joint < 0 || s.joint >= nj) {
+                if (nj == 0) throw SpecError(fmt::format("robot '{}' has no joints", robot.name));
                 throw SpecError(fmt::format("robot '{}' has no joint {} (it has joints 1 to {})",
                                             robot.name, s.joint + 1, nj));
             }

@@ -112,6 +112,8 @@ TEST_CASE("a sensor must name a module or joint the robot has") {
     lone.bodies.push_back({"box", Shape::box, {0.1, 0.1, 0.1}, 1.0, {}, 1.0});
     REQUIRE_THROWS_WITH(validate_sensor(lone, of_kind(SensorKind::imu, 0)),
                         Equals("robot 'brick' has no modules"));
+    REQUIRE_THROWS_WITH(validate_sensor(lone, of_kind(SensorKind::joint, 0)),
+                        Equals("robot 'brick' has no joints"));
 }
 
 TEST_CASE("range sensors need a direction and a maximum range within limits") {
