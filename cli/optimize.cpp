@@ -129,9 +129,9 @@ int OptimizeCommand::run(const std::string& command) {
     for (const auto& p : spec.parameters)
         names += (names.empty() ? "" : ", ") + p.name;
     const std::string workers = workers_text(mpi, o.workers);
-    std::printf("optimize %s: %zu parameters (%s), fitness %s, %s, results in %s\n", a.spec.c_str(),
-                spec.parameters.size(), names.c_str(), spec.fitness.c_str(), workers.c_str(),
-                o.out.c_str());
+    std::printf("optimize %s: %zu parameter%s (%s), fitness %s, %s, results in %s\n",
+                a.spec.c_str(), spec.parameters.size(), spec.parameters.size() == 1 ? "" : "s",
+                names.c_str(), spec.fitness.c_str(), workers.c_str(), o.out.c_str());
     std::fflush(stdout);
     // on a terminal, a line on stderr rewritten after each evaluation; taken away before the
     // generation's summary line and at the end

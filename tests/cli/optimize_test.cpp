@@ -99,6 +99,26 @@ TEST_CASE("gaitlab optimize: a spec runs end to end and writes its results folde
     CHECK(r2.out.find("after 8 evaluations (pgpe, seed 0)") != std::string::npos);
 }
 
+TEST_CASE("gaitlab optimize: one parameter is one parameter") {
+    TempDir dir("cli_optimize_one");
+    std::string spec =
+        snake_spec(R"(duration = 0.2, method = "ga", population = 4, generations = 1)");
+    const auto cut = [&](const std::string& from, const std::string& to) {
+        const size_t at = spec.find(from);
+        REQUIRE(at != std::string::npos);
+        spec.replace(at, from.size(), to);
+    };
+    cut(", phase = {30, 180, initial = 120}", "");
+    cut("phase = p.phase", "phase = 120");
+    write_text(dir / "spec.lua", spec);
+    const auto r =
+        run_gaitlab({"optimize", "spec.lua", "--workers", "1", "--out", "out"}, dir.str());
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    CHECK(lines(r.out).at(0) ==
+          "optimize spec.lua: 1 parameter (amplitude), fitness distance, 1 worker, results in out");
+}
+
 TEST_CASE("gaitlab optimize: bad options and spec files give one line and no results") {
     TempDir dir("cli_optimize_bad");
     write_text(dir / "spec.lua", kSpec);
