@@ -1,5 +1,7 @@
 #include "recording.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <csignal>
@@ -93,6 +95,18 @@ int l_exit(lua_State* L) {
     lua_insert(L, 1);
     lua_call(L, lua_gettop(L) - 1, LUA_MULTRET);
     return lua_gettop(L);
+}
+
+// the folders from `dir` up that do not exist yet, deepest first
+std::vector<std::string> missing_folders(const std::string& dir) {
+    std::vector<std::string> missing;
+    std::error_code ec;
+    fs::path p = fs::absolute(dir.empty() ? "." : dir, ec).lexically_normal();
+    while (!ec && p.has_relative_path() && !fs::exists(p, ec)) {
+        missing.push_back(p.string());
+        p = p.parent_path();
+    }
+    return missing;
 }
 
 bool same_options(const SimulationOptions& a, const SimulationOptions& b) {
@@ -252,10 +266,30 @@ std::string Recordings::claim(const std::string& dir, int index) const {
 std::string Recordings::begin(lua_State* L, SimulationHandle& h, const RecordRequest& request,
                               const std::string& started_by) {
     RecordOptions o = request.options;
+    // default_run_dir makes a new folder (and the root, if missing); any other folder the
+    // recorder makes if it is missing
+    const bool made_here = request.dir.empty() && settings.dir.empty();
+    const std::vector<std::string> roots_made =
+        made_here ? missing_folders(settings.root) : std::vector<std::string>{};
     o.dir = request.dir.empty() ? next_dir() : request.dir;
-    // two simulations of one script never share a folder (the second would empty the first's)
-    std::string claimed = claim(o.dir, h.index);
-    auto rec = std::make_shared<Recorder>(*h.sim, o, context(L, h.index, started_by));
+    std::string claimed;
+    std::shared_ptr<Recorder> rec;
+    try {
+        // two simulations of one script never share a folder (the second would empty the
+        // first's)
+        claimed = claim(o.dir, h.index);
+        rec = std::make_shared<Recorder>(*h.sim, o, context(L, h.index, started_by));
+    } catch (const std::exception&) {
+        // a recording refused before it wrote anything (a pattern that matches nothing ...)
+        // leaves no empty folder of ours behind; rmdir removes nothing else, and a recorder
+        // that got as far as run.json leaves it saying why it failed
+        if (made_here && ::rmdir(o.dir.c_str()) == 0) {
+            for (const std::string& f : roots_made) {
+                if (::rmdir(f.c_str()) != 0) break;
+            }
+        }
+        throw;
+    }
     claimed_.emplace_back(std::move(claimed), h.index);
     h.recorder = rec;
     recorders_.push_back(rec);

@@ -268,6 +268,63 @@ TEST_CASE("the host's run folders skip the ones a script took", "[wrap_data]") {
     CHECK(lua.string("r:series()[1].name") == "worm1.com.x");
 }
 
+TEST_CASE("a refused recording leaves no folder the host made for it", "[wrap_data]") {
+    TempDir tmp("wrap_data_refused");
+    LuaFixture lua;
+    gaitlab::scripting::RecordSettings s;
+    s.by_default = true;
+    s.root = tmp / "runs";
+    s.name = "bad";
+    lua.host.set_recording(s);
+    lua.run("OUT = '" + tmp.str() + "'");
+    robot_only(lua);
+    const auto runs = [&] {
+        std::vector<std::string> names;
+        for (const auto& e : fs::directory_iterator(tmp / "runs"))
+            names.push_back(e.path().filename().string());
+        return names;
+    };
+    // refused by the recorder, at creation and with sim:record, after the host made the folder
+    // (and its root)
+    CHECK_THAT(lua.error_of("gaitlab.simulation{ world = w3, record = { series = { 'worm.angel[*]' "
+                            "} } }"),
+               Catch::StartsWith("test:1: bad argument #1 to 'simulation' (field 'record': no "
+                                 "series matches 'worm.angel[*]'"));
+    lua.run("sim = gaitlab.simulation{ world = w3, record = false }");
+    CHECK_THAT(lua.error_of("sim:record{ series = { 'nothing' } }"),
+               Catch::StartsWith("test:1: bad argument #1 to 'record' (no series matches"));
+    // refused by the binding, before a folder is made
+    CHECK_THAT(lua.error_of("sim:record{ record_every = -1 }"),
+               Catch::StartsWith("test:1: bad argument #1 to 'record' (record_every must be"));
+    CHECK(!fs::exists(tmp / "runs"));  // nor the root it made for them
+    // a folder the script names stays, empty as it was
+    fs::create_directories(tmp / "mine");
+    CHECK_THAT(lua.error_of("sim:record{ dir = OUT .. '/mine', series = { 'nothing' } }"),
+               Catch::StartsWith("test:1: bad argument #1 to 'record' (no series matches"));
+    CHECK(fs::is_directory(tmp / "mine"));
+    CHECK(fs::is_empty(tmp / "mine"));
+    // the next recording gets a folder as usual
+    lua.run("dir = sim:record(true) sim:run(0.1) sim:record(false)");
+    CHECK(runs().size() == 1);
+    CHECK(lua.string("dir") == tmp / ("runs/" + runs()[0]));
+    CHECK(fs::exists(tmp / ("runs/" + runs()[0] + "/run.json")));
+    // a root that was there stays, even empty
+    fs::create_directories(tmp / "root");
+    s.root = tmp / "root";
+    lua.host.set_recording(s);
+    CHECK_THAT(lua.error_of("sim:record{ series = { 'nothing' } }"),
+               Catch::StartsWith("test:1: bad argument #1 to 'record' (no series matches"));
+    CHECK(fs::is_directory(tmp / "root"));
+    CHECK(fs::is_empty(tmp / "root"));
+    // a root where no folder can be made: the error names the folder
+    lua.run("io.open(OUT .. '/file', 'w'):close()");
+    s.root = tmp / "file";
+    lua.host.set_recording(s);
+    CHECK_THAT(lua.error_of("sim:record(true)"),
+               Catch::StartsWith("test:1: cannot create run folder " + (tmp / "file/bad-")) &&
+                   Catch::EndsWith(": Not a directory"));
+}
+
 TEST_CASE("a split export of hostile series names stays inside its folder", "[wrap_data]") {
     TempDir tmp("wrap_data_hostile");
     LuaFixture lua;

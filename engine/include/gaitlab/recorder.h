@@ -91,7 +91,8 @@ struct RunProcess {
 RunProcess this_process();
 
 /// Makes and returns "<root>/<name>-<YYYYmmdd-HHMMSS>" (local time), with "-2", "-3", ... when
-/// that exists (made here, so concurrent runs never get the same folder).
+/// that exists (made here, so concurrent runs never get the same folder, and the folder
+/// returned is always a new one); throws IoError if none can be made.
 std::string default_run_dir(const std::string& root, const std::string& name);
 
 /// Provenance of this build and machine: gaitlab, bullet, compiler, cpu, cores, os, host, date.

@@ -241,16 +241,23 @@ std::string default_run_dir(const std::string& root, const std::string& name) {
     std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
     const std::string base =
         (fs::path(root) / fmt::format("{}-{}", name.empty() ? "run" : name, stamp)).string();
-    // the folder is made here, so two runs started in the same second never share one
+    // the folder is made here, so two runs started in the same second never share one, and
+    // the caller knows the folder is its own (to remove if the recording is refused)
     std::error_code ec;
     fs::create_directories(root.empty() ? "." : root, ec);
     std::string dir = base;
     for (int k = 2; k < 10000; ++k) {
         if (fs::create_directory(dir, ec)) return dir;
-        if (ec) return dir;  // the recorder reports why it cannot be made
+        // a root that another run made and removed again, its recording refused
+        if (ec == std::errc::no_such_file_or_directory) {
+            fs::create_directories(root.empty() ? "." : root, ec);
+            if (fs::create_directory(dir, ec)) return dir;
+        }
+        if (ec) throw IoError(fmt::format("cannot create run folder {}: {}", dir, ec.message()));
         dir = fmt::format("{}-{}", base, k);
     }
-    return dir;
+    throw IoError(fmt::format("cannot create run folder {}: it exists, and so do {}-2 to {}-9999",
+                              base, base, base));
 }
 
 RunProcess this_process() {
