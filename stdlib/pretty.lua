@@ -142,10 +142,6 @@ describe["gaitlab.Group"] = function(group)
   return format("group of %d joints: %s", #joints, concat(list, ", "))
 end
 
-describe["gaitlab.Sensor"] = function(sensor)
-  return format("%s (%s)", safe_tostring(sensor), sensor.enabled and "on" or "off")
-end
-
 local function render(v, opts, depth, path, budget, indent)
   local t = type(v)
   if t == "string" then
