@@ -119,7 +119,7 @@ void LuaController::migrate() {
         }
         drop_snapshot();
         call(2, 0, kLoadInstructionBudget, " in on_reload");
-        check_values();
+        check_values(cls_->on_reload_ref);
     }
     drop_snapshot();
 }
@@ -410,17 +410,28 @@ void LuaController::call(int nargs, int nresults, long long budget, const char* 
     throw *placed;
 }
 
-void LuaController::check_values() {
+void LuaController::check_values(int function_ref) {
     if (def().values.empty()) return;
     lua_rawgeti(L_, LUA_REGISTRYINDEX, self_ref_);
     for (const std::string& v : def().values) {
         if (raw_getfield(L_, -1, v.c_str()) != LUA_TTABLE) {
             const std::string got = type_name(L_, -1);
             lua_pop(L_, 2);
+            // the line of the assignment is gone once the function has returned: the function's
+            // own definition is the closest place to name (not the class's, which may be far)
+            std::string file = cls_->file;
+            int line = cls_->line;
+            lua_Debug ar;
+            if (lua_rawgeti(L_, LUA_REGISTRYINDEX, function_ref) != LUA_TFUNCTION) {
+                lua_pop(L_, 1);
+            } else if (lua_getinfo(L_, ">S", &ar) && ar.linedefined > 0) {
+                file = ar.source[0] == '@' ? ar.source + 1 : ar.short_src;
+                line = ar.linedefined;
+            }
             throw ScriptError(fmt::format("{}:{}: controller '{}': self.{} must stay a table (one "
                                           "number per joint), got {}",
-                                          cls_->file, cls_->line, name(), v, got),
-                              cls_->file, cls_->line, "");
+                                          file, line, name(), v, got),
+                              file, line, "");
         }
         lua_pop(L_, 1);
     }
@@ -439,7 +450,7 @@ void LuaController::step(ControlIO& io) {
     } stepping{io_};
     io_ = &io;
     call(2, 0, cls_->budget, " in one step");
-    check_values();
+    check_values(cls_->step_ref);
 }
 
 void LuaController::sync_values() const {

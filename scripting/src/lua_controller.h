@@ -81,8 +81,9 @@ class LuaController final : public Controller {
     void migrate();
     // calls the function below `nargs` arguments under `budget` instructions
     void call(int nargs, int nresults, long long budget, const char* suffix);
-    // throws ScriptError if the code replaced one of self's value arrays by something else
-    void check_values();
+    // throws ScriptError, at the definition of the function `function_ref` (a registry
+    // reference) that just ran, if it replaced one of self's value arrays by something else
+    void check_values(int function_ref);
     static int l_set_angle(lua_State* L);
     static int l_joint_angle(lua_State* L);
     static int l_joint_velocity(lua_State* L);

@@ -291,7 +291,7 @@ TEST_CASE("a controller that replaces its value arrays fails with a message", "[
             sim = gaitlab.simulation{ world = world, record = { dir = OUT, record_every = 1 } }
         )");
         CHECK(lua.error_of("sim:run(1)") ==
-              "test:2: controller 'swap': self.time must stay a table (one number per joint), "
+              "test:3: controller 'swap': self.time must stay a table (one number per joint), "
               "got " +
                   lua.string("type(WHAT)"));
         CHECK(lua.boolean("ctl.failed"));
@@ -303,6 +303,64 @@ TEST_CASE("a controller that replaces its value arrays fails with a message", "[
         CHECK(lua.number("run:get('swap.time[1]').values[#run:get('swap.time[1]').values]") ==
               Approx(0.09));
     }
+}
+
+TEST_CASE("a broken value array is reported at the function that broke it", "[lua_controller]") {
+    // the definition of step (or on_reload) in the controller file, not gaitlab.controller{
+    TempDir tmp("lua_values_line");
+    const std::string file = tmp / "y.lua";
+    write_text(file, R"(-- y: a controller that breaks its values
+-- second comment line
+
+return gaitlab.controller{
+  name = "y", values = { "time" },
+  params = {},
+  step = function(self, dt)
+    self.time = nil
+  end,
+}
+)");
+    LuaFixture lua;
+    lua.run("FILE = '" + file + "'");
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ modules = 2 }
+        world = gaitlab.world()
+        world:add(robot)
+        ctl = robot:group("all"):drive(gaitlab.controller.load(FILE){})
+        sim = gaitlab.simulation{ world = world }
+    )");
+    const ScriptError e = lua.script_error_of("sim:run(0.1)");
+    CHECK(std::string(e.what()) == file +
+                                       ":7: controller 'y': self.time must stay a table (one "
+                                       "number per joint), got nil");
+    CHECK(e.file() == file);
+    CHECK(e.line() == 7);
+    // a hook that breaks them: its own line
+    write_text(file, R"(return gaitlab.controller{ name = "y", values = { "time" },
+  step = function(self, dt) end,
+  on_reload = function(self)
+    self.time = 5
+  end })");
+    LuaFixture other;
+    other.run("FILE = '" + file + "'");
+    other.run(R"(
+        robot = gaitlab.robot.chain{ modules = 2 }
+        world = gaitlab.world()
+        world:add(robot)
+        robot:group("all"):drive(gaitlab.controller.load(FILE){})
+        sim = gaitlab.simulation{ world = world }
+        sim:run(0.1)
+    )");
+    write_text(file, R"(return gaitlab.controller{ name = "y", values = { "time" },
+  step = function(self, dt) end,
+
+  on_reload = function(self)
+    self.time = 5
+  end })");
+    other.run("assert(gaitlab.controller.reload())");
+    CHECK(other.error_of("sim:run(0.1)") == file +
+                                                ":4: controller 'y': self.time must stay a table "
+                                                "(one number per joint), got number");
 }
 
 TEST_CASE("a reload or a simulation file cannot slip a broken value array past the check",
