@@ -345,9 +345,12 @@ Recorder::Recorder(Simulation& sim, RecordOptions options, RunContext context)
             sim.add_event_listener([this](const Simulation& s, const Event& e) { on_event(s, e); });
     } catch (const std::exception& e) {
         // a recorder that never started says why, and leaves the folder to others (an
-        // earlier run folder, which the next recorder replaces)
+        // earlier run folder, which the next recorder replaces). What failed is the
+        // recording, not the run (a write, as when a later flush fails): recording_failed,
+        // which a replay needs to tell it from a run that a controller or script stopped
         try {
-            write_meta("failed", e.what());
+            // not by the path when the folder is gone: that would make a new folder of it
+            if (!folder_gone_) write_meta("failed", e.what(), true);
         } catch (const std::exception&) {
         }
         unlock();

@@ -360,6 +360,72 @@ TEST_CASE("after a failed write run.json counts the rows data.csv holds, not tho
     CHECK(run.meta().last_tick < sim.ticks());
 }
 
+namespace {
+
+// a controller of one value that, once armed, makes the disk "full" at `limit` bytes a file
+// the next time its values are read: a recorder reads them for its first row, after run.json
+// and series.csv and just before its first write of data.csv
+class FillsDisk final : public Controller {
+  public:
+    FillsDisk() : Controller(ControllerDef{"fills", {}, {"level"}}) {}
+    void step(ControlIO&) override {}
+    rlim_t limit = 0;  // 0: not armed
+
+  protected:
+    void sync_values() const override {
+        if (limit == 0) return;
+        rlimit small{};
+        getrlimit(RLIMIT_FSIZE, &small);
+        small.rlim_cur = limit;
+        setrlimit(RLIMIT_FSIZE, &small);
+    }
+};
+
+}  // namespace
+
+TEST_CASE("a write that fails as the recording starts marks run.json recording_failed",
+          "[recorder]") {
+    TempDir tmp("recorder_first_write");
+    Simulation sim = snake_sim(12);
+    auto fills = std::make_shared<FillsDisk>();
+    test::drive(sim, "all", fills);
+    RecordOptions o;
+    o.flush_seconds = 1e6;  // only the constructor writes data.csv: its header and first row
+    // what the first write of data.csv holds, and run.json beside it
+    o.dir = tmp / "whole";
+    {
+        Recorder whole(sim, o);
+        REQUIRE(fs::file_size(tmp / "whole/run.json") + 1000 <
+                fs::file_size(tmp / "whole/data.csv"));
+    }
+    const auto first = static_cast<rlim_t>(fs::file_size(tmp / "whole/data.csv"));
+    rlimit old{};
+    REQUIRE(getrlimit(RLIMIT_FSIZE, &old) == 0);
+    const auto previous = std::signal(SIGXFSZ, SIG_IGN);
+    fills->limit = first - 10;  // the first row does not fit: run.json does
+    o.dir = tmp / "run";
+    std::string message;
+    try {
+        Recorder rec(sim, o);
+    } catch (const IoError& e) {
+        message = e.what();
+    }
+    setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, previous);
+    fills->limit = 0;
+    CHECK(message == "cannot write " + (tmp / "run/data.csv") + ": File too large");
+    CHECK(fs::file_size(tmp / "run/data.csv") == first - 10);
+    // as for any failed write: the recording failed, and its data ends before its first row
+    RunData run(tmp / "run");
+    CHECK(run.meta().status == "failed");
+    CHECK(run.meta().message == message);
+    CHECK(run.meta().recording_failed);
+    CHECK(run.rows() == 0);
+    const std::string meta = read_text(tmp / "run/run.json");
+    CHECK(meta_number(meta, "rows") == 0);
+    CHECK(run.meta().last_tick == 0);
+}
+
 TEST_CASE("a run folder moved or deleted while recording stops the recording at once",
           "[recorder]") {
     TempDir tmp("recorder_moved");
