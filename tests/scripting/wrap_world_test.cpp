@@ -123,6 +123,10 @@ TEST_CASE("world:box checks its fields", "[wrap_world]") {
           bad + "box 1 size x must be positive (got 0 m))");
     CHECK(lua.error_of("w:box{ friction = 2 }") ==
           bad + "box 1 friction must be in [0, 1] (got 2))");
+    CHECK(lua.error_of("w:box{ size = { 1, 0.001, 0.001 }, mass = 1 }") ==
+          bad +
+              "box 1 longest side must be at most 300 times its second longest (got 1 x 0.001 "
+              "x 0.001 m: 1000 times; a static box, of mass 0, may be more slender))");
     CHECK(lua.error_of("w:box{ sise = { 1, 1, 1 } }") ==
           bad + "unknown key 'sise'; did you mean 'size'?)");
     CHECK(lua.error_of("w:box()") == bad + "table expected, got no value)");
@@ -242,6 +246,10 @@ TEST_CASE("world library methods check their fields and name the object", "[wrap
           bad("cylinder") + "cylinder 1 mass must not be negative (got -1 kg))");
     CHECK(lua.error_of("w:cylinder{ lying = 'yes' }") ==
           bad("cylinder") + "field 'lying': boolean expected, got string)");
+    CHECK(lua.error_of("w:cylinder{ radius = 0.001, length = 1, mass = 1 }") ==
+          bad("cylinder") +
+              "cylinder 1 length must be at most 300 times its diameter (got 1 m and 0.002 m: "
+              "500 times; a static cylinder, of mass 0, may be more slender))");
     CHECK(lua.error_of("w:pipe{ sides = 2 }") ==
           bad("pipe") + "pipe 1 sides must be in [3, 256] (got 2))");
     CHECK(lua.error_of("w:pipe{ radius = 0 }") ==

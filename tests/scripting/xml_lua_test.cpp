@@ -440,6 +440,16 @@ TEST_CASE("the Lua keys of the XML attributes refuse bad values, naming the key"
     CHECK(lua.error_of(
               "gaitlab.robot.new{ bodies = { { name = 'a', size = {1, 1, 1}, mass = -1 } } }") ==
           bad("new") + "bodies[1]: robot 'robot' body 'a' mass must be positive (got -1 kg))");
+    CHECK(lua.error_of("gaitlab.robot.new{ bodies = { { name = 'a', size = {1, 0.001, 0.001}, "
+                       "mass = 1 } } }") ==
+          bad("new") +
+              "bodies[1]: robot 'robot' body 'a' longest side must be at most 300 times its "
+              "second longest (got 1 x 0.001 x 0.001 m: 1000 times))");
+    CHECK(lua.error_of("gaitlab.robot.new{ bodies = { { name = 'a', shape = 'cylinder', size = "
+                       "{1, 0.002, 0.002}, mass = 1 } } }") ==
+          bad("new") +
+              "bodies[1]: robot 'robot' body 'a' length must be at most 300 times its diameter "
+              "(got 1 m and 0.002 m: 500 times))");
     CHECK(lua.error_of("gaitlab.robot.new{ bodies = { { name = 'a', size = {1, 1, 1}, mass = 1 "
                        "}, { name = 'a', size = {1, 1, 1}, mass = 1 } } }") ==
           bad("new") + "bodies[2]: field 'name': a second body named 'a')");

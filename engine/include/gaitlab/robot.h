@@ -23,6 +23,12 @@ inline constexpr double kMinBodyExtent = 1e-4;
 /// kg: a cube of water kMinBodyExtent wide; at the default dt and solver 5 cm modules of
 /// 1e-18 kg still move as heavier ones, and of 1e-20 kg diverge (single precision's end)
 inline constexpr double kMinBodyMass = 1e-9;
+/// a body's longest side over its second longest (a cylinder's length over its diameter): the
+/// solver's rows of a slender body hold its inertia about its long axis, about (longest /
+/// second)^2 times smaller than about the others, in single precision. Driven chains of 8 such
+/// bodies stay finite at 300 at every mass and torque and diverge from 700 (docs/formats.md,
+/// Limits)
+inline constexpr double kMaxBodySlenderness = 300;
 /// m, the radius of every cylinder (bodies, modules, world objects): Bullet rounds a shape by
 /// its 1 mm collision margin, and a thinner cylinder sinks into the floor
 inline constexpr double kMinCylinderRadius = 1e-3;

@@ -63,7 +63,8 @@ struct FloorSpec {
     std::optional<double> damping;
 };
 
-/// A box obstacle. mass = 0 makes it static.
+/// A box obstacle. mass = 0 makes it static; a box that moves is at most kMaxBodySlenderness
+/// times as long as its second longest side, as a robot body.
 struct BoxSpec {
     Vec3 size{0.1, 0.1, 0.1};  ///< full extents, m, > 0
     Pose pose;                 ///< centre and orientation, world frame
@@ -105,7 +106,8 @@ struct StairsSpec {
     double friction = 1.0;      ///< in [0, 1]
 };
 
-/// A cylinder, upright or lying. mass = 0 makes it static.
+/// A cylinder, upright or lying. mass = 0 makes it static; a cylinder that moves is at most
+/// kMaxBodySlenderness times as long as its diameter, as a robot body.
 struct CylinderSpec {
     double radius = 0.05;   ///< m, > 0
     double length = 0.1;    ///< along its axis, m, > 0

@@ -1,9 +1,11 @@
 // Validation helpers for the engine's spec checks: each throws SpecError with the expected form.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -84,6 +86,39 @@ inline void check_mass(const std::string& what, double v, double lo, double hi) 
     check_positive(what, v, "kg");
     check_at_least(what, v, lo, "kg");
     check_at_most(what, v, hi, "kg");
+}
+
+/// The longest of a body's three sides (m) over the second longest: how slender it is.
+inline double slenderness(const Vec3& size) {
+    double a = size.x, b = size.y, c = size.z;
+    if (a < b) std::swap(a, b);
+    if (a < c) std::swap(a, c);
+    return a / std::max(b, c);
+}
+
+/// A box of sides `size` (m, each already checked) must have its longest side at most `limit`
+/// times its second longest; `note` ends the message ("" or "; ...").
+inline void check_box_slenderness(const std::string& what, const Vec3& size, double limit,
+                                  const std::string& note = "") {
+    const double s = slenderness(size);
+    if (s > limit) {
+        throw SpecError(
+            fmt::format("{}longest side must be at most {} times its second longest "
+                        "(got {} x {} x {} m: {:.6g} times{})",
+                        what, limit, size.x, size.y, size.z, s, note));
+    }
+}
+
+/// A cylinder `length` long and `diameter` wide (m, each already checked) must be at most
+/// `limit` times as long as it is wide; `note` ends the message ("" or "; ...").
+inline void check_cylinder_slenderness(const std::string& what, double length, double diameter,
+                                       double limit, const std::string& note = "") {
+    if (length > limit * diameter) {
+        throw SpecError(
+            fmt::format("{}length must be at most {} times its diameter (got {} m "
+                        "and {} m: {:.6g} times{})",
+                        what, limit, length, diameter, length / diameter, note));
+    }
 }
 
 /// A servo's gain, speed and torque, each positive and at most its kMaxServo* bound (module.h:

@@ -53,6 +53,15 @@ void validate(const ModuleDef& m) {
     } else {
         detail::check_size(p + "radius", m.radius, kMinCylinderRadius, kMaxBodyExtent / 2);
     }
+    // a chain's segments are a module long and its two end bodies half of one
+    if (m.shape == Shape::box) {
+        const Vec3 segment{m.length, m.width, m.height}, end{m.length / 2, m.width, m.height};
+        const bool ends = detail::slenderness(end) > detail::slenderness(segment);
+        detail::check_box_slenderness(p + "bodies' ", ends ? end : segment, kMaxBodySlenderness,
+                                      ends ? "; its end bodies are half a module" : "");
+    } else {
+        detail::check_cylinder_slenderness(p, m.length, 2 * m.radius, kMaxBodySlenderness);
+    }
     detail::check_mass(p + "mass", m.mass, 2 * kMinBodyMass, kMaxBodyMass);
     detail::check_range(p + "friction", m.friction, 0, 1);
     detail::check_servo(p, m.servo);

@@ -140,6 +140,11 @@ void validate_body(const std::string& robot_name, const BodySpec& b) {
     if (b.shape == Shape::cylinder && b.size.y != b.size.z) {
         throw SpecError(q + "is a cylinder: size y and z (its diameter) must be equal");
     }
+    if (cylinder) {
+        detail::check_cylinder_slenderness(q, b.size.x, b.size.y, kMaxBodySlenderness);
+    } else {
+        detail::check_box_slenderness(q, b.size, kMaxBodySlenderness);
+    }
     const Vec3& x = b.pose.position;
     for (double c : {x.x, x.y, x.z})
         detail::check_within(q + "position", c, kMaxBodyExtent * kMaxRobotBodies, "m");

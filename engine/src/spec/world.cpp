@@ -74,6 +74,10 @@ void validate(const BoxSpec& b, int number) {
     check_size(p + "size y", b.size.y);
     check_size(p + "size z", b.size.z);
     check_mass(p + "mass", b.mass);
+    if (b.mass > 0) {
+        detail::check_box_slenderness(p, b.size, kMaxBodySlenderness,
+                                      "; a static box, of mass 0, may be more slender");
+    }
     detail::check_range(p + "friction", b.friction, 0, 1);
     check_position(p, b.pose.position);
     check_orientation(p, b.pose.orientation);
@@ -118,6 +122,10 @@ void validate(const CylinderSpec& c, int number) {
     detail::check_size(p + "radius", c.radius, kMinCylinderRadius, kMaxExtent);
     check_size(p + "length", c.length);
     check_mass(p + "mass", c.mass);
+    if (c.mass > 0) {
+        detail::check_cylinder_slenderness(p, c.length, 2 * c.radius, kMaxBodySlenderness,
+                                           "; a static cylinder, of mass 0, may be more slender");
+    }
     check_placement(p, c.position, c.yaw, c.friction);
 }
 

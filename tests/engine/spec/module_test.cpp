@@ -172,6 +172,40 @@ TEST_CASE("module sizes and mass have lower bounds, twice a body's where a chain
     }
 }
 
+TEST_CASE("a module's bodies are at most 300 times as long as their second longest side") {
+    ModuleDef m = default_module_def();
+    m.name = "m";
+    SECTION("a box module: its segments a module long") {
+        m.length = 1;
+        m.width = m.height = 0.003;
+        REQUIRE_THROWS_WITH(validate(m),
+                            Equals("module 'm' bodies' longest side must be at most 300 times "
+                                   "its second longest (got 1 x 0.003 x 0.003 m: 333.333 times)"));
+        m.width = m.height = 1.0 / kMaxBodySlenderness;
+        CHECK_NOTHROW(validate(m));
+    }
+    SECTION("a box module: its end bodies half a module long") {
+        m.length = 0.0004;
+        m.width = 0.1;
+        m.height = 0.0003;
+        REQUIRE_THROWS_WITH(validate(m),
+                            Equals("module 'm' bodies' longest side must be at most 300 times "
+                                   "its second longest (got 0.0002 x 0.1 x 0.0003 m: 333.333 "
+                                   "times; its end bodies are half a module)"));
+        m.length = 0.001;
+        CHECK_NOTHROW(validate(m));
+    }
+    SECTION("a cylinder module: its length over its diameter") {
+        m.shape = Shape::cylinder;
+        m.length = 1;
+        m.radius = 0.001;
+        REQUIRE_THROWS_WITH(validate(m), Equals("module 'm' length must be at most 300 times its "
+                                                "diameter (got 1 m and 0.002 m: 500 times)"));
+        m.length = 0.6;
+        CHECK_NOTHROW(validate(m));
+    }
+}
+
 TEST_CASE("joint axis names") {
     CHECK(std::string(to_string(JointAxis::bend)) == "bend");
     CHECK(std::string(to_string(JointAxis::twist)) == "twist");

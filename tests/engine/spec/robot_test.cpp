@@ -435,6 +435,40 @@ TEST_CASE("a body's mass and sizes have lower bounds, a cylinder's diameter Bull
     }
 }
 
+TEST_CASE("a body's longest side is at most 300 times its second longest") {
+    RobotSpec r = chain(2, Connection::pitch_pitch, "x");
+    BodySpec& b = r.bodies[1];
+    SECTION("a box, the second longest side setting the bound (the third may be thinner)") {
+        b.size = {1, 0.003, 0.0003};
+        REQUIRE_THROWS_WITH(validate(r),
+                            Equals("robot 'x' body 'segment1' longest side must be at most 300 "
+                                   "times its second longest (got 1 x 0.003 x 0.0003 m: 333.333 "
+                                   "times)"));
+        b.size = {0.0001, 0.0003, 0.1};
+        REQUIRE_THROWS_WITH(validate(r),
+                            Equals("robot 'x' body 'segment1' longest side must be at most 300 "
+                                   "times its second longest (got 0.0001 x 0.0003 x 0.1 m: "
+                                   "333.333 times)"));
+        b.size = {1, 1.0 / kMaxBodySlenderness, 1e-4};
+        CHECK_NOTHROW(validate(r));
+        // a plate is not slender: two long sides
+        b.size = {1, 1, 1e-4};
+        CHECK_NOTHROW(validate(r));
+    }
+    SECTION("a cylinder, its length over its diameter") {
+        b.shape = Shape::cylinder;
+        b.size = {1, 0.002, 0.002};
+        REQUIRE_THROWS_WITH(validate(r),
+                            Equals("robot 'x' body 'segment1' length must be at most 300 times "
+                                   "its diameter (got 1 m and 0.002 m: 500 times)"));
+        b.size.x = 0.6;
+        CHECK_NOTHROW(validate(r));
+        // a disc is not slender
+        b.size = {1e-4, 1, 1};
+        CHECK_NOTHROW(validate(r));
+    }
+}
+
 TEST_CASE("names are valid UTF-8 without control characters", "[names]") {
     RobotSpec r = chain(2, Connection::pitch_pitch);
     const auto rejected = [&](const std::string& message) {

@@ -211,6 +211,14 @@ TEST_CASE("a link smaller or lighter than a body may be is refused at its line",
     CHECK_THAT(import_error(with_b("0.1", "<cylinder radius=\"0.01\" length=\"1e-5\"/>")),
                Equals("r.urdf:4: robot/link[2]: robot 'r' body 'b' size x must be at least 0.0001 "
                       "m (got 1e-05 m)"));
+    // a slender link: its longest side over its second longest, a cylinder's length over its
+    // diameter
+    CHECK_THAT(import_error(with_b("0.1", "<box size=\"0.001 1 0.001\"/>")),
+               Equals("r.urdf:4: robot/link[2]: robot 'r' body 'b' longest side must be at most "
+                      "300 times its second longest (got 0.001 x 1 x 0.001 m: 1000 times)"));
+    CHECK_THAT(import_error(with_b("0.1", "<cylinder radius=\"0.001\" length=\"1\"/>")),
+               Equals("r.urdf:4: robot/link[2]: robot 'r' body 'b' length must be at most 300 "
+                      "times its diameter (got 1 m and 0.002 m: 500 times)"));
     // at the bounds, the link is a body
     const std::string at_bounds = with_b("1e-9", "<cylinder radius=\"0.001\" length=\"0.0001\"/>");
     const RobotSpec robot = parse_urdf(at_bounds, "r.urdf");

@@ -194,6 +194,19 @@ TEST_CASE("robot files reject bad input with file, line, element path and a sugg
     CHECK_THAT(robot_error("<robot/>"),
                Equals("robot.xml:3: robot: a robot needs a <chain>, or <body> and <joint> "
                       "elements"));
+    CHECK_THAT(
+        robot_error("<robot>\n<body name=\"a\" size=\"1 0.001 0.001\" mass=\"1\"/>\n</robot>"),
+        Equals("robot.xml:4: robot/body[1]: robot 'robot' body 'a' longest side must be at most "
+               "300 times its second longest (got 1 x 0.001 x 0.001 m: 1000 times)"));
+    CHECK_THAT(robot_error("<robot>\n<body name=\"a\" shape=\"cylinder\" size=\"1 0.002 0.002\" "
+                           "mass=\"1\"/>\n</robot>"),
+               Equals("robot.xml:4: robot/body[1]: robot 'robot' body 'a' length must be at most "
+                      "300 times its diameter (got 1 m and 0.002 m: 500 times)"));
+    CHECK_THAT(robot_error("<robot><chain modules=\"2\">\n<module length=\"1\" width=\"0.003\" "
+                           "height=\"0.003\"/></chain></robot>"),
+               Equals("robot.xml:4: robot/chain[1]/module[1]: module 'y1' bodies' longest side "
+                      "must be at most 300 times its second longest (got 1 x 0.003 x 0.003 m: "
+                      "333.333 times)"));
 }
 
 TEST_CASE("every reader checks the document: XML, root, version, kind") {
