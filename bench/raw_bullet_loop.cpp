@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bullet/box_plane.h"
+#include "bullet/box_shape.h"
 #include "bullet/coulomb_solver.h"
 
 namespace gaitlab_bench {
@@ -137,7 +138,7 @@ RawSnake::RawSnake(const Scenario& sc, const RawOptions& options)
     auto add_box = [&](double x0, double x1, double mass) {
         const btVector3 half(btScalar((x1 - x0) * 0.5), btScalar(kWidth * 0.5),
                              btScalar(kHeight * 0.5));
-        auto box = std::make_unique<btBoxShape>(half);
+        auto box = std::make_unique<gaitlab::BoxShape>(half);
         box->setMargin(kMargin);
         btVector3 inertia(0, 0, 0);
         box->calculateLocalInertia(btScalar(mass), inertia);

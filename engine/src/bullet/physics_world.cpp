@@ -1,6 +1,7 @@
 #include "bullet/physics_world.h"
 
 #include "bullet/box_plane.h"
+#include "bullet/box_shape.h"
 #include "bullet/coulomb_solver.h"
 
 #include <BulletCollision/CollisionShapes/btHeightfieldTerrainShape.h>
@@ -48,7 +49,7 @@ std::unique_ptr<btCollisionShape> make_shape(const Solid& s, std::vector<float>*
     std::unique_ptr<btCollisionShape> shape;
     switch (s.kind) {
         case Solid::Kind::box:
-            shape = std::make_unique<btBoxShape>(to_bt(s.size * 0.5));
+            shape = std::make_unique<BoxShape>(to_bt(s.size * 0.5));
             break;
         case Solid::Kind::cylinder:
             shape = std::make_unique<btCylinderShapeX>(to_bt(s.size * 0.5));

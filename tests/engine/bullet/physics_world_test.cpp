@@ -711,6 +711,36 @@ TEST_CASE("a box on a compliant floor sinks by its weight over its 4 corners' st
     CHECK(a.state.pose.orientation == b.state.pose.orientation);
 }
 
+TEST_CASE("a box thinner than 1 % of its length lies flat on the floor") {
+    // Bullet takes a new contact point for a held one within 2 % of the shape's bounding radius
+    // (1 % of a long box's length): across a thinner side the 4 lowest corners were 2 points
+    // on one edge, and the box rolled onto it and sank until its centre was level with the
+    // floor (1 m x 1 cm x 1 cm: turned 45 deg, its centre at -2e-5 m). Each box here is 1 %
+    // of its length thick or thinner, down to the slenderness bound and the 0.1 mm side
+    const double third = 1.0 / kMaxBodySlenderness;
+    for (const Vec3 size : {Vec3{1, 0.01, 0.01}, Vec3{0.1, 0.001, 0.001}, Vec3{1, third, third},
+                            Vec3{1, 0.01, 1e-4}, Vec3{0.03, 1e-4, 1e-4}}) {
+        for (const bool rigid : {true, false}) {
+            CAPTURE(size.x, size.y, size.z, rigid);
+            WorldSpec w;
+            w.floor.rigid = rigid;
+            BoxSpec b;
+            b.size = size;
+            b.mass = 0.1;
+            b.pose.position = {0, 0, size.z / 2};
+            w.boxes.push_back(b);
+            Simulation sim(w);
+            sim.run(1);
+            const BodyState box = sim.object(0);
+            // level (a 1e-3 quaternion component is 0.11 deg), its centre half its height up
+            // (the compliant floor sinks 0.1 kg on 4 corners by 2.5 µm)
+            CHECK(std::abs(box.pose.orientation.x) < 1e-3);
+            CHECK(std::abs(box.pose.orientation.y) < 1e-3);
+            CHECK(box.pose.position.z == Approx(size.z / 2).margin(0.05 * size.z / 2 + 3e-6));
+        }
+    }
+}
+
 TEST_CASE("the floor is compliant by default: 1e5 N/m and 60 N·s/m per contact point") {
     const Rest by_default = box_at_rest(0.2, std::nullopt, std::nullopt, false);
     const Rest given = box_at_rest(0.2, kDefaultFloorStiffness, kDefaultFloorDamping);
