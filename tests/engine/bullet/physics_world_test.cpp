@@ -711,6 +711,42 @@ TEST_CASE("a box on a compliant floor sinks by its weight over its 4 corners' st
     CHECK(a.state.pose.orientation == b.state.pose.orientation);
 }
 
+TEST_CASE("a heavy box sinks into the compliant floor by its weight, however deep") {
+    // Bullet hands a contact deeper than its split-impulse threshold (4 cm) to the split
+    // impulse, without the floor's spring: a 1 m cube of 850 kg or more fell through the
+    // default floor (-8 m after 2 s)
+    const double g = 9.81;
+    auto cube = [](double mass, std::optional<double> damping, double seconds) {
+        WorldSpec w;
+        w.floor.damping = damping;
+        BoxSpec b;
+        b.size = {1, 1, 1};
+        b.mass = mass;
+        b.pose.position = {0, 0, 0.5};
+        w.boxes.push_back(b);
+        Simulation sim(w);
+        sim.run(seconds);
+        return 0.5 - sim.object(0).pose.position.z;  // how deep it is, m
+    };
+    // damped enough to settle: k depth = m g / 4 at each corner (4.9 and 12.3 cm)
+    for (const double mass : {2000.0, 5000.0}) {
+        CAPTURE(mass);
+        CHECK(cube(mass, 5000.0, 4) ==
+              Approx(mass * g / (4 * kDefaultFloorStiffness)).epsilon(0.05));
+    }
+    // the default floor barely damps it: it swings about that depth, never below twice it
+    for (const double mass : {850.0, 2000.0}) {
+        CAPTURE(mass);
+        const double rest = mass * g / (4 * kDefaultFloorStiffness);
+        for (const double t : {0.5, 1.0, 2.0, 3.0}) {
+            CAPTURE(t);
+            const double depth = cube(mass, std::nullopt, t);
+            CHECK(depth > -1e-3);
+            CHECK(depth < 2.1 * rest);
+        }
+    }
+}
+
 TEST_CASE("a box thinner than 1 % of its length lies flat on the floor") {
     // Bullet takes a new contact point for a held one within 2 % of the shape's bounding radius
     // (1 % of a long box's length): across a thinner side the 4 lowest corners were 2 points
