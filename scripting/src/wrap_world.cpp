@@ -570,17 +570,26 @@ int world_tostring(lua_State* L) {
     return protect(L, [&] {
         WorldBinding& w = check_world(L, 1);
         const WorldSpec& s = w.spec;
-        std::string text =
-            fmt::format("gaitlab.World ({} robots, {} boxes", w.robots.size(), s.boxes.size());
-        const std::pair<const char*, size_t> others[] = {{"walls", s.walls.size()},
-                                                         {"ramps", s.ramps.size()},
-                                                         {"stairs", s.stairs.size()},
-                                                         {"cylinders", s.cylinders.size()},
-                                                         {"pipes", s.pipes.size()},
-                                                         {"rubble fields", s.rubble.size()},
-                                                         {"heightfields", s.heightfields.size()}};
-        for (const auto& [name, n] : others) {
-            if (n > 0) text += fmt::format(", {} {}", n, name);
+        // "1 robot", "2 robots"; stairs are stairs either way
+        const auto count = [](size_t n, const char* one, const char* many) {
+            return fmt::format("{} {}", n, n == 1 ? one : many);
+        };
+        std::string text = "gaitlab.World (" + count(w.robots.size(), "robot", "robots") + ", " +
+                           count(s.boxes.size(), "box", "boxes");
+        struct Kind {
+            size_t n;
+            const char* one;
+            const char* many;
+        };
+        const Kind others[] = {{s.walls.size(), "wall", "walls"},
+                               {s.ramps.size(), "ramp", "ramps"},
+                               {s.stairs.size(), "stairs", "stairs"},
+                               {s.cylinders.size(), "cylinder", "cylinders"},
+                               {s.pipes.size(), "pipe", "pipes"},
+                               {s.rubble.size(), "rubble field", "rubble fields"},
+                               {s.heightfields.size(), "heightfield", "heightfields"}};
+        for (const Kind& k : others) {
+            if (k.n > 0) text += ", " + count(k.n, k.one, k.many);
         }
         lua_pushstring(L, (text + ")").c_str());
         return 1;

@@ -295,7 +295,7 @@ TEST_CASE("pretty printing of gaitlab objects", "[console][pretty]") {
           "simulation: t = 0.500 s (500 ticks of 0.001 s, controllers every 30)\n"
           "  recording off\n");
     CHECK(s.result("robot:group('all')") == "group of 4 joints: 1, 2, 3, 4\n");
-    CHECK(s.result("world") == "gaitlab.World (1 robots, 0 boxes)\n");
+    CHECK(s.result("world") == "gaitlab.World (1 robot, 0 boxes)\n");
     // a sensor's tostring says it all, its state once
     CHECK(s.result("imu = robot:sensor{ kind = 'imu', module = 2 } return imu") ==
           "gaitlab.Sensor 'imu2' (imu on module 2 (head half), on)\n");

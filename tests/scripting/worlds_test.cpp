@@ -245,12 +245,11 @@ TEST_CASE("gaitlab.world.load runs a world file relative to the calling script",
     // the embedded ramp and worlds/ramp.lua on disk are the same preset
     lua.run("ramp = gaitlab.world.load('" GAITLAB_SOURCE_DIR "/worlds/ramp.lua')");
     CHECK(lua.string("tostring(ramp)") == "gaitlab.WorldPreset 'ramp'");
-    CHECK(lua.string("tostring(ramp{ slope = 20 })") ==
-          "gaitlab.World (0 robots, 1 boxes, 1 ramps)");
+    CHECK(lua.string("tostring(ramp{ slope = 20 })") == "gaitlab.World (0 robots, 1 box, 1 ramp)");
     // a world file of the user's, loaded from a script next to it
     lua.run("dofile('" + dir + "/uses_corridor.lua')");
     CHECK(lua.string("tostring(corridor_world)") ==
-          "gaitlab.World (0 robots, 0 boxes, 2 walls, 1 cylinders)");
+          "gaitlab.World (0 robots, 0 boxes, 2 walls, 1 cylinder)");
     CHECK(lua.number("corridor_start.x") == -0.5);
 
     CHECK(lua.error_of("gaitlab.world.load('" + dir + "/nothing_here.lua')") ==

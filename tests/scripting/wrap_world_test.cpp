@@ -266,8 +266,8 @@ TEST_CASE("world library methods check their fields and name the object", "[wrap
     CHECK(lua.string("tostring(w)") == "gaitlab.World (0 robots, 0 boxes, 2 stairs)");
     lua.run("w:wall{}:ramp{}:cylinder{}:pipe{}:rubble{}");
     CHECK(lua.string("tostring(w)") ==
-          "gaitlab.World (0 robots, 0 boxes, 1 walls, 1 ramps, 2 stairs, 1 cylinders, 1 pipes, "
-          "1 rubble fields)");
+          "gaitlab.World (0 robots, 0 boxes, 1 wall, 1 ramp, 2 stairs, 1 cylinder, 1 pipe, "
+          "1 rubble field)");
 }
 
 TEST_CASE("world:heightfield samples a function, takes rows, or reads an image", "[wrap_world]") {
