@@ -13,6 +13,8 @@
 
 #include <btBulletDynamicsCommon.h>
 
+#include <limits>
+
 namespace gaitlab {
 
 inline constexpr int kBandRows = 6;
@@ -31,11 +33,13 @@ struct BandGroup {
 };
 
 /// L D L' of the block tridiagonal K, in place (as CoulombSolver's profile factor: row by row,
-/// each row's columns left to right, each sum over k ascending). Returns false where a pivot
-/// fell to its row's own diagonal: no row of a chain is redundant, so K as given was not
-/// positive definite and the factor is not its own (CoulombSolver::band_matrix).
-inline bool band_factor(BandGroup* g, int count) {
-    bool definite = true;
+/// each row's columns left to right, each sum over k ascending). Returns the smallest pivot
+/// over its row's own diagonal (profile_factor's `least`): below 1e-9 a pivot fell to that
+/// diagonal, and as no row of a chain is redundant, K as given was not positive definite and
+/// the factor is not its own; a small one says how much of the row cancelled, and so how few
+/// of its entries' digits the factor kept (CoulombSolver::band_matrix).
+inline double band_factor(BandGroup* g, int count) {
+    double least = std::numeric_limits<double>::infinity();
     for (int b = 0; b < count; ++b) {
         BandGroup& x = g[b];
         const BandGroup* p = b > 0 && x.coupled ? &g[b - 1] : nullptr;
@@ -64,13 +68,14 @@ inline bool band_factor(BandGroup* g, int count) {
                     x.lower[r][c] = sum / x.diag[c];
                 } else {
                     // redundant rows make K singular: such a row keeps its own diagonal
-                    definite = definite && sum > 1e-9 * x.own[r];
+                    const double ratio = sum / x.own[r];
+                    if (!(ratio >= least)) least = ratio;  // and a NaN stays
                     x.diag[r] = sum > 1e-9 * x.own[r] ? sum : x.own[r];
                 }
             }
         }
     }
-    return definite;
+    return least;
 }
 
 /// Solves L D L' v = rhs in place (v, rhs: kBandRows values per group): L y = rhs row by

@@ -69,6 +69,13 @@ inline constexpr btScalar kSlideSpeed = btScalar(0.001);  // m/s: slower, the ax
 // hinges in a chain from which the block's K is taken in double (CoulombSolver::band_matrix):
 // the float entries broke down from about 1200 on a chain lying still; a quarter of that
 inline constexpr int kPreciseBand = 256;
+// the smallest pivot of the block's factor with K's entries in float, over its row's own
+// diagonal, below which K is taken again in double (band_matrix): the rest of the row cancelled
+// so much that the entries' float rounding is a large part of the pivot. The standard gaits'
+// chains of 2 to 32 y1 modules keep every pivot above 0.17 of its row's; the chains that
+// diverged with float entries went to 2e-4 (32 rods of 1 m x 1 cm joined by yaw hinges) and
+// 0.03 (128 links of 1 m and 1 kg with 100 N m servos)
+inline constexpr double kFloatPivot = 0.05;
 
 // The collision configuration of every gaitlab world: Bullet's default, except that a box on a
 // plane (a module on the floor) gets the corners of its whole face or edge on the floor. By
@@ -708,9 +715,9 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         const auto own = [&](int i) { return 1 / pool[block_[i]].m_jacDiagABInv; };
         // L D L' on the profile: L(i,j) is zero left of first_[i], and so is its fill; a
         // redundant row keeps its own diagonal, as pgs would solve it
-        if (!profile_factor(chol_.data(), profile_start_.data(), diag_.data(), first_.data(), n,
-                            own) &&
-            ordinary && !large) {
+        const double least = profile_factor(chol_.data(), profile_start_.data(), diag_.data(),
+                                            first_.data(), n, own);
+        if (!(least >= kFloatPivot) && ordinary && !large) {
             profile_matrix(true);
             profile_factor(chol_.data(), profile_start_.data(), diag_.data(), first_.data(), n,
                            own);
@@ -831,7 +838,7 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         // K's entries in float unless the chain is long or they fail (band_matrix)
         const bool long_chain = count >= kPreciseBand;
         band_matrix(band_fast_ && long_chain);
-        if (!band_factor(band_.data(), count) && band_fast_ && !long_chain) {
+        if (!(band_factor(band_.data(), count) >= kFloatPivot) && band_fast_ && !long_chain) {
             band_matrix(true);
             band_factor(band_.data(), count);
         }
@@ -844,8 +851,10 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     // it indefinite (its smallest eigenvalue falls below their rounding), the factor breaks
     // down and the solve sends the chain to NaN (a 1200-link URDF chain lying still, within
     // 60 ms). Precise where the chain has kPreciseBand hinges or more, or where the float
-    // factor broke down; every shorter chain keeps the float entries, and its bits. Only for
-    // chains of ordinary bodies (band_fast_: the arms' inertia is the body's own).
+    // factor broke down or kept too few digits (a pivot below kFloatPivot of its row's: long
+    // thin rods, long heavy links under strong servos); every other chain keeps the float
+    // entries, and its bits. Only for chains of ordinary bodies (band_fast_: the arms' inertia
+    // is the body's own).
     void band_matrix(bool precise) {
         const btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
         const int count = static_cast<int>(band_.size());

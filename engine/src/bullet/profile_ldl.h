@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <limits>
 
 namespace gaitlab {
 
@@ -19,11 +20,12 @@ namespace gaitlab {
 /// Factors `l` (holding K's profile on entry, L's strict lower part on return; L's unit
 /// diagonal is not stored) and writes D to `diag`. A row whose pivot vanishes (a redundant row:
 /// a closed loop of joints makes K singular) keeps `own(i)` as its pivot, as a row solved alone
-/// would; returns false where one did.
+/// would. Returns the smallest pivot over its row's own(i) (infinity for n = 0): below 1e-9
+/// where a pivot fell to it; a small one says how much of the row cancelled.
 template <class Own>
-bool profile_factor(double* l, const std::size_t* start, double* diag, const int* first, int n,
-                    Own own) {
-    bool definite = true;
+double profile_factor(double* l, const std::size_t* start, double* diag, const int* first, int n,
+                      Own own) {
+    double least = std::numeric_limits<double>::infinity();
     for (int i = 0; i < n; ++i) {
         // column j of row i at l[row + j] (unsigned: the offsets wrap back into the row)
         const std::size_t row = start[i] - static_cast<std::size_t>(first[i]);
@@ -36,12 +38,13 @@ bool profile_factor(double* l, const std::size_t* start, double* diag, const int
                 l[row + j] = sum / diag[j];
             } else {
                 const double pivot = own(i);
-                definite = definite && sum > 1e-9 * pivot;
+                const double ratio = sum / pivot;
+                if (!(ratio >= least)) least = ratio;  // and a NaN stays
                 diag[i] = sum > 1e-9 * pivot ? sum : pivot;
             }
         }
     }
-    return definite;
+    return least;
 }
 
 /// L y = r, D z = y, L' x = z, in place in `x` (r on entry, x on return).

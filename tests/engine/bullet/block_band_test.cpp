@@ -91,8 +91,9 @@ std::vector<double> profile_solve(const Chain& c, std::vector<double> x) {
         for (int j = first[i]; j <= i; ++j)  // the profile of row i, as factor_block keeps it
             l.push_back(c.k[static_cast<size_t>(i) * n + j]);
     }
+    // no pivot fell to its row's own diagonal
     CHECK(profile_factor(l.data(), start.data(), diag.data(), first.data(), n,
-                         [&](int i) { return c.k[static_cast<size_t>(i) * n + i]; }));
+                         [&](int i) { return c.k[static_cast<size_t>(i) * n + i]; }) > 1e-9);
     profile_substitute(l.data(), start.data(), diag.data(), first.data(), n, x.data());
     return x;
 }
