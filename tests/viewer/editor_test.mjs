@@ -263,7 +263,7 @@ try {
   const lua = path.join(out, 'list.lua');
   fs.writeFileSync(lua, listing);
   const listed = spawnSync(gaitlab, ['run', '--no-record', lua, world], { encoding: 'utf8' });
-  check(listed.status === 0 && /1 boxes, 2 heightfields/.test(listed.stdout) && /box 1 from 0\.900 -0\.200 0\.000 to 1\.100 0\.400 0\.080/.test(listed.stdout),
+  check(listed.status === 0 && /1 box, 2 heightfields/.test(listed.stdout) && /box 1 from 0\.900 -0\.200 0\.000 to 1\.100 0\.400 0\.080/.test(listed.stdout),
     `gaitlab loads the saved world: ${listed.stdout.trim()} ${listed.stderr.trim()}`);
   const actuation = path.join(source, 'examples/walk/snake.actuation.xml');
   fs.writeFileSync(path.join(out, 'edited.xml'), `<?xml version="1.0"?>
@@ -337,7 +337,7 @@ try {
   await p2.click('#editor-save');
   await p2.waitForFunction(() => /^saved walk\.environment\.xml/.test(document.getElementById('editor-status').textContent));
   const again = spawnSync(gaitlab, ['run', '--no-record', lua, path.join(out, 'walk.environment.xml')], { encoding: 'utf8' });
-  check(/2 boxes.*1 ramps.*1 stairs|boxes/.test(again.stdout) && /box 1 from 0\.250 -0\.350 0\.000 to 0\.350 -0\.250 0\.050/.test(again.stdout),
+  check(/2 boxes.*1 ramp.*1 stairs|boxes/.test(again.stdout) && /box 1 from 0\.250 -0\.350 0\.000 to 0\.350 -0\.250 0\.050/.test(again.stdout),
     `it saves walk.environment.xml beside the script, and gaitlab loads it (${again.stdout.trim()})`);
   await p2.click('#editor-leave');
   check(await p2.isVisible('#scene'), 'Leave editor shows the simulation again');
