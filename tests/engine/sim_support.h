@@ -120,4 +120,35 @@ inline std::string record_run(const std::string& dir, double seconds) {
     return dir;
 }
 
+/// `n` bodies of `size` (m) and `mass` (kg) in a row along x on the floor, centred on the
+/// origin, joined by hinges about `axis` (pitch: +y, yaw: +z; ranges of +-60 deg) whose servos
+/// give at most `torque` (N m): the long thin and long heavy chains of the solver's limits.
+inline RobotSpec slender_chain(int n, const Vec3& size, double mass, const Vec3& axis,
+                               double torque) {
+    RobotSpec r;
+    r.name = "slender";
+    for (int k = 0; k < n; ++k) {
+        BodySpec b;
+        b.name = "b" + std::to_string(k);
+        b.size = size;
+        b.mass = mass;
+        b.pose.position = {size.x * (k + 0.5 - n / 2.0), 0, size.z / 2};
+        r.bodies.push_back(b);
+    }
+    for (int k = 1; k < n; ++k) {
+        JointSpec j;
+        j.name = "j" + std::to_string(k);
+        j.role = axis.z != 0 ? JointRole::yaw : JointRole::pitch;
+        j.parent = k - 1;
+        j.child = k;
+        j.pivot = {size.x * (k - n / 2.0), 0, size.z / 2};
+        j.axis = axis;
+        j.min_angle = -deg_to_rad(60);
+        j.max_angle = deg_to_rad(60);
+        j.servo.max_torque = torque;
+        r.joints.push_back(j);
+    }
+    return r;
+}
+
 }  // namespace gaitlab::test

@@ -654,39 +654,6 @@ bool all_finite(const Run& r) {
     return !r.states.empty();
 }
 
-// A chain of `links` boxes `length` long, `width` wide and high and of `mass` kg, lying on the
-// floor along x about the origin (Run::diverged counts a body 100 m out), joined by hinges about
-// `axis` (ranges of +-60 deg), with servos of `torque` N m
-WorldSpec rod_chain(int links, double length, double width, double mass, Vec3 axis, double torque) {
-    RobotSpec robot;
-    robot.name = "rods";
-    for (int i = 0; i < links; ++i) {
-        BodySpec b;
-        b.name = "b" + std::to_string(i);
-        b.size = {length, width, width};
-        b.mass = mass;
-        b.pose.position = {length * (i + 0.5 - links / 2.0), 0, width / 2};
-        robot.bodies.push_back(b);
-    }
-    for (int i = 1; i < links; ++i) {
-        JointSpec j;
-        j.name = "j" + std::to_string(i);
-        j.role = axis.z != 0 ? JointRole::yaw : JointRole::pitch;
-        j.parent = i - 1;
-        j.child = i;
-        j.pivot = {length * (i - links / 2.0), 0, width / 2};
-        j.axis = axis;
-        j.min_angle = deg_to_rad(-60);
-        j.max_angle = deg_to_rad(60);
-        j.servo.max_torque = torque;
-        robot.joints.push_back(j);
-    }
-    validate(robot);
-    WorldSpec world = test::chain_world(2, Connection::pitch_pitch);  // its floor
-    world.robots[0].robot = robot;
-    return world;
-}
-
 TEST_CASE("block_nncg keeps chains whose float factor loses its digits finite") {
     // K's float entries lose most of their digits where a pivot is a small part of its row's
     // diagonal (the rest cancels): there the block takes K in double (kFloatPivot). Before, with
@@ -703,7 +670,11 @@ TEST_CASE("block_nncg keeps chains whose float factor loses its digits finite") 
          {Case{"32 rods of 1 m x 1 cm and 1 g, yaw hinges", 32, 0.01, 1e-3, {0, 0, 1}, 0.4},
           Case{"128 links of 1 m x 10 cm and 1 kg, 100 N m servos", 128, 0.1, 1, {0, 1, 0}, 100}}) {
         CAPTURE(c.name);
-        const WorldSpec world = rod_chain(c.links, 1, c.width, c.mass, c.axis, c.torque);
+        WorldSpec world = test::chain_world(2, Connection::pitch_pitch);  // its floor
+        // centred: Run::diverged counts a body 100 m out
+        world.robots[0].robot =
+            test::slender_chain(c.links, {1, c.width, c.width}, c.mass, c.axis, c.torque);
+        validate(world.robots[0].robot);
         SineDrive wave;
         for (int j = 0; j < c.links - 1; ++j)
             wave.joints.push_back(j);

@@ -11,6 +11,8 @@
 #include "gaitlab/error.h"
 #include "gaitlab/simulation.h"
 
+#include "engine/sim_support.h"
+
 using namespace gaitlab;
 using Catch::Matchers::Equals;
 using Catch::Matchers::StartsWith;
@@ -385,39 +387,6 @@ TEST_CASE("objects that move are at most 300 times as long as their second longe
     }
 }
 
-namespace {
-
-// `n` bodies of `size` in a row along x on the floor, joined by hinges about `axis` (pitch:
-// +y, yaw: +z) whose servos give at most `torque`
-RobotSpec slender_chain(int n, const Vec3& size, double mass, const Vec3& axis, double torque) {
-    RobotSpec r;
-    r.name = "slender";
-    for (int k = 0; k < n; ++k) {
-        BodySpec b;
-        b.name = "b" + std::to_string(k);
-        b.size = size;
-        b.mass = mass;
-        b.pose.position = {size.x * (k + 0.5), 0, size.z / 2};
-        r.bodies.push_back(b);
-    }
-    for (int k = 1; k < n; ++k) {
-        JointSpec j;
-        j.name = "j" + std::to_string(k);
-        j.role = axis.z != 0 ? JointRole::yaw : JointRole::pitch;
-        j.parent = k - 1;
-        j.child = k;
-        j.pivot = {size.x * k, 0, size.z / 2};
-        j.axis = axis;
-        j.min_angle = -deg_to_rad(60);
-        j.max_angle = deg_to_rad(60);
-        j.servo.max_torque = torque;
-        r.joints.push_back(j);
-    }
-    return r;
-}
-
-}  // namespace
-
 TEST_CASE("bodies at the slenderness bound simulate at the default dt and solver") {
     // chains of 8 bodies 1 m long, 300 times their second longest side (square rods, and strips
     // a tenth as thick), at the lightest and the heaviest mass, under the wave gait with the
@@ -432,7 +401,7 @@ TEST_CASE("bodies at the slenderness bound simulate at the default dt and solver
                     CAPTURE(thickness, mass, torque, axis.z);
                     WorldSpec w;
                     PlacedRobot placed;
-                    placed.robot = slender_chain(8, {1, side, thickness}, mass, axis, torque);
+                    placed.robot = test::slender_chain(8, {1, side, thickness}, mass, axis, torque);
                     REQUIRE_NOTHROW(validate(placed.robot));
                     w.robots.push_back(std::move(placed));
                     Simulation sim(w);
