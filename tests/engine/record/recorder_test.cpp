@@ -28,6 +28,31 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// While it lives, files of this process stop growing at `limit` bytes, as on a full disk
+// (RLIMIT_FSIZE, with SIGXFSZ ignored: the write fails with EFBIG instead of killing the
+// process); 0 leaves the limit as it is, for a test to set later (FillsDisk)
+class DiskLimit {
+  public:
+    explicit DiskLimit(rlim_t limit = 0) {
+        REQUIRE(getrlimit(RLIMIT_FSIZE, &old_) == 0);
+        previous_ = std::signal(SIGXFSZ, SIG_IGN);
+        if (limit == 0) return;
+        rlimit small = old_;
+        small.rlim_cur = limit;
+        REQUIRE(setrlimit(RLIMIT_FSIZE, &small) == 0);
+    }
+    ~DiskLimit() {
+        setrlimit(RLIMIT_FSIZE, &old_);
+        std::signal(SIGXFSZ, previous_);
+    }
+    DiskLimit(const DiskLimit&) = delete;
+    DiskLimit& operator=(const DiskLimit&) = delete;
+
+  private:
+    rlimit old_{};
+    void (*previous_)(int) = nullptr;
+};
+
 // lines of a text file
 std::vector<std::string> lines(const std::string& text) {
     std::vector<std::string> out;
@@ -247,23 +272,15 @@ TEST_CASE("a write failure stops the run with a clear message and keeps what was
     o.flush_seconds = 0;
     Recorder rec(sim, o);
     sim.run(0.3);
-    // a file size limit makes the disk "full" about 20 kB further on (SIGXFSZ ignored: the
-    // write fails with EFBIG instead of killing the process)
+    // the disk is "full" about 20 kB further on
     const auto size = static_cast<rlim_t>(fs::file_size(tmp / "run/data.csv"));
-    rlimit old{};
-    REQUIRE(getrlimit(RLIMIT_FSIZE, &old) == 0);
-    const auto previous = std::signal(SIGXFSZ, SIG_IGN);
-    rlimit small = old;
-    small.rlim_cur = size + 20000;
-    REQUIRE(setrlimit(RLIMIT_FSIZE, &small) == 0);
     std::string message;
     try {
+        const DiskLimit full(size + 20000);
         sim.run(60);
     } catch (const IoError& e) {
         message = e.what();
     }
-    setrlimit(RLIMIT_FSIZE, &old);
-    std::signal(SIGXFSZ, previous);
     CHECK(message == "cannot write " + (tmp / "run/data.csv") +
                          ": File too large (recording stopped; what was written before is kept)");
     CHECK(sim.time() < 10);  // it stopped the run
@@ -318,14 +335,9 @@ TEST_CASE("after a failed write run.json counts the rows data.csv holds, not tho
     if (asked) sim.run(0.2);
     // the disk is "full" 100 kB on: the write of the buffer stops part way through its rows
     const auto size = static_cast<rlim_t>(fs::file_size(tmp / "run/data.csv"));
-    rlimit old{};
-    REQUIRE(getrlimit(RLIMIT_FSIZE, &old) == 0);
-    const auto previous = std::signal(SIGXFSZ, SIG_IGN);
-    rlimit small = old;
-    small.rlim_cur = size + 100000;
-    REQUIRE(setrlimit(RLIMIT_FSIZE, &small) == 0);
     std::string message;
     try {
+        const DiskLimit full(size + 100000);
         if (asked) {
             rec.flush();
         } else {
@@ -334,8 +346,6 @@ TEST_CASE("after a failed write run.json counts the rows data.csv holds, not tho
     } catch (const IoError& e) {
         message = e.what();
     }
-    setrlimit(RLIMIT_FSIZE, &old);
-    std::signal(SIGXFSZ, previous);
     CHECK_THAT(message, Catch::Contains("File too large (recording stopped; what was written "
                                         "before is kept)"));
     CHECK(rec.closed());
@@ -399,19 +409,15 @@ TEST_CASE("a write that fails as the recording starts marks run.json recording_f
                 fs::file_size(tmp / "whole/data.csv"));
     }
     const auto first = static_cast<rlim_t>(fs::file_size(tmp / "whole/data.csv"));
-    rlimit old{};
-    REQUIRE(getrlimit(RLIMIT_FSIZE, &old) == 0);
-    const auto previous = std::signal(SIGXFSZ, SIG_IGN);
-    fills->limit = first - 10;  // the first row does not fit: run.json does
     o.dir = tmp / "run";
     std::string message;
     try {
+        const DiskLimit full;       // the controller sets it
+        fills->limit = first - 10;  // the first row does not fit: run.json does
         Recorder rec(sim, o);
     } catch (const IoError& e) {
         message = e.what();
     }
-    setrlimit(RLIMIT_FSIZE, &old);
-    std::signal(SIGXFSZ, previous);
     fills->limit = 0;
     CHECK(message == "cannot write " + (tmp / "run/data.csv") + ": File too large");
     CHECK(fs::file_size(tmp / "run/data.csv") == first - 10);
