@@ -262,6 +262,9 @@ class Simulation {
     std::string body_name(int body) const;
     // warns if a robot starts deep inside the floor, an object or another robot
     void check_start_overlaps();
+    // warns if a body is heavy enough to sink a large part of its height into the compliant
+    // floor
+    void check_floor_sinking();
     std::vector<std::string> warnings_;
     // throws DivergenceError naming physics body `body` (it diverged in the step to `time`)
     [[noreturn]] void diverged(int body, double time) const;

@@ -40,6 +40,11 @@ constexpr double kMaxSpeed = 1e4;     // m/s
 // than the 1 mm margin convex hulls (ramps) add to a surface a robot rests on.
 constexpr double kMaxStartOverlap = 0.005;  // m
 
+// a body whose weight would sink it by more than this part of its height into the compliant
+// floor, resting on its lowest corners, gets a warning: the floor's springs (per contact point)
+// suit robots of grams to kilograms, and a heavier body sinks and swings on them
+constexpr double kMaxFloorSink = 0.1;
+
 // the settings beyond which even the pitch-pitch travelling wave (8 modules, 40 deg, 0.5 Hz),
 // which the defaults keep within 1.7 % of a converged reference (dt 0.25 ms, 80 iterations),
 // moves by more than 3 % from it on a floor of friction 0.3. The default solver (pgs): 10
@@ -307,6 +312,7 @@ void Simulation::compile() {
     }
     build();
     check_start_overlaps();
+    check_floor_sinking();
     for (std::string& w : accuracy_warnings(world_, options_))
         warnings_.push_back(std::move(w));
 }
@@ -319,6 +325,56 @@ void Simulation::check_start_overlaps() {
         "{} starts {:.1f} mm deep inside {}: the contact solver will throw it out (place the "
         "robot clear of it, e.g. higher)",
         body_name(o->body), o->depth * 1000, other));
+}
+
+void Simulation::check_floor_sinking() {
+    const FloorSpec& floor = world_.floor;
+    if (!floor.enabled || floor.rigid) return;
+    const double k = floor.stiffness.value_or(kDefaultFloorStiffness);
+    const double g = world_.gravity.norm();
+    // the body that sinks the largest part of its height: resting on `points` corners (a box
+    // on a face's 4, a lying cylinder on 2) with its own weight on them
+    struct Sink {
+        std::string name;
+        double mass = 0, height = 0, depth = 0;
+    } worst;
+    const auto consider = [&](const std::string& name, double mass, double height, int points) {
+        const double depth = mass * g / (points * k);
+        if (depth > kMaxFloorSink * height &&
+            (worst.name.empty() || depth / height > worst.depth / worst.height)) {
+            worst = {name, mass, height, depth};
+        }
+    };
+    for (size_t r = 0; r < world_.robots.size(); ++r) {
+        for (const BodySpec& b : world_.robots[r].robot.bodies) {
+            const bool box = b.shape == Shape::box;
+            consider(fmt::format("body '{}' of robot '{}'", b.name, robots_[r].label), b.mass,
+                     box ? std::min({b.size.x, b.size.y, b.size.z}) : b.size.y, box ? 4 : 2);
+        }
+    }
+    for (size_t i = 0; i < world_.boxes.size(); ++i) {
+        const BoxSpec& b = world_.boxes[i];
+        if (b.mass > 0) {
+            consider(fmt::format("box {}", i + 1), b.mass, std::min({b.size.x, b.size.y, b.size.z}),
+                     4);
+        }
+    }
+    for (size_t i = 0; i < world_.cylinders.size(); ++i) {
+        const CylinderSpec& c = world_.cylinders[i];
+        if (c.mass > 0) {
+            consider(fmt::format("cylinder {}", i + 1), c.mass, c.lying ? 2 * c.radius : c.length,
+                     c.lying ? 2 : 4);
+        }
+    }
+    if (worst.name.empty()) return;
+    // the stiffness that would sink it by 1 % of its height
+    const double enough = worst.depth * k / (0.01 * worst.height);
+    warnings_.push_back(fmt::format(
+        "{} ({:g} kg) sinks about {:.3g} mm into the floor, {:.0f} % of its height: the floor's "
+        "springs ({:g} N/m per contact point) are soft for it (give the floor a stiffness of "
+        "{:.2g} N/m or more)",
+        worst.name, worst.mass, worst.depth * 1000, 100 * worst.depth / worst.height, k,
+        std::min(enough, kMaxFloorStiffness)));
 }
 
 Simulation::~Simulation() {

@@ -678,6 +678,51 @@ TEST_CASE("a robot that starts inside an object, the floor or another robot gets
     }
 }
 
+TEST_CASE("a body heavy enough to sink into the compliant floor is warned about, once") {
+    // resting on 4 corners of 1e5 N/m, 20 cm cubes of 1000 and 2000 kg sink 24.5 and 49 mm: a
+    // tenth of their height and more is warned about, naming the one that sinks deepest for its
+    // height
+    WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+    for (const double mass : {1000.0, 2000.0}) {
+        BoxSpec cube;
+        cube.size = {0.2, 0.2, 0.2};
+        cube.mass = mass;
+        cube.pose.position = {0, static_cast<double>(w.boxes.size() + 1), 0.1};
+        w.boxes.push_back(cube);
+    }
+    SECTION("on the default floor: the 2000 kg cube is named, with a stiffness that holds it") {
+        Simulation sim(w);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK(sim.warnings()[0] ==
+              "box 2 (2000 kg) sinks about 49.1 mm into the floor, 25 % of its height: the "
+              "floor's springs (100000 N/m per contact point) are soft for it (give the floor a "
+              "stiffness of 2.5e+06 N/m or more)");
+    }
+    SECTION("a stiffer floor, a rigid one, or cubes ten times lighter: no warning") {
+        SECTION("stiffer") {
+            w.floor.stiffness = 2.5e6;
+        }
+        SECTION("rigid") {
+            w.floor.rigid = true;
+        }
+        SECTION("lighter") {
+            for (BoxSpec& b : w.boxes)
+                b.mass /= 10;
+        }
+        CHECK(Simulation(w).warnings().empty());
+    }
+    SECTION("a robot body too, by its robot's name") {
+        w.boxes.clear();
+        for (BodySpec& b : w.robots[0].robot.bodies)
+            b.mass = 500;  // 12 mm on 4 corners, a quarter of a module's height
+        Simulation sim(w);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0], Catch::Matchers::StartsWith("body '") &&
+                                          Catch::Matchers::Contains(
+                                              "' of robot 'snake' (500 kg) sinks about 12.3 mm"));
+    }
+}
+
 TEST_CASE("a world of 100 000 stones builds and steps in well under a second each",
           "[simulation][limits]") {
     // one densely packed field (each stone overlaps hundreds of others): Bullet's broadphase
