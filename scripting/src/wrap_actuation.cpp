@@ -215,8 +215,9 @@ int actuation_len(lua_State* L) {
 
 int actuation_tostring(lua_State* L) {
     return protect(L, [&] {
-        lua_pushfstring(L, "gaitlab.Actuation (%d groups)",
-                        static_cast<int>(check_actuation(L, 1).groups.size()));
+        const size_t n = check_actuation(L, 1).groups.size();
+        lua_pushfstring(L, "gaitlab.Actuation (%d group%s)", static_cast<int>(n),
+                        n == 1 ? "" : "s");
         return 1;
     });
 }

@@ -254,8 +254,9 @@ int robot_index(lua_State* L) {
 int robot_tostring(lua_State* L) {
     return protect(L, [&] {
         RobotBinding& r = check_robot(L, 1);
-        lua_pushfstring(L, "gaitlab.Robot '%s' (%d joints)", r.spec.name.c_str(),
-                        static_cast<int>(r.spec.joints.size()));
+        const size_t n = r.spec.joints.size();
+        lua_pushfstring(L, "gaitlab.Robot '%s' (%d joint%s)", r.spec.name.c_str(),
+                        static_cast<int>(n), n == 1 ? "" : "s");
         return 1;
     });
 }

@@ -156,6 +156,13 @@ TEST_CASE("robot handle: name, length, tostring", "[wrap_robot]") {
     CHECK(lua.string("robot.name") == "snake");
     CHECK(lua.integer("#robot") == 4);
     CHECK(lua.string("tostring(robot)") == "gaitlab.Robot 'snake' (4 joints)");
+    CHECK(lua.string("tostring(gaitlab.robot.chain{ modules = 1 })") ==
+          "gaitlab.Robot 'robot' (1 joint)");
+    lua.run(R"(
+        one = gaitlab.robot.chain{ modules = 2 }
+        one:group("all"):drive(gaitlab.controllers.sine{})
+    )");
+    CHECK(lua.string("tostring(one:actuation())") == "gaitlab.Actuation (1 group)");
     CHECK(lua.string("gaitlab.robot.chain{modules = 1}.name") == "robot");
     CHECK(lua.boolean("robot.no_such_member == nil"));
 }

@@ -55,10 +55,10 @@ std::string describe_xml_error(tinyxml2::XMLError e) {
         case tinyxml2::XML_ERROR_PARSING_UNKNOWN:
             return "a <! ...> that is not XML";
         case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT:
-            return "the element that starts here is closed by a tag of another name (<name> ends "
-                   "with </name>)";
+            return "the element that starts here is closed by an end tag of another name (an "
+                   "element <a ...> ends with </a>)";
         case tinyxml2::XML_ERROR_PARSING:
-            return "the element that starts here is never closed (its </name> is missing, or the "
+            return "the element that starts here is never closed (its end tag is missing, or the "
                    "file ends early)";
         case tinyxml2::XML_ELEMENT_DEPTH_EXCEEDED:
             return "elements nested deeper than XML files here ever need";

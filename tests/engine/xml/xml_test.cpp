@@ -210,9 +210,10 @@ TEST_CASE("robot files reject bad input with file, line, element path and a sugg
 }
 
 TEST_CASE("every reader checks the document: XML, root, version, kind") {
-    CHECK_THAT(robot_error("<robot><chain modules=\"2\"></robot>"),
-               Equals("robot.xml:3: malformed XML: the element that starts here is closed by a tag "
-                      "of another name (<name> ends with </name>)"));
+    CHECK_THAT(
+        robot_error("<robot><chain modules=\"2\"></robot>"),
+        Equals("robot.xml:3: malformed XML: the element that starts here is closed by an end "
+               "tag of another name (an element <a ...> ends with </a>)"));
     try {
         parse_robot("<robot/>", "r.xml");
         FAIL("no error");
@@ -641,7 +642,7 @@ TEST_CASE("malformed XML says what is wrong in words, at its line", "[lines]") {
     };
     CHECK(error("<?xml version=\"1.0\"?>\n<gaitlab version=\"1\">\n<robot name=\"s\">\n"
                 "<chain modules=\"2\"/>\n</robot>\n") ==
-          "f.xml:2: malformed XML: the element that starts here is never closed (its </name> is "
+          "f.xml:2: malformed XML: the element that starts here is never closed (its end tag is "
           "missing, or the file ends early)");
     CHECK(error("<gaitlab version=\"1\">\n<robot name=s>\n</robot>\n</gaitlab>\n") ==
           "f.xml:2: malformed XML: an attribute that is not name=\"value\" (values are quoted)");
@@ -651,8 +652,8 @@ TEST_CASE("malformed XML says what is wrong in words, at its line", "[lines]") {
     CHECK(error("<gaitlab version=\"1\">\n<!-- a comment\n</gaitlab>\n") ==
           "f.xml:2: malformed XML: a comment that does not end with -->");
     CHECK(error("<gaitlab version=\"1\">\n<robot name=\"s\">\n</gaitlab>\n") ==
-          "f.xml:2: malformed XML: the element that starts here is closed by a tag of another "
-          "name (<name> ends with </name>)");
+          "f.xml:2: malformed XML: the element that starts here is closed by an end tag of "
+          "another name (an element <a ...> ends with </a>)");
 }
 
 TEST_CASE("writers check before writing and replace files atomically") {
