@@ -164,6 +164,55 @@ bool push_failure(lua_State* L, const Failure& f) {
     return lua_pcall(L, 1, 1, 0) == LUA_OK;
 }
 
+namespace {
+
+// pushes the table of `tname`'s handles (weak values), made on first use, and the key
+void push_handles_and_key(lua_State* L, const char* tname, const HandleKey& key) {
+    if (lua_getfield(L, LUA_REGISTRYINDEX, kHandlesKey) != LUA_TTABLE) {
+        lua_pop(L, 1);
+        lua_newtable(L);
+        lua_pushvalue(L, -1);
+        lua_setfield(L, LUA_REGISTRYINDEX, kHandlesKey);
+    }
+    if (lua_getfield(L, -1, tname) != LUA_TTABLE) {
+        lua_pop(L, 1);
+        lua_newtable(L);
+        lua_createtable(L, 0, 1);
+        lua_pushliteral(L, "v");
+        lua_setfield(L, -2, "__mode");
+        lua_setmetatable(L, -2);
+        lua_pushvalue(L, -1);
+        lua_setfield(L, -3, tname);
+    }
+    lua_remove(L, -2);
+    if (key.part.empty()) {
+        lua_pushlightuserdata(L, const_cast<void*>(key.object));
+    } else {
+        lua_pushfstring(L, "%p %s", key.object, key.part.c_str());
+    }
+}
+
+}  // namespace
+
+bool find_handle(lua_State* L, const char* tname, const HandleKey& key) {
+    push_handles_and_key(L, tname, key);
+    lua_rawget(L, -2);
+    if (luaL_testudata(L, -1, tname)) {
+        lua_remove(L, -2);
+        return true;
+    }
+    lua_pop(L, 2);
+    return false;
+}
+
+void keep_handle(lua_State* L, const char* tname, const HandleKey& key) {
+    const int handle = lua_gettop(L);
+    push_handles_and_key(L, tname, key);
+    lua_pushvalue(L, handle);
+    lua_rawset(L, -3);
+    lua_pop(L, 1);
+}
+
 void check_table(lua_State* L, int index) {
     if (!lua_istable(L, index)) {
         throw ArgError(index, "table expected, got " + type_name(L, index));

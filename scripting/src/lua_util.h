@@ -193,6 +193,51 @@ T& check_object(lua_State* L, int index, const char* tname) {
     return *static_cast<T*>(p);
 }
 
+/// What names an entity among the handles of one type: the address of an object its handle
+/// keeps alive (the target of the shared_ptr it holds), and for a part of that object, which
+/// part ("" for the object itself; a sensor's number, a group's joints).
+struct HandleKey {
+    const void* object;
+    std::string part;
+};
+
+/// Registry key of the handles made by push_canonical: per type name, a table with weak values
+/// from an entity's HandleKey to its handle.
+inline constexpr const char* kHandlesKey = "gaitlab.handles";
+
+/// Pushes the handle of type `tname` kept under `key` and returns true, if there is one that
+/// lives (not destroyed by its __gc called by hand); pushes nothing and returns false otherwise.
+bool find_handle(lua_State* L, const char* tname, const HandleKey& key);
+
+/// Keeps the handle on top of the stack (not popped) under `key`, for as long as it lives.
+void keep_handle(lua_State* L, const char* tname, const HandleKey& key);
+
+/// Pushes the handle of the entity `key` names: the userdata made for it before while that one
+/// lives, else a new userdata holding `value` (type `tname`). So one entity has one handle,
+/// and handles compare with == and index tables as the entities they stand for.
+///
+/// A key can name no other object while its handle lives: the handle keeps its object alive,
+/// and once the handle is unreachable the collector clears it from the weak table before its
+/// __gc releases the object, so a new object at a freed address never gets an old handle. A
+/// handle destroyed by hand is skipped (find_handle). The handle's type adds an __eq comparing
+/// entities (eq_operands) for the one case where two handles of one entity can both be
+/// reached: a finalizer of the script's brings back a handle the table has already let go.
+template <class T>
+T* push_canonical(lua_State* L, const char* tname, const HandleKey& key, T value) {
+    if (find_handle(L, tname, key)) return static_cast<T*>(lua_touserdata(L, -1));
+    T* obj = new_object<T>(L, tname, std::move(value));
+    keep_handle(L, tname, key);
+    return obj;
+}
+
+/// The objects of the two operands of an __eq, each nullptr unless it is a live handle of type
+/// `tname`: anything else (another type, a handle destroyed by hand) equals nothing.
+template <class T>
+std::pair<const T*, const T*> eq_operands(lua_State* L, const char* tname) {
+    return {static_cast<const T*>(luaL_testudata(L, 1, tname)),
+            static_cast<const T*>(luaL_testudata(L, 2, tname))};
+}
+
 /// __gc of a T in userdata of type `tname` (upvalue 1): destroys it once, whatever it is called
 /// with, then removes the metatable so nothing (not even a second __gc) reaches it again.
 template <class T>

@@ -62,11 +62,12 @@ int simulation_view(lua_State* L);
 bool is_robot(lua_State* L, int index);
 std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index);
 std::shared_ptr<WorldBinding> to_world(lua_State* L, int index);
-/// Pushes a handle for a robot (as gaitlab.robot.chain does).
+/// Pushes the robot's handle: the one it has while that lives, else a new one (push_canonical).
 void push_robot(lua_State* L, std::shared_ptr<RobotBinding> robot);
-/// Pushes a handle for a world.
+/// Pushes the world's handle: the one it has while that lives, else a new one.
 void push_world(lua_State* L, std::shared_ptr<WorldBinding> world);
-/// Pushes a handle for a controller; `attached` if a group already uses it.
+/// Pushes the controller's handle: the one it has while that lives, else a new one; `attached`
+/// if a group already uses it.
 void push_controller(lua_State* L, std::shared_ptr<Controller> controller, bool attached);
 /// The module type at `index`: a gaitlab.Module, or the name of one in gaitlab.modules. Throws
 /// Error ("unknown module type 'x'; did you mean ...") otherwise.

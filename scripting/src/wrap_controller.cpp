@@ -112,6 +112,13 @@ int controller_index(lua_State* L) {
     });
 }
 
+// __eq: handles of one controller (push_controller gives one handle per controller)
+int controller_eq(lua_State* L) {
+    const auto [a, b] = eq_operands<ControllerHandle>(L, kControllerType);
+    lua_pushboolean(L, a && b && a->controller == b->controller);
+    return 1;
+}
+
 int controller_newindex(lua_State* L) {
     return protect(L, [&] {
         Controller& c = check_controller(L, 1);
@@ -536,8 +543,11 @@ int class_reload(lua_State* L) {
 }  // namespace
 
 void push_controller(lua_State* L, std::shared_ptr<Controller> controller, bool attached) {
-    new_object<ControllerHandle>(L, kControllerType,
-                                 ControllerHandle{std::move(controller), attached});
+    const HandleKey key{controller.get(), ""};
+    ControllerHandle* h = push_canonical<ControllerHandle>(
+        L, kControllerType, key, ControllerHandle{std::move(controller), attached});
+    // the one handle of the controller: a caller that knows it drives a group says so
+    h->attached = h->attached || attached;
 }
 
 void push_controller_api(lua_State* L, const char* sandbox_folder) {
@@ -569,6 +579,7 @@ void open_controller(lua_State* L) {
                                 {nullptr, nullptr}};
     const luaL_Reg meta[] = {{"__newindex", controller_newindex},
                              {"__tostring", controller_tostring},
+                             {"__eq", controller_eq},
                              {nullptr, nullptr}};
     register_type_with_fields<ControllerHandle>(L, kControllerType, methods, controller_index,
                                                 meta);

@@ -60,6 +60,13 @@ int robot_chain(lua_State* L) {
     });
 }
 
+// pushes the handle of a group: one per robot and joints in their order (their order is the
+// controller's: {1, 3} and {3, 1} are two groups)
+void push_group(lua_State* L, GroupHandle group) {
+    const HandleKey key{group.robot.get(), fmt::format("{}", fmt::join(group.joints, " "))};
+    push_canonical<GroupHandle>(L, kGroupType, key, std::move(group));
+}
+
 int robot_group(lua_State* L) {
     return protect(L, [&] {
         RobotPtr& robot = check_object<RobotPtr>(L, 1, kRobotType);
@@ -98,7 +105,7 @@ int robot_group(lua_State* L) {
                 "got " +
                     type_name(L, 2));
         }
-        new_object<GroupHandle>(L, kGroupType, GroupHandle{robot, std::move(joints)});
+        push_group(L, GroupHandle{robot, std::move(joints)});
         return 1;
     });
 }
@@ -261,6 +268,13 @@ int robot_tostring(lua_State* L) {
     });
 }
 
+// __eq: handles of one robot (push_robot gives one handle per robot; see push_canonical)
+int robot_eq(lua_State* L) {
+    const auto [a, b] = eq_operands<RobotPtr>(L, kRobotType);
+    lua_pushboolean(L, a && b && a->get() == b->get());
+    return 1;
+}
+
 int robot_len(lua_State* L) {
     return protect(L, [&] {
         lua_pushinteger(L, static_cast<lua_Integer>(check_robot(L, 1).spec.joints.size()));
@@ -388,6 +402,12 @@ int group_joints(lua_State* L) {
     });
 }
 
+int group_eq(lua_State* L) {
+    const auto [a, b] = eq_operands<GroupHandle>(L, kGroupType);
+    lua_pushboolean(L, a && b && a->robot == b->robot && a->joints == b->joints);
+    return 1;
+}
+
 int group_len(lua_State* L) {
     return protect(L, [&] {
         lua_pushinteger(
@@ -403,7 +423,8 @@ bool is_robot(lua_State* L, int index) {
 }
 
 void push_robot(lua_State* L, std::shared_ptr<RobotBinding> robot) {
-    new_object<RobotPtr>(L, kRobotType, std::move(robot));
+    const HandleKey key{robot.get(), ""};
+    push_canonical<RobotPtr>(L, kRobotType, key, std::move(robot));
 }
 
 std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index) {
@@ -428,13 +449,15 @@ void open_robot(lua_State* L) {
                                 {"sensor", robot_sensor},
                                 {"sensors", robot_sensors},
                                 {nullptr, nullptr}};
-    const luaL_Reg meta[] = {
-        {"__tostring", robot_tostring}, {"__len", robot_len}, {nullptr, nullptr}};
+    const luaL_Reg meta[] = {{"__tostring", robot_tostring},
+                             {"__len", robot_len},
+                             {"__eq", robot_eq},
+                             {nullptr, nullptr}};
     register_type_with_fields<RobotPtr>(L, kRobotType, methods, robot_index, meta);
 
     const luaL_Reg group_methods[] = {
         {"drive", group_drive}, {"joints", group_joints}, {nullptr, nullptr}};
-    const luaL_Reg group_meta[] = {{"__len", group_len}, {nullptr, nullptr}};
+    const luaL_Reg group_meta[] = {{"__len", group_len}, {"__eq", group_eq}, {nullptr, nullptr}};
     register_type<GroupHandle>(L, kGroupType, group_methods, group_meta);
 
     // gaitlab.robot = { chain = ... }

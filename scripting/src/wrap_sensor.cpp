@@ -149,8 +149,16 @@ SensorSpec sensor_from_table(lua_State* L) {
     return s;
 }
 
+// pushes the handle of the robot's sensor k: one per sensor (see push_canonical)
 void push_handle(lua_State* L, RobotPtr robot, int k) {
-    new_object<SensorHandle>(L, kSensorType, SensorHandle{std::move(robot), k});
+    const HandleKey key{robot.get(), std::to_string(k)};
+    push_canonical<SensorHandle>(L, kSensorType, key, SensorHandle{std::move(robot), k});
+}
+
+int sensor_eq(lua_State* L) {
+    const auto [a, b] = eq_operands<SensorHandle>(L, kSensorType);
+    lua_pushboolean(L, a && b && a->robot == b->robot && a->k == b->k);
+    return 1;
 }
 
 std::vector<std::string> sensor_names(const RobotSpec& robot) {
@@ -395,8 +403,10 @@ void open_sensor(lua_State* L) {
                                 {"off", sensor_off},
                                 {"channels", sensor_channels_method},
                                 {nullptr, nullptr}};
-    const luaL_Reg meta[] = {
-        {"__newindex", sensor_newindex}, {"__tostring", sensor_tostring}, {nullptr, nullptr}};
+    const luaL_Reg meta[] = {{"__newindex", sensor_newindex},
+                             {"__tostring", sensor_tostring},
+                             {"__eq", sensor_eq},
+                             {nullptr, nullptr}};
     register_type_with_fields<SensorHandle>(L, kSensorType, methods, sensor_index, meta);
 
     // gaitlab.sensor = { kinds = {...}, channels = function(kind) }

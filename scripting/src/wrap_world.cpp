@@ -566,6 +566,13 @@ int world_read_source(lua_State* L) {
     });
 }
 
+// __eq: handles of one world (push_world gives one handle per world; see push_canonical)
+int world_eq(lua_State* L) {
+    const auto [a, b] = eq_operands<WorldPtr>(L, kWorldType);
+    lua_pushboolean(L, a && b && a->get() == b->get());
+    return 1;
+}
+
 int world_tostring(lua_State* L) {
     return protect(L, [&] {
         WorldBinding& w = check_world(L, 1);
@@ -599,7 +606,8 @@ int world_tostring(lua_State* L) {
 }  // namespace
 
 void push_world(lua_State* L, std::shared_ptr<WorldBinding> world) {
-    new_object<WorldPtr>(L, kWorldType, std::move(world));
+    const HandleKey key{world.get(), ""};
+    push_canonical<WorldPtr>(L, kWorldType, key, std::move(world));
 }
 
 std::shared_ptr<WorldBinding> to_world(lua_State* L, int index) {
@@ -620,7 +628,8 @@ void open_world(lua_State* L) {
                                 {"triangles", world_triangles},
                                 {"save", world_save},
                                 {nullptr, nullptr}};
-    const luaL_Reg meta[] = {{"__tostring", world_tostring}, {nullptr, nullptr}};
+    const luaL_Reg meta[] = {
+        {"__tostring", world_tostring}, {"__eq", world_eq}, {nullptr, nullptr}};
     register_type<WorldPtr>(L, kWorldType, methods, meta);
 
     // gaitlab.world is a table (load and preset come from stdlib/worlds.lua) that is called to

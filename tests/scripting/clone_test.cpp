@@ -170,6 +170,58 @@ TEST_CASE("one world builds several simulations", "[clone]") {
     CHECK(lua.boolean("robot:position() == c:robot('snake'):position()"));
 }
 
+TEST_CASE("handles after reset, in a clone and in later simulations of one world",
+          "[clone][handles]") {
+    LuaFixture lua;
+    lua.run(kSetUp);
+    lua.run(R"(
+        eye = robot:sensor{ kind = "imu", module = 3 }
+        sim = gaitlab.simulation{ world = world, record = false }
+        sim:run(0.2)
+        sim:reset()
+        -- the ones of this simulation, as table keys
+        mine = { [robot] = "robot", [sine] = "sine", [eye] = "eye" }
+    )");
+    // a reset keeps every robot, controller and sensor: the same handles
+    CHECK(lua.boolean("rawequal(sim:robot('snake'), robot)"));
+    CHECK(lua.boolean("sim:robot('snake'):controllers()[1] == sine"));
+    CHECK(lua.boolean("sim:robot('snake'):controllers()[2] == wave"));
+    CHECK(lua.boolean("sim:robot('snake'):sensor('imu3') == eye"));
+    CHECK(lua.string("mine[sim:robot('snake')]") == "robot");
+
+    // a clone's robot, controllers and sensors are its own: other handles, each one the same
+    // from call to call
+    lua.run(R"(
+        copy = sim:clone()
+        twin = copy:robot("snake")
+    )");
+    CHECK(lua.boolean("twin ~= robot and mine[twin] == nil"));
+    CHECK(lua.boolean("rawequal(copy:robot('snake'), twin)"));
+    CHECK(lua.boolean("twin:controllers()[1] ~= sine and mine[twin:controllers()[1]] == nil"));
+    CHECK(lua.boolean("rawequal(twin:controllers()[1], copy:robot('snake'):controllers()[1])"));
+    CHECK(lua.boolean("twin:sensor('imu3') ~= eye"));
+    CHECK(lua.boolean("rawequal(twin:sensor('imu3'), copy:robot('snake'):sensors()[1])"));
+    CHECK(lua.boolean("twin:group('pitch') ~= robot:group('pitch')"));
+    CHECK(lua.boolean("copy:clone():robot('snake') ~= twin"));
+    // comparing across them raises nothing
+    CHECK(lua.boolean("twin ~= copy and copy ~= sim and sim == sim and twin ~= eye"));
+
+    // a later simulation of the world is driven by copies of the controllers: its robot is
+    // another robot, and so is the first simulation's, once the world's robot handle reads the
+    // later one (robot:position()); each of them keeps its handle from then on
+    lua.run(R"(
+        later = gaitlab.simulation{ world = world, record = false }
+        first = sim:robot("snake")
+        second = later:robot("snake")
+    )");
+    CHECK(lua.boolean("first ~= robot and rawequal(sim:robot('snake'), first)"));
+    CHECK(lua.boolean("second ~= robot and second ~= first"));
+    CHECK(lua.boolean("rawequal(later:robot('snake'), second)"));
+    CHECK(lua.boolean("first:controllers()[1] == sine"));
+    CHECK(lua.boolean("second:controllers()[1] ~= sine"));
+    CHECK(lua.boolean("rawequal(second:controllers()[1], later:robot('snake'):controllers()[1])"));
+}
+
 TEST_CASE("clone: a Lua controller's tables are copied however deep they nest", "[clone]") {
     // a linked list of 200 000 nodes is as deep as it is long: a copy that recursed once per
     // level ran out of C stack and crashed the process

@@ -95,6 +95,10 @@ TEST_CASE("a saved simulation loads and runs the same trajectory to the bit", "[
             CHECK(lua.number(a) == lua.number(b));
         }
     }
+    // the table's robots and controllers are the simulation's: the same handles
+    CHECK(lua.boolean("rawequal(setup.robots.snake, loaded:robot('snake'))"));
+    CHECK(lua.boolean("setup.controllers.snake[2] == loaded:robot('snake'):controllers()[2]"));
+    CHECK(lua.boolean("setup.robots.snake ~= robots.snake"));
     // sensors are part of the robot file, switched on or off as they were
     CHECK(lua.integer("#setup.robots.snake:sensors()") == 2);
     CHECK(lua.boolean("setup.robots.snake:sensor('imu2').enabled"));

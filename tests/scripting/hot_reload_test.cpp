@@ -236,8 +236,11 @@ TEST_CASE("snapshot and on_reload carry state the names do not", "[hot_reload]")
   step = function(self, dt) self:set_angle(1, self.restored) end,
 }
 )");
-    lua.run("assert(gaitlab.controller.reload())  sim:step(1)");
+    lua.run("ctl = robot:controllers()[1]  assert(gaitlab.controller.reload())  sim:step(1)");
     CHECK(lua.number("robot:joints()[1].target") == Approx(10));
+    // the class and its instance are the ones they were: the same handles
+    CHECK(lua.boolean("rawequal(robot:controllers()[1], ctl)"));
+    CHECK(lua.boolean("rawequal(gaitlab.controller.load(FILE), Hooks)"));
     CHECK(lua.error_of("gaitlab.controller{ name = 'x', step = print, on_reload = 1 }") ==
           "test:1: bad argument #1 to 'controller' (field 'on_reload': function expected, got "
           "number)");

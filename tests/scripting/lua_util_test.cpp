@@ -1,5 +1,6 @@
-// The userdata every binding makes (scripting/src/lua_util.h): protected metatables, and a __gc
-// that destroys its object once, whatever it is called with, so no script reaches freed memory.
+// The userdata every binding makes (scripting/src/lua_util.h): protected metatables, a __gc
+// that destroys its object once, whatever it is called with, so no script reaches freed memory,
+// and one handle per object (push_canonical) that never outlives it in the handles' table.
 #include <catch2/catch.hpp>
 
 #include <string>
@@ -160,4 +161,53 @@ TEST_CASE("a simulation whose handle is destroyed while it steps finishes its ti
     lua.run("SIM:run(0.5)");
     CHECK_THAT(lua.error_of("SIM:run(0.5)"), Catch::Contains("attempt to index a userdata value"));
     lua.run("collectgarbage() collectgarbage()");
+}
+
+TEST_CASE("a handle stands for its object only while it lives", "[lua_util][handles]") {
+    LuaFixture lua;
+    lua.run(kObjects);
+    // the table that finds an object's handle again does not keep the handle alive
+    lua.run(R"(
+        gone = setmetatable({}, { __mode = "v" })
+        gone.sensor = objects.robot:sensor{ kind = "imu", module = 2 }
+        gone.group = objects.robot:group{ 2, 3 }
+        gone.robot = objects.simulation:robot("robot")
+        objects.robot = nil
+        collectgarbage() collectgarbage()
+    )");
+    CHECK(lua.boolean("next(gone) == nil"));
+    // a handle made again after that is a handle of the same robot, sensor and group
+    CHECK(lua.integer("#objects.simulation:robot('robot'):joints()") == 3);
+    CHECK(lua.string("objects.simulation:robot('robot'):sensor('imu2').name") == "imu2");
+    CHECK(lua.integer("#objects.simulation:robot('robot'):group{ 2, 3 }") == 2);
+
+    // a handle destroyed by hand (its __gc through the debug library) is never handed out
+    // again: the object gets a new handle, and the destroyed one equals nothing
+    lua.run(R"(
+        robot = objects.simulation:robot("robot")
+        sensor = robot:sensor("imu2")
+        for _, h in ipairs({ robot, sensor, objects.controller, objects.group }) do
+          debug.getmetatable(h).__gc(h)
+        end
+        again = objects.simulation:robot("robot")
+    )");
+    CHECK(lua.boolean("again ~= robot and robot ~= again"));
+    CHECK(lua.integer("#again:joints()") == 3);
+    CHECK(lua.string("again:sensor('imu2').name") == "imu2");
+    CHECK(lua.boolean("again:sensor('imu2') ~= sensor"));
+    CHECK(lua.number("again:controllers()[1].amplitude") > 0);
+    CHECK(lua.boolean("again:controllers()[1] ~= objects.controller"));
+    CHECK(lua.integer("#again:group('pitch')") == 3);
+
+    // nor is one whose object was freed and whose address a new object took: each new robot
+    // gets a handle of its own, never the destroyed one of the robot before it
+    lua.run(R"(
+        for i = 1, 50 do
+          local old = gaitlab.robot.chain{ name = "old" .. i, modules = 1 }
+          debug.getmetatable(old).__gc(old)
+          local new = gaitlab.robot.chain{ name = "new" .. i, modules = 1 }
+          assert(new.name == "new" .. i and new ~= old, i)
+          keep = { old, new }
+        end
+    )");
 }

@@ -176,6 +176,41 @@ TEST_CASE("gaitlab.controller declares a class and a call makes an instance", "[
     }
 }
 
+TEST_CASE("one controller has one handle, whichever call gives it", "[wrap_controller][handles]") {
+    LuaFixture lua;
+    lua.run(R"(
+        Hold = gaitlab.controller{ name = "hold", step = function(self, dt) end }
+        robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
+        sine = gaitlab.controllers.sine{}
+        hold = Hold{}
+        driven = robot:group("all"):drive(sine)
+        robot:group{ 2 }:drive(hold)
+        names = { [sine] = "sine", [hold] = "hold" }
+        world = gaitlab.world()
+        world:add(robot)
+        sim = gaitlab.simulation{ world = world, record = false }
+    )");
+    CHECK(lua.boolean("rawequal(driven, sine)"));
+    CHECK(lua.boolean("rawequal(robot:controllers()[1], sine)"));
+    CHECK(lua.boolean("robot:controllers()[2] == hold"));
+    CHECK(lua.boolean("sim:robot('snake'):controllers()[2] == hold"));
+    CHECK(lua.string("names[robot:controllers()[1]]") == "sine");
+    CHECK(lua.string("names[sim:robot('snake'):controllers()[2]]") == "hold");
+    // two controllers of one kind and parameters are two controllers
+    CHECK(lua.boolean("gaitlab.controllers.sine{} ~= gaitlab.controllers.sine{}"));
+    CHECK(lua.boolean("Hold{} ~= hold and sine ~= hold"));
+    CHECK(lua.boolean("sine ~= 'sine' and sine ~= Hold and hold ~= Hold and sine ~= robot"));
+    // a class is one value too: instances are not it
+    CHECK(
+        lua.boolean("Hold == Hold and Hold ~= gaitlab.controller{ name = 'hold', "
+                    "step = function() end }"));
+    // the handle robot:controllers() gives knows its controller drives a group
+    lua.run("robot, driven, sine, names = nil  collectgarbage()  collectgarbage()");
+    CHECK_THAT(lua.error_of("gaitlab.robot.chain{ modules = 2 }:group('all'):drive("
+                            "sim:robot('snake'):controllers()[1])"),
+               Catch::Contains("controller 'sine' already drives a group"));
+}
+
 TEST_CASE("controller.load caches per file and resolves relative to the caller",
           "[wrap_controller]") {
     LuaFixture lua;

@@ -167,6 +167,55 @@ TEST_CASE("robot handle: name, length, tostring", "[wrap_robot]") {
     CHECK(lua.boolean("robot.no_such_member == nil"));
 }
 
+TEST_CASE("one robot has one handle: == and table keys", "[wrap_robot][handles]") {
+    LuaFixture lua;
+    lua.run(kSnake);
+    lua.run(R"(
+        other = gaitlab.robot.chain{ name = "snake", modules = 4, connection = "pitch-yaw" }
+        world:add(other)
+        seen = { [robot] = "first" }
+        sim = gaitlab.simulation{ world = world, record = false }
+    )");
+    // the chain's handle is the handle the simulation gives for its robot: the same userdata
+    CHECK(lua.boolean("rawequal(sim:robot('snake'), robot)"));
+    CHECK(lua.boolean("sim:robot('snake') == robot"));
+    CHECK(lua.boolean("rawequal(sim:robot('snake_2'), sim:robot('snake_2'))"));
+    CHECK(lua.string("seen[sim:robot('snake')]") == "first");
+    // another robot, even of the same name and build, is another handle
+    CHECK(lua.boolean("robot ~= other"));
+    CHECK(lua.boolean("sim:robot('snake_2') == other"));
+    CHECK(lua.boolean("seen[other] == nil"));
+    // anything that is no robot handle is not equal, and comparing raises nothing
+    lua.run(R"(
+        for _, v in ipairs({ 1, "snake", {}, true, print, robot:group("all"),
+                             gaitlab.modules.y1, sim, world, robot:actuation() }) do
+          assert(robot ~= v and v ~= robot, tostring(v))
+        end
+        assert(robot ~= nil and nil ~= robot)
+    )");
+}
+
+TEST_CASE("one group of joints has one handle: == and table keys", "[wrap_robot][handles]") {
+    LuaFixture lua;
+    lua.run(kSnake);  // pitch-yaw: pitch joints 1 and 3
+    lua.run("g = robot:group('pitch')  t = { [g] = 'pitch' }");
+    CHECK(lua.boolean("rawequal(robot:group('pitch'), g)"));
+    CHECK(lua.string("t[robot:group('pitch')]") == "pitch");
+    // the same joints, named by number: the same group
+    CHECK(lua.boolean("robot:group{ 1, 3 } == g"));
+    // other joints, the same joints in another order (which joint is the controller's first),
+    // or another robot's joints: other groups
+    CHECK(lua.boolean("robot:group('yaw') ~= g"));
+    CHECK(lua.boolean("robot:group{ 3, 1 } ~= g"));
+    CHECK(lua.boolean("robot:group{ 1 } ~= g"));
+    CHECK(
+        lua.boolean("gaitlab.robot.chain{ modules = 4, connection = 'pitch-yaw' }:group('pitch')"
+                    " ~= g"));
+    CHECK(lua.boolean("g ~= 'pitch' and g ~= robot and g ~= 1"));
+    lua.run("c = gaitlab.controllers.sine{}  g:drive(c)");
+    CHECK(lua.boolean("rawequal(robot:group{ 1, 3 }, g)"));
+}
+
 TEST_CASE("bodies lists tail, segments and head with poses", "[wrap_robot]") {
     LuaFixture lua;
     lua.run(kSnake);

@@ -170,6 +170,39 @@ TEST_CASE("sensor handles describe their sensor", "[wrap_sensor]") {
           "gaitlab.simulation{world = ...})");
 }
 
+TEST_CASE("one sensor has one handle: == and table keys", "[wrap_sensor][handles]") {
+    LuaFixture lua;
+    lua.run(kSnake);
+    lua.run(R"(
+        imu = robot:sensor{ kind = "imu", module = 2 }
+        js = robot:sensor{ kind = "joint", joint = 1 }
+        what = { [imu] = "tilt", [js] = "angle" }
+    )");
+    CHECK(lua.boolean("rawequal(robot:sensor('imu2'), imu)"));
+    CHECK(lua.boolean("robot:sensors()[1] == imu and robot:sensors()[2] == js"));
+    CHECK(lua.string("what[robot:sensor('joint1')]") == "angle");
+    CHECK(lua.boolean("imu ~= js"));
+    // the same kind on the same place of another robot is another sensor
+    lua.run(R"(
+        twin = gaitlab.robot.chain{ name = "snake", modules = 4 }
+        twin_imu = twin:sensor{ kind = "imu", module = 2 }
+    )");
+    CHECK(lua.boolean("twin_imu ~= imu and what[twin_imu] == nil"));
+    CHECK(lua.boolean("imu ~= 'imu2' and imu ~= robot and imu ~= 2 and imu ~= {}"));
+    // the robot's handle from its simulation gives the same sensors, and a sensor attached
+    // while it runs is one handle from then on
+    lua.run(R"(
+        sim = gaitlab.simulation{ world = world, record = false }
+        sim:run(0.01)
+        contact = sim:robot("snake"):sensor{ kind = "contact", module = 1 }
+    )");
+    CHECK(lua.boolean("rawequal(sim:robot('snake'):sensor('imu2'), imu)"));
+    CHECK(lua.boolean("robot:sensor('contact1') == contact and robot:sensors()[3] == contact"));
+    lua.run("sim:reset()");
+    CHECK(lua.boolean("sim:robot('snake'):sensors()[1] == imu"));
+    CHECK(lua.string("what[sim:robot('snake'):sensor('joint1')]") == "angle");
+}
+
 TEST_CASE("sensors read in degrees and SI units, booleans for on/off", "[wrap_sensor]") {
     LuaFixture lua;
     lua.run(kSnake);
