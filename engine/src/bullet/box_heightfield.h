@@ -60,6 +60,99 @@ inline constexpr btScalar kHold = btScalar(4);
 // every vertex under it
 inline constexpr btScalar kSummitSlope = btScalar(0.02);
 
+/// The grid of a HeightfieldShape as Bullet triangulates it: cell (i, j) is split along its
+/// diagonal from vertex (i + 1, j) to (i, j + 1) (btHeightfieldTerrainShape::processAllTriangles
+/// without edge flipping, diamond or zigzag subdivision, none of which gaitlab sets). The
+/// collider below reads it, and so does the range sensor's test of a point under the surface
+/// (sensor_probes.cpp).
+struct HeightfieldGrid {
+    const HeightfieldShape& field;
+    btScalar sx, sy, ox, oy;  // spacing; the grid coordinates of the frame's origin
+    int nx, ny;
+    explicit HeightfieldGrid(const HeightfieldShape& f)
+        : field(f),
+          sx(f.getLocalScaling().x()),
+          sy(f.getLocalScaling().y()),
+          ox(btScalar(f.samples_x() - 1) / 2),
+          oy(btScalar(f.samples_y() - 1) / 2),
+          nx(f.samples_x()),
+          ny(f.samples_y()) {}
+
+    // a vertex of the triangle under p (in x and y) and its upward unit normal; false if p
+    // is not over the grid
+    bool triangle_under(const btVector3& p, btVector3& a, btVector3& n) const {
+        const btScalar gx = p.x() / sx + ox, gy = p.y() / sy + oy;
+        if (!(gx >= 0 && gy >= 0 && gx <= btScalar(nx - 1) && gy <= btScalar(ny - 1))) return false;
+        const int i = std::min(static_cast<int>(gx), nx - 2);
+        const int j = std::min(static_cast<int>(gy), ny - 2);
+        btVector3 b, d;
+        if ((gx - btScalar(i)) + (gy - btScalar(j)) <= 1) {
+            field.getVertex(i, j, a);
+            field.getVertex(i + 1, j, b);
+            field.getVertex(i, j + 1, d);
+        } else {
+            field.getVertex(i + 1, j + 1, a);
+            field.getVertex(i, j + 1, b);
+            field.getVertex(i + 1, j, d);
+        }
+        n = (b - a).cross(d - a);
+        if (n.z() < 0) n = -n;
+        n.normalize();
+        return true;
+    }
+
+    // the vertices whose x and y lie within [lo, hi]
+    void vertex_range(const btVector3& lo, const btVector3& hi, int& i0, int& i1, int& j0,
+                      int& j1) const {
+        // clamped before the conversion: a box far away or not finite (a simulation about
+        // to be stopped as diverged) gives an empty range, not an overflow
+        const auto index = [](btScalar g, int n) {
+            return g > btScalar(n) ? n : g > btScalar(-2) ? static_cast<int>(g) : -2;
+        };
+        i0 = std::max(0, index(std::ceil(lo.x() / sx + ox), nx));
+        i1 = std::min(nx - 1, index(std::floor(hi.x() / sx + ox), nx));
+        j0 = std::max(0, index(std::ceil(lo.y() / sy + oy), ny));
+        j1 = std::min(ny - 1, index(std::floor(hi.y() / sy + oy), ny));
+    }
+
+    // whether edge `e` from grid point (i, j) (0: to (i + 1, j), 1: to (i, j + 1), 2: to
+    // (i - 1, j + 1)), from a to b, is a ridge: its two triangles fold down from it by more
+    // than kSummitSlope (an edge on the grid's border counts). Elsewhere the grid points and
+    // the corners hold a face
+    bool ridge(const HeightfieldShape& f, int i, int j, int e, const btVector3& a,
+               const btVector3& b) const {
+        // the third grid point of each triangle of the edge
+        static constexpr int kThird[3][2][2] = {
+            {{0, 1}, {1, -1}}, {{1, 0}, {-1, 1}}, {{-1, 0}, {0, 1}}};
+        btVector3 w[2];
+        for (int k = 0; k < 2; ++k) {
+            const int x = i + kThird[e][k][0], y = j + kThird[e][k][1];
+            if (x < 0 || y < 0 || x >= nx || y >= ny) return true;
+            f.getVertex(x, y, w[k]);
+        }
+        btVector3 n = (b - a).cross(w[0] - a);
+        if (n.z() < 0) n = -n;
+        const btVector3 to = w[1] - a;
+        return to.dot(n) < -kSummitSlope * to.length() * n.length();
+    }
+
+    // whether no vertex joined to (i, j) by a triangle edge rises above q (vertex (i, j))
+    // along `up` by more than kSummitSlope of the edge's length
+    bool summit(const HeightfieldShape& f, int i, int j, const btVector3& q,
+                const btVector3& up) const {
+        static constexpr int kEdges[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
+        for (const auto& e : kEdges) {
+            const int a = i + e[0], b = j + e[1];
+            if (a < 0 || b < 0 || a >= nx || b >= ny) continue;
+            btVector3 w;
+            f.getVertex(a, b, w);
+            const btVector3 edge = w - q;
+            if (edge.dot(up) > kSummitSlope * edge.length()) return false;
+        }
+        return true;
+    }
+};
+
 class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm, HeightfieldShape> {
   public:
     BoxHeightfieldAlgorithm(const btCollisionAlgorithmConstructionInfo& ci,
@@ -90,7 +183,7 @@ class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm, Heig
         const btMatrix3x3& r = tb.getBasis();
         const btVector3& c = tb.getOrigin();
         const btVector3 h = box->getHalfExtentsWithMargin();
-        const Grid grid(*field);
+        const HeightfieldGrid grid(*field);
 
         candidates_.clear();
         // the corners against the triangles under them
@@ -287,99 +380,6 @@ class BoxHeightfieldAlgorithm : public BoxCollider<BoxHeightfieldAlgorithm, Heig
         btVector3 on_field, normal;
         btScalar depth;
         int feature;
-    };
-
-    // the grid as Bullet triangulates it: cell (i, j) is split along its diagonal from vertex
-    // (i + 1, j) to (i, j + 1) (btHeightfieldTerrainShape::processAllTriangles without edge
-    // flipping, diamond or zigzag subdivision, none of which gaitlab sets)
-    struct Grid {
-        const HeightfieldShape& field;
-        btScalar sx, sy, ox, oy;  // spacing; the grid coordinates of the frame's origin
-        int nx, ny;
-        explicit Grid(const HeightfieldShape& f)
-            : field(f),
-              sx(f.getLocalScaling().x()),
-              sy(f.getLocalScaling().y()),
-              ox(btScalar(f.samples_x() - 1) / 2),
-              oy(btScalar(f.samples_y() - 1) / 2),
-              nx(f.samples_x()),
-              ny(f.samples_y()) {}
-
-        // a vertex of the triangle under p (in x and y) and its upward unit normal; false if p
-        // is not over the grid
-        bool triangle_under(const btVector3& p, btVector3& a, btVector3& n) const {
-            const btScalar gx = p.x() / sx + ox, gy = p.y() / sy + oy;
-            if (!(gx >= 0 && gy >= 0 && gx <= btScalar(nx - 1) && gy <= btScalar(ny - 1)))
-                return false;
-            const int i = std::min(static_cast<int>(gx), nx - 2);
-            const int j = std::min(static_cast<int>(gy), ny - 2);
-            btVector3 b, d;
-            if ((gx - btScalar(i)) + (gy - btScalar(j)) <= 1) {
-                field.getVertex(i, j, a);
-                field.getVertex(i + 1, j, b);
-                field.getVertex(i, j + 1, d);
-            } else {
-                field.getVertex(i + 1, j + 1, a);
-                field.getVertex(i, j + 1, b);
-                field.getVertex(i + 1, j, d);
-            }
-            n = (b - a).cross(d - a);
-            if (n.z() < 0) n = -n;
-            n.normalize();
-            return true;
-        }
-
-        // the vertices whose x and y lie within [lo, hi]
-        void vertex_range(const btVector3& lo, const btVector3& hi, int& i0, int& i1, int& j0,
-                          int& j1) const {
-            // clamped before the conversion: a box far away or not finite (a simulation about
-            // to be stopped as diverged) gives an empty range, not an overflow
-            const auto index = [](btScalar g, int n) {
-                return g > btScalar(n) ? n : g > btScalar(-2) ? static_cast<int>(g) : -2;
-            };
-            i0 = std::max(0, index(std::ceil(lo.x() / sx + ox), nx));
-            i1 = std::min(nx - 1, index(std::floor(hi.x() / sx + ox), nx));
-            j0 = std::max(0, index(std::ceil(lo.y() / sy + oy), ny));
-            j1 = std::min(ny - 1, index(std::floor(hi.y() / sy + oy), ny));
-        }
-
-        // whether edge `e` from grid point (i, j) (0: to (i + 1, j), 1: to (i, j + 1), 2: to
-        // (i - 1, j + 1)), from a to b, is a ridge: its two triangles fold down from it by more
-        // than kSummitSlope (an edge on the grid's border counts). Elsewhere the grid points and
-        // the corners hold a face
-        bool ridge(const HeightfieldShape& f, int i, int j, int e, const btVector3& a,
-                   const btVector3& b) const {
-            // the third grid point of each triangle of the edge
-            static constexpr int kThird[3][2][2] = {
-                {{0, 1}, {1, -1}}, {{1, 0}, {-1, 1}}, {{-1, 0}, {0, 1}}};
-            btVector3 w[2];
-            for (int k = 0; k < 2; ++k) {
-                const int x = i + kThird[e][k][0], y = j + kThird[e][k][1];
-                if (x < 0 || y < 0 || x >= nx || y >= ny) return true;
-                f.getVertex(x, y, w[k]);
-            }
-            btVector3 n = (b - a).cross(w[0] - a);
-            if (n.z() < 0) n = -n;
-            const btVector3 to = w[1] - a;
-            return to.dot(n) < -kSummitSlope * to.length() * n.length();
-        }
-
-        // whether no vertex joined to (i, j) by a triangle edge rises above q (vertex (i, j))
-        // along `up` by more than kSummitSlope of the edge's length
-        bool summit(const HeightfieldShape& f, int i, int j, const btVector3& q,
-                    const btVector3& up) const {
-            static constexpr int kEdges[6][2] = {{1, 0},  {-1, 0}, {0, 1},
-                                                 {0, -1}, {1, -1}, {-1, 1}};
-            for (const auto& e : kEdges) {
-                const int a = i + e[0], b = j + e[1];
-                if (a < 0 || b < 0 || a >= nx || b >= ny) continue;
-                btVector3 w;
-                f.getVertex(a, b, w);
-                const btVector3 edge = w - q;
-                if (edge.dot(up) > kSummitSlope * edge.length()) return false;
-            }
-            return true;
-        }
     };
 
     // picks at most 4 candidates into chosen_, returns how many: the deepest (within kDepthTie

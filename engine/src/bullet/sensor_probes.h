@@ -18,7 +18,8 @@ struct RayHit {
 
 /// Casts a ray from `origin` along the unit vector `direction` (world frame) up to `max_range`
 /// m. The bodies of the robot that `body` belongs to are transparent to it (the sensor sees
-/// out of its own robot); everything else stops it: floor, boxes, other robots.
+/// out of its own robot); everything else stops it: floor, boxes, other robots. A ray whose
+/// origin lies inside one of those, or on its surface, stops there: a hit at distance 0.
 RayHit cast_ray(const PhysicsWorld& physics, int body, const Vec3& origin, const Vec3& direction,
                 double max_range);
 

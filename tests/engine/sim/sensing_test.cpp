@@ -247,6 +247,204 @@ TEST_CASE("a range sensor reads its height above the floor and the distance to a
     CHECK(value(sim, "down", "distance") > 0.04);
 }
 
+namespace {
+
+// a 2-module chain lying on the floor with one range sensor, "ray", on the tail half of its
+// module 1: the ray starts at that half's centre, kRayOrigin
+constexpr Vec3 kRayOrigin{0.018, 0, 0.026};
+WorldSpec ray_world(Vec3 direction) {
+    WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
+    SensorSpec s = range(0, direction);
+    s.name = "ray";
+    s.half = ModuleHalf::tail;
+    w.robots[0].robot.sensors = {s};
+    return w;
+}
+
+// the reading of "ray" when the simulation is built (before any step: robots and objects stand
+// exactly where `w` puts them)
+struct RayReading {
+    double distance, hit;
+};
+RayReading ray_reading(const WorldSpec& w) {
+    Simulation sim(w);
+    return {value(sim, "ray", "distance"), value(sim, "ray", "hit")};
+}
+
+// a second chain, robot 1, moved by `at`
+PlacedRobot other_robot(Vec3 at) {
+    ChainSpec chain;
+    chain.name = "other";
+    chain.modules = 2;
+    PlacedRobot placed;
+    placed.robot = make_chain(chain);
+    placed.pose.position = at;
+    return placed;
+}
+
+}  // namespace
+
+TEST_CASE("a range sensor whose ray starts inside a solid reads a hit at distance 0") {
+    // each solid encloses kRayOrigin; the ray reads the same whichever way it points: up, out
+    // of the solid's side, down, or along the robot
+    const Vec3 direction = GENERATE(Vec3{0, 0, 1}, Vec3{0, 1, 0}, Vec3{0, 0, -1}, Vec3{1, 0, 0});
+    CAPTURE(direction.x, direction.y, direction.z);
+    WorldSpec w = ray_world(direction);
+    SECTION("a static box") {
+        BoxSpec box;
+        box.size = {0.02, 0.02, 0.02};
+        box.pose.position = kRayOrigin;
+        w.boxes.push_back(box);
+    }
+    SECTION("a box that moves") {
+        BoxSpec box;
+        box.size = {0.02, 0.02, 0.02};
+        box.pose.position = kRayOrigin + Vec3{0.005, -0.004, 0.003};
+        box.mass = 0.1;
+        w.boxes.push_back(box);
+    }
+    SECTION("an upright cylinder") {
+        CylinderSpec c;
+        c.radius = 0.01;
+        c.length = 0.02;
+        c.position = kRayOrigin + Vec3{0.007, 0.007, 0};  // 9.9 mm off its axis
+        w.cylinders.push_back(c);
+    }
+    SECTION("a lying cylinder that moves") {
+        CylinderSpec c;
+        c.radius = 0.01;
+        c.length = 0.02;
+        c.lying = true;
+        c.yaw = deg_to_rad(90);
+        c.position = kRayOrigin + Vec3{-0.007, 0, 0.007};
+        c.mass = 0.1;
+        w.cylinders.push_back(c);
+    }
+    SECTION("a ramp (a convex hull)") {
+        RampSpec r;
+        r.slope = deg_to_rad(45);
+        r.length = 0.2;
+        r.position = {-0.1, 0, 0};  // 0.118 m high over kRayOrigin
+        w.ramps.push_back(r);
+    }
+    SECTION("a static box among others (children of one compound shape)") {
+        for (double x : {-0.3, 0.018, 0.3}) {
+            BoxSpec box;
+            box.size = {0.02, 0.02, 0.02};
+            box.pose.position = {x, 0, 0.026};
+            w.boxes.push_back(box);
+        }
+    }
+    SECTION("a heightfield, under its surface") {
+        HeightfieldSpec h;
+        h.samples_x = h.samples_y = 3;
+        h.heights = {0.02, 0.05, 0.02, 0.05, 0.08, 0.05, 0.02, 0.05, 0.02};
+        w.heightfields.push_back(h);  // its surface about 5 cm above kRayOrigin
+    }
+    SECTION("the floor, under it") {
+        w.robots[0].pose.position.z = -0.0265;
+    }
+    SECTION("another robot's body") {
+        w.robots.push_back(other_robot({0.01, 0.02, 0}));
+    }
+    const RayReading r = ray_reading(w);
+    CHECK(r.hit == 1);
+    CHECK(r.distance == 0);
+}
+
+TEST_CASE("a range sensor on a module sunk into a soft floor reads a hit at 0 once under it") {
+    // a floor so soft (1 N/m per contact point) that the modules sink into it
+    WorldSpec w = ray_world({0, 0, -1});
+    w.floor.stiffness = 1;
+    w.floor.damping = 1;
+    Simulation sim(w);
+    CHECK(value(sim, "ray", "distance") == Approx(0.026).margin(1e-5));
+    bool under = false;
+    for (int tick = 0; tick < 3000 && !under; ++tick) {
+        sim.step(1);
+        const double z = sim.body(0, 0).pose.position.z;
+        CAPTURE(tick, z);
+        if (z > 0.0005) {
+            // above the surface: its height, as before
+            REQUIRE(value(sim, "ray", "hit") == 1);
+            REQUIRE(value(sim, "ray", "distance") == Approx(z).margin(2e-4));
+        } else if (z < -0.0005) {
+            under = true;
+            CHECK(value(sim, "ray", "hit") == 1);
+            CHECK(value(sim, "ray", "distance") == 0);
+        }
+    }
+    CAPTURE(sim.body(0, 0).pose.position.z);
+    CHECK(under);
+}
+
+TEST_CASE("a range sensor just outside a solid reads the distance to it") {
+    SECTION("1 mm under a box") {
+        WorldSpec w = ray_world({0, 0, 1});
+        BoxSpec box;
+        box.size = {0.02, 0.02, 0.02};
+        box.pose.position = kRayOrigin + Vec3{0, 0, 0.011};
+        w.boxes.push_back(box);
+        CHECK(ray_reading(w).distance == Approx(0.001).margin(1e-5));
+        // the same box a little farther, on a slanted ray
+        w.robots[0].robot.sensors[0].direction = {1, 0, 1};
+        w.boxes[0].pose.position = kRayOrigin + Vec3{0.008, 0, 0.018};
+        CHECK(ray_reading(w).distance == Approx(0.008 * std::sqrt(2.0)).margin(1e-5));
+    }
+    SECTION("1 mm beside a cylinder") {
+        WorldSpec w = ray_world({0, 1, 0});
+        CylinderSpec c;
+        c.radius = 0.01;
+        c.length = 0.02;
+        c.position = kRayOrigin + Vec3{0, 0.011, 0};
+        w.cylinders.push_back(c);
+        CHECK(ray_reading(w).distance == Approx(0.001).margin(1e-5));
+    }
+    SECTION("1 mm above a heightfield and the floor") {
+        HeightfieldSpec h;
+        h.samples_x = h.samples_y = 2;
+        h.heights = {0.025, 0.025, 0.025, 0.025};
+        WorldSpec w = ray_world({0, 0, -1});
+        w.heightfields.push_back(h);
+        CHECK(ray_reading(w).distance == Approx(0.001).margin(1e-5));
+        w.heightfields.clear();
+        w.robots[0].pose.position.z = -0.025;
+        CHECK(ray_reading(w).distance == Approx(0.001).margin(1e-5));
+    }
+    SECTION("beside a heightfield, 1 mm off its grid") {
+        HeightfieldSpec h;
+        h.samples_x = h.samples_y = 2;
+        h.heights = {0.05, 0.05, 0.05, 0.05};
+        h.length = h.width = 0.1;
+        h.position = {0.018 + 0.051, 0, 0};
+        WorldSpec w = ray_world({0, 0, -1});
+        w.heightfields.push_back(h);
+        CHECK(ray_reading(w).distance == Approx(0.026).margin(1e-5));  // the floor
+    }
+    SECTION("1 mm from another robot's body") {
+        WorldSpec w = ray_world({0, 1, 0});
+        w.robots.push_back(other_robot({0, 0.027, 0}));  // its side at y = 0.001
+        CHECK(ray_reading(w).distance == Approx(0.001).margin(1e-5));
+    }
+}
+
+TEST_CASE("a range sensor's own robot is transparent to it, with self-collision too") {
+    // the ray starts inside the robot's own body, and along +x crosses the rest of it
+    const bool self_collision = GENERATE(false, true);
+    WorldSpec w = ray_world({1, 0, 0});
+    w.robots[0].robot.self_collision = self_collision;
+    RayReading r = ray_reading(w);
+    CHECK(r.hit == 0);
+    CHECK(r.distance == 2.0);
+    BoxSpec wall;
+    wall.size = {0.1, 1, 0.3};
+    wall.pose.position = {0.5, 0, 0.15};
+    w.boxes.push_back(wall);
+    r = ray_reading(w);
+    CHECK(r.hit == 1);
+    CHECK(r.distance == Approx(0.45 - 0.018).margin(1e-5));
+}
+
 TEST_CASE("a position sensor reads the centre of mass and its velocity") {
     WorldSpec w = test::chain_world(6, Connection::pitch_pitch);
     w.robots[0].robot.sensors = {position_sensor()};
