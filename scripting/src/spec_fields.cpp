@@ -99,9 +99,9 @@ void each_entry(lua_State* L, const Fields& f, const char* key, int arg, F&& eac
         try {
             // the attributes of <body> and <joint>
             if (std::string(key) == "bodies") {
-                const Fields e(
-                    L, lua_gettop(L), arg,
-                    {"name", "shape", "size", "mass", "position", "orientation", "friction"});
+                const Fields e(L, lua_gettop(L), arg,
+                               {"name", "shape", "size", "mass", "position", "orientation",
+                                "friction", "inertia"});
                 each(e);
             } else {
                 const Fields e(L, lua_gettop(L), arg,
@@ -153,6 +153,7 @@ int robot_new(lua_State* L) {
             b.pose.position = e.vec3("position", {});
             b.pose.orientation = quat_field(L, e, "orientation", {});
             b.friction = e.number("friction", 1.0);
+            if (e.has("inertia")) b.inertia = e.vec3("inertia", {});
             validate_body(robot.name, b);
             names.emplace(b.name, static_cast<int>(robot.bodies.size()));
             robot.bodies.push_back(b);

@@ -169,11 +169,13 @@ int robot_bodies(lua_State* L) {
         const auto& bodies = r.spec.bodies;
         lua_createtable(L, static_cast<int>(bodies.size()), 0);
         for (size_t b = 0; b < bodies.size(); ++b) {
-            lua_createtable(L, 0, 7);
+            lua_createtable(L, 0, 8);
             lua_pushstring(L, bodies[b].name.c_str());
             lua_setfield(L, -2, "name");
             lua_pushnumber(L, bodies[b].mass);
             lua_setfield(L, -2, "mass");
+            push_vec3(L, body_inertia(bodies[b]));
+            lua_setfield(L, -2, "inertia");
             push_vec3(L, bodies[b].size);
             lua_setfield(L, -2, "size");
             lua_pushstring(L, to_string(bodies[b].shape));

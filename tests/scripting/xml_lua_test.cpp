@@ -59,7 +59,8 @@ std::map<Key, Probe> probes() {
          "kp", "max_speed", "max_torque"},
         "gaitlab.module{ name = 'probe_m', $ = BAD }");
     add("robot", "module", {"name"}, "gaitlab.module{ name = BAD }");
-    add("robot", "body", {"name", "shape", "size", "mass", "position", "orientation", "friction"},
+    add("robot", "body",
+        {"name", "shape", "size", "mass", "position", "orientation", "friction", "inertia"},
         "gaitlab.robot.new{ bodies = { { name = 'a', size = {1, 1, 1}, mass = 1, $ = BAD } } }",
         "bodies[1]: field '$'");
     add("robot", "joint",
@@ -194,9 +195,11 @@ TEST_CASE("a robot of bodies and joints is the same from XML and Lua", "[xml_lua
     const std::string xml = R"(<?xml version="1.0"?>
 <gaitlab version="1">
   <robot name="arm" self_collision="true">
-    <body name="base" size="0.1 0.1 0.05" mass="0.5" position="0 0 0.025" friction="0.9"/>
+    <body name="base" size="0.1 0.1 0.05" mass="0.5" position="0 0 0.025" friction="0.9"
+          inertia="0.0004 0.0005 0.0008"/>
     <body name="link" shape="cylinder" size="0.12 0.03 0.03" mass="0.1" position="0.11 0 0.025"
-          orientation="0.7071067811865476 0 0 0.7071067811865476" friction="0.4"/>
+          orientation="0.7071067811865476 0 0 0.7071067811865476" friction="0.4"
+          inertia="1e-5 1e-4 1e-4"/>
     <joint name="shoulder" role="yaw" parent="base" child="link" pivot="0.05 0 0.025"
            axis="0 0 1" min="-45" max="30" kp="5" max_speed="2" max_torque="0.3"/>
   </robot>
@@ -208,19 +211,27 @@ TEST_CASE("a robot of bodies and joints is the same from XML and Lua", "[xml_lua
 local r = gaitlab.robot.new{ name = 'arm', self_collision = true,
   bodies = {
     { name = 'base', size = {0.1, 0.1, 0.05}, mass = 0.5, position = {0, 0, 0.025},
-      friction = 0.9 },
+      friction = 0.9, inertia = {0.0004, 0.0005, 0.0008} },
     { name = 'link', shape = 'cylinder', size = {0.12, 0.03, 0.03}, mass = 0.1,
       position = {0.11, 0, 0.025}, orientation = {0.7071067811865476, 0, 0, 0.7071067811865476},
-      friction = 0.4 } },
+      friction = 0.4, inertia = {1e-5, 1e-4, 1e-4} } },
   joints = {
     { name = 'shoulder', role = 'yaw', parent = 'base', child = 'link', pivot = {0.05, 0, 0.025},
       axis = {0, 0, 1}, min = -45, max = 30, kp = 5, max_speed = math.deg(2), max_torque = 0.3 } } }
 assert(#r == 1 and r.chain == nil)
+local i = r:bodies()[2].inertia
+assert(i.x == 1e-5 and i.y == 1e-4 and i.z == 1e-4)
 assert(r:save(OUT))
 )",
                                           dir, "arm.robot.xml");
     CHECK(from_lua == from_xml);
     CHECK(from_xml.find("<joint name=\"shoulder\"") != std::string::npos);
+    CHECK(from_xml.find("inertia=\"0.0004 0.0005 0.0008\"") != std::string::npos);
+    // and back: the file loaded in Lua gives the same inertia
+    LuaFixture lua;
+    lua.run("r = assert(gaitlab.robot.load('" + (dir / "arm.robot.xml") + "'))");
+    CHECK(lua.number("r:bodies()[1].inertia.y") == 0.0005);
+    CHECK(lua.number("r:bodies()[2].inertia.x") == 1e-5);
 }
 
 TEST_CASE("an environment with every object kind is the same from XML and Lua", "[xml_lua]") {
@@ -450,6 +461,15 @@ TEST_CASE("the Lua keys of the XML attributes refuse bad values, naming the key"
           bad("new") +
               "bodies[1]: robot 'robot' body 'a' length must be at most 300 times its diameter "
               "(got 1 m and 0.002 m: 500 times))");
+    CHECK(lua.error_of("gaitlab.robot.new{ bodies = { { name = 'a', size = {1, 1, 1}, mass = 1, "
+                       "inertia = {0.1, 0.1, 0.3} } } }") ==
+          bad("new") +
+              "bodies[1]: robot 'robot' body 'a' inertia must have each moment at most the sum "
+              "of the other two, as every body's has (got 0.1 0.1 0.3 kg·m²: z is 0.3, the "
+              "other two add up to 0.2))");
+    CHECK(lua.error_of("gaitlab.robot.new{ bodies = { { name = 'a', size = {1, 1, 1}, mass = 1, "
+                       "inertia = 0.1 } } }") ==
+          bad("new") + "bodies[1]: field 'inertia': vector expected ({x, y, z}), got number)");
     CHECK(lua.error_of("gaitlab.robot.new{ bodies = { { name = 'a', size = {1, 1, 1}, mass = 1 "
                        "}, { name = 'a', size = {1, 1, 1}, mass = 1 } } }") ==
           bad("new") + "bodies[2]: field 'name': a second body named 'a')");

@@ -4,6 +4,7 @@
 // a step count and sizes in its spec and becomes boxes only here.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,9 @@ struct Solid {
     HeightGrid grid;                      ///< heightfield
     double mass = 0;                      ///< kg (0: static)
     double friction = 1.0;                ///< in [0, 1]
+    /// kg·m², principal moments about the local axes (a robot body's given inertia); none: the
+    /// shape's, from its size and mass
+    std::optional<Vec3> inertia;
 };
 
 /// The objects of `world` (boxes, walls, ramps, stairs, cylinders, pipes, rubble, heightfields,

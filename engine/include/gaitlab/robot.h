@@ -29,6 +29,14 @@ inline constexpr double kMinBodyMass = 1e-9;
 /// bodies stay finite at 300 at every mass and torque and diverge from 700 (docs/formats.md,
 /// Limits)
 inline constexpr double kMaxBodySlenderness = 300;
+/// a body's largest principal moment of inertia over its smallest: that of a body 300 times
+/// longer than wide (kMaxBodySlenderness squared), whose long axis the solver's single-precision
+/// rows hold no better
+inline constexpr double kMaxInertiaRatio = kMaxBodySlenderness * kMaxBodySlenderness;
+/// each principal moment of a given inertia over the uniform solid's about the same axis, at
+/// least: a tenth of the radius of gyration. Chains of 8 bodies with moments a hundredth of their
+/// solid's stay finite at every mass and size (docs/formats.md, Limits)
+inline constexpr double kMinInertiaFraction = 0.01;
 /// m, the radius of every cylinder (bodies, modules, world objects): Bullet rounds a shape by
 /// its 1 mm collision margin, and a thinner cylinder sinks into the floor
 inline constexpr double kMinCylinderRadius = 1e-3;
@@ -58,6 +66,12 @@ struct BodySpec {
     double mass;  ///< kg, in [kMinBodyMass, kMaxBodyMass]
     Pose pose;    ///< at rest, in the robot frame
     double friction = 1.0;  ///< in [0, 1]
+    /// kg·m², the principal moments of inertia about the body's x, y and z axes (a cylinder's x
+    /// is its axis), its centre of mass at its shape's centre; none: the solid's, from size and
+    /// mass. Each positive, at least kMinInertiaFraction of the solid's, at most the mass times the
+    /// square of half the body's diagonal, at most kMaxInertiaRatio times another and at most the
+    /// sum of the other two
+    std::optional<Vec3> inertia;
 };
 
 /// A revolute joint between two bodies, driven by a servo.
@@ -113,6 +127,11 @@ void validate_joint(const RobotSpec& robot, const JointSpec& joint);
 /// Joint indices (0-based, from the tail) selected by role: "pitch", "yaw", "roll" or "all". Throws
 /// SpecError for an unknown role or an empty selection.
 std::vector<int> select_joints(const RobotSpec& robot, std::string_view role);
+
+/// kg·m², the principal moments of inertia of `body` about its x, y and z axes: its given
+/// inertia, or its solid's (a uniform box or cylinder of its size and mass, as the simulation
+/// computes it, there in single precision).
+Vec3 body_inertia(const BodySpec& body);
 
 /// Total mass, kg.
 double total_mass(const RobotSpec& robot);

@@ -188,7 +188,11 @@ struct PhysicsWorld::Impl {
         auto shape = make_shape(solid, heights);
         const double mass = solid.mass;
         btVector3 inertia(0, 0, 0);
-        if (mass > 0) shape->calculateLocalInertia(btScalar(mass), inertia);
+        if (solid.inertia) {
+            inertia = to_bt(*solid.inertia);
+        } else if (mass > 0) {
+            shape->calculateLocalInertia(btScalar(mass), inertia);
+        }
         btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), nullptr, shape.get(),
                                                       inertia);
         info.m_startWorldTransform = body_transform(solid);

@@ -196,6 +196,7 @@ Solid body_solid(const RobotSpec& robot, int body, const Pose& pose) {
     const BodySpec& b = robot.bodies[static_cast<size_t>(body)];
     Solid s = box_solid(robot.name + " " + b.name, pose, b.size, b.mass, b.friction);
     if (b.shape == Shape::cylinder) s.kind = Solid::Kind::cylinder;
+    s.inertia = b.inertia;
     return s;
 }
 

@@ -1,8 +1,10 @@
 #include "gaitlab/robot.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <string_view>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -125,6 +127,57 @@ RobotSpec make_chain(const ChainSpec& spec) {
     return robot;
 }
 
+namespace {
+
+// a given inertia (the body's mass and size already checked): positive, about each axis between
+// kMinInertiaFraction of the uniform solid's and all of its mass at the body's half diagonal (no
+// mass inside its size turns slower), no more uneven than the most slender body's, and a
+// physical body's (each moment at most the sum of the other two). `q` starts the messages
+// ("robot 'r' body 'b' ")
+void check_inertia(const std::string& q, const BodySpec& b) {
+    const Vec3& i = *b.inertia;
+    const Vec3& s = b.size;
+    BodySpec uniform = b;
+    uniform.inertia.reset();
+    const Vec3 solid = body_inertia(uniform);
+    const double hi = b.mass * (s.x * s.x + s.y * s.y + s.z * s.z) / 4;
+    const std::pair<const char*, double> moments[] = {{"x", i.x}, {"y", i.y}, {"z", i.z}};
+    const double solids[] = {solid.x, solid.y, solid.z};
+    for (int k = 0; k < 3; ++k) {
+        const auto [axis, v] = moments[k];
+        const std::string what = q + "inertia " + axis;
+        detail::check_positive(what, v, "kg·m²");
+        const double lo = kMinInertiaFraction * solids[k];
+        if (!(v >= lo && v <= hi)) {
+            throw SpecError(fmt::format(
+                "{} must be in [{:.6g}, {:.6g}] kg·m² for its mass and size (got {}): from {} of "
+                "the uniform solid's to all of its mass at half its diagonal",
+                what, lo, hi, v, kMinInertiaFraction));
+        }
+    }
+    const std::string got = fmt::format("got {} {} {} kg·m²", i.x, i.y, i.z);
+    const double most = std::max({i.x, i.y, i.z}), least = std::min({i.x, i.y, i.z});
+    if (most > kMaxInertiaRatio * least) {
+        throw SpecError(fmt::format(
+            "{}inertia's largest moment must be at most {} times its smallest, as a body's at "
+            "most {} times as long as wide ({}: {:.6g} times)",
+            q, kMaxInertiaRatio, kMaxBodySlenderness, got, most / least));
+    }
+    // to a millionth of the largest: a plate's moments written in six digits still pass
+    for (int k = 0; k < 3; ++k) {
+        const auto [axis, v] = moments[k];
+        const double others = moments[(k + 1) % 3].second + moments[(k + 2) % 3].second;
+        if (v > others + 1e-6 * most) {
+            throw SpecError(fmt::format(
+                "{}inertia must have each moment at most the sum of the other two, as every "
+                "body's has ({}: {} is {}, the other two add up to {})",
+                q, got, axis, v, others));
+        }
+    }
+}
+
+}  // namespace
+
 void validate_body(const std::string& robot_name, const BodySpec& b) {
     const std::string q = "robot '" + robot_name + "' body '" + b.name + "' ";
     detail::check_name(q + "name", b.name);
@@ -152,6 +205,7 @@ void validate_body(const std::string& robot_name, const BodySpec& b) {
     if (!(std::abs(o.w * o.w + o.x * o.x + o.y * o.y + o.z * o.z - 1) < 1e-6)) {
         throw SpecError(q + "orientation must be a unit quaternion");
     }
+    if (b.inertia) check_inertia(q, b);
 }
 
 void validate_joint(const RobotSpec& robot, const JointSpec& j) {
@@ -224,7 +278,7 @@ std::vector<int> select_joints(const RobotSpec& robot, std::string_view role) {
 bool operator==(const BodySpec& a, const BodySpec& b) {
     return a.name == b.name && a.shape == b.shape && a.size == b.size && a.mass == b.mass &&
            a.pose.position == b.pose.position && a.pose.orientation == b.pose.orientation &&
-           a.friction == b.friction;
+           a.friction == b.friction && a.inertia == b.inertia;
 }
 
 bool operator==(const JointSpec& a, const JointSpec& b) {
@@ -247,6 +301,20 @@ bool operator==(const SensorSpec& a, const SensorSpec& b) {
 bool operator==(const RobotSpec& a, const RobotSpec& b) {
     return a.name == b.name && a.bodies == b.bodies && a.joints == b.joints &&
            a.self_collision == b.self_collision && a.chain == b.chain && a.sensors == b.sensors;
+}
+
+Vec3 body_inertia(const BodySpec& b) {
+    if (b.inertia) return *b.inertia;
+    const Vec3& s = b.size;
+    const double m = b.mass / 12;
+    if (b.shape == Shape::box) {
+        return {m * (s.y * s.y + s.z * s.z), m * (s.x * s.x + s.z * s.z),
+                m * (s.x * s.x + s.y * s.y)};
+    }
+    // a cylinder along x: size y is its diameter
+    const double r = s.y / 2;
+    const double across = m * (3 * r * r + s.x * s.x);
+    return {b.mass * r * r / 2, across, across};
 }
 
 double total_mass(const RobotSpec& robot) {

@@ -208,6 +208,7 @@ RobotSpec read_robot_element(const Element& root) {
             b.pose.position = k.vec3("position", {});
             b.pose.orientation = k.quat("orientation", {});
             b.friction = k.number("friction", 1.0);
+            if (k.has("inertia")) b.inertia = k.vec3("inertia", {});
             // checked here, so its errors name its own line
             k.check([&] { validate_body(name, b); });
             body_names.emplace(b.name, static_cast<int>(robot.bodies.size()));
@@ -327,6 +328,7 @@ std::string format_robot(const RobotSpec& robot) {
             w.attr("position", b.pose.position);
             if (!(b.pose.orientation == Quat{})) w.attr("orientation", b.pose.orientation);
             w.attr("friction", b.friction);
+            if (b.inertia) w.attr("inertia", *b.inertia);
             w.close();
         }
         for (const JointSpec& j : robot.joints) {

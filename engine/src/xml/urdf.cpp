@@ -33,10 +33,17 @@ Quat from_rpy(double r, double p, double y) {
 }
 
 Vec3 to_rpy(const Quat& q) {
-    const double sinp = 2 * (q.w * q.y - q.z * q.x);
-    return {std::atan2(2 * (q.w * q.x + q.y * q.z), 1 - 2 * (q.x * q.x + q.y * q.y)),
-            std::abs(sinp) >= 1 ? std::copysign(kPi / 2, sinp) : std::asin(sinp),
-            std::atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))};
+    // from the entries of the rotation matrix
+    const double r00 = 1 - 2 * (q.y * q.y + q.z * q.z), r10 = 2 * (q.x * q.y + q.w * q.z);
+    const double r01 = 2 * (q.x * q.y - q.w * q.z), r11 = 1 - 2 * (q.x * q.x + q.z * q.z);
+    const double r20 = 2 * (q.x * q.z - q.w * q.y), r21 = 2 * (q.y * q.z + q.w * q.x);
+    const double r22 = 1 - 2 * (q.x * q.x + q.y * q.y);
+    const double cos_pitch = std::hypot(r00, r10);
+    const double pitch = std::atan2(-r20, cos_pitch);
+    // pitched a quarter turn (a turned cylinder's geometry frame), roll and yaw turn about one
+    // axis and the other entries are rounding: all of the turn is yaw
+    if (cos_pitch < 1e-9) return {0, pitch, std::atan2(-r01, r11)};
+    return {std::atan2(r21, r22), pitch, std::atan2(r10, r00)};
 }
 
 std::string numbers3(const Vec3& v) {
@@ -117,7 +124,6 @@ std::string format_urdf(const RobotSpec& robot) {
     for (size_t b = 0; b < robot.bodies.size(); ++b) {
         const BodySpec& body = robot.bodies[b];
         const Vec3 at = body.pose.position - link_origin(b);
-        const Vec3& s = body.size;
         const bool box = body.shape == Shape::box;
         // a cylinder's geometry frame has its axis along z
         const Quat turn = box ? body.pose.orientation : body.pose.orientation * kZToX;
@@ -129,13 +135,10 @@ std::string format_urdf(const RobotSpec& robot) {
         p.PushAttribute("value", xml::format_number(body.mass).c_str());
         p.CloseElement();
         p.OpenElement("inertia");
-        const double m = body.mass / 12;
-        const double r = s.y / 2;
-        // solid box, or solid cylinder about its own (z) axis
-        const Vec3 inertia = box ? Vec3{m * (s.y * s.y + s.z * s.z), m * (s.x * s.x + s.z * s.z),
-                                        m * (s.x * s.x + s.y * s.y)}
-                                 : Vec3{m * (3 * r * r + s.x * s.x), m * (3 * r * r + s.x * s.x),
-                                        body.mass * r * r / 2};
+        // the body's (given or its solid's) about the inertial frame's axes, which are the
+        // geometry's: a cylinder's turn takes URDF's x to the body's -z and z to its x
+        const Vec3 moments = body_inertia(body);
+        const Vec3 inertia = box ? moments : Vec3{moments.z, moments.y, moments.x};
         p.PushAttribute("ixx", xml::format_number(inertia.x).c_str());
         p.PushAttribute("ixy", "0");
         p.PushAttribute("ixz", "0");
@@ -193,7 +196,22 @@ struct UrdfLink {
     Pose geometry;  // of the body (x along a cylinder's axis), in the link frame
     Vec3 size;
     double mass = 0;
+    std::optional<Vec3> inertia;  // about the body's axes, unless it is the solid's
 };
+
+// URDF's <inertia>: the symmetric tensor about the axes of the <inertial> frame, kg·m²
+struct UrdfInertia {
+    double xx = 0, yy = 0, zz = 0, xy = 0, xz = 0, yz = 0;
+    double along(const Vec3& a, const Vec3& b) const {
+        return a.x * (xx * b.x + xy * b.y + xz * b.z) + a.y * (xy * b.x + yy * b.y + yz * b.z) +
+               a.z * (xz * b.x + yz * b.y + zz * b.z);
+    }
+};
+
+// products of inertia up to this fraction of the largest moment, about the shape's axes, are
+// rounding (an rpy of 1.5708 for pi/2 leaves 4e-6 of the moments' difference): dropping them
+// changes the body's rotation by about as little
+constexpr double kProductTolerance = 1e-3;
 
 struct UrdfJoint {
     Element element;    // the <joint>
@@ -233,14 +251,76 @@ void check_joint(const Element& at, const std::string& robot, const JointSpec& j
     at.check([&] { validate_joint(r, joint); });
 }
 
+// The <inertia> of link `name` as principal moments about its body's axes (`out` read
+// whole), set in out.inertia unless it is the body's solid's; `inertial` is the <inertial>
+// frame in the link frame. A tensor whose principal axes are not the shape's fails at `at`.
+void read_inertia(const Element& at, const std::string& name, const UrdfInertia& tensor,
+                  const Pose& inertial, UrdfLink& out) {
+    // the body's axes in the <inertial> frame
+    Vec3 axes[3];
+    const Quat to_inertial = inertial.orientation.conjugate() * out.geometry.orientation;
+    for (int k = 0; k < 3; ++k)
+        axes[k] = to_inertial.rotate({k == 0 ? 1.0 : 0, k == 1 ? 1.0 : 0, k == 2 ? 1.0 : 0});
+    const Vec3 moments{tensor.along(axes[0], axes[0]), tensor.along(axes[1], axes[1]),
+                       tensor.along(axes[2], axes[2])};
+    const double largest =
+        std::max({std::abs(moments.x), std::abs(moments.y), std::abs(moments.z)});
+    const std::pair<int, int> pairs[] = {{0, 1}, {0, 2}, {1, 2}};
+    const char* const names[] = {"x", "y", "z"};
+    const double diagonal[] = {moments.x, moments.y, moments.z};
+    for (const auto& [a, b] : pairs) {
+        const double product = tensor.along(axes[a], axes[b]);
+        if (std::abs(product) <= kProductTolerance * largest) continue;
+        // the turn about the third axis that would make this product 0 (a Jacobi rotation)
+        const double turn =
+            rad_to_deg(std::atan2(2 * std::abs(product), std::abs(diagonal[a] - diagonal[b])) / 2);
+        const char* const shape = out.shape == Shape::box ? "box" : "cylinder";
+        at.fail(fmt::format(
+            "link '{}': the inertia has a product of {} kg·m² about its {}'s {} and {} axes "
+            "(moments {} {} {}): its principal axes are turned about {:.3g} degrees from the "
+            "{}'s, and gaitlab can only give a body principal moments about its shape's own "
+            "axes (products at most {} of the largest moment are dropped as rounding)",
+            name, product, shape, names[a], names[b], moments.x, moments.y, moments.z, turn, shape,
+            kProductTolerance));
+    }
+    // the body's own solid's (as an export writes it, or to 7 digits) is left to the solid,
+    // which the simulation computes to the same bits as for a link without an <inertia>
+    BodySpec solid;
+    solid.shape = out.shape;
+    solid.size = out.size;
+    solid.mass = out.mass;
+    const Vec3 own = body_inertia(solid);
+    const double scale = std::max({own.x, own.y, own.z});
+    const Vec3 off = moments - own;
+    if (std::max({std::abs(off.x), std::abs(off.y), std::abs(off.z)}) <= 1e-6 * scale) return;
+    out.inertia = moments;
+}
+
 UrdfLink read_link(const Element& link, const std::string& robot, const std::string& link_name) {
-    UrdfLink out{link, link, Shape::box, {}, {}, 0};
+    UrdfLink out{link, link, Shape::box, {}, {}, 0, std::nullopt};
     bool geometry = false;
+    std::optional<Element> inertial, inertia;  // the <inertial>, its <inertia>
+    std::optional<Element> centre;             // the <inertial>'s <origin>: its centre of mass
+    Pose inertial_frame;
+    UrdfInertia tensor;
     for (const Element& k : link.children({"inertial", "visual", "collision"})) {
         const std::string kind = k.name();
         if (kind == "inertial") {
+            inertial = k;
             for (const Element& i : k.children({"origin", "mass", "inertia"})) {
-                if (std::string(i.name()) == "mass") out.mass = i.required_number("value");
+                const std::string part = i.name();
+                if (part == "mass") out.mass = i.required_number("value");
+                if (part == "origin") {
+                    inertial_frame = read_origin(k).first;
+                    centre = i;
+                }
+                if (part == "inertia") {
+                    i.allow({"ixx", "ixy", "ixz", "iyy", "iyz", "izz"});
+                    tensor = {i.required_number("ixx"), i.required_number("iyy"),
+                              i.required_number("izz"), i.number("ixy", 0),
+                              i.number("ixz", 0),       i.number("iyz", 0)};
+                    inertia = i;
+                }
             }
             continue;
         }
@@ -280,6 +360,29 @@ UrdfLink read_link(const Element& link, const std::string& robot, const std::str
     probe.size = out.size;
     probe.mass = out.mass;
     link.check([&] { validate_body(robot, probe); });
+    // an <inertial> with only a mass is the uniform solid's; one that places its centre of mass
+    // (at the link origin without an <origin>) must place it at the shape's centre
+    if (inertia || centre) {
+        const Vec3 offset = inertial_frame.position - out.geometry.position;
+        const double longest = std::max({out.size.x, out.size.y, out.size.z});
+        // a millionth of the body: rounding in the file's digits
+        if (offset.norm() > 1e-6 * longest) {
+            (centre ? *centre : *inertial)
+                .fail(fmt::format(
+                    "link '{}': its centre of mass (the <inertial> origin, xyz=\"{}\") is "
+                    "{:.6g} m from the centre of its {} (its geometry's origin, xyz=\"{}\"), "
+                    "and a gaitlab body's centre of mass is its shape's centre: give the "
+                    "<inertial> an <origin xyz=\"{}\"> and the inertia about that point",
+                    link_name, numbers3(inertial_frame.position), offset.norm(),
+                    out.shape == Shape::box ? "box" : "cylinder", numbers3(out.geometry.position),
+                    numbers3(out.geometry.position)));
+        }
+    }
+    if (inertia) {
+        read_inertia(*inertia, link_name, tensor, inertial_frame, out);
+        probe.inertia = out.inertia;
+        inertia->check([&] { validate_body(robot, probe); });
+    }
     return out;
 }
 
@@ -417,6 +520,7 @@ RobotSpec parse_urdf(std::string_view text, const std::string& file) {
         b.shape = link.shape;
         b.size = link.size;
         b.mass = link.mass;
+        b.inertia = link.inertia;
         b.pose = compose(frame, link.geometry);
         // the frame is in range (its joint's pivot was checked): the body's own origin is not
         link.placed_by.check([&] { validate_body(robot.name, b); });

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "gaitlab/error.h"
@@ -466,6 +467,68 @@ TEST_CASE("a body's longest side is at most 300 times its second longest") {
         // a disc is not slender
         b.size = {1e-4, 1, 1};
         CHECK_NOTHROW(validate(r));
+    }
+}
+
+TEST_CASE("a body's given inertia is positive, fits its mass and size, and is a body's") {
+    RobotSpec r = chain(2, Connection::pitch_pitch, "x");
+    BodySpec& b = r.bodies[1];
+    b.size = {0.1, 0.1, 0.1};
+    b.mass = 1;
+    const auto refused = [&](const Vec3& inertia) {
+        b.inertia = inertia;
+        try {
+            validate(r);
+        } catch (const SpecError& e) {
+            return std::string(e.what());
+        }
+        FAIL("no error");
+        return std::string();
+    };
+    CHECK_THAT(refused({-1e-3, 1e-3, 1e-3}),
+               Equals("robot 'x' body 'segment1' inertia x must be positive (got -0.001 kg·m²)"));
+    CHECK_THAT(refused({1e-3, std::nan(""), 1e-3}),
+               Equals("robot 'x' body 'segment1' inertia y must be positive (got nan kg·m²)"));
+    CHECK_THAT(refused({1e-3, 1e-3, std::numeric_limits<double>::infinity()}),
+               Equals("robot 'x' body 'segment1' inertia z must be positive (got inf kg·m²)"));
+    // from a hundredth of the uniform cube's (1/600 kg·m²) to all of the mass at its corners
+    CHECK_THAT(refused({0.008, 0.008, 0.008}),
+               Equals("robot 'x' body 'segment1' inertia x must be in [1.66667e-05, 0.0075] kg·m² "
+                      "for its mass and size (got 0.008): from 0.01 of the uniform solid's to all "
+                      "of its mass at half its diagonal"));
+    CHECK_THAT(refused({1e-3, 1e-9, 1e-3}),
+               StartsWith("robot 'x' body 'segment1' inertia y must be in [1.66667e-05, 0.0075]"));
+    // no more uneven than a body 300 times as long as wide: a rod that slender, whose solid's
+    // moment about its axis is 45 000 times smaller than about the others, may not have
+    // 100 000 times
+    b.size = {1, 1.0 / 300, 1.0 / 300};
+    CHECK_THAT(refused({2e-8, 2e-3, 2e-3}),
+               Equals("robot 'x' body 'segment1' inertia's largest moment must be at most 90000 "
+                      "times its smallest, as a body's at most 300 times as long as wide (got "
+                      "2e-08 0.002 0.002 kg·m²: 100000 times)"));
+    b.size = {0.1, 0.1, 0.1};
+    CHECK_THAT(refused({1e-3, 3e-3, 1e-3}),
+               Equals("robot 'x' body 'segment1' inertia must have each moment at most the sum "
+                      "of the other two, as every body's has (got 0.001 0.003 0.001 kg·m²: y is "
+                      "0.003, the other two add up to 0.002)"));
+    // a thin plate's: its z moment the sum of the other two
+    b.inertia = Vec3{1e-3, 2e-3, 3e-3};
+    CHECK_NOTHROW(validate(r));
+    // every body's own solid's inertia, given, is accepted: the bounds are the solids'
+    for (const auto& [shape, size] :
+         {std::pair{Shape::box, Vec3{1, 1.0 / 300, 1e-4}}, std::pair{Shape::box, Vec3{1, 1, 1e-4}},
+          std::pair{Shape::box, Vec3{1e-4, 1e-4, 1e-4}}, std::pair{Shape::box, Vec3{100, 100, 100}},
+          std::pair{Shape::cylinder, Vec3{0.6, 0.002, 0.002}},
+          std::pair{Shape::cylinder, Vec3{1e-4, 100, 100}}}) {
+        for (double mass : {kMinBodyMass, 1.0, kMaxBodyMass}) {
+            CAPTURE(size.x, size.y, size.z, mass);
+            b.shape = shape;
+            b.size = size;
+            b.mass = mass;
+            b.inertia.reset();
+            b.inertia = body_inertia(b);
+            CHECK_NOTHROW(validate(r));
+        }
     }
 }
 

@@ -43,6 +43,8 @@ void check_same_robot(const RobotSpec& a, const RobotSpec& b) {
         CHECK(a.bodies[i].shape == b.bodies[i].shape);
         check_close(a.bodies[i].size, b.bodies[i].size);
         CHECK(a.bodies[i].mass == b.bodies[i].mass);
+        REQUIRE(a.bodies[i].inertia.has_value() == b.bodies[i].inertia.has_value());
+        if (a.bodies[i].inertia) check_close(*a.bodies[i].inertia, *b.bodies[i].inertia);
         check_close(a.bodies[i].pose.position, b.bodies[i].pose.position);
         const Quat& p = a.bodies[i].pose.orientation;
         const Quat& q = b.bodies[i].pose.orientation;
@@ -187,8 +189,8 @@ TEST_CASE("a link whose body is invalid is named at its own line", "[lines]") {
 }
 
 TEST_CASE("a link smaller or lighter than a body may be is refused at its line", "[lines]") {
-    // link b's mass and geometry (b on line 4: link a's text has a line break); an <inertia> is not
-    // read: Bullet computes the inertia from the solid and the mass, which these bounds bound
+    // link b's mass and geometry (b on line 4: link a's text has a line break), checked at the
+    // link before its <inertia> (which has bounds of its own, below)
     const auto with_b = [](const std::string& mass, const std::string& geometry) {
         return "<robot name=\"r\">\n<link name=\"a\">" + std::string(kLink) +
                "</link>\n<link name=\"b\"><inertial><mass value=\"" + mass +
@@ -219,8 +221,14 @@ TEST_CASE("a link smaller or lighter than a body may be is refused at its line",
     CHECK_THAT(import_error(with_b("0.1", "<cylinder radius=\"0.001\" length=\"1\"/>")),
                Equals("r.urdf:4: robot/link[2]: robot 'r' body 'b' length must be at most 300 "
                       "times its diameter (got 1 m and 0.002 m: 500 times)"));
-    // at the bounds, the link is a body
-    const std::string at_bounds = with_b("1e-9", "<cylinder radius=\"0.001\" length=\"0.0001\"/>");
+    // a mass and geometry at the bounds are a body; its inertia is not
+    std::string at_bounds = with_b("1e-9", "<cylinder radius=\"0.001\" length=\"0.0001\"/>");
+    CHECK_THAT(import_error(at_bounds),
+               Catch::StartsWith("r.urdf:4: robot/link[2]/inertial[1]/inertia[1]: robot 'r' body "
+                                 "'b' inertia x must be in [5e-18, 2.0025e-15] kg·m² for its "
+                                 "mass and size (got 1e-300)"));
+    const size_t inertia = at_bounds.find("<inertia ");
+    at_bounds.erase(inertia, at_bounds.find("/>", inertia) + 2 - inertia);
     const RobotSpec robot = parse_urdf(at_bounds, "r.urdf");
     REQUIRE(robot.bodies.size() == 2);
     CHECK(robot.bodies[1].mass == 1e-9);
@@ -353,4 +361,168 @@ TEST_CASE("entity declarations and unknown entities are refused at their line", 
     } catch (const FormatError& e) {
         CHECK_THAT(e.what(), Catch::StartsWith("r.robot.xml:2: unknown entity '&nbsp;'"));
     }
+}
+
+namespace {
+
+// one link: a 0.1 m cube of 1 kg (its solid's moments 1/600 kg·m²) whose <inertial> has
+// `inertial` (an <origin>, say) on line 3 and the <inertia> with `moments` on line 4
+std::string link_urdf(const std::string& moments, const std::string& inertial = "",
+                      const std::string& geometry = "<box size=\"0.1 0.1 0.1\"/>",
+                      const std::string& at = "xyz=\"0 0 0\"") {
+    return "<robot name=\"r\">\n<link name=\"a\"><collision><origin " + at + "/><geometry>" +
+           geometry + "</geometry></collision>\n<inertial><mass value=\"1\"/>" + inertial +
+           "\n<inertia " + moments + "/>\n</inertial></link>\n</robot>";
+}
+
+// kg·m², a tensor turned through frames: equal to rounding
+bool same_moments(const Vec3& a, const Vec3& b) {
+    const auto same = [](double x, double y) { return std::abs(x - y) <= 1e-12; };
+    return same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z);
+}
+
+Vec3 imported_inertia(const std::string& text) {
+    const RobotSpec r = parse_urdf(text, "r.urdf");
+    REQUIRE(r.bodies.size() == 1);
+    REQUIRE(r.bodies[0].inertia);
+    return *r.bodies[0].inertia;
+}
+
+// two coinciding bodies: link "a", the cube of link_urdf with its solid's inertia, and link "b",
+// the same cube with `moments`, joined by a pitch joint through both centres
+std::string pair_urdf(const std::string& moments) {
+    const std::string cube =
+        R"(<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>)";
+    return "<robot name=\"r\">\n<link name=\"a\">" + cube +
+           R"(<inertial><mass value="1"/></inertial></link>)" + "\n<link name=\"b\">" + cube +
+           R"(<inertial><mass value="1"/><inertia )" + moments + "/></inertial></link>\n" +
+           R"(<joint name="j" type="revolute"><parent link="a"/><child link="b"/>)" +
+           R"(<axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="0.5" velocity="5"/>)" +
+           "</joint>\n</robot>";
+}
+
+}  // namespace
+
+TEST_CASE("a link's diagonal inertia is its body's, and the body turns as it says") {
+    const char* moments = R"(ixx="0.001" iyy="0.004" izz="0.0035" ixy="0" ixz="0" iyz="0")";
+    CHECK(imported_inertia(link_urdf(moments)) == Vec3{0.001, 0.004, 0.0035});
+    // the joint turns the two bodies against each other about their common centre, in a world
+    // without gravity or floor: their angular momenta about y cancel, so their spins are in
+    // the inverse ratio of their moments about y (the cube's 1/600 against b's 0.004)
+    const RobotSpec robot = parse_urdf(pair_urdf(moments), "r.urdf");
+    REQUIRE(robot.bodies[1].inertia);
+    WorldSpec world;
+    world.gravity = {0, 0, 0};
+    world.floor.enabled = false;
+    auto sine = std::make_shared<controllers::Sine>();
+    world.robots.push_back({robot, {}, {{select_joints(robot, "all"), sine}}});
+    Simulation sim(world);
+    sim.run(0.3);
+    const double a = sim.body(0, 0).angular_velocity.y, b = sim.body(0, 1).angular_velocity.y;
+    CAPTURE(a, b);
+    REQUIRE(std::abs(a) > 0.01);
+    CHECK(-a / b == Approx(0.004 * 600).epsilon(1e-3));
+}
+
+TEST_CASE("an inertia is read about the body's own axes, through the frames that turn it") {
+    // the inertial frame turned a quarter turn about z: its x is the body's y
+    CHECK(same_moments(imported_inertia(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")",
+                                                  R"(<origin rpy="0 0 1.5707963267948966"/>)")),
+                       {0.004, 0.001, 0.0035}));
+    // the geometry turned instead, the inertia in the link frame: the same body
+    CHECK(same_moments(imported_inertia(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")", "",
+                                                  "<box size=\"0.1 0.1 0.1\"/>",
+                                                  R"(xyz="0 0 0" rpy="0 0 1.5707963267948966")")),
+                       {0.004, 0.001, 0.0035}));
+    // a URDF cylinder lies along z: its izz is about the body's axis (x)
+    const Vec3 cylinder = imported_inertia(link_urdf(R"(ixx="0.004" iyy="0.004" izz="0.001")", "",
+                                                     R"(<cylinder radius="0.05" length="0.2"/>)"));
+    CHECK(same_moments(cylinder, {0.001, 0.004, 0.004}));
+    // products that are rounding (an rpy of 1.5708) are dropped
+    CHECK(same_moments(imported_inertia(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")",
+                                                  R"(<origin rpy="0 0 1.5708"/>)")),
+                       {0.004, 0.001, 0.0035}));
+    // the solid's own moments (as an export writes them) leave the body's inertia the solid's
+    const RobotSpec solid =
+        parse_urdf(link_urdf(R"(ixx="0.0016666666666666668" iyy="0.0016666666666666668" )"
+                             R"(izz="0.0016666666666666668")"),
+                   "r.urdf");
+    CHECK_FALSE(solid.bodies[0].inertia);
+}
+
+TEST_CASE("an inertia gaitlab cannot give a body is refused at its line", "[lines]") {
+    CHECK_THAT(import_error(link_urdf(R"(ixx="-0.001" iyy="0.004" izz="0.0035")")),
+               Equals("r.urdf:4: robot/link[1]/inertial[1]/inertia[1]: robot 'r' body 'a' "
+                      "inertia x must be positive (got -0.001 kg·m²)"));
+    CHECK_THAT(import_error(link_urdf(R"(ixx="nan" iyy="0.004" izz="0.0035")")),
+               Equals("r.urdf:4: robot/link[1]/inertial[1]/inertia[1]: attribute 'ixx': number "
+                      "expected, got 'nan'"));
+    CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.004")")),
+               Equals("r.urdf:4: robot/link[1]/inertial[1]/inertia[1]: attribute 'izz' is "
+                      "required (a number)"));
+    CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.001" izz="0.0035")")),
+               Equals("r.urdf:4: robot/link[1]/inertial[1]/inertia[1]: robot 'r' body 'a' "
+                      "inertia must have each moment at most the sum of the other two, as every "
+                      "body's has (got 0.001 0.001 0.0035 kg·m²: z is 0.0035, the other two add "
+                      "up to 0.002)"));
+    CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035" ixy="0.0005")")),
+               Equals("r.urdf:4: robot/link[1]/inertial[1]/inertia[1]: link 'a': the inertia has "
+                      "a product of 0.0005 kg·m² about its box's x and y axes (moments 0.001 "
+                      "0.004 0.0035): its principal axes are turned about 9.22 degrees from the "
+                      "box's, and gaitlab can only give a body principal moments about its "
+                      "shape's own axes (products at most 0.001 of the largest moment are "
+                      "dropped as rounding)"));
+    // a turned inertial frame whose axes are not the box's makes products too
+    CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")",
+                                      R"(<origin rpy="0 0 0.5"/>)")),
+               Catch::StartsWith("r.urdf:4: robot/link[1]/inertial[1]/inertia[1]: link 'a': the "
+                                 "inertia has a product of"));
+    CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035" ixy="0.001")")),
+               Catch::Contains("turned about 16.8 degrees"));
+    CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035" ixq="0")")),
+               Catch::StartsWith("r.urdf:4: robot/link[1]/inertial[1]/inertia[1]: unknown "
+                                 "attribute 'ixq'"));
+}
+
+TEST_CASE("a centre of mass away from the shape's centre is refused at its line", "[lines]") {
+    CHECK_THAT(
+        import_error(
+            link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")", R"(<origin xyz="0.01 0 0"/>)")),
+        Equals("r.urdf:3: robot/link[1]/inertial[1]/origin[1]: link 'a': its centre of mass (the "
+               "<inertial> origin, xyz=\"0.01 0 0\") is 0.01 m from the centre of its box (its "
+               "geometry's origin, xyz=\"0 0 0\"), and a gaitlab body's centre of mass is its "
+               "shape's centre: give the <inertial> an <origin xyz=\"0 0 0\"> and the inertia "
+               "about that point"));
+    // no <origin>: URDF's centre of mass is the link origin, here 0.05 m behind the box's
+    CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")", "",
+                                      "<box size=\"0.1 0.1 0.1\"/>", R"(xyz="0.05 0 0")")),
+               Catch::StartsWith("r.urdf:3: robot/link[1]/inertial[1]: link 'a': its centre of "
+                                 "mass (the <inertial> origin, xyz=\"0 0 0\") is 0.05 m from"));
+    // given at the shape's centre, it is
+    CHECK(imported_inertia(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")",
+                                     R"(<origin xyz="0.05 0 0"/>)", "<box size=\"0.1 0.1 0.1\"/>",
+                                     R"(xyz="0.05 0 0")")) == Vec3{0.001, 0.004, 0.0035});
+}
+
+TEST_CASE("a body's given inertia exports and imports back, check_urdf passing") {
+    RobotSpec robot = make_chain(ChainSpec{"given", 2, Connection::pitch_pitch, [] {
+                                               ModuleDef m = default_module_def();
+                                               m.shape = Shape::cylinder;
+                                               m.radius = 0.026;
+                                               return m;
+                                           }()});
+    robot.chain.reset();
+    robot.bodies[0].shape = Shape::box;
+    robot.bodies[0].size = {0.036, 0.052, 0.052};
+    robot.bodies[0].inertia = Vec3{1e-5, 2e-5, 2.5e-5};
+    robot.bodies[1].inertia = Vec3{1.5e-5, 3e-5, 2e-5};  // the cylinder: x along its axis
+    robot.bodies[1].pose.orientation = Quat::from_axis_angle({0, 0, 1}, 0.3);
+    validate(robot);
+    TempDir dir("urdf_inertia");
+    write_urdf(dir.file("given.urdf"), robot);
+    const auto [status, out] = check_urdf(dir.file("given.urdf"));
+    INFO(out);
+    CHECK(status == 0);
+    const RobotSpec back = read_urdf(dir.file("given.urdf"));
+    check_same_robot(back, robot);
 }

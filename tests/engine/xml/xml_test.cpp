@@ -116,7 +116,11 @@ TEST_CASE("a robot that is not a chain round-trips body by body") {
     robot.joints[1].servo.kp = 12;
     robot.joints[0].max_angle = deg_to_rad(45);
     robot.self_collision = true;
+    // a given inertia, here on one body: the others keep their solid's and write none
+    robot.bodies[1].inertia = Vec3{1e-5, 2.5e-5, 3e-5};
     const std::string text = format_robot(robot);
+    CHECK(text.find("inertia=\"1e-05 2.5e-05 3e-05\"") != std::string::npos);
+    CHECK(text.find("inertia=") == text.rfind("inertia="));
     CHECK(text.find("<chain") == std::string::npos);
     CHECK(text.find("<body name=\"segment1\"") != std::string::npos);
     CHECK(text.find("parent=\"tail\" child=\"segment1\"") != std::string::npos);
@@ -191,6 +195,15 @@ TEST_CASE("robot files reject bad input with file, line, element path and a sugg
         robot_error("<robot>\n<body name=\"a\" size=\"1 1 -1\" mass=\"1\"/>\n</robot>"),
         Equals("robot.xml:4: robot/body[1]: robot 'robot' body 'a' size z must be positive (got "
                "-1 m)"));
+    CHECK_THAT(robot_error("<robot>\n<body name=\"a\" size=\"1 1 1\" mass=\"1\" "
+                           "inertia=\"0.1 0.1 0.3\"/>\n</robot>"),
+               Equals("robot.xml:4: robot/body[1]: robot 'robot' body 'a' inertia must have each "
+                      "moment at most the sum of the other two, as every body's has (got 0.1 "
+                      "0.1 0.3 kg·m²: z is 0.3, the other two add up to 0.2)"));
+    CHECK_THAT(robot_error("<robot>\n<body name=\"a\" size=\"1 1 1\" mass=\"1\" "
+                           "inertia=\"0.1 0.1\"/>\n</robot>"),
+               Equals("robot.xml:4: robot/body[1]: attribute 'inertia': three numbers \"x y z\" "
+                      "expected, got '0.1 0.1'"));
     CHECK_THAT(robot_error("<robot/>"),
                Equals("robot.xml:3: robot: a robot needs a <chain>, or <body> and <joint> "
                       "elements"));
