@@ -85,6 +85,8 @@ TEST_CASE("a saved simulation loads and runs the same trajectory to the bit", "[
     }
     CHECK(lua.number("setup.duration") == 2);
     CHECK(lua.string("setup.name") == "walk");
+    // the line of <simulation>, after the XML declaration and <gaitlab>
+    CHECK(lua.integer("setup.line") == 3);
     CHECK(lua.integer("loaded.control_every") == 10);
     CHECK(lua.integer("loaded.seed") == 3);
     CHECK(lua.number("robots.snake:displacement():norm()") > 0.01);
