@@ -306,14 +306,28 @@ int robot_save(lua_State* L) {
     });
 }
 
-// gaitlab.robot.load_urdf(path): a robot from a URDF serial chain, or nil and a message
+// gaitlab.robot.load_urdf(path [, { inertia = "file" | "shapes" }]): a robot from a URDF
+// serial chain, or nil and a message
 int robot_load_urdf(lua_State* L) {
     return protect(L, [&] {
         const std::string arg = check_string(L, 1);
+        UrdfImport how;
+        if (!lua_isnoneornil(L, 2)) {
+            Fields f(L, 2, 2, {"inertia"});
+            const std::string inertia = f.string("inertia", "file");
+            if (inertia != "file" && inertia != "shapes") {
+                f.fail("inertia",
+                       "\"file\" (each link's <inertial> as the file gives it) or "
+                       "\"shapes\" (each link a uniform solid of its shape and mass) "
+                       "expected, got \"" +
+                           inertia + "\"");
+            }
+            how.inertia_from_shapes = inertia == "shapes";
+        }
         return file_read(L, [&] {
             const std::string path = checked_input_path(L, arg);
             auto robot = std::make_shared<RobotBinding>();
-            robot->spec = read_urdf(path);
+            robot->spec = read_urdf(path, how);
             push_robot(L, std::move(robot));
         });
     });

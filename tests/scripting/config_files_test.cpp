@@ -534,6 +534,41 @@ TEST_CASE("a robot URDF cannot hold is nil and a message naming why", "[config_f
     CHECK_FALSE(std::filesystem::exists(dir.file("loop.urdf")));
 }
 
+TEST_CASE("load_urdf takes its links' inertia from the file or from their shapes",
+          "[config_files]") {
+    TempDir dir("urdf_inertia");
+    // a placeholder inertia about the link origin, 4 cm behind the box's centre
+    gaitlab::test::write_text(
+        dir.file("worm.urdf"),
+        "<robot name=\"worm\">\n<link name=\"a\"><inertial><mass value=\"0.05\"/>\n"
+        "<inertia ixx=\"1e-5\" iyy=\"1e-5\" izz=\"1e-5\"/></inertial><collision><origin "
+        "xyz=\"0.04 0 0\"/><geometry><box size=\"0.08 0.05 0.03\"/></geometry></collision>"
+        "</link>\n</robot>\n");
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.path.string() + "'");
+    lua.run(R"(
+        refused = { gaitlab.robot.load_urdf(DIR .. "/worm.urdf") }
+        given = { gaitlab.robot.load_urdf(DIR .. "/worm.urdf", { inertia = "file" }) }
+        worm = gaitlab.robot.load_urdf(DIR .. "/worm.urdf", { inertia = "shapes" })
+        moments = worm:bodies()[1].inertia
+    )");
+    CHECK(lua.boolean("refused[1] == nil and given[1] == nil and refused[2] == given[2]"));
+    CHECK_THAT(lua.string("refused[2]"),
+               Catch::StartsWith(dir.file("worm.urdf") + ":2: robot/link[1]/inertial[1]: link "
+                                                         "'a': its centre of mass") &&
+                   Catch::EndsWith("(gaitlab.robot.load_urdf(path, { inertia = \"shapes\" }))"));
+    // the uniform box of 50 g: m (y² + z²) / 12 about x
+    CHECK(lua.number("moments.x") == Approx(0.05 * (0.05 * 0.05 + 0.03 * 0.03) / 12));
+    CHECK(lua.number("moments.z") == Approx(0.05 * (0.08 * 0.08 + 0.05 * 0.05) / 12));
+    CHECK_THAT(lua.error_of("gaitlab.robot.load_urdf(DIR .. '/worm.urdf', { inertia = 'shape' })"),
+               Catch::Contains("bad argument #2 to 'load_urdf' (field 'inertia': \"file\" "
+                               "(each link's <inertial> as the file gives it) or \"shapes\""));
+    CHECK_THAT(lua.error_of("gaitlab.robot.load_urdf(DIR .. '/worm.urdf', { inertias = 'file' })"),
+               Catch::Contains("unknown key 'inertias'"));
+    CHECK_THAT(lua.error_of("gaitlab.robot.load_urdf(DIR .. '/worm.urdf', 'shapes')"),
+               Catch::Contains("bad argument #2 to 'load_urdf'"));
+}
+
 TEST_CASE("a save that fails changes nothing on disk", "[config_files][save]") {
     // the parts were written one by one before the simulation file: a simulation file that
     // could not be written (a folder of that name) still replaced the user's robot file beside it

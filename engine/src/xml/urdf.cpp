@@ -251,6 +251,11 @@ void check_joint(const Element& at, const std::string& robot, const JointSpec& j
     at.check([&] { validate_joint(r, joint); });
 }
 
+// ends each message about a link's <inertial> that a gaitlab body cannot hold
+constexpr const char* kFromShapes =
+    "; or import the file with each link a uniform solid of its shape and mass, its <inertia> "
+    "not read (gaitlab.robot.load_urdf(path, { inertia = \"shapes\" }))";
+
 // The <inertia> of link `name` as principal moments about its body's axes (`out` read
 // whole), set in out.inertia unless it is the body's solid's; `inertial` is the <inertial>
 // frame in the link frame. A tensor whose principal axes are not the shape's fails at `at`.
@@ -279,9 +284,9 @@ void read_inertia(const Element& at, const std::string& name, const UrdfInertia&
             "link '{}': the inertia has a product of {} kg·m² about its {}'s {} and {} axes "
             "(moments {} {} {}): its principal axes are turned about {:.3g} degrees from the "
             "{}'s, and gaitlab can only give a body principal moments about its shape's own "
-            "axes (products at most {} of the largest moment are dropped as rounding)",
+            "axes (products at most {} of the largest moment are dropped as rounding){}",
             name, product, shape, names[a], names[b], moments.x, moments.y, moments.z, turn, shape,
-            kProductTolerance));
+            kProductTolerance, kFromShapes));
     }
     // the body's own solid's (as an export writes it, or to 7 digits) is left to the solid,
     // which the simulation computes to the same bits as for a link without an <inertia>
@@ -296,7 +301,8 @@ void read_inertia(const Element& at, const std::string& name, const UrdfInertia&
     out.inertia = moments;
 }
 
-UrdfLink read_link(const Element& link, const std::string& robot, const std::string& link_name) {
+UrdfLink read_link(const Element& link, const std::string& robot, const std::string& link_name,
+                   const UrdfImport& how) {
     UrdfLink out{link, link, Shape::box, {}, {}, 0, std::nullopt};
     bool geometry = false;
     std::optional<Element> inertial, inertia;  // the <inertial>, its <inertia>
@@ -310,6 +316,7 @@ UrdfLink read_link(const Element& link, const std::string& robot, const std::str
             for (const Element& i : k.children({"origin", "mass", "inertia"})) {
                 const std::string part = i.name();
                 if (part == "mass") out.mass = i.required_number("value");
+                if (how.inertia_from_shapes) continue;
                 if (part == "origin") {
                     inertial_frame = read_origin(k).first;
                     centre = i;
@@ -372,16 +379,22 @@ UrdfLink read_link(const Element& link, const std::string& robot, const std::str
                     "link '{}': its centre of mass (the <inertial> origin, xyz=\"{}\") is "
                     "{:.6g} m from the centre of its {} (its geometry's origin, xyz=\"{}\"), "
                     "and a gaitlab body's centre of mass is its shape's centre: give the "
-                    "<inertial> an <origin xyz=\"{}\"> and the inertia about that point",
+                    "<inertial> an <origin xyz=\"{}\"> and the inertia about that point{}",
                     link_name, numbers3(inertial_frame.position), offset.norm(),
                     out.shape == Shape::box ? "box" : "cylinder", numbers3(out.geometry.position),
-                    numbers3(out.geometry.position)));
+                    numbers3(out.geometry.position), kFromShapes));
         }
     }
     if (inertia) {
         read_inertia(*inertia, link_name, tensor, inertial_frame, out);
         probe.inertia = out.inertia;
-        inertia->check([&] { validate_body(robot, probe); });
+        inertia->check([&] {
+            try {
+                validate_body(robot, probe);
+            } catch (const SpecError& e) {
+                throw SpecError(e.what() + std::string(kFromShapes));
+            }
+        });
     }
     return out;
 }
@@ -447,7 +460,7 @@ Pose compose(const Pose& a, const Pose& b) {
 // as they are read; positions, which add up along the chain, at the <origin> that takes a pivot
 // or a body out of range as the chain is walked; what the final shift of the robot onto the
 // floor takes out of range at the <link> or <joint>.
-RobotSpec parse_urdf(std::string_view text, const std::string& file) {
+RobotSpec parse_urdf(std::string_view text, const std::string& file, const UrdfImport& how) {
     const auto doc = xml::Document::foreign(text, file, "robot");
     const Element root = doc->root();
     RobotSpec robot;
@@ -467,7 +480,7 @@ RobotSpec parse_urdf(std::string_view text, const std::string& file) {
             if (links.size() >= static_cast<size_t>(kMaxRobotBodies)) {
                 k.fail(fmt::format("a robot has at most {} links", kMaxRobotBodies));
             }
-            links.emplace(name, read_link(k, robot.name, name));
+            links.emplace(name, read_link(k, robot.name, name, how));
             link_order.push_back(name);
         } else if (kind == "joint") {
             UrdfJoint j = read_joint(k, robot.name);
@@ -585,8 +598,8 @@ RobotSpec parse_urdf(std::string_view text, const std::string& file) {
     return robot;
 }
 
-RobotSpec read_urdf(const std::string& path) {
-    return parse_urdf(xml::read_text(path), path);
+RobotSpec read_urdf(const std::string& path, const UrdfImport& how) {
+    return parse_urdf(xml::read_text(path), path, how);
 }
 
 }  // namespace gaitlab

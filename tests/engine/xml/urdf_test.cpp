@@ -453,7 +453,9 @@ TEST_CASE("an inertia is read about the body's own axes, through the frames that
 TEST_CASE("an inertia gaitlab cannot give a body is refused at its line", "[lines]") {
     CHECK_THAT(import_error(link_urdf(R"(ixx="-0.001" iyy="0.004" izz="0.0035")")),
                Equals("r.urdf:4: robot/link[1]/inertial[1]/inertia[1]: robot 'r' body 'a' "
-                      "inertia x must be positive (got -0.001 kg·m²)"));
+                      "inertia x must be positive (got -0.001 kg·m²); or import the file with "
+                      "each link a uniform solid of its shape and mass, its <inertia> not read "
+                      "(gaitlab.robot.load_urdf(path, { inertia = \"shapes\" }))"));
     CHECK_THAT(import_error(link_urdf(R"(ixx="nan" iyy="0.004" izz="0.0035")")),
                Equals("r.urdf:4: robot/link[1]/inertial[1]/inertia[1]: attribute 'ixx': number "
                       "expected, got 'nan'"));
@@ -464,14 +466,18 @@ TEST_CASE("an inertia gaitlab cannot give a body is refused at its line", "[line
                Equals("r.urdf:4: robot/link[1]/inertial[1]/inertia[1]: robot 'r' body 'a' "
                       "inertia must have each moment at most the sum of the other two, as every "
                       "body's has (got 0.001 0.001 0.0035 kg·m²: z is 0.0035, the other two add "
-                      "up to 0.002)"));
+                      "up to 0.002); or import the file with each link a uniform solid of its "
+                      "shape and mass, its <inertia> not read (gaitlab.robot.load_urdf(path, { "
+                      "inertia = \"shapes\" }))"));
     CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035" ixy="0.0005")")),
                Equals("r.urdf:4: robot/link[1]/inertial[1]/inertia[1]: link 'a': the inertia has "
                       "a product of 0.0005 kg·m² about its box's x and y axes (moments 0.001 "
                       "0.004 0.0035): its principal axes are turned about 9.22 degrees from the "
                       "box's, and gaitlab can only give a body principal moments about its "
                       "shape's own axes (products at most 0.001 of the largest moment are "
-                      "dropped as rounding)"));
+                      "dropped as rounding); or import the file with each link a uniform solid "
+                      "of its shape and mass, its <inertia> not read "
+                      "(gaitlab.robot.load_urdf(path, { inertia = \"shapes\" }))"));
     // a turned inertial frame whose axes are not the box's makes products too
     CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")",
                                       R"(<origin rpy="0 0 0.5"/>)")),
@@ -492,7 +498,9 @@ TEST_CASE("a centre of mass away from the shape's centre is refused at its line"
                "<inertial> origin, xyz=\"0.01 0 0\") is 0.01 m from the centre of its box (its "
                "geometry's origin, xyz=\"0 0 0\"), and a gaitlab body's centre of mass is its "
                "shape's centre: give the <inertial> an <origin xyz=\"0 0 0\"> and the inertia "
-               "about that point"));
+               "about that point; or import the file with each link a uniform solid of its shape "
+               "and mass, its <inertia> not read (gaitlab.robot.load_urdf(path, { inertia = "
+               "\"shapes\" }))"));
     // no <origin>: URDF's centre of mass is the link origin, here 0.05 m behind the box's
     CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")", "",
                                       "<box size=\"0.1 0.1 0.1\"/>", R"(xyz="0.05 0 0")")),
@@ -502,6 +510,38 @@ TEST_CASE("a centre of mass away from the shape's centre is refused at its line"
     CHECK(imported_inertia(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")",
                                      R"(<origin xyz="0.05 0 0"/>)", "<box size=\"0.1 0.1 0.1\"/>",
                                      R"(xyz="0.05 0 0")")) == Vec3{0.001, 0.004, 0.0035});
+}
+
+TEST_CASE("imported with inertia from shapes, each link is the uniform solid of its mass") {
+    UrdfImport shapes;
+    shapes.inertia_from_shapes = true;
+    // a centre of mass off the box, turned principal axes, impossible moments: none is read
+    const std::string off_centre = link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")", "",
+                                             "<box size=\"0.1 0.1 0.1\"/>", R"(xyz="0.05 0 0")");
+    const std::string turned = link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035" ixy="0.001")");
+    const std::string impossible = link_urdf(R"(ixx="-1" iyy="0.004" izz="0.0035")");
+    const std::string mass_only =
+        R"(<robot name="r"><link name="a"><collision><origin xyz="0.05 0 0"/><geometry>)"
+        R"(<box size="0.1 0.1 0.1"/></geometry></collision><inertial><mass value="1"/>)"
+        "</inertial></link></robot>";
+    for (const std::string& text : {off_centre, turned, impossible}) {
+        CHECK_THROWS_AS(parse_urdf(text, "r.urdf"), FormatError);
+        const RobotSpec r = parse_urdf(text, "r.urdf", shapes);
+        REQUIRE(r.bodies.size() == 1);
+        CHECK_FALSE(r.bodies[0].inertia);
+        CHECK(r.bodies[0].mass == 1);
+    }
+    // the same body as a link with its mass alone, which both ways import alike
+    const RobotSpec plain = parse_urdf(mass_only, "r.urdf");
+    const RobotSpec from_shapes = parse_urdf(off_centre, "r.urdf", shapes);
+    CHECK(format_robot(from_shapes) == format_robot(plain));
+    CHECK(format_robot(parse_urdf(mass_only, "r.urdf", shapes)) == format_robot(plain));
+    // what the option does not cover is still checked: a link without a mass
+    CHECK_THROWS_WITH(parse_urdf(R"(<robot name="r"><link name="a"><collision><geometry>)"
+                                 R"(<box size="0.1 0.1 0.1"/></geometry></collision></link>)"
+                                 "</robot>",
+                                 "r.urdf", shapes),
+                      Catch::Contains("a link needs an <inertial> with a mass > 0"));
 }
 
 TEST_CASE("a body's given inertia exports and imports back, check_urdf passing") {
