@@ -16,33 +16,31 @@ namespace {
 
 // One key of the table being visited, as the sort compares it.
 struct Key {
-    int rank;       // 0 numbers, 1 strings, 2 booleans, 3 everything else
-    bool integer;   // numbers: an integer subtype
-    lua_Integer i;  // numbers: the integer
+    int rank;       // 0 numbers, 1 strings, 2 booleans, 3 gaitlab's userdata, 4 everything else
+    bool integer;   // numbers: an integer subtype; gaitlab's userdata: true
+    lua_Integer i;  // numbers: the integer; gaitlab's userdata: their number (number_object)
     lua_Number x;   // numbers: the value as a float
     const char* s;  // strings (anchored by the table that holds them), booleans: "" or "t"
     std::size_t len;
     lua_Integer index;  // where Lua's own traversal put it (keeps ties in a stable order)
 };
 
+// small and without a switch, so that the sort inlines it (it runs n log n times)
 bool before(const Key& a, const Key& b) {
     if (a.rank != b.rank) return a.rank < b.rank;
-    switch (a.rank) {
-        case 0:
-            if (a.integer && b.integer) return a.i < b.i;
-            return a.x < b.x;
-        case 1:
-        case 2: {
-            const int c = std::memcmp(a.s, b.s, std::min(a.len, b.len));
-            return c != 0 ? c < 0 : a.len < b.len;
-        }
-        default:
-            return false;  // tables, functions, userdata: Lua's order, which is their address
+    if (a.rank == 1 || a.rank == 2) {
+        const int c = std::memcmp(a.s, b.s, std::min(a.len, b.len));
+        return c != 0 ? c < 0 : a.len < b.len;
     }
+    // numbers; gaitlab's userdata by their (integer) number; other keys all 0, so they keep
+    // Lua's order, which is by address
+    if (a.integer && b.integer) return a.i < b.i;
+    return a.x < b.x;
 }
 
-Key key_at(lua_State* L, int index, lua_Integer position) {
-    Key k{3, false, 0, 0, "", 0, position};
+// the key at `index`; `made` is the kMadeKey table (absolute), 0 if there is none
+Key key_at(lua_State* L, int index, int made, lua_Integer position) {
+    Key k{4, false, 0, 0, "", 0, position};
     switch (lua_type(L, index)) {
         case LUA_TNUMBER:
             k.rank = 0;
@@ -58,6 +56,15 @@ Key key_at(lua_State* L, int index, lua_Integer position) {
             k.rank = 2;
             k.s = lua_toboolean(L, index) ? "t" : "";
             k.len = std::strlen(k.s);
+            break;
+        case LUA_TUSERDATA:
+            if (made != 0) {
+                k.i = object_number(L, index, made);
+                if (k.i > 0) {
+                    k.rank = 3;
+                    k.integer = true;
+                }
+            }
             break;
         default:
             break;
@@ -101,6 +108,13 @@ void push_ordered_keys(lua_State* L, int table) {
     const int found = lua_gettop(L);
     lua_createtable(L, static_cast<int>(count), 0);  // the sorted order
     const int sorted = lua_gettop(L);
+    // the numbers of gaitlab's userdata (none made yet: no table)
+    int made = 0;
+    if (lua_getfield(L, LUA_REGISTRYINDEX, kMadeKey) == LUA_TTABLE) {
+        made = lua_gettop(L);
+    } else {
+        lua_pop(L, 1);
+    }
     lua_Integer n = 0;
     lua_pushnil(L);
     while (lua_next(L, table) != 0) {
@@ -113,7 +127,7 @@ void push_ordered_keys(lua_State* L, int table) {
         order.reserve(static_cast<std::size_t>(n));
         for (lua_Integer i = 1; i <= n; ++i) {
             lua_rawgeti(L, found, i);
-            order.push_back(key_at(L, -1, i));
+            order.push_back(key_at(L, -1, made, i));
             lua_pop(L, 1);
         }
         std::stable_sort(order.begin(), order.end(), before);
@@ -122,6 +136,7 @@ void push_ordered_keys(lua_State* L, int table) {
             lua_rawseti(L, sorted, i);
         }
     }
+    if (made != 0) lua_remove(L, made);
     lua_remove(L, found);
 }
 
@@ -129,7 +144,7 @@ void push_ordered_keys(lua_State* L, int table) {
 
 // pairs(t): as Lua's (a __pairs metamethod decides if there is one), but a table's keys come
 // in a fixed order: numbers ascending, then strings in byte order, then false and true, then
-// other keys in Lua's order
+// gaitlab's userdata in the order they were made, then other keys in Lua's order
 int fixed_order_pairs(lua_State* L) {
     luaL_checkany(L, 1);
     if (luaL_getmetafield(L, 1, "__pairs") != LUA_TNIL) {

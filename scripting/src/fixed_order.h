@@ -3,7 +3,9 @@
 // a different order in each run, and its `table.sort` picks pivots from the clock, so elements
 // that compare equal end in a different order from run to run. Either breaks the promise that
 // the same script, seed and binary give the same trajectory as soon as a script builds robots,
-// adds numbers or picks the best candidates in that order.
+// adds numbers or picks the best candidates in that order. Lua's order of userdata keys is by
+// address, which changes from run to run too: gaitlab's handles (robots, sensors, controllers
+// ... as keys) come in the order they were made, which the script decides.
 #pragma once
 
 #include <lua.hpp>
@@ -12,8 +14,8 @@ namespace gaitlab::scripting {
 
 /// Sets, in L's state, the global `pairs` to one that visits a table's keys in an order of
 /// their values (numbers ascending, then strings in byte order, then false and true, then
-/// other keys in Lua's order), and `table.sort` to a stable merge sort (equal elements keep
-/// their order).
+/// gaitlab's userdata in the order the state made them (new_object), then other keys in Lua's
+/// order), and `table.sort` to a stable merge sort (equal elements keep their order).
 void open_fixed_order(lua_State* L);
 
 /// The two functions themselves: every sandbox gets them, also in an interpreter that did

@@ -164,6 +164,31 @@ bool push_failure(lua_State* L, const Failure& f) {
     return lua_pcall(L, 1, 1, 0) == LUA_OK;
 }
 
+void number_object(lua_State* L) {
+    const int object = lua_gettop(L);
+    if (lua_getfield(L, LUA_REGISTRYINDEX, kMadeKey) != LUA_TTABLE) {
+        lua_pop(L, 1);
+        lua_newtable(L);
+        lua_createtable(L, 0, 1);
+        lua_pushliteral(L, "k");  // an object's number goes with it
+        lua_setfield(L, -2, "__mode");
+        lua_setmetatable(L, -2);
+        lua_pushvalue(L, -1);
+        lua_setfield(L, LUA_REGISTRYINDEX, kMadeKey);
+    }
+    lua_pushliteral(L, "count");
+    lua_rawget(L, -2);
+    const lua_Integer n = lua_tointeger(L, -1) + 1;
+    lua_pop(L, 1);
+    lua_pushliteral(L, "count");
+    lua_pushinteger(L, n);
+    lua_rawset(L, -3);
+    lua_pushvalue(L, object);
+    lua_pushinteger(L, n);
+    lua_rawset(L, -3);
+    lua_pop(L, 1);
+}
+
 namespace {
 
 // pushes the table of `tname`'s handles (weak values), made on first use, and the key

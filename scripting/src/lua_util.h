@@ -176,12 +176,33 @@ int protect(lua_State* L, F&& body) {
     return lua_error(L);
 }
 
-/// Creates a userdata holding a T, with the metatable registered as `tname`.
+/// Registry key of the order in which a state made gaitlab's userdata: a table with weak keys
+/// from each to its number (1 for the first), and under "count" the last number given. The
+/// host's pairs visits such keys in that order (fixed_order.h).
+inline constexpr const char* kMadeKey = "gaitlab.made";
+
+/// Gives the userdata on top of the stack (not popped) the next number of its state's
+/// kMadeKey. A userdata collected and made again is numbered again, as the newest.
+void number_object(lua_State* L);
+
+/// The number number_object gave the value at `index`, pushing nothing, given the kMadeKey
+/// table at `made` (absolute); 0 if it has none (another value, or another library's userdata).
+inline lua_Integer object_number(lua_State* L, int index, int made) {
+    lua_pushvalue(L, index);
+    lua_rawget(L, made);
+    const lua_Integer n = lua_tointeger(L, -1);
+    lua_pop(L, 1);
+    return n;
+}
+
+/// Creates a userdata holding a T, with the metatable registered as `tname`, numbered by
+/// number_object.
 template <class T>
 T* new_object(lua_State* L, const char* tname, T value) {
     void* p = lua_newuserdatauv(L, sizeof(T), 0);
     T* obj = new (p) T(std::move(value));
     luaL_setmetatable(L, tname);
+    number_object(L);
     return obj;
 }
 

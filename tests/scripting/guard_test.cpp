@@ -20,6 +20,7 @@
 
 using gaitlab::scripting::LuaHost;
 using gaitlab::scripting::ScriptError;
+using gaitlab::test::InterpreterState;
 using gaitlab::test::LuaFixture;
 using gaitlab::test::TempDir;
 using gaitlab::test::write_text;
@@ -230,25 +231,6 @@ TEST_CASE("a budget gives back the debug hook it found", "[guard]") {
 }
 
 namespace {
-
-// the state of an interpreter that did require "gaitlab" (what gaitlab/core.so opens), here
-// with the C++ core of the test: gaitlab as the global `gaitlab`
-struct InterpreterState {
-    lua_State* L = luaL_newstate();
-    InterpreterState() {
-        luaL_openlibs(L);
-        lua_pushcfunction(L, [](lua_State* S) {
-            return gaitlab::scripting::open_gaitlab(S, gaitlab::scripting::StateOwner::interpreter);
-        });
-        gaitlab::scripting::protected_call(L, 0, 1);
-        lua_setglobal(L, "gaitlab");
-    }
-    ~InterpreterState() { lua_close(L); }
-    void run(const std::string& code) {
-        REQUIRE(luaL_loadbufferx(L, code.data(), code.size(), "=i", "t") == LUA_OK);
-        gaitlab::scripting::protected_call(L, 0, 0);
-    }
-};
 
 void (*sigint_handler())(int) {
     struct sigaction sa {};

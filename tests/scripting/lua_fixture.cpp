@@ -4,6 +4,8 @@
 
 #include <stdexcept>
 
+#include "wrap.h"
+
 namespace gaitlab::test {
 
 using scripting::ScriptError;
@@ -126,6 +128,24 @@ std::string LuaFixture::pcall(const std::string& fn, const std::string& args, in
     lua_settop(L(), top);
     check_sentinel(L(), top);
     return "";
+}
+
+InterpreterState::InterpreterState() : L(luaL_newstate()) {
+    luaL_openlibs(L);
+    lua_pushcfunction(L, [](lua_State* S) {
+        return scripting::open_gaitlab(S, scripting::StateOwner::interpreter);
+    });
+    scripting::protected_call(L, 0, 1);
+    lua_setglobal(L, "gaitlab");
+}
+
+InterpreterState::~InterpreterState() {
+    lua_close(L);
+}
+
+void InterpreterState::run(const std::string& code) {
+    REQUIRE(luaL_loadbufferx(L, code.data(), code.size(), "=i", "t") == LUA_OK);
+    scripting::protected_call(L, 0, 0);
 }
 
 }  // namespace gaitlab::test

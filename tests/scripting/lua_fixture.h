@@ -46,4 +46,18 @@ class LuaFixture {
     int push_values(const std::string& exprs);
 };
 
+/// The state of an interpreter that did require "gaitlab" (what gaitlab/core.so opens), here
+/// with the Lua core of the test: the interpreter's own libraries, gaitlab as the global
+/// `gaitlab`.
+struct InterpreterState {
+    InterpreterState();
+    ~InterpreterState();
+    InterpreterState(const InterpreterState&) = delete;
+    InterpreterState& operator=(const InterpreterState&) = delete;
+    /// Runs `code` as chunk "=i"; its errors are ScriptError.
+    void run(const std::string& code);
+
+    lua_State* L;
+};
+
 }  // namespace gaitlab::test
