@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets with clang (build-fuzz/, ASan + UBSan) and runs each for SECONDS
-# (default 60): the XML reader fuzzer from a corpus of gaitlab's own files, then the Lua API
+# (default 60): the XML reader fuzzer (robot, actuation, environment and simulation files, and
+# URDF) from a corpus of gaitlab's own files, then the Lua API
 # fuzzer (tests/fuzz/lua_fuzz.cpp) from its seed corpus, the examples and the inputs that once
 # crashed it. Exits non-zero on the first crash, leak, sanitizer report or timeout, leaving the
 # input that caused it in build-fuzz/ (crash-*, leak-*, timeout-*, oom-*).
@@ -33,6 +34,11 @@ while IFS= read -r -d '' f; do
     { printf "$kind"; cat "$f"; } > "$corpus/seed-$n"
     n=$((n + 1))
 done < <(find "$root/examples" "$root/tests" "$root/worlds" -name '*.xml' -print0 2>/dev/null)
+# and the URDF files (their root element is <robot> too, so they go by their extension)
+while IFS= read -r -d '' f; do
+    { printf '\x04'; cat "$f"; } > "$corpus/seed-$n"
+    n=$((n + 1))
+done < <(find "$root/examples" "$root/tests" -name '*.urdf' -print0 2>/dev/null)
 
 cd "$build"
 ./tests/fuzz/xml_fuzz -max_total_time="$seconds" -max_len=4096 -timeout=10 \
