@@ -164,18 +164,30 @@ bool push_failure(lua_State* L, const Failure& f) {
     return lua_pcall(L, 1, 1, 0) == LUA_OK;
 }
 
+void push_weak_table(lua_State* L, const char* mode) {
+    lua_newtable(L);
+    lua_createtable(L, 0, 1);
+    lua_pushstring(L, mode);
+    lua_setfield(L, -2, "__mode");
+    lua_setmetatable(L, -2);
+}
+
+void push_table_field(lua_State* L, int index, const char* name, const char* mode) {
+    index = lua_absindex(L, index);
+    if (lua_getfield(L, index, name) == LUA_TTABLE) return;
+    lua_pop(L, 1);
+    if (mode) {
+        push_weak_table(L, mode);
+    } else {
+        lua_newtable(L);
+    }
+    lua_pushvalue(L, -1);
+    lua_setfield(L, index, name);
+}
+
 void number_object(lua_State* L) {
     const int object = lua_gettop(L);
-    if (lua_getfield(L, LUA_REGISTRYINDEX, kMadeKey) != LUA_TTABLE) {
-        lua_pop(L, 1);
-        lua_newtable(L);
-        lua_createtable(L, 0, 1);
-        lua_pushliteral(L, "k");  // an object's number goes with it
-        lua_setfield(L, -2, "__mode");
-        lua_setmetatable(L, -2);
-        lua_pushvalue(L, -1);
-        lua_setfield(L, LUA_REGISTRYINDEX, kMadeKey);
-    }
+    push_table_field(L, LUA_REGISTRYINDEX, kMadeKey, "k");  // an object's number goes with it
     lua_pushliteral(L, "count");
     lua_rawget(L, -2);
     const lua_Integer n = lua_tointeger(L, -1) + 1;
@@ -193,22 +205,8 @@ namespace {
 
 // pushes the table of `tname`'s handles (weak values), made on first use, and the key
 void push_handles_and_key(lua_State* L, const char* tname, const HandleKey& key) {
-    if (lua_getfield(L, LUA_REGISTRYINDEX, kHandlesKey) != LUA_TTABLE) {
-        lua_pop(L, 1);
-        lua_newtable(L);
-        lua_pushvalue(L, -1);
-        lua_setfield(L, LUA_REGISTRYINDEX, kHandlesKey);
-    }
-    if (lua_getfield(L, -1, tname) != LUA_TTABLE) {
-        lua_pop(L, 1);
-        lua_newtable(L);
-        lua_createtable(L, 0, 1);
-        lua_pushliteral(L, "v");
-        lua_setfield(L, -2, "__mode");
-        lua_setmetatable(L, -2);
-        lua_pushvalue(L, -1);
-        lua_setfield(L, -3, tname);
-    }
+    push_table_field(L, LUA_REGISTRYINDEX, kHandlesKey, nullptr);
+    push_table_field(L, -1, tname, "v");
     lua_remove(L, -2);
     if (key.part.empty()) {
         lua_pushlightuserdata(L, const_cast<void*>(key.object));

@@ -176,6 +176,13 @@ int protect(lua_State* L, F&& body) {
     return lua_error(L);
 }
 
+/// Pushes a new table whose metatable's __mode is `mode` ("k", "v" or "kv").
+void push_weak_table(lua_State* L, const char* mode);
+
+/// Pushes the table in field `name` of the table at `index`, made and stored there first if the
+/// field holds no table: weak as `mode` says (push_weak_table), or a plain table for nullptr.
+void push_table_field(lua_State* L, int index, const char* name, const char* mode);
+
 /// Registry key of the order in which a state made gaitlab's userdata: a table with weak keys
 /// from each to its number (1 for the first), and under "count" the last number given. The
 /// host's pairs visits such keys in that order (fixed_order.h).

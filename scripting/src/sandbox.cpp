@@ -277,11 +277,7 @@ void push_sandbox(lua_State* L, const std::string& chunk) {
     }
     lua_pop(L, 1);
     // the metatables this sandbox sets, which its getmetatable may show
-    lua_newtable(L);
-    lua_createtable(L, 0, 1);
-    lua_pushliteral(L, "k");
-    lua_setfield(L, -2, "__mode");
-    lua_setmetatable(L, -2);
+    push_weak_table(L, "k");
     lua_pushvalue(L, -1);
     lua_pushcclosure(L, sandbox_getmetatable, 1);
     lua_setfield(L, env, "getmetatable");
