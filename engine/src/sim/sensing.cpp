@@ -7,6 +7,22 @@
 
 namespace gaitlab {
 
+namespace {
+
+// `d` (finite, not zero) made a unit vector. Its norm underflows to 0 or overflows to infinity
+// for components such as 1e-300 or 1e300 (a ray along 1/infinity times the direction has no
+// length and meets nothing): such a vector is divided by its largest component first. Others
+// are normalized as they always were, to the same bits
+Vec3 unit(const Vec3& d) {
+    const double n = d.norm();
+    if (n >= 1e-150 && n <= 1e150) return d * (1.0 / n);
+    const double big = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+    const Vec3 e{d.x / big, d.y / big, d.z / big};
+    return e * (1.0 / e.norm());
+}
+
+}  // namespace
+
 // robot r's sensors as its controllers see them
 class Sensing::Reader final : public SensorReader {
   public:
@@ -118,7 +134,7 @@ Sensing::Slot Sensing::compile(int robot, int local, const SensorSpec& spec) con
         case SensorKind::imu:
         case SensorKind::range:
             s.body = spec.half == ModuleHalf::tail ? info.parents[m] : info.children[m];
-            s.direction = spec.direction * (1.0 / spec.direction.norm());
+            s.direction = unit(spec.direction);
             break;
         case SensorKind::position:
             break;

@@ -57,7 +57,10 @@ void check_sensor(const RobotSpec& robot, const SensorSpec& s, const std::string
         const std::string p = "sensor '" + name + "' ";
         detail::check_range(p + "max_range", s.max_range, kMinRange, kMaxRange, "m");
         const Vec3& d = s.direction;
-        if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z) && d.norm() > 0)) {
+        // any finite length but zero: {1e-300, 0, 0} too, whose norm underflows (sensing.cpp
+        // scales the vector before it normalizes it)
+        if (!(std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z) &&
+              (d.x != 0 || d.y != 0 || d.z != 0))) {
             throw SpecError(p + "direction must be a non-zero vector");
         }
     }

@@ -284,6 +284,24 @@ PlacedRobot other_robot(Vec3 at) {
 
 }  // namespace
 
+TEST_CASE("a range sensor's direction may be of any length: tiny and huge ones read as unit ones") {
+    WorldSpec w = test::chain_world(4, Connection::pitch_pitch);
+    auto& sensors = w.robots[0].robot.sensors;
+    // 45 degrees down; the huge one's norm overflows to infinity, the tiny one's underflows to 0
+    sensors = {range(2, {1, 0, -1}), range(2, {1e300, 0, -1e300}), range(2, {1e-300, 0, -1e-300})};
+    sensors[0].name = "unit";
+    sensors[1].name = "huge";
+    sensors[2].name = "tiny";
+    Simulation sim(w);
+    sim.step(1);
+    REQUIRE(value(sim, "unit", "hit") == 1);
+    for (const char* name : {"huge", "tiny"}) {
+        CAPTURE(name);
+        CHECK(value(sim, name, "hit") == 1);
+        CHECK(value(sim, name, "distance") == value(sim, "unit", "distance"));
+    }
+}
+
 TEST_CASE("a range sensor whose ray starts inside a solid reads a hit at distance 0") {
     // each solid encloses kRayOrigin; the ray reads the same whichever way it points: up, out
     // of the solid's side, down, or along the robot

@@ -138,6 +138,11 @@ TEST_CASE("range sensors need a direction and a maximum range within limits") {
     s.direction = {std::numeric_limits<double>::infinity(), 0, 0};
     REQUIRE_THROWS_WITH(validate_sensor(r, s),
                         Equals("sensor 'range2' direction must be a non-zero vector"));
+    // any length but zero, also one whose norm underflows or overflows
+    s.direction = {1e-300, 0, -1e-300};
+    REQUIRE_NOTHROW(validate_sensor(r, s));
+    s.direction = {1e300, 0, -1e300};
+    REQUIRE_NOTHROW(validate_sensor(r, s));
     // only range sensors have a range: an IMU ignores the field
     SensorSpec i = of_kind(SensorKind::imu, 0);
     i.max_range = -1;
