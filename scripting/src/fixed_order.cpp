@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cmath>
 #include <cstring>
 #include <vector>
 
@@ -25,6 +26,22 @@ struct Key {
     lua_Integer index;  // where Lua's own traversal put it (keeps ties in a stable order)
 };
 
+// i < x exactly, and x < i (as Lua's < compares an integer and a float): converted to a float,
+// an integer beyond 2^53 is rounded, and math.maxinteger - 1 tied with the float 2^63. Only
+// such floats (beyond the integers' range) and fractions come here: Lua turns a float key with
+// an integer value into that integer
+bool int_below_float(lua_Integer i, lua_Number x) {
+    if (x >= 0x1p63) return true;
+    if (x <= -0x1p63) return false;
+    return i < static_cast<lua_Integer>(std::ceil(x));
+}
+
+bool float_below_int(lua_Number x, lua_Integer i) {
+    if (x >= 0x1p63) return false;
+    if (x < -0x1p63) return true;
+    return static_cast<lua_Integer>(std::floor(x)) < i;
+}
+
 // small and without a switch, so that the sort inlines it (it runs n log n times)
 bool before(const Key& a, const Key& b) {
     if (a.rank != b.rank) return a.rank < b.rank;
@@ -35,6 +52,8 @@ bool before(const Key& a, const Key& b) {
     // numbers; gaitlab's userdata by their (integer) number; other keys all 0, so they keep
     // Lua's order, which is by address
     if (a.integer && b.integer) return a.i < b.i;
+    if (a.integer) return int_below_float(a.i, b.x);
+    if (b.integer) return float_below_int(a.x, b.i);
     return a.x < b.x;
 }
 

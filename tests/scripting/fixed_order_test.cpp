@@ -184,6 +184,34 @@ TEST_CASE("pairs visits gaitlab's handles in one order in every process", "[fixe
     CHECK(moved.out == first.out);
 }
 
+TEST_CASE("pairs visits integers and floats in ascending order, also beyond 2^53",
+          "[fixed_order]") {
+    LuaFixture lua;
+    // an integer near the ends of its range and a float beyond it (2^63, -2^63 - 4096; Lua keeps
+    // a float key with an integer value as that integer only when it fits) compared as floats
+    // tie: 2^63 came out between math.maxinteger - 1 and math.maxinteger
+    lua.run(R"(
+        local keys = { math.maxinteger - 1, 2^63, math.maxinteger, 1e19, math.mininteger,
+                       math.mininteger + 1, -2^63 - 4096, -1e19, 0.5, -0.5 }
+        wrong = {}
+        -- other keys and other orders of insertion give Lua's traversal other orders
+        for filler = 0, 20 do for shift = 0, #keys - 1 do
+          local t = {}
+          for i = 1, filler do t[i * 1000003] = true end
+          for i = 1, #keys do t[keys[(i + shift) % #keys + 1]] = true end
+          local previous
+          for k in pairs(t) do
+            if previous ~= nil and not (previous < k) then
+              wrong[#wrong + 1] = string.format("%s before %s", previous, k)
+            end
+            previous = k
+          end
+        end end
+        wrong = table.concat(wrong, "; ", 1, math.min(#wrong, 3))
+    )");
+    CHECK(lua.string("wrong") == "");
+}
+
 TEST_CASE("pairs visits numbers, strings, booleans, handles, then other keys", "[fixed_order]") {
     LuaFixture lua;
     lua.run(R"(
