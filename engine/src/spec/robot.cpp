@@ -148,7 +148,9 @@ void check_inertia(const std::string& q, const BodySpec& b) {
         const std::string what = q + "inertia " + axis;
         detail::check_positive(what, v, "kg·m²");
         const double lo = kMinInertiaFraction * solids[k];
-        if (!(v >= lo && v <= hi)) {
+        // to a millionth: a bound as its message prints it (6 digits), or written as the
+        // solid's / 100, is inside
+        if (!(v >= lo * (1 - 1e-6) && v <= hi * (1 + 1e-6))) {
             throw SpecError(fmt::format(
                 "{} must be in [{:.6g}, {:.6g}] kg·m² for its mass and size (got {}): from {} of "
                 "the uniform solid's to all of its mass at half its diagonal",

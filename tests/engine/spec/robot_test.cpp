@@ -498,6 +498,20 @@ TEST_CASE("a body's given inertia is positive, fits its mass and size, and is a 
                       "of its mass at half its diagonal"));
     CHECK_THAT(refused({1e-3, 1e-9, 1e-3}),
                StartsWith("robot 'x' body 'segment1' inertia y must be in [1.66667e-05, 0.0075]"));
+    // the bounds themselves are inside, written as the message prints them or as the solid's
+    // moment / 100 (one rounding step below 0.01 times it), for boxes and cylinders
+    b.inertia = Vec3{1.66667e-05, 1.66667e-05, 1.66667e-05};
+    CHECK_NOTHROW(validate(r));
+    b.inertia = Vec3{0.0075, 0.00375, 0.00375};
+    CHECK_NOTHROW(validate(r));
+    for (const Shape shape : {Shape::box, Shape::cylinder}) {
+        b.shape = shape;
+        b.inertia.reset();
+        const Vec3 solid = body_inertia(b);
+        b.inertia = Vec3{solid.x / 100, solid.y / 100, solid.z / 100};
+        CHECK_NOTHROW(validate(r));
+    }
+    b.shape = Shape::box;
     // no more uneven than a body 300 times as long as wide: a rod that slender, whose solid's
     // moment about its axis is 45 000 times smaller than about the others, may not have
     // 100 000 times
