@@ -6,6 +6,7 @@
 #include <cstring>
 #include <vector>
 
+#include "guard.h"
 #include "lua_util.h"
 
 // Written here because no library offers them: they are the standard `pairs` with one sort
@@ -172,16 +173,28 @@ int fixed_order_pairs(lua_State* L) {
         return 3;
     }
     luaL_checktype(L, 1, LUA_TTABLE);
-    return protect(L, [&] {
+    lua_Integer keys = 0;
+    const int results = protect(L, [&] {
         lua_settop(L, 1);
         lua_pushvalue(L, 1);
         push_ordered_keys(L, 1);
+        keys = static_cast<lua_Integer>(lua_rawlen(L, -1));
         lua_pushinteger(L, 0);
         lua_pushcclosure(L, ordered_next, 3);
         lua_pushvalue(L, 1);
         lua_pushnil(L);
         return 3;
     });
+    // the sort ran in C, where a controller's instruction budget counts nothing: its n log n
+    // comparisons are charged to the budget here (a step that sorts a big table over and
+    // over stops as a loop would)
+    if (keys > 1) {
+        long long depth = 1;
+        while ((lua_Integer{1} << depth) < keys)
+            ++depth;
+        Guard::charge(L, keys * depth);
+    }
+    return results;
 }
 
 // table.sort(list [, comp]): as Lua's (the elements read and written with lua_geti and

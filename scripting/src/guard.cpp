@@ -333,21 +333,46 @@ void Guard::hook(lua_State* L, lua_Debug* ar) {
         lua_error(L);
     }
     if (g.frames_.empty() || ar->event != LUA_HOOKCOUNT) return;
+    const Frame* spent = g.spend(std::max(g.interval_, 1));
+    g.arm(L);
+    if (!spent) return;
+    lua_getinfo(L, "Sl", ar);
+    raise_spent(L, *spent, *ar);
+}
+
+const Guard::Frame* Guard::spend(long long instructions) {
     const Frame* spent = nullptr;
-    for (Frame& f : g.frames_) {
+    for (Frame& f : frames_) {
         if (!f.exhausted) {
-            f.remaining -= std::max(g.interval_, 1);
+            f.remaining -= instructions;
             f.exhausted = f.remaining <= 0;
         }
         if (f.exhausted && !spent) spent = &f;
     }
-    g.arm(L);
-    if (!spent) return;
-    lua_getinfo(L, "Sl", ar);
+    return spent;
+}
+
+void Guard::raise_spent(lua_State* L, const Frame& spent, const lua_Debug& ar) {
     lua_pushfstring(L, "%s exceeded its instruction budget of %I instructions%s (%s:%d)",
-                    spent->what->c_str(), static_cast<lua_Integer>(spent->limit), spent->suffix,
-                    ar->source[0] == '@' ? ar->source + 1 : ar->short_src, ar->currentline);
+                    spent.what->c_str(), static_cast<lua_Integer>(spent.limit), spent.suffix,
+                    ar.source[0] == '@' ? ar.source + 1 : ar.short_src, ar.currentline);
     lua_error(L);
+}
+
+void Guard::charge(lua_State* L, long long instructions) {
+    Guard* g = find(L);
+    if (!g || g->frames_.empty()) return;
+    const Frame* spent = g->spend(instructions);
+    g->arm(L);
+    if (!spent) return;
+    // level 0 is the C function that does the work, level 1 the Lua code that called it
+    lua_Debug ar{};
+    if (!lua_getstack(L, 1, &ar) || !lua_getinfo(L, "Sl", &ar)) {
+        ar.source = "=?";
+        std::snprintf(ar.short_src, sizeof ar.short_src, "?");
+        ar.currentline = -1;
+    }
+    raise_spent(L, *spent, ar);
 }
 
 Budget::Budget(lua_State* L, long long instructions, const std::string& what, const char* suffix)

@@ -66,6 +66,13 @@ class Guard {
     /// Notes the coroutine now running (so an interrupt reaches it); returns the previous one.
     lua_State* set_running(lua_State* co);
 
+    /// Spends `instructions` of every budget that holds on thread L, for work done in C on the
+    /// Lua code's behalf, which the hook does not count (pairs' sort): a budget spent stops the
+    /// code with its message, naming the place of the Lua function that called the C one.
+    /// Nothing when L's state has no guard or no budget holds. Raises a Lua error: call it
+    /// where nothing with a destructor lives.
+    static void charge(lua_State* L, long long instructions);
+
     /// Puts the guard's hook on thread T (keeping the hook T had, if it is another's).
     void set_hook(lua_State* T, int mask, int count);
     /// Takes the guard's hook off thread T, giving back the hook it replaced; a hook that is
@@ -99,6 +106,10 @@ class Guard {
     };
     Saved* saved(lua_State* T);
     static void hook(lua_State* L, lua_Debug* ar);
+    // takes `instructions` off every budget not yet spent; the outermost spent one, if any
+    const Frame* spend(long long instructions);
+    // raises "WHAT exceeded its instruction budget ..." for `spent`, at `ar` ("Sl" filled in)
+    static void raise_spent(lua_State* L, const Frame& spent, const lua_Debug& ar);
     // installs the hook that the frames and the interrupt need on thread L (or removes it)
     void arm(lua_State* L);
 

@@ -81,6 +81,33 @@ TEST_CASE("pcall and xpcall cannot swallow a spent budget", "[guard]") {
     }
 }
 
+TEST_CASE("pairs' sort, done in C, is charged to the budget", "[guard]") {
+    // each pairs call sorts the table's 200 000 keys in C, where the hook counts nothing: 200
+    // calls took 4 s of CPU within the default budget of 10 million instructions, and the loop
+    // around them 600 instructions
+    LuaFixture lua;
+    lua.run("big = {} for i = 1, 200000 do big['k' .. i] = i end");
+    drive(lua,
+          "gaitlab.controller{ name = 'sorter', step = function() for i = 1, 200 do "
+          "for k in pairs(big) do break end end end }");
+    quickly([&] {
+        CHECK_THAT(lua.error_of("sim:run(1)"),
+                   Catch::StartsWith("controller 'sorter' exceeded its instruction budget of "
+                                     "10000000 instructions in one step (test:"));
+    });
+    CHECK(lua.boolean("ctl.failed"));
+    // outside a budget pairs is as free as before, and a step sorting small tables is fine
+    lua.run("n = 0 for k in pairs(big) do n = n + 1 end");
+    CHECK(lua.integer("n") == 200000);
+    LuaFixture small;
+    small.run("t = { a = 1, b = 2, c = 3 }");
+    drive(small,
+          "gaitlab.controller{ name = 'ok', instruction_budget = 100000, step = function() for "
+          "i = 1, 100 do for k in pairs(t) do end end end }");
+    small.run("sim:run(1)");
+    CHECK_FALSE(small.boolean("ctl.failed"));
+}
+
 TEST_CASE("coroutines run under the budget of the code that resumes them", "[guard]") {
     LuaFixture lua;
     // made outside any budget, resumed by a step: the loop inside must still stop
