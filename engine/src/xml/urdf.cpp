@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <set>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -309,12 +310,19 @@ UrdfLink read_link(const Element& link, const std::string& robot, const std::str
     std::optional<Element> centre;             // the <inertial>'s <origin>: its centre of mass
     Pose inertial_frame;
     UrdfInertia tensor;
+    bool collision = false;
     for (const Element& k : link.children({"inertial", "visual", "collision"})) {
         const std::string kind = k.name();
         if (kind == "inertial") {
+            // URDF has one of each; a second would be taken silently in place of the first
+            if (inertial) k.fail("one <inertial> per link expected");
             inertial = k;
+            std::set<std::string> parts;
             for (const Element& i : k.children({"origin", "mass", "inertia"})) {
                 const std::string part = i.name();
+                if (!parts.insert(part).second) {
+                    i.fail(fmt::format("one <{}> per <inertial> expected", part));
+                }
                 if (part == "mass") out.mass = i.required_number("value");
                 if (how.inertia_from_shapes) continue;
                 if (part == "origin") {
@@ -332,10 +340,21 @@ UrdfLink read_link(const Element& link, const std::string& robot, const std::str
             continue;
         }
         // the collision shape is the body; a visual one serves when there is no collision
+        if (kind == "collision") {
+            if (collision) {
+                k.fail(
+                    "one <collision> per link expected: a link becomes one body, one box or "
+                    "cylinder");
+            }
+            collision = true;
+        }
         if (geometry && kind == "visual") continue;
+        bool shaped = false;
         for (const Element& g : k.children({"origin", "geometry", "material"})) {
             if (std::string(g.name()) != "geometry") continue;
             for (const Element& shape : g.children({"box", "cylinder", "sphere", "mesh"})) {
+                if (shaped) shape.fail(fmt::format("one shape per <{}> expected", kind));
+                shaped = true;
                 const std::string name = shape.name();
                 auto [pose, from] = read_origin(k);
                 out.geometry = pose;

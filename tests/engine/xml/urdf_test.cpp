@@ -254,6 +254,48 @@ const char* kLimit = R"(lower="-1" upper="1" effort="0.5" velocity="5")";
 
 }  // namespace
 
+TEST_CASE("a link gives its inertial, collision and their parts once", "[lines]") {
+    // each second one used to be taken silently in place of the first
+    const auto link = [](const std::string& inside) {
+        return "<robot name=\"r\">\n<link name=\"a\">\n" + inside + "\n</link>\n</robot>";
+    };
+    const std::string box = R"(<geometry><box size="0.1 0.05 0.05"/></geometry>)";
+    const std::string mass = R"(<inertial><mass value="0.1"/></inertial>)";
+    CHECK_THAT(import_error(link(mass + "<collision>" + box + "</collision>\n" + mass)),
+               Equals("r.urdf:4: robot/link[1]/inertial[2]: one <inertial> per link expected"));
+    CHECK_THAT(import_error(link(R"(<inertial><mass value="0.1"/>)"
+                                 "\n"
+                                 R"(<mass value="0.2"/></inertial><collision>)" +
+                                 box + "</collision>")),
+               Equals("r.urdf:4: robot/link[1]/inertial[1]/mass[2]: one <mass> per <inertial> "
+                      "expected"));
+    CHECK_THAT(import_error(link(R"(<inertial><mass value="0.1"/><origin xyz="0 0 0"/>)"
+                                 "\n"
+                                 R"(<origin xyz="0.1 0 0"/></inertial><collision>)" +
+                                 box + "</collision>")),
+               Equals("r.urdf:4: robot/link[1]/inertial[1]/origin[2]: one <origin> per "
+                      "<inertial> expected"));
+    CHECK_THAT(import_error(link(mass + "<collision>" + box + "</collision>\n<collision>" + box +
+                                 "</collision>")),
+               Equals("r.urdf:4: robot/link[1]/collision[2]: one <collision> per link expected: "
+                      "a link becomes one body, one box or cylinder"));
+    CHECK_THAT(import_error(link(mass + "<collision><geometry><box size=\"0.1 0.05 0.05\"/>\n"
+                                        "<cylinder radius=\"0.1\" length=\"0.2\"/></geometry>"
+                                        "</collision>")),
+               Equals("r.urdf:4: robot/link[1]/collision[1]/geometry[1]/cylinder[1]: one shape "
+                      "per <collision> expected"));
+    // a <visual> beside the <collision>, and several visuals without one, are as before: the
+    // collision's shape, else the first visual's
+    CHECK_NOTHROW(parse_urdf(link(mass + "<visual>" + box + "</visual><collision>" + box +
+                                  "</collision><visual>" + box + "</visual>"),
+                             "r.urdf"));
+    const RobotSpec visuals = parse_urdf(
+        link(mass + "<visual>" + box + "</visual><visual><geometry><box size=\"1 1 1\"/>" +
+             "</geometry></visual>"),
+        "r.urdf");
+    CHECK(visuals.bodies[0].size == Vec3{0.1, 0.05, 0.05});
+}
+
 TEST_CASE("a joint's range and servo are named at its limit element", "[lines]") {
     CHECK_NOTHROW(parse_urdf(chain_urdf("0.1 0 0", "0 1 0", kLimit), "r.urdf"));
     CHECK_THAT(import_error(chain_urdf("0.1 0 0", "0 1 0",
