@@ -27,6 +27,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <limits>
+#include <memory>
 #include <new>
 #include <optional>
 #include <string>
@@ -227,7 +228,15 @@ T& check_object(lua_State* L, int index, const char* tname) {
 struct HandleKey {
     const void* object;
     std::string part;
+
+    bool operator==(const HandleKey& o) const { return object == o.object && part == o.part; }
 };
+
+/// The key of a handle that holds a shared_ptr: the object it points to.
+template <class X>
+HandleKey handle_key(const std::shared_ptr<X>& object) {
+    return {object.get(), ""};
+}
 
 /// Registry key of the handles made by push_canonical: per type name, a table with weak values
 /// from an entity's HandleKey to its handle.
@@ -240,30 +249,35 @@ bool find_handle(lua_State* L, const char* tname, const HandleKey& key);
 /// Keeps the handle on top of the stack (not popped) under `key`, for as long as it lives.
 void keep_handle(lua_State* L, const char* tname, const HandleKey& key);
 
-/// Pushes the handle of the entity `key` names: the userdata made for it before while that one
-/// lives, else a new userdata holding `value` (type `tname`). So one entity has one handle,
-/// and handles compare with == and index tables as the entities they stand for.
+/// Pushes the handle of the entity `value` stands for, named by handle_key(value) (an overload
+/// beside each handle type): the userdata made for it before while that one lives, else a new
+/// userdata holding `value` (type `tname`). So one entity has one handle, and handles compare
+/// with == and index tables as the entities they stand for.
 ///
 /// A key can name no other object while its handle lives: the handle keeps its object alive,
 /// and once the handle is unreachable the collector clears it from the weak table before its
 /// __gc releases the object, so a new object at a freed address never gets an old handle. A
 /// handle destroyed by hand is skipped (find_handle). The handle's type adds an __eq comparing
-/// entities (eq_operands) for the one case where two handles of one entity can both be
-/// reached: a finalizer of the script's brings back a handle the table has already let go.
+/// keys (handle_eq) for the one case where two handles of one entity can both be reached: a
+/// finalizer of the script's brings back a handle the table has already let go.
 template <class T>
-T* push_canonical(lua_State* L, const char* tname, const HandleKey& key, T value) {
+T* push_canonical(lua_State* L, const char* tname, T value) {
+    const HandleKey key = handle_key(value);
     if (find_handle(L, tname, key)) return static_cast<T*>(lua_touserdata(L, -1));
     T* obj = new_object<T>(L, tname, std::move(value));
     keep_handle(L, tname, key);
     return obj;
 }
 
-/// The objects of the two operands of an __eq, each nullptr unless it is a live handle of type
-/// `tname`: anything else (another type, a handle destroyed by hand) equals nothing.
+/// __eq of handles of type `tname`: whether both operands are live handles of that type with
+/// one key (push_canonical). Anything else (another type, a handle destroyed by hand) equals
+/// nothing.
 template <class T>
-std::pair<const T*, const T*> eq_operands(lua_State* L, const char* tname) {
-    return {static_cast<const T*>(luaL_testudata(L, 1, tname)),
-            static_cast<const T*>(luaL_testudata(L, 2, tname))};
+int handle_eq(lua_State* L, const char* tname) {
+    const auto* a = static_cast<const T*>(luaL_testudata(L, 1, tname));
+    const auto* b = static_cast<const T*>(luaL_testudata(L, 2, tname));
+    lua_pushboolean(L, a && b && handle_key(*a) == handle_key(*b));
+    return 1;
 }
 
 /// __gc of a T in userdata of type `tname` (upvalue 1): destroys it once, whatever it is called

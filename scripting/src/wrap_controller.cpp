@@ -15,6 +15,10 @@
 
 namespace gaitlab::scripting {
 
+HandleKey handle_key(const ControllerHandle& c) {
+    return {c.controller.get(), ""};
+}
+
 namespace {
 
 using ClassPtr = std::shared_ptr<LuaControllerClass>;
@@ -112,11 +116,8 @@ int controller_index(lua_State* L) {
     });
 }
 
-// __eq: handles of one controller (push_controller gives one handle per controller)
 int controller_eq(lua_State* L) {
-    const auto [a, b] = eq_operands<ControllerHandle>(L, kControllerType);
-    lua_pushboolean(L, a && b && a->controller == b->controller);
-    return 1;
+    return handle_eq<ControllerHandle>(L, kControllerType);
 }
 
 int controller_newindex(lua_State* L) {
@@ -543,9 +544,8 @@ int class_reload(lua_State* L) {
 }  // namespace
 
 void push_controller(lua_State* L, std::shared_ptr<Controller> controller, bool attached) {
-    const HandleKey key{controller.get(), ""};
     ControllerHandle* h = push_canonical<ControllerHandle>(
-        L, kControllerType, key, ControllerHandle{std::move(controller), attached});
+        L, kControllerType, ControllerHandle{std::move(controller), attached});
     // the one handle of the controller: a caller that knows it drives a group says so
     h->attached = h->attached || attached;
 }

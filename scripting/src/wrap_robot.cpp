@@ -12,6 +12,12 @@
 
 namespace gaitlab::scripting {
 
+// a group is named by its robot and its joints in their order (their order is the
+// controller's: {1, 3} and {3, 1} are two groups)
+HandleKey handle_key(const GroupHandle& group) {
+    return {group.robot.get(), fmt::format("{}", fmt::join(group.joints, " "))};
+}
+
 namespace {
 
 using RobotPtr = std::shared_ptr<RobotBinding>;
@@ -60,13 +66,6 @@ int robot_chain(lua_State* L) {
     });
 }
 
-// pushes the handle of a group: one per robot and joints in their order (their order is the
-// controller's: {1, 3} and {3, 1} are two groups)
-void push_group(lua_State* L, GroupHandle group) {
-    const HandleKey key{group.robot.get(), fmt::format("{}", fmt::join(group.joints, " "))};
-    push_canonical<GroupHandle>(L, kGroupType, key, std::move(group));
-}
-
 int robot_group(lua_State* L) {
     return protect(L, [&] {
         RobotPtr& robot = check_object<RobotPtr>(L, 1, kRobotType);
@@ -105,7 +104,7 @@ int robot_group(lua_State* L) {
                 "got " +
                     type_name(L, 2));
         }
-        push_group(L, GroupHandle{robot, std::move(joints)});
+        push_canonical<GroupHandle>(L, kGroupType, GroupHandle{robot, std::move(joints)});
         return 1;
     });
 }
@@ -270,11 +269,8 @@ int robot_tostring(lua_State* L) {
     });
 }
 
-// __eq: handles of one robot (push_robot gives one handle per robot; see push_canonical)
 int robot_eq(lua_State* L) {
-    const auto [a, b] = eq_operands<RobotPtr>(L, kRobotType);
-    lua_pushboolean(L, a && b && a->get() == b->get());
-    return 1;
+    return handle_eq<RobotPtr>(L, kRobotType);
 }
 
 int robot_len(lua_State* L) {
@@ -419,9 +415,7 @@ int group_joints(lua_State* L) {
 }
 
 int group_eq(lua_State* L) {
-    const auto [a, b] = eq_operands<GroupHandle>(L, kGroupType);
-    lua_pushboolean(L, a && b && a->robot == b->robot && a->joints == b->joints);
-    return 1;
+    return handle_eq<GroupHandle>(L, kGroupType);
 }
 
 int group_len(lua_State* L) {
@@ -439,8 +433,7 @@ bool is_robot(lua_State* L, int index) {
 }
 
 void push_robot(lua_State* L, std::shared_ptr<RobotBinding> robot) {
-    const HandleKey key{robot.get(), ""};
-    push_canonical<RobotPtr>(L, kRobotType, key, std::move(robot));
+    push_canonical<RobotPtr>(L, kRobotType, std::move(robot));
 }
 
 std::shared_ptr<RobotBinding> to_robot(lua_State* L, int index) {

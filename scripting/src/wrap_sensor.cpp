@@ -24,6 +24,11 @@ struct SensorHandle {
     const SensorSpec& spec() const { return robot->spec.sensors[static_cast<size_t>(k)]; }
 };
 
+// a sensor is named by its robot and its number (sensors are only ever added)
+HandleKey handle_key(const SensorHandle& s) {
+    return {s.robot.get(), std::to_string(s.k)};
+}
+
 SensorHandle& check_sensor(lua_State* L, int index) {
     return check_object<SensorHandle>(L, index, kSensorType);
 }
@@ -151,14 +156,11 @@ SensorSpec sensor_from_table(lua_State* L) {
 
 // pushes the handle of the robot's sensor k: one per sensor (see push_canonical)
 void push_handle(lua_State* L, RobotPtr robot, int k) {
-    const HandleKey key{robot.get(), std::to_string(k)};
-    push_canonical<SensorHandle>(L, kSensorType, key, SensorHandle{std::move(robot), k});
+    push_canonical<SensorHandle>(L, kSensorType, SensorHandle{std::move(robot), k});
 }
 
 int sensor_eq(lua_State* L) {
-    const auto [a, b] = eq_operands<SensorHandle>(L, kSensorType);
-    lua_pushboolean(L, a && b && a->robot == b->robot && a->k == b->k);
-    return 1;
+    return handle_eq<SensorHandle>(L, kSensorType);
 }
 
 std::vector<std::string> sensor_names(const RobotSpec& robot) {

@@ -566,11 +566,8 @@ int world_read_source(lua_State* L) {
     });
 }
 
-// __eq: handles of one world (push_world gives one handle per world; see push_canonical)
 int world_eq(lua_State* L) {
-    const auto [a, b] = eq_operands<WorldPtr>(L, kWorldType);
-    lua_pushboolean(L, a && b && a->get() == b->get());
-    return 1;
+    return handle_eq<WorldPtr>(L, kWorldType);
 }
 
 int world_tostring(lua_State* L) {
@@ -606,8 +603,7 @@ int world_tostring(lua_State* L) {
 }  // namespace
 
 void push_world(lua_State* L, std::shared_ptr<WorldBinding> world) {
-    const HandleKey key{world.get(), ""};
-    push_canonical<WorldPtr>(L, kWorldType, key, std::move(world));
+    push_canonical<WorldPtr>(L, kWorldType, std::move(world));
 }
 
 std::shared_ptr<WorldBinding> to_world(lua_State* L, int index) {
