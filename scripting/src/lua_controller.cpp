@@ -414,7 +414,7 @@ void LuaController::check_values(int function_ref) {
     if (def().values.empty()) return;
     lua_rawgeti(L_, LUA_REGISTRYINDEX, self_ref_);
     for (const std::string& v : def().values) {
-        if (raw_getfield(L_, -1, v.c_str()) != LUA_TTABLE) {
+        if (raw_getfield(L_, -1, v) != LUA_TTABLE) {
             const std::string got = type_name(L_, -1);
             lua_pop(L_, 2);
             // the line of the assignment is gone once the function has returned: the function's
@@ -461,7 +461,7 @@ void LuaController::sync_values() const {
         // whatever the code left there: what is not a table (check_values fails the
         // controller after its step) keeps the last values read; entries that are not
         // numbers read as 0
-        if (raw_getfield(L_, -1, def().values[k].c_str()) == LUA_TTABLE) {
+        if (raw_getfield(L_, -1, def().values[k]) == LUA_TTABLE) {
             for (int m = 0; m < joints(); ++m) {
                 lua_rawgeti(L_, -1, m + 1);
                 out[static_cast<size_t>(m)] = lua_tonumber(L_, -1);

@@ -20,7 +20,7 @@ const char* lua_number_name(double d) {
 
 std::string type_name(lua_State* L, int index) {
     if (luaL_getmetafield(L, index, "__name") == LUA_TSTRING) {
-        std::string name = lua_tostring(L, -1);
+        std::string name = to_string(L, -1);
         lua_pop(L, 1);
         return name;
     }

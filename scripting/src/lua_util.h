@@ -86,6 +86,13 @@ inline int raw_getfield(lua_State* L, int index, const char* key) {
     return lua_rawget(L, index);
 }
 
+/// The same for a key held in a std::string, all of it (a zero byte included).
+inline int raw_getfield(lua_State* L, int index, const std::string& key) {
+    index = lua_absindex(L, index);
+    lua_pushlstring(L, key.data(), key.size());
+    return lua_rawget(L, index);
+}
+
 /// t[key] = value on top (popped), without metamethods.
 inline void raw_setfield(lua_State* L, int index, const char* key) {
     index = lua_absindex(L, index);

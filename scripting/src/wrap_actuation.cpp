@@ -28,7 +28,7 @@ GroupSpec read_group(lua_State* L) {
     const int jt = f.push("joints");
     std::string text;
     if (jt == LUA_TSTRING) {
-        text = lua_tostring(L, -1);
+        text = to_string(L, -1);
     } else if (jt == LUA_TTABLE) {
         const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));
         for (lua_Integer i = 1; i <= n; ++i) {

@@ -289,7 +289,7 @@ int class_new(lua_State* L) {
             }
             std::sort(names.begin(), names.end());
             for (const std::string& n : names) {
-                raw_getfield(L, -1, n.c_str());
+                raw_getfield(L, -1, n);
                 cls->def.params.push_back(read_param(L, lua_gettop(L), n));
                 lua_pop(L, 1);
             }

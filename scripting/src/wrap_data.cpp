@@ -160,7 +160,7 @@ int run_get(lua_State* L) {
         std::string name;
         try {
             if (lua_type(L, 2) == LUA_TSTRING) {
-                name = lua_tostring(L, 2);
+                name = to_string(L, 2);
                 run.find(name);
             } else if (lua_istable(L, 2)) {
                 Fields f(L, 2, 2, {"kind", "value", "joint", "source"});

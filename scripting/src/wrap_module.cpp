@@ -200,9 +200,9 @@ ModuleDef to_module(lua_State* L, int index) {
     if (lua_type(L, index) != LUA_TSTRING) {
         throw Error("module type name or gaitlab.Module expected, got " + type_name(L, index));
     }
-    const std::string name = lua_tostring(L, index);
+    const std::string name = to_string(L, index);
     lua_getfield(L, LUA_REGISTRYINDEX, kLibraryKey);
-    raw_getfield(L, -1, name.c_str());
+    raw_getfield(L, -1, name);
     if (const void* p = luaL_testudata(L, -1, kModuleType)) {
         ModuleDef m = *static_cast<const ModuleDef*>(p);
         lua_pop(L, 2);

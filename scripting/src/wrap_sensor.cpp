@@ -106,7 +106,7 @@ SensorSpec sensor_from_table(lua_State* L) {
         throw ArgError(arg, fmt::format("field 'kind': sensor kind expected ({}), got {}",
                                         quoted_list(sensor_kind_names()), t));
     }
-    const std::string kind_name = lua_tostring(L, -1);
+    const std::string kind_name = to_string(L, -1);
     lua_pop(L, 1);
     SensorSpec s;
     try {
@@ -357,7 +357,7 @@ int robot_sensor(lua_State* L) {
     return protect(L, [&] {
         RobotPtr& robot = check_object<RobotPtr>(L, 1, kRobotType);
         if (lua_type(L, 2) == LUA_TSTRING) {
-            const std::string name = lua_tostring(L, 2);
+            const std::string name = to_string(L, 2);
             const std::vector<std::string> names = sensor_names(robot->spec);
             const auto it = std::find(names.begin(), names.end(), name);
             if (it == names.end()) {

@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "gaitlab/error.h"
 #include "lua_fixture.h"
 
 using gaitlab::test::lua_dir;
@@ -143,6 +144,34 @@ TEST_CASE("strings keep their zero bytes, paths with one are refused", "[lua_uti
           "test:1: a path cannot contain a zero byte (got 'robot.xml\\0...')");
     CHECK_THAT(lua.error_of("gaitlab.controller.write_template('sine', 'a\\0b.lua')"),
                Catch::Contains("a path cannot contain a zero byte"));
+    // a message quoting such a string shows all of it, the zero as \0, and goes on after it
+    CHECK_THAT(lua.error_of("gaitlab.robot.chain{ modules = 2, connection = 'pitch-pitch\\0x' }"),
+               Catch::Contains("unknown connection type 'pitch-pitch\\0x' (expected"));
+    // names are looked up with all of their bytes: 'y1\0' is no module type, 's\0' no sensor
+    CHECK_THAT(lua.error_of("gaitlab.robot.chain{ modules = 2, module = 'y1\\0' }"),
+               Catch::Contains("unknown module type 'y1\\0'"));
+    lua.run(
+        "nul_robot = gaitlab.robot.chain{ modules = 2 }; nul_robot:sensor{ kind = 'imu', "
+        "module = 1, name = 's' }");
+    CHECK_THAT(lua.error_of("nul_robot:sensor('s\\0')"), Catch::Contains("no sensor 's\\0'"));
+    CHECK_THAT(lua.error_of("nul_robot:sensor{ kind = 'imu\\0', module = 1 }"),
+               Catch::Contains("unknown sensor kind 'imu\\0'"));
+    CHECK_THAT(lua.error_of("gaitlab.actuation{ groups = { { joints = 'pitch\\0', controller = "
+                            "{ builtin = 'sine' } } } }"),
+               Catch::Contains("'pitch\\0'"));
+    // a run folder with a zero byte would be another folder
+    CHECK_THAT(lua.error_of("local w = gaitlab.world(); w:add(gaitlab.robot.chain{ modules = 2 })"
+                            "; gaitlab.simulation{ world = w, record = { dir = 'run\\0x' } }"),
+               Catch::Contains("the run folder 'run\\0x' cannot contain a zero byte"));
+}
+
+TEST_CASE("an error message keeps what follows a zero byte", "[lua_util]") {
+    const std::string with_zero("a\0b", 3);
+    CHECK(std::string(gaitlab::Error("name '" + with_zero + "' unknown").what()) ==
+          "name 'a\\0b' unknown");
+    CHECK(std::string(gaitlab::FormatError("got '" + with_zero + "'", "f.xml", 3).what()) ==
+          "got 'a\\0b'");
+    CHECK(std::string(gaitlab::Error("plain").what()) == "plain");
 }
 
 TEST_CASE("a simulation whose handle is destroyed while it steps finishes its tick", "[lua_util]") {

@@ -222,6 +222,10 @@ std::string safe_config_path(const std::string& path) {
 
 void validate(const RecordOptions& o) {
     if (o.dir.empty()) throw SpecError("the run folder must not be empty");
+    // the operating system would stop at the zero and write another folder than the one named
+    if (o.dir.find('\0') != std::string::npos) {
+        throw SpecError("the run folder '" + o.dir + "' cannot contain a zero byte");
+    }
     if (o.record_every < 0) {
         throw SpecError(fmt::format("record_every must be at least 1 (got {})", o.record_every));
     }
