@@ -49,8 +49,9 @@ struct SimulationHandle {
     std::shared_ptr<Recorder> recorder;
     std::shared_ptr<WorldBinding> world;  ///< what it was compiled from (for sim:save)
     std::shared_ptr<Player> player;       ///< plays it against the wall clock (sim:play())
-    /// sim:robot(name)'s handles, per robot, made when a robot of the world is not linked to
-    /// this simulation (a later simulation of the same world, a clone)
+    /// sim:robot(name)'s handles, per robot, made when the world's robot handle is not this
+    /// simulation's robot (an older simulation of the world, once a later one is built; a
+    /// clone)
     std::vector<std::shared_ptr<RobotBinding>> robots;
     /// What sim:save writes besides the world (gaitlab.simulation{ name, duration, record }):
     /// the name ("" : the saved file's stem), the duration (unset: the time simulated so far)

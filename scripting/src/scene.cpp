@@ -50,9 +50,14 @@ std::shared_ptr<Simulation> WorldBinding::compile(const SimulationOptions& optio
     for (const Entry& e : robots)
         world.robots.push_back({e.robot->spec, e.pose, e.robot->drives});
     auto sim = std::make_shared<Simulation>(std::move(world), options);
+    // every robot handle of the world becomes the new simulation's robot, its controllers
+    // included: the ones its groups are driven by there (the handle's own for a first
+    // simulation, fresh copies of them for a later one). An older simulation keeps its own
     for (size_t r = 0; r < robots.size(); ++r) {
-        robots[r].robot->sim = sim;
-        robots[r].robot->index = static_cast<int>(r);
+        RobotBinding& robot = *robots[r].robot;
+        robot.sim = sim;
+        robot.index = static_cast<int>(r);
+        robot.drives = sim->world().robots[r].actuation;
     }
     return sim;
 }

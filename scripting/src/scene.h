@@ -17,10 +17,12 @@ namespace gaitlab::scripting {
 /// A robot as Lua sees it: its spec, its drives, and where it runs.
 struct RobotBinding {
     RobotSpec spec;
+    /// its groups and controllers; once in a simulation, the ones that simulation drives
     Actuation drives;
     bool in_world = false;
-    std::weak_ptr<Simulation> sim;  ///< the simulation it was last compiled into
-    int index = -1;                 ///< its robot index in that simulation
+    /// the simulation it is the robot of: for a world's handle the newest its world built
+    std::weak_ptr<Simulation> sim;
+    int index = -1;  ///< its robot index in that simulation
 
     /// The running simulation; throws Error if the robot is not in one.
     std::shared_ptr<Simulation> live() const;
@@ -55,10 +57,13 @@ struct WorldBinding {
     /// Adds a robot at `pose`, or without one where `placements` puts a robot of its name, or
     /// else with its tail at the origin; throws Error if the robot is in a world already.
     void add(std::shared_ptr<RobotBinding> robot, std::optional<Pose> pose);
-    /// Compiles the world into a simulation and links every robot to it (robot:position()
-    /// reads the newest). A world compiled again makes a simulation whose groups are driven
-    /// by fresh copies of the robots' controllers, parameters as they are then (Simulation's
-    /// constructor): the controllers themselves, and their Lua handles, stay with the first.
+    /// Compiles the world into a simulation and makes every robot handle of the world that
+    /// simulation's robot: its state, its sensors and its drives (the controllers the new
+    /// simulation's groups are driven by). The first simulation is driven by the controllers
+    /// given to the handles; a later one by fresh copies of the handles' controllers as they
+    /// stand (the previous simulation's, parameters as they are then: Simulation's
+    /// constructor). An older simulation keeps its controllers; sim:robot gives its robots
+    /// handles of their own (robot_of).
     std::shared_ptr<Simulation> compile(const SimulationOptions& options) const;
     /// The world of a simulation made without one (a clone): its robots linked to `sim`.
     static std::shared_ptr<WorldBinding> of(const std::shared_ptr<Simulation>& sim,

@@ -1,4 +1,5 @@
 // gaitlab.simulation: compile a world, step it, read its time, record it.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <new>
@@ -314,6 +315,20 @@ int simulation_step(lua_State* L) {
     });
 }
 
+// the handle of robot `r` of the handle's simulation: the world's while the simulation is the
+// newest its world built (the world's handle is that one's robot), else one of its own
+std::shared_ptr<RobotBinding> robot_handle(SimulationHandle& h, int r) {
+    const std::shared_ptr<Simulation>& sim = h.sim;
+    if (h.world && static_cast<size_t>(r) < h.world->robots.size()) {
+        const std::shared_ptr<RobotBinding>& own = h.world->robots[static_cast<size_t>(r)].robot;
+        if (own->sim.lock() == sim && own->index == r && drives_of(*own, *sim, r)) return own;
+    }
+    h.robots.resize(static_cast<size_t>(sim->robot_count()));
+    std::shared_ptr<RobotBinding>& mine = h.robots[static_cast<size_t>(r)];
+    if (!mine || !drives_of(*mine, *sim, r)) mine = robot_of(sim, r);
+    return mine;
+}
+
 // sim:save(path [, { duration = }]): writes the simulation file and its parts next to it
 // (duration: how long `gaitlab run` runs it, default the time simulated so far, or 10 s); the
 // path, or nil and a message
@@ -330,8 +345,14 @@ int simulation_save(lua_State* L) {
                 f.fail("duration", "non-negative number of seconds expected");
             }
         }
+        // its own robots, with the controllers and sensors they have here: an older
+        // simulation of a world is not the one the world's robot handles stand for
+        WorldBinding world = *h.world;
+        const size_t n = std::min(world.robots.size(), static_cast<size_t>(sim.robot_count()));
+        for (size_t r = 0; r < n; ++r)
+            world.robots[r].robot = robot_handle(h, static_cast<int>(r));
         return file_written(L, path, [&] {
-            save_simulation(path.path(), *h.world, sim.options(), duration, h.name, h.record);
+            save_simulation(path.path(), world, sim.options(), duration, h.name, h.record);
         });
     });
 }
@@ -780,19 +801,7 @@ int simulation_robot(lua_State* L) {
                 message += (i ? ", " : " ") + labels[i];
             throw ArgError(2, message + (labels.empty() ? " none)" : ")"));
         }
-        // the world's handle while it stands for this simulation's robot; else one of its own
-        if (h.world && static_cast<size_t>(r) < h.world->robots.size()) {
-            const std::shared_ptr<RobotBinding>& own =
-                h.world->robots[static_cast<size_t>(r)].robot;
-            if (own->sim.lock() == sim && own->index == r && drives_of(*own, *sim, r)) {
-                push_robot(L, own);
-                return 1;
-            }
-        }
-        h.robots.resize(static_cast<size_t>(sim->robot_count()));
-        std::shared_ptr<RobotBinding>& mine = h.robots[static_cast<size_t>(r)];
-        if (!mine || !drives_of(*mine, *sim, r)) mine = robot_of(sim, r);
-        push_robot(L, mine);
+        push_robot(L, robot_handle(h, r));
         return 1;
     });
 }

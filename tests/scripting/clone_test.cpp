@@ -2,9 +2,13 @@
 // (scripting/src/wrap_simulation.cpp, lua_controller.cpp).
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
 #include "lua_fixture.h"
+#include "temp_dir.h"
 
 using gaitlab::test::LuaFixture;
+using gaitlab::test::TempDir;
 
 namespace {
 
@@ -206,20 +210,158 @@ TEST_CASE("handles after reset, in a clone and in later simulations of one world
     // comparing across them raises nothing
     CHECK(lua.boolean("twin ~= copy and copy ~= sim and sim == sim and twin ~= eye"));
 
-    // a later simulation of the world is driven by copies of the controllers: its robot is
-    // another robot, and so is the first simulation's, once the world's robot handle reads the
-    // later one (robot:position()); each of them keeps its handle from then on
+    // a later simulation of the world is driven by copies of the controllers, and the world's
+    // robot handle is its robot; the first simulation's robot becomes a robot of its own, with
+    // the controllers it had; each of them keeps its handle from then on
     lua.run(R"(
         later = gaitlab.simulation{ world = world, record = false }
         first = sim:robot("snake")
         second = later:robot("snake")
     )");
     CHECK(lua.boolean("first ~= robot and rawequal(sim:robot('snake'), first)"));
-    CHECK(lua.boolean("second ~= robot and second ~= first"));
+    CHECK(lua.boolean("rawequal(second, robot) and second ~= first"));
     CHECK(lua.boolean("rawequal(later:robot('snake'), second)"));
     CHECK(lua.boolean("first:controllers()[1] == sine"));
+    CHECK(lua.boolean("first:sensor('imu3') ~= eye and mine[first] == nil"));
     CHECK(lua.boolean("second:controllers()[1] ~= sine"));
     CHECK(lua.boolean("rawequal(second:controllers()[1], later:robot('snake'):controllers()[1])"));
+    CHECK(lua.boolean("rawequal(second:sensor('imu3'), eye)"));
+}
+
+TEST_CASE("the world's robot handle is the robot of the newest simulation of its world",
+          "[clone][handles]") {
+    LuaFixture lua;
+    lua.run(kSetUp);
+    // two simulations of one world, each with a clone made at 1 s: the clone goes on as its
+    // original would without what the script changes afterwards
+    lua.run(R"(
+        eye = robot:sensor{ kind = "imu", module = 3 }
+        first = gaitlab.simulation{ world = world, record = false }
+        second = gaitlab.simulation{ world = world, record = false }
+        first:run(1)
+        second:run(1)
+        first_as_was = first:clone()
+        second_as_was = second:clone()
+        function travel(sim) return sim:robot("snake"):displacement():norm() end
+    )");
+    // built alike, they moved alike
+    CHECK(lua.boolean("state(first) == state(second)"));
+
+    // identity: the world's handle is the newest's robot; the older one's is another
+    CHECK(lua.boolean("rawequal(second:robot('snake'), robot)"));
+    CHECK(lua.boolean("first:robot('snake') ~= robot"));
+    CHECK(lua.boolean("rawequal(first:robot('snake'), first:robot('snake'))"));
+    // its controllers: the newest's copies; the first keeps the ones it was given
+    CHECK(lua.boolean("robot:controllers()[1] == second:robot('snake'):controllers()[1]"));
+    CHECK(lua.boolean("robot:controllers()[1] ~= sine and robot:controllers()[2] ~= wave"));
+    CHECK(lua.boolean("first:robot('snake'):controllers()[1] == sine"));
+    CHECK(lua.boolean("first:robot('snake'):controllers()[2] == wave"));
+
+    // parameters written through the world's handle change the newest's motion, not the older's
+    lua.run(R"(
+        robot:controllers()[1].amplitude = 15
+        robot:controllers()[2].amplitude = 5
+        for _, s in ipairs({ first, second, first_as_was, second_as_was }) do s:run(2) end
+    )");
+    CHECK(lua.number("first:robot('snake'):controllers()[1].amplitude") == 40);
+    CHECK(lua.number("second:robot('snake'):controllers()[1].amplitude") == 15);
+    CHECK(lua.number("sine.amplitude") == 40);
+    CHECK(lua.number("wave.amplitude") == 20);
+    CHECK(lua.boolean("state(first) == state(first_as_was)"));
+    CHECK(lua.boolean("state(second) ~= state(second_as_was)"));
+    CHECK(std::abs(lua.number("travel(second) - travel(second_as_was)")) > 0.01);
+    CHECK(lua.number("travel(first)") == lua.number("travel(first_as_was)"));
+
+    // state read through the world's handle is the newest's: centre of mass, joints, bodies,
+    // sensors (and not the first's, which moves otherwise now)
+    CHECK(lua.boolean("robot:position() == second:robot('snake'):position()"));
+    CHECK(lua.boolean("robot:position() ~= first:robot('snake'):position()"));
+    CHECK(lua.number("robot:joints()[3].angle") ==
+          lua.number("second:robot('snake'):joints()[3].angle"));
+    CHECK(lua.number("robot:bodies()[2].position.x") ==
+          lua.number("second:robot('snake'):bodies()[2].position.x"));
+    CHECK(lua.number("robot:displacement().x") ==
+          lua.number("second:robot('snake'):displacement().x"));
+    CHECK(lua.number("eye:read().pitch") ==
+          lua.number("second:robot('snake'):sensor('imu3'):read().pitch"));
+    CHECK(lua.boolean("eye:read().pitch ~= first:robot('snake'):sensor('imu3'):read().pitch"));
+
+    // the older simulation's handle reads and drives the older one
+    lua.run(R"(
+        old = first:robot("snake")
+        first_as_was = first:clone()
+        second_as_was = second:clone()
+        old:controllers()[1].amplitude = 25
+        for _, s in ipairs({ first, second, first_as_was, second_as_was }) do s:run(1) end
+    )");
+    CHECK(lua.boolean("old:position() == first:robot('snake'):position()"));
+    CHECK(lua.boolean("old:position() ~= robot:position()"));
+    CHECK(lua.boolean("state(first) ~= state(first_as_was)"));
+    CHECK(lua.boolean("state(second) == state(second_as_was)"));
+    CHECK(lua.number("robot:controllers()[1].amplitude") == 15);
+
+    // groups, actuations and sensor switches through the world's handle: the newest's
+    lua.run(R"(
+        hold = robot:group{ 1 }:drive(gaitlab.controllers.offset{ angle = 5 })
+        made = robot:actuate(gaitlab.actuation{ groups = {
+          { joints = { 2 }, controller = { builtin = "offset", params = { angle = 3 } } } } })
+        old:group{ 4 }:drive(gaitlab.controllers.offset{ angle = 7 })
+        eye:off()
+    )");
+    CHECK(lua.integer("#second:robot('snake'):controllers()") == 4);
+    CHECK(lua.boolean("second:robot('snake'):controllers()[3] == hold"));
+    CHECK(lua.boolean("second:robot('snake'):controllers()[4] == made[1]"));
+    CHECK(lua.integer("#robot:controllers()") == 4);
+    CHECK(lua.integer("#first:robot('snake'):controllers()") == 3);
+    CHECK(lua.integer("#old:controllers()") == 3);
+    CHECK(lua.number("old:controllers()[3].angle") == 7);
+    CHECK(lua.boolean("rawequal(first:robot('snake'), old)"));
+    CHECK(lua.boolean("eye:read() == nil and not second:robot('snake'):sensor('imu3').enabled"));
+    CHECK(lua.boolean("old:sensor('imu3').enabled and old:sensor('imu3'):read() ~= nil"));
+    CHECK(lua.boolean("old:sensor('imu3') ~= eye"));
+
+    // a third simulation: built from the world's handle as it stands (the second's controllers,
+    // its parameters and groups, the sensor off); the handle moves on to it, and the second's
+    // robot becomes one of its own that keeps the second's controllers
+    lua.run(R"(
+        third = gaitlab.simulation{ world = world, record = false }
+        older = second:robot("snake")
+    )");
+    CHECK(lua.boolean("rawequal(third:robot('snake'), robot)"));
+    CHECK(lua.boolean("older ~= robot and older ~= old"));
+    CHECK(lua.integer("#third:robot('snake'):controllers()") == 4);
+    CHECK(lua.number("third:robot('snake'):controllers()[1].amplitude") == 15);
+    CHECK(lua.boolean("third:robot('snake'):controllers()[3] ~= hold"));
+    CHECK(lua.boolean("older:controllers()[3] == hold"));
+    CHECK(lua.boolean("not third:robot('snake'):sensor('imu3').enabled"));
+    CHECK(lua.number("third.time") == 0);
+    // after a reset of an older simulation its robot is still its own
+    lua.run("first:reset()");
+    CHECK(lua.boolean("rawequal(first:robot('snake'), old) and old:controllers()[1] == sine"));
+    CHECK(lua.boolean("rawequal(third:robot('snake'), robot)"));
+}
+
+TEST_CASE("sim:save of an older simulation of a world saves its own controllers",
+          "[clone][handles]") {
+    TempDir dir("older_save");
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.path.string() + "'");
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ name = "snake", modules = 4 }
+        robot:group("all"):drive(gaitlab.controllers.sine{ amplitude = 40 })
+        world = gaitlab.world()
+        world:add(robot)
+        first = gaitlab.simulation{ world = world, record = false }
+        second = gaitlab.simulation{ world = world, record = false }
+        robot:controllers()[1].amplitude = 15
+        first:robot("snake"):controllers()[1].amplitude = 25
+        assert(first:save(DIR .. "/first.xml"))
+        assert(second:save(DIR .. "/second.xml"))
+        a = assert(gaitlab.simulation.load(DIR .. "/first.xml"))
+        b = assert(gaitlab.simulation.load(DIR .. "/second.xml"))
+    )");
+    CHECK(lua.number("a:robot('snake'):controllers()[1].amplitude") == 25);
+    CHECK(lua.number("b:robot('snake'):controllers()[1].amplitude") == 15);
 }
 
 TEST_CASE("clone: a Lua controller's tables are copied however deep they nest", "[clone]") {
