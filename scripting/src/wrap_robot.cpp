@@ -3,6 +3,7 @@
 
 #include "config_files.h"
 #include "gaitlab/files.h"
+#include "gaitlab/suggest.h"
 #include "gaitlab/urdf.h"
 #include "lua_util.h"
 #include "recording.h"
@@ -316,7 +317,7 @@ int robot_load_urdf(lua_State* L) {
                        "\"file\" (each link's <inertial> as the file gives it) or "
                        "\"shapes\" (each link a uniform solid of its shape and mass) "
                        "expected, got \"" +
-                           inertia + "\"");
+                           inertia + "\"" + did_you_mean(inertia, {"file", "shapes"}));
             }
             how.inertia_from_shapes = inertia == "shapes";
         }

@@ -48,7 +48,7 @@ RecordRequest to_request(lua_State* L, int index, int arg, const std::string& pr
     }
     r.mode = RecordRequest::Mode::on;
     if (t == LUA_TSTRING) {
-        r.dir = lua_tostring(L, index);
+        r.dir = to_string(L, index);
         if (r.dir.empty()) fail("run folder expected, got an empty string");
         return r;
     }

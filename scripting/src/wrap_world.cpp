@@ -86,8 +86,9 @@ int world_add(lua_State* L) {
                                       f.number("roll", 0)};
             const char* names[3] = {"yaw", "pitch", "roll"};
             for (int i = 0; i < 3; ++i) {
-                if (!std::isfinite(angles[i]))
-                    f.fail(names[i], "finite number of degrees expected");
+                if (!(std::fabs(angles[i]) <= kMaxAngleDegrees))
+                    f.fail(names[i], fmt::format("a number of degrees in [-{0}, {0}] expected",
+                                                 kMaxAngleDegrees));
             }
             for (double c : {pose->position.x, pose->position.y, pose->position.z}) {
                 if (!std::isfinite(c)) throw ArgError(3, "x, y and z must be finite numbers");
@@ -168,10 +169,15 @@ int world_box(lua_State* L) {
         box.size = f.vec3("size", box.size);
         box.pose.position = f.vec3("position", {0, 0, box.size.z / 2});
         const double yaw = f.number("yaw", 0);
+        // worded as the objects that keep their yaw in the spec
         if (!std::isfinite(yaw)) {
-            // worded as the objects that keep their yaw in the spec
             throw ArgError(
                 2, fmt::format("box {} yaw must be a finite number", w.spec.boxes.size() + 1));
+        }
+        if (std::fabs(yaw) > kMaxAngleDegrees) {
+            throw ArgError(
+                2, fmt::format("box {} yaw must be in [-{}, {}] deg (got {})",
+                               w.spec.boxes.size() + 1, kMaxAngleDegrees, kMaxAngleDegrees, yaw));
         }
         box.pose.orientation = orientation_field(L, f);
         box.mass = f.number("mass", 0);

@@ -563,6 +563,8 @@ TEST_CASE("load_urdf takes its links' inertia from the file or from their shapes
     CHECK_THAT(lua.error_of("gaitlab.robot.load_urdf(DIR .. '/worm.urdf', { inertia = 'shape' })"),
                Catch::Contains("bad argument #2 to 'load_urdf' (field 'inertia': \"file\" "
                                "(each link's <inertial> as the file gives it) or \"shapes\""));
+    CHECK_THAT(lua.error_of("gaitlab.robot.load_urdf(DIR .. '/worm.urdf', { inertia = 'shape' })"),
+               Catch::EndsWith("got \"shape\"; did you mean 'shapes'?)"));
     CHECK_THAT(lua.error_of("gaitlab.robot.load_urdf(DIR .. '/worm.urdf', { inertias = 'file' })"),
                Catch::Contains("unknown key 'inertias'"));
     CHECK_THAT(lua.error_of("gaitlab.robot.load_urdf(DIR .. '/worm.urdf', 'shapes')"),

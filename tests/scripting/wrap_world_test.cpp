@@ -373,7 +373,18 @@ TEST_CASE("world:add takes a pitch and a roll", "[wrap_world]") {
           Approx(1 + 0.126 * std::sin(M_PI / 6) + 0.026 * std::cos(M_PI / 6)).margin(1e-6));
     lua.run("r2 = gaitlab.robot.chain{ modules = 1 } w:add(r2, { roll = 90, y = 1 })");
     CHECK(lua.error_of("w:add(gaitlab.robot.chain{ modules = 1 }, { pitch = 0/0 })") ==
-          "test:1: bad argument #2 to 'add' (field 'pitch': finite number of degrees expected)");
+          "test:1: bad argument #2 to 'add' (field 'pitch': a number of degrees in [-3600, 3600] "
+          "expected)");
+    // ten turns at most, for every angle of a pose: from about 1e16 rad a sine keeps none of
+    // the digits written
+    CHECK(lua.error_of("w:add(gaitlab.robot.chain{ modules = 1 }, { yaw = 1e300 })") ==
+          "test:1: bad argument #2 to 'add' (field 'yaw': a number of degrees in [-3600, 3600] "
+          "expected)");
+    CHECK(lua.error_of("w:box{ yaw = -3601 }") ==
+          "test:1: bad argument #1 to 'box' (box 1 yaw must be in [-3600, 3600] deg (got -3601))");
+    CHECK(lua.error_of("w:ramp{ yaw = 4000 }") ==
+          "test:1: bad argument #1 to 'ramp' (ramp 1 yaw must be in [-3600, 3600] deg (got 4000))");
+    lua.run("w:box{ yaw = 3600 } w:ramp{ yaw = -3600 }");
     CHECK(lua.error_of("w:add(gaitlab.robot.chain{ modules = 1 }, { pich = 3 })") ==
           "test:1: bad argument #2 to 'add' (unknown key 'pich'; did you mean 'pitch'?)");
 }

@@ -17,6 +17,11 @@ inline double rad_to_deg(double rad) {
     return rad * (180.0 / kPi);
 }
 
+/// The largest angle a pose may be turned by, either way, in degrees: ten turns (20 pi rad).
+/// Files and scripts giving more are refused: such an angle is a mistake, not a pose, and from
+/// about 1e16 rad its sine keeps none of the digits written.
+inline constexpr double kMaxAngleDegrees = 3600;
+
 /// A 3-vector in metres (or m/s, rad/s, N... as the field that holds it says).
 struct Vec3 {
     double x = 0, y = 0, z = 0;

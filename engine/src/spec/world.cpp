@@ -47,6 +47,11 @@ void check_orientation(const std::string& p, const Quat& q) {
 void check_placement(const std::string& p, const Vec3& position, double yaw, double friction) {
     check_position(p, position);
     detail::check_finite(p + "yaw", yaw);
+    if (std::abs(rad_to_deg(yaw)) > kMaxAngleDegrees) {
+        // in degrees, as files and scripts give it, without the conversion's last digit
+        throw SpecError(fmt::format("{}yaw must be in [-{}, {}] deg (got {:.12g})", p,
+                                    kMaxAngleDegrees, kMaxAngleDegrees, rad_to_deg(yaw)));
+    }
     detail::check_range(p + "friction", friction, 0, 1);
 }
 

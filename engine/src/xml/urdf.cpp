@@ -230,6 +230,14 @@ std::pair<Pose, Element> read_origin(const Element& e) {
     if (!o) return {Pose{}, e};
     o->allow({"xyz", "rpy"});
     const std::vector<double> rpy = o->numbers("rpy", 3, {0, 0, 0});
+    for (double a : rpy) {
+        if (!(std::fabs(a) <= deg_to_rad(kMaxAngleDegrees))) {
+            o->fail(
+                fmt::format("attribute 'rpy': angles in [-{:.4g}, {:.4g}] rad (ten turns) "
+                            "expected, got {}",
+                            deg_to_rad(kMaxAngleDegrees), deg_to_rad(kMaxAngleDegrees), a));
+        }
+    }
     return {Pose{o->vec3("xyz", {}), from_rpy(rpy[0], rpy[1], rpy[2])}, *o};
 }
 

@@ -492,6 +492,14 @@ TEST_CASE("an inertia is read about the body's own axes, through the frames that
     CHECK_FALSE(solid.bodies[0].inertia);
 }
 
+TEST_CASE("an origin turned more than ten turns is refused at its line", "[lines]") {
+    CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")",
+                                      R"(<origin rpy="0 1e300 0"/>)")),
+               Catch::Matchers::Contains(
+                   "origin: attribute 'rpy': angles in [-62.83, 62.83] rad (ten turns) "
+                   "expected, got 1e+300"));
+}
+
 TEST_CASE("an inertia gaitlab cannot give a body is refused at its line", "[lines]") {
     CHECK_THAT(import_error(link_urdf(R"(ixx="-0.001" iyy="0.004" izz="0.0035")")),
                Equals("r.urdf:4: robot/link[1]/inertial[1]/inertia[1]: robot 'r' body 'a' "

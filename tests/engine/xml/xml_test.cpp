@@ -446,6 +446,14 @@ TEST_CASE("environment files reject values out of range before anything runs") {
     CHECK_THAT(environment_error("<environment>\n<place robot=\"a\"/>\n<place robot=\"a\"/>"
                                  "</environment>"),
                Equals("env.xml:5: environment/place[2]: robot 'a' is placed twice"));
+    // an angle of more than ten turns is refused: from about 1e16 rad its sine keeps none of
+    // the written digits
+    CHECK_THAT(environment_error("<environment>\n<box size=\"0.1 0.1 0.1\" yaw=\"1e300\"/>"
+                                 "</environment>"),
+               Equals("env.xml:4: environment/box[1]: attribute 'yaw': an angle in [-3600, 3600] "
+                      "degrees (ten turns) expected, got '1e300'"));
+    CHECK_NOTHROW(parse_environment(
+        doc("<environment>\n<box size=\"0.1 0.1 0.1\" yaw=\"-3600\"/></environment>"), "env.xml"));
     CHECK_THAT(environment_error("<environment>\n<box size=\"0.1 0.1 0.1\" frction=\"1\"/>"
                                  "</environment>"),
                Equals("env.xml:4: environment/box[1]: unknown attribute 'frction'; did you mean "
