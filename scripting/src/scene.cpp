@@ -49,7 +49,10 @@ std::shared_ptr<Simulation> WorldBinding::compile(const SimulationOptions& optio
     WorldSpec world = spec;
     for (const Entry& e : robots)
         world.robots.push_back({e.robot->spec, e.pose, e.robot->drives});
-    auto sim = std::make_shared<Simulation>(std::move(world), options);
+    return std::make_shared<Simulation>(std::move(world), options);
+}
+
+void WorldBinding::link(const std::shared_ptr<Simulation>& sim) const {
     // every robot handle of the world becomes the new simulation's robot, its controllers
     // included: the ones its groups are driven by there (the handle's own for a first
     // simulation, fresh copies of them for a later one). An older simulation keeps its own
@@ -59,7 +62,6 @@ std::shared_ptr<Simulation> WorldBinding::compile(const SimulationOptions& optio
         robot.index = static_cast<int>(r);
         robot.drives = sim->world().robots[r].actuation;
     }
-    return sim;
 }
 
 bool drives_of(const RobotBinding& robot, const Simulation& sim, int index) {

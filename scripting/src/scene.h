@@ -57,14 +57,17 @@ struct WorldBinding {
     /// Adds a robot at `pose`, or without one where `placements` puts a robot of its name, or
     /// else with its tail at the origin; throws Error if the robot is in a world already.
     void add(std::shared_ptr<RobotBinding> robot, std::optional<Pose> pose);
-    /// Compiles the world into a simulation and makes every robot handle of the world that
-    /// simulation's robot: its state, its sensors and its drives (the controllers the new
-    /// simulation's groups are driven by). The first simulation is driven by the controllers
-    /// given to the handles; a later one by fresh copies of the handles' controllers as they
-    /// stand (the previous simulation's, parameters as they are then: Simulation's
-    /// constructor). An older simulation keeps its controllers; sim:robot gives its robots
-    /// handles of their own (robot_of).
+    /// Compiles the world into a simulation, driven by the handles' controllers where no
+    /// living simulation drives them (a first simulation, or the previous one is gone), else
+    /// by fresh copies of them as they stand (the previous simulation's, parameters as they
+    /// are then: Simulation's constructor). The handles are not changed: link() does that once
+    /// the simulation is made for good, so a build that fails changes no handle.
     std::shared_ptr<Simulation> compile(const SimulationOptions& options) const;
+    /// Makes every robot handle of the world `sim`'s robot (compiled from this world): its
+    /// state, its sensors and its drives (the controllers the simulation's groups are driven
+    /// by). An older simulation keeps its controllers; sim:robot gives its robots handles of
+    /// their own (robot_of).
+    void link(const std::shared_ptr<Simulation>& sim) const;
     /// The world of a simulation made without one (a clone): its robots linked to `sim`.
     static std::shared_ptr<WorldBinding> of(const std::shared_ptr<Simulation>& sim,
                                             const WorldBinding& like);

@@ -133,7 +133,11 @@ void push_new_simulation(lua_State* L, std::shared_ptr<WorldBinding> world,
     }
     for (const std::string& w : sim->warnings())
         report(main_thread(L), "warning: " + w);
-    push_simulation(L, std::move(sim), std::move(world), request);
+    // the world's robot handles become this simulation's only once its handle is made (a
+    // recording refused on the way leaves them, and their controllers, as they were)
+    const std::shared_ptr<WorldBinding> linked = world;
+    push_simulation(L, sim, std::move(world), request);
+    linked->link(sim);
 }
 
 // pushes a handle for `sim` (new, or a clone), made from `world`: reports controller failures
@@ -169,8 +173,19 @@ void push_simulation(lua_State* L, std::shared_ptr<Simulation> sim,
         // the world's spec is copied before the simulation builds (which says so itself)
         throw Error("not enough memory to build the simulation");
     }
+    const int at = lua_gettop(L);  // the handle
     try {
-        Recordings::of(L).created(L, *h, request);
+        try {
+            Recordings::of(L).created(L, *h, request);
+        } catch (...) {
+            // a recording refused: the handle goes now, not when the collector finds it, so
+            // the simulation lets its controllers go (the next one binds them, not copies)
+            h->~SimulationHandle();
+            lua_settop(L, at);
+            lua_pushnil(L);
+            lua_setmetatable(L, at);
+            throw;
+        }
     } catch (const SpecError& e) {
         throw ArgError(1, std::string("field 'record': ") + e.what());
     }

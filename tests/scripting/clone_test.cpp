@@ -364,6 +364,46 @@ TEST_CASE("sim:save of an older simulation of a world saves its own controllers"
     CHECK(lua.number("b:robot('snake'):controllers()[1].amplitude") == 15);
 }
 
+TEST_CASE("a simulation that fails to be made changes no robot handle and no controller",
+          "[clone][handles]") {
+    TempDir dir("failed_build");
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.path.string() + "'");
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ name = "snake", modules = 4, connection = "pitch-yaw" }
+        sine = robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 30 })
+        world = gaitlab.world()
+        world:add(robot)
+        -- a series that matches nothing: refused once the simulation is built
+        bad = { dir = DIR .. "/bad", series = { "snake.com.xx" } }
+    )");
+    SECTION("before any simulation: the next one is driven by the script's controller") {
+        CHECK_THAT(lua.error_of("gaitlab.simulation{ world = world, record = bad }"),
+                   Catch::Contains("no series matches 'snake.com.xx'"));
+        lua.run(R"(
+            sim = gaitlab.simulation{ world = world, record = false }
+            sine.amplitude = 0
+            sim:run(2)
+        )");
+        CHECK(lua.boolean("sim:robot('snake') == robot"));
+        CHECK(lua.boolean("robot:controllers()[1] == sine"));
+        // the amplitude written through the script's controller stopped the gait
+        CHECK(lua.number("robot:displacement():norm()") < 1e-3);
+    }
+    SECTION("after one: the handle stays the first simulation's robot") {
+        lua.run(R"(
+            first = gaitlab.simulation{ world = world, record = false }
+            first:run(1)
+            x = robot:position().x
+        )");
+        CHECK_THAT(lua.error_of("gaitlab.simulation{ world = world, record = bad }"),
+                   Catch::Contains("no series matches 'snake.com.xx'"));
+        CHECK(lua.boolean("first:robot('snake') == robot"));
+        CHECK(lua.boolean("robot:controllers()[1] == sine"));
+        CHECK(lua.number("robot:position().x") == lua.number("x"));
+    }
+}
+
 TEST_CASE("clone: a Lua controller's tables are copied however deep they nest", "[clone]") {
     // a linked list of 200 000 nodes is as deep as it is long: a copy that recursed once per
     // level ran out of C stack and crashed the process

@@ -140,6 +140,10 @@ class Controller {
     bool bound() const { return joints_ > 0; }
     /// Attaches the controller to a group of `joints` joints; values start at zero.
     void bind(int joints);
+    /// Detaches it from its group when the simulation that bound it is gone (destroyed, or
+    /// failed to build): unbound, no values, no listener, parameters kept, so the next
+    /// simulation given it binds it itself instead of driving a copy.
+    void unbind();
     /// Per-joint value k (as declared in def().values), one entry per joint.
     const std::vector<double>& values(int k) const;
     /// Every per-joint value at once, indexed like def().values (one sync for all of them).

@@ -253,6 +253,8 @@ class Simulation {
     void build();
     // "not enough memory to build the simulation (...)", for a std::bad_alloc while building
     Error out_of_memory() const;
+    // unbinds every controller it drives (they may outlive it: a script holds them)
+    void release_controllers();
     void check_robot(int robot) const;
     void check_sensor(int sensor) const;
     void check_drive(int drive) const;

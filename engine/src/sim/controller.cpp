@@ -137,6 +137,13 @@ void Controller::bind(int joints) {
     reset();
 }
 
+void Controller::unbind() {
+    joints_ = 0;
+    for (auto& v : values_)
+        v.clear();
+    param_listener_ = nullptr;
+}
+
 void Controller::reset() {
     for (auto& v : values_)
         v.assign(static_cast<size_t>(joints_), 0.0);

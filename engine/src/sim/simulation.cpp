@@ -253,8 +253,19 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     try {
         compile();
     } catch (const std::bad_alloc&) {
+        release_controllers();
         throw out_of_memory();
+    } catch (...) {
+        release_controllers();
+        throw;
     }
+}
+
+void Simulation::release_controllers() {
+    // controllers may outlive the simulation (a Lua handle keeps them): stop telling it, and
+    // let the next simulation bind them
+    for (DriveSlot& d : drives_)
+        d.drive.controller->unbind();
 }
 
 Error Simulation::out_of_memory() const {
@@ -378,9 +389,7 @@ void Simulation::check_floor_sinking() {
 }
 
 Simulation::~Simulation() {
-    // controllers may outlive the simulation (a Lua handle keeps them): stop telling it
-    for (DriveSlot& d : drives_)
-        d.drive.controller->set_param_listener(nullptr);
+    release_controllers();
 }
 
 std::string Simulation::unique_label(const std::string& base) {

@@ -406,6 +406,43 @@ TEST_CASE("the same controller in two groups of one spec is still refused") {
                       "group)");
 }
 
+TEST_CASE("a controller whose simulation is gone drives the next one itself") {
+    WorldSpec world = test::chain_world(4, Connection::pitch_pitch);
+    std::shared_ptr<Controller> sine = test::sine(40, 0.5, 120);
+    Drive d;
+    d.joints = select_joints(world.robots[0].robot, "pitch");
+    d.controller = sine;
+    world.robots[0].actuation.push_back(d);
+    {
+        Simulation first(world);
+        first.run(0.5);
+        CHECK(sine->bound());
+    }
+    CHECK_FALSE(sine->bound());
+    sine->set_param("amplitude", 0);  // tells no simulation: the first is gone
+    Simulation next(world);
+    CHECK(&next.controller(0) == sine.get());
+    next.run(1);
+    CHECK(next.robot_displacement(0).norm() < 1e-3);  // its amplitude 0 stopped the gait
+
+    // a simulation that fails to build lets go of the controllers it bound (and stops
+    // listening to them: setting a parameter afterwards reaches no freed simulation)
+    WorldSpec twice = test::chain_world(6, Connection::pitch_yaw);
+    std::shared_ptr<Controller> both = test::sine(40, 0.5, 120);
+    for (const char* role : {"pitch", "yaw"}) {
+        Drive g;
+        g.joints = select_joints(twice.robots[0].robot, role);
+        g.controller = both;
+        twice.robots[0].actuation.push_back(g);
+    }
+    CHECK_THROWS(Simulation(twice));
+    CHECK_FALSE(both->bound());
+    both->set_param("amplitude", 10);
+    twice.robots[0].actuation.pop_back();
+    Simulation built(twice);
+    CHECK(&built.controller(0) == both.get());
+}
+
 TEST_CASE("clone: bad uses") {
     SECTION("from inside a tick") {
         auto sim = crawling_snake();
