@@ -41,7 +41,9 @@ Quat orientation_field(lua_State* L, const Fields& f) {
     if (f.has("orientation")) return quat_field(L, f, "orientation", {});
     const double yaw = f.number("yaw", 0);
     if (!(std::fabs(yaw) <= kMaxAngleDegrees)) {
-        f.fail("yaw", fmt::format("a number of degrees in [-{0}, {0}] expected", kMaxAngleDegrees));
+        f.fail("yaw",
+               fmt::format("a number of degrees in [-{0}, {0}] expected, got {1}", kMaxAngleDegrees,
+                           std::isnan(yaw) ? "nan" : fmt::format("{}", yaw)));
     }
     return Quat::from_axis_angle({0, 0, 1}, deg_to_rad(yaw));
 }

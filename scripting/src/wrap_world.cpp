@@ -87,8 +87,11 @@ int world_add(lua_State* L) {
             const char* names[3] = {"yaw", "pitch", "roll"};
             for (int i = 0; i < 3; ++i) {
                 if (!(std::fabs(angles[i]) <= kMaxAngleDegrees))
-                    f.fail(names[i], fmt::format("a number of degrees in [-{0}, {0}] expected",
-                                                 kMaxAngleDegrees));
+                    f.fail(
+                        names[i],
+                        fmt::format("a number of degrees in [-{0}, {0}] expected, got {1}",
+                                    kMaxAngleDegrees,
+                                    std::isnan(angles[i]) ? "nan" : fmt::format("{}", angles[i])));
             }
             for (double c : {pose->position.x, pose->position.y, pose->position.z}) {
                 if (!std::isfinite(c)) throw ArgError(3, "x, y and z must be finite numbers");

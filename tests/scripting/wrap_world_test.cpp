@@ -374,17 +374,21 @@ TEST_CASE("world:add takes a pitch and a roll", "[wrap_world]") {
     lua.run("r2 = gaitlab.robot.chain{ modules = 1 } w:add(r2, { roll = 90, y = 1 })");
     CHECK(lua.error_of("w:add(gaitlab.robot.chain{ modules = 1 }, { pitch = 0/0 })") ==
           "test:1: bad argument #2 to 'add' (field 'pitch': a number of degrees in [-3600, 3600] "
-          "expected)");
+          "expected, got nan)");
     // ten turns at most, for every angle of a pose: from about 1e16 rad a sine keeps none of
     // the digits written
     CHECK(lua.error_of("w:add(gaitlab.robot.chain{ modules = 1 }, { yaw = 1e300 })") ==
           "test:1: bad argument #2 to 'add' (field 'yaw': a number of degrees in [-3600, 3600] "
-          "expected)");
+          "expected, got 1e+300)");
     CHECK(lua.error_of("w:box{ yaw = -3601 }") ==
           "test:1: bad argument #1 to 'box' (box 1 yaw must be in [-3600, 3600] deg (got -3601))");
     CHECK(lua.error_of("w:ramp{ yaw = 4000 }") ==
           "test:1: bad argument #1 to 'ramp' (ramp 1 yaw must be in [-3600, 3600] deg (got 4000))");
     lua.run("w:box{ yaw = 3600 } w:ramp{ yaw = -3600 }");
+    // just outside: the message shows the digit that puts it there
+    CHECK(lua.error_of("w:wall{ yaw = 3600.000000001 }") ==
+          "test:1: bad argument #1 to 'wall' (wall 1 yaw must be in [-3600, 3600] deg (got "
+          "3600.0000000010004))");
     CHECK(lua.error_of("w:add(gaitlab.robot.chain{ modules = 1 }, { pich = 3 })") ==
           "test:1: bad argument #2 to 'add' (unknown key 'pich'; did you mean 'pitch'?)");
 }

@@ -47,10 +47,14 @@ void check_orientation(const std::string& p, const Quat& q) {
 void check_placement(const std::string& p, const Vec3& position, double yaw, double friction) {
     check_position(p, position);
     detail::check_finite(p + "yaw", yaw);
-    if (std::abs(rad_to_deg(yaw)) > kMaxAngleDegrees) {
+    const double degrees = rad_to_deg(yaw);
+    if (std::abs(degrees) > kMaxAngleDegrees) {
         // in degrees, as files and scripts give it, without the conversion's last digit
-        throw SpecError(fmt::format("{}yaw must be in [-{}, {}] deg (got {:.12g})", p,
-                                    kMaxAngleDegrees, kMaxAngleDegrees, rad_to_deg(yaw)));
+        // unless that digit is what puts it outside
+        std::string shown = fmt::format("{:.12g}", degrees);
+        if (std::abs(std::stod(shown)) <= kMaxAngleDegrees) shown = fmt::format("{}", degrees);
+        throw SpecError(fmt::format("{}yaw must be in [-{}, {}] deg (got {})", p, kMaxAngleDegrees,
+                                    kMaxAngleDegrees, shown));
     }
     detail::check_range(p + "friction", friction, 0, 1);
 }

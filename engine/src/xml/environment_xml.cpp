@@ -31,7 +31,14 @@ Quat read_orientation(const Element& e) {
         e.fail("give 'yaw' or 'orientation', not both");
     }
     if (e.has("orientation")) return e.quat("orientation", {});
-    return yaw_quat(e.angle("yaw", 0));
+    const double yaw = e.angle("yaw", 0);
+    if (!(std::abs(yaw) <= deg_to_rad(kMaxAngleDegrees))) {
+        e.fail(
+            fmt::format("attribute 'yaw': an angle in [-{0}, {0}] degrees (ten turns) "
+                        "expected, got {1}",
+                        kMaxAngleDegrees, rad_to_deg(yaw)));
+    }
+    return yaw_quat(yaw);
 }
 
 // a pure yaw is written as yaw (deg) when that reads back exactly, else as a quaternion

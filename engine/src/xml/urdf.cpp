@@ -233,7 +233,7 @@ std::pair<Pose, Element> read_origin(const Element& e) {
     for (double a : rpy) {
         if (!(std::fabs(a) <= deg_to_rad(kMaxAngleDegrees))) {
             o->fail(
-                fmt::format("attribute 'rpy': angles in [-{:.4g}, {:.4g}] rad (ten turns) "
+                fmt::format("attribute 'rpy': angles in [-{}, {}] rad (ten turns) "
                             "expected, got {}",
                             deg_to_rad(kMaxAngleDegrees), deg_to_rad(kMaxAngleDegrees), a));
         }

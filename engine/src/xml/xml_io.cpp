@@ -393,15 +393,7 @@ Quat Element::quat(const char* attr, const Quat& fallback) const {
 
 double Element::angle(const char* attr, double fallback_rad) const {
     const char* v = raw(attr);
-    if (!v) return fallback_rad;
-    const double degrees = parse_number(attr, v);
-    if (!(std::fabs(degrees) <= kMaxAngleDegrees)) {
-        fail(
-            fmt::format("attribute '{}': an angle in [-{}, {}] degrees (ten turns) expected, "
-                        "got '{}'",
-                        attr, kMaxAngleDegrees, kMaxAngleDegrees, v));
-    }
-    return deg_to_rad(degrees);
+    return v ? deg_to_rad(parse_number(attr, v)) : fallback_rad;
 }
 
 std::vector<Element> Element::children(std::initializer_list<const char*> allowed) const {

@@ -93,7 +93,7 @@ class Element {
                                 const std::vector<double>& fallback) const;
     /// "w x y z", normalised check within 1e-6.
     Quat quat(const char* attr, const Quat& fallback) const;
-    /// An angle written in degrees, returned in radians; at most kMaxAngleDegrees.
+    /// An angle written in degrees, returned in radians.
     double angle(const char* attr, double fallback_rad) const;
 
     /// The child elements, each of which must be named in `allowed`.

@@ -496,7 +496,8 @@ TEST_CASE("an origin turned more than ten turns is refused at its line", "[lines
     CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")",
                                       R"(<origin rpy="0 1e300 0"/>)")),
                Catch::Matchers::Contains(
-                   "origin: attribute 'rpy': angles in [-62.83, 62.83] rad (ten turns) "
+                   "origin: attribute 'rpy': angles in [-62.83185307179586, 62.83185307179586] rad "
+                   "(ten turns) "
                    "expected, got 1e+300"));
 }
 

@@ -182,6 +182,12 @@ TEST_CASE("robot files reject bad input with file, line, element path and a sugg
             "<robot><chain modules=\"2\">\n<module min=\"40\" max=\"20\"/></chain></robot>"),
         Equals("robot.xml:4: robot/chain[1]/module[1]: module 'y1' joint range must satisfy -180 "
                "<= min < max <= 180 deg"));
+    // a joint's range has its own bounds, however far outside (not a pose's ten turns)
+    CHECK_THAT(
+        robot_error(
+            "<robot><chain modules=\"2\">\n<module min=\"-5000\" max=\"20\"/></chain></robot>"),
+        Equals("robot.xml:4: robot/chain[1]/module[1]: module 'y1' joint range must satisfy -180 "
+               "<= min < max <= 180 deg"));
     CHECK_THAT(robot_error("<robot>\n<body name=\"a\" size=\"1 1 1\" mass=\"1\"/>\n"
                            "<body name=\"b\" size=\"1 1 1\" mass=\"1\"/>\n"
                            "<joint name=\"j\" parent=\"a\" child=\"bb\" pivot=\"0 0 0\" "
@@ -451,7 +457,7 @@ TEST_CASE("environment files reject values out of range before anything runs") {
     CHECK_THAT(environment_error("<environment>\n<box size=\"0.1 0.1 0.1\" yaw=\"1e300\"/>"
                                  "</environment>"),
                Equals("env.xml:4: environment/box[1]: attribute 'yaw': an angle in [-3600, 3600] "
-                      "degrees (ten turns) expected, got '1e300'"));
+                      "degrees (ten turns) expected, got 1e+300"));
     CHECK_NOTHROW(parse_environment(
         doc("<environment>\n<box size=\"0.1 0.1 0.1\" yaw=\"-3600\"/></environment>"), "env.xml"));
     CHECK_THAT(environment_error("<environment>\n<box size=\"0.1 0.1 0.1\" frction=\"1\"/>"
