@@ -360,14 +360,12 @@ int simulation_save(lua_State* L) {
                 f.fail("duration", "non-negative number of seconds expected");
             }
         }
-        // its own robots, with the controllers and sensors they have here: an older
-        // simulation of a world is not the one the world's robot handles stand for
-        WorldBinding world = *h.world;
-        const size_t n = std::min(world.robots.size(), static_cast<size_t>(sim.robot_count()));
-        for (size_t r = 0; r < n; ++r)
-            world.robots[r].robot = robot_handle(h, static_cast<int>(r));
+        // the world as this simulation has it: its objects and robots as built, with the
+        // controllers and sensors they have here, not what the world (from which a script may
+        // build more) holds now, nor the world's robot handles, which stand for the newest
+        const std::shared_ptr<WorldBinding> world = WorldBinding::of(h.sim, *h.world);
         return file_written(L, path, [&] {
-            save_simulation(path.path(), world, sim.options(), duration, h.name, h.record);
+            save_simulation(path.path(), *world, sim.options(), duration, h.name, h.record);
         });
     });
 }

@@ -364,6 +364,31 @@ TEST_CASE("sim:save of an older simulation of a world saves its own controllers"
     CHECK(lua.number("b:robot('snake'):controllers()[1].amplitude") == 15);
 }
 
+TEST_CASE("sim:save writes the world as the simulation has it, not as the world is now",
+          "[clone][handles]") {
+    TempDir dir("save_as_built");
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.path.string() + "'");
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ name = "snake", modules = 4, connection = "pitch-yaw" }
+        robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 30 })
+        world = gaitlab.world()
+        world:add(robot)
+        sim = gaitlab.simulation{ world = world, record = false }
+        -- added to the world after the simulation was built: not in it
+        world:box{ size = { 0.2, 0.2, 0.2 }, position = { 0.3, 0, 0.1 } }
+        world:add(gaitlab.robot.chain{ name = "worm", modules = 3 }, { y = 1 })
+        sim:run(2)
+        assert(sim:save(DIR .. "/sim.xml"))
+        loaded, setup = assert(gaitlab.simulation.load(DIR .. "/sim.xml"))
+        loaded:run(2)
+    )");
+    CHECK(lua.string("tostring(setup.world)") == "gaitlab.World (1 robot, 0 boxes)");
+    CHECK(lua.boolean("setup.robots.worm == nil"));
+    // the saved simulation moves as the one saved did
+    CHECK(lua.number("setup.robots.snake:position().x") == lua.number("robot:position().x"));
+}
+
 TEST_CASE("a simulation that fails to be made changes no robot handle and no controller",
           "[clone][handles]") {
     TempDir dir("failed_build");
