@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -31,7 +32,10 @@ namespace {
 // config/, and its replay loads that copy. Lua's own searchers come after it.
 int script_folder_searcher(lua_State* L) {
     return protect(L, [&] {
-        std::string relative = luaL_checkstring(L, 1);
+        std::string relative = check_string(L, 1);
+        // all of the name: "mod\0evil" is no module (require refuses it before any searcher;
+        // this is for a script calling the searcher itself)
+        refuse_zero_byte(relative);
         // "a.b" is a/b.lua; a name with an empty part ("..x", "a..b", ".a") would make a path
         // from the file system's root or with "//": no module of this folder has such a name
         if (relative.empty() || relative.front() == '.' || relative.back() == '.' ||
@@ -65,17 +69,86 @@ int script_folder_searcher(lua_State* L) {
         const std::string text = read_file(read);
         const std::string chunk = "@" + read;
         if (luaL_loadbufferx(L, text.data(), text.size(), chunk.c_str(), "t") != LUA_OK)
-            throw Error(located_load_error(lua_tostring(L, -1), read));  // at its file and line
+            throw Error(located_load_error(to_string(L, -1), read));  // at its file and line
         lua_pushstring(L, read.c_str());
         return 2;
     });
 }
 
+// package.searchers' loader for `name`, as Lua's require finds it (loadlib.c's findloader;
+// upvalue 1 the package table): pushes the loader and its data, or raises "module not found"
+// with what each searcher said
+void find_loader(lua_State* L, const char* name) {
+    if (lua_getfield(L, lua_upvalueindex(1), "searchers") != LUA_TTABLE)
+        luaL_error(L, "'package.searchers' must be a table");
+    const int searchers = lua_gettop(L);
+    luaL_Buffer msg;
+    luaL_buffinit(L, &msg);
+    for (lua_Integer i = 1;; ++i) {
+        luaL_addstring(&msg, "\n\t");
+        if (lua_rawgeti(L, searchers, i) == LUA_TNIL) {
+            lua_pop(L, 1);
+            luaL_buffsub(&msg, 2);
+            luaL_pushresult(&msg);
+            luaL_error(L, "module '%s' not found:%s", name, lua_tostring(L, -1));
+        }
+        lua_pushstring(L, name);
+        lua_call(L, 1, 2);
+        if (lua_isfunction(L, -2)) return;
+        if (lua_isstring(L, -2)) {
+            lua_pop(L, 1);
+            luaL_addvalue(&msg);
+        } else {
+            lua_pop(L, 2);
+            luaL_buffsub(&msg, 2);
+        }
+    }
+}
+
+// require(name): Lua's require (loadlib.c's ll_require; upvalue 1 the package table), for the
+// whole name. Lua's own reads the name as a C string: require "mod\0evil" gave the searchers
+// "mod" and loaded mod.lua, and package.loaded["string\0x"] was the string library. Raises its
+// errors itself: no C++ object is alive here
+int require_whole_name(lua_State* L) {
+    size_t len = 0;
+    const char* name = luaL_checklstring(L, 1, &len);
+    if (std::memchr(name, '\0', len)) {
+        // %s stops at the zero: the part before it
+        return luaL_error(L, "a module name cannot contain a zero byte (got '%s\\0...')", name);
+    }
+    lua_settop(L, 1);
+    lua_getfield(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);  // at 2
+    lua_getfield(L, 2, name);
+    if (lua_toboolean(L, -1)) return 1;  // loaded already
+    lua_pop(L, 1);
+    find_loader(L, name);
+    lua_rotate(L, -2, 1);  // the loader under its data
+    lua_pushvalue(L, 1);   // the loader's arguments: the name and the data
+    lua_pushvalue(L, -3);
+    lua_call(L, 2, 1);
+    if (!lua_isnil(L, -1)) {
+        lua_setfield(L, 2, name);  // LOADED[name] = what the loader returned
+    } else {
+        lua_pop(L, 1);
+    }
+    if (lua_getfield(L, 2, name) == LUA_TNIL) {  // nothing set: LOADED[name] = true
+        lua_pushboolean(L, 1);
+        lua_copy(L, -1, -2);
+        lua_setfield(L, 2, name);
+    }
+    lua_rotate(L, -2, 1);  // the module, then the loader's data
+    return 2;
+}
+
 // what a new host's state starts with: Lua's libraries with `pairs` and `table.sort` in a fixed
-// order (fixed_order.h), the searcher above, and gaitlab as the global `gaitlab`
+// order (fixed_order.h), require for whole names and the searcher above, and gaitlab as the
+// global `gaitlab`
 int open_host_libraries(lua_State* L) {
     luaL_openlibs(L);
     open_fixed_order(L);
+    lua_getglobal(L, "package");
+    lua_pushcclosure(L, require_whole_name, 1);
+    lua_setglobal(L, "require");
     lua_getglobal(L, "package");
     lua_getfield(L, -1, "searchers");
     for (lua_Integer i = static_cast<lua_Integer>(luaL_len(L, -1)); i >= 2; --i) {
@@ -142,16 +215,16 @@ int check_simulation_file_of(lua_State* L) {
 // message handler: turns the error into a table {message, file, line, traceback} while the
 // stack of the failed call is still there
 int message_handler(lua_State* L) {
-    const char* msg = lua_tostring(L, 1);
-    if (msg == nullptr) {
-        if (luaL_callmeta(L, 1, "__tostring") && lua_type(L, -1) == LUA_TSTRING) {
-            msg = lua_tostring(L, -1);
-        } else {
-            msg = lua_pushfstring(L, "(error object is a %s value)", luaL_typename(L, 1));
-        }
+    // the message as a Lua string, all of it (a zero byte in it included): at `msg`
+    if (lua_isstring(L, 1)) {
+        lua_tostring(L, 1);  // a number as its text, in place (a string from here on)
+        lua_pushvalue(L, 1);
+    } else if (!(luaL_callmeta(L, 1, "__tostring") && lua_type(L, -1) == LUA_TSTRING)) {
+        lua_pushfstring(L, "(error object is a %s value)", luaL_typename(L, 1));
     }
+    const int msg = lua_gettop(L);
     lua_createtable(L, 0, 4);
-    lua_pushstring(L, msg);
+    lua_pushvalue(L, msg);
     lua_setfield(L, -2, "message");
     luaL_traceback(L, L, nullptr, 1);
     lua_setfield(L, -2, "traceback");
@@ -192,7 +265,9 @@ int message_handler(lua_State* L) {
             lua_setfield(L, -2, "line");
             // an error value that is not a string carries no position: give it one
             if (lua_type(L, 1) != LUA_TSTRING) {
-                lua_pushfstring(L, "%s:%d: %s", ar.short_src, ar.currentline, msg);
+                lua_pushfstring(L, "%s:%d: ", ar.short_src, ar.currentline);
+                lua_pushvalue(L, msg);
+                lua_concat(L, 2);
                 lua_setfield(L, -2, "message");
             }
             break;
@@ -203,7 +278,7 @@ int message_handler(lua_State* L) {
 
 std::string field_string(lua_State* L, const char* key) {
     lua_getfield(L, -1, key);
-    std::string s = lua_isstring(L, -1) ? lua_tostring(L, -1) : "";
+    std::string s = lua_isstring(L, -1) ? to_string(L, -1) : "";
     lua_pop(L, 1);
     return s;
 }
@@ -229,7 +304,7 @@ void protected_call(lua_State* L, int nargs, int nresults) {
         line = static_cast<int>(lua_tointeger(L, -1));
         lua_pop(L, 1);
     } else {
-        message = lua_isstring(L, -1) ? lua_tostring(L, -1) : "error in error handling";
+        message = lua_isstring(L, -1) ? to_string(L, -1) : "error in error handling";
     }
     lua_settop(L, base - 1);
     // an interrupt says so, even where the state was too full for its message to be made
@@ -387,7 +462,7 @@ void LuaHost::set_print(bool to_stdout) {
 
 void LuaHost::run_string(const std::string& code, const std::string& name) {
     if (luaL_loadbufferx(L_, code.data(), code.size(), name.c_str(), "t") != LUA_OK) {
-        std::string msg = lua_tostring(L_, -1);
+        std::string msg = to_string(L_, -1);
         lua_pop(L_, 1);
         throw ScriptError(msg, name, 0, "");
     }

@@ -43,7 +43,7 @@ void load_source(lua_State* L, std::string_view code, const std::string& chunk) 
     }
     const std::string name = "@" + chunk;
     if (luaL_loadbufferx(L, code.data(), code.size(), name.c_str(), "t") != LUA_OK) {
-        std::string msg = lua_tostring(L, -1);
+        std::string msg = to_string(L, -1);
         lua_pop(L, 1);
         throw ScriptError(located_load_error(msg, chunk), chunk, 0, "");
     }
@@ -89,12 +89,16 @@ Origin opt_origin(lua_State* L, int arg) {
     return *parsed;
 }
 
-std::string script_path(lua_State* L, const std::string& path) {
+void refuse_zero_byte(const std::string& path) {
     // the operating system would stop at the zero and open another file than the one checked
     if (path.find('\0') != std::string::npos) {
         throw Error("a path cannot contain a zero byte (got '" + path.substr(0, path.find('\0')) +
                     "\\0...')");
     }
+}
+
+std::string script_path(lua_State* L, const std::string& path) {
+    refuse_zero_byte(path);
     std::filesystem::path p(path);
     if (p.is_relative()) p = caller_dir(L) / p;
     return p.lexically_normal().string();

@@ -368,6 +368,10 @@ Origin default_origin(lua_State* L);
 /// host's default_origin. Front ends pass theirs so that a replay can tell their changes apart.
 Origin opt_origin(lua_State* L, int arg);
 
+/// Throws Error for a path with a zero byte: the operating system would stop at the zero and
+/// open another file than the one checked ("a path cannot contain a zero byte (got ...)").
+void refuse_zero_byte(const std::string& path);
+
 /// `path` as the calling script means it: relative paths are relative to the folder of the Lua
 /// file that called the current C function (the working directory if none, e.g. in a REPL).
 /// Throws Error for a path with a zero byte (the system would open another file).

@@ -20,7 +20,7 @@ int lua_closest(lua_State* L) {
         check_table(L, 2);
         std::vector<std::string> candidates;
         for (lua_Integer i = 1; lua_rawgeti(L, 2, i) == LUA_TSTRING; ++i) {
-            candidates.emplace_back(lua_tostring(L, -1));
+            candidates.emplace_back(to_string(L, -1));
             lua_pop(L, 1);
         }
         lua_pop(L, 1);

@@ -92,11 +92,11 @@ GroupSpec read_group(lua_State* L) {
             }
             if (!ok) {
                 const std::string message = fmt::format("params: '{}' must be a number, got {}",
-                                                        lua_tostring(L, -2), type_name(L, -1));
+                                                        to_string(L, -2), type_name(L, -1));
                 lua_pop(L, 4);
                 f.fail("controller", message);
             }
-            g.controller.params.emplace_back(lua_tostring(L, -2), v);
+            g.controller.params.emplace_back(to_string(L, -2), v);
             lua_pop(L, 1);
         }
         // in name order: a table has none of its own

@@ -107,7 +107,7 @@ int controller_index(lua_State* L) {
             }
             return 1;
         }
-        if (lua_getfield(L, lua_upvalueindex(1), key.c_str()) != LUA_TNIL) return 1;
+        if (raw_getfield(L, lua_upvalueindex(1), key) != LUA_TNIL) return 1;
         std::vector<std::string> names = param_names(c);
         for (const char* m : {"name", "params", "values", "set", "failed", "error"})
             names.emplace_back(m);
@@ -375,7 +375,7 @@ int class_call(lua_State* L) {
 int class_index(lua_State* L) {
     return protect(L, [&] {
         ClassPtr& cls = check_object<ClassPtr>(L, 1, kControllerClassType);
-        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+        const std::string key = lua_type(L, 2) == LUA_TSTRING ? to_string(L, 2) : "";
         if (key == "name") {
             lua_pushstring(L, cls->def.name.c_str());
         } else if (key == "file") {

@@ -73,7 +73,7 @@ void push_info(lua_State* L, const SeriesInfo& s) {
 std::vector<std::string> to_names(lua_State* L, int index, int arg, const std::string& what) {
     std::vector<std::string> names;
     if (lua_type(L, index) == LUA_TSTRING) {
-        names.emplace_back(lua_tostring(L, index));
+        names.emplace_back(to_string(L, index));
         return names;
     }
     if (!lua_istable(L, index)) {
@@ -88,7 +88,7 @@ std::vector<std::string> to_names(lua_State* L, int index, int arg, const std::s
             lua_pop(L, 1);
             throw ArgError(arg, what + "list of series names expected, got a " + t + " in it");
         }
-        names.emplace_back(lua_tostring(L, -1));
+        names.emplace_back(to_string(L, -1));
         lua_pop(L, 1);
     }
     if (names.empty()) throw ArgError(arg, what + "at least one series name expected");
@@ -109,6 +109,7 @@ void to_range(lua_State* L, int index, int arg, double& from, double& to) {
 int data_open(lua_State* L) {
     return protect(L, [&] {
         const std::string dir = check_string(L, 1);
+        refuse_zero_byte(dir);
         std::shared_ptr<RunData> run;
         std::string failed;
         try {
@@ -292,7 +293,7 @@ int run_plot(lua_State* L) {
 int run_index(lua_State* L) {
     return protect(L, [&] {
         const RunData& run = check_run(L, 1);
-        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+        const std::string key = lua_type(L, 2) == LUA_TSTRING ? to_string(L, 2) : "";
         const RunMeta& m = run.meta();
         if (key == "dir") {
             lua_pushstring(L, run.dir().c_str());
@@ -321,7 +322,7 @@ int run_index(lua_State* L) {
             for (const auto& [k, v] : m.provenance)
                 set_string(L, k.c_str(), v);
         } else {
-            lua_getfield(L, lua_upvalueindex(1), key.c_str());
+            raw_getfield(L, lua_upvalueindex(1), key);
         }
         return 1;
     });
@@ -373,7 +374,7 @@ int live_get(lua_State* L) {
 int live_index(lua_State* L) {
     return protect(L, [&] {
         const LiveBuffers& b = check_live(L, 1);
-        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+        const std::string key = lua_type(L, 2) == LUA_TSTRING ? to_string(L, 2) : "";
         const LiveOptions o = b.options();
         if (key == "sample_every") {
             lua_pushinteger(L, o.sample_every);
@@ -386,7 +387,7 @@ int live_index(lua_State* L) {
         } else if (key == "series") {
             push_strings(L, o.series);
         } else {
-            lua_getfield(L, lua_upvalueindex(1), key.c_str());
+            raw_getfield(L, lua_upvalueindex(1), key);
         }
         return 1;
     });

@@ -33,7 +33,7 @@ std::vector<std::string> library_names(lua_State* L) {
     lua_pushnil(L);
     while (lua_next(L, -2) != 0) {
         if (lua_type(L, -2) == LUA_TSTRING && luaL_testudata(L, -1, kModuleType)) {
-            names.emplace_back(lua_tostring(L, -2));
+            names.emplace_back(to_string(L, -2));
         }
         lua_pop(L, 1);
     }
@@ -128,7 +128,7 @@ int module_new(lua_State* L) {
 int module_index(lua_State* L) {
     return protect(L, [&] {
         const ModuleDef& m = check_module(L, 1);
-        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+        const std::string key = lua_type(L, 2) == LUA_TSTRING ? to_string(L, 2) : "";
         if (key == "name") {
             lua_pushstring(L, m.name.c_str());
         } else if (key == "shape") {

@@ -234,7 +234,7 @@ int robot_joints(lua_State* L) {
 int robot_index(lua_State* L) {
     return protect(L, [&] {
         RobotBinding& r = check_robot(L, 1);
-        const std::string key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
+        const std::string key = lua_type(L, 2) == LUA_TSTRING ? to_string(L, 2) : "";
         if (key == "name") {
             lua_pushstring(L, r.spec.name.c_str());
             return 1;
@@ -255,7 +255,7 @@ int robot_index(lua_State* L) {
             lua_setfield(L, -2, "module");
             return 1;
         }
-        lua_getfield(L, lua_upvalueindex(1), key.c_str());
+        raw_getfield(L, lua_upvalueindex(1), key);
         return 1;
     });
 }

@@ -279,7 +279,7 @@ int sensor_index(lua_State* L) {
             } else {
                 lua_pushnumber(L, s.max_range);
             }
-        } else if (lua_getfield(L, lua_upvalueindex(1), key.c_str()) == LUA_TNIL) {
+        } else if (raw_getfield(L, lua_upvalueindex(1), key) == LUA_TNIL) {
             std::vector<std::string> names = kFields;
             for (const char* m : {"read", "on", "off", "channels"})
                 names.emplace_back(m);

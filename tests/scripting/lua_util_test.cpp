@@ -7,9 +7,11 @@
 
 #include "gaitlab/error.h"
 #include "lua_fixture.h"
+#include "temp_dir.h"
 
 using gaitlab::test::lua_dir;
 using gaitlab::test::LuaFixture;
+using gaitlab::test::TempDir;
 
 namespace {
 
@@ -163,6 +165,149 @@ TEST_CASE("strings keep their zero bytes, paths with one are refused", "[lua_uti
     CHECK_THAT(lua.error_of("local w = gaitlab.world(); w:add(gaitlab.robot.chain{ modules = 2 })"
                             "; gaitlab.simulation{ world = w, record = { dir = 'run\\0x' } }"),
                Catch::Contains("the run folder 'run\\0x' cannot contain a zero byte"));
+}
+
+namespace {
+
+// err(f, ...): the message f(...) fails with, without a place when f is a C function, or "no
+// error: " and what it returned (so a check on code that does not fail fails, and goes on)
+const char* kErr = R"(
+    function err(f, ...)
+      local r = table.pack(pcall(f, ...))
+      if r[1] then return "no error: " .. tostring(r[2]) .. ", " .. tostring(r[3]) end
+      return tostring(r[2])
+    end
+)";
+
+// a 3-module "snake" driven by a sine, with an imu, recorded for 0.1 s to DIR/run (opened as
+// `run`) with a live buffer `live`
+void record_snake(LuaFixture& lua, const TempDir& tmp) {
+    lua.run(kErr);
+    lua.run("DIR = '" + tmp.str() + "'");
+    lua.run(R"(
+        robot = gaitlab.robot.chain{ name = "snake", modules = 3 }
+        world = gaitlab.world()
+        world:add(robot)
+        ctl = robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 30 })
+        sensor = robot:sensor{ kind = "imu", module = 1 }
+        sim = gaitlab.simulation{ world = world, record = DIR .. "/run" }
+        live = sim:live{ series = { "snake.com.x" } }
+        sim:run(0.1)
+        sim:record(false)
+        run = assert(gaitlab.data.open(DIR .. "/run"))
+    )");
+}
+
+}  // namespace
+
+TEST_CASE("a zero byte: an actuation's parameter is its whole name", "[lua_util]") {
+    LuaFixture lua;
+    lua.run(kErr);
+    // 'amplitude\0junk' is not amplitude (it was read up to the zero and set amplitude to 12)
+    lua.run(
+        "act = gaitlab.actuation{ groups = { { joints = 'pitch', controller = { builtin = 'sine', "
+        "params = { ['amplitude\\0junk'] = 12 } } } } }");
+    CHECK_THAT(lua.string("err(function() gaitlab.robot.chain{ modules = 3 }:actuate(act) end)"),
+               Catch::Contains("controller 'sine' has no parameter 'amplitude\\0junk'"));
+}
+
+TEST_CASE("a zero byte: a series name with one matches nothing", "[lua_util]") {
+    TempDir tmp("lua_util_zero_series");
+    LuaFixture lua;
+    record_snake(lua, tmp);
+    const std::string junk = "'snake.com.x\\0junk'";
+    CHECK_THAT(lua.string("err(function() run:get('snake.com.x\\0junk') end)"),
+               Catch::Contains(junk));
+    CHECK_THAT(lua.string("err(function() run:select('snake.com.x\\0junk') end)"),
+               Catch::Contains(junk));
+    CHECK_THAT(lua.string("err(function() run:select{ 'snake.com.x\\0junk' } end)"),
+               Catch::Contains(junk));
+    CHECK_THAT(lua.string("err(function() run:export{ series = 'snake.com.x\\0junk', file = DIR .. "
+                          "'/x.csv' } end)"),
+               Catch::Contains(junk));
+    CHECK_THAT(lua.string("err(function() run:plot{ series = 'snake.com.x\\0junk', output = DIR .. "
+                          "'/p.png' } end)"),
+               Catch::Contains(junk));
+    CHECK_THAT(lua.string("err(function() sim:live{ series = { 'snake.com.x\\0junk' } } end)"),
+               Catch::Contains(junk));
+}
+
+TEST_CASE("a zero byte: a path or a module name with one is refused", "[lua_util]") {
+    TempDir tmp("lua_util_zero_paths");
+    LuaFixture lua;
+    // the system, or Lua's require, would take the file named by the part before the zero
+    lua.run(kErr);
+    lua.run("DIR = '" + tmp.str() + "'");
+    lua.run(R"(
+        local f = assert(io.open(DIR .. "/mod.lua", "w"))
+        f:write("RAN = true return 'mod'")
+        f:close()
+        f = assert(io.open(DIR .. "/p.xml", "w"))
+        f:write("RAN = true")
+        f:close()
+        package.path = DIR .. "/?.lua"
+    )");
+    CHECK(lua.string("err(gaitlab.world.load, DIR .. '/mod.lua\\0x')") ==
+          "a path cannot contain a zero byte (got '" + tmp.file("mod.lua") + "\\0...')");
+    CHECK_THAT(lua.string("err(gaitlab.world.load, DIR .. '/p.xml\\0x')"),
+               Catch::Contains("a path cannot contain a zero byte"));
+    CHECK(lua.string("err(require, 'mod\\0evil')") ==
+          "a module name cannot contain a zero byte (got 'mod\\0...')");
+    CHECK_THAT(lua.string("err(require, 'string\\0x')"),
+               Catch::Contains("a module name cannot contain a zero byte"));
+    CHECK_THAT(lua.string("err(package.searchers[2], 'mod\\0evil')"),
+               Catch::Contains("a path cannot contain a zero byte"));
+    CHECK_THAT(lua.string("err(gaitlab.data.open, DIR .. '\\0')"),
+               Catch::Contains("a path cannot contain a zero byte"));
+    CHECK(lua.boolean("RAN == nil"));
+    // with its name whole, the module is there
+    CHECK(lua.string("(require('mod'))") == "mod");
+    CHECK(lua.error_of("gaitlab.world.load(DIR .. '/p.xml\\0x')") ==
+          "test:1: a path cannot contain a zero byte (got '" + tmp.file("p.xml") + "\\0...')");
+    CHECK(lua.error_of("require('mod\\0evil')") ==
+          "test:1: a module name cannot contain a zero byte (got 'mod\\0...')");
+}
+
+TEST_CASE("a zero byte: a handle's key with one finds nothing", "[lua_util]") {
+    TempDir tmp("lua_util_zero_keys");
+    LuaFixture lua;
+    record_snake(lua, tmp);
+    // 'name\0x' is no field, 'group\0x' no method
+    lua.run("C = gaitlab.controller{ name = 'c', step = function() end }");
+    for (const char* e : {"robot['name\\0x']", "robot['group\\0x']", "robot['chain\\0x']",
+                          "C['name\\0x']", "gaitlab.modules.y1['name\\0x']", "run['dir\\0x']",
+                          "run['select\\0x']", "live['series\\0x']", "live['get\\0x']"}) {
+        INFO(e);
+        CHECK(lua.boolean(std::string(e) + " == nil"));
+    }
+    CHECK_THAT(lua.string("err(function(k) return ctl[k] end, 'set\\0x')"),
+               Catch::Contains("has no parameter or method 'set\\0x'"));
+    CHECK_THAT(lua.string("err(function(k) return sensor[k] end, 'read\\0x')"),
+               Catch::Contains("has no field or method 'read\\0x'"));
+    CHECK_THAT(lua.string("err(function(k) return ctl[k] end, 'amplitude\\0x')"),
+               Catch::Contains("has no parameter or method 'amplitude\\0x'"));
+    CHECK(lua.number("ctl.amplitude") == 30);
+    CHECK(lua.string("robot.name") == "snake");
+}
+
+TEST_CASE("a zero byte: a Lua error's message keeps what follows it", "[lua_util]") {
+    LuaFixture lua;
+    lua.run(R"(
+        Failing = gaitlab.controller{ name = "failing",
+          step = function(self) error("step failed\0 at joint 3") end }
+        robot = gaitlab.robot.chain{ modules = 2 }
+        world = gaitlab.world()
+        world:add(robot)
+        ctl = robot:group("pitch"):drive(Failing())
+        sim = gaitlab.simulation{ world = world, record = false }
+    )");
+    CHECK(lua.error_of("sim:run(0.1)") == "test:3: step failed\\0 at joint 3");
+    CHECK(lua.string("ctl.error") == "test:3: step failed\\0 at joint 3");
+    // what `gaitlab run` prints of an error no one catches
+    CHECK(lua.error_of("error('uncaught\\0 and after')") == "test:1: uncaught\\0 and after");
+    CHECK(
+        lua.error_of("error(setmetatable({}, { __tostring = function() return 'obj\\0x' end }))") ==
+        "test:1: obj\\0x");
 }
 
 TEST_CASE("an error message keeps what follows a zero byte", "[lua_util]") {
