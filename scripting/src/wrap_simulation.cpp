@@ -233,6 +233,11 @@ int simulation_new(lua_State* L) {
         SimulationFile file;
         file.name = f.string("name", file.name);
         if (file.name.empty()) f.fail("name", "a non-empty name expected");
+        try {
+            validate_name("simulation name", file.name);
+        } catch (const SpecError& e) {
+            f.fail("name", e.what());
+        }
         file.duration = f.number("duration", file.duration);
         if (!(std::isfinite(file.duration) && file.duration >= 0)) {
             f.fail("duration", "non-negative number of seconds expected");

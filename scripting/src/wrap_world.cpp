@@ -115,6 +115,11 @@ int world_place(lua_State* L) {
         if (!f.has("robot")) f.fail("robot", "robot name expected, got nil");
         Placement p;
         p.robot = f.string("robot", "");
+        try {
+            validate_name("robot name", p.robot);
+        } catch (const SpecError& e) {
+            f.fail("robot", e.what());
+        }
         for (const Placement& other : w.placements) {
             if (other.robot == p.robot)
                 f.fail("robot", fmt::format("robot '{}' is placed twice", p.robot));

@@ -529,9 +529,18 @@ TEST_CASE("the Lua keys of the XML attributes refuse bad values, naming the key"
           place + "field 'robot': robot name expected, got nil)");
     CHECK(lua.error_of("w:place{ robot = 'x' } w:place{ robot = 'x' }") ==
           place + "field 'robot': robot 'x' is placed twice)");
+    // a name is checked as a robot's: a zero byte would be cut where the file is written
+    CHECK(lua.error_of("w:place{ robot = 'snake\\0x' }") ==
+          place +
+              "field 'robot': robot name must be valid UTF-8 without control characters "
+              "(got \"snake\\x00x\"))");
     // simulations
     CHECK(lua.error_of("gaitlab.simulation{ world = w, name = '' }") ==
           bad("simulation") + "field 'name': a non-empty name expected)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, name = 'walk\\0x' }") ==
+          bad("simulation") +
+              "field 'name': simulation name must be valid UTF-8 without "
+              "control characters (got \"walk\\x00x\"))");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, duration = -1 }") ==
           bad("simulation") + "field 'duration': non-negative number of seconds expected)");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { every = -1 } }") ==

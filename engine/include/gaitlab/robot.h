@@ -117,6 +117,10 @@ RobotSpec make_chain(const ChainSpec& spec);
 /// Checks a robot spec (names, indices, masses, sizes, ranges, friction, sensors, the limits
 /// above); throws SpecError.
 void validate(const RobotSpec& robot);
+/// Checks a name that becomes part of series names, file names and JSON strings (a robot's, a
+/// placement's, a simulation's): valid UTF-8 without control characters (a zero byte too), at
+/// most kMaxNameBytes; `what` starts the message ("robot name must be ..."); throws SpecError.
+void validate_name(const std::string& what, std::string_view name);
 /// Checks one body of the robot called `robot_name` (its name, mass, size, friction), as
 /// validate does; throws SpecError ("robot 'snake' body 'tail' mass must be positive ...").
 void validate_body(const std::string& robot_name, const BodySpec& body);

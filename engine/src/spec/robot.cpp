@@ -233,6 +233,10 @@ void validate_joint(const RobotSpec& robot, const JointSpec& j) {
     detail::check_servo(q, j.servo);
 }
 
+void validate_name(const std::string& what, std::string_view name) {
+    detail::check_name(what, name);
+}
+
 void validate(const RobotSpec& robot) {
     const std::string p = "robot '" + robot.name + "' ";
     if (robot.name.empty()) throw SpecError("a robot needs a name");

@@ -11,6 +11,7 @@
 #include "gaitlab/checked.h"
 #include "gaitlab/files.h"
 #include "gaitlab/geometry.h"
+#include "gaitlab/robot.h"
 #include "gaitlab/world_fields.h"
 #include "gaitlab/xml.h"
 #include "xml/xml_io.h"
@@ -264,6 +265,7 @@ EnvironmentSpec read_environment_element(const Element& root) {
             Placement p;
             p.line = k.line();
             p.robot = k.required_string("robot");
+            k.check([&] { validate_name("robot name", p.robot); });
             for (const Placement& other : env.placements) {
                 if (other.robot == p.robot) {
                     k.fail(fmt::format("robot '{}' is placed twice", p.robot));

@@ -6,6 +6,7 @@
 
 #include "gaitlab/checked.h"
 #include "gaitlab/files.h"
+#include "gaitlab/robot.h"
 #include "gaitlab/xml.h"
 #include "xml/xml_io.h"
 
@@ -44,6 +45,7 @@ SimulationFile read_simulation_element(const Element& root) {
     SimulationFile s;
     s.line = root.line();
     s.name = root.string("name", s.name);
+    root.check([&] { validate_name("simulation name", s.name); });
     s.duration = root.number("duration", s.duration);
     SimulationOptions& o = s.options;
     o.dt = root.number("dt", o.dt);

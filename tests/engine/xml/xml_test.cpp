@@ -452,6 +452,9 @@ TEST_CASE("environment files reject values out of range before anything runs") {
     CHECK_THAT(environment_error("<environment>\n<place robot=\"a\"/>\n<place robot=\"a\"/>"
                                  "</environment>"),
                Equals("env.xml:5: environment/place[2]: robot 'a' is placed twice"));
+    CHECK_THAT(environment_error("<environment>\n<place robot=\"a&#9;b\"/></environment>"),
+               Equals("env.xml:4: environment/place[1]: robot name must be valid UTF-8 without "
+                      "control characters (got \"a\\x09b\")"));
     // an angle of more than ten turns is refused: from about 1e16 rad its sine keeps none of
     // the written digits
     CHECK_THAT(environment_error("<environment>\n<box size=\"0.1 0.1 0.1\" yaw=\"1e300\"/>"
@@ -588,6 +591,10 @@ TEST_CASE("simulation files refuse numbers that would wrap and parts that are no
     CHECK(error_of("<simulation control_every=\"4294967326\"><environment file=\"env.xml\"/>"
                    "</simulation>") ==
           at + "control_every must be in [1, 1000000] (got 4294967326)");
+    // a name becomes run folder and file names: checked as a robot's
+    CHECK(error_of("<simulation name=\"a&#9;b\"><environment file=\"env.xml\"/>"
+                   "</simulation>") ==
+          at + "simulation name must be valid UTF-8 without control characters (got \"a\\x09b\")");
     CHECK(error_of("<simulation>\n<environment file=\"env.xml\"/>\n<record "
                    "every=\"4294967297\"/></simulation>") ==
           dir.file("s.xml") +
