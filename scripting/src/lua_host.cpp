@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -33,8 +32,8 @@ namespace {
 int script_folder_searcher(lua_State* L) {
     return protect(L, [&] {
         std::string relative = check_string(L, 1);
-        // all of the name: "mod\0evil" is no module (require refuses it before any searcher;
-        // this is for a script calling the searcher itself)
+        // all of the name: "mod\0evil" is no module (Lua's require hands its searchers the
+        // name up to a zero byte, as it always has; this is for a script calling the searcher)
         refuse_zero_byte(relative);
         // "a.b" is a/b.lua; a name with an empty part ("..x", "a..b", ".a") would make a path
         // from the file system's root or with "//": no module of this folder has such a name
@@ -75,80 +74,11 @@ int script_folder_searcher(lua_State* L) {
     });
 }
 
-// package.searchers' loader for `name`, as Lua's require finds it (loadlib.c's findloader;
-// upvalue 1 the package table): pushes the loader and its data, or raises "module not found"
-// with what each searcher said
-void find_loader(lua_State* L, const char* name) {
-    if (lua_getfield(L, lua_upvalueindex(1), "searchers") != LUA_TTABLE)
-        luaL_error(L, "'package.searchers' must be a table");
-    const int searchers = lua_gettop(L);
-    luaL_Buffer msg;
-    luaL_buffinit(L, &msg);
-    for (lua_Integer i = 1;; ++i) {
-        luaL_addstring(&msg, "\n\t");
-        if (lua_rawgeti(L, searchers, i) == LUA_TNIL) {
-            lua_pop(L, 1);
-            luaL_buffsub(&msg, 2);
-            luaL_pushresult(&msg);
-            luaL_error(L, "module '%s' not found:%s", name, lua_tostring(L, -1));
-        }
-        lua_pushstring(L, name);
-        lua_call(L, 1, 2);
-        if (lua_isfunction(L, -2)) return;
-        if (lua_isstring(L, -2)) {
-            lua_pop(L, 1);
-            luaL_addvalue(&msg);
-        } else {
-            lua_pop(L, 2);
-            luaL_buffsub(&msg, 2);
-        }
-    }
-}
-
-// require(name): Lua's require (loadlib.c's ll_require; upvalue 1 the package table), for the
-// whole name. Lua's own reads the name as a C string: require "mod\0evil" gave the searchers
-// "mod" and loaded mod.lua, and package.loaded["string\0x"] was the string library. Raises its
-// errors itself: no C++ object is alive here
-int require_whole_name(lua_State* L) {
-    size_t len = 0;
-    const char* name = luaL_checklstring(L, 1, &len);
-    if (std::memchr(name, '\0', len)) {
-        // %s stops at the zero: the part before it
-        return luaL_error(L, "a module name cannot contain a zero byte (got '%s\\0...')", name);
-    }
-    lua_settop(L, 1);
-    lua_getfield(L, LUA_REGISTRYINDEX, LUA_LOADED_TABLE);  // at 2
-    lua_getfield(L, 2, name);
-    if (lua_toboolean(L, -1)) return 1;  // loaded already
-    lua_pop(L, 1);
-    find_loader(L, name);
-    lua_rotate(L, -2, 1);  // the loader under its data
-    lua_pushvalue(L, 1);   // the loader's arguments: the name and the data
-    lua_pushvalue(L, -3);
-    lua_call(L, 2, 1);
-    if (!lua_isnil(L, -1)) {
-        lua_setfield(L, 2, name);  // LOADED[name] = what the loader returned
-    } else {
-        lua_pop(L, 1);
-    }
-    if (lua_getfield(L, 2, name) == LUA_TNIL) {  // nothing set: LOADED[name] = true
-        lua_pushboolean(L, 1);
-        lua_copy(L, -1, -2);
-        lua_setfield(L, 2, name);
-    }
-    lua_rotate(L, -2, 1);  // the module, then the loader's data
-    return 2;
-}
-
 // what a new host's state starts with: Lua's libraries with `pairs` and `table.sort` in a fixed
-// order (fixed_order.h), require for whole names and the searcher above, and gaitlab as the
-// global `gaitlab`
+// order (fixed_order.h), the searcher above, and gaitlab as the global `gaitlab`
 int open_host_libraries(lua_State* L) {
     luaL_openlibs(L);
     open_fixed_order(L);
-    lua_getglobal(L, "package");
-    lua_pushcclosure(L, require_whole_name, 1);
-    lua_setglobal(L, "require");
     lua_getglobal(L, "package");
     lua_getfield(L, -1, "searchers");
     for (lua_Integer i = static_cast<lua_Integer>(luaL_len(L, -1)); i >= 2; --i) {

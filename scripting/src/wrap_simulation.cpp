@@ -94,7 +94,7 @@ RecordRequest to_request(lua_State* L, int index, int arg, const std::string& pr
                     lua_pop(L, 2);
                     fail("series: list of names, patterns or kinds expected");
                 }
-                r.options.series.emplace_back(lua_tostring(L, -1));
+                r.options.series.emplace_back(to_string(L, -1));
                 lua_pop(L, 1);
             }
         } else if (st != LUA_TNIL) {
@@ -861,8 +861,8 @@ int simulation_index(lua_State* L) {
     return protect(L, [&] {
         const std::shared_ptr<Simulation> kept = check_sim(L, 1);
         Simulation& sim = *kept;
-        const char* key = lua_type(L, 2) == LUA_TSTRING ? lua_tostring(L, 2) : "";
-        const std::string k = key;
+        // all of the key: 'run\0x' is no method
+        const std::string k = lua_type(L, 2) == LUA_TSTRING ? to_string(L, 2) : "";
         if (k == "time") {
             lua_pushnumber(L, sim.time());
         } else if (k == "ticks") {
@@ -916,7 +916,7 @@ int simulation_index(lua_State* L) {
                 lua_pushnil(L);
             }
         } else {
-            lua_getfield(L, lua_upvalueindex(1), key);
+            raw_getfield(L, lua_upvalueindex(1), k);
         }
         return 1;
     });

@@ -567,6 +567,7 @@ int world_save(lua_State* L) {
 int world_read_source(lua_State* L) {
     return protect(L, [&] {
         const std::string path = check_string(L, 1);
+        refuse_zero_byte(path);  // the system would read the file named by the part before it
         std::string text;
         std::optional<std::string> unreadable;
         try {
