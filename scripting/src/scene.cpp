@@ -6,6 +6,17 @@ namespace gaitlab::scripting {
 
 std::shared_ptr<Simulation> RobotBinding::live() const {
     auto s = sim.lock();
+    if (!s && in_world && index >= 0) {
+        // it was in one: the newest simulation of its world, collected since
+        throw Error("robot '" + spec.name +
+                    "' is in no simulation now: the newest simulation built from its world is "
+                    "gone (nothing held it); create another: gaitlab.simulation{world = ...}");
+    }
+    if (!s && in_world) {
+        throw Error("robot '" + spec.name +
+                    "' is not in a simulation yet (its world is built into one by "
+                    "gaitlab.simulation{world = ...})");
+    }
     if (!s) {
         throw Error("robot '" + spec.name +
                     "' is not in a simulation (add it to a world, then create "

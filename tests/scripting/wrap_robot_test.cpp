@@ -138,9 +138,13 @@ TEST_CASE("robot measures need a simulation", "[wrap_robot]") {
     LuaFixture lua;
     lua.run(kSnake);
     const std::string not_in_sim =
-        "test:1: robot 'snake' is not in a simulation (add it to a world, then create "
+        "test:1: robot 'snake' is not in a simulation yet (its world is built into one by "
         "gaitlab.simulation{world = ...})";
     CHECK(lua.error_of("robot:position()") == not_in_sim);
+    // a robot in no world is told to go into one
+    CHECK(lua.error_of("gaitlab.robot.chain{ name = 'alone', modules = 2 }:position()") ==
+          "test:1: robot 'alone' is not in a simulation (add it to a world, then create "
+          "gaitlab.simulation{world = ...})");
     CHECK(lua.error_of("robot:velocity()") == not_in_sim);
     CHECK(lua.error_of("robot:displacement()") == not_in_sim);
     // the spec part of bodies and joints is there before any simulation
@@ -148,6 +152,12 @@ TEST_CASE("robot measures need a simulation", "[wrap_robot]") {
     CHECK(lua.boolean("robot:bodies()[1].position == nil"));
     CHECK(lua.string("robot:joints()[2].role") == "yaw");
     CHECK(lua.boolean("robot:joints()[2].angle == nil"));
+    // one whose simulation nothing holds any more is told so
+    lua.run(
+        "do local s = gaitlab.simulation{ world = world } end collectgarbage() collectgarbage()");
+    CHECK(lua.error_of("robot:position()") ==
+          "test:1: robot 'snake' is in no simulation now: the newest simulation built from its "
+          "world is gone (nothing held it); create another: gaitlab.simulation{world = ...}");
 }
 
 TEST_CASE("robot handle: name, length, tostring", "[wrap_robot]") {
@@ -297,7 +307,7 @@ TEST_CASE("robot:energy() is the servos' work, as the recording and the fitness 
         world:add(idle, { y = 1 })
     )");
     CHECK(lua.error_of("robot:energy()") ==
-          "test:1: robot 'snake' is not in a simulation (add it to a world, then create "
+          "test:1: robot 'snake' is not in a simulation yet (its world is built into one by "
           "gaitlab.simulation{world = ...})");
     CHECK(lua.number("robot:joints()[1].energy or -1") == -1);  // state fields only in a sim
     lua.run("sim = gaitlab.simulation{ world = world }");
@@ -343,7 +353,7 @@ TEST_CASE("robot:heading() and robot:turned() measure a turn", "[wrap_robot]") {
         robot:group("yaw"):drive(gaitlab.controllers.sine{ amplitude = 0, offset = -20 })
     )");
     CHECK(lua.error_of("straight:heading()") ==
-          "test:1: robot 'robot' is not in a simulation (add it to a world, then create "
+          "test:1: robot 'robot' is not in a simulation yet (its world is built into one by "
           "gaitlab.simulation{world = ...})");
     lua.run("sim = gaitlab.simulation{ world = world }");
     CHECK(lua.number("straight:heading()") == Approx(0).margin(1e-5));

@@ -166,7 +166,7 @@ TEST_CASE("sensor handles describe their sensor", "[wrap_sensor]") {
 
     // readings need a simulation
     CHECK(lua.error_of("imu:read()") ==
-          "test:1: robot 'snake' is not in a simulation (add it to a world, then create "
+          "test:1: robot 'snake' is not in a simulation yet (its world is built into one by "
           "gaitlab.simulation{world = ...})");
 }
 
