@@ -105,7 +105,7 @@ void each_entry(lua_State* L, const Fields& f, const char* key, int arg, F&& eac
             if (std::string(key) == "bodies") {
                 const Fields e(L, lua_gettop(L), arg,
                                {"name", "shape", "size", "mass", "position", "orientation",
-                                "friction", "inertia"});
+                                "friction", "inertia", "com"});
                 each(e);
             } else {
                 const Fields e(L, lua_gettop(L), arg,
@@ -158,6 +158,7 @@ int robot_new(lua_State* L) {
             b.pose.orientation = quat_field(L, e, "orientation", {});
             b.friction = e.number("friction", 1.0);
             if (e.has("inertia")) b.inertia = e.vec3("inertia", {});
+            if (e.has("com")) b.center_of_mass = e.vec3("com", {});
             validate_body(robot.name, b);
             names.emplace(b.name, static_cast<int>(robot.bodies.size()));
             robot.bodies.push_back(b);

@@ -176,6 +176,9 @@ int robot_bodies(lua_State* L) {
             lua_setfield(L, -2, "mass");
             push_vec3(L, body_inertia(bodies[b]));
             lua_setfield(L, -2, "inertia");
+            // the centre of mass in the body's frame, from its shape's centre (zero: there)
+            push_vec3(L, bodies[b].center_of_mass.value_or(Vec3{}));
+            lua_setfield(L, -2, "com");
             push_vec3(L, bodies[b].size);
             lua_setfield(L, -2, "size");
             lua_pushstring(L, to_string(bodies[b].shape));

@@ -537,13 +537,19 @@ TEST_CASE("a robot URDF cannot hold is nil and a message naming why", "[config_f
 TEST_CASE("load_urdf takes its links' inertia from the file or from their shapes",
           "[config_files]") {
     TempDir dir("urdf_inertia");
-    // a placeholder inertia about the link origin, 4 cm behind the box's centre
-    gaitlab::test::write_text(
-        dir.file("worm.urdf"),
-        "<robot name=\"worm\">\n<link name=\"a\"><inertial><mass value=\"0.05\"/>\n"
-        "<inertia ixx=\"1e-5\" iyy=\"1e-5\" izz=\"1e-5\"/></inertial><collision><origin "
-        "xyz=\"0.04 0 0\"/><geometry><box size=\"0.08 0.05 0.03\"/></geometry></collision>"
-        "</link>\n</robot>\n");
+    // a placeholder inertia about the link origin, 10 cm behind the box's centre: outside it
+    const auto worm = [](const char* at) {
+        return std::string(
+                   "<robot name=\"worm\">\n<link name=\"a\"><inertial><mass "
+                   "value=\"0.05\"/>\n<inertia ixx=\"1e-5\" iyy=\"1e-5\" "
+                   "izz=\"1e-5\"/></inertial><collision><origin xyz=\"") +
+               at +
+               "\"/><geometry><box size=\"0.08 0.05 0.03\"/></geometry></collision></link>\n"
+               "</robot>\n";
+    };
+    gaitlab::test::write_text(dir.file("worm.urdf"), worm("0.1 0 0"));
+    // 4 cm behind: on the box's -x face, its body's centre of mass
+    gaitlab::test::write_text(dir.file("inside.urdf"), worm("0.04 0 0"));
     LuaFixture lua;
     lua.run("DIR = '" + dir.path.string() + "'");
     lua.run(R"(
@@ -551,11 +557,17 @@ TEST_CASE("load_urdf takes its links' inertia from the file or from their shapes
         given = { gaitlab.robot.load_urdf(DIR .. "/worm.urdf", { inertia = "file" }) }
         worm = gaitlab.robot.load_urdf(DIR .. "/worm.urdf", { inertia = "shapes" })
         moments = worm:bodies()[1].inertia
+        inside = gaitlab.robot.load_urdf(DIR .. "/inside.urdf"):bodies()[1]
+        centred = worm:bodies()[1].com
     )");
+    CHECK(lua.number("inside.com.x") == Approx(-0.04));
+    CHECK(lua.boolean("inside.com.y == 0 and inside.com.z == 0 and inside.inertia.x == 1e-5"));
+    CHECK(lua.boolean("centred.x == 0 and centred.y == 0 and centred.z == 0"));
     CHECK(lua.boolean("refused[1] == nil and given[1] == nil and refused[2] == given[2]"));
     CHECK_THAT(lua.string("refused[2]"),
-               Catch::StartsWith(dir.file("worm.urdf") + ":2: robot/link[1]/inertial[1]: link "
-                                                         "'a': its centre of mass") &&
+               Catch::StartsWith(dir.file("worm.urdf") +
+                                 ":2: robot/link[1]/inertial[1]: robot 'worm' body 'a' com must "
+                                 "lie inside the box") &&
                    Catch::EndsWith("(gaitlab.robot.load_urdf(path, { inertia = \"shapes\" }))"));
     // the uniform box of 50 g: m (y² + z²) / 12 about x
     CHECK(lua.number("moments.x") == Approx(0.05 * (0.05 * 0.05 + 0.03 * 0.03) / 12));

@@ -199,7 +199,7 @@ TEST_CASE("a robot of bodies and joints is the same from XML and Lua", "[xml_lua
           inertia="0.0004 0.0005 0.0008"/>
     <body name="link" shape="cylinder" size="0.12 0.03 0.03" mass="0.1" position="0.11 0 0.025"
           orientation="0.7071067811865476 0 0 0.7071067811865476" friction="0.4"
-          inertia="1e-5 1e-4 1e-4"/>
+          inertia="1e-5 1e-4 1e-4" com="0.02 0 -0.005"/>
     <joint name="shoulder" role="yaw" parent="base" child="link" pivot="0.05 0 0.025"
            axis="0 0 1" min="-45" max="30" kp="5" max_speed="2" max_torque="0.3"/>
   </robot>
@@ -214,13 +214,16 @@ local r = gaitlab.robot.new{ name = 'arm', self_collision = true,
       friction = 0.9, inertia = {0.0004, 0.0005, 0.0008} },
     { name = 'link', shape = 'cylinder', size = {0.12, 0.03, 0.03}, mass = 0.1,
       position = {0.11, 0, 0.025}, orientation = {0.7071067811865476, 0, 0, 0.7071067811865476},
-      friction = 0.4, inertia = {1e-5, 1e-4, 1e-4} } },
+      friction = 0.4, inertia = {1e-5, 1e-4, 1e-4}, com = {0.02, 0, -0.005} } },
   joints = {
     { name = 'shoulder', role = 'yaw', parent = 'base', child = 'link', pivot = {0.05, 0, 0.025},
       axis = {0, 0, 1}, min = -45, max = 30, kp = 5, max_speed = math.deg(2), max_torque = 0.3 } } }
 assert(#r == 1 and r.chain == nil)
 local i = r:bodies()[2].inertia
 assert(i.x == 1e-5 and i.y == 1e-4 and i.z == 1e-4)
+local c, none = r:bodies()[2].com, r:bodies()[1].com
+assert(c.x == 0.02 and c.y == 0 and c.z == -0.005)
+assert(none.x == 0 and none.y == 0 and none.z == 0)
 assert(r:save(OUT))
 )",
                                           dir, "arm.robot.xml");
@@ -232,6 +235,9 @@ assert(r:save(OUT))
     lua.run("r = assert(gaitlab.robot.load('" + (dir / "arm.robot.xml") + "'))");
     CHECK(lua.number("r:bodies()[1].inertia.y") == 0.0005);
     CHECK(lua.number("r:bodies()[2].inertia.x") == 1e-5);
+    CHECK(lua.number("r:bodies()[2].com.z") == -0.005);
+    CHECK(from_xml.find("com=\"0.02 0 -0.005\"") != std::string::npos);
+    CHECK(from_xml.find("com=") == from_xml.rfind("com="));  // the base has none
 }
 
 TEST_CASE("an environment with every object kind is the same from XML and Lua", "[xml_lua]") {
@@ -467,6 +473,14 @@ TEST_CASE("the Lua keys of the XML attributes refuse bad values, naming the key"
               "bodies[1]: robot 'robot' body 'a' inertia must have each moment at most the sum "
               "of the other two, as every body's has (got 0.1 0.1 0.3 kg·m²: z is 0.3, the "
               "other two add up to 0.2))");
+    CHECK(lua.error_of("gaitlab.robot.new{ bodies = { { name = 'a', size = {1, 0.5, 0.5}, "
+                       "mass = 1, com = {0, 0.3, 0} } } }") ==
+          bad("new") +
+              "bodies[1]: robot 'robot' body 'a' com must lie inside the box: each coordinate "
+              "within half its size, ±0.5 ±0.25 ±0.25 m (got 0 0.3 0 m))");
+    CHECK(lua.error_of("gaitlab.robot.new{ bodies = { { name = 'a', size = {1, 1, 1}, mass = 1, "
+                       "com = {0, 0/0, 0} } } }") ==
+          bad("new") + "bodies[1]: robot 'robot' body 'a' com must be a finite number)");
     CHECK(lua.error_of("gaitlab.robot.new{ bodies = { { name = 'a', size = {1, 1, 1}, mass = 1, "
                        "inertia = 0.1 } } }") ==
           bad("new") + "bodies[1]: field 'inertia': vector expected ({x, y, z}), got number)");

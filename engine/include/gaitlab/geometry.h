@@ -54,6 +54,8 @@ struct Solid {
     /// kg·m², principal moments about the local axes (a robot body's given inertia); none: the
     /// shape's, from its size and mass
     std::optional<Vec3> inertia;
+    /// m, the centre of mass in the local frame (a robot body's given one); none: the origin
+    std::optional<Vec3> center_of_mass;
 };
 
 /// The objects of `world` (boxes, walls, ramps, stairs, cylinders, pipes, rubble, heightfields,

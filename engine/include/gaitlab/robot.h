@@ -66,12 +66,17 @@ struct BodySpec {
     double mass;  ///< kg, in [kMinBodyMass, kMaxBodyMass]
     Pose pose;    ///< at rest, in the robot frame
     double friction = 1.0;  ///< in [0, 1]
-    /// kg·m², the principal moments of inertia about the body's x, y and z axes (a cylinder's x
-    /// is its axis), its centre of mass at its shape's centre; none: the solid's, from size and
-    /// mass. Each positive, at least kMinInertiaFraction of the solid's, at most the mass times the
-    /// square of half the body's diagonal, at most kMaxInertiaRatio times another and at most the
-    /// sum of the other two
+    /// kg·m², the principal moments of inertia about axes through the centre of mass parallel to
+    /// the body's x, y and z axes (a cylinder's x is its axis); none: the solid's, from size and
+    /// mass (about the centre of mass too, wherever it is). Each positive, at least
+    /// kMinInertiaFraction of the solid's, at most the mass times the square of half the body's
+    /// diagonal, at most kMaxInertiaRatio times another and at most the sum of the other two
     std::optional<Vec3> inertia;
+    /// m, the centre of mass in the body's own frame, from its shape's centre; none: at the
+    /// shape's centre (a body given {0, 0, 0} moves as one without it, though not to the bit).
+    /// Finite and inside the shape: a box's within its half sizes, a cylinder's within its half
+    /// length and its radius. Poses (`pose`, the simulation's body states) stay the shape's
+    std::optional<Vec3> center_of_mass;
 };
 
 /// A revolute joint between two bodies, driven by a servo.

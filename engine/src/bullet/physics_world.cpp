@@ -78,6 +78,24 @@ std::unique_ptr<btCollisionShape> make_shape(const Solid& s, std::vector<float>*
     return shape;
 }
 
+// The shape of a body whose centre of mass is off its shape's centre: Bullet's body frame is
+// its centre of mass, so the box or cylinder sits in a compound, shifted from it by the offset.
+// Its one child answers for it where Bullet asks the shape of the body rather than the child: the
+// contact breaking threshold of the pair's manifold (a BoxShape's, at most half its smallest
+// side, which keeps a thin box's corners apart; the compound's own would be 2 % of its bounding
+// sphere about the centre of mass, larger the farther the shape lies from it)
+class OffsetShape : public btCompoundShape {
+  public:
+    OffsetShape(const btVector3& center_of_mass, btCollisionShape* shape)
+        : btCompoundShape(/*enableDynamicAabbTree=*/false, 1) {
+        addChildShape(btTransform(btQuaternion::getIdentity(), -center_of_mass), shape);
+        setMargin(kMargin);
+    }
+    btScalar getContactBreakingThreshold(btScalar factor) const override {
+        return getChildShape(0)->getContactBreakingThreshold(factor);
+    }
+};
+
 // Bullet centres a heightfield between its lowest and highest sample: the body's transform puts
 // height 0 of the grid at the solid's origin
 btTransform body_transform(const Solid& s) {
@@ -130,7 +148,10 @@ struct PhysicsWorld::Impl {
     btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
     std::vector<std::unique_ptr<btCollisionShape>> shapes;
     std::vector<std::unique_ptr<btRigidBody>> bodies;  // robots' bodies, then dynamic boxes
-    std::vector<std::unique_ptr<btRigidBody>> fixed;   // floor and static boxes
+    // per body, its centre of mass in its shape's frame (zero for most): Bullet's transform is
+    // the centre of mass's, the engine's poses are the shape's
+    std::vector<btVector3> offsets;
+    std::vector<std::unique_ptr<btRigidBody>> fixed;  // floor and static boxes
     // per fixed body, what it is ("the floor", "wall 1"), or for a compound what each of its
     // children belongs to
     std::vector<std::vector<std::string>> fixed_names;
@@ -191,11 +212,24 @@ struct PhysicsWorld::Impl {
         if (solid.inertia) {
             inertia = to_bt(*solid.inertia);
         } else if (mass > 0) {
+            // the shape's own (about its centre), also for a body whose centre of mass is
+            // elsewhere: taken as about that (robot.h)
             shape->calculateLocalInertia(btScalar(mass), inertia);
+        }
+        btTransform start = body_transform(solid);
+        btVector3 offset(0, 0, 0);
+        // a body without a centre of mass keeps its plain shape, and with it every bit of its
+        // motion
+        if (solid.center_of_mass) {
+            offset = to_bt(*solid.center_of_mass);
+            auto compound = std::make_unique<OffsetShape>(offset, shape.get());
+            shapes.push_back(std::move(shape));
+            shape = std::move(compound);
+            start.setOrigin(start * offset);
         }
         btRigidBody::btRigidBodyConstructionInfo info(btScalar(mass), nullptr, shape.get(),
                                                       inertia);
-        info.m_startWorldTransform = body_transform(solid);
+        info.m_startWorldTransform = start;
         info.m_friction = btScalar(solid.friction);
         info.m_restitution = 0;
         auto body = std::make_unique<btRigidBody>(info);
@@ -207,6 +241,7 @@ struct PhysicsWorld::Impl {
             raw->setActivationState(DISABLE_DEACTIVATION);
             raw->setUserIndex(static_cast<int>(bodies.size()));
             bodies.push_back(std::move(body));
+            offsets.push_back(offset);
         } else {
             raw->setUserIndex(-2 - static_cast<int>(fixed.size()));
             fixed.push_back(std::move(body));
@@ -384,15 +419,38 @@ BodyState PhysicsWorld::body(int index) const {
     const btRigidBody& b = *impl_->bodies[static_cast<size_t>(index)];
     const btTransform& t = b.getWorldTransform();
     BodyState s;
-    s.pose.position = from_bt(t.getOrigin());
     s.pose.orientation = from_bt(t.getRotation());
-    s.linear_velocity = from_bt(b.getLinearVelocity());
     s.angular_velocity = from_bt(b.getAngularVelocity());
+    const btVector3& offset = impl_->offsets[static_cast<size_t>(index)];
+    if (offset.isZero()) {
+        s.pose.position = from_bt(t.getOrigin());
+        s.linear_velocity = from_bt(b.getLinearVelocity());
+    } else {
+        // the shape's centre, behind the centre of mass by the offset turned with the body
+        const btVector3 arm = t.getBasis() * -offset;
+        s.pose.position = from_bt(t.getOrigin() + arm);
+        s.linear_velocity = from_bt(b.getVelocityInLocalPoint(arm));
+    }
     return s;
 }
 
 Vec3 PhysicsWorld::position(int index) const {
     return from_bt(impl_->bodies[static_cast<size_t>(index)]->getWorldTransform().getOrigin());
+}
+
+Vec3 PhysicsWorld::shape_position(int index) const {
+    const btTransform& t = impl_->bodies[static_cast<size_t>(index)]->getWorldTransform();
+    const btVector3& offset = impl_->offsets[static_cast<size_t>(index)];
+    if (offset.isZero()) return from_bt(t.getOrigin());
+    return from_bt(t * -offset);
+}
+
+Vec3 PhysicsWorld::mass_velocity(int index) const {
+    return from_bt(impl_->bodies[static_cast<size_t>(index)]->getLinearVelocity());
+}
+
+Vec3 PhysicsWorld::center_of_mass(int index) const {
+    return from_bt(impl_->offsets[static_cast<size_t>(index)]);
 }
 
 double PhysicsWorld::speed(int index) const {

@@ -43,11 +43,21 @@ class PhysicsWorld {
     void set_motor_velocities(const double* commands);
     void step(double dt);
 
+    /// A body's state: the pose of its shape (its centre and axes, as BodySpec::pose and every
+    /// reader of poses take it), the velocity of its shape's centre, its angular velocity.
     BodyState body(int body) const;
-    /// Centre of mass of a body, m (cheaper than body()).
+    /// Centre of mass of a body, m (cheaper than body()); its shape's centre unless the body
+    /// has a centre of mass of its own (BodySpec::center_of_mass).
     Vec3 position(int body) const;
+    /// Centre of a body's shape, m: body().pose.position, cheaper.
+    Vec3 shape_position(int body) const;
+    /// Velocity of a body's centre of mass, m/s.
+    Vec3 mass_velocity(int body) const;
     /// Speed of a body's centre of mass, m/s.
     double speed(int body) const;
+    /// A body's centre of mass in its shape's frame, m (zero unless it has one of its own). Bullet
+    /// places the body's frame there: its contact points' local coordinates are from it.
+    Vec3 center_of_mass(int body) const;
     JointError joint_error(int joint) const;
     /// The first body (robots' bodies, then dynamic objects, as numbered above) whose state
     /// is not finite (position, orientation, velocities), lies farther than `max_distance` m

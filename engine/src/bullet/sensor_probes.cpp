@@ -179,13 +179,15 @@ void collect_contacts(const PhysicsWorld& physics, const std::vector<char>& want
             const btManifoldPoint& p = m.getContactPoint(k);
             if (p.getDistance() > btScalar(kTouchDistance)) continue;
             const double impulse = p.getAppliedImpulse();
+            // Bullet's local points are from the body's centre of mass; the engine's body frame
+            // is its shape's, the offset behind
             if (want_a) {
                 const btVector3& l = p.m_localPointA;
-                out.push_back({a, {l.x(), l.y(), l.z()}, impulse});
+                out.push_back({a, Vec3{l.x(), l.y(), l.z()} + physics.center_of_mass(a), impulse});
             }
             if (want_b) {
                 const btVector3& l = p.m_localPointB;
-                out.push_back({b, {l.x(), l.y(), l.z()}, impulse});
+                out.push_back({b, Vec3{l.x(), l.y(), l.z()} + physics.center_of_mass(b), impulse});
             }
         }
     }

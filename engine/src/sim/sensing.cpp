@@ -265,11 +265,12 @@ void Sensing::read(Slot& s, const PhysicsWorld& physics) {
         case SensorKind::position: {
             const RobotInfo& info = robots_[static_cast<size_t>(s.robot)];
             Vec3 x, v;
+            // the robot's centre of mass: its bodies' centres of mass, which may lie off their
+            // shapes' centres
             for (int k = 0; k < info.bodies; ++k) {
-                const BodyState b = physics.body(info.first_body + k);
                 const double m = info.masses[static_cast<size_t>(k)];
-                x += b.pose.position * m;
-                v += b.linear_velocity * m;
+                x += physics.position(info.first_body + k) * m;
+                v += physics.mass_velocity(info.first_body + k) * m;
             }
             x = x * (1.0 / info.total_mass);
             v = v * (1.0 / info.total_mass);

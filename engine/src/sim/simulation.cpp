@@ -684,7 +684,7 @@ Vec3 Simulation::robot_velocity(int robot) const {
     const RobotSpec& spec = world_.robots[static_cast<size_t>(robot)].robot;
     Vec3 sum;
     for (size_t b = 0; b < spec.bodies.size(); ++b) {
-        sum += physics_->body(robots_[robot].first_body + static_cast<int>(b)).linear_velocity *
+        sum += physics_->mass_velocity(robots_[robot].first_body + static_cast<int>(b)) *
                spec.bodies[b].mass;
     }
     return sum * (1.0 / total_mass(spec));
@@ -697,8 +697,9 @@ Vec3 Simulation::robot_displacement(int robot) const {
 double Simulation::heading_now(int robot, double previous) const {
     const RobotSlot& slot = robots_[static_cast<size_t>(robot)];
     const int n = static_cast<int>(world_.robots[static_cast<size_t>(robot)].robot.bodies.size());
-    const Vec3 tail = physics_->position(slot.first_body);
-    const Vec3 d = physics_->position(slot.first_body + n - 1) - tail;
+    // the direction from the tail's shape to the head's (their centres of mass may lie aside)
+    const Vec3 tail = physics_->shape_position(slot.first_body);
+    const Vec3 d = physics_->shape_position(slot.first_body + n - 1) - tail;
     // a robot standing on its tail has no tail-to-head direction on the floor
     constexpr double kVertical = 1e-9;
     if (std::hypot(d.x, d.y) > kVertical) return std::atan2(d.y, d.x);

@@ -197,6 +197,7 @@ Solid body_solid(const RobotSpec& robot, int body, const Pose& pose) {
     Solid s = box_solid(robot.name + " " + b.name, pose, b.size, b.mass, b.friction);
     if (b.shape == Shape::cylinder) s.kind = Solid::Kind::cylinder;
     s.inertia = b.inertia;
+    s.center_of_mass = b.center_of_mass;
     return s;
 }
 

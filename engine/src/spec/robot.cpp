@@ -178,6 +178,36 @@ void check_inertia(const std::string& q, const BodySpec& b) {
     }
 }
 
+// a centre of mass (the body's size already checked): finite and inside the shape, its
+// boundary included (all the mass on a face). Outside it no mass of the shape puts it, and a
+// contact's lever about it would be longer than the body
+void check_center_of_mass(const std::string& q, const BodySpec& b) {
+    const Vec3& c = *b.center_of_mass;
+    const std::string what = q + "com";
+    for (double v : {c.x, c.y, c.z})
+        detail::check_finite(what, v);
+    // a billionth over: a centre of mass on a face stays inside when a URDF file's turned link
+    // frame has rounded its last bits
+    const Vec3 h = b.size * (0.5 * (1 + 1e-9));
+    const std::string got = fmt::format("got {} {} {} m", c.x, c.y, c.z);
+    if (b.shape == Shape::cylinder) {
+        const double r = h.y;
+        if (!(std::abs(c.x) <= h.x && std::hypot(c.y, c.z) <= r)) {
+            throw SpecError(fmt::format(
+                "{} must lie inside the cylinder: x within ±{:.6g} m (half its length), y and z "
+                "within {:.6g} m of its axis (its radius) ({})",
+                what, h.x, r, got));
+        }
+        return;
+    }
+    if (!(std::abs(c.x) <= h.x && std::abs(c.y) <= h.y && std::abs(c.z) <= h.z)) {
+        throw SpecError(fmt::format(
+            "{} must lie inside the box: each coordinate within half its size, ±{:.6g} ±{:.6g} "
+            "±{:.6g} m ({})",
+            what, h.x, h.y, h.z, got));
+    }
+}
+
 }  // namespace
 
 void validate_body(const std::string& robot_name, const BodySpec& b) {
@@ -208,6 +238,7 @@ void validate_body(const std::string& robot_name, const BodySpec& b) {
         throw SpecError(q + "orientation must be a unit quaternion");
     }
     if (b.inertia) check_inertia(q, b);
+    if (b.center_of_mass) check_center_of_mass(q, b);
 }
 
 void validate_joint(const RobotSpec& robot, const JointSpec& j) {
@@ -284,7 +315,8 @@ std::vector<int> select_joints(const RobotSpec& robot, std::string_view role) {
 bool operator==(const BodySpec& a, const BodySpec& b) {
     return a.name == b.name && a.shape == b.shape && a.size == b.size && a.mass == b.mass &&
            a.pose.position == b.pose.position && a.pose.orientation == b.pose.orientation &&
-           a.friction == b.friction && a.inertia == b.inertia;
+           a.friction == b.friction && a.inertia == b.inertia &&
+           a.center_of_mass == b.center_of_mass;
 }
 
 bool operator==(const JointSpec& a, const JointSpec& b) {

@@ -209,6 +209,7 @@ RobotSpec read_robot_element(const Element& root) {
             b.pose.orientation = k.quat("orientation", {});
             b.friction = k.number("friction", 1.0);
             if (k.has("inertia")) b.inertia = k.vec3("inertia", {});
+            if (k.has("com")) b.center_of_mass = k.vec3("com", {});
             // checked here, so its errors name its own line
             k.check([&] { validate_body(name, b); });
             body_names.emplace(b.name, static_cast<int>(robot.bodies.size()));
@@ -329,6 +330,7 @@ std::string format_robot(const RobotSpec& robot) {
             if (!(b.pose.orientation == Quat{})) w.attr("orientation", b.pose.orientation);
             w.attr("friction", b.friction);
             if (b.inertia) w.attr("inertia", *b.inertia);
+            if (b.center_of_mass) w.attr("com", *b.center_of_mass);
             w.close();
         }
         for (const JointSpec& j : robot.joints) {

@@ -131,7 +131,10 @@ std::string format_urdf(const RobotSpec& robot) {
         p.OpenElement("link");
         p.PushAttribute("name", body.name.c_str());
         p.OpenElement("inertial");
-        origin(p, at, turn);
+        // the centre of mass, in the link frame (parallel to the robot frame at rest)
+        const Vec3 centre =
+            body.center_of_mass ? at + body.pose.orientation.rotate(*body.center_of_mass) : at;
+        origin(p, centre, turn);
         p.OpenElement("mass");
         p.PushAttribute("value", xml::format_number(body.mass).c_str());
         p.CloseElement();
@@ -197,7 +200,8 @@ struct UrdfLink {
     Pose geometry;  // of the body (x along a cylinder's axis), in the link frame
     Vec3 size;
     double mass = 0;
-    std::optional<Vec3> inertia;  // about the body's axes, unless it is the solid's
+    std::optional<Vec3> inertia;         // about the body's axes, unless it is the solid's
+    std::optional<Vec3> center_of_mass;  // in the body's frame, unless at its shape's centre
 };
 
 // URDF's <inertia>: the symmetric tensor about the axes of the <inertial> frame, kg·m²
@@ -312,7 +316,7 @@ void read_inertia(const Element& at, const std::string& name, const UrdfInertia&
 
 UrdfLink read_link(const Element& link, const std::string& robot, const std::string& link_name,
                    const UrdfImport& how) {
-    UrdfLink out{link, link, Shape::box, {}, {}, 0, std::nullopt};
+    UrdfLink out{link, link, Shape::box, {}, {}, 0, std::nullopt, std::nullopt};
     bool geometry = false;
     std::optional<Element> inertial, inertia;  // the <inertial>, its <inertia>
     std::optional<Element> centre;             // the <inertial>'s <origin>: its centre of mass
@@ -394,22 +398,30 @@ UrdfLink read_link(const Element& link, const std::string& robot, const std::str
     probe.size = out.size;
     probe.mass = out.mass;
     link.check([&] { validate_body(robot, probe); });
-    // an <inertial> with only a mass is the uniform solid's; one that places its centre of mass
-    // (at the link origin without an <origin>) must place it at the shape's centre
+    // an <inertial> with only a mass is the uniform solid's, its centre of mass the shape's
+    // centre; one that places its centre of mass (at the link origin without an <origin>)
+    // elsewhere gives the body that centre of mass, in the body's own frame
     if (inertia || centre) {
         const Vec3 offset = inertial_frame.position - out.geometry.position;
         const double longest = std::max({out.size.x, out.size.y, out.size.z});
-        // a millionth of the body: rounding in the file's digits
+        // a millionth of the body: rounding in the file's digits, the shape's centre (whose
+        // body moves to the bit as one without a centre of mass)
         if (offset.norm() > 1e-6 * longest) {
-            (centre ? *centre : *inertial)
-                .fail(fmt::format(
-                    "link '{}': its centre of mass (the <inertial> origin, xyz=\"{}\") is "
-                    "{:.6g} m from the centre of its {} (its geometry's origin, xyz=\"{}\"), "
-                    "and a gaitlab body's centre of mass is its shape's centre: give the "
-                    "<inertial> an <origin xyz=\"{}\"> and the inertia about that point{}",
-                    link_name, numbers3(inertial_frame.position), offset.norm(),
-                    out.shape == Shape::box ? "box" : "cylinder", numbers3(out.geometry.position),
-                    numbers3(out.geometry.position), kFromShapes));
+            out.center_of_mass = out.geometry.orientation.conjugate().rotate(offset);
+            probe.center_of_mass = out.center_of_mass;
+            const Element& at = centre ? *centre : *inertial;
+            at.check([&] {
+                try {
+                    validate_body(robot, probe);
+                } catch (const SpecError& e) {
+                    throw SpecError(fmt::format(
+                        "{} (link '{}': the <inertial> origin, xyz=\"{}\", is {:.6g} m from the "
+                        "centre of its {}, its geometry's origin xyz=\"{}\"){}",
+                        e.what(), link_name, numbers3(inertial_frame.position), offset.norm(),
+                        out.shape == Shape::box ? "box" : "cylinder",
+                        numbers3(out.geometry.position), kFromShapes));
+                }
+            });
         }
     }
     if (inertia) {
@@ -561,6 +573,7 @@ RobotSpec parse_urdf(std::string_view text, const std::string& file, const UrdfI
         b.size = link.size;
         b.mass = link.mass;
         b.inertia = link.inertia;
+        b.center_of_mass = link.center_of_mass;
         b.pose = compose(frame, link.geometry);
         // the frame is in range (its joint's pivot was checked): the body's own origin is not
         link.placed_by.check([&] { validate_body(robot.name, b); });

@@ -12,8 +12,8 @@ const std::vector<const char*> chain = {"modules", "connection", "module"};
 const std::vector<const char*> module = {"name",     "shape", "length",    "width",     "height",
                                          "radius",   "mass",  "axis",      "min",       "max",
                                          "friction", "kp",    "max_speed", "max_torque"};
-const std::vector<const char*> body = {"name",     "shape",       "size",     "mass",
-                                       "position", "orientation", "friction", "inertia"};
+const std::vector<const char*> body = {"name",        "shape",    "size",    "mass", "position",
+                                       "orientation", "friction", "inertia", "com"};
 const std::vector<const char*> joint = {"name", "role", "parent", "child",     "pivot",     "axis",
                                         "min",  "max",  "kp",     "max_speed", "max_torque"};
 const std::vector<const char*> sensor_joint = {"kind", "name", "joint", "enabled"};

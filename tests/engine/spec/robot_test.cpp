@@ -546,6 +546,51 @@ TEST_CASE("a body's given inertia is positive, fits its mass and size, and is a 
     }
 }
 
+TEST_CASE("a body's centre of mass is finite and inside its shape") {
+    RobotSpec r = chain(2, Connection::pitch_pitch, "x");
+    BodySpec& b = r.bodies[1];
+    b.size = {0.2, 0.1, 0.1};
+    const auto refused = [&](const Vec3& com) {
+        b.center_of_mass = com;
+        try {
+            validate(r);
+        } catch (const SpecError& e) {
+            return std::string(e.what());
+        }
+        FAIL("no error");
+        return std::string();
+    };
+    CHECK_THAT(refused({0.11, 0, 0}),
+               Equals("robot 'x' body 'segment1' com must lie inside the box: each coordinate "
+                      "within half its size, ±0.1 ±0.05 ±0.05 m (got 0.11 0 0 m)"));
+    CHECK_THAT(refused({0, -0.06, 0}), StartsWith("robot 'x' body 'segment1' com must lie inside"));
+    CHECK_THAT(refused({0, 0, std::nan("")}),
+               Equals("robot 'x' body 'segment1' com must be a finite number"));
+    CHECK_THAT(refused({std::numeric_limits<double>::infinity(), 0, 0}),
+               Equals("robot 'x' body 'segment1' com must be a finite number"));
+    // its boundary is inside: all the mass on a face, an edge, a corner
+    for (const Vec3& c : {Vec3{0.1, 0, 0}, Vec3{-0.1, 0.05, 0}, Vec3{0.1, -0.05, 0.05}, Vec3{}}) {
+        b.center_of_mass = c;
+        CHECK_NOTHROW(validate(r));
+    }
+    // a cylinder's within its radius of its axis: the box's corner is not
+    b.shape = Shape::cylinder;
+    b.size = {0.2, 0.1, 0.1};
+    b.center_of_mass = Vec3{0.1, 0.05, 0};
+    CHECK_NOTHROW(validate(r));
+    CHECK_THAT(refused({0, 0.04, 0.04}),
+               Equals("robot 'x' body 'segment1' com must lie inside the cylinder: x within ±0.1 "
+                      "m (half its length), y and z within 0.05 m of its axis (its radius) (got 0 "
+                      "0.04 0.04 m)"));
+    // equality sees it
+    RobotSpec other = r;
+    b.center_of_mass = Vec3{0.01, 0, 0};
+    other.bodies[1].center_of_mass.reset();
+    CHECK_FALSE(r == other);
+    other.bodies[1].center_of_mass = Vec3{0.01, 0, 0};
+    CHECK(r == other);
+}
+
 TEST_CASE("names are valid UTF-8 without control characters", "[names]") {
     RobotSpec r = chain(2, Connection::pitch_pitch);
     const auto rejected = [&](const std::string& message) {

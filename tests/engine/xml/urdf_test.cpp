@@ -45,6 +45,10 @@ void check_same_robot(const RobotSpec& a, const RobotSpec& b) {
         CHECK(a.bodies[i].mass == b.bodies[i].mass);
         REQUIRE(a.bodies[i].inertia.has_value() == b.bodies[i].inertia.has_value());
         if (a.bodies[i].inertia) check_close(*a.bodies[i].inertia, *b.bodies[i].inertia);
+        REQUIRE(a.bodies[i].center_of_mass.has_value() == b.bodies[i].center_of_mass.has_value());
+        if (a.bodies[i].center_of_mass) {
+            check_close(*a.bodies[i].center_of_mass, *b.bodies[i].center_of_mass);
+        }
         check_close(a.bodies[i].pose.position, b.bodies[i].pose.position);
         const Quat& p = a.bodies[i].pose.orientation;
         const Quat& q = b.bodies[i].pose.orientation;
@@ -541,38 +545,107 @@ TEST_CASE("an inertia gaitlab cannot give a body is refused at its line", "[line
                                  "attribute 'ixq'"));
 }
 
-TEST_CASE("a centre of mass away from the shape's centre is refused at its line", "[lines]") {
+TEST_CASE("a centre of mass away from the shape's centre is read into its body") {
+    const char* moments = R"(ixx="0.001" iyy="0.004" izz="0.0035")";
+    const auto com = [](const std::string& text) {
+        const RobotSpec r = parse_urdf(text, "r.urdf");
+        REQUIRE(r.bodies.size() == 1);
+        REQUIRE(r.bodies[0].center_of_mass);
+        return *r.bodies[0].center_of_mass;
+    };
+    CHECK(com(link_urdf(moments, R"(<origin xyz="0.01 0 0"/>)")) == Vec3{0.01, 0, 0});
+    // the inertia is about it, as URDF gives it
+    CHECK(imported_inertia(link_urdf(moments, R"(<origin xyz="0.01 0 0"/>)")) ==
+          Vec3{0.001, 0.004, 0.0035});
+    // no <origin>: URDF's centre of mass is the link origin, here 0.05 m behind the box's
+    // centre, on its -x face
+    CHECK(com(link_urdf(moments, "", "<box size=\"0.1 0.1 0.1\"/>", R"(xyz="0.05 0 0")")) ==
+          Vec3{-0.05, 0, 0});
+    // in the body's own frame: a box turned a quarter turn about z has its x along the link's y
+    const Vec3 turned =
+        com(link_urdf(R"(ixx="0.004" iyy="0.001" izz="0.0035")", R"(<origin xyz="0.01 0 0"/>)",
+                      "<box size=\"0.1 0.1 0.1\"/>", R"(rpy="0 0 1.5707963267948966")"));
+    CHECK(turned.x == Approx(0).margin(1e-15));
+    CHECK(turned.y == Approx(-0.01).epsilon(1e-12));
+    // a cylinder's x is its axis, URDF's z
+    const Vec3 along =
+        com(link_urdf(R"(ixx="0.0035" iyy="0.0035" izz="0.001")", R"(<origin xyz="0 0 0.02"/>)",
+                      "<cylinder radius=\"0.05\" length=\"0.15\"/>"));
+    CHECK(along.x == Approx(0.02).epsilon(1e-12));
+    CHECK(along.z == Approx(0).margin(1e-15));
+    // within a millionth of the body it is the shape's centre: rounding in the file's digits
+    const RobotSpec rounded =
+        parse_urdf(link_urdf(moments, R"(<origin xyz="1e-8 0 0"/>)"), "r.urdf");
+    CHECK_FALSE(rounded.bodies[0].center_of_mass);
+}
+
+TEST_CASE("a centre of mass outside the shape is refused at its line", "[lines]") {
     CHECK_THAT(
         import_error(
-            link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")", R"(<origin xyz="0.01 0 0"/>)")),
-        Equals("r.urdf:3: robot/link[1]/inertial[1]/origin[1]: link 'a': its centre of mass (the "
-               "<inertial> origin, xyz=\"0.01 0 0\") is 0.01 m from the centre of its box (its "
-               "geometry's origin, xyz=\"0 0 0\"), and a gaitlab body's centre of mass is its "
-               "shape's centre: give the <inertial> an <origin xyz=\"0 0 0\"> and the inertia "
-               "about that point; or import the file with each link a uniform solid of its shape "
-               "and mass, its <inertia> not read (gaitlab.robot.load_urdf(path, { inertia = "
-               "\"shapes\" }))"));
-    // no <origin>: URDF's centre of mass is the link origin, here 0.05 m behind the box's
+            link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")", R"(<origin xyz="0.06 0 0"/>)")),
+        Equals("r.urdf:3: robot/link[1]/inertial[1]/origin[1]: robot 'r' body 'a' com must lie "
+               "inside the box: each coordinate within half its size, ±0.05 ±0.05 ±0.05 m (got "
+               "0.06 0 0 m) (link 'a': the <inertial> origin, xyz=\"0.06 0 0\", is 0.06 m from "
+               "the centre of its box, its geometry's origin xyz=\"0 0 0\"); or import the file "
+               "with each link a uniform solid of its shape and mass, its <inertia> not read "
+               "(gaitlab.robot.load_urdf(path, { inertia = \"shapes\" }))"));
+    // no <origin>: the link origin, 0.2 m from the box, named at the <inertial>
     CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")", "",
-                                      "<box size=\"0.1 0.1 0.1\"/>", R"(xyz="0.05 0 0")")),
-               Catch::StartsWith("r.urdf:3: robot/link[1]/inertial[1]: link 'a': its centre of "
-                                 "mass (the <inertial> origin, xyz=\"0 0 0\") is 0.05 m from"));
-    // given at the shape's centre, it is
-    CHECK(imported_inertia(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")",
-                                     R"(<origin xyz="0.05 0 0"/>)", "<box size=\"0.1 0.1 0.1\"/>",
-                                     R"(xyz="0.05 0 0")")) == Vec3{0.001, 0.004, 0.0035});
+                                      "<box size=\"0.1 0.1 0.1\"/>", R"(xyz="0.2 0 0")")),
+               Catch::StartsWith("r.urdf:3: robot/link[1]/inertial[1]: robot 'r' body 'a' com "
+                                 "must lie inside the box"));
+    // a cylinder's: within its radius of the axis
+    CHECK_THAT(import_error(link_urdf(R"(ixx="0.0035" iyy="0.0035" izz="0.001")",
+                                      R"(<origin xyz="0.04 0.04 0"/>)",
+                                      "<cylinder radius=\"0.05\" length=\"0.15\"/>")),
+               Catch::StartsWith("r.urdf:3: robot/link[1]/inertial[1]/origin[1]: robot 'r' body "
+                                 "'a' com must lie inside the cylinder: x within ±0.075 m (half "
+                                 "its length), y and z within 0.05 m of its axis (its radius)"));
+    CHECK_THAT(import_error(link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")",
+                                      R"(<origin xyz="inf 0 0"/>)")),
+               Equals("r.urdf:3: robot/link[1]/inertial[1]/origin: attribute 'xyz': three "
+                      "numbers \"x y z\" expected, got 'inf 0 0'"));
+}
+
+TEST_CASE("a body's centre of mass exports and imports back, check_urdf passing") {
+    RobotSpec robot = make_chain(ChainSpec{"offset", 2, Connection::pitch_pitch, [] {
+                                               ModuleDef m = default_module_def();
+                                               m.shape = Shape::cylinder;
+                                               m.radius = 0.026;
+                                               return m;
+                                           }()});
+    robot.chain.reset();
+    robot.bodies[0].shape = Shape::box;
+    robot.bodies[0].size = {0.036, 0.052, 0.052};
+    robot.bodies[0].center_of_mass = Vec3{0.01, -0.005, 0.002};
+    robot.bodies[0].inertia = Vec3{1e-5, 2e-5, 2.5e-5};
+    // the turned cylinder: its centre of mass along its axis and off it, in its own frame
+    robot.bodies[1].center_of_mass = Vec3{-0.02, 0.01, 0};
+    robot.bodies[1].pose.orientation = Quat::from_axis_angle({0, 0, 1}, 0.3);
+    robot.bodies[2].center_of_mass = Vec3{0, 0, -0.026};  // on the surface
+    validate(robot);
+    TempDir dir("urdf_com");
+    write_urdf(dir.file("offset.urdf"), robot);
+    const auto [status, out] = check_urdf(dir.file("offset.urdf"));
+    INFO(out);
+    CHECK(status == 0);
+    const RobotSpec back = read_urdf(dir.file("offset.urdf"));
+    check_same_robot(back, robot);
+    // and again (to rounding: a turned link frame's last bits)
+    write_urdf(dir.file("again.urdf"), back);
+    check_same_robot(read_urdf(dir.file("again.urdf")), robot);
 }
 
 TEST_CASE("imported with inertia from shapes, each link is the uniform solid of its mass") {
     UrdfImport shapes;
     shapes.inertia_from_shapes = true;
-    // a centre of mass off the box, turned principal axes, impossible moments: none is read
+    // a centre of mass outside the box, turned principal axes, impossible moments: none is read
     const std::string off_centre = link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035")", "",
-                                             "<box size=\"0.1 0.1 0.1\"/>", R"(xyz="0.05 0 0")");
+                                             "<box size=\"0.1 0.1 0.1\"/>", R"(xyz="0.2 0 0")");
     const std::string turned = link_urdf(R"(ixx="0.001" iyy="0.004" izz="0.0035" ixy="0.001")");
     const std::string impossible = link_urdf(R"(ixx="-1" iyy="0.004" izz="0.0035")");
     const std::string mass_only =
-        R"(<robot name="r"><link name="a"><collision><origin xyz="0.05 0 0"/><geometry>)"
+        R"(<robot name="r"><link name="a"><collision><origin xyz="0.2 0 0"/><geometry>)"
         R"(<box size="0.1 0.1 0.1"/></geometry></collision><inertial><mass value="1"/>)"
         "</inertial></link></robot>";
     for (const std::string& text : {off_centre, turned, impossible}) {
@@ -580,6 +653,7 @@ TEST_CASE("imported with inertia from shapes, each link is the uniform solid of 
         const RobotSpec r = parse_urdf(text, "r.urdf", shapes);
         REQUIRE(r.bodies.size() == 1);
         CHECK_FALSE(r.bodies[0].inertia);
+        CHECK_FALSE(r.bodies[0].center_of_mass);
         CHECK(r.bodies[0].mass == 1);
     }
     // the same body as a link with its mass alone, which both ways import alike

@@ -118,7 +118,11 @@ TEST_CASE("a robot that is not a chain round-trips body by body") {
     robot.self_collision = true;
     // a given inertia, here on one body: the others keep their solid's and write none
     robot.bodies[1].inertia = Vec3{1e-5, 2.5e-5, 3e-5};
+    // and a centre of mass off its shape's centre, on another: written only where given
+    robot.bodies[2].center_of_mass = Vec3{-0.01, 0.005, 0};
     const std::string text = format_robot(robot);
+    CHECK(text.find("com=\"-0.01 0.005 0\"") != std::string::npos);
+    CHECK(text.find("com=") == text.rfind("com="));
     CHECK(text.find("inertia=\"1e-05 2.5e-05 3e-05\"") != std::string::npos);
     CHECK(text.find("inertia=") == text.rfind("inertia="));
     CHECK(text.find("<chain") == std::string::npos);
@@ -194,6 +198,19 @@ TEST_CASE("robot files reject bad input with file, line, element path and a sugg
                            "axis=\"0 1 0\"/>\n</robot>"),
                Equals("robot.xml:6: robot/joint[1]: attribute 'child': no body 'bb' above this "
                       "joint; did you mean 'b'?"));
+    CHECK_THAT(robot_error("<robot>\n<body name=\"a\" size=\"1 0.5 0.5\" mass=\"1\" "
+                           "com=\"0 0 0.3\"/>\n</robot>"),
+               Equals("robot.xml:4: robot/body[1]: robot 'robot' body 'a' com must lie inside the "
+                      "box: each coordinate within half its size, ±0.5 ±0.25 ±0.25 m (got 0 0 "
+                      "0.3 m)"));
+    CHECK_THAT(robot_error("<robot>\n<body name=\"a\" shape=\"cylinder\" size=\"1 0.5 0.5\" "
+                           "mass=\"1\" com=\"0 0.2 0.2\"/>\n</robot>"),
+               Equals("robot.xml:4: robot/body[1]: robot 'robot' body 'a' com must lie inside the "
+                      "cylinder: x within ±0.5 m (half its length), y and z within 0.25 m of its "
+                      "axis (its radius) (got 0 0.2 0.2 m)"));
+    CHECK_THAT(robot_error("<robot>\n<body name=\"a\" size=\"1 1 1\" mass=\"1\" "
+                           "com=\"nan 0 0\"/>\n</robot>"),
+               Catch::StartsWith("robot.xml:4: robot/body[1]: attribute 'com': three numbers"));
     CHECK_THAT(robot_error("<robot>\n<body name=\"a\" size=\"1 1\" mass=\"1\"/>\n</robot>"),
                Equals("robot.xml:4: robot/body[1]: attribute 'size': three numbers \"x y z\" "
                       "expected, got '1 1'"));
