@@ -60,7 +60,7 @@ std::map<Key, Probe> probes() {
         "gaitlab.module{ name = 'probe_m', $ = BAD }");
     add("robot", "module", {"name"}, "gaitlab.module{ name = BAD }");
     add("robot", "body",
-        {"name", "shape", "size", "mass", "position", "orientation", "friction", "inertia"},
+        {"name", "shape", "size", "mass", "position", "orientation", "friction", "inertia", "com"},
         "gaitlab.robot.new{ bodies = { { name = 'a', size = {1, 1, 1}, mass = 1, $ = BAD } } }",
         "bodies[1]: field '$'");
     add("robot", "joint",

@@ -123,7 +123,7 @@ TEST_CASE("a body hanging from a joint settles with its centre of mass under the
         world.boxes.push_back(pedestal);
         PhysicsWorld w(world, kDt, kIterations);
         // the swing dies away (Bullet's damping leaves the rest position alone)
-        w.bullet_body(1).setDamping(0.5, 0.9);
+        w.bullet_body(1).setDamping(btScalar(0.5), btScalar(0.9));
         for (int i = 0; i < 8000; ++i)
             w.step(kDt);
         const BodyState s = w.body(1);

@@ -109,7 +109,8 @@ TEST_CASE("a sensor must name a module or joint the robot has") {
 
     RobotSpec lone;
     lone.name = "brick";
-    lone.bodies.push_back({"box", Shape::box, {0.1, 0.1, 0.1}, 1.0, {}, 1.0});
+    lone.bodies.push_back(
+        {"box", Shape::box, {0.1, 0.1, 0.1}, 1.0, {}, 1.0, std::nullopt, std::nullopt});
     REQUIRE_THROWS_WITH(validate_sensor(lone, of_kind(SensorKind::imu, 0)),
                         Equals("robot 'brick' has no modules"));
     REQUIRE_THROWS_WITH(validate_sensor(lone, of_kind(SensorKind::joint, 0)),
