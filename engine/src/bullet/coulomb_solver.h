@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "block_band.h"
+#include "newton_step.h"
 #include "profile_ldl.h"
 
 namespace gaitlab {
@@ -164,6 +165,26 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             info, draw);
         m_tmpSolverContactFrictionConstraintPool.resizeNoInitialize(rows);
         if (iteration < info.m_numIterations) residual = btMax(residual, solve_friction());
+        return residual;
+    }
+
+    // the iterations, then (an experiment, newton_step.h: GAITLAB_NEWTON=K) K Newton steps on
+    // the whole step's problem after block_nncg's sweeps; off, exactly Bullet's
+    btScalar solveGroupCacheFriendlyIterations(btCollisionObject** bodies, int body_count,
+                                               btPersistentManifold** manifolds,
+                                               int manifold_count, btTypedConstraint** constraints,
+                                               int constraint_count,
+                                               const btContactSolverInfo& info,
+                                               btIDebugDraw* draw) override {
+        const btScalar residual = btSequentialImpulseConstraintSolver::
+            solveGroupCacheFriendlyIterations(bodies, body_count, manifolds, manifold_count,
+                                              constraints, constraint_count, info, draw);
+        const NewtonSettings& newton = newton_settings();
+        if (newton.steps > 0 && method_ == SolverMethod::block_nncg &&
+            model_ == FrictionModel::disk && old_style_.empty()) {
+            newton_.run(m_tmpSolverNonContactConstraintPool, m_tmpSolverContactConstraintPool,
+                        m_tmpSolverContactFrictionConstraintPool, m_tmpSolverBodyPool, newton);
+        }
         return residual;
     }
 
@@ -949,6 +970,7 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     };
     std::vector<Written> written_;
     std::vector<btTypedConstraint*> sorted_constraints_;
+    NewtonStep newton_;  // the experiment above (newton_step.h)
 
     void convert(btPersistentManifold& manifold, const btContactSolverInfo& info) {
         // Bullet's solver takes non-const bodies; it changes only their solver data

@@ -1,0 +1,862 @@
+// An experiment (branch `newton`, docs/performance.md "Long chains bent in two planes"): after
+// CoulombSolver's block_nncg iterations, K semi-smooth Newton steps on the whole step's contact
+// problem, solved sparse. Selected by the environment only, read once: GAITLAB_NEWTON=K (Newton
+// steps per solver step; unset or 0: off, and nothing here runs), GAITLAB_NEWTON_R (r's factor,
+// r = factor / K_ii; default 10), GAITLAB_NEWTON_REG (the regulariser of S's diagonal, relative;
+// default 1e-8), GAITLAB_NEWTON_TIME=1 (prints the time spent here and counters at exit).
+//
+// The problem, in the rows' impulses lambda: every row's velocity error w = J v - target +
+// cfm lambda, v = v0 + M^-1 J' lambda (the solver bodies' delta velocities), and the natural
+// residual F(lambda) = lambda - proj(lambda - r w): joint rows and contact normals clamp to their
+// bounds (equality rows have infinite ones: F = r w), a contact's two friction rows project
+// together onto the disk of radius mu max(lambda_n, 0) (the current normal impulse). r is one
+// scalar per row, and per friction PAIR one scalar for both rows: with a different r per row the
+// zeros of F are not Coulomb's law (the projection's fixed point puts lambda_t along R w_t, not
+// against the slip w_t), so a pair takes factor * 2 / (K_11 + K_22).
+//
+// A Newton step, with dv the bodies' velocity change and dlambda the rows':
+// - active rows (inside their bounds; a friction pair inside its disk: sticking) keep
+//   J_i dv + cfm_i dlambda_i = -w_i;
+// - rows at a bound (x outside) get dlambda = bound - lambda (a separating normal: -lambda);
+// - a sliding pair (x = lambda_t - r w_t outside the disk, a = rho / |x| < 1, xhat = x / |x|,
+//   P = a (I - xhat xhat')): dF = (I - P) dlambda_t + r P dw_t - s dlambda_n = -F with
+//   s = mu xhat where lambda_n > 0 (0 otherwise, rho's slope), so
+//   dlambda_t = c_t - E_t J_t dv + s dlambda_n, c_t = (I - P)^-1 (-F_t),
+//   E_t = r P (I - P)^-1 = r a / (1 - a) (I - xhat xhat') (symmetric PSD; friction rows carry no
+//   cfm in this solver, solve_friction ignores it too).
+// Momentum M dv = J' dlambda with the sliding and inactive rows put in:
+//   H dv = g + B_A' dlambda_A, H = M + sum_t J_t' E_t J_t (per body: floor contacts touch one),
+//   g the known parts (c_t, s dlambda_n of inactive normals, bound - lambda of inactive rows),
+//   B_A = J_A except a pressed normal with a sliding pair: J_n + s' J_t.
+// Eliminating dv: S dlambda_A = -w_A - J_A H^-1 g, S = J_A H^-1 B_A' + diag(cfm) (+ reg S_ii),
+// block tridiagonal with the groups "body b's active contact rows + the hinge (b, next)'s rows"
+// taken along each chain: block LU, partial pivoting inside each diagonal block only, in a fixed
+// order. Then dv, the sliding and inactive rows' dlambda, the bodies' change M^-1 J' dlambda, a
+// backtracking line search on |F| (the row velocities are linear in the step), and the impulses
+// and the bodies' delta velocities written back as CoulombSolver::apply keeps them.
+// Handled: bodies that take impulses with factors 1; contacts each on one moving body (the
+// static floor); joints' rows between consecutive bodies of chains (or on one body). Anything
+// else: nothing is done (plain block_nncg), counted as a fallback.
+#pragma once
+
+#include <btBulletDynamicsCommon.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <utility>
+#include <vector>
+
+namespace gaitlab {
+
+struct NewtonSettings {
+    int steps = 0;
+    double r = 10;
+    double reg = 1e-8;
+    bool timing = false;
+};
+
+inline const NewtonSettings& newton_settings() {
+    static const NewtonSettings settings = [] {
+        NewtonSettings s;
+        if (const char* e = std::getenv("GAITLAB_NEWTON")) s.steps = std::atoi(e);
+        if (const char* e = std::getenv("GAITLAB_NEWTON_R")) s.r = std::atof(e);
+        if (const char* e = std::getenv("GAITLAB_NEWTON_REG")) s.reg = std::atof(e);
+        if (const char* e = std::getenv("GAITLAB_NEWTON_TIME")) s.timing = std::atoi(e) != 0;
+        return s;
+    }();
+    return settings;
+}
+
+struct NewtonStats {
+    double seconds = 0;
+    long calls = 0, fallbacks = 0, steps = 0, full = 0, partial = 0, failed = 0;
+    double f_before = 0, f_after = 0;  // sum over calls of |F| before and after
+    double rows = 0, active = 0, sliding = 0, max_group = 0;
+    ~NewtonStats() {
+        if (!newton_settings().timing || calls == 0) return;
+        std::fprintf(stderr,
+                     "newton: %.3f s in %ld solves (%.1f us each), %ld fallbacks; steps %ld: full "
+                     "%ld, shortened %ld, no decrease %ld; mean |F| %.3g before, %.3g after; "
+                     "mean rows %.1f, active %.1f, sliding pairs %.1f; largest group %.0f\n",
+                     seconds, calls, 1e6 * seconds / calls, fallbacks, steps, full, partial,
+                     failed, f_before / calls, f_after / calls, rows / calls, active / calls,
+                     sliding / calls, max_group);
+    }
+};
+
+inline NewtonStats& newton_stats() {
+    static NewtonStats stats;
+    return stats;
+}
+
+class NewtonStep {
+  public:
+    // Runs the steps on the solver's pools; false where the structure is not handled (nothing
+    // changed then)
+    bool run(btConstraintArray& joints, btConstraintArray& normals, btConstraintArray& friction,
+             btAlignedObjectArray<btSolverBody>& pool, const NewtonSettings& settings) {
+        const auto start = std::chrono::steady_clock::now();
+        NewtonStats& stats = newton_stats();
+        ++stats.calls;
+        const bool ok = setup(joints, normals, friction, pool, settings);
+        if (!ok) {
+            ++stats.fallbacks;
+        } else {
+            solve(pool, settings);
+        }
+        stats.seconds +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return ok;
+    }
+
+  private:
+    enum Kind { kClamp, kFriction1, kFriction2 };
+    enum State { kActive, kBound, kSliding };
+    struct Row {
+        btSolverConstraint* c;
+        int kind;
+        int nb;           // moving bodies (1 or 2)
+        int body[2];      // body slots
+        double J[2][6];   // per body: linear, angular
+        double B[2][6];   // this step's B (J, or a pressed normal's J_n + s' J_t)
+        double lo, hi, cfm, c0, r;
+        int normal;       // friction rows: their normal's row; a normal: its friction's first
+        int group;
+        // per Newton step
+        double lambda, w, dl, dw;
+        int state;
+        double bound;
+        int local;        // place within its group's active rows (-1: not active)
+        // a sliding pair (on its first row): E, c, s
+        double E[3], cvec[2], s[2];
+    };
+    struct Body {
+        int solver;
+        double inv_mass, mass;
+        double inv_inertia[9], inertia[9];
+        double V[6];       // delta velocities (linear, angular)
+        double Hinv[36];
+        double h[6];       // H^-1 g
+        double dv[6];      // Newton's dv
+        double dV[6];      // M^-1 J' dlambda
+        int pos;           // place along all chains (= its group)
+        int next;          // the next body along its chain (-1: none)
+        int deg;
+        int nbr[2];
+    };
+
+    std::vector<Row> rows_;
+    std::vector<Body> bodies_;
+    std::vector<int> slot_;                 // solver body -> body slot (-1: not moving)
+    std::vector<int> order_;                // bodies along the chains
+    std::vector<std::vector<int>> group_rows_;  // rows of each group (contacts then joints)
+    std::vector<std::vector<int>> body_rows_;   // rows on each body
+    // per Newton step
+    std::vector<std::vector<int>> group_active_;
+    std::vector<int> n_;                     // active rows per group
+    std::vector<size_t> d_off_, l_off_, u_off_, x_off_, v_off_;
+    std::vector<double> D_, L_, U_, X_, rhs_, z_;
+    std::vector<int> piv_;
+    std::vector<size_t> piv_off_;
+    std::vector<double> u_;                  // per (active row, side): H^-1 B'
+    std::vector<double> trial_;
+
+    static bool plain(const btSolverBody& s) {
+        return s.m_originalBody && s.m_linearFactor == btVector3(1, 1, 1) &&
+               s.m_angularFactor == btVector3(1, 1, 1);
+    }
+
+    static bool inverse3(const double* a, double* out) {
+        const double c00 = a[4] * a[8] - a[5] * a[7], c01 = a[5] * a[6] - a[3] * a[8],
+                     c02 = a[3] * a[7] - a[4] * a[6];
+        const double det = a[0] * c00 + a[1] * c01 + a[2] * c02;
+        if (!(std::fabs(det) > 0)) return false;
+        const double k = 1 / det;
+        out[0] = c00 * k;
+        out[1] = (a[2] * a[7] - a[1] * a[8]) * k;
+        out[2] = (a[1] * a[5] - a[2] * a[4]) * k;
+        out[3] = c01 * k;
+        out[4] = (a[0] * a[8] - a[2] * a[6]) * k;
+        out[5] = (a[2] * a[3] - a[0] * a[5]) * k;
+        out[6] = c02 * k;
+        out[7] = (a[1] * a[6] - a[0] * a[7]) * k;
+        out[8] = (a[0] * a[4] - a[1] * a[3]) * k;
+        return true;
+    }
+
+    int slot_of(btAlignedObjectArray<btSolverBody>& pool, int solver) {
+        if (pool[solver].m_invMass.fuzzyZero()) return -1;
+        if (slot_[solver] >= 0) return slot_[solver];
+        const btSolverBody& s = pool[solver];
+        if (!plain(s)) return -2;
+        Body b{};
+        b.solver = solver;
+        b.inv_mass = s.m_invMass.x();
+        b.mass = 1 / b.inv_mass;
+        const btMatrix3x3& m = s.m_originalBody->getInvInertiaTensorWorld();
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                b.inv_inertia[3 * i + j] = m[i][j];
+        if (!inverse3(b.inv_inertia, b.inertia)) return -2;
+        b.next = -1;
+        b.deg = 0;
+        b.nbr[0] = b.nbr[1] = -1;
+        slot_[solver] = static_cast<int>(bodies_.size());
+        bodies_.push_back(b);
+        return slot_[solver];
+    }
+
+    // a row's data; false where not handled
+    bool add_row(btSolverConstraint& c, int kind, btAlignedObjectArray<btSolverBody>& pool) {
+        Row r{};
+        r.c = &c;
+        r.kind = kind;
+        r.normal = -1;
+        const int sa = slot_of(pool, c.m_solverBodyIdA);
+        const int sb = c.m_solverBodyIdB == c.m_solverBodyIdA ? -1 : slot_of(pool, c.m_solverBodyIdB);
+        if (sa == -2 || sb == -2) return false;
+        r.nb = 0;
+        auto side = [&](int slot, const btVector3& lin, const btVector3& ang) {
+            r.body[r.nb] = slot;
+            for (int k = 0; k < 3; ++k) {
+                r.J[r.nb][k] = lin[k];
+                r.J[r.nb][3 + k] = ang[k];
+            }
+            ++r.nb;
+        };
+        if (sa >= 0) side(sa, c.m_contactNormal1, c.m_relpos1CrossNormal);
+        if (sb >= 0) side(sb, c.m_contactNormal2, c.m_relpos2CrossNormal);
+        if (r.nb == 0) return true;  // on fixed bodies only: nothing to do (not added)
+        if (!(c.m_jacDiagABInv > 0)) return kind == kClamp;  // a degenerate joint row: held
+        const double jd = c.m_jacDiagABInv;
+        r.cfm = kind == kClamp ? c.m_cfm / jd : 0;
+        r.c0 = -c.m_rhs / jd;
+        r.lo = c.m_lowerLimit;
+        r.hi = c.m_upperLimit;
+        r.lambda = c.m_appliedImpulse;
+        rows_.push_back(r);
+        return true;
+    }
+
+    bool setup(btConstraintArray& joints, btConstraintArray& normals, btConstraintArray& friction,
+               btAlignedObjectArray<btSolverBody>& pool, const NewtonSettings& settings) {
+        rows_.clear();
+        bodies_.clear();
+        slot_.assign(static_cast<size_t>(pool.size()), -1);
+        // contacts: normal, then its two friction rows
+        if (friction.size() != 2 * normals.size()) return false;
+        for (int k = 0; k < normals.size(); ++k) {
+            btSolverConstraint& n = normals[k];
+            const int first = n.m_frictionIndex;
+            if (first < 0 || first + 1 >= friction.size()) return false;
+            btSolverConstraint& f1 = friction[first];
+            btSolverConstraint& f2 = friction[first + 1];
+            if (f1.m_frictionIndex != k || f2.m_frictionIndex != k) return false;
+            const size_t before = rows_.size();
+            if (!add_row(n, kClamp, pool)) return false;
+            if (rows_.size() == before) continue;  // between fixed bodies
+            if (rows_.back().nb != 1) return false;  // two moving bodies: not handled
+            if (!add_row(f1, kFriction1, pool) || !add_row(f2, kFriction2, pool)) return false;
+            if (rows_.size() != before + 3) return false;
+            Row& rn = rows_[before];
+            Row& r1 = rows_[before + 1];
+            Row& r2 = rows_[before + 2];
+            if (r1.nb != 1 || r2.nb != 1 || r1.body[0] != rn.body[0] || r2.body[0] != rn.body[0])
+                return false;
+            rn.normal = static_cast<int>(before + 1);
+            r1.normal = r2.normal = static_cast<int>(before);
+            const double rt =
+                settings.r * 2 / (1 / f1.m_jacDiagABInv + 1 / f2.m_jacDiagABInv);
+            r1.r = r2.r = rt;
+            rn.r = settings.r * n.m_jacDiagABInv;
+        }
+        const size_t contact_rows = rows_.size();
+        for (int k = 0; k < joints.size(); ++k) {
+            const size_t before = rows_.size();
+            if (!add_row(joints[k], kClamp, pool)) return false;
+            if (rows_.size() == before) continue;
+            Row& r = rows_.back();
+            r.r = settings.r * joints[k].m_jacDiagABInv;
+            if (r.nb == 2) {
+                Body& a = bodies_[r.body[0]];
+                Body& b = bodies_[r.body[1]];
+                const int ia = r.body[0], ib = r.body[1];
+                auto link = [](Body& x, int other) {
+                    if (x.nbr[0] == other || x.nbr[1] == other) return true;
+                    if (x.deg == 2) return false;
+                    x.nbr[x.deg++] = other;
+                    return true;
+                };
+                if (!link(a, ib) || !link(b, ia)) return false;
+            }
+        }
+        // the chains: from each end (in slot order), along the links
+        const int nbodies = static_cast<int>(bodies_.size());
+        if (nbodies == 0 || rows_.empty()) return false;
+        order_.clear();
+        std::vector<char> seen(static_cast<size_t>(nbodies), 0);
+        for (int start = 0; start < nbodies; ++start) {
+            if (seen[start] || bodies_[start].deg > 1) continue;
+            int prev = -1, at = start;
+            while (at >= 0) {
+                seen[at] = 1;
+                bodies_[at].pos = static_cast<int>(order_.size());
+                order_.push_back(at);
+                const Body& b = bodies_[at];
+                int next = -1;
+                for (int k = 0; k < b.deg; ++k)
+                    if (b.nbr[k] != prev) next = b.nbr[k];
+                bodies_[at].next = next;
+                prev = at;
+                at = next;
+            }
+        }
+        if (static_cast<int>(order_.size()) != nbodies) return false;  // a loop
+        group_rows_.resize(static_cast<size_t>(nbodies));
+        body_rows_.resize(static_cast<size_t>(nbodies));
+        for (int g = 0; g < nbodies; ++g) {
+            group_rows_[g].clear();
+            body_rows_[g].clear();
+        }
+        for (size_t i = 0; i < rows_.size(); ++i) {
+            Row& r = rows_[i];
+            int g = bodies_[r.body[0]].pos;
+            if (r.nb == 2) {
+                const int p0 = bodies_[r.body[0]].pos, p1 = bodies_[r.body[1]].pos;
+                if (p1 == p0 + 1) {
+                    g = p0;
+                } else if (p0 == p1 + 1) {
+                    g = p1;
+                } else {
+                    return false;
+                }
+            }
+            (void)contact_rows;
+            r.group = g;
+            group_rows_[g].push_back(static_cast<int>(i));
+            for (int k = 0; k < r.nb; ++k)
+                body_rows_[r.body[k]].push_back(static_cast<int>(i));
+        }
+        for (Body& b : bodies_) {
+            const btSolverBody& s = pool[b.solver];
+            const btVector3& l = s.m_deltaLinearVelocity;
+            const btVector3& a = s.m_deltaAngularVelocity;
+            for (int k = 0; k < 3; ++k) {
+                b.V[k] = l[k];
+                b.V[3 + k] = a[k];
+            }
+        }
+        return true;
+    }
+
+    // M^-1 x for a body (6)
+    static void minv(const Body& b, const double* x, double* out) {
+        for (int k = 0; k < 3; ++k)
+            out[k] = b.inv_mass * x[k];
+        for (int i = 0; i < 3; ++i)
+            out[3 + i] = b.inv_inertia[3 * i] * x[3] + b.inv_inertia[3 * i + 1] * x[4] +
+                         b.inv_inertia[3 * i + 2] * x[5];
+    }
+
+    static double dot6(const double* a, const double* b) {
+        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3] + a[4] * b[4] + a[5] * b[5];
+    }
+
+    double velocity(const Row& r) const {
+        double v = r.c0;
+        for (int k = 0; k < r.nb; ++k)
+            v += dot6(r.J[k], bodies_[r.body[k]].V);
+        return v;
+    }
+
+    // |F|^2 at lambda + alpha dl, w + alpha dw
+    double merit(double alpha) const {
+        double sum = 0;
+        const size_t n = rows_.size();
+        for (size_t i = 0; i < n; ++i) {
+            const Row& r = rows_[i];
+            const double l = r.lambda + alpha * r.dl, w = r.w + alpha * r.dw;
+            if (r.kind == kClamp) {
+                const double x = l - r.r * w;
+                const double p = x < r.lo ? r.lo : (x > r.hi ? r.hi : x);
+                sum += (l - p) * (l - p);
+            } else if (r.kind == kFriction1) {
+                const Row& r2 = rows_[i + 1];
+                const Row& rn = rows_[r.normal];
+                const double ln = rn.lambda + alpha * rn.dl;
+                const double rho = ln > 0 ? ln * r.c->m_friction : 0;
+                const double l2 = r2.lambda + alpha * r2.dl, w2 = r2.w + alpha * r2.dw;
+                double x1 = l - r.r * w, x2 = l2 - r.r * w2;
+                const double len = std::sqrt(x1 * x1 + x2 * x2);
+                if (len > rho) {
+                    const double k = len > 0 ? rho / len : 0;
+                    x1 *= k;
+                    x2 *= k;
+                }
+                sum += (l - x1) * (l - x1) + (l2 - x2) * (l2 - x2);
+            }
+        }
+        return sum;
+    }
+
+    // dense LU with partial pivoting of an n x n row-major block, in place
+    static void lu(double* a, int* piv, int n) {
+        for (int k = 0; k < n; ++k) {
+            int p = k;
+            double best = std::fabs(a[k * n + k]);
+            for (int i = k + 1; i < n; ++i) {
+                const double v = std::fabs(a[i * n + k]);
+                if (v > best) {
+                    best = v;
+                    p = i;
+                }
+            }
+            piv[k] = p;
+            if (p != k)
+                for (int j = 0; j < n; ++j)
+                    std::swap(a[k * n + j], a[p * n + j]);
+            const double d = a[k * n + k];
+            const double inv = d != 0 ? 1 / d : 0;
+            for (int i = k + 1; i < n; ++i) {
+                const double f = a[i * n + k] * inv;
+                a[i * n + k] = f;
+                if (f != 0)
+                    for (int j = k + 1; j < n; ++j)
+                        a[i * n + j] -= f * a[k * n + j];
+            }
+        }
+    }
+
+    // solves LU x = b in place for m right sides (b row-major n x m)
+    static void lu_solve(const double* a, const int* piv, int n, double* b, int m) {
+        for (int k = 0; k < n; ++k) {
+            if (piv[k] != k)
+                for (int j = 0; j < m; ++j)
+                    std::swap(b[k * m + j], b[piv[k] * m + j]);
+        }
+        for (int i = 1; i < n; ++i)
+            for (int k = 0; k < i; ++k) {
+                const double f = a[i * n + k];
+                if (f != 0)
+                    for (int j = 0; j < m; ++j)
+                        b[i * m + j] -= f * b[k * m + j];
+            }
+        for (int i = n - 1; i >= 0; --i) {
+            for (int k = i + 1; k < n; ++k) {
+                const double f = a[i * n + k];
+                for (int j = 0; j < m; ++j)
+                    b[i * m + j] -= f * b[k * m + j];
+            }
+            const double d = a[i * n + i];
+            const double inv = d != 0 ? 1 / d : 0;
+            for (int j = 0; j < m; ++j)
+                b[i * m + j] *= inv;
+        }
+    }
+
+    // 6x6 SPD inverse (Cholesky), out row-major
+    static void inverse6(const double* h, double* out) {
+        double l[36] = {};
+        for (int i = 0; i < 6; ++i)
+            for (int j = 0; j <= i; ++j) {
+                double s = h[6 * i + j];
+                for (int k = 0; k < j; ++k)
+                    s -= l[6 * i + k] * l[6 * j + k];
+                if (i == j) {
+                    l[6 * i + i] = std::sqrt(s > 0 ? s : 1e-300);
+                } else {
+                    l[6 * i + j] = s / l[6 * j + j];
+                }
+            }
+        // columns of the inverse: L L' x = e_c
+        for (int c = 0; c < 6; ++c) {
+            double y[6];
+            for (int i = 0; i < 6; ++i) {
+                double s = i == c ? 1 : 0;
+                for (int k = 0; k < i; ++k)
+                    s -= l[6 * i + k] * y[k];
+                y[i] = s / l[6 * i + i];
+            }
+            for (int i = 5; i >= 0; --i) {
+                double s = y[i];
+                for (int k = i + 1; k < 6; ++k)
+                    s -= l[6 * k + i] * y[k];
+                y[i] = s / l[6 * i + i];
+            }
+            for (int i = 0; i < 6; ++i)
+                out[6 * i + c] = y[i];
+        }
+    }
+
+    void solve(btAlignedObjectArray<btSolverBody>& pool, const NewtonSettings& settings) {
+        NewtonStats& stats = newton_stats();
+        const size_t nrows = rows_.size();
+        const int ngroups = static_cast<int>(order_.size());
+        bool changed = false;
+        double f0 = -1, f_last = 0;
+        for (int step = 0; step < settings.steps; ++step) {
+            // velocities, states, F
+            for (Row& r : rows_)
+                r.w = velocity(r) + r.cfm * r.lambda;
+            int nactive = 0, nsliding = 0;
+            for (size_t i = 0; i < nrows; ++i) {
+                Row& r = rows_[i];
+                r.local = -1;
+                for (int k = 0; k < r.nb; ++k)
+                    for (int j = 0; j < 6; ++j)
+                        r.B[k][j] = r.J[k][j];
+                if (r.kind == kClamp) {
+                    const double x = r.lambda - r.r * r.w;
+                    if (x <= r.lo) {
+                        r.state = kBound;
+                        r.bound = r.lo;
+                    } else if (x >= r.hi) {
+                        r.state = kBound;
+                        r.bound = r.hi;
+                    } else {
+                        r.state = kActive;
+                    }
+                } else if (r.kind == kFriction1) {
+                    Row& r2 = rows_[i + 1];
+                    const Row& rn = rows_[r.normal];
+                    const double mu = r.c->m_friction;
+                    const double rho = rn.lambda > 0 ? mu * rn.lambda : 0;
+                    const double x1 = r.lambda - r.r * r.w, x2 = r2.lambda - r.r * r2.w;
+                    const double len = std::sqrt(x1 * x1 + x2 * x2);
+                    if (len <= rho) {
+                        r.state = r2.state = kActive;
+                    } else {
+                        r.state = r2.state = kSliding;
+                        ++nsliding;
+                        const double a = rho / len, h1 = x1 / len, h2 = x2 / len;
+                        // P = a (I - h h'); F = lambda - rho h
+                        const double F1 = r.lambda - rho * h1, F2 = r2.lambda - rho * h2;
+                        // (I - P)^-1 = h h' + (I - h h') / (1 - a)
+                        const double q = 1 / (1 - a);
+                        const double p11 = 1 - h1 * h1, p12 = -h1 * h2, p22 = 1 - h2 * h2;
+                        const double i11 = h1 * h1 + q * p11, i12 = h1 * h2 + q * p12,
+                                     i22 = h2 * h2 + q * p22;
+                        r.cvec[0] = -(i11 * F1 + i12 * F2);
+                        r.cvec[1] = -(i12 * F1 + i22 * F2);
+                        const double e = r.r * a * q;
+                        r.E[0] = e * p11;
+                        r.E[1] = e * p12;
+                        r.E[2] = e * p22;
+                        const double slope = rn.lambda > 0 ? mu : 0;
+                        r.s[0] = slope * h1;
+                        r.s[1] = slope * h2;
+                    }
+                }
+            }
+            const double f = std::sqrt(merit(0));
+            if (f0 < 0) f0 = f;
+            f_last = f;
+            if (!(f > 1e-14)) break;
+            // per body: H, H^-1, g
+            for (int b = 0; b < ngroups; ++b) {
+                Body& body = bodies_[b];
+                double H[36] = {};
+                bool sliding = false;
+                double g[6] = {0, 0, 0, 0, 0, 0};
+                for (int i : body_rows_[b]) {
+                    Row& r = rows_[i];
+                    const int side = r.body[0] == b ? 0 : 1;
+                    if (r.kind == kFriction1 && r.state == kSliding) {
+                        sliding = true;
+                        const Row& r2 = rows_[i + 1];
+                        const Row& rn = rows_[r.normal];
+                        const double* j1 = r.J[0];
+                        const double* j2 = r2.J[0];
+                        for (int p = 0; p < 6; ++p)
+                            for (int q = 0; q < 6; ++q)
+                                H[6 * p + q] += r.E[0] * j1[p] * j1[q] +
+                                                r.E[1] * (j1[p] * j2[q] + j2[p] * j1[q]) +
+                                                r.E[2] * j2[p] * j2[q];
+                        double c1 = r.cvec[0], c2 = r.cvec[1];
+                        if (rn.state == kBound) {
+                            const double dn = rn.bound - rn.lambda;
+                            c1 += r.s[0] * dn;
+                            c2 += r.s[1] * dn;
+                        }
+                        for (int p = 0; p < 6; ++p)
+                            g[p] += j1[p] * c1 + j2[p] * c2;
+                    } else if (r.kind == kClamp && r.state == kBound) {
+                        const double d = r.bound - r.lambda;
+                        for (int p = 0; p < 6; ++p)
+                            g[p] += r.J[side][p] * d;
+                    }
+                }
+                if (sliding) {
+                    for (int k = 0; k < 3; ++k)
+                        H[7 * k] += body.mass;
+                    for (int i = 0; i < 3; ++i)
+                        for (int j = 0; j < 3; ++j)
+                            H[6 * (3 + i) + 3 + j] += body.inertia[3 * i + j];
+                    inverse6(H, body.Hinv);
+                } else {
+                    for (int k = 0; k < 36; ++k)
+                        body.Hinv[k] = 0;
+                    for (int k = 0; k < 3; ++k)
+                        body.Hinv[7 * k] = body.inv_mass;
+                    for (int i = 0; i < 3; ++i)
+                        for (int j = 0; j < 3; ++j)
+                            body.Hinv[6 * (3 + i) + 3 + j] = body.inv_inertia[3 * i + j];
+                }
+                for (int p = 0; p < 6; ++p)
+                    body.h[p] = dot6(&body.Hinv[6 * p], g);
+            }
+            // pressed normals with a sliding pair: B = J_n + s' J_t
+            for (size_t i = 0; i < nrows; ++i) {
+                Row& r = rows_[i];
+                if (r.kind != kFriction1 || r.state != kSliding) continue;
+                Row& rn = rows_[r.normal];
+                if (rn.state != kActive) continue;
+                const Row& r2 = rows_[i + 1];
+                for (int p = 0; p < 6; ++p)
+                    rn.B[0][p] += r.s[0] * r.J[0][p] + r.s[1] * r2.J[0][p];
+            }
+            // the active rows by group
+            group_active_.resize(static_cast<size_t>(ngroups));
+            n_.assign(static_cast<size_t>(ngroups), 0);
+            int largest = 0;
+            for (int g = 0; g < ngroups; ++g) {
+                std::vector<int>& act = group_active_[g];
+                act.clear();
+                for (int i : group_rows_[g]) {
+                    if (rows_[i].state == kActive) {
+                        rows_[i].local = static_cast<int>(act.size());
+                        act.push_back(i);
+                    }
+                }
+                n_[g] = static_cast<int>(act.size());
+                nactive += n_[g];
+                largest = std::max(largest, n_[g]);
+            }
+            stats.rows += step == 0 ? nrows : 0;
+            stats.active += step == 0 ? nactive : 0;
+            stats.sliding += step == 0 ? nsliding : 0;
+            if (largest > stats.max_group) stats.max_group = largest;
+            // storage of the blocks
+            d_off_.assign(ngroups + 1, 0);
+            l_off_.assign(ngroups + 1, 0);
+            v_off_.assign(ngroups + 1, 0);
+            for (int g = 0; g < ngroups; ++g) {
+                const size_t n = n_[g], p = g > 0 ? n_[g - 1] : 0;
+                d_off_[g + 1] = d_off_[g] + n * n;
+                l_off_[g + 1] = l_off_[g] + n * p;
+                v_off_[g + 1] = v_off_[g] + n;
+            }
+            D_.assign(d_off_[ngroups], 0);
+            L_.assign(l_off_[ngroups], 0);
+            U_.assign(l_off_[ngroups], 0);  // U_g: n_{g-1} x n_g, same size as L_g
+            X_.assign(l_off_[ngroups], 0);
+            rhs_.assign(v_off_[ngroups], 0);
+            piv_.assign(v_off_[ngroups], 0);
+            // u = H^-1 B' per active row and side (2 x 6 per row)
+            u_.assign(nrows * 12, 0);
+            for (size_t i = 0; i < nrows; ++i) {
+                Row& r = rows_[i];
+                if (r.state != kActive) continue;
+                for (int k = 0; k < r.nb; ++k) {
+                    const Body& body = bodies_[r.body[k]];
+                    double* u = &u_[12 * i + 6 * k];
+                    for (int p = 0; p < 6; ++p)
+                        u[p] = dot6(&body.Hinv[6 * p], r.B[k]);
+                }
+            }
+            // S's entries, body by body
+            bool fail = false;
+            for (int b = 0; b < ngroups && !fail; ++b) {
+                const std::vector<int>& on = body_rows_[b];
+                for (int i : on) {
+                    const Row& ri = rows_[i];
+                    if (ri.state != kActive) continue;
+                    const int si = ri.body[0] == b ? 0 : 1;
+                    const int gi = ri.group;
+                    for (int j : on) {
+                        const Row& rj = rows_[j];
+                        if (rj.state != kActive) continue;
+                        const int sj = rj.body[0] == b ? 0 : 1;
+                        const int gj = rj.group;
+                        const double v = dot6(ri.J[si], &u_[12 * j + 6 * sj]);
+                        if (gi == gj) {
+                            D_[d_off_[gi] + ri.local * n_[gi] + rj.local] += v;
+                        } else if (gi == gj + 1) {
+                            L_[l_off_[gi] + ri.local * n_[gj] + rj.local] += v;
+                        } else if (gj == gi + 1) {
+                            U_[l_off_[gj] + ri.local * n_[gj] + rj.local] += v;
+                        } else {
+                            fail = true;
+                        }
+                    }
+                }
+            }
+            if (fail) {
+                ++stats.fallbacks;
+                break;
+            }
+            // diagonal terms and right side
+            for (int g = 0; g < ngroups; ++g) {
+                for (int i : group_active_[g]) {
+                    const Row& r = rows_[i];
+                    double& d = D_[d_off_[g] + r.local * n_[g] + r.local];
+                    d += r.cfm;
+                    d += settings.reg * std::fabs(d);
+                    double v = -r.w;
+                    for (int k = 0; k < r.nb; ++k)
+                        v -= dot6(r.J[k], bodies_[r.body[k]].h);
+                    rhs_[v_off_[g] + r.local] = v;
+                }
+            }
+            // block LU: D'_g = D_g - L_g D'_{g-1}^-1 U_g, forward substitution alongside
+            for (int g = 0; g < ngroups; ++g) {
+                const int n = n_[g];
+                double* D = &D_[d_off_[g]];
+                double* y = &rhs_[v_off_[g]];
+                if (g > 0 && n_[g - 1] > 0 && n > 0) {
+                    const int p = n_[g - 1];
+                    double* X = &X_[l_off_[g]];
+                    const double* U = &U_[l_off_[g]];
+                    const double* L = &L_[l_off_[g]];
+                    for (size_t k = 0; k < static_cast<size_t>(p) * n; ++k)
+                        X[k] = U[k];
+                    lu_solve(&D_[d_off_[g - 1]], &piv_[v_off_[g - 1]], p, X, n);
+                    const double* z = &rhs_[v_off_[g - 1]];  // already D'^-1 y
+                    for (int i = 0; i < n; ++i) {
+                        for (int k = 0; k < p; ++k) {
+                            const double l = L[i * p + k];
+                            if (l == 0) continue;
+                            for (int j = 0; j < n; ++j)
+                                D[i * n + j] -= l * X[k * n + j];
+                            y[i] -= l * z[k];
+                        }
+                    }
+                }
+                if (n > 0) {
+                    lu(D, &piv_[v_off_[g]], n);
+                    lu_solve(D, &piv_[v_off_[g]], n, y, 1);
+                }
+            }
+            for (int g = ngroups - 2; g >= 0; --g) {
+                const int n = n_[g], m = n_[g + 1];
+                if (n == 0 || m == 0) continue;
+                const double* X = &X_[l_off_[g + 1]];
+                double* x = &rhs_[v_off_[g]];
+                const double* xn = &rhs_[v_off_[g + 1]];
+                for (int i = 0; i < n; ++i) {
+                    double s = 0;
+                    for (int j = 0; j < m; ++j)
+                        s += X[i * m + j] * xn[j];
+                    x[i] -= s;
+                }
+            }
+            // dlambda of the active rows, dv, the others' dlambda
+            for (int g = 0; g < ngroups; ++g)
+                for (int i : group_active_[g])
+                    rows_[i].dl = rhs_[v_off_[g] + rows_[i].local];
+            for (int b = 0; b < ngroups; ++b) {
+                Body& body = bodies_[b];
+                for (int p = 0; p < 6; ++p)
+                    body.dv[p] = body.h[p];
+                for (int i : body_rows_[b]) {
+                    const Row& r = rows_[i];
+                    if (r.state != kActive) continue;
+                    const int side = r.body[0] == b ? 0 : 1;
+                    const double* u = &u_[12 * i + 6 * side];
+                    for (int p = 0; p < 6; ++p)
+                        body.dv[p] += u[p] * r.dl;
+                }
+            }
+            for (size_t i = 0; i < nrows; ++i) {
+                Row& r = rows_[i];
+                if (r.state == kBound) {
+                    r.dl = r.bound - r.lambda;
+                } else if (r.kind == kFriction1 && r.state == kSliding) {
+                    Row& r2 = rows_[i + 1];
+                    const Row& rn = rows_[r.normal];
+                    const double* dv = bodies_[r.body[0]].dv;
+                    const double jd1 = dot6(r.J[0], dv), jd2 = dot6(r2.J[0], dv);
+                    r.dl = r.cvec[0] - (r.E[0] * jd1 + r.E[1] * jd2) + r.s[0] * rn.dl;
+                    r2.dl = r.cvec[1] - (r.E[1] * jd1 + r.E[2] * jd2) + r.s[1] * rn.dl;
+                }
+            }
+            // the bodies' change M^-1 J' dlambda and the rows' dw
+            for (int b = 0; b < ngroups; ++b) {
+                Body& body = bodies_[b];
+                double imp[6] = {0, 0, 0, 0, 0, 0};
+                for (int i : body_rows_[b]) {
+                    const Row& r = rows_[i];
+                    const int side = r.body[0] == b ? 0 : 1;
+                    for (int p = 0; p < 6; ++p)
+                        imp[p] += r.J[side][p] * r.dl;
+                }
+                minv(body, imp, body.dV);
+            }
+            bool finite = true;
+            for (Row& r : rows_) {
+                r.dw = r.cfm * r.dl;
+                for (int k = 0; k < r.nb; ++k)
+                    r.dw += dot6(r.J[k], bodies_[r.body[k]].dV);
+                finite = finite && std::isfinite(r.dl) && std::isfinite(r.dw);
+            }
+            if (!finite) {
+                ++stats.failed;
+                break;
+            }
+            // line search on |F|
+            const double f2 = f * f;
+            double alpha = 1;
+            bool accepted = false;
+            for (int t = 0; t < 9; ++t) {
+                if (merit(alpha) < f2) {
+                    accepted = true;
+                    break;
+                }
+                alpha *= 0.5;
+            }
+            ++stats.steps;
+            if (!accepted) {
+                ++stats.failed;
+                break;
+            }
+            if (alpha == 1) {
+                ++stats.full;
+            } else {
+                ++stats.partial;
+            }
+            for (Row& r : rows_)
+                r.lambda += alpha * r.dl;
+            for (Body& body : bodies_)
+                for (int p = 0; p < 6; ++p)
+                    body.V[p] += alpha * body.dV[p];
+            changed = true;
+            f_last = -1;
+        }
+        if (f_last < 0) {
+            for (Row& r : rows_)
+                r.w = velocity(r) + r.cfm * r.lambda;
+            for (Row& r : rows_)
+                r.dl = r.dw = 0;
+            f_last = std::sqrt(merit(0));
+        }
+        stats.f_before += f0 > 0 ? f0 : 0;
+        stats.f_after += f_last;
+        if (!changed) return;
+        for (Row& r : rows_)
+            r.c->m_appliedImpulse = static_cast<btScalar>(r.lambda);
+        for (Body& body : bodies_) {
+            btSolverBody& s = pool[body.solver];
+            s.m_deltaLinearVelocity.setValue(static_cast<btScalar>(body.V[0]),
+                                             static_cast<btScalar>(body.V[1]),
+                                             static_cast<btScalar>(body.V[2]));
+            s.m_deltaAngularVelocity.setValue(static_cast<btScalar>(body.V[3]),
+                                              static_cast<btScalar>(body.V[4]),
+                                              static_cast<btScalar>(body.V[5]));
+        }
+    }
+};
+
+}  // namespace gaitlab
