@@ -42,7 +42,7 @@
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
-#include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -56,6 +56,7 @@ struct NewtonSettings {
     double r = 10;
     double reg = 1e-8;
     bool timing = false;
+    bool phases = false;  // GAITLAB_NEWTON_TIME=2: also the time of each part
 };
 
 inline const NewtonSettings& newton_settings() {
@@ -64,7 +65,10 @@ inline const NewtonSettings& newton_settings() {
         if (const char* e = std::getenv("GAITLAB_NEWTON")) s.steps = std::atoi(e);
         if (const char* e = std::getenv("GAITLAB_NEWTON_R")) s.r = std::atof(e);
         if (const char* e = std::getenv("GAITLAB_NEWTON_REG")) s.reg = std::atof(e);
-        if (const char* e = std::getenv("GAITLAB_NEWTON_TIME")) s.timing = std::atoi(e) != 0;
+        if (const char* e = std::getenv("GAITLAB_NEWTON_TIME")) {
+            s.timing = std::atoi(e) != 0;
+            s.phases = std::atoi(e) == 2;
+        }
         return s;
     }();
     return settings;
@@ -75,8 +79,15 @@ struct NewtonStats {
     long calls = 0, fallbacks = 0, steps = 0, full = 0, partial = 0, failed = 0;
     double f_before = 0, f_after = 0;  // sum over calls of |F| before and after
     double rows = 0, active = 0, sliding = 0, max_group = 0;
+    // GAITLAB_NEWTON_TIME=2: set-up, F and states, H^-1, S, block LU, recovery, line search
+    double phase[7] = {0, 0, 0, 0, 0, 0, 0};
     ~NewtonStats() {
         if (!newton_settings().timing || calls == 0) return;
+        if (newton_settings().phases)
+            std::fprintf(stderr,
+                         "newton parts (s): set-up %.3f, F %.3f, H^-1 %.3f, S %.3f, LU %.3f, "
+                         "recovery %.3f, line search %.3f\n",
+                         phase[0], phase[1], phase[2], phase[3], phase[4], phase[5], phase[6]);
         std::fprintf(stderr,
                      "newton: %.3f s in %ld solves (%.1f us each), %ld fallbacks; steps %ld: full "
                      "%ld, shortened %ld, no decrease %ld; mean |F| %.3g before, %.3g after; "
@@ -98,21 +109,26 @@ class NewtonStep {
     // changed then)
     bool run(btConstraintArray& joints, btConstraintArray& normals, btConstraintArray& friction,
              btAlignedObjectArray<btSolverBody>& pool, const NewtonSettings& settings) {
-        const auto start = std::chrono::steady_clock::now();
+        const double start = cpu_seconds();
         NewtonStats& stats = newton_stats();
         ++stats.calls;
         const bool ok = setup(joints, normals, friction, pool, settings);
+        if (settings.phases) stats.phase[0] += cpu_seconds() - start;
         if (!ok) {
             ++stats.fallbacks;
         } else {
             solve(pool, settings);
         }
-        stats.seconds +=
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        stats.seconds += cpu_seconds() - start;
         return ok;
     }
 
   private:
+    static double cpu_seconds() {
+        timespec t;
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+        return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+    }
     enum Kind { kClamp, kFriction1, kFriction2 };
     enum State { kActive, kBound, kSliding };
     struct Row {
@@ -130,8 +146,9 @@ class NewtonStep {
         int state;
         double bound;
         int local;        // place within its group's active rows (-1: not active)
+        bool plainB;      // B is J
         // a sliding pair (on its first row): E, c, s
-        double E[3], cvec[2], s[2];
+        double e, perp[2], cvec[2], s[2];
     };
     struct Body {
         int solver;
@@ -162,7 +179,28 @@ class NewtonStep {
     std::vector<int> piv_;
     std::vector<size_t> piv_off_;
     std::vector<double> u_;                  // per (active row, side): H^-1 B'
-    std::vector<double> trial_;
+    struct On {  // an active row on a body, for S
+        const double* J;
+        double u[6];
+        int row, side, group, local;
+        bool plain;
+    };
+    std::vector<On> on_;
+
+    // S(i, j) into its block; false where the rows' groups are not neighbours
+    bool add_entry(const On& i, const On& j, double v) {
+        const int gi = i.group, gj = j.group;
+        if (gi == gj) {
+            D_[d_off_[gi] + static_cast<size_t>(i.local * n_[gi] + j.local)] += v;
+        } else if (gi == gj + 1) {
+            L_[l_off_[gi] + static_cast<size_t>(i.local * n_[gj] + j.local)] += v;
+        } else if (gj == gi + 1) {
+            U_[l_off_[gj] + static_cast<size_t>(i.local * n_[gj] + j.local)] += v;
+        } else {
+            return false;
+        }
+        return true;
+    }
 
     static bool plain(const btSolverBody& s) {
         return s.m_originalBody && s.m_linearFactor == btVector3(1, 1, 1) &&
@@ -497,6 +535,13 @@ class NewtonStep {
         const int ngroups = static_cast<int>(order_.size());
         bool changed = false;
         double f0 = -1, f_last = 0;
+        double mark = settings.phases ? cpu_seconds() : 0;
+        auto lap = [&](int k) {
+            if (!settings.phases) return;
+            const double now = cpu_seconds();
+            stats.phase[k] += now - mark;
+            mark = now;
+        };
         for (int step = 0; step < settings.steps; ++step) {
             // velocities, states, F
             for (Row& r : rows_)
@@ -505,9 +550,7 @@ class NewtonStep {
             for (size_t i = 0; i < nrows; ++i) {
                 Row& r = rows_[i];
                 r.local = -1;
-                for (int k = 0; k < r.nb; ++k)
-                    for (int j = 0; j < 6; ++j)
-                        r.B[k][j] = r.J[k][j];
+                r.plainB = true;
                 if (r.kind == kClamp) {
                     const double x = r.lambda - r.r * r.w;
                     if (x <= r.lo) {
@@ -541,10 +584,11 @@ class NewtonStep {
                                      i22 = h2 * h2 + q * p22;
                         r.cvec[0] = -(i11 * F1 + i12 * F2);
                         r.cvec[1] = -(i12 * F1 + i22 * F2);
-                        const double e = r.r * a * q;
-                        r.E[0] = e * p11;
-                        r.E[1] = e * p12;
-                        r.E[2] = e * p22;
+                        // E = e perp perp', perp = (-h2, h1): I - h h' = perp perp'
+                        r.e = r.r * a * q;
+                        r.perp[0] = -h2;
+                        r.perp[1] = h1;
+                        (void)p22;
                         const double slope = rn.lambda > 0 ? mu : 0;
                         r.s[0] = slope * h1;
                         r.s[1] = slope * h2;
@@ -555,26 +599,42 @@ class NewtonStep {
             if (f0 < 0) f0 = f;
             f_last = f;
             if (!(f > 1e-14)) break;
-            // per body: H, H^-1, g
+            lap(1);
+            // per body: H^-1 (M^-1 updated by each sliding pair's rank-one term
+            // e q q', q = J_t' perp: E = e perp perp', Sherman-Morrison), g, h = H^-1 g
             for (int b = 0; b < ngroups; ++b) {
                 Body& body = bodies_[b];
-                double H[36] = {};
-                bool sliding = false;
+                double* Hi = body.Hinv;
+                for (int k = 0; k < 36; ++k)
+                    Hi[k] = 0;
+                for (int k = 0; k < 3; ++k)
+                    Hi[7 * k] = body.inv_mass;
+                for (int i = 0; i < 3; ++i)
+                    for (int j = 0; j < 3; ++j)
+                        Hi[6 * (3 + i) + 3 + j] = body.inv_inertia[3 * i + j];
                 double g[6] = {0, 0, 0, 0, 0, 0};
                 for (int i : body_rows_[b]) {
                     Row& r = rows_[i];
                     const int side = r.body[0] == b ? 0 : 1;
                     if (r.kind == kFriction1 && r.state == kSliding) {
-                        sliding = true;
                         const Row& r2 = rows_[i + 1];
                         const Row& rn = rows_[r.normal];
                         const double* j1 = r.J[0];
                         const double* j2 = r2.J[0];
-                        for (int p = 0; p < 6; ++p)
-                            for (int q = 0; q < 6; ++q)
-                                H[6 * p + q] += r.E[0] * j1[p] * j1[q] +
-                                                r.E[1] * (j1[p] * j2[q] + j2[p] * j1[q]) +
-                                                r.E[2] * j2[p] * j2[q];
+                        if (r.e > 0) {
+                            double q[6], hq[6];
+                            for (int p = 0; p < 6; ++p)
+                                q[p] = j1[p] * r.perp[0] + j2[p] * r.perp[1];
+                            double qhq = 0;
+                            for (int p = 0; p < 6; ++p) {
+                                hq[p] = dot6(&Hi[6 * p], q);
+                                qhq += q[p] * hq[p];
+                            }
+                            const double k = r.e / (1 + r.e * qhq);
+                            for (int p = 0; p < 6; ++p)
+                                for (int c = 0; c < 6; ++c)
+                                    Hi[6 * p + c] -= k * hq[p] * hq[c];
+                        }
                         double c1 = r.cvec[0], c2 = r.cvec[1];
                         if (rn.state == kBound) {
                             const double dn = rn.bound - rn.lambda;
@@ -589,25 +649,10 @@ class NewtonStep {
                             g[p] += r.J[side][p] * d;
                     }
                 }
-                if (sliding) {
-                    for (int k = 0; k < 3; ++k)
-                        H[7 * k] += body.mass;
-                    for (int i = 0; i < 3; ++i)
-                        for (int j = 0; j < 3; ++j)
-                            H[6 * (3 + i) + 3 + j] += body.inertia[3 * i + j];
-                    inverse6(H, body.Hinv);
-                } else {
-                    for (int k = 0; k < 36; ++k)
-                        body.Hinv[k] = 0;
-                    for (int k = 0; k < 3; ++k)
-                        body.Hinv[7 * k] = body.inv_mass;
-                    for (int i = 0; i < 3; ++i)
-                        for (int j = 0; j < 3; ++j)
-                            body.Hinv[6 * (3 + i) + 3 + j] = body.inv_inertia[3 * i + j];
-                }
                 for (int p = 0; p < 6; ++p)
-                    body.h[p] = dot6(&body.Hinv[6 * p], g);
+                    body.h[p] = dot6(&Hi[6 * p], g);
             }
+            lap(2);
             // pressed normals with a sliding pair: B = J_n + s' J_t
             for (size_t i = 0; i < nrows; ++i) {
                 Row& r = rows_[i];
@@ -615,8 +660,9 @@ class NewtonStep {
                 Row& rn = rows_[r.normal];
                 if (rn.state != kActive) continue;
                 const Row& r2 = rows_[i + 1];
+                rn.plainB = false;
                 for (int p = 0; p < 6; ++p)
-                    rn.B[0][p] += r.s[0] * r.J[0][p] + r.s[1] * r2.J[0][p];
+                    rn.B[0][p] = rn.J[0][p] + r.s[0] * r.J[0][p] + r.s[1] * r2.J[0][p];
             }
             // the active rows by group
             group_active_.resize(static_cast<size_t>(ngroups));
@@ -655,49 +701,51 @@ class NewtonStep {
             X_.assign(l_off_[ngroups], 0);
             rhs_.assign(v_off_[ngroups], 0);
             piv_.assign(v_off_[ngroups], 0);
-            // u = H^-1 B' per active row and side (2 x 6 per row)
-            u_.assign(nrows * 12, 0);
-            for (size_t i = 0; i < nrows; ++i) {
-                Row& r = rows_[i];
-                if (r.state != kActive) continue;
-                for (int k = 0; k < r.nb; ++k) {
-                    const Body& body = bodies_[r.body[k]];
-                    double* u = &u_[12 * i + 6 * k];
-                    for (int p = 0; p < 6; ++p)
-                        u[p] = dot6(&body.Hinv[6 * p], r.B[k]);
-                }
-            }
-            // S's entries, body by body
+            u_.resize(nrows * 12);
+            // S's entries, body by body: the active rows on it, u = H^-1 B' each, J_i . u_j
+            // (symmetric where both rows' B is their J)
             bool fail = false;
             for (int b = 0; b < ngroups && !fail; ++b) {
-                const std::vector<int>& on = body_rows_[b];
-                for (int i : on) {
-                    const Row& ri = rows_[i];
-                    if (ri.state != kActive) continue;
-                    const int si = ri.body[0] == b ? 0 : 1;
-                    const int gi = ri.group;
-                    for (int j : on) {
-                        const Row& rj = rows_[j];
-                        if (rj.state != kActive) continue;
-                        const int sj = rj.body[0] == b ? 0 : 1;
-                        const int gj = rj.group;
-                        const double v = dot6(ri.J[si], &u_[12 * j + 6 * sj]);
-                        if (gi == gj) {
-                            D_[d_off_[gi] + ri.local * n_[gi] + rj.local] += v;
-                        } else if (gi == gj + 1) {
-                            L_[l_off_[gi] + ri.local * n_[gj] + rj.local] += v;
-                        } else if (gj == gi + 1) {
-                            U_[l_off_[gj] + ri.local * n_[gj] + rj.local] += v;
-                        } else {
-                            fail = true;
-                        }
+                const Body& body = bodies_[b];
+                on_.clear();
+                for (int i : body_rows_[b]) {
+                    Row& r = rows_[i];
+                    if (r.state != kActive) continue;
+                    const int side = r.body[0] == b ? 0 : 1;
+                    On o;
+                    o.J = r.J[side];
+                    o.plain = r.plainB;
+                    const double* B = o.plain ? o.J : r.B[side];
+                    for (int p = 0; p < 6; ++p)
+                        o.u[p] = dot6(&body.Hinv[6 * p], B);
+                    o.row = i;
+                    o.side = side;
+                    o.group = r.group;
+                    o.local = r.local;
+                    on_.push_back(o);
+                }
+                const int m = static_cast<int>(on_.size());
+                for (int x = 0; x < m; ++x) {
+                    const On& oi = on_[x];
+                    for (int y = 0; y < m; ++y) {
+                        const On& oj = on_[y];
+                        if (y < x && oi.plain && oj.plain) continue;  // added with (y, x)
+                        const double v = dot6(oi.J, oj.u);
+                        if (!add_entry(oi, oj, v)) fail = true;
+                        if (y != x && oi.plain && oj.plain && !add_entry(oj, oi, v)) fail = true;
                     }
+                }
+                for (const On& o : on_) {
+                    double* u = &u_[12 * static_cast<size_t>(o.row) + 6 * o.side];
+                    for (int p = 0; p < 6; ++p)
+                        u[p] = o.u[p];
                 }
             }
             if (fail) {
                 ++stats.fallbacks;
                 break;
             }
+            lap(3);
             // diagonal terms and right side
             for (int g = 0; g < ngroups; ++g) {
                 for (int i : group_active_[g]) {
@@ -753,6 +801,7 @@ class NewtonStep {
                     x[i] -= s;
                 }
             }
+            lap(4);
             // dlambda of the active rows, dv, the others' dlambda
             for (int g = 0; g < ngroups; ++g)
                 for (int i : group_active_[g])
@@ -779,8 +828,9 @@ class NewtonStep {
                     const Row& rn = rows_[r.normal];
                     const double* dv = bodies_[r.body[0]].dv;
                     const double jd1 = dot6(r.J[0], dv), jd2 = dot6(r2.J[0], dv);
-                    r.dl = r.cvec[0] - (r.E[0] * jd1 + r.E[1] * jd2) + r.s[0] * rn.dl;
-                    r2.dl = r.cvec[1] - (r.E[1] * jd1 + r.E[2] * jd2) + r.s[1] * rn.dl;
+                    const double ej = r.e * (r.perp[0] * jd1 + r.perp[1] * jd2);
+                    r.dl = r.cvec[0] - ej * r.perp[0] + r.s[0] * rn.dl;
+                    r2.dl = r.cvec[1] - ej * r.perp[1] + r.s[1] * rn.dl;
                 }
             }
             // the bodies' change M^-1 J' dlambda and the rows' dw
@@ -806,6 +856,7 @@ class NewtonStep {
                 ++stats.failed;
                 break;
             }
+            lap(5);
             // line search on |F|
             const double f2 = f * f;
             double alpha = 1;
@@ -818,6 +869,7 @@ class NewtonStep {
                 alpha *= 0.5;
             }
             ++stats.steps;
+            lap(6);
             if (!accepted) {
                 ++stats.failed;
                 break;
