@@ -54,7 +54,8 @@ namespace gaitlab {
 struct NewtonSettings {
     int steps = 0;
     double r = 10;
-    double reg = 1e-8;
+    double reg = 1e-8;        // contact rows
+    double joint_reg = 1e-8;  // joint rows (GAITLAB_NEWTON_JREG)
     bool timing = false;
     bool phases = false;  // GAITLAB_NEWTON_TIME=2: also the time of each part
 };
@@ -65,6 +66,7 @@ inline const NewtonSettings& newton_settings() {
         if (const char* e = std::getenv("GAITLAB_NEWTON")) s.steps = std::atoi(e);
         if (const char* e = std::getenv("GAITLAB_NEWTON_R")) s.r = std::atof(e);
         if (const char* e = std::getenv("GAITLAB_NEWTON_REG")) s.reg = std::atof(e);
+        if (const char* e = std::getenv("GAITLAB_NEWTON_JREG")) s.joint_reg = std::atof(e);
         if (const char* e = std::getenv("GAITLAB_NEWTON_TIME")) {
             s.timing = std::atoi(e) != 0;
             s.phases = std::atoi(e) == 2;
@@ -81,6 +83,9 @@ struct NewtonStats {
     double rows = 0, active = 0, sliding = 0, max_group = 0;
     // GAITLAB_NEWTON_TIME=2: set-up, F and states, H^-1, S, block LU, recovery, line search
     double phase[7] = {0, 0, 0, 0, 0, 0, 0};
+    // GAITLAB_NEWTON_TIME=2: |F|^2 by rows (joints' equality, joints' bounded, normals,
+    // sticking pairs, sliding pairs), summed over solves, before the steps and after
+    double part_before[5] = {0, 0, 0, 0, 0}, part_after[5] = {0, 0, 0, 0, 0};
     ~NewtonStats() {
         if (!newton_settings().timing || calls == 0) return;
         if (newton_settings().phases)
@@ -88,6 +93,15 @@ struct NewtonStats {
                          "newton parts (s): set-up %.3f, F %.3f, H^-1 %.3f, S %.3f, LU %.3f, "
                          "recovery %.3f, line search %.3f\n",
                          phase[0], phase[1], phase[2], phase[3], phase[4], phase[5], phase[6]);
+        if (newton_settings().phases)
+            std::fprintf(stderr,
+                         "newton |F|^2 by rows, mean per solve, before -> after: joints "
+                         "%.3g -> %.3g, bounded joints %.3g -> %.3g, normals %.3g -> %.3g, "
+                         "sticking %.3g -> %.3g, sliding %.3g -> %.3g\n",
+                         part_before[0] / calls, part_after[0] / calls, part_before[1] / calls,
+                         part_after[1] / calls, part_before[2] / calls, part_after[2] / calls,
+                         part_before[3] / calls, part_after[3] / calls, part_before[4] / calls,
+                         part_after[4] / calls);
         std::fprintf(stderr,
                      "newton: %.3f s in %ld solves (%.1f us each), %ld fallbacks; steps %ld: full "
                      "%ld, shortened %ld, no decrease %ld; mean |F| %.3g before, %.3g after; "
@@ -166,6 +180,7 @@ class NewtonStep {
     };
 
     std::vector<Row> rows_;
+    int contact_rows_ = 0;  // rows_ holds the contacts' rows first, then the joints'
     std::vector<Body> bodies_;
     std::vector<int> slot_;                 // solver body -> body slot (-1: not moving)
     std::vector<int> order_;                // bodies along the chains
@@ -311,7 +326,7 @@ class NewtonStep {
             r1.r = r2.r = rt;
             rn.r = settings.r * n.m_jacDiagABInv;
         }
-        const size_t contact_rows = rows_.size();
+        contact_rows_ = static_cast<int>(rows_.size());
         for (int k = 0; k < joints.size(); ++k) {
             const size_t before = rows_.size();
             if (!add_row(joints[k], kClamp, pool)) return false;
@@ -372,7 +387,6 @@ class NewtonStep {
                     return false;
                 }
             }
-            (void)contact_rows;
             r.group = g;
             group_rows_[g].push_back(static_cast<int>(i));
             for (int k = 0; k < r.nb; ++k)
@@ -411,7 +425,7 @@ class NewtonStep {
     }
 
     // |F|^2 at lambda + alpha dl, w + alpha dw
-    double merit(double alpha) const {
+    double merit(double alpha, double* parts = nullptr) const {
         double sum = 0;
         const size_t n = rows_.size();
         for (size_t i = 0; i < n; ++i) {
@@ -421,6 +435,12 @@ class NewtonStep {
                 const double x = l - r.r * w;
                 const double p = x < r.lo ? r.lo : (x > r.hi ? r.hi : x);
                 sum += (l - p) * (l - p);
+                if (parts) {
+                    const int k = static_cast<int>(i) < contact_rows_ ? 2
+                                  : r.lo < -1e30                       ? 0
+                                                                       : 1;
+                    parts[k] += (l - p) * (l - p);
+                }
             } else if (r.kind == kFriction1) {
                 const Row& r2 = rows_[i + 1];
                 const Row& rn = rows_[r.normal];
@@ -435,6 +455,7 @@ class NewtonStep {
                     x2 *= k;
                 }
                 sum += (l - x1) * (l - x1) + (l2 - x2) * (l2 - x2);
+                if (parts) parts[len > rho ? 4 : 3] += (l - x1) * (l - x1) + (l2 - x2) * (l2 - x2);
             }
         }
         return sum;
@@ -596,7 +617,10 @@ class NewtonStep {
                 }
             }
             const double f = std::sqrt(merit(0));
-            if (f0 < 0) f0 = f;
+            if (f0 < 0) {
+                f0 = f;
+                if (settings.phases) merit(0, stats.part_before);
+            }
             f_last = f;
             if (!(f > 1e-14)) break;
             lap(1);
@@ -752,7 +776,9 @@ class NewtonStep {
                     const Row& r = rows_[i];
                     double& d = D_[d_off_[g] + r.local * n_[g] + r.local];
                     d += r.cfm;
-                    d += settings.reg * std::fabs(d);
+                    // contact rows can be redundant (a box's four corners sticking); a chain's
+                    // joint rows are not
+                    d += (i < contact_rows_ ? settings.reg : settings.joint_reg) * std::fabs(d);
                     double v = -r.w;
                     for (int k = 0; k < r.nb; ++k)
                         v -= dot6(r.J[k], bodies_[r.body[k]].h);
@@ -887,12 +913,13 @@ class NewtonStep {
             changed = true;
             f_last = -1;
         }
-        if (f_last < 0) {
+        if (f_last < 0 || settings.phases) {
             for (Row& r : rows_)
                 r.w = velocity(r) + r.cfm * r.lambda;
             for (Row& r : rows_)
                 r.dl = r.dw = 0;
             f_last = std::sqrt(merit(0));
+            if (settings.phases) merit(0, stats.part_after);
         }
         stats.f_before += f0 > 0 ? f0 : 0;
         stats.f_after += f_last;
