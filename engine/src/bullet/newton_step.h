@@ -3,7 +3,10 @@
 // problem, solved sparse. Selected by the environment only, read once: GAITLAB_NEWTON=K (Newton
 // steps per solver step; unset or 0: off, and nothing here runs), GAITLAB_NEWTON_R (r's factor,
 // r = factor / K_ii; default 10), GAITLAB_NEWTON_REG (the regulariser of S's diagonal, relative;
-// default 1e-8), GAITLAB_NEWTON_TIME=1 (prints the time spent here and counters at exit).
+// default 1e-8), GAITLAB_NEWTON_FCFM (the friction rows' compliance in the Newton problem,
+// relative to their diagonal; default 1e-2; 0: none), GAITLAB_NEWTON_TIME=1 (prints the time
+// spent here and counters at exit; 2: also the parts' times and |F| by rows),
+// GAITLAB_NEWTON_CHECK=1 (each step against the linear model, F(l + e dl) = (1 - e) F(l)).
 //
 // The problem, in the rows' impulses lambda: every row's velocity error w = J v - target +
 // cfm lambda, v = v0 + M^-1 J' lambda (the solver bodies' delta velocities), and the natural
@@ -56,8 +59,12 @@ struct NewtonSettings {
     double r = 10;
     double reg = 1e-8;        // contact rows
     double joint_reg = 1e-8;  // joint rows (GAITLAB_NEWTON_JREG)
+    // friction rows' compliance, relative to their diagonal K_ii, in F and in the Newton
+    // system alike (GAITLAB_NEWTON_FCFM): makes redundant sticking contacts' S regular
+    double fcfm = 1e-2;
     bool timing = false;
     bool phases = false;  // GAITLAB_NEWTON_TIME=2: also the time of each part
+    bool check = false;   // GAITLAB_NEWTON_CHECK=1: the step against F's directional derivative
 };
 
 inline const NewtonSettings& newton_settings() {
@@ -66,7 +73,9 @@ inline const NewtonSettings& newton_settings() {
         if (const char* e = std::getenv("GAITLAB_NEWTON")) s.steps = std::atoi(e);
         if (const char* e = std::getenv("GAITLAB_NEWTON_R")) s.r = std::atof(e);
         if (const char* e = std::getenv("GAITLAB_NEWTON_REG")) s.reg = std::atof(e);
+        if (const char* e = std::getenv("GAITLAB_NEWTON_CHECK")) s.check = std::atoi(e) != 0;
         if (const char* e = std::getenv("GAITLAB_NEWTON_JREG")) s.joint_reg = std::atof(e);
+        if (const char* e = std::getenv("GAITLAB_NEWTON_FCFM")) s.fcfm = std::atof(e);
         if (const char* e = std::getenv("GAITLAB_NEWTON_TIME")) {
             s.timing = std::atoi(e) != 0;
             s.phases = std::atoi(e) == 2;
@@ -86,6 +95,10 @@ struct NewtonStats {
     // GAITLAB_NEWTON_TIME=2: |F|^2 by rows (joints' equality, joints' bounded, normals,
     // sticking pairs, sliding pairs), summed over solves, before the steps and after
     double part_before[5] = {0, 0, 0, 0, 0}, part_after[5] = {0, 0, 0, 0, 0};
+    // GAITLAB_NEWTON_CHECK: per step, |F(l + e dl) - (1 - e) F(l)| / (e |F(l)|), e = 1e-6
+    // (0 where the linear model G dl = -F holds), its median-free mean and count
+    double check_sum = 0, check_max = 0;
+    long check_count = 0, check_small = 0;
     ~NewtonStats() {
         if (!newton_settings().timing || calls == 0) return;
         if (newton_settings().phases)
@@ -93,6 +106,12 @@ struct NewtonStats {
                          "newton parts (s): set-up %.3f, F %.3f, H^-1 %.3f, S %.3f, LU %.3f, "
                          "recovery %.3f, line search %.3f\n",
                          phase[0], phase[1], phase[2], phase[3], phase[4], phase[5], phase[6]);
+        if (newton_settings().check && check_count > 0)
+            std::fprintf(stderr,
+                         "newton check: |F(l + e dl) - (1 - e) F(l)| / (e |F|) over %ld steps: "
+                         "mean %.3g, largest %.3g, below 1e-3 in %.1f %%\n",
+                         check_count, check_sum / check_count, check_max,
+                         100.0 * check_small / check_count);
         if (newton_settings().phases)
             std::fprintf(stderr,
                          "newton |F|^2 by rows, mean per solve, before -> after: joints "
@@ -201,6 +220,7 @@ class NewtonStep {
         bool plain;
     };
     std::vector<On> on_;
+    std::vector<double> check0_, check1_;  // GAITLAB_NEWTON_CHECK
 
     // S(i, j) into its block; false where the rows' groups are not neighbours
     bool add_entry(const On& i, const On& j, double v) {
@@ -285,7 +305,7 @@ class NewtonStep {
         if (r.nb == 0) return true;  // on fixed bodies only: nothing to do (not added)
         if (!(c.m_jacDiagABInv > 0)) return kind == kClamp;  // a degenerate joint row: held
         const double jd = c.m_jacDiagABInv;
-        r.cfm = kind == kClamp ? c.m_cfm / jd : 0;
+        r.cfm = kind == kClamp ? c.m_cfm / jd : 0;  // a friction pair's: set by setup
         r.c0 = -c.m_rhs / jd;
         r.lo = c.m_lowerLimit;
         r.hi = c.m_upperLimit;
@@ -324,6 +344,10 @@ class NewtonStep {
             const double rt =
                 settings.r * 2 / (1 / f1.m_jacDiagABInv + 1 / f2.m_jacDiagABInv);
             r1.r = r2.r = rt;
+            // the friction pair's compliance (0: none, as the solver's own rows): the same
+            // for both rows, a fraction of their mean diagonal
+            r1.cfm = r2.cfm =
+                settings.fcfm * (1 / f1.m_jacDiagABInv + 1 / f2.m_jacDiagABInv) / 2;
             rn.r = settings.r * n.m_jacDiagABInv;
         }
         contact_rows_ = static_cast<int>(rows_.size());
@@ -459,6 +483,35 @@ class NewtonStep {
             }
         }
         return sum;
+    }
+
+    // F at lambda + alpha dl, w + alpha dw, row by row (GAITLAB_NEWTON_CHECK)
+    void residual(double alpha, std::vector<double>& out) const {
+        const size_t n = rows_.size();
+        out.assign(n, 0);
+        for (size_t i = 0; i < n; ++i) {
+            const Row& r = rows_[i];
+            const double l = r.lambda + alpha * r.dl, w = r.w + alpha * r.dw;
+            if (r.kind == kClamp) {
+                const double x = l - r.r * w;
+                out[i] = l - (x < r.lo ? r.lo : (x > r.hi ? r.hi : x));
+            } else if (r.kind == kFriction1) {
+                const Row& r2 = rows_[i + 1];
+                const Row& rn = rows_[r.normal];
+                const double ln = rn.lambda + alpha * rn.dl;
+                const double rho = ln > 0 ? ln * r.c->m_friction : 0;
+                const double l2 = r2.lambda + alpha * r2.dl, w2 = r2.w + alpha * r2.dw;
+                double x1 = l - r.r * w, x2 = l2 - r.r * w2;
+                const double len = std::sqrt(x1 * x1 + x2 * x2);
+                if (len > rho) {
+                    const double k = len > 0 ? rho / len : 0;
+                    x1 *= k;
+                    x2 *= k;
+                }
+                out[i] = l - x1;
+                out[i + 1] = l2 - x2;
+            }
+        }
     }
 
     // dense LU with partial pivoting of an n x n row-major block, in place
@@ -598,8 +651,11 @@ class NewtonStep {
                         const double a = rho / len, h1 = x1 / len, h2 = x2 / len;
                         // P = a (I - h h'); F = lambda - rho h
                         const double F1 = r.lambda - rho * h1, F2 = r2.lambda - rho * h2;
-                        // (I - P)^-1 = h h' + (I - h h') / (1 - a)
-                        const double q = 1 / (1 - a);
+                        // with the pair's compliance g (cfm, GAITLAB_NEWTON_FCFM) dx = (1 - r g)
+                        // dlambda - r J dv, so A = I - (1 - r g) P takes I - P's place:
+                        // A^-1 = h h' + (I - h h') / (1 - (1 - r g) a), E = r a / (1 - (1 - r g) a)
+                        // (I - h h'), c = A^-1 (-F); A^-1 s = s
+                        const double q = 1 / (1 - (1 - r.r * r.cfm) * a);
                         const double p11 = 1 - h1 * h1, p12 = -h1 * h2, p22 = 1 - h2 * h2;
                         const double i11 = h1 * h1 + q * p11, i12 = h1 * h2 + q * p12,
                                      i22 = h2 * h2 + q * p22;
@@ -883,6 +939,21 @@ class NewtonStep {
                 break;
             }
             lap(5);
+            if (settings.check) {
+                static const double e = std::getenv("GAITLAB_NEWTON_CHECK_EPS") ? std::atof(std::getenv("GAITLAB_NEWTON_CHECK_EPS")) : 1e-6;
+                residual(0, check0_);
+                residual(e, check1_);
+                double d2 = 0;
+                for (size_t i = 0; i < nrows; ++i) {
+                    const double d = check1_[i] - (1 - e) * check0_[i];
+                    d2 += d * d;
+                }
+                const double ratio = std::sqrt(d2) / (e * f);
+                stats.check_sum += ratio;
+                stats.check_max = std::max(stats.check_max, ratio);
+                ++stats.check_count;
+                if (ratio < 1e-3) ++stats.check_small;
+            }
             // line search on |F|
             const double f2 = f * f;
             double alpha = 1;
