@@ -62,6 +62,9 @@ struct NewtonSettings {
     // friction rows' compliance, relative to their diagonal K_ii, in F and in the Newton
     // system alike (GAITLAB_NEWTON_FCFM): makes redundant sticking contacts' S regular
     double fcfm = 1e-2;
+    // the line search's measure: 0 |F|^2, 1 sum F_i^2 / r_i (each row's r w^2: its velocity
+    // error weighted by 1 / K_ii, the rows' errors in one energy-like unit)
+    int merit = 0;
     bool timing = false;
     bool phases = false;  // GAITLAB_NEWTON_TIME=2: also the time of each part
     bool check = false;   // GAITLAB_NEWTON_CHECK=1: the step against F's directional derivative
@@ -76,6 +79,7 @@ inline const NewtonSettings& newton_settings() {
         if (const char* e = std::getenv("GAITLAB_NEWTON_CHECK")) s.check = std::atoi(e) != 0;
         if (const char* e = std::getenv("GAITLAB_NEWTON_JREG")) s.joint_reg = std::atof(e);
         if (const char* e = std::getenv("GAITLAB_NEWTON_FCFM")) s.fcfm = std::atof(e);
+        if (const char* e = std::getenv("GAITLAB_NEWTON_MERIT")) s.merit = std::atoi(e);
         if (const char* e = std::getenv("GAITLAB_NEWTON_TIME")) {
             s.timing = std::atoi(e) != 0;
             s.phases = std::atoi(e) == 2;
@@ -172,6 +176,7 @@ class NewtonStep {
         double J[2][6];   // per body: linear, angular
         double B[2][6];   // this step's B (J, or a pressed normal's J_n + s' J_t)
         double lo, hi, cfm, c0, r;
+        double mw;        // the row's weight in the line search's |F|^2 (GAITLAB_NEWTON_MERIT)
         int normal;       // friction rows: their normal's row; a normal: its friction's first
         int group;
         // per Newton step
@@ -392,6 +397,8 @@ class NewtonStep {
             }
         }
         if (static_cast<int>(order_.size()) != nbodies) return false;  // a loop
+        for (Row& r : rows_)
+            r.mw = settings.merit == 1 ? 1 / r.r : 1;
         group_rows_.resize(static_cast<size_t>(nbodies));
         body_rows_.resize(static_cast<size_t>(nbodies));
         for (int g = 0; g < nbodies; ++g) {
@@ -458,7 +465,7 @@ class NewtonStep {
             if (r.kind == kClamp) {
                 const double x = l - r.r * w;
                 const double p = x < r.lo ? r.lo : (x > r.hi ? r.hi : x);
-                sum += (l - p) * (l - p);
+                sum += r.mw * (l - p) * (l - p);
                 if (parts) {
                     const int k = static_cast<int>(i) < contact_rows_ ? 2
                                   : r.lo < -1e30                       ? 0
@@ -478,7 +485,7 @@ class NewtonStep {
                     x1 *= k;
                     x2 *= k;
                 }
-                sum += (l - x1) * (l - x1) + (l2 - x2) * (l2 - x2);
+                sum += r.mw * ((l - x1) * (l - x1) + (l2 - x2) * (l2 - x2));
                 if (parts) parts[len > rho ? 4 : 3] += (l - x1) * (l - x1) + (l2 - x2) * (l2 - x2);
             }
         }
