@@ -112,7 +112,8 @@ std::vector<std::string> missing_folders(const std::string& dir) {
 bool same_options(const SimulationOptions& a, const SimulationOptions& b) {
     return a.dt == b.dt && a.control_every == b.control_every &&
            a.solver_iterations == b.solver_iterations && a.seed == b.seed &&
-           a.on_controller_error == b.on_controller_error && a.solver == b.solver;
+           a.on_controller_error == b.on_controller_error && a.solver == b.solver &&
+           a.newton_steps == b.newton_steps;
 }
 
 }  // namespace
@@ -308,7 +309,7 @@ void Recordings::begin_replay(lua_State* L, SimulationHandle& h, const std::stri
     if (!same_options(h.sim->options(), p.expect)) {
         p.mismatch =
             "the replayed simulation has other options (dt, control_every, "
-            "solver_iterations, solver, seed or on_controller_error) than the run";
+            "solver_iterations, solver, newton_steps, seed or on_controller_error) than the run";
     }
     RecordOptions o = p.options;
     o.dir = p.into;

@@ -228,7 +228,7 @@ int simulation_new(lua_State* L) {
     return protect(L, [&] {
         Fields f(L, 2, 1,
                  {"world", "name", "duration", "dt", "control_every", "record", "seed",
-                  "solver_iterations", "solver", "on_controller_error"});
+                  "solver_iterations", "solver", "newton_steps", "on_controller_error"});
         // name and duration: what sim:save writes (a simulation file's name and duration)
         SimulationFile file;
         file.name = f.string("name", file.name);
@@ -252,10 +252,17 @@ int simulation_new(lua_State* L) {
         // counts are checked before they become ints: 2^32 + 30 must not become 30
         const long long every = f.integer("control_every", o.control_every);
         const long long iterations = f.integer("solver_iterations", o.solver_iterations);
+        // a count, not text: Lua would turn '4' into 4
+        if (f.push("newton_steps") == LUA_TSTRING) {
+            f.fail("newton_steps", "integer expected, got string");
+        }
+        lua_pop(L, 1);
+        const long long newton = f.integer("newton_steps", o.newton_steps);
         try {
             o.control_every = checked_int("control_every", every, 1, kMaxControlEvery);
             o.solver_iterations =
                 checked_int("solver_iterations", iterations, 1, kMaxSolverIterations);
+            o.newton_steps = checked_int("newton_steps", newton, 0, kMaxNewtonSteps);
             // as a simulation file's duration: a run of round(duration / dt) ticks must fit
             if (f.has("duration")) checked_ticks("duration", file.duration, o.dt);
         } catch (const SpecError& e) {
@@ -877,6 +884,8 @@ int simulation_index(lua_State* L) {
             lua_pushstring(L, to_string(sim.options().on_controller_error));
         } else if (k == "solver") {
             lua_pushstring(L, to_string(sim.options().solver));
+        } else if (k == "newton_steps") {
+            lua_pushinteger(L, sim.options().newton_steps);
         } else if (k == "warnings") {
             const std::vector<std::string>& w = sim.warnings();
             lua_createtable(L, static_cast<int>(w.size()), 0);

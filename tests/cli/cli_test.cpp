@@ -699,9 +699,10 @@ TEST_CASE("a run of the block_nncg solver replays with it, and not with pgs", "[
     write_text(tmp / "run/run.json", meta.substr(0, at) + "\"pgs\"" + meta.substr(at + 12));
     const Run d = cli({"replay", tmp / "run", "--into", tmp / "other"});
     CHECK(d.status == 1);
-    CHECK_THAT(d.err, Catch::StartsWith("gaitlab: replay differs: the replayed simulation has "
-                                        "other options (dt, control_every, solver_iterations, "
-                                        "solver, seed or on_controller_error) than the run"));
+    CHECK_THAT(d.err, Catch::StartsWith(
+                          "gaitlab: replay differs: the replayed simulation has "
+                          "other options (dt, control_every, solver_iterations, "
+                          "solver, newton_steps, seed or on_controller_error) than the run"));
 }
 
 TEST_CASE("a run killed with SIGKILL leaves a readable folder missing at most one flush period",

@@ -45,6 +45,18 @@ TEST_CASE("simulation rejects bad options with Lua-worded messages", "[wrap_simu
           bad + "solver_iterations must be in [1, 10000] (got 0))");
     CHECK(lua.error_of("gaitlab.simulation{ world = w, solver = 'fast' }") ==
           bad + "field 'solver': 'pgs' or 'block_nncg' expected, got 'fast')");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, newton_steps = -1 }") ==
+          bad + "newton_steps must be in [0, 100] (got -1))");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, newton_steps = 101 }") ==
+          bad + "newton_steps must be in [0, 100] (got 101))");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, newton_steps = 2.5 }") ==
+          bad + "field 'newton_steps': integer expected, got a fractional number)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, newton_steps = '4' }") ==
+          bad + "field 'newton_steps': integer expected, got string)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, newton_steps = 4, solver = 'pgs' }") ==
+          bad +
+              "newton_steps = 4 needs solver = 'block_nncg' (got solver = 'pgs'; newton_steps "
+              "must be 0 with it))");
     CHECK(lua.error_of("gaitlab.simulation(w)") == bad + "table expected, got gaitlab.World)");
     // without a host that records by default, nothing records unless asked
     lua.run("s = gaitlab.simulation{ world = w, record = false }");
@@ -70,6 +82,10 @@ TEST_CASE("run and step advance time by whole ticks", "[wrap_simulation]") {
     CHECK(lua.string("sim.solver") == "block_nncg");
     lua.run("other = gaitlab.simulation{ world = world, solver = 'pgs' }");
     CHECK(lua.string("other.solver") == "pgs");
+    CHECK(lua.integer("sim.newton_steps") == 0);
+    lua.run("newton = gaitlab.simulation{ world = world, newton_steps = 4 }");
+    CHECK(lua.integer("newton.newton_steps") == 4);
+    CHECK(lua.error_of("newton.newton_steps = 2").find("newton_steps") != std::string::npos);
     lua.run("sim:run(1.5)");
     CHECK(lua.integer("sim.ticks") == 1500);
     CHECK(lua.number("sim.time") == Approx(1.5).margin(1e-12));

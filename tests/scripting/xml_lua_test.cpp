@@ -92,7 +92,7 @@ std::map<Key, Probe> probes() {
     add("environment", "place", {"robot"}, "w:place{ robot = BAD }");
     add("simulation", "simulation",
         {"name", "duration", "dt", "control_every", "solver_iterations", "seed",
-         "on_controller_error", "solver"},
+         "on_controller_error", "solver", "newton_steps"},
         "gaitlab.simulation{ world = w, $ = BAD }");
     // the files a simulation file names are the objects a script passes
     add("simulation", "environment", {"file"}, "gaitlab.simulation{ world = BAD }",
@@ -368,7 +368,7 @@ TEST_CASE("a simulation's settings are the same from XML and Lua", "[xml_lua]") 
     const std::string xml = R"(<?xml version="1.0"?>
 <gaitlab version="1">
   <simulation name="crawl" duration="3" dt="0.002" control_every="5" solver_iterations="30"
-              seed="42" on_controller_error="pause" solver="block_nncg">
+              seed="42" on_controller_error="pause" solver="block_nncg" newton_steps="4">
     <environment file="env.xml"/>
     <robot file="snake.xml" actuation="act.xml"/>
     <record enabled="false" dir="runs/crawl" every="10" flush_seconds="4"/>
@@ -386,7 +386,7 @@ r:actuate(gaitlab.actuation{ groups = {
   { joints = 'pitch', controller = { builtin = 'sine', params = { amplitude = 20 } } } } })
 sim = gaitlab.simulation{ world = w, name = 'crawl', duration = 3, dt = 0.002,
   control_every = 5, solver_iterations = 30, seed = 42, on_controller_error = 'pause',
-  solver = 'block_nncg', record = { enabled = false, dir = 'runs/crawl', every = 10, flush_seconds = 4 } }
+  solver = 'block_nncg', newton_steps = 4, record = { enabled = false, dir = 'runs/crawl', every = 10, flush_seconds = 4 } }
 assert(sim.name == 'crawl' and sim.duration == 3)
 assert(sim:save(OUT))
 )";
@@ -402,6 +402,8 @@ assert(sim:save(OUT))
     CHECK(from_lua.options.on_controller_error == from_xml.options.on_controller_error);
     CHECK(from_xml.options.solver == gaitlab::ConstraintSolver::block_nncg);
     CHECK(from_lua.options.solver == from_xml.options.solver);
+    CHECK(from_xml.options.newton_steps == 4);
+    CHECK(from_lua.options.newton_steps == from_xml.options.newton_steps);
     CHECK(from_lua.record.enabled == from_xml.record.enabled);
     CHECK(from_lua.record.dir == from_xml.record.dir);
     CHECK(from_lua.record.every == from_xml.record.every);

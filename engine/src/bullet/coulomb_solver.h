@@ -101,6 +101,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     void set_friction_model(FrictionModel m) { model_ = m; }
     /// The iteration (above); the engine's default is SolverMethod::pgs.
     void set_method(SolverMethod m) { method_ = m; }
+    /// Newton steps after block_nncg's iterations (SimulationOptions::newton_steps; 0: none)
+    void set_newton_steps(int steps) { newton_steps_ = steps; }
     /// A test hook (tests/engine/bullet/coulomb_solver_test.cpp), not part of any API: forces
     /// the block methods' path (BlockPath above) where the structure allows it. band_generic
     /// takes the generic loops on a chain that would take the fast ones (elsewhere the
@@ -168,22 +170,23 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         return residual;
     }
 
-    // the iterations, then (an experiment, newton_step.h: GAITLAB_NEWTON=K) K Newton steps on
-    // the whole step's problem after block_nncg's sweeps; off, exactly Bullet's
+    // the iterations, then (newton_steps_ > 0, block_nncg, newton_step.h) that many Newton steps
+    // on the whole step's problem after block_nncg's sweeps; without them exactly Bullet's
     btScalar solveGroupCacheFriendlyIterations(btCollisionObject** bodies, int body_count,
-                                               btPersistentManifold** manifolds,
-                                               int manifold_count, btTypedConstraint** constraints,
+                                               btPersistentManifold** manifolds, int manifold_count,
+                                               btTypedConstraint** constraints,
                                                int constraint_count,
                                                const btContactSolverInfo& info,
                                                btIDebugDraw* draw) override {
-        const btScalar residual = btSequentialImpulseConstraintSolver::
-            solveGroupCacheFriendlyIterations(bodies, body_count, manifolds, manifold_count,
-                                              constraints, constraint_count, info, draw);
-        const NewtonSettings& newton = newton_settings();
-        if (newton.steps > 0 && method_ == SolverMethod::block_nncg &&
+        const btScalar residual =
+            btSequentialImpulseConstraintSolver::solveGroupCacheFriendlyIterations(
+                bodies, body_count, manifolds, manifold_count, constraints, constraint_count, info,
+                draw);
+        if (newton_steps_ > 0 && method_ == SolverMethod::block_nncg &&
             model_ == FrictionModel::disk && old_style_.empty()) {
             newton_.run(m_tmpSolverNonContactConstraintPool, m_tmpSolverContactConstraintPool,
-                        m_tmpSolverContactFrictionConstraintPool, m_tmpSolverBodyPool, newton);
+                        m_tmpSolverContactFrictionConstraintPool, m_tmpSolverBodyPool,
+                        newton_steps_);
         }
         return residual;
     }
@@ -970,7 +973,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     };
     std::vector<Written> written_;
     std::vector<btTypedConstraint*> sorted_constraints_;
-    NewtonStep newton_;  // the experiment above (newton_step.h)
+    int newton_steps_ = 0;
+    NewtonStep newton_;  // its work space (newton_step.h)
 
     void convert(btPersistentManifold& manifold, const btContactSolverInfo& info) {
         // Bullet's solver takes non-const bodies; it changes only their solver data

@@ -1,12 +1,9 @@
-// An experiment (branch `newton`, docs/performance.md "Long chains bent in two planes"): after
-// CoulombSolver's block_nncg iterations, K semi-smooth Newton steps on the whole step's contact
-// problem, solved sparse. Selected by the environment only, read once: GAITLAB_NEWTON=K (Newton
-// steps per solver step; unset or 0: off, and nothing here runs), GAITLAB_NEWTON_R (r's factor,
-// r = factor / K_ii; default 10), GAITLAB_NEWTON_REG (the regulariser of S's diagonal, relative;
-// default 1e-8), GAITLAB_NEWTON_FCFM (the friction rows' compliance in the Newton problem,
-// relative to their diagonal; default 1e-2; 0: none), GAITLAB_NEWTON_TIME=1 (prints the time
-// spent here and counters at exit; 2: also the parts' times and |F| by rows),
-// GAITLAB_NEWTON_CHECK=1 (each step against the linear model, F(l + e dl) = (1 - e) F(l)).
+// The Newton step of SimulationOptions::newton_steps (block_nncg only; docs/architecture.md,
+// "Physics formulation"): after CoulombSolver's block_nncg iterations, K semi-smooth Newton steps
+// on the whole step's contact problem, solved sparse. K = 0: nothing here runs. On the 32-module
+// pitch-yaw rolling chain (friction 0.3) 4 steps at 20 iterations move 83.5 mm per cycle against
+// 84.6 at 80 iterations (block_nncg alone: 70.6 against 80.8), at 2.0x the default step's CPU
+// time where 80 iterations cost 3.0x (docs/performance.md, "Long chains bent in two planes").
 //
 // The problem, in the rows' impulses lambda: every row's velocity error w = J v - target +
 // cfm lambda, v = v0 + M^-1 J' lambda (the solver bodies' delta velocities), and the natural
@@ -39,152 +36,66 @@
 // and the bodies' delta velocities written back as CoulombSolver::apply keeps them.
 // Handled: bodies that take impulses with factors 1; contacts each on one moving body (the
 // static floor); joints' rows between consecutive bodies of chains (or on one body). Anything
-// else: nothing is done (plain block_nncg), counted as a fallback.
+// else (two robots touching, a robot touching itself, a loop, a body with locked axes): nothing
+// is done, the step is plain block_nncg's.
 #pragma once
 
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
-#include <ctime>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <utility>
 #include <vector>
 
 namespace gaitlab {
 
-struct NewtonSettings {
-    int steps = 0;
-    double r = 10;
-    double reg = 1e-8;        // contact rows
-    double joint_reg = 1e-8;  // joint rows (GAITLAB_NEWTON_JREG)
-    // friction rows' compliance, relative to their diagonal K_ii, in F and in the Newton
-    // system alike (GAITLAB_NEWTON_FCFM): makes redundant sticking contacts' S regular
-    double fcfm = 1e-2;
-    // the line search's measure: 0 |F|^2, 1 sum F_i^2 / r_i (each row's r w^2: its velocity
-    // error weighted by 1 / K_ii, the rows' errors in one energy-like unit)
-    int merit = 0;
-    bool timing = false;
-    bool phases = false;  // GAITLAB_NEWTON_TIME=2: also the time of each part
-    bool check = false;   // GAITLAB_NEWTON_CHECK=1: the step against F's directional derivative
-};
-
-inline const NewtonSettings& newton_settings() {
-    static const NewtonSettings settings = [] {
-        NewtonSettings s;
-        if (const char* e = std::getenv("GAITLAB_NEWTON")) s.steps = std::atoi(e);
-        if (const char* e = std::getenv("GAITLAB_NEWTON_R")) s.r = std::atof(e);
-        if (const char* e = std::getenv("GAITLAB_NEWTON_REG")) s.reg = std::atof(e);
-        if (const char* e = std::getenv("GAITLAB_NEWTON_CHECK")) s.check = std::atoi(e) != 0;
-        if (const char* e = std::getenv("GAITLAB_NEWTON_JREG")) s.joint_reg = std::atof(e);
-        if (const char* e = std::getenv("GAITLAB_NEWTON_FCFM")) s.fcfm = std::atof(e);
-        if (const char* e = std::getenv("GAITLAB_NEWTON_MERIT")) s.merit = std::atoi(e);
-        if (const char* e = std::getenv("GAITLAB_NEWTON_TIME")) {
-            s.timing = std::atoi(e) != 0;
-            s.phases = std::atoi(e) == 2;
-        }
-        return s;
-    }();
-    return settings;
-}
-
-struct NewtonStats {
-    double seconds = 0;
-    long calls = 0, fallbacks = 0, steps = 0, full = 0, partial = 0, failed = 0;
-    double f_before = 0, f_after = 0;  // sum over calls of |F| before and after
-    double rows = 0, active = 0, sliding = 0, max_group = 0;
-    // GAITLAB_NEWTON_TIME=2: set-up, F and states, H^-1, S, block LU, recovery, line search
-    double phase[7] = {0, 0, 0, 0, 0, 0, 0};
-    // GAITLAB_NEWTON_TIME=2: |F|^2 by rows (joints' equality, joints' bounded, normals,
-    // sticking pairs, sliding pairs), summed over solves, before the steps and after
-    double part_before[5] = {0, 0, 0, 0, 0}, part_after[5] = {0, 0, 0, 0, 0};
-    // GAITLAB_NEWTON_CHECK: per step, |F(l + e dl) - (1 - e) F(l)| / (e |F(l)|), e = 1e-6
-    // (0 where the linear model G dl = -F holds), its median-free mean and count
-    double check_sum = 0, check_max = 0;
-    long check_count = 0, check_small = 0;
-    ~NewtonStats() {
-        if (!newton_settings().timing || calls == 0) return;
-        if (newton_settings().phases)
-            std::fprintf(stderr,
-                         "newton parts (s): set-up %.3f, F %.3f, H^-1 %.3f, S %.3f, LU %.3f, "
-                         "recovery %.3f, line search %.3f\n",
-                         phase[0], phase[1], phase[2], phase[3], phase[4], phase[5], phase[6]);
-        if (newton_settings().check && check_count > 0)
-            std::fprintf(stderr,
-                         "newton check: |F(l + e dl) - (1 - e) F(l)| / (e |F|) over %ld steps: "
-                         "mean %.3g, largest %.3g, below 1e-3 in %.1f %%\n",
-                         check_count, check_sum / check_count, check_max,
-                         100.0 * check_small / check_count);
-        if (newton_settings().phases)
-            std::fprintf(stderr,
-                         "newton |F|^2 by rows, mean per solve, before -> after: joints "
-                         "%.3g -> %.3g, bounded joints %.3g -> %.3g, normals %.3g -> %.3g, "
-                         "sticking %.3g -> %.3g, sliding %.3g -> %.3g\n",
-                         part_before[0] / calls, part_after[0] / calls, part_before[1] / calls,
-                         part_after[1] / calls, part_before[2] / calls, part_after[2] / calls,
-                         part_before[3] / calls, part_after[3] / calls, part_before[4] / calls,
-                         part_after[4] / calls);
-        std::fprintf(stderr,
-                     "newton: %.3f s in %ld solves (%.1f us each), %ld fallbacks; steps %ld: full "
-                     "%ld, shortened %ld, no decrease %ld; mean |F| %.3g before, %.3g after; "
-                     "mean rows %.1f, active %.1f, sliding pairs %.1f; largest group %.0f\n",
-                     seconds, calls, 1e6 * seconds / calls, fallbacks, steps, full, partial,
-                     failed, f_before / calls, f_after / calls, rows / calls, active / calls,
-                     sliding / calls, max_group);
-    }
-};
-
-inline NewtonStats& newton_stats() {
-    static NewtonStats stats;
-    return stats;
-}
+// The constants of the Newton problem (the branch `newton`'s measurements):
+// r = kNewtonR / K_ii per row (a friction pair: over its mean diagonal). At r = 1 / K_ii the line
+// search took the full step 5-9 % of the time and two steps moved the 32-module chain 69.9 mm per
+// cycle (block_nncg alone: 70.6); at 10 / K_ii it takes it about 70 % of the time and the steps
+// reach the converged motion.
+inline constexpr double kNewtonR = 10;
+// Each friction pair's compliance, as a fraction of the pair's mean diagonal 1 / K_ii, in F and
+// in the Newton system alike: redundant sticking contacts (a module's corners all on the floor)
+// made S singular, and without it 64 % of the steps on the 8-module pitch-pitch chain found no
+// decrease of |F|. 1e-2 softens a pair by a hundredth of its own stiffness: enough to make S
+// regular, too little to change the measured speeds.
+inline constexpr double kNewtonFrictionCompliance = 1e-2;
+// S's diagonal is raised by this fraction of itself, contact and joint rows alike: it only keeps
+// the block LU's pivots off exact zeros where rows are still redundant (the compliance above is
+// what makes S regular), six orders below it so that it does not move the steps.
+inline constexpr double kNewtonRegulariser = 1e-8;
 
 class NewtonStep {
   public:
     // Runs the steps on the solver's pools; false where the structure is not handled (nothing
     // changed then)
     bool run(btConstraintArray& joints, btConstraintArray& normals, btConstraintArray& friction,
-             btAlignedObjectArray<btSolverBody>& pool, const NewtonSettings& settings) {
-        const double start = cpu_seconds();
-        NewtonStats& stats = newton_stats();
-        ++stats.calls;
-        const bool ok = setup(joints, normals, friction, pool, settings);
-        if (settings.phases) stats.phase[0] += cpu_seconds() - start;
-        if (!ok) {
-            ++stats.fallbacks;
-        } else {
-            solve(pool, settings);
-        }
-        stats.seconds += cpu_seconds() - start;
-        return ok;
+             btAlignedObjectArray<btSolverBody>& pool, int steps) {
+        if (!setup(joints, normals, friction, pool)) return false;
+        solve(pool, steps);
+        return true;
     }
 
   private:
-    static double cpu_seconds() {
-        timespec t;
-        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-        return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-    }
     enum Kind { kClamp, kFriction1, kFriction2 };
     enum State { kActive, kBound, kSliding };
     struct Row {
         btSolverConstraint* c;
         int kind;
-        int nb;           // moving bodies (1 or 2)
-        int body[2];      // body slots
-        double J[2][6];   // per body: linear, angular
-        double B[2][6];   // this step's B (J, or a pressed normal's J_n + s' J_t)
+        int nb;          // moving bodies (1 or 2)
+        int body[2];     // body slots
+        double J[2][6];  // per body: linear, angular
+        double B[2][6];  // this step's B (J, or a pressed normal's J_n + s' J_t)
         double lo, hi, cfm, c0, r;
-        double mw;        // the row's weight in the line search's |F|^2 (GAITLAB_NEWTON_MERIT)
-        int normal;       // friction rows: their normal's row; a normal: its friction's first
+        int normal;  // friction rows: their normal's row; a normal: its friction's first
         int group;
         // per Newton step
         double lambda, w, dl, dw;
         int state;
         double bound;
-        int local;        // place within its group's active rows (-1: not active)
-        bool plainB;      // B is J
+        int local;    // place within its group's active rows (-1: not active)
+        bool plainB;  // B is J
         // a sliding pair (on its first row): E, c, s
         double e, perp[2], cvec[2], s[2];
     };
@@ -192,40 +103,38 @@ class NewtonStep {
         int solver;
         double inv_mass, mass;
         double inv_inertia[9], inertia[9];
-        double V[6];       // delta velocities (linear, angular)
+        double V[6];  // delta velocities (linear, angular)
         double Hinv[36];
-        double h[6];       // H^-1 g
-        double dv[6];      // Newton's dv
-        double dV[6];      // M^-1 J' dlambda
-        int pos;           // place along all chains (= its group)
-        int next;          // the next body along its chain (-1: none)
+        double h[6];   // H^-1 g
+        double dv[6];  // Newton's dv
+        double dV[6];  // M^-1 J' dlambda
+        int pos;       // place along all chains (= its group)
+        int next;      // the next body along its chain (-1: none)
         int deg;
         int nbr[2];
     };
 
-    std::vector<Row> rows_;
-    int contact_rows_ = 0;  // rows_ holds the contacts' rows first, then the joints'
+    std::vector<Row> rows_;  // the contacts' rows first, then the joints'
     std::vector<Body> bodies_;
-    std::vector<int> slot_;                 // solver body -> body slot (-1: not moving)
-    std::vector<int> order_;                // bodies along the chains
+    std::vector<int> slot_;                     // solver body -> body slot (-1: not moving)
+    std::vector<int> order_;                    // bodies along the chains
     std::vector<std::vector<int>> group_rows_;  // rows of each group (contacts then joints)
     std::vector<std::vector<int>> body_rows_;   // rows on each body
     // per Newton step
     std::vector<std::vector<int>> group_active_;
-    std::vector<int> n_;                     // active rows per group
+    std::vector<int> n_;  // active rows per group
     std::vector<size_t> d_off_, l_off_, u_off_, x_off_, v_off_;
     std::vector<double> D_, L_, U_, X_, rhs_, z_;
     std::vector<int> piv_;
     std::vector<size_t> piv_off_;
-    std::vector<double> u_;                  // per (active row, side): H^-1 B'
-    struct On {  // an active row on a body, for S
+    std::vector<double> u_;  // per (active row, side): H^-1 B'
+    struct On {              // an active row on a body, for S
         const double* J;
         double u[6];
         int row, side, group, local;
         bool plain;
     };
     std::vector<On> on_;
-    std::vector<double> check0_, check1_;  // GAITLAB_NEWTON_CHECK
 
     // S(i, j) into its block; false where the rows' groups are not neighbours
     bool add_entry(const On& i, const On& j, double v) {
@@ -294,7 +203,8 @@ class NewtonStep {
         r.kind = kind;
         r.normal = -1;
         const int sa = slot_of(pool, c.m_solverBodyIdA);
-        const int sb = c.m_solverBodyIdB == c.m_solverBodyIdA ? -1 : slot_of(pool, c.m_solverBodyIdB);
+        const int sb =
+            c.m_solverBodyIdB == c.m_solverBodyIdA ? -1 : slot_of(pool, c.m_solverBodyIdB);
         if (sa == -2 || sb == -2) return false;
         r.nb = 0;
         auto side = [&](int slot, const btVector3& lin, const btVector3& ang) {
@@ -320,7 +230,7 @@ class NewtonStep {
     }
 
     bool setup(btConstraintArray& joints, btConstraintArray& normals, btConstraintArray& friction,
-               btAlignedObjectArray<btSolverBody>& pool, const NewtonSettings& settings) {
+               btAlignedObjectArray<btSolverBody>& pool) {
         rows_.clear();
         bodies_.clear();
         slot_.assign(static_cast<size_t>(pool.size()), -1);
@@ -335,7 +245,7 @@ class NewtonStep {
             if (f1.m_frictionIndex != k || f2.m_frictionIndex != k) return false;
             const size_t before = rows_.size();
             if (!add_row(n, kClamp, pool)) return false;
-            if (rows_.size() == before) continue;  // between fixed bodies
+            if (rows_.size() == before) continue;    // between fixed bodies
             if (rows_.back().nb != 1) return false;  // two moving bodies: not handled
             if (!add_row(f1, kFriction1, pool) || !add_row(f2, kFriction2, pool)) return false;
             if (rows_.size() != before + 3) return false;
@@ -346,22 +256,20 @@ class NewtonStep {
                 return false;
             rn.normal = static_cast<int>(before + 1);
             r1.normal = r2.normal = static_cast<int>(before);
-            const double rt =
-                settings.r * 2 / (1 / f1.m_jacDiagABInv + 1 / f2.m_jacDiagABInv);
+            const double rt = kNewtonR * 2 / (1 / f1.m_jacDiagABInv + 1 / f2.m_jacDiagABInv);
             r1.r = r2.r = rt;
             // the friction pair's compliance (0: none, as the solver's own rows): the same
             // for both rows, a fraction of their mean diagonal
             r1.cfm = r2.cfm =
-                settings.fcfm * (1 / f1.m_jacDiagABInv + 1 / f2.m_jacDiagABInv) / 2;
-            rn.r = settings.r * n.m_jacDiagABInv;
+                kNewtonFrictionCompliance * (1 / f1.m_jacDiagABInv + 1 / f2.m_jacDiagABInv) / 2;
+            rn.r = kNewtonR * n.m_jacDiagABInv;
         }
-        contact_rows_ = static_cast<int>(rows_.size());
         for (int k = 0; k < joints.size(); ++k) {
             const size_t before = rows_.size();
             if (!add_row(joints[k], kClamp, pool)) return false;
             if (rows_.size() == before) continue;
             Row& r = rows_.back();
-            r.r = settings.r * joints[k].m_jacDiagABInv;
+            r.r = kNewtonR * joints[k].m_jacDiagABInv;
             if (r.nb == 2) {
                 Body& a = bodies_[r.body[0]];
                 Body& b = bodies_[r.body[1]];
@@ -397,8 +305,6 @@ class NewtonStep {
             }
         }
         if (static_cast<int>(order_.size()) != nbodies) return false;  // a loop
-        for (Row& r : rows_)
-            r.mw = settings.merit == 1 ? 1 / r.r : 1;
         group_rows_.resize(static_cast<size_t>(nbodies));
         body_rows_.resize(static_cast<size_t>(nbodies));
         for (int g = 0; g < nbodies; ++g) {
@@ -456,7 +362,7 @@ class NewtonStep {
     }
 
     // |F|^2 at lambda + alpha dl, w + alpha dw
-    double merit(double alpha, double* parts = nullptr) const {
+    double merit(double alpha) const {
         double sum = 0;
         const size_t n = rows_.size();
         for (size_t i = 0; i < n; ++i) {
@@ -465,13 +371,7 @@ class NewtonStep {
             if (r.kind == kClamp) {
                 const double x = l - r.r * w;
                 const double p = x < r.lo ? r.lo : (x > r.hi ? r.hi : x);
-                sum += r.mw * (l - p) * (l - p);
-                if (parts) {
-                    const int k = static_cast<int>(i) < contact_rows_ ? 2
-                                  : r.lo < -1e30                       ? 0
-                                                                       : 1;
-                    parts[k] += (l - p) * (l - p);
-                }
+                sum += (l - p) * (l - p);
             } else if (r.kind == kFriction1) {
                 const Row& r2 = rows_[i + 1];
                 const Row& rn = rows_[r.normal];
@@ -485,40 +385,10 @@ class NewtonStep {
                     x1 *= k;
                     x2 *= k;
                 }
-                sum += r.mw * ((l - x1) * (l - x1) + (l2 - x2) * (l2 - x2));
-                if (parts) parts[len > rho ? 4 : 3] += (l - x1) * (l - x1) + (l2 - x2) * (l2 - x2);
+                sum += (l - x1) * (l - x1) + (l2 - x2) * (l2 - x2);
             }
         }
         return sum;
-    }
-
-    // F at lambda + alpha dl, w + alpha dw, row by row (GAITLAB_NEWTON_CHECK)
-    void residual(double alpha, std::vector<double>& out) const {
-        const size_t n = rows_.size();
-        out.assign(n, 0);
-        for (size_t i = 0; i < n; ++i) {
-            const Row& r = rows_[i];
-            const double l = r.lambda + alpha * r.dl, w = r.w + alpha * r.dw;
-            if (r.kind == kClamp) {
-                const double x = l - r.r * w;
-                out[i] = l - (x < r.lo ? r.lo : (x > r.hi ? r.hi : x));
-            } else if (r.kind == kFriction1) {
-                const Row& r2 = rows_[i + 1];
-                const Row& rn = rows_[r.normal];
-                const double ln = rn.lambda + alpha * rn.dl;
-                const double rho = ln > 0 ? ln * r.c->m_friction : 0;
-                const double l2 = r2.lambda + alpha * r2.dl, w2 = r2.w + alpha * r2.dw;
-                double x1 = l - r.r * w, x2 = l2 - r.r * w2;
-                const double len = std::sqrt(x1 * x1 + x2 * x2);
-                if (len > rho) {
-                    const double k = len > 0 ? rho / len : 0;
-                    x1 *= k;
-                    x2 *= k;
-                }
-                out[i] = l - x1;
-                out[i + 1] = l2 - x2;
-            }
-        }
     }
 
     // dense LU with partial pivoting of an n x n row-major block, in place
@@ -610,24 +480,14 @@ class NewtonStep {
         }
     }
 
-    void solve(btAlignedObjectArray<btSolverBody>& pool, const NewtonSettings& settings) {
-        NewtonStats& stats = newton_stats();
+    void solve(btAlignedObjectArray<btSolverBody>& pool, int steps) {
         const size_t nrows = rows_.size();
         const int ngroups = static_cast<int>(order_.size());
         bool changed = false;
-        double f0 = -1, f_last = 0;
-        double mark = settings.phases ? cpu_seconds() : 0;
-        auto lap = [&](int k) {
-            if (!settings.phases) return;
-            const double now = cpu_seconds();
-            stats.phase[k] += now - mark;
-            mark = now;
-        };
-        for (int step = 0; step < settings.steps; ++step) {
+        for (int step = 0; step < steps; ++step) {
             // velocities, states, F
             for (Row& r : rows_)
                 r.w = velocity(r) + r.cfm * r.lambda;
-            int nactive = 0, nsliding = 0;
             for (size_t i = 0; i < nrows; ++i) {
                 Row& r = rows_[i];
                 r.local = -1;
@@ -654,14 +514,13 @@ class NewtonStep {
                         r.state = r2.state = kActive;
                     } else {
                         r.state = r2.state = kSliding;
-                        ++nsliding;
                         const double a = rho / len, h1 = x1 / len, h2 = x2 / len;
                         // P = a (I - h h'); F = lambda - rho h
                         const double F1 = r.lambda - rho * h1, F2 = r2.lambda - rho * h2;
-                        // with the pair's compliance g (cfm, GAITLAB_NEWTON_FCFM) dx = (1 - r g)
-                        // dlambda - r J dv, so A = I - (1 - r g) P takes I - P's place:
-                        // A^-1 = h h' + (I - h h') / (1 - (1 - r g) a), E = r a / (1 - (1 - r g) a)
-                        // (I - h h'), c = A^-1 (-F); A^-1 s = s
+                        // with the pair's compliance g (its cfm, kNewtonFrictionCompliance) dx = (1
+                        // - r g) dlambda - r J dv, so A = I - (1 - r g) P takes I - P's place: A^-1
+                        // = h h' + (I - h h') / (1 - (1 - r g) a), E = r a / (1 - (1 - r g) a) (I -
+                        // h h'), c = A^-1 (-F); A^-1 s = s
                         const double q = 1 / (1 - (1 - r.r * r.cfm) * a);
                         const double p11 = 1 - h1 * h1, p12 = -h1 * h2, p22 = 1 - h2 * h2;
                         const double i11 = h1 * h1 + q * p11, i12 = h1 * h2 + q * p12,
@@ -680,13 +539,7 @@ class NewtonStep {
                 }
             }
             const double f = std::sqrt(merit(0));
-            if (f0 < 0) {
-                f0 = f;
-                if (settings.phases) merit(0, stats.part_before);
-            }
-            f_last = f;
             if (!(f > 1e-14)) break;
-            lap(1);
             // per body: H^-1 (M^-1 updated by each sliding pair's rank-one term
             // e q q', q = J_t' perp: E = e perp perp', Sherman-Morrison), g, h = H^-1 g
             for (int b = 0; b < ngroups; ++b) {
@@ -739,7 +592,6 @@ class NewtonStep {
                 for (int p = 0; p < 6; ++p)
                     body.h[p] = dot6(&Hi[6 * p], g);
             }
-            lap(2);
             // pressed normals with a sliding pair: B = J_n + s' J_t
             for (size_t i = 0; i < nrows; ++i) {
                 Row& r = rows_[i];
@@ -754,7 +606,6 @@ class NewtonStep {
             // the active rows by group
             group_active_.resize(static_cast<size_t>(ngroups));
             n_.assign(static_cast<size_t>(ngroups), 0);
-            int largest = 0;
             for (int g = 0; g < ngroups; ++g) {
                 std::vector<int>& act = group_active_[g];
                 act.clear();
@@ -765,13 +616,7 @@ class NewtonStep {
                     }
                 }
                 n_[g] = static_cast<int>(act.size());
-                nactive += n_[g];
-                largest = std::max(largest, n_[g]);
             }
-            stats.rows += step == 0 ? nrows : 0;
-            stats.active += step == 0 ? nactive : 0;
-            stats.sliding += step == 0 ? nsliding : 0;
-            if (largest > stats.max_group) stats.max_group = largest;
             // storage of the blocks
             d_off_.assign(ngroups + 1, 0);
             l_off_.assign(ngroups + 1, 0);
@@ -828,20 +673,15 @@ class NewtonStep {
                         u[p] = o.u[p];
                 }
             }
-            if (fail) {
-                ++stats.fallbacks;
-                break;
-            }
-            lap(3);
+            if (fail) break;
             // diagonal terms and right side
             for (int g = 0; g < ngroups; ++g) {
                 for (int i : group_active_[g]) {
                     const Row& r = rows_[i];
                     double& d = D_[d_off_[g] + r.local * n_[g] + r.local];
                     d += r.cfm;
-                    // contact rows can be redundant (a box's four corners sticking); a chain's
-                    // joint rows are not
-                    d += (i < contact_rows_ ? settings.reg : settings.joint_reg) * std::fabs(d);
+                    // contact rows can be redundant (a box's four corners sticking)
+                    d += kNewtonRegulariser * std::fabs(d);
                     double v = -r.w;
                     for (int k = 0; k < r.nb; ++k)
                         v -= dot6(r.J[k], bodies_[r.body[k]].h);
@@ -890,7 +730,6 @@ class NewtonStep {
                     x[i] -= s;
                 }
             }
-            lap(4);
             // dlambda of the active rows, dv, the others' dlambda
             for (int g = 0; g < ngroups; ++g)
                 for (int i : group_active_[g])
@@ -941,26 +780,7 @@ class NewtonStep {
                     r.dw += dot6(r.J[k], bodies_[r.body[k]].dV);
                 finite = finite && std::isfinite(r.dl) && std::isfinite(r.dw);
             }
-            if (!finite) {
-                ++stats.failed;
-                break;
-            }
-            lap(5);
-            if (settings.check) {
-                static const double e = std::getenv("GAITLAB_NEWTON_CHECK_EPS") ? std::atof(std::getenv("GAITLAB_NEWTON_CHECK_EPS")) : 1e-6;
-                residual(0, check0_);
-                residual(e, check1_);
-                double d2 = 0;
-                for (size_t i = 0; i < nrows; ++i) {
-                    const double d = check1_[i] - (1 - e) * check0_[i];
-                    d2 += d * d;
-                }
-                const double ratio = std::sqrt(d2) / (e * f);
-                stats.check_sum += ratio;
-                stats.check_max = std::max(stats.check_max, ratio);
-                ++stats.check_count;
-                if (ratio < 1e-3) ++stats.check_small;
-            }
+            if (!finite) break;
             // line search on |F|
             const double f2 = f * f;
             double alpha = 1;
@@ -972,35 +792,14 @@ class NewtonStep {
                 }
                 alpha *= 0.5;
             }
-            ++stats.steps;
-            lap(6);
-            if (!accepted) {
-                ++stats.failed;
-                break;
-            }
-            if (alpha == 1) {
-                ++stats.full;
-            } else {
-                ++stats.partial;
-            }
+            if (!accepted) break;
             for (Row& r : rows_)
                 r.lambda += alpha * r.dl;
             for (Body& body : bodies_)
                 for (int p = 0; p < 6; ++p)
                     body.V[p] += alpha * body.dV[p];
             changed = true;
-            f_last = -1;
         }
-        if (f_last < 0 || settings.phases) {
-            for (Row& r : rows_)
-                r.w = velocity(r) + r.cfm * r.lambda;
-            for (Row& r : rows_)
-                r.dl = r.dw = 0;
-            f_last = std::sqrt(merit(0));
-            if (settings.phases) merit(0, stats.part_after);
-        }
-        stats.f_before += f0 > 0 ? f0 : 0;
-        stats.f_after += f_last;
         if (!changed) return;
         for (Row& r : rows_)
             r.c->m_appliedImpulse = static_cast<btScalar>(r.lambda);

@@ -254,13 +254,14 @@ struct PhysicsWorld::Impl {
 };
 
 PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iterations,
-                           ConstraintSolver solver)
+                           ConstraintSolver solver, int newton_steps)
     : impl_(std::make_unique<Impl>()) {
     Impl& s = *impl_;
     s.world.setGravity(to_bt(spec.gravity));
     s.world.getSolverInfo().m_numIterations = solver_iterations;
     s.solver.set_method(solver == ConstraintSolver::block_nncg ? SolverMethod::block_nncg
                                                                : SolverMethod::pgs);
+    s.solver.set_newton_steps(solver == ConstraintSolver::block_nncg ? newton_steps : 0);
     // friction: CoulombSolver (one row where a contact slides, two where it does not)
     // only bodies that move get their bounding boxes updated each step. Bullet's default
     // updates every body's, static ones included, and each update of a static body moves its

@@ -24,9 +24,10 @@ const char* physics_version();
 class PhysicsWorld {
   public:
     /// Builds the Bullet scene for `world`; `dt` sets the servo torque limits as impulses.
-    /// Throws SpecError if a heightfield's image cannot be read.
+    /// `newton_steps` Newton steps follow block_nncg's iterations (SimulationOptions; none with
+    /// pgs). Throws SpecError if a heightfield's image cannot be read.
     PhysicsWorld(const WorldSpec& world, double dt, int solver_iterations,
-                 ConstraintSolver solver = ConstraintSolver::pgs);
+                 ConstraintSolver solver = ConstraintSolver::pgs, int newton_steps = 0);
     ~PhysicsWorld();
     PhysicsWorld(const PhysicsWorld&) = delete;
     PhysicsWorld& operator=(const PhysicsWorld&) = delete;

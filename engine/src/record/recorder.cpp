@@ -413,6 +413,8 @@ void Recorder::write_meta(const std::string& status, const std::string& message,
     s["on_controller_error"] =
         sim.options().on_controller_error == ControllerErrorPolicy::stop ? "stop" : "continue";
     s["solver"] = to_string(sim.options().solver);
+    // only when used, as in simulation files: runs without it are written as before
+    if (sim.options().newton_steps != 0) s["newton_steps"] = sim.options().newton_steps;
     ordered_json& robots = s["robots"] = ordered_json::array();
     for (int r = 0; r < sim.robot_count(); ++r) {
         const RobotSpec& spec = sim.world().robots[static_cast<size_t>(r)].robot;

@@ -334,6 +334,9 @@ RunMeta meta_from(const formats::JsonDocument& doc) {
                 r.fail(*solver, "simulation.solver: " + solver_names() + " expected");
             }
         }
+        // runs without Newton steps do not write them
+        m.options.newton_steps = static_cast<int>(
+            r.integer(*s, "newton_steps", "simulation.newton_steps", 0, 0, kMaxNewtonSteps));
     }
     if (const json* rec = formats::find(j, "recording")) {
         m.record_every = static_cast<int>(

@@ -401,7 +401,7 @@ std::string Simulation::unique_label(const std::string& base) {
 
 void Simulation::build() {
     physics_ = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations,
-                                              options_.solver);
+                                              options_.solver, options_.newton_steps);
     for (size_t r = 0; r < robots_.size(); ++r) {
         robots_[r].start_position = robot_position(static_cast<int>(r));
     }
@@ -505,7 +505,7 @@ Simulation::Simulation(const Simulation& from, Copying)
     }
     sensing_ = from.sensing_->copy();
     physics_ = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations,
-                                              options_.solver);
+                                              options_.solver, options_.newton_steps);
     physics_->copy_state_from(*from.physics_);
     sensing_->adopt(*physics_);
     paused_ = from.paused_;
@@ -520,7 +520,7 @@ std::unique_ptr<Simulation> Simulation::clone() {
         // the original goes on in a world rebuilt as the copy's was: Bullet's internal state
         // (broadphase trees, pair and manifold order) then matches the copy's exactly
         rebuilt = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations,
-                                                 options_.solver);
+                                                 options_.solver, options_.newton_steps);
         rebuilt->copy_state_from(*physics_);
     } catch (const std::bad_alloc&) {
         throw out_of_memory();

@@ -51,9 +51,11 @@ SimulationFile read_simulation_element(const Element& root) {
     o.dt = root.number("dt", o.dt);
     const long long ce = root.integer("control_every", o.control_every);
     const long long it = root.integer("solver_iterations", o.solver_iterations);
+    const long long newton = root.integer("newton_steps", o.newton_steps);
     root.check([&] {
         o.control_every = checked_int("control_every", ce, 1, kMaxControlEvery);
         o.solver_iterations = checked_int("solver_iterations", it, 1, kMaxSolverIterations);
+        o.newton_steps = checked_int("newton_steps", newton, 0, kMaxNewtonSteps);
     });
     const long long seed = root.integer("seed", 0);
     if (seed < 0) root.fail(fmt::format("seed must be >= 0 (got {})", seed));
@@ -127,6 +129,8 @@ std::string format_simulation(const SimulationFile& s) {
     w.attr_int("seed", static_cast<long long>(o.seed));
     w.attr("on_controller_error", to_string(o.on_controller_error));
     w.attr("solver", to_string(o.solver));
+    // only when used: every file written before it existed round-trips unchanged
+    if (o.newton_steps != 0) w.attr_int("newton_steps", o.newton_steps);
     w.open("environment");
     w.attr("file", s.environment);
     w.close();

@@ -29,9 +29,15 @@ const std::vector<const char*> box = {"size", "position", "yaw", "orientation", 
 const std::vector<const char*> heightfield_source = {"image", "samples"};
 const std::vector<const char*> place = {"robot", "position", "yaw", "orientation"};
 
-const std::vector<const char*> simulation = {
-    "name",  "duration", "dt", "control_every", "solver_iterations", "seed", "on_controller_error",
-    "solver"};
+const std::vector<const char*> simulation = {"name",
+                                             "duration",
+                                             "dt",
+                                             "control_every",
+                                             "solver_iterations",
+                                             "seed",
+                                             "on_controller_error",
+                                             "solver",
+                                             "newton_steps"};
 const std::vector<const char*> simulation_environment = {"file"};
 const std::vector<const char*> simulation_robot = {"file", "actuation"};
 const std::vector<const char*> record = {"enabled", "dir", "every", "flush_seconds"};

@@ -554,6 +554,14 @@ TEST_CASE("simulation files round-trip and name missing parts by their resolved 
     test::write_text(dir.file("plain.xml"),
                      doc("<simulation><environment file=\"env.xml\"/></simulation>"));
     CHECK(read_simulation(dir.file("plain.xml")).options.solver == ConstraintSolver::block_nncg);
+    // newton_steps is written only when not 0: every file before it round-trips unchanged
+    CHECK_THAT(test::read_text(dir.file("sim2.xml")), !Catch::Contains("newton_steps"));
+    CHECK(read_simulation(dir.file("plain.xml")).options.newton_steps == 0);
+    s.options.newton_steps = 4;
+    write_simulation(dir.file("sim3.xml"), s);
+    CHECK_THAT(test::read_text(dir.file("sim3.xml")), Catch::Contains("newton_steps=\"4\""));
+    CHECK(read_simulation(dir.file("sim3.xml")).options.newton_steps == 4);
+    s.options.newton_steps = 0;
     CHECK(back.environment == "env.xml");
     REQUIRE(back.robots.size() == 1);
     CHECK(back.robots[0].robot == "snake.xml");
@@ -728,4 +736,34 @@ TEST_CASE("writers check before writing and replace files atomically") {
                       "cannot write " + dir.file("robot.xml/sub/robot.xml") +
                           ": cannot create folder " + dir.file("robot.xml") +
                           ": a file of that name is in the way");
+}
+
+TEST_CASE("a simulation file's newton_steps is checked at its line") {
+    TempDir dir("xml_newton");
+    test::write_text(dir.file("env.xml"), doc("<environment/>"));
+    const std::string file = dir.file("sim.xml");
+    const auto error = [&](const std::string& attr) {
+        test::write_text(
+            file, doc("<simulation " + attr + ">\n<environment file=\"env.xml\"/>\n</simulation>"));
+        try {
+            read_simulation(file);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    CHECK(error("newton_steps=\"4\"") == "no error");
+    CHECK(error("newton_steps=\"-1\"") ==
+          file + ":3: simulation: newton_steps must be in [0, 100] (got -1)");
+    CHECK(error("newton_steps=\"101\"") ==
+          file + ":3: simulation: newton_steps must be in [0, 100] (got 101)");
+    CHECK(error("newton_steps=\"2.5\"") ==
+          file + ":3: simulation: attribute 'newton_steps': integer expected, got '2.5'");
+    CHECK(error("newton_steps=\"four\"") ==
+          file + ":3: simulation: attribute 'newton_steps': integer expected, got 'four'");
+    CHECK(error("newton_steps=\"4\" solver=\"pgs\"") ==
+          file +
+              ":3: simulation: newton_steps = 4 needs solver = 'block_nncg' (got solver = "
+              "'pgs'; newton_steps must be 0 with it)");
+    CHECK(error("solver=\"pgs\" newton_steps=\"0\"") == "no error");
 }
