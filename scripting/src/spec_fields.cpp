@@ -39,13 +39,17 @@ Quat orientation_field(lua_State* L, const Fields& f) {
         f.fail("orientation", "give 'yaw' or 'orientation', not both");
     }
     if (f.has("orientation")) return quat_field(L, f, "orientation", {});
-    const double yaw = f.number("yaw", 0);
-    if (!(std::fabs(yaw) <= kMaxAngleDegrees)) {
-        f.fail("yaw",
+    return Quat::from_axis_angle({0, 0, 1}, deg_to_rad(pose_angle_field(f, "yaw")));
+}
+
+double pose_angle_field(const Fields& f, const char* key) {
+    const double degrees = f.number(key, 0);
+    if (!(std::fabs(degrees) <= kMaxAngleDegrees)) {
+        f.fail(key,
                fmt::format("a number of degrees in [-{0}, {0}] expected, got {1}", kMaxAngleDegrees,
-                           std::isnan(yaw) ? "nan" : fmt::format("{}", yaw)));
+                           std::isnan(degrees) ? "nan" : fmt::format("{}", degrees)));
     }
-    return Quat::from_axis_angle({0, 0, 1}, deg_to_rad(yaw));
+    return degrees;
 }
 
 namespace {

@@ -14,6 +14,9 @@ namespace gaitlab::scripting {
 /// (as a file's "w x y z"); `fallback` if absent.
 Quat quat_field(lua_State* L, const Fields& f, const char* key, const Quat& fallback);
 
+/// Field `key` as a pose's angle in degrees (0 if absent), at most kMaxAngleDegrees either way.
+double pose_angle_field(const Fields& f, const char* key);
+
 /// `yaw` (degrees about +z) or `orientation` (a unit quaternion), not both; identity if neither.
 Quat orientation_field(lua_State* L, const Fields& f);
 

@@ -82,17 +82,8 @@ int world_add(lua_State* L) {
             pose = Pose{};
             Fields f(L, 3, 3, {"x", "y", "z", "yaw", "pitch", "roll"});
             pose->position = {f.number("x", 0), f.number("y", 0), f.number("z", 0)};
-            const double angles[3] = {f.number("yaw", 0), f.number("pitch", 0),
-                                      f.number("roll", 0)};
-            const char* names[3] = {"yaw", "pitch", "roll"};
-            for (int i = 0; i < 3; ++i) {
-                if (!(std::fabs(angles[i]) <= kMaxAngleDegrees))
-                    f.fail(
-                        names[i],
-                        fmt::format("a number of degrees in [-{0}, {0}] expected, got {1}",
-                                    kMaxAngleDegrees,
-                                    std::isnan(angles[i]) ? "nan" : fmt::format("{}", angles[i])));
-            }
+            const double angles[3] = {pose_angle_field(f, "yaw"), pose_angle_field(f, "pitch"),
+                                      pose_angle_field(f, "roll")};
             for (double c : {pose->position.x, pose->position.y, pose->position.z}) {
                 if (!std::isfinite(c)) throw ArgError(3, "x, y and z must be finite numbers");
             }

@@ -3,7 +3,8 @@
 // on the whole step's contact problem, solved sparse. K = 0: nothing here runs. On the 32-module
 // pitch-yaw rolling chain (friction 0.3) 4 steps at 20 iterations move 83.5 mm per cycle against
 // 84.6 at 80 iterations (block_nncg alone: 70.6 against 80.8), at 2.0x the default step's CPU
-// time where 80 iterations cost 3.0x (docs/performance.md, "Long chains bent in two planes").
+// time where 80 iterations cost 3.0x (docs/performance.md, "A sparse Newton step after the
+// sweeps").
 //
 // The problem, in the rows' impulses lambda: every row's velocity error w = J v - target +
 // cfm lambda, v = v0 + M^-1 J' lambda (the solver bodies' delta velocities), and the natural

@@ -422,16 +422,13 @@ BodyState PhysicsWorld::body(int index) const {
     BodyState s;
     s.pose.orientation = from_bt(t.getRotation());
     s.angular_velocity = from_bt(b.getAngularVelocity());
+    s.pose.position = shape_position(index);
     const btVector3& offset = impl_->offsets[static_cast<size_t>(index)];
-    if (offset.isZero()) {
-        s.pose.position = from_bt(t.getOrigin());
-        s.linear_velocity = from_bt(b.getLinearVelocity());
-    } else {
-        // the shape's centre, behind the centre of mass by the offset turned with the body
-        const btVector3 arm = t.getBasis() * -offset;
-        s.pose.position = from_bt(t.getOrigin() + arm);
-        s.linear_velocity = from_bt(b.getVelocityInLocalPoint(arm));
-    }
+    // the shape's centre moves as the point behind the centre of mass by the offset, turned
+    // with the body
+    s.linear_velocity =
+        from_bt(offset.isZero() ? b.getLinearVelocity()
+                                : b.getVelocityInLocalPoint(t.getBasis() * -offset));
     return s;
 }
 
