@@ -6,6 +6,7 @@
 --   local r = chain_run{ modules =, connection =, friction =, dt =, iterations =,
 --                        settle =, cycles =, frequency =, drive = function(robot) ... end,
 --                        solver = (optional: the simulation's solver, default the engine's),
+--                        newton_steps = (optional: the simulation's newton_steps, default 0),
 --                        module = (optional: the chain's module type, default y1),
 --                        floor = (optional: the floor's other keys, bench/lua/floor_env.lua) }
 --   -- r.x, r.y: mm per cycle along x (the chain's axis at the start) and across it (y);
@@ -20,6 +21,7 @@ return function(o)
   local sim = gaitlab.simulation{ world = world, dt = o.dt,
                                   control_every = math.floor(0.01 / o.dt + 0.5),
                                   solver_iterations = o.iterations, solver = o.solver,
+                                  newton_steps = o.newton_steps,
                                   record = false }
   local r = sim:robot("snake")
   local t0 = os.clock()
