@@ -29,7 +29,9 @@
 //   H dv = g + B_A' dlambda_A, H = M + sum_t J_t' E_t J_t (per body: floor contacts touch one),
 //   g the known parts (c_t, s dlambda_n of inactive normals, bound - lambda of inactive rows),
 //   B_A = J_A except a pressed normal with a sliding pair: J_n + s' J_t.
-// Eliminating dv: S dlambda_A = -w_A - J_A H^-1 g, S = J_A H^-1 B_A' + diag(cfm) (+ reg S_ii),
+// Eliminating dv: S dlambda_A = -w_A - J_A H^-1 g, S = J_A H^-1 B_A' + diag(cfm + reg)
+// (+ kNewtonRegulariser S_ii), where reg (sticking friction pairs' kNewtonFrictionDamping) is
+// in S alone, not in F (an inexact Newton step, whose fixed point is F's own zero). S is
 // block tridiagonal with the groups "body b's active contact rows + the hinge (b, next)'s rows"
 // taken along each chain: block LU, partial pivoting inside each diagonal block only, in a fixed
 // order. Then dv, the sliding and inactive rows' dlambda, the bodies' change M^-1 J' dlambda, a
@@ -56,14 +58,18 @@ namespace gaitlab {
 // cycle (block_nncg alone: 70.6); at 10 / K_ii it takes it about 70 % of the time and the steps
 // reach the converged motion.
 inline constexpr double kNewtonR = 10;
-// Each friction pair's compliance, as a fraction of the pair's mean diagonal 1 / K_ii, in F and
-// in the Newton system alike: redundant sticking contacts (a module's corners all on the floor)
-// made S singular, and without it 64 % of the steps on the 8-module pitch-pitch chain found no
-// decrease of |F|. 1e-2 softens a pair by a hundredth of its own stiffness: enough to make S
-// regular, too little to change the measured speeds.
-inline constexpr double kNewtonFrictionCompliance = 1e-2;
+// Each friction pair's damping of the Newton system, as a fraction of the pair's mean diagonal
+// 1 / K_ii, added to S's diagonal (and to a sliding pair's A) but not to F: redundant sticking
+// contacts (a module's corners all on the floor) made S singular, and without it 64 % of the
+// steps on the 8-module pitch-pitch chain found no decrease of |F|. Until 2026-11-29 it was a
+// compliance, in F as well, and that changed the answer: the 16-module pitch-yaw wave on a
+// floor of friction 1.0 moved 66.7 mm per cycle at dt 1 ms against 65.0 at 320 iterations
+// without Newton steps and 64.5 at the grid's reference (1e-3: 65.2, 1e-4: 64.6). In S alone
+// the step's fixed point is F's zero whatever its value: 64.8 (docs/performance.md, "The Newton
+// step's friction regularisation").
+inline constexpr double kNewtonFrictionDamping = 1e-2;
 // S's diagonal is raised by this fraction of itself, contact and joint rows alike: it only keeps
-// the block LU's pivots off exact zeros where rows are still redundant (the compliance above is
+// the block LU's pivots off exact zeros where rows are still redundant (the damping above is
 // what makes S regular), six orders below it so that it does not move the steps.
 inline constexpr double kNewtonRegulariser = 1e-8;
 
@@ -89,7 +95,8 @@ class NewtonStep {
         double J[2][6];  // per body: linear, angular
         double B[2][6];  // this step's B (J, or a pressed normal's J_n + s' J_t)
         double lo, hi, cfm, c0, r;
-        int normal;  // friction rows: their normal's row; a normal: its friction's first
+        double reg = 0;  // in S (and a sliding pair's A) only: kNewtonFrictionDamping
+        int normal;      // friction rows: their normal's row; a normal: its friction's first
         int group;
         // per Newton step
         double lambda, w, dl, dw;
@@ -259,10 +266,10 @@ class NewtonStep {
             r1.normal = r2.normal = static_cast<int>(before);
             const double rt = kNewtonR * 2 / (1 / f1.m_jacDiagABInv + 1 / f2.m_jacDiagABInv);
             r1.r = r2.r = rt;
-            // the friction pair's compliance (0: none, as the solver's own rows): the same
-            // for both rows, a fraction of their mean diagonal
-            r1.cfm = r2.cfm =
-                kNewtonFrictionCompliance * (1 / f1.m_jacDiagABInv + 1 / f2.m_jacDiagABInv) / 2;
+            // the friction pair's damping of the system (its cfm stays 0, as the solver's own
+            // rows'): the same for both rows, a fraction of their mean diagonal
+            r1.reg = r2.reg =
+                kNewtonFrictionDamping * (1 / f1.m_jacDiagABInv + 1 / f2.m_jacDiagABInv) / 2;
             rn.r = kNewtonR * n.m_jacDiagABInv;
         }
         for (int k = 0; k < joints.size(); ++k) {
@@ -518,11 +525,11 @@ class NewtonStep {
                         const double a = rho / len, h1 = x1 / len, h2 = x2 / len;
                         // P = a (I - h h'); F = lambda - rho h
                         const double F1 = r.lambda - rho * h1, F2 = r2.lambda - rho * h2;
-                        // with the pair's compliance g (its cfm, kNewtonFrictionCompliance) dx = (1
-                        // - r g) dlambda - r J dv, so A = I - (1 - r g) P takes I - P's place: A^-1
-                        // = h h' + (I - h h') / (1 - (1 - r g) a), E = r a / (1 - (1 - r g) a) (I -
-                        // h h'), c = A^-1 (-F); A^-1 s = s
-                        const double q = 1 / (1 - (1 - r.r * r.cfm) * a);
+                        // with the pair's damping g (its reg, kNewtonFrictionDamping) taken as
+                        // if dx = (1 - r g) dlambda - r J dv, A = I - (1 - r g) P takes I - P's
+                        // place: A^-1 = h h' + (I - h h') / (1 - (1 - r g) a), E = r a / (1 - (1 -
+                        // r g) a) (I - h h'), c = A^-1 (-F); A^-1 s = s
+                        const double q = 1 / (1 - (1 - r.r * (r.cfm + r.reg)) * a);
                         const double p11 = 1 - h1 * h1, p12 = -h1 * h2, p22 = 1 - h2 * h2;
                         const double i11 = h1 * h1 + q * p11, i12 = h1 * h2 + q * p12,
                                      i22 = h2 * h2 + q * p22;
@@ -680,7 +687,7 @@ class NewtonStep {
                 for (int i : group_active_[g]) {
                     const Row& r = rows_[i];
                     double& d = D_[d_off_[g] + r.local * n_[g] + r.local];
-                    d += r.cfm;
+                    d += r.cfm + r.reg;
                     // contact rows can be redundant (a box's four corners sticking)
                     d += kNewtonRegulariser * std::fabs(d);
                     double v = -r.w;
