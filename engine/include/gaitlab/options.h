@@ -44,10 +44,13 @@ inline constexpr int kMaxNewtonSteps = 100;
 /// 12 modules on its rolling gait moves 4-14 % faster or slower at dt / 4 or with 4x the
 /// iterations, and dt <= kLongChainMaxDt with solver_iterations >= kLongChainIterations
 /// (block_nncg) keep it within 3 % of a converged solver (docs/performance.md, "Long chains
-/// bent in two planes"). A simulation warns outside them; gaitlab new offers them.
+/// bent in two planes"), and so do newton_steps >= kLongChainNewtonSteps in place of the
+/// iterations (docs/performance.md, "The long pitch-yaw rows with newton_steps = 4"). A simulation
+/// warns outside them; gaitlab new offers them.
 inline constexpr int kLongChainJoints = 8;
 inline constexpr double kLongChainMaxDt = 0.0005;  // s
 inline constexpr int kLongChainIterations = 40;
+inline constexpr int kLongChainNewtonSteps = 4;
 /// ticks a simulation runs in all (2^53: time = ticks · dt stays exact, and a tick count is a
 /// Lua integer and a double alike)
 inline constexpr long kMaxTicks = 9007199254740992L;

@@ -843,6 +843,22 @@ TEST_CASE(
         REQUIRE(dt.warnings().size() == 1);
         CHECK_THAT(dt.warnings()[0], StartsWith("dt = 1 ms is above 0.5 ms: robot"));
     }
+    SECTION("newton_steps >= 4 stand for the iterations, not for dt") {
+        o.newton_steps = 4;
+        Simulation coarse_dt(test::chain_world(16, Connection::pitch_yaw), o);
+        REQUIRE(coarse_dt.warnings().size() == 1);
+        CHECK_THAT(coarse_dt.warnings()[0],
+                   StartsWith("dt = 1 ms is above 0.5 ms: robot") &&
+                       Contains("solver_iterations >= 40 (or newton_steps >= 4)"));
+        o.dt = 0.0005;
+        CHECK(Simulation(test::chain_world(16, Connection::pitch_yaw), o).warnings().empty());
+        o.newton_steps = 2;
+        Simulation fewer(test::chain_world(16, Connection::pitch_yaw), o);
+        REQUIRE(fewer.warnings().size() == 1);
+        CHECK_THAT(fewer.warnings()[0],
+                   StartsWith("solver_iterations = 20 is below 40 with newton_steps = 2 below 4: "
+                              "robot"));
+    }
     SECTION("the finer settings are quiet, and so are planar and 8-joint chains at the defaults") {
         o.dt = 0.0005;
         o.solver_iterations = 40;
