@@ -61,7 +61,7 @@ if not dt_ms or dt_ms <= 0 or dt_ms > 10 then fail("DT_MS: a step in (0, 10] ms 
 local iterations = math.tointeger(tonumber(arg[5] or "20"))
 if not iterations or iterations < 1 then fail("ITERATIONS: a whole number >= 1 expected, got '" .. arg[5] .. "'") end
 local solver = arg[6]
-local newton = math.tointeger(tonumber(os.getenv("STEADY_NEWTON") or "0"))
+local newton = count("STEADY_NEWTON", 0, 0)
 if solver and solver ~= "pgs" and solver ~= "block_nncg" then
   fail("SOLVER: pgs or block_nncg expected, got '" .. solver .. "'")
 end
