@@ -73,7 +73,7 @@ struct BodySpec {
     /// diagonal, at most kMaxInertiaRatio times another and at most the sum of the other two
     std::optional<Vec3> inertia;
     /// m, the centre of mass in the body's own frame, from its shape's centre; none: at the
-    /// shape's centre (a body given {0, 0, 0} moves as one without it, though not to the bit).
+    /// shape's centre (a body given {0, 0, 0} is one without it, to the bit).
     /// Finite and inside the shape: a box's within its half sizes, a cylinder's within its half
     /// length and its radius. Poses (`pose`, the simulation's body states) stay the shape's
     std::optional<Vec3> center_of_mass;

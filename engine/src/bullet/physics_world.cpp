@@ -218,9 +218,10 @@ struct PhysicsWorld::Impl {
         }
         btTransform start = body_transform(solid);
         btVector3 offset(0, 0, 0);
-        // a body without a centre of mass keeps its plain shape, and with it every bit of its
-        // motion
-        if (solid.center_of_mass) {
+        // a body without a centre of mass, or with it at its shape's centre, keeps its plain
+        // shape, and with it every bit of its motion (and the box colliders, which the compound
+        // would not take)
+        if (solid.center_of_mass && !to_bt(*solid.center_of_mass).isZero()) {
             offset = to_bt(*solid.center_of_mass);
             auto compound = std::make_unique<OffsetShape>(offset, shape.get());
             shapes.push_back(std::move(shape));

@@ -9,8 +9,10 @@
 
 #include <btBulletDynamicsCommon.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "bullet/physics_world.h"
@@ -292,4 +294,62 @@ TEST_CASE("a robot with centres of mass aside clones to the bit and reads shape 
         CHECK(x.linear_velocity == y.linear_velocity);
     }
     CHECK(sim.robot_position(0) == copy->robot_position(0));
+}
+
+TEST_CASE(
+    "a centre of mass given at the shape's centre moves the body as none given, bit for bit") {
+    // com = {0, 0, 0} says what the default says: the body keeps its plain shape, so a gait
+    // on the floor, pushing boxes about, follows the same trajectory to the last bit
+    const auto run = [](bool given) {
+        RobotSpec robot =
+            make_chain(ChainSpec{"snake", 4, Connection::pitch_yaw, default_module_def()});
+        robot.chain.reset();
+        for (BodySpec& b : robot.bodies)
+            b.center_of_mass = given ? std::optional<Vec3>(Vec3{0, 0, 0}) : std::nullopt;
+        validate(robot);
+        WorldSpec world = test::world_of(robot);
+        // loose boxes on both sides of the chain, which it pushes: contacts between
+        // bodies as well as with the floor
+        for (const double y : {0.048, -0.048}) {
+            for (const double x : {-0.2, -0.1, 0.0, 0.1, 0.2}) {
+                BoxSpec box;
+                box.size = {0.04, 0.04, 0.04};
+                box.pose.position = {x, y, 0.02};
+                box.mass = 0.02;
+                world.boxes.push_back(box);
+            }
+        }
+        Simulation sim(world);
+        test::drive(sim, "all", test::sine(40, 0.5, 90));
+        const Vec3 start = sim.robot_position(0);
+        sim.run(2.0);
+        std::vector<BodyState> out;
+        for (size_t b = 0; b < robot.bodies.size(); ++b)
+            out.push_back(sim.body(0, static_cast<int>(b)));
+        // and the loose boxes' states
+        for (int k = 0; k < 10; ++k)
+            out.push_back(sim.object(k));
+        return std::make_pair(out, (sim.robot_position(0) - start).norm());
+    };
+    const auto [plain, moved] = run(false);
+    const auto [zero, moved_zero] = run(true);
+    REQUIRE(plain.size() == zero.size());
+    // the gait moved the robot, so equal states are not two robots lying still
+    CHECK(moved > 0.005);
+    CHECK(moved == moved_zero);
+    const size_t bodies = plain.size() - 10;
+    double pushed = 0;
+    for (size_t k = 0; k < 10; ++k)
+        pushed = std::max(
+            pushed, (plain[bodies + k].pose.position -
+                     Vec3{-0.2 + 0.1 * static_cast<double>(k % 5), k < 5 ? 0.048 : -0.048, 0.02})
+                        .norm());
+    CAPTURE(pushed);
+    CHECK(pushed > 0.001);
+    for (size_t b = 0; b < plain.size(); ++b) {
+        CAPTURE(b);
+        CHECK(plain[b].pose.position == zero[b].pose.position);
+        CHECK(plain[b].pose.orientation == zero[b].pose.orientation);
+        CHECK(plain[b].linear_velocity == zero[b].linear_velocity);
+    }
 }
