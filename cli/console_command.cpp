@@ -19,6 +19,7 @@
 #include "gaitlab/files.h"
 #include "gaitlab/scripting/console.h"
 #include "gaitlab/scripting/lua_host.h"
+#include "gaitlab/terminal.h"
 #include "gaitlab/version.h"
 #include "gaitlab/viewer/view.h"
 
@@ -106,15 +107,15 @@ int run_console(const ConsoleArgs& a, const std::string& command,
         const char* end = a.seed.data() + a.seed.size();
         const auto r = std::from_chars(a.seed.data(), end, seed);
         if (a.seed.empty() || r.ec != std::errc() || r.ptr != end) {
-            std::fprintf(stderr,
-                         "gaitlab: --seed: a whole number from 0 to 18446744073709551615 "
-                         "expected (got '%s') (see 'gaitlab console --help')\n",
-                         a.seed.c_str());
+            print_message(stderr,
+                          "gaitlab: --seed: a whole number from 0 to 18446744073709551615 "
+                          "expected (got '%s') (see 'gaitlab console --help')\n",
+                          a.seed.c_str());
             return 2;
         }
     }
     if (!a.file.empty() && (a.file.size() < 4 || a.file.substr(a.file.size() - 4) != ".lua")) {
-        std::fprintf(stderr, "gaitlab: %s: expected a Lua script (FILE.lua)\n", a.file.c_str());
+        print_message(stderr, "gaitlab: %s: expected a Lua script (FILE.lua)\n", a.file.c_str());
         return 2;
     }
     const bool terminal = ::isatty(0) != 0;
@@ -149,14 +150,14 @@ int run_console(const ConsoleArgs& a, const std::string& command,
             return view ? std::min(wait, view->poll()) : wait;
         };
         options.warn = [](const std::string& message) {
-            std::fprintf(stderr, "gaitlab: warning: %s\n", message.c_str());
+            write_message(stderr, "gaitlab: warning: " + message + "\n");
         };
         LineInput input(std::move(options));
         console.set_writers([&input](const std::string& t) { input.write(stdout, t); },
                             [&input](const std::string& t) { input.write(stderr, t); });
         host.set_output([&input](const std::string& t) { input.write(stdout, t); });
         host.set_reporter([&input, &view](const std::string& m) {
-            input.write(stderr, "gaitlab: " + m + "\n");
+            input.write(stderr, terminal_text("gaitlab: " + m + "\n"));
             if (view) view->message("error", m);
         });
         // sim:view(): the page and this console steer the simulation together
@@ -185,7 +186,7 @@ int run_console(const ConsoleArgs& a, const std::string& command,
                                       : fs::path(a.file).parent_path() / fs::path(a.file).stem())
                                      .string() +
                                  ".environment.xml");
-                input.write(stderr, "viewer: " + view->url() +
+                input.write(stderr, "viewer: " + terminal_text(view->url()) +
                                         "\n  open it in a browser: the page and this console "
                                         "work together (sim:run plays at real time)\n");
                 if (where.host == "0.0.0.0" || where.host == "::") {
@@ -213,7 +214,7 @@ int run_console(const ConsoleArgs& a, const std::string& command,
             try {
                 host.run_file(a.file);
             } catch (const scripting::ScriptError& e) {
-                input.write(stderr, error_text(e));
+                input.write(stderr, terminal_text(error_text(e)));
             }
             g_running = 0;
             host.clear_interrupt();
@@ -243,22 +244,22 @@ int run_console(const ConsoleArgs& a, const std::string& command,
         host.set_view_handler({});
         host.set_output({});
         host.set_reporter(
-            [](const std::string& m) { std::fprintf(stderr, "gaitlab: %s\n", m.c_str()); });
+            [](const std::string& m) { write_message(stderr, "gaitlab: " + m + "\n"); });
         // a signal closes the recordings as interrupted, as `gaitlab run` does
         if (g_terminate != 0) host.interrupt(g_terminate);
         try {
             host.finish();
         } catch (const std::exception& e) {
-            std::fprintf(stderr, "gaitlab: %s\n", e.what());
+            print_message(stderr, "gaitlab: %s\n", e.what());
             status = 1;
         }
         folders = host.run_folders();
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        print_message(stderr, "gaitlab: %s\n", e.what());
         status = 1;
     }
     for (const std::string& f : folders)
-        std::fprintf(stderr, "recorded %s\n", f.c_str());
+        print_message(stderr, "recorded %s\n", f.c_str());
     if (g_terminate != 0) return 128 + g_terminate;
     return status;
 }

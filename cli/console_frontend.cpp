@@ -20,6 +20,8 @@
 #include <stdexcept>
 #include <system_error>
 
+#include "gaitlab/terminal.h"
+
 namespace gaitlab::cli {
 
 namespace {
@@ -247,7 +249,7 @@ int LineInput::idle_wait() {
         try {
             wait = options_.idle();
         } catch (const std::exception& e) {
-            write(stderr, std::string("gaitlab: ") + e.what() + "\n");
+            write(stderr, terminal_text(std::string("gaitlab: ") + e.what() + "\n"));
         }
         if (std::isnan(wait) || wait < 0) wait = 0;
         now = now_seconds();

@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include "gaitlab/files.h"
+#include "gaitlab/terminal.h"
 #include "gaitlab/viewer/editor.h"
 #include "gaitlab/viewer/server.h"
 #include "gaitlab/xml.h"
@@ -88,10 +89,10 @@ int EditCommand::run() {
         const char* end = a.port.data() + a.port.size();
         const auto r = std::from_chars(a.port.data(), end, v);
         if (r.ec != std::errc() || r.ptr != end || v < 1 || v > 65535) {
-            std::fprintf(stderr,
-                         "gaitlab: --port: a port number from 1 to 65535 expected (got '%s'; "
-                         "leave --port out for any free port)\n",
-                         a.port.c_str());
+            print_message(stderr,
+                          "gaitlab: --port: a port number from 1 to 65535 expected (got '%s'; "
+                          "leave --port out for any free port)\n",
+                          a.port.c_str());
             return 2;
         }
         options.port = v;
@@ -106,17 +107,18 @@ int EditCommand::run() {
             robot_files.push_back(a.sim);
         }
     } catch (const Error& e) {
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        print_message(stderr, "gaitlab: %s\n", e.what());
         return 1;
     }
     if (file.empty()) {
-        std::fprintf(stderr,
-                     "gaitlab: edit: an environment file expected (gaitlab edit ENV.xml, or "
-                     "--sim SIM.xml)\n");
+        print_message(stderr,
+                      "gaitlab: edit: an environment file expected (gaitlab edit ENV.xml, or "
+                      "--sim SIM.xml)\n");
         return 2;
     }
     if (file.size() < 5 || file.compare(file.size() - 4, 4, ".xml") != 0) {
-        std::fprintf(stderr, "gaitlab: %s: an environment file (ENV.xml) expected\n", file.c_str());
+        print_message(stderr, "gaitlab: %s: an environment file (ENV.xml) expected\n",
+                      file.c_str());
         return 2;
     }
     viewer::EditorSource first;
@@ -125,20 +127,20 @@ int EditCommand::run() {
         if (!fs::exists(file, ec)) {
             const fs::path folder = fs::absolute(file, ec).parent_path();
             if (!fs::is_directory(folder, ec)) {
-                std::fprintf(stderr, "gaitlab: %s: the folder %s does not exist\n", file.c_str(),
-                             folder.string().c_str());
+                print_message(stderr, "gaitlab: %s: the folder %s does not exist\n", file.c_str(),
+                              folder.string().c_str());
                 return 1;
             }
-            std::fprintf(stderr,
-                         "gaitlab: %s does not exist: creating it (a floor, nothing on "
-                         "it)\n",
-                         file.c_str());
+            print_message(stderr,
+                          "gaitlab: %s does not exist: creating it (a floor, nothing on "
+                          "it)\n",
+                          file.c_str());
             write_file_atomic(file, format_environment(EnvironmentSpec{}, file));
         }
         // read once here, so a file gaitlab cannot read is said before anything is served
         first = viewer::load_editor_source(file, robot_files);
     } catch (const Error& e) {
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        print_message(stderr, "gaitlab: %s\n", e.what());
         return 1;
     }
     const std::string path = first.file;
@@ -154,19 +156,19 @@ int EditCommand::run() {
     try {
         viewer::Server server(options);
         server.set_world_provider(editor.provider());
-        std::fprintf(stderr, "editor: %s\n  open it in a browser to edit %s (Ctrl-C quits)\n",
-                     server.url().c_str(), path.c_str());
+        print_message(stderr, "editor: %s\n  open it in a browser to edit %s (Ctrl-C quits)\n",
+                      server.url().c_str(), path.c_str());
         if (options.host == "0.0.0.0" || options.host == "::") {
-            std::fprintf(stderr,
-                         "  from another machine: this machine's address in place of "
-                         "127.0.0.1, with the token (whoever has it can save into %s)\n",
-                         fs::path(path).parent_path().string().c_str());
+            print_message(stderr,
+                          "  from another machine: this machine's address in place of "
+                          "127.0.0.1, with the token (whoever has it can save into %s)\n",
+                          fs::path(path).parent_path().string().c_str());
         }
         while (g_stop == 0)
             std::this_thread::sleep_for(std::chrono::milliseconds(50));
         server.stop();
     } catch (const Error& e) {
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        print_message(stderr, "gaitlab: %s\n", e.what());
         return 1;
     }
     return 0;

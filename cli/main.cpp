@@ -41,6 +41,7 @@
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/scripting/replay.h"
 #include "gaitlab/suggest.h"
+#include "gaitlab/terminal.h"
 #include "gaitlab/version.h"
 #include "gaitlab/viewer/run_view.h"
 #include "gaitlab/viewer/view.h"
@@ -54,6 +55,9 @@
 namespace {
 
 namespace fs = std::filesystem;
+using gaitlab::print_message;
+using gaitlab::terminal_line;
+using gaitlab::write_message;
 
 bool ends_with(const std::string& s, const char* suffix) {
     const std::string x(suffix);
@@ -93,13 +97,13 @@ class Stdout {
         if (status != 0) return status;
         if (error_ == EPIPE) return 128 + SIGPIPE;
         if (error_ != 0) {
-            std::fprintf(stderr, "gaitlab: cannot write to standard output: %s\n",
-                         std::strerror(error_));
+            print_message(stderr, "gaitlab: cannot write to standard output: %s\n",
+                          std::strerror(error_));
         } else {
             // the script's own writes failed (print, io.write): their reason is gone
-            std::fprintf(stderr,
-                         "gaitlab: cannot write to standard output: some of the output was "
-                         "lost\n");
+            print_message(stderr,
+                          "gaitlab: cannot write to standard output: some of the output was "
+                          "lost\n");
         }
         return 1;
     }
@@ -120,16 +124,6 @@ void keep_standard_streams() {
             ::close(null);
         }
     }
-}
-
-// a run folder's text as the terminal shows it: control characters (escape sequences, line
-// ends a hostile run.json may hold) become '?'
-std::string printable(std::string_view s) {
-    std::string out(s);
-    for (char& c : out) {
-        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
-    }
-    return out;
 }
 
 // one CSV field, quoted if it needs to be (RFC 4180), as the run folders write them
@@ -209,9 +203,8 @@ std::uint64_t parse_seed(const std::string& text) {
     const char* end = text.data() + text.size();
     const auto r = std::from_chars(text.data(), end, v);
     if (text.empty() || r.ec != std::errc() || r.ptr != end) {
-        throw gaitlab::SpecError(
-            fmt::format("--seed: a whole number from 0 to 18446744073709551615 expected (got '{}')",
-                        printable(text)));
+        throw gaitlab::SpecError(fmt::format(
+            "--seed: a whole number from 0 to 18446744073709551615 expected (got '{}')", text));
     }
     return v;
 }
@@ -224,7 +217,7 @@ double parse_seconds(const char* option, std::string text) {
     const auto r = std::from_chars(text.data(), end, v);
     if (text.empty() || r.ec != std::errc() || r.ptr != end || !std::isfinite(v)) {
         throw gaitlab::SpecError(
-            fmt::format("{}: a number of seconds expected (got '{}')", option, printable(text)));
+            fmt::format("{}: a number of seconds expected (got '{}')", option, text));
     }
     return v;
 }
@@ -253,7 +246,7 @@ int parse_port(const std::string& text) {
         throw gaitlab::SpecError(
             fmt::format("--port: a port number from 1 to 65535 expected (got '{}'; leave --port "
                         "out for any free port)",
-                        printable(text)));
+                        text));
     }
     return v;
 }
@@ -267,17 +260,17 @@ struct CheckArgs {
 // check_simulation_file); exit status 0 within 3 %, 3 a setting warned, 1 or 2 an error
 int check_command(const CheckArgs& a) {
     if (!ends_with(a.file, ".xml")) {
-        std::fprintf(stderr,
-                     "gaitlab: %s: expected a simulation file (FILE.xml); a Lua script checks "
-                     "its simulation itself with sim:check_accuracy{} (docs/lua-api.md)\n",
-                     printable(a.file).c_str());
+        print_message(stderr,
+                      "gaitlab: %s: expected a simulation file (FILE.xml); a Lua script checks "
+                      "its simulation itself with sim:check_accuracy{} (docs/lua-api.md)\n",
+                      a.file.c_str());
         return 2;
     }
     struct stat st {};
     if (::stat(a.file.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-        std::fprintf(stderr, "gaitlab: %s: %s\n", printable(a.file).c_str(),
-                     S_ISDIR(st.st_mode) ? "is a directory"
-                                         : "not a regular file (a FIFO, device or socket)");
+        print_message(stderr, "gaitlab: %s: %s\n", a.file.c_str(),
+                      S_ISDIR(st.st_mode) ? "is a directory"
+                                          : "not a regular file (a FIFO, device or socket)");
         return 2;
     }
     double seconds = 0, cycle = 0, settle = 0;
@@ -288,13 +281,12 @@ int check_command(const CheckArgs& a) {
             if (text.empty()) return 0.0;
             const double v = parse_seconds(option, text);
             if (!(v > 0)) {
-                throw gaitlab::SpecError(fmt::format(
-                    "{}: a number of seconds > 0 expected (got '{}')", option, printable(text)));
+                throw gaitlab::SpecError(
+                    fmt::format("{}: a number of seconds > 0 expected (got '{}')", option, text));
             }
             if (!(v <= 1e6)) {
-                throw gaitlab::SpecError(
-                    fmt::format("{}: a number of seconds up to 1e6 expected (got '{}')", option,
-                                printable(text)));
+                throw gaitlab::SpecError(fmt::format(
+                    "{}: a number of seconds up to 1e6 expected (got '{}')", option, text));
             }
             return v;
         };
@@ -303,13 +295,12 @@ int check_command(const CheckArgs& a) {
         if (!a.settle.empty()) {
             settle = parse_seconds("--settle", a.settle);
             if (!(settle >= 0 && settle <= 1e6)) {
-                throw gaitlab::SpecError(
-                    fmt::format("--settle: a number of seconds from 0 to 1e6 expected (got '{}')",
-                                printable(a.settle)));
+                throw gaitlab::SpecError(fmt::format(
+                    "--settle: a number of seconds from 0 to 1e6 expected (got '{}')", a.settle));
             }
         }
     } catch (const gaitlab::Error& e) {
-        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab check --help')\n", e.what());
+        print_message(stderr, "gaitlab: %s (see 'gaitlab check --help')\n", e.what());
         return 2;
     }
     std::string error;
@@ -317,7 +308,7 @@ int check_command(const CheckArgs& a) {
     try {
         gaitlab::scripting::LuaHost host;
         host.set_reporter([](const std::string& message) {
-            std::fprintf(stderr, "gaitlab: %s\n", message.c_str());
+            write_message(stderr, "gaitlab: " + message + "\n");
         });
         const Interruptible interruptible(host);
         warned = host.check_simulation_file(a.file, seconds, cycle, settle);
@@ -326,12 +317,12 @@ int check_command(const CheckArgs& a) {
     }
     if (g_signal != 0) {
         if (g_signal != SIGPIPE) {
-            std::fprintf(stderr, "gaitlab: %s\n", error.empty() ? "interrupted" : error.c_str());
+            print_message(stderr, "gaitlab: %s\n", error.empty() ? "interrupted" : error.c_str());
         }
         return 128 + g_signal;
     }
     if (!error.empty()) {
-        std::fprintf(stderr, "gaitlab: %s\n", error.c_str());
+        print_message(stderr, "gaitlab: %s\n", error.c_str());
         return 1;
     }
     return warned > 0 ? 3 : 0;
@@ -391,19 +382,19 @@ class ProgressLine {
 int run_script(const RunArgs& a, const std::string& command) {
     const bool xml = ends_with(a.file, ".xml");
     if (!ends_with(a.file, ".lua") && !xml) {
-        std::fprintf(stderr,
-                     "gaitlab: %s: expected a Lua script (FILE.lua) or a simulation file "
-                     "(FILE.xml)\n",
-                     a.file.c_str());
+        print_message(stderr,
+                      "gaitlab: %s: expected a Lua script (FILE.lua) or a simulation file "
+                      "(FILE.xml)\n",
+                      a.file.c_str());
         return 2;
     }
     // a FIFO or a device would block or never end: only a regular file is a script (a missing
     // one is reported by the host, naming it as Lua does)
     struct stat st {};
     if (::stat(a.file.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-        std::fprintf(stderr, "gaitlab: %s: %s\n", a.file.c_str(),
-                     S_ISDIR(st.st_mode) ? "is a directory"
-                                         : "not a regular file (a FIFO, device or socket)");
+        print_message(stderr, "gaitlab: %s: %s\n", a.file.c_str(),
+                      S_ISDIR(st.st_mode) ? "is a directory"
+                                          : "not a regular file (a FIFO, device or socket)");
         return 2;
     }
     std::uint64_t seed = 0;
@@ -413,7 +404,7 @@ int run_script(const RunArgs& a, const std::string& command) {
         if (!a.port.empty()) server.port = parse_port(a.port);
         if (!a.host.empty()) server.host = a.host;
     } catch (const gaitlab::Error& e) {
-        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab run --help')\n", e.what());
+        print_message(stderr, "gaitlab: %s (see 'gaitlab run --help')\n", e.what());
         return 2;
     }
     std::vector<std::string> folders;
@@ -429,18 +420,18 @@ int run_script(const RunArgs& a, const std::string& command) {
             try {
                 view = std::make_unique<gaitlab::viewer::View>(host, server);
             } catch (const gaitlab::Error& e) {
-                std::fprintf(stderr, "gaitlab: %s\n", e.what());
+                print_message(stderr, "gaitlab: %s\n", e.what());
                 return 1;
             }
-            std::fprintf(stderr,
-                         "viewer: %s\n  open it in a browser: the simulation starts when the page "
-                         "opens (Ctrl-C quits)\n",
-                         view->url().c_str());
+            print_message(stderr,
+                          "viewer: %s\n  open it in a browser: the simulation starts when the page "
+                          "opens (Ctrl-C quits)\n",
+                          view->url().c_str());
             if (server.host == "0.0.0.0" || server.host == "::") {
-                std::fprintf(stderr,
-                             "  from another machine: this machine's address in place of "
-                             "127.0.0.1, with the token (whoever has it can steer the "
-                             "simulation)\n");
+                print_message(stderr,
+                              "  from another machine: this machine's address in place of "
+                              "127.0.0.1, with the token (whoever has it can steer the "
+                              "simulation)\n");
             }
             // "Edit world" saves the simulation file's environment, or one beside the script
             std::string world = (fs::path(a.file).parent_path() /
@@ -475,7 +466,7 @@ int run_script(const RunArgs& a, const std::string& command) {
         // on_controller_error = "continue" are reported while the script goes on
         host.set_reporter([&progress, &view](const std::string& message) {
             progress.clear();
-            std::fprintf(stderr, "gaitlab: %s\n", message.c_str());
+            write_message(stderr, "gaitlab: " + message + "\n");
             if (view) view->message("error", message);
         });
         if (!a.no_progress && ::isatty(STDERR_FILENO)) {
@@ -508,19 +499,19 @@ int run_script(const RunArgs& a, const std::string& command) {
         if (view && g_signal == 0) {
             // the student looks on (and plays on) after the script, until Ctrl-C
             if (error.empty()) {
-                std::fprintf(stderr,
-                             "gaitlab: the script has finished; the viewer still serves %s "
-                             "(Ctrl-C quits)\n",
-                             view->url().c_str());
+                print_message(stderr,
+                              "gaitlab: the script has finished; the viewer still serves %s "
+                              "(Ctrl-C quits)\n",
+                              view->url().c_str());
                 view->message("info",
                               "the script has finished: play on, or quit with Ctrl-C "
                               "in the terminal");
             } else {
-                std::fprintf(stderr, "gaitlab: %s\n", error.c_str());
-                std::fprintf(stderr,
-                             "gaitlab: the script failed; the viewer still serves %s (Ctrl-C "
-                             "quits)\n",
-                             view->url().c_str());
+                print_message(stderr, "gaitlab: %s\n", error.c_str());
+                print_message(stderr,
+                              "gaitlab: the script failed; the viewer still serves %s (Ctrl-C "
+                              "quits)\n",
+                              view->url().c_str());
                 view->message("error", "the script failed: " + error);
             }
             view->serve([] { return g_signal != 0; }, error);
@@ -534,10 +525,10 @@ int run_script(const RunArgs& a, const std::string& command) {
         view.reset();
         // sim:play() plays in the console, between keystrokes: a script has no such time
         if (const int n = host.playing(); n > 0 && error.empty() && !a.view) {
-            std::fprintf(stderr,
-                         "note: %d simulation%s left playing when the script ended: simulations "
-                         "play in the console (gaitlab -i %s)\n",
-                         n, n == 1 ? " was" : "s were", a.file.c_str());
+            print_message(stderr,
+                          "note: %d simulation%s left playing when the script ended: simulations "
+                          "play in the console (gaitlab -i %s)\n",
+                          n, n == 1 ? " was" : "s were", a.file.c_str());
         }
         // the run folders keep the reason ("interrupted" with the signal, "failed" with the
         // error); a failed close must not hide the error
@@ -553,23 +544,23 @@ int run_script(const RunArgs& a, const std::string& command) {
     if (g_signal != 0 && !quit_viewer) {
         // a broken pipe ends quietly, as SIGPIPE would have
         if (g_signal != SIGPIPE) {
-            std::fprintf(stderr, "gaitlab: %s\n", error.empty() ? "interrupted" : error.c_str());
+            print_message(stderr, "gaitlab: %s\n", error.empty() ? "interrupted" : error.c_str());
         }
         return 128 + g_signal;
     }
     if (!error.empty()) {
         // the viewer showed it already
-        if (!quit_viewer) std::fprintf(stderr, "gaitlab: %s\n", error.c_str());
+        if (!quit_viewer) print_message(stderr, "gaitlab: %s\n", error.c_str());
         return 1;
     }
     // one line saying where the runs went
     if (folders.size() == 1) {
-        std::fprintf(stderr, "recorded %s\n", folders[0].c_str());
+        print_message(stderr, "recorded %s\n", folders[0].c_str());
     } else if (!folders.empty()) {
         std::string list;
         for (const std::string& f : folders)
             list += (list.empty() ? "" : ", ") + f;
-        std::fprintf(stderr, "recorded %zu runs: %s\n", folders.size(), list.c_str());
+        print_message(stderr, "recorded %zu runs: %s\n", folders.size(), list.c_str());
     }
     return 0;
 }
@@ -629,11 +620,11 @@ std::string seconds_text(double t, double dt) {
 void print_summary(const gaitlab::RunData& run) {
     const gaitlab::RunMeta& m = run.meta();
     const std::vector<double> t = run.times();
-    Stdout::print("run      {}\n", printable(run.dir()));
-    Stdout::print("status   {}\n", printable(run.state()));
+    Stdout::print("run      {}\n", terminal_line(run.dir()));
+    Stdout::print("status   {}\n", terminal_line(run.state()));
     if (!m.script.empty())
-        Stdout::print("script   {} (seed {})\n", printable(m.script), m.script_seed);
-    Stdout::print("started  {}\n", printable(m.started));
+        Stdout::print("script   {} (seed {})\n", terminal_line(m.script), m.script_seed);
+    Stdout::print("started  {}\n", terminal_line(m.started));
     // the gaitlab that recorded it: run folders written before it kept its commit say less
     std::string built, commit;
     for (const auto& [key, value] : m.provenance) {
@@ -641,8 +632,8 @@ void print_summary(const gaitlab::RunData& run) {
         if (key == "commit") commit = value;
     }
     if (!built.empty() || !commit.empty()) {
-        Stdout::print("gaitlab  {}{}\n", built.empty() ? "?" : printable(built),
-                      commit.empty() ? "" : fmt::format(" (commit {})", printable(commit)));
+        Stdout::print("gaitlab  {}{}\n", built.empty() ? "?" : terminal_line(built),
+                      commit.empty() ? "" : fmt::format(" (commit {})", terminal_line(commit)));
     }
     Stdout::print("rows     {}{}, t = {} .. {} s, every {} ticks of {} s\n", t.size(),
                   run.truncated() ? " (last line cut short, dropped)" : "",
@@ -650,7 +641,7 @@ void print_summary(const gaitlab::RunData& run) {
                   t.empty() ? "-" : seconds_text(t.back(), m.options.dt), m.record_every,
                   m.options.dt);
     Stdout::print("series   {} (gaitlab data {} --list)\n", run.series().size(),
-                  printable(run.dir()));
+                  terminal_line(run.dir()));
     Stdout::print("events   {}\n", run.events().size());
 }
 
@@ -670,13 +661,13 @@ int data_command(const DataArgs& a) {
         std::vector<std::string> names = wanted.empty() ? run.names() : run.select(wanted);
         size_t width = 4;
         for (const std::string& n : names)
-            width = std::max(width, n.size());
+            width = std::max(width, terminal_line(n).size());
         Stdout::print("{:<{}}  {:<10}  {:<5}  {}\n", "name", width, "kind", "joint", "unit");
         for (const std::string& n : names) {
             const gaitlab::SeriesInfo& s = run.find(n);
-            if (!Stdout::print("{:<{}}  {:<10}  {:<5}  {}\n", printable(s.name), width,
+            if (!Stdout::print("{:<{}}  {:<10}  {:<5}  {}\n", terminal_line(s.name), width,
                                gaitlab::to_string(s.kind),
-                               s.joint > 0 ? std::to_string(s.joint) : "", printable(s.unit)))
+                               s.joint > 0 ? std::to_string(s.joint) : "", terminal_line(s.unit)))
                 break;
         }
         return 0;
@@ -718,14 +709,15 @@ int data_command(const DataArgs& a) {
         o.to = to;
         o.title = a.title;
         const gaitlab::PlotFiles f = gaitlab::plot(run, o);
-        Stdout::print("wrote {} (gnuplot script {}, data {})\n", f.png, f.script, f.data);
+        Stdout::print("wrote {} (gnuplot script {}, data {})\n", terminal_line(f.png),
+                      terminal_line(f.script), terminal_line(f.data));
         return 0;
     }
     if (!wanted.empty()) {
         const std::vector<std::string> names = run.select(wanted);
         if (!a.split.empty()) {
             for (const std::string& path : run.write_split(a.split, names, from, to)) {
-                if (!Stdout::print("wrote {}\n", printable(path))) break;
+                if (!Stdout::print("wrote {}\n", terminal_line(path))) break;
             }
             return 0;
         }
@@ -771,30 +763,30 @@ int replay_command(const std::string& dir, const std::string& into) {
         });
     if (g_signal != 0) {
         if (g_signal != SIGPIPE)
-            std::fprintf(stderr, "gaitlab: interrupted (%s)\n", strsignal_name(g_signal));
+            print_message(stderr, "gaitlab: interrupted (%s)\n", strsignal_name(g_signal));
         return 128 + g_signal;
     }
     if (!r.script_error.empty()) {
-        std::fprintf(stderr, "gaitlab: replay failed: %s\n", printable(r.script_error).c_str());
+        print_message(stderr, "gaitlab: replay failed: %s\n", r.script_error.c_str());
         return 1;
     }
     if (!r.ok()) {
         // a run that failed: how the replay's failure departs from it comes with the data's
         std::string why = !r.divergence.empty() ? r.divergence : r.comparison.difference;
         if (!r.failure.empty()) why = why.empty() ? r.failure : why + "; " + r.failure;
-        std::fprintf(stderr, "gaitlab: replay differs: %s\n", printable(why).c_str());
+        print_message(stderr, "gaitlab: replay differs: %s\n", why.c_str());
         return 1;
     }
     const std::string how = !r.run_error.empty()
                                 ? fmt::format(" (the run failed the same way at t = {} s: {})",
-                                              r.failed_at, printable(r.run_error))
+                                              r.failed_at, terminal_line(r.run_error))
                             : r.stopped_early ? " (up to where the run stopped)"
                                               : "";
     Stdout::print(
         "replay identical: {} rows x {} series, bit for bit{}; {} recorded {} applied (into "
         "{})\n",
         r.comparison.rows, r.comparison.series, how, r.applied,
-        r.applied == 1 ? "change" : "changes", r.into);
+        r.applied == 1 ? "change" : "changes", terminal_line(r.into));
     return 0;
 }
 
@@ -822,7 +814,7 @@ int view_command(const ViewArgs& a) {
             throw gaitlab::SpecError(fmt::format(
                 "--size: WIDTHxHEIGHT in pixels expected, even numbers from 64x64 to 3840x2160 "
                 "(got '{}')",
-                printable(a.size)));
+                a.size));
         }
         if (!a.port.empty()) server.port = parse_port(a.port);
         if (!a.host.empty()) server.host = a.host;
@@ -834,10 +826,10 @@ int view_command(const ViewArgs& a) {
         }
         if (!(speed > 0 && speed <= 100)) {
             throw gaitlab::SpecError(fmt::format(
-                "--speed: a real-time factor in (0, 100] expected (got '{}')", printable(a.speed)));
+                "--speed: a real-time factor in (0, 100] expected (got '{}')", a.speed));
         }
     } catch (const gaitlab::Error& e) {
-        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab view --help')\n", e.what());
+        print_message(stderr, "gaitlab: %s (see 'gaitlab view --help')\n", e.what());
         return 2;
     }
     if (!a.video.empty()) {
@@ -845,14 +837,14 @@ int view_command(const ViewArgs& a) {
             a.dir, a.video, speed, [] { return g_signal != 0; }, gaitlab::viewer::find_chromium(),
             width, height);
         if (g_signal != 0) {
-            std::fprintf(stderr, "gaitlab: interrupted (%s)\n", strsignal_name(g_signal));
+            print_message(stderr, "gaitlab: interrupted (%s)\n", strsignal_name(g_signal));
             return 128 + g_signal;
         }
         if (!error.empty()) {
-            std::fprintf(stderr, "gaitlab: %s\n", printable(error).c_str());
+            print_message(stderr, "gaitlab: %s\n", error.c_str());
             return 1;
         }
-        std::fprintf(stderr, "wrote %s\n", a.video.c_str());
+        print_message(stderr, "wrote %s\n", a.video.c_str());
         return 0;
     }
     std::unique_ptr<gaitlab::viewer::RunView> view;
@@ -861,21 +853,22 @@ int view_command(const ViewArgs& a) {
         options.cancel = [] { return g_signal != 0; };
         view = std::make_unique<gaitlab::viewer::RunView>(a.dir, server, options);
     } catch (const gaitlab::viewer::ServerError& e) {
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        print_message(stderr, "gaitlab: %s\n", e.what());
         return 1;
     }
     if (g_signal != 0) {
-        std::fprintf(stderr, "gaitlab: interrupted (%s)\n", strsignal_name(g_signal));
+        print_message(stderr, "gaitlab: interrupted (%s)\n", strsignal_name(g_signal));
         return 128 + g_signal;
     }
     for (const std::string& note : view->notes())
-        std::fprintf(stderr, "gaitlab: %s\n", printable(note).c_str());
-    std::fprintf(stderr, "viewer: %s\n  open it in a browser: the recorded run %s (Ctrl-C quits)\n",
-                 view->url().c_str(), a.dir.c_str());
+        print_message(stderr, "gaitlab: %s\n", note.c_str());
+    print_message(stderr,
+                  "viewer: %s\n  open it in a browser: the recorded run %s (Ctrl-C quits)\n",
+                  view->url().c_str(), a.dir.c_str());
     if (server.host == "0.0.0.0" || server.host == "::") {
-        std::fprintf(stderr,
-                     "  from another machine: this machine's address in place of 127.0.0.1, "
-                     "with the token\n");
+        print_message(stderr,
+                      "  from another machine: this machine's address in place of 127.0.0.1, "
+                      "with the token\n");
     }
     view->serve([] { return g_signal != 0; });
     return 0;
@@ -901,11 +894,10 @@ std::string leftover_error(CLI::App& app) {
                     std::vector<std::string> commands;
                     for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
                         commands.push_back(sub->get_name());
-                    return fmt::format("unknown command '{}'{} ({})", printable(arg),
+                    return fmt::format("unknown command '{}'{} ({})", arg,
                                        gaitlab::did_you_mean(arg, commands), see);
                 }
-                return fmt::format("unexpected argument '{}' for '{}' ({})", printable(arg),
-                                   command, see);
+                return fmt::format("unexpected argument '{}' for '{}' ({})", arg, command, see);
             }
             // the option as typed, without "=VALUE"
             const std::string name = arg.substr(0, arg.find('='));
@@ -921,10 +913,9 @@ std::string leftover_error(CLI::App& app) {
                 return fmt::format(
                     "unknown option '{}'{} (the script's arguments go after FILE, and after '--' "
                     "when one starts with '-'; {})",
-                    printable(name), where, see);
+                    name, where, see);
             }
-            return fmt::format("unknown option '{}'{}{} ({})", printable(name), where, suggestion,
-                               see);
+            return fmt::format("unknown option '{}'{}{} ({})", name, where, suggestion, see);
         }
     }
     return "";
@@ -1160,11 +1151,11 @@ int main(int argc, char** argv) {
         if (std::regex_match(what, m, twice)) {
             what = m[1].str() + " given " + m[2].str() + " times (give it once)";
         }
-        std::fprintf(stderr, "gaitlab: %s (see '%s')\n", what.c_str(), help.c_str());
+        print_message(stderr, "gaitlab: %s (see '%s')\n", what.c_str(), help.c_str());
         return 2;
     }
     if (const std::string error = leftover_error(app); !error.empty()) {
-        std::fprintf(stderr, "gaitlab: %s\n", error.c_str());
+        print_message(stderr, "gaitlab: %s\n", error.c_str());
         return 2;
     }
     if (*run) {
@@ -1174,11 +1165,11 @@ int main(int argc, char** argv) {
         }
         if (ra.file.empty()) {
             // an empty name given, or the file taken as an option's value (--seed base.lua)
-            std::fprintf(stderr, "gaitlab: %s (see 'gaitlab run --help')\n",
-                         run->get_option("file")->count() > 0
-                             ? "a script or simulation file expected, got an empty name"
-                             : "a script or simulation file is required (gaitlab run FILE.lua; "
-                               "an option before it takes its value first)");
+            print_message(stderr, "gaitlab: %s (see 'gaitlab run --help')\n",
+                          run->get_option("file")->count() > 0
+                              ? "a script or simulation file expected, got an empty name"
+                              : "a script or simulation file is required (gaitlab run FILE.lua; "
+                                "an option before it takes its value first)");
             return 2;
         }
         ra.args.insert(ra.args.end(), script_tail.begin(), script_tail.end());
@@ -1188,9 +1179,9 @@ int main(int argc, char** argv) {
     if (*console || argl.empty()) {
         // `gaitlab -i ""`: a file asked for and none named is no plain console
         if (console->get_option("file")->count() > 0 && ca.file.empty()) {
-            std::fprintf(stderr,
-                         "gaitlab: a Lua file to run first expected, got an empty name (see "
-                         "'gaitlab console --help')\n");
+            print_message(stderr,
+                          "gaitlab: a Lua file to run first expected, got an empty name (see "
+                          "'gaitlab console --help')\n");
             return 2;
         }
         if (ca.file.empty() && !script_tail.empty()) {
@@ -1235,7 +1226,7 @@ int main(int argc, char** argv) {
         }
     } catch (const std::exception& e) {
         // messages may quote a run folder's content: no control characters to the terminal
-        std::fprintf(stderr, "gaitlab: %s\n", printable(e.what()).c_str());
+        print_message(stderr, "gaitlab: %s\n", e.what());
         status = 1;
     }
     return Stdout::finish(status);

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "gaitlab/suggest.h"
+#include "gaitlab/terminal.h"
 #include "gaitlab/xml.h"
 #include "parts.h"
 #include "shell_word.h"
@@ -225,9 +226,9 @@ int MakeCommand::run() {
     for (CLI::App* s : {a.robot, a.actuation, a.world, a.sim})
         if (s->parsed()) sub = s;
     if (!sub) {
-        std::fprintf(stderr,
-                     "gaitlab: say what to make: gaitlab make robot|world|actuation|sim ... -o "
-                     "FILE (see 'gaitlab make --help')\n");
+        print_message(stderr,
+                      "gaitlab: say what to make: gaitlab make robot|world|actuation|sim ... -o "
+                      "FILE (see 'gaitlab make --help')\n");
         return 2;
     }
     const std::string command = "gaitlab make " + sub->get_name();
@@ -239,12 +240,12 @@ int MakeCommand::run() {
                 options.push_back("--" + l);
         const std::string name = arg.substr(0, arg.find('='));
         if (arg.size() > 1 && arg[0] == '-') {
-            std::fprintf(stderr, "gaitlab: unknown option '%s' for '%s'%s (see '%s --help')\n",
-                         name.c_str(), command.c_str(), did_you_mean(name, options).c_str(),
-                         command.c_str());
+            print_message(stderr, "gaitlab: unknown option '%s' for '%s'%s (see '%s --help')\n",
+                          name.c_str(), command.c_str(), did_you_mean(name, options).c_str(),
+                          command.c_str());
         } else {
-            std::fprintf(stderr, "gaitlab: unexpected argument '%s' for '%s' (see '%s --help')\n",
-                         arg.c_str(), command.c_str(), command.c_str());
+            print_message(stderr, "gaitlab: unexpected argument '%s' for '%s' (see '%s --help')\n",
+                          arg.c_str(), command.c_str(), command.c_str());
         }
         return 2;
     }
@@ -268,16 +269,16 @@ int MakeCommand::run() {
             for (const std::string& s : a.sensors)
                 r.sensors.push_back(parse_sensor(s));
             maker.write_robot(r, a.out);
-            std::printf("wrote %s (robot '%s': %d modules, %s)\n", a.out.c_str(), r.name.c_str(),
-                        r.modules, r.connection.c_str());
+            print_message(stdout, "wrote %s (robot '%s': %d modules, %s)\n", a.out.c_str(),
+                          r.name.c_str(), r.modules, r.connection.c_str());
         } else if (sub == a.actuation) {
             need_file("--robot", a.robot_file);
             std::vector<GroupChoice> groups;
             for (const std::string& g : a.groups)
                 groups.push_back(parse_group(g));
             maker.write_actuation(a.robot_file, groups, a.out);
-            std::printf("wrote %s (%zu %s)\n", a.out.c_str(), groups.size(),
-                        groups.size() == 1 ? "group" : "groups");
+            print_message(stdout, "wrote %s (%zu %s)\n", a.out.c_str(), groups.size(),
+                          groups.size() == 1 ? "group" : "groups");
         } else if (sub == a.world) {
             WorldChoice w;
             w.preset = a.preset;
@@ -302,7 +303,7 @@ int MakeCommand::run() {
                 w.place = a.place;
             }
             maker.write_world(w, a.out);
-            std::printf("wrote %s (world '%s')\n", a.out.c_str(), w.preset.c_str());
+            print_message(stdout, "wrote %s (world '%s')\n", a.out.c_str(), w.preset.c_str());
         } else {
             need_file("--robot", a.robot_file);
             if (!a.actuation_file.empty()) need_file("--actuation", a.actuation_file);
@@ -314,12 +315,12 @@ int MakeCommand::run() {
             s.control_every = whole_number("--control-every", a.control_every);
             s.record = !a.no_record;
             maker.write_sim(s, a.robot_file, a.actuation_file, a.world_file, a.out);
-            std::printf("wrote %s (run it: gaitlab run %s)\n", a.out.c_str(),
-                        shell_word(a.out).c_str());
+            print_message(stdout, "wrote %s (run it: gaitlab run %s)\n", a.out.c_str(),
+                          shell_word(a.out).c_str());
         }
     } catch (const std::exception& e) {
         // "gaitlab: make robot: ..."
-        std::fprintf(stderr, "gaitlab: %s: %s\n", command.c_str() + 8, e.what());
+        print_message(stderr, "gaitlab: %s: %s\n", command.c_str() + 8, e.what());
         return 1;
     }
     return 0;

@@ -20,6 +20,7 @@
 #include "gaitlab/optimize/mpi.h"
 #include "gaitlab/optimize/options.h"
 #include "gaitlab/optimize/runner.h"
+#include "gaitlab/terminal.h"
 #include "progress.h"
 #include "ranks.h"
 #include "shell_word.h"
@@ -114,7 +115,7 @@ int OptimizeCommand::run(const std::string& command) {
         mpi_options.workers = o.workers;
         mpi_options.rank_timeout = rank_timeout_option(a.rank_timeout);
     } catch (const Error& e) {
-        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab optimize --help')\n", e.what());
+        print_message(stderr, "gaitlab: %s (see 'gaitlab optimize --help')\n", e.what());
         return 2;
     }
     o.out = o.out.empty() ? default_results_folder("optimize", a.spec) : o.out;
@@ -129,9 +130,9 @@ int OptimizeCommand::run(const std::string& command) {
     for (const auto& p : spec.parameters)
         names += (names.empty() ? "" : ", ") + p.name;
     const std::string workers = workers_text(mpi, o.workers);
-    std::printf("optimize %s: %zu parameter%s (%s), fitness %s, %s, results in %s\n",
-                a.spec.c_str(), spec.parameters.size(), spec.parameters.size() == 1 ? "" : "s",
-                names.c_str(), spec.fitness.c_str(), workers.c_str(), o.out.c_str());
+    print_message(stdout, "optimize %s: %zu parameter%s (%s), fitness %s, %s, results in %s\n",
+                  a.spec.c_str(), spec.parameters.size(), spec.parameters.size() == 1 ? "" : "s",
+                  names.c_str(), spec.fitness.c_str(), workers.c_str(), o.out.c_str());
     std::fflush(stdout);
     // on a terminal, a line on stderr rewritten after each evaluation; taken away before the
     // generation's summary line and at the end
@@ -158,7 +159,7 @@ int OptimizeCommand::run(const std::string& command) {
                     line += fmt::format(" ({} failed: {})", p.failed, p.first_error);
                 }
                 clear_bar();
-                std::printf("%s\n", line.c_str());
+                print_message(stdout, "%s\n", line.c_str());
                 std::fflush(stdout);
             },
             &evaluations_stop(),
@@ -168,36 +169,39 @@ int OptimizeCommand::run(const std::string& command) {
     } catch (const Error& e) {
         clear_bar();
         if (const int sig = evaluations_stop().load(); sig != 0) {
-            std::fprintf(stderr,
-                         "gaitlab: interrupted; the evaluations so far are in %s (go on with "
-                         "--resume --out %s)\n",
-                         o.out.c_str(), o.out.c_str());
+            print_message(stderr,
+                          "gaitlab: interrupted; the evaluations so far are in %s (go on with "
+                          "--resume --out %s)\n",
+                          o.out.c_str(), o.out.c_str());
             return 128 + sig;
         }
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        print_message(stderr, "gaitlab: %s\n", e.what());
         return 1;
     }
     if (r.best.empty()) {
-        std::fprintf(stderr, "gaitlab: every evaluation failed (see %s/evaluations.jsonl)\n",
-                     o.out.c_str());
+        print_message(stderr, "gaitlab: every evaluation failed (see %s/evaluations.jsonl)\n",
+                      o.out.c_str());
         return 1;
     }
     const std::string best = point_text(spec, r.best);
-    std::printf("best %s %s after %lld evaluations (%s, seed %llu): %s\n", spec.fitness.c_str(),
-                fitness_text(r.best_fitness).c_str(), static_cast<long long>(r.evaluations),
-                r.method.c_str(), static_cast<unsigned long long>(o.seed), best.c_str());
-    std::printf("results: %s/evaluations.jsonl, %s/best.json\n", o.out.c_str(), o.out.c_str());
+    print_message(stdout, "best %s %s after %lld evaluations (%s, seed %llu): %s\n",
+                  spec.fitness.c_str(), fitness_text(r.best_fitness).c_str(),
+                  static_cast<long long>(r.evaluations), r.method.c_str(),
+                  static_cast<unsigned long long>(o.seed), best.c_str());
+    print_message(stdout, "results: %s/evaluations.jsonl, %s/best.json\n", o.out.c_str(),
+                  o.out.c_str());
     print_best_simulation(r.simulation, r.simulation_error);
     if (!r.run.empty()) {
-        std::printf("the best's run recorded: gaitlab view %s, gaitlab data %s --list\n",
-                    shell_word(r.run).c_str(), shell_word(r.run).c_str());
+        print_message(stdout, "the best's run recorded: gaitlab view %s, gaitlab data %s --list\n",
+                      shell_word(r.run).c_str(), shell_word(r.run).c_str());
     } else if (!r.run_error.empty()) {
-        std::printf("the best's run could not be recorded: %s\n", r.run_error.c_str());
+        print_message(stdout, "the best's run could not be recorded: %s\n", r.run_error.c_str());
     }
     if (!r.plot.empty()) {
-        std::printf("convergence plot: %s\n", r.plot.c_str());
+        print_message(stdout, "convergence plot: %s\n", r.plot.c_str());
     } else {
-        std::printf("the convergence plot could not be drawn: %s\n", r.plot_error.c_str());
+        print_message(stdout, "the convergence plot could not be drawn: %s\n",
+                      r.plot_error.c_str());
     }
     return 0;
 }
@@ -237,11 +241,11 @@ scripting::LuaHost::OptimizeHandler lua_optimize_handler() {
             if (request.stop && request.stop->load() != 0) {
                 // the host's interrupt stops the script with its own message ("interrupted
                 // (SIGINT)"): where the evaluations went is said here
-                std::fprintf(stderr,
-                             "gaitlab: optimization interrupted: the evaluations so far are in "
-                             "%s (go on with gaitlab.optimize{ ..., out = \"%s\", resume = true "
-                             "})\n",
-                             o.out.c_str(), o.out.c_str());
+                print_message(stderr,
+                              "gaitlab: optimization interrupted: the evaluations so far are in "
+                              "%s (go on with gaitlab.optimize{ ..., out = \"%s\", resume = true "
+                              "})\n",
+                              o.out.c_str(), o.out.c_str());
                 std::fflush(stderr);
                 throw Error("gaitlab.optimize: interrupted");
             }

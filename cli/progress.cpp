@@ -11,6 +11,8 @@
 
 #include <fmt/format.h>
 
+#include "gaitlab/terminal.h"
+
 namespace gaitlab::cli {
 
 namespace {
@@ -61,9 +63,10 @@ std::string point_text(const optimize::Spec& spec, const std::vector<double>& x)
 
 void print_best_simulation(const std::string& file, const std::string& error) {
     if (!file.empty()) {
-        std::printf("the best as a simulation file: gaitlab run %s\n", file.c_str());
+        print_message(stdout, "the best as a simulation file: gaitlab run %s\n", file.c_str());
     } else {
-        std::printf("the best could not be saved as a simulation file: %s\n", error.c_str());
+        print_message(stdout, "the best could not be saved as a simulation file: %s\n",
+                      error.c_str());
     }
 }
 

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "gaitlab/error.h"
+#include "gaitlab/terminal.h"
 #include "progress.h"
 
 namespace gaitlab::cli {
@@ -41,9 +42,7 @@ Ranks start_ranks(const std::string& spec, optimize::MpiOptions options,
         return r;
     }
     if (r.session->size() > 1) {
-        options.warn = [](const std::string& m) {
-            std::fprintf(stderr, "gaitlab: %s\n", m.c_str());
-        };
+        options.warn = [](const std::string& m) { write_message(stderr, "gaitlab: " + m + "\n"); };
         r.backend = optimize::make_mpi_backend(*r.session, options);
     }
     return r;
@@ -56,7 +55,7 @@ int start_ranks_and_load(const std::string& file, const optimize::MpiOptions& op
         if (mpi.served >= 0) return mpi.served;
         spec = optimize::load_spec(file);
     } catch (const Error& e) {
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        print_message(stderr, "gaitlab: %s\n", e.what());
         return 1;
     }
     return -1;

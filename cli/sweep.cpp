@@ -12,6 +12,7 @@
 #include "gaitlab/error.h"
 #include "gaitlab/optimize/options.h"
 #include "gaitlab/optimize/sweep.h"
+#include "gaitlab/terminal.h"
 #include "progress.h"
 #include "ranks.h"
 
@@ -67,7 +68,7 @@ int SweepCommand::run(const std::string& command) {
         mpi_options.seed = o.seed;
         mpi_options.rank_timeout = rank_timeout_option(a.rank_timeout);
     } catch (const Error& e) {
-        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab sweep --help')\n", e.what());
+        print_message(stderr, "gaitlab: %s (see 'gaitlab sweep --help')\n", e.what());
         return 2;
     }
     o.out = a.out.empty() ? default_results_folder("sweep", a.spec) : a.out;
@@ -83,7 +84,7 @@ int SweepCommand::run(const std::string& command) {
     try {
         grid = optimize::parse_grid(spec, a_->grid);
     } catch (const Error& e) {
-        std::fprintf(stderr, "gaitlab: %s (see 'gaitlab sweep --help')\n", e.what());
+        print_message(stderr, "gaitlab: %s (see 'gaitlab sweep --help')\n", e.what());
         return 2;
     }
     std::string swept, sizes, fixed;
@@ -105,9 +106,9 @@ int SweepCommand::run(const std::string& command) {
             ? fmt::format("{} at {} values", swept, grid.points())
             : fmt::format("{} on a {} grid ({} points)", swept, sizes, grid.points());
     const std::string workers = workers_text(mpi, o.workers);
-    std::printf("sweep %s: %s%s, fitness %s, %s, results in %s\n", a.spec.c_str(), shape.c_str(),
-                fixed.empty() ? "" : (", " + fixed).c_str(), spec.fitness.c_str(), workers.c_str(),
-                o.out.c_str());
+    print_message(stdout, "sweep %s: %s%s, fitness %s, %s, results in %s\n", a.spec.c_str(),
+                  shape.c_str(), fixed.empty() ? "" : (", " + fixed).c_str(), spec.fitness.c_str(),
+                  workers.c_str(), o.out.c_str());
     std::fflush(stdout);
     ProgressLine bar;
     const auto show = [&](const optimize::SweepTick& t) {
@@ -130,31 +131,31 @@ int SweepCommand::run(const std::string& command) {
     } catch (const Error& e) {
         bar.clear();
         if (const int sig = evaluations_stop().load(); sig != 0) {
-            std::fprintf(stderr, "gaitlab: interrupted; the evaluations so far are in %s\n",
-                         o.out.c_str());
+            print_message(stderr, "gaitlab: interrupted; the evaluations so far are in %s\n",
+                          o.out.c_str());
             return 128 + sig;
         }
-        std::fprintf(stderr, "gaitlab: %s\n", e.what());
+        print_message(stderr, "gaitlab: %s\n", e.what());
         return 1;
     }
     if (r.failed > 0) {
-        std::printf("%zu of %zu points failed (the first: %s)\n", r.failed, r.points,
-                    r.first_error.c_str());
+        print_message(stdout, "%zu of %zu points failed (the first: %s)\n", r.failed, r.points,
+                      r.first_error.c_str());
     }
     if (r.best.empty()) {
         std::fflush(stdout);
-        std::fprintf(stderr, "gaitlab: every point failed (see %s)\n", r.table.c_str());
+        print_message(stderr, "gaitlab: every point failed (see %s)\n", r.table.c_str());
         return 1;
     }
     const std::string best = point_text(spec, r.best);
-    std::printf("best %s %s at point %zu of %zu: %s\n", spec.fitness.c_str(),
-                fitness_text(r.best_fitness).c_str(), r.best_point + 1, r.points, best.c_str());
-    std::printf("results: %s, %s/evaluations.jsonl, %s/best.json\n", r.table.c_str(), o.out.c_str(),
-                o.out.c_str());
+    print_message(stdout, "best %s %s at point %zu of %zu: %s\n", spec.fitness.c_str(),
+                  fitness_text(r.best_fitness).c_str(), r.best_point + 1, r.points, best.c_str());
+    print_message(stdout, "results: %s, %s/evaluations.jsonl, %s/best.json\n", r.table.c_str(),
+                  o.out.c_str(), o.out.c_str());
     if (!r.plot.empty()) {
-        std::printf("plot: %s\n", r.plot.c_str());
+        print_message(stdout, "plot: %s\n", r.plot.c_str());
     } else {
-        std::printf("no plot: %s\n", r.plot_error.c_str());
+        print_message(stdout, "no plot: %s\n", r.plot_error.c_str());
     }
     print_best_simulation(r.simulation, r.simulation_error);
     return 0;

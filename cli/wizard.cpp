@@ -29,6 +29,7 @@
 #include "gaitlab/options.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/suggest.h"
+#include "gaitlab/terminal.h"
 #include "parts.h"
 #include "shell_word.h"
 
@@ -123,7 +124,7 @@ class Prompter {
                 return;
             } catch (const Error& e) {
                 if (defaults_) throw;
-                say(fmt::format("  ! {}\n", e.what()));
+                say(terminal_text(fmt::format("  ! {}\n", e.what())));
                 // piped answers that keep being refused (`yes | gaitlab new`) would be asked
                 // for forever: a person at a terminal can always try again, a script cannot
                 if (!tty_ && ++refused >= kMaxRefused) throw Refused{question, kMaxRefused};
@@ -914,14 +915,14 @@ int write_and_run(Wizard& wizard, const Project& p, PartMaker& maker, const fs::
     }
     std::fflush(stdout);
     if (g_signal != 0) {
-        std::fprintf(stderr,
-                     "gaitlab: interrupted; the project is complete in %s (run it again: "
-                     "gaitlab run %s)\n",
-                     d.c_str(), shell_word(d + "/run.lua").c_str());
+        print_message(stderr,
+                      "gaitlab: interrupted; the project is complete in %s (run it again: "
+                      "gaitlab run %s)\n",
+                      d.c_str(), shell_word(d + "/run.lua").c_str());
         return 128 + g_signal;
     }
     if (!error.empty()) {
-        std::fprintf(stderr, "gaitlab: %s\n", error.c_str());
+        print_message(stderr, "gaitlab: %s\n", error.c_str());
         return 1;
     }
     for (const std::string& f : folders) {
@@ -937,10 +938,10 @@ int write_and_run(Wizard& wizard, const Project& p, PartMaker& maker, const fs::
 int NewCommand::run() {
     Args& a = *a_;
     for (const std::string& arg : a.app->remaining()) {
-        std::fprintf(stderr,
-                     "gaitlab: unexpected argument '%s' for 'gaitlab new' (see 'gaitlab "
-                     "new --help')\n",
-                     arg.c_str());
+        print_message(stderr,
+                      "gaitlab: unexpected argument '%s' for 'gaitlab new' (see 'gaitlab "
+                      "new --help')\n",
+                      arg.c_str());
         return 2;
     }
     catch_signals();
@@ -974,29 +975,29 @@ int NewCommand::run() {
         return write_and_run(wizard, p, maker, dir, in.tty() && !in.defaults());
     } catch (const Stopped& s) {
         if (s.signal != 0) {
-            std::fprintf(stderr, "\ngaitlab: interrupted (%s); nothing was written\n",
-                         s.signal == SIGINT    ? "SIGINT"
-                         : s.signal == SIGTERM ? "SIGTERM"
-                                               : "SIGHUP");
+            print_message(stderr, "\ngaitlab: interrupted (%s); nothing was written\n",
+                          s.signal == SIGINT    ? "SIGINT"
+                          : s.signal == SIGTERM ? "SIGTERM"
+                                                : "SIGHUP");
             return 128 + s.signal;
         }
-        std::fprintf(stderr, "gaitlab: end of input at '%s'; nothing was written\n",
-                     s.question.c_str());
+        print_message(stderr, "gaitlab: end of input at '%s'; nothing was written\n",
+                      s.question.c_str());
         return 1;
     } catch (const TooLong& t) {
-        std::fprintf(stderr,
-                     "\ngaitlab: the answer to '%s' is longer than %zu bytes; nothing was "
-                     "written\n",
-                     t.question.c_str(), kMaxAnswer);
+        print_message(stderr,
+                      "\ngaitlab: the answer to '%s' is longer than %zu bytes; nothing was "
+                      "written\n",
+                      t.question.c_str(), kMaxAnswer);
         return 1;
     } catch (const Refused& r) {
-        std::fprintf(stderr,
-                     "gaitlab: %d answers to '%s' were refused in a row (see the '!' lines); "
-                     "nothing was written\n",
-                     r.count, r.question.c_str());
+        print_message(stderr,
+                      "gaitlab: %d answers to '%s' were refused in a row (see the '!' lines); "
+                      "nothing was written\n",
+                      r.count, r.question.c_str());
         return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "gaitlab: new: %s\n", e.what());
+        print_message(stderr, "gaitlab: new: %s\n", e.what());
         return 1;
     }
 }

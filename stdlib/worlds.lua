@@ -154,7 +154,7 @@ function gaitlab.world.load(path)
   if type(path) ~= "string" then bad("load", "string expected, got " .. typename(path)) end
   -- the system would stop at the zero and read another file (p.xml\0x: an XML file as Lua)
   if path:find("\0", 1, true) then
-    error(string.format("a path cannot contain a zero byte (got '%s\\0...')",
+    error(string.format("a path cannot contain a zero byte (got '%s\\x00...')",
       path:match("^[^\0]*")), 2)
   end
   if path:match("%.xml$") then return load_environment(path) end

@@ -9,6 +9,7 @@
 #include <new>
 
 #include "gaitlab/scripting/lua_host.h"
+#include "gaitlab/terminal.h"
 #include "lua_util.h"
 
 namespace gaitlab::scripting {
@@ -187,7 +188,8 @@ void Console::discard() {
 }
 
 void Console::write_error(const std::string& text) const {
-    std::string t = text;
+    // a message quotes names and values the session typed: written as terminal text
+    std::string t = terminal_text(text);
     if (t.empty() || t.back() != '\n') t += '\n';
     if (err_) {
         err_(t);

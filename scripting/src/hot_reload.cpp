@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "gaitlab/files.h"
+#include "gaitlab/terminal.h"
 #include "guard.h"
 #include "lua_util.h"
 #include "recording.h"
@@ -37,7 +38,7 @@ void report(lua_State* L, const std::string& message) {
         return;
     }
     lua_pop(L, 1);
-    std::fprintf(stderr, "gaitlab: %s\n", message.c_str());
+    write_message(stderr, "gaitlab: " + message + "\n");
 }
 
 void run_controller_source(lua_State* L, const std::string& source, const std::string& chunk,

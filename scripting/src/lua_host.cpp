@@ -11,6 +11,7 @@
 #include "config_files.h"
 #include "fixed_order.h"
 #include "gaitlab/files.h"
+#include "gaitlab/terminal.h"
 #include "guard.h"
 #include "hot_reload.h"
 #include "lua_util.h"
@@ -254,7 +255,7 @@ LuaHost::LuaHost(std::size_t memory_limit)
     // only a failure outside any protected call (a broken build) ends here, never a script
     lua_atpanic(L_, [](lua_State* S) -> int {
         const char* msg = lua_tostring(S, -1);
-        std::fprintf(stderr, "gaitlab: unprotected Lua error: %s\n", msg ? msg : "?");
+        print_message(stderr, "gaitlab: unprotected Lua error: %s\n", msg ? msg : "?");
         return 0;
     });
     try {

@@ -93,7 +93,7 @@ void refuse_zero_byte(const std::string& path) {
     // the operating system would stop at the zero and open another file than the one checked
     if (path.find('\0') != std::string::npos) {
         throw Error("a path cannot contain a zero byte (got '" + path.substr(0, path.find('\0')) +
-                    "\\0...')");
+                    "\\x00...')");
     }
 }
 

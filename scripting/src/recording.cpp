@@ -13,6 +13,7 @@
 
 #include "gaitlab/error.h"
 #include "gaitlab/files.h"
+#include "gaitlab/terminal.h"
 #include "guard.h"
 #include "hot_reload.h"
 #include "lua_util.h"
@@ -68,7 +69,7 @@ int l_exit(lua_State* L) {
         try {
             Recordings::of(L).finish(ok ? "" : "the script called os.exit with a failure status");
         } catch (const std::exception& e) {
-            std::fprintf(stderr, "gaitlab: %s\n", e.what());
+            print_message(stderr, "gaitlab: %s\n", e.what());
         }
         return 0;
     });
@@ -78,12 +79,12 @@ int l_exit(lua_State* L) {
     const int error = errno;
     if (!flushed || std::ferror(stdout)) {
         if (!flushed && error != EPIPE && error != 0) {
-            std::fprintf(stderr, "gaitlab: cannot write to standard output: %s\n",
-                         std::strerror(error));
+            print_message(stderr, "gaitlab: cannot write to standard output: %s\n",
+                          std::strerror(error));
         } else if (flushed) {
-            std::fprintf(stderr,
-                         "gaitlab: cannot write to standard output: some of the output was "
-                         "lost\n");
+            print_message(stderr,
+                          "gaitlab: cannot write to standard output: some of the output was "
+                          "lost\n");
         }
         if (ok) {
             lua_settop(L, std::max(lua_gettop(L), 1));

@@ -1023,7 +1023,7 @@ TEST_CASE("hostile names reach no shell or gnuplot command and no file outside -
     write_text(tmp / "run/data.csv", data);
     check_failure(cli({"data", tmp / "run", "--series", "robot"}),
                   "gaitlab: " + (tmp / "run/data.csv") + ":" + line +
-                      ": column 'time': number expected, got '?[2J0'");
+                      ": column 'time': number expected, got '\\x1b[2J0'");
 }
 
 TEST_CASE("a FIFO, a device or a folder is no script: refused at once", "[cli]") {

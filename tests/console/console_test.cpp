@@ -121,6 +121,24 @@ TEST_CASE("errors print with a traceback and the session goes on", "[console]") 
     CHECK(s.top() == 0);
 }
 
+TEST_CASE("errors show control characters as hex escapes, results and prints as they are",
+          "[console]") {
+    Session s;
+    // a gaitlab error quoting a typed string, a Lua error of the session's own
+    s.console.feed("gaitlab.robot.chain{ modules = 2, module = 'y1\\27[31m\\0' }");
+    CHECK_THAT(s.err, Catch::StartsWith("console:1: bad argument #1 to 'chain' (field 'module': "
+                                        "unknown module type 'y1\\x1b[31m\\x00'"));
+    s.err.clear();
+    s.console.feed("error('\\27]0;title\\7 \\194\\155 \\255 \\206\\188', 0)");
+    CHECK_THAT(s.err, Catch::StartsWith("\\x1b]0;title\\x07 \\xc2\\x9b \\xff \xce\xbc\nstack "
+                                        "traceback:\n"));
+    s.err.clear();
+    // the session's own values and prints are its output
+    CHECK(s.result("='\\27[1m'") == "\x1b[1m\n");
+    CHECK(s.result("print('\\27[1m')") == "\x1b[1m\n");
+    CHECK(s.err.empty());
+}
+
 TEST_CASE("bad input never ends the session", "[console]") {
     Session s;
     // garbage, binary, zeros, a huge line, a binary chunk, unbalanced brackets

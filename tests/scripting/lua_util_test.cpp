@@ -143,28 +143,28 @@ TEST_CASE("strings keep their zero bytes, paths with one are refused", "[lua_uti
                Catch::Contains("unknown key 'amplitude"));
     // the system would stop at the zero and open another file than the one checked
     CHECK(lua.error_of("gaitlab.robot.load('robot.xml\\0/../../x')") ==
-          "test:1: a path cannot contain a zero byte (got 'robot.xml\\0...')");
+          "test:1: a path cannot contain a zero byte (got 'robot.xml\\x00...')");
     CHECK_THAT(lua.error_of("gaitlab.controller.write_template('sine', 'a\\0b.lua')"),
                Catch::Contains("a path cannot contain a zero byte"));
-    // a message quoting such a string shows all of it, the zero as \0, and goes on after it
+    // a message quoting such a string shows all of it, the zero as \x00, and goes on after it
     CHECK_THAT(lua.error_of("gaitlab.robot.chain{ modules = 2, connection = 'pitch-pitch\\0x' }"),
-               Catch::Contains("unknown connection type 'pitch-pitch\\0x' (expected"));
+               Catch::Contains("unknown connection type 'pitch-pitch\\x00x' (expected"));
     // names are looked up with all of their bytes: 'y1\0' is no module type, 's\0' no sensor
     CHECK_THAT(lua.error_of("gaitlab.robot.chain{ modules = 2, module = 'y1\\0' }"),
-               Catch::Contains("unknown module type 'y1\\0'"));
+               Catch::Contains("unknown module type 'y1\\x00'"));
     lua.run(
         "nul_robot = gaitlab.robot.chain{ modules = 2 }; nul_robot:sensor{ kind = 'imu', "
         "module = 1, name = 's' }");
-    CHECK_THAT(lua.error_of("nul_robot:sensor('s\\0')"), Catch::Contains("no sensor 's\\0'"));
+    CHECK_THAT(lua.error_of("nul_robot:sensor('s\\0')"), Catch::Contains("no sensor 's\\x00'"));
     CHECK_THAT(lua.error_of("nul_robot:sensor{ kind = 'imu\\0', module = 1 }"),
-               Catch::Contains("unknown sensor kind 'imu\\0'"));
+               Catch::Contains("unknown sensor kind 'imu\\x00'"));
     CHECK_THAT(lua.error_of("gaitlab.actuation{ groups = { { joints = 'pitch\\0', controller = "
                             "{ builtin = 'sine' } } } }"),
-               Catch::Contains("'pitch\\0'"));
+               Catch::Contains("'pitch\\x00'"));
     // a run folder with a zero byte would be another folder
     CHECK_THAT(lua.error_of("local w = gaitlab.world(); w:add(gaitlab.robot.chain{ modules = 2 })"
                             "; gaitlab.simulation{ world = w, record = { dir = 'run\\0x' } }"),
-               Catch::Contains("the run folder 'run\\0x' cannot contain a zero byte"));
+               Catch::Contains("the run folder 'run\\x00x' cannot contain a zero byte"));
 }
 
 namespace {
@@ -208,14 +208,14 @@ TEST_CASE("a zero byte: an actuation's parameter is its whole name", "[lua_util]
         "act = gaitlab.actuation{ groups = { { joints = 'pitch', controller = { builtin = 'sine', "
         "params = { ['amplitude\\0junk'] = 12 } } } } }");
     CHECK_THAT(lua.string("err(function() gaitlab.robot.chain{ modules = 3 }:actuate(act) end)"),
-               Catch::Contains("controller 'sine' has no parameter 'amplitude\\0junk'"));
+               Catch::Contains("controller 'sine' has no parameter 'amplitude\\x00junk'"));
 }
 
 TEST_CASE("a zero byte: a series name with one matches nothing", "[lua_util]") {
     TempDir tmp("lua_util_zero_series");
     LuaFixture lua;
     record_snake(lua, tmp);
-    const std::string junk = "'snake.com.x\\0junk'";
+    const std::string junk = "'snake.com.x\\x00junk'";
     CHECK_THAT(lua.string("err(function() run:get('snake.com.x\\0junk') end)"),
                Catch::Contains(junk));
     CHECK_THAT(lua.string("err(function() run:select('snake.com.x\\0junk') end)"),
@@ -233,7 +233,7 @@ TEST_CASE("a zero byte: a series name with one matches nothing", "[lua_util]") {
     // a recording's series, and the simulation's own fields and methods
     CHECK_THAT(lua.string("err(gaitlab.simulation, { world = world, record = { dir = DIR .. "
                           "'/z', series = { 'snake.com.x\\0junk' } } })"),
-               Catch::Contains("no series matches 'snake.com.x\\0junk'"));
+               Catch::Contains("no series matches 'snake.com.x\\x00junk'"));
     CHECK(lua.boolean("sim['run\\0x'] == nil and sim['time\\0x'] == nil"));
 }
 
@@ -254,7 +254,7 @@ TEST_CASE("a zero byte: a path with one is refused", "[lua_util]") {
         package.path = DIR .. "/?.lua"
     )");
     CHECK(lua.string("err(gaitlab.world.load, DIR .. '/mod.lua\\0x')") ==
-          "a path cannot contain a zero byte (got '" + tmp.file("mod.lua") + "\\0...')");
+          "a path cannot contain a zero byte (got '" + tmp.file("mod.lua") + "\\x00...')");
     CHECK_THAT(lua.string("err(gaitlab.world.load, DIR .. '/p.xml\\0x')"),
                Catch::Contains("a path cannot contain a zero byte"));
     CHECK_THAT(lua.string("err(package.searchers[2], 'mod\\0evil')"),
@@ -265,7 +265,7 @@ TEST_CASE("a zero byte: a path with one is refused", "[lua_util]") {
     // with its name whole, the module is there
     CHECK(lua.string("(require('mod'))") == "mod");
     CHECK(lua.error_of("gaitlab.world.load(DIR .. '/p.xml\\0x')") ==
-          "test:1: a path cannot contain a zero byte (got '" + tmp.file("p.xml") + "\\0...')");
+          "test:1: a path cannot contain a zero byte (got '" + tmp.file("p.xml") + "\\x00...')");
 }
 
 TEST_CASE("a zero byte: a handle's key with one finds nothing", "[lua_util]") {
@@ -281,11 +281,11 @@ TEST_CASE("a zero byte: a handle's key with one finds nothing", "[lua_util]") {
         CHECK(lua.boolean(std::string(e) + " == nil"));
     }
     CHECK_THAT(lua.string("err(function(k) return ctl[k] end, 'set\\0x')"),
-               Catch::Contains("has no parameter or method 'set\\0x'"));
+               Catch::Contains("has no parameter or method 'set\\x00x'"));
     CHECK_THAT(lua.string("err(function(k) return sensor[k] end, 'read\\0x')"),
-               Catch::Contains("has no field or method 'read\\0x'"));
+               Catch::Contains("has no field or method 'read\\x00x'"));
     CHECK_THAT(lua.string("err(function(k) return ctl[k] end, 'amplitude\\0x')"),
-               Catch::Contains("has no parameter or method 'amplitude\\0x'"));
+               Catch::Contains("has no parameter or method 'amplitude\\x00x'"));
     CHECK(lua.number("ctl.amplitude") == 30);
     CHECK(lua.string("robot.name") == "snake");
 }
@@ -301,21 +301,21 @@ TEST_CASE("a zero byte: a Lua error's message keeps what follows it", "[lua_util
         ctl = robot:group("pitch"):drive(Failing())
         sim = gaitlab.simulation{ world = world, record = false }
     )");
-    CHECK(lua.error_of("sim:run(0.1)") == "test:3: step failed\\0 at joint 3");
-    CHECK(lua.string("ctl.error") == "test:3: step failed\\0 at joint 3");
+    CHECK(lua.error_of("sim:run(0.1)") == "test:3: step failed\\x00 at joint 3");
+    CHECK(lua.string("ctl.error") == "test:3: step failed\\x00 at joint 3");
     // what `gaitlab run` prints of an error no one catches
-    CHECK(lua.error_of("error('uncaught\\0 and after')") == "test:1: uncaught\\0 and after");
+    CHECK(lua.error_of("error('uncaught\\0 and after')") == "test:1: uncaught\\x00 and after");
     CHECK(
         lua.error_of("error(setmetatable({}, { __tostring = function() return 'obj\\0x' end }))") ==
-        "test:1: obj\\0x");
+        "test:1: obj\\x00x");
 }
 
 TEST_CASE("an error message keeps what follows a zero byte", "[lua_util]") {
     const std::string with_zero("a\0b", 3);
     CHECK(std::string(gaitlab::Error("name '" + with_zero + "' unknown").what()) ==
-          "name 'a\\0b' unknown");
+          "name 'a\\x00b' unknown");
     CHECK(std::string(gaitlab::FormatError("got '" + with_zero + "'", "f.xml", 3).what()) ==
-          "got 'a\\0b'");
+          "got 'a\\x00b'");
     CHECK(std::string(gaitlab::Error("plain").what()) == "plain");
 }
 

@@ -33,6 +33,7 @@
 #include "gaitlab/player.h"
 #include "gaitlab/scripting/lua_host.h"
 #include "gaitlab/simulation.h"
+#include "gaitlab/terminal.h"
 #include "request_json.h"
 
 extern char** environ;
@@ -875,8 +876,8 @@ std::string render_video(const std::string& dir, const std::string& out, double 
     const std::string log = tmp + "/chromium.log";
     const std::string url =
         fmt::format("{}?video=1&speed={}&size={}x{}", view.url(), speed, width, height);
-    std::fprintf(stderr, "gaitlab: drawing %.0f frames of %s in headless chromium\n",
-                 duration / speed * 25 + 1, dir.c_str());
+    print_message(stderr, "gaitlab: drawing %.0f frames of %s in headless chromium\n",
+                  duration / speed * 25 + 1, dir.c_str());
     // WebGL in SwiftShader, the page composited in software as chromium does without a GPU
     // (composited by SwiftShader too, every frame would be read back from it: about 10 ms more
     // CPU a frame, docs/performance.md section 9)

@@ -9,21 +9,22 @@
 namespace gaitlab {
 
 /// Any failure reported by gaitlab. A message travels as a C string (what(), Lua's error
-/// messages), so a NUL byte in it, which a user's string may hold, is written as \0 rather
-/// than cutting the message short there.
+/// messages), so a NUL byte in it, which a user's string may hold, is written as \x00 rather
+/// than cutting the message short there (as gaitlab/terminal.h writes it for the terminal,
+/// with the other control characters).
 class Error : public std::runtime_error {
   public:
     explicit Error(const std::string& message) : std::runtime_error(printable(message)) {}
     explicit Error(const char* message) : std::runtime_error(message) {}
 
-    /// `message` with each NUL byte written as the two characters \0.
+    /// `message` with each NUL byte written as the four characters \x00.
     static std::string printable(const std::string& message) {
         if (message.find('\0') == std::string::npos) return message;
         std::string out;
         out.reserve(message.size() + 8);
         for (char c : message) {
             if (c == '\0') {
-                out += "\\0";
+                out += "\\x00";
             } else {
                 out += c;
             }
