@@ -253,6 +253,22 @@ double check_number(lua_State* L, int index) {
     return v;
 }
 
+std::string read_integer(lua_State* L, int index, lua_Integer& out) {
+    // a string is no number here, even "8", which lua_tointegerx would convert
+    if (lua_type(L, index) != LUA_TNUMBER) return "integer expected, got " + type_name(L, index);
+    int ok = 0;
+    out = lua_tointegerx(L, index, &ok);
+    if (ok) return "";
+    const double d = lua_tonumber(L, index);
+    // a whole number too large for an integer (1e19) is out of range, not fractional
+    if (std::isfinite(d) && std::floor(d) == d) {
+        return fmt::format("integer expected, got {} (beyond the 64-bit integers)", d);
+    }
+    // nan and inf are no fractions: name them as Lua prints them
+    if (!std::isfinite(d)) return fmt::format("integer expected, got {}", lua_number_name(d));
+    return "integer expected, got a fractional number";
+}
+
 long long check_integer(lua_State* L, int index) {
     int ok = 0;
     const lua_Integer v = lua_tointegerx(L, index, &ok);
@@ -363,23 +379,10 @@ long long Fields::integer(const char* key, long long fallback) const {
         lua_pop(L_, 1);
         return fallback;
     }
-    int ok = 0;
-    const lua_Integer v = lua_tointegerx(L_, -1, &ok);
-    const bool is_number = lua_type(L_, -1) == LUA_TNUMBER;
-    const double d = lua_tonumber(L_, -1);
-    const std::string t = type_name(L_, -1);
+    lua_Integer v = 0;
+    const std::string why = read_integer(L_, -1, v);
     lua_pop(L_, 1);
-    if (!ok) {
-        if (!is_number) fail(key, "integer expected, got " + t);
-        // a whole number too large for an integer (1e19) is out of range, not fractional
-        if (std::isfinite(d) && std::floor(d) == d) {
-            fail(key, fmt::format("integer expected, got {} (beyond the 64-bit integers)", d));
-        }
-        // nan and inf are no fractions: name them as Lua prints them
-        if (!std::isfinite(d))
-            fail(key, fmt::format("integer expected, got {}", lua_number_name(d)));
-        fail(key, "integer expected, got a fractional number");
-    }
+    if (!why.empty()) fail(key, why);
     return v;
 }
 

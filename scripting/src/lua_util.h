@@ -340,6 +340,14 @@ void register_type_with_fields(lua_State* L, const char* tname, const luaL_Reg* 
     register_type<T>(L, tname, nullptr, metamethods);
 }
 
+/// The one rule for an integer that a spec table holds, as a field or as an entry of a list: a
+/// Lua number with an integer value (8, or 8.0), never a string. (Lua's own conversion,
+/// lua_tointeger, would take "8" for 8; a count read from text is the script's to convert, with
+/// tonumber.) Returns "" and sets `out` for such a value, else says why not as a field's
+/// message does: "integer expected, got string", "... got a fractional number", "... got nan",
+/// "... got 1e+19 (beyond the 64-bit integers)".
+std::string read_integer(lua_State* L, int index, lua_Integer& out);
+
 /// Checks that the value at `index` is a table; throws ArgError otherwise.
 void check_table(lua_State* L, int index);
 double check_number(lua_State* L, int index);
@@ -446,6 +454,7 @@ class Fields {
 
     bool has(const char* key) const;
     double number(const char* key, double fallback) const;
+    /// An integer as read_integer reads it (a numeric string is refused).
     long long integer(const char* key, long long fallback) const;
     std::string string(const char* key, const std::string& fallback) const;
     bool boolean(const char* key, bool fallback) const;

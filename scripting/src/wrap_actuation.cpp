@@ -33,8 +33,8 @@ GroupSpec read_group(lua_State* L) {
         const auto n = static_cast<lua_Integer>(lua_rawlen(L, -1));
         for (lua_Integer i = 1; i <= n; ++i) {
             lua_rawgeti(L, -1, i);
-            int ok = 0;
-            const lua_Integer j = lua_tointegerx(L, -1, &ok);
+            lua_Integer j = 0;
+            const bool ok = read_integer(L, -1, j).empty();
             lua_pop(L, 1);
             if (!ok) {
                 lua_pop(L, 1);

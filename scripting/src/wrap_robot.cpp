@@ -84,8 +84,8 @@ int robot_group(lua_State* L) {
             const int nj = static_cast<int>(spec.joints.size());
             for (lua_Integer i = 1; i <= n; ++i) {
                 lua_rawgeti(L, 2, i);
-                int ok = 0;
-                const lua_Integer j = lua_tointegerx(L, -1, &ok);
+                lua_Integer j = 0;
+                const bool ok = read_integer(L, -1, j).empty();
                 lua_pop(L, 1);
                 if (!ok) throw ArgError(2, fmt::format("entry {} is not a joint number", i));
                 if (j < 1 || j > nj) {

@@ -84,7 +84,7 @@ int required_index(const Fields& f, const char* key, const char* what) {
     const double d = lua_tonumber(L, -1);
     const std::string type = type_name(L, -1);
     lua_pop(L, 1);
-    // not a numeric string either ("3"), which Lua would convert
+    // not a numeric string either ("3"), as no integer field takes one (read_integer)
     if (!number) f.fail(key, fmt::format("{} number expected, got {}", what, type));
     // the index, the number - 1, is an int
     constexpr double kLowest = std::numeric_limits<int>::min() + 1.0;

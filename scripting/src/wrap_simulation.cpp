@@ -252,11 +252,6 @@ int simulation_new(lua_State* L) {
         // counts are checked before they become ints: 2^32 + 30 must not become 30
         const long long every = f.integer("control_every", o.control_every);
         const long long iterations = f.integer("solver_iterations", o.solver_iterations);
-        // a count, not text: Lua would turn '4' into 4
-        if (f.push("newton_steps") == LUA_TSTRING) {
-            f.fail("newton_steps", "integer expected, got string");
-        }
-        lua_pop(L, 1);
         const long long newton = f.integer("newton_steps", o.newton_steps);
         try {
             o.control_every = checked_int("control_every", every, 1, kMaxControlEvery);

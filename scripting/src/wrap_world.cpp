@@ -293,8 +293,8 @@ std::pair<int, int> read_samples(lua_State* L, const Fields& f) {
     int n[2] = {0, 0};
     for (int k = 0; k < 2; ++k) {
         lua_rawgeti(L, -1, k + 1);
-        int ok = 0;
-        const lua_Integer v = lua_tointegerx(L, -1, &ok);
+        lua_Integer v = 0;
+        const bool ok = read_integer(L, -1, v).empty();
         lua_pop(L, 1);
         if (!ok || v < 2 || v > 4096) {
             lua_pop(L, 1);

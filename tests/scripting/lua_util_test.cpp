@@ -310,6 +310,49 @@ TEST_CASE("a zero byte: a Lua error's message keeps what follows it", "[lua_util
         "test:1: obj\\x00x");
 }
 
+TEST_CASE("an integer field takes a number with an integer value, never a numeric string",
+          "[lua_util]") {
+    LuaFixture lua;
+    lua.run("w = gaitlab.world(); r = gaitlab.robot.chain{ name = 'r', modules = 3 }; w:add(r)");
+    const auto bad = [](const std::string& fn) {
+        return "test:1: bad argument #1 to '" + fn + "' (";
+    };
+    // Lua's own conversion would read each as the number it spells
+    CHECK(lua.error_of("gaitlab.robot.chain{ modules = '8' }") ==
+          bad("chain") + "field 'modules': integer expected, got string)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, control_every = '30' }") ==
+          bad("simulation") + "field 'control_every': integer expected, got string)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, solver_iterations = ' 20 ' }") ==
+          bad("simulation") + "field 'solver_iterations': integer expected, got string)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, seed = '0x10' }") ==
+          bad("simulation") + "field 'seed': integer expected, got string)");
+    CHECK(lua.error_of("gaitlab.simulation{ world = w, record = { record_every = '2' } }") ==
+          bad("simulation") +
+              "field 'record': field 'record_every': integer expected, got string)");
+    CHECK(lua.error_of("w:stairs{ steps = '4' }") ==
+          bad("stairs") + "field 'steps': integer expected, got string)");
+    CHECK(lua.error_of("w:rubble{ count = '5' }") ==
+          bad("rubble") + "field 'count': integer expected, got string)");
+    CHECK(lua.error_of("r:sensor{ kind = 'imu', module = '3' }") ==
+          bad("sensor") + "field 'module': module number expected, got string)");
+    CHECK(lua.error_of("r:sensor{ kind = 'joint', joint = '2' }") ==
+          bad("sensor") + "field 'joint': joint number expected, got string)");
+    // entries of lists
+    CHECK(lua.error_of("r:group{ 1, '3' }") == bad("group") + "entry 2 is not a joint number)");
+    CHECK(lua.error_of("gaitlab.actuation{ groups = { { joints = { '1' }, controller = { "
+                       "builtin = 'sine' } } } }") ==
+          bad("actuation") + "groups[1]: field 'joints': entry 1 is not a joint number)");
+    CHECK(lua.error_of("w:heightfield{ samples = { '3', 2 }, heights = function() return 0 end "
+                       "}") ==
+          bad("heightfield") +
+              "field 'samples': {nx, ny} with two integers in [2, 4096] expected)");
+    // numbers are taken, a float with an integer value and a converted string too
+    CHECK(lua.integer("#gaitlab.robot.chain{ modules = 8.0 }:joints()") == 8);
+    CHECK(lua.integer("gaitlab.simulation{ world = w, control_every = 30.0, seed = "
+                      "tonumber('7'), record = false }.control_every") == 30);
+    CHECK(lua.integer("#r:group{ 1, 3.0 }:joints()") == 2);
+}
+
 TEST_CASE("an error message keeps what follows a zero byte", "[lua_util]") {
     const std::string with_zero("a\0b", 3);
     CHECK(std::string(gaitlab::Error("name '" + with_zero + "' unknown").what()) ==
