@@ -11,6 +11,7 @@
 
 #include "gaitlab/error.h"
 #include "gaitlab/module.h"
+#include "gaitlab/terminal.h"
 
 namespace gaitlab::detail {
 
@@ -150,42 +151,9 @@ inline std::string escaped(std::string_view name) {
 }
 
 /// Whether `s` is valid UTF-8 (no overlong forms, no surrogates, nothing above U+10FFFF) without
-/// control characters (U+0000-U+001F, U+007F-U+009F).
+/// control characters (U+0000-U+001F, U+007F-U+009F): what terminal_line leaves as it is.
 inline bool printable_utf8(std::string_view s) {
-    size_t i = 0;
-    while (i < s.size()) {
-        const auto byte = [&](size_t k) { return static_cast<unsigned char>(s[k]); };
-        const unsigned char c = byte(i);
-        if (c < 0x80) {
-            if (c < 0x20 || c == 0x7f) return false;
-            ++i;
-            continue;
-        }
-        size_t n = 0;
-        char32_t cp = 0;
-        if ((c & 0xe0) == 0xc0) {
-            n = 1;
-            cp = c & 0x1fu;
-        } else if ((c & 0xf0) == 0xe0) {
-            n = 2;
-            cp = c & 0x0fu;
-        } else if ((c & 0xf8) == 0xf0) {
-            n = 3;
-            cp = c & 0x07u;
-        } else {
-            return false;
-        }
-        if (i + n >= s.size()) return false;  // truncated sequence
-        for (size_t k = 1; k <= n; ++k) {
-            if ((byte(i + k) & 0xc0) != 0x80) return false;
-            cp = (cp << 6) | (byte(i + k) & 0x3fu);
-        }
-        const char32_t min[] = {0, 0x80, 0x800, 0x10000};
-        if (cp < min[n] || cp > 0x10ffff || (cp >= 0xd800 && cp <= 0xdfff)) return false;
-        if (cp >= 0x80 && cp <= 0x9f) return false;  // C1 controls
-        i += n + 1;
-    }
-    return true;
+    return terminal_line(s) == s;
 }
 
 /// `what` (e.g. "robot name") must be valid UTF-8 without control characters, at most
