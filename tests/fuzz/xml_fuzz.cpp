@@ -2,13 +2,15 @@
 // its input (FormatError, SpecError), but must not crash, hang, leak or throw anything else.
 // The first byte picks the reader; the rest is the file. tools/fuzz.sh builds and runs it.
 // A robot the URDF importer accepts must also survive its own export: the file format_urdf
-// writes for it imports again, or the writer and the reader disagree.
+// writes for it imports again, or the writer and the reader disagree. A rejection's message,
+// as the terminal gets it, holds no control characters.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <string>
 #include <string_view>
 
+#include "gaitlab/terminal.h"
 #include "gaitlab/urdf.h"
 #include "gaitlab/xml.h"
 
@@ -43,8 +45,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                 break;
             }
         }
-    } catch (const gaitlab::FormatError&) {
-        // rejected with a message: the expected outcome for most inputs
+    } catch (const gaitlab::FormatError& e) {
+        // rejected with a message: the expected outcome for most inputs. Whatever bytes of
+        // the file it quotes, what reaches the terminal holds none a terminal acts on:
+        // terminal_text leaves its own output as it is
+        const std::string shown = gaitlab::terminal_text(e.what());
+        if (gaitlab::terminal_text(shown) != shown) std::abort();
     } catch (const gaitlab::SpecError&) {
         // a spec the reader accepted but the writer's check refused: a reader bug
         std::abort();
