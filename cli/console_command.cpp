@@ -243,19 +243,18 @@ int run_console(const ConsoleArgs& a, const std::string& command,
         // nothing may reach `input` once it is gone
         host.set_view_handler({});
         host.set_output({});
-        host.set_reporter(
-            [](const std::string& m) { write_message(stderr, "gaitlab: " + m + "\n"); });
+        host.set_reporter([](const std::string& m) { report_line(m); });
         // a signal closes the recordings as interrupted, as `gaitlab run` does
         if (g_terminate != 0) host.interrupt(g_terminate);
         try {
             host.finish();
         } catch (const std::exception& e) {
-            print_message(stderr, "gaitlab: %s\n", e.what());
+            report_line(e.what());
             status = 1;
         }
         folders = host.run_folders();
     } catch (const std::exception& e) {
-        print_message(stderr, "gaitlab: %s\n", e.what());
+        report_line(e.what());
         status = 1;
     }
     for (const std::string& f : folders)

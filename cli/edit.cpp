@@ -107,7 +107,7 @@ int EditCommand::run() {
             robot_files.push_back(a.sim);
         }
     } catch (const Error& e) {
-        print_message(stderr, "gaitlab: %s\n", e.what());
+        report_line(e.what());
         return 1;
     }
     if (file.empty()) {
@@ -140,7 +140,7 @@ int EditCommand::run() {
         // read once here, so a file gaitlab cannot read is said before anything is served
         first = viewer::load_editor_source(file, robot_files);
     } catch (const Error& e) {
-        print_message(stderr, "gaitlab: %s\n", e.what());
+        report_line(e.what());
         return 1;
     }
     const std::string path = first.file;
@@ -168,7 +168,7 @@ int EditCommand::run() {
             std::this_thread::sleep_for(std::chrono::milliseconds(50));
         server.stop();
     } catch (const Error& e) {
-        print_message(stderr, "gaitlab: %s\n", e.what());
+        report_line(e.what());
         return 1;
     }
     return 0;

@@ -56,8 +56,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using gaitlab::print_message;
+using gaitlab::report_line;
 using gaitlab::terminal_line;
-using gaitlab::write_message;
 
 bool ends_with(const std::string& s, const char* suffix) {
     const std::string x(suffix);
@@ -307,9 +307,7 @@ int check_command(const CheckArgs& a) {
     int warned = 0;
     try {
         gaitlab::scripting::LuaHost host;
-        host.set_reporter([](const std::string& message) {
-            write_message(stderr, "gaitlab: " + message + "\n");
-        });
+        host.set_reporter([](const std::string& message) { report_line(message); });
         const Interruptible interruptible(host);
         warned = host.check_simulation_file(a.file, seconds, cycle, settle);
     } catch (const std::exception& e) {
@@ -317,12 +315,12 @@ int check_command(const CheckArgs& a) {
     }
     if (g_signal != 0) {
         if (g_signal != SIGPIPE) {
-            print_message(stderr, "gaitlab: %s\n", error.empty() ? "interrupted" : error.c_str());
+            report_line(error.empty() ? "interrupted" : error.c_str());
         }
         return 128 + g_signal;
     }
     if (!error.empty()) {
-        print_message(stderr, "gaitlab: %s\n", error.c_str());
+        report_line(error.c_str());
         return 1;
     }
     return warned > 0 ? 3 : 0;
@@ -420,7 +418,7 @@ int run_script(const RunArgs& a, const std::string& command) {
             try {
                 view = std::make_unique<gaitlab::viewer::View>(host, server);
             } catch (const gaitlab::Error& e) {
-                print_message(stderr, "gaitlab: %s\n", e.what());
+                report_line(e.what());
                 return 1;
             }
             print_message(stderr,
@@ -466,7 +464,7 @@ int run_script(const RunArgs& a, const std::string& command) {
         // on_controller_error = "continue" are reported while the script goes on
         host.set_reporter([&progress, &view](const std::string& message) {
             progress.clear();
-            write_message(stderr, "gaitlab: " + message + "\n");
+            report_line(message);
             if (view) view->message("error", message);
         });
         if (!a.no_progress && ::isatty(STDERR_FILENO)) {
@@ -507,7 +505,7 @@ int run_script(const RunArgs& a, const std::string& command) {
                               "the script has finished: play on, or quit with Ctrl-C "
                               "in the terminal");
             } else {
-                print_message(stderr, "gaitlab: %s\n", error.c_str());
+                report_line(error.c_str());
                 print_message(stderr,
                               "gaitlab: the script failed; the viewer still serves %s (Ctrl-C "
                               "quits)\n",
@@ -544,13 +542,13 @@ int run_script(const RunArgs& a, const std::string& command) {
     if (g_signal != 0 && !quit_viewer) {
         // a broken pipe ends quietly, as SIGPIPE would have
         if (g_signal != SIGPIPE) {
-            print_message(stderr, "gaitlab: %s\n", error.empty() ? "interrupted" : error.c_str());
+            report_line(error.empty() ? "interrupted" : error.c_str());
         }
         return 128 + g_signal;
     }
     if (!error.empty()) {
         // the viewer showed it already
-        if (!quit_viewer) print_message(stderr, "gaitlab: %s\n", error.c_str());
+        if (!quit_viewer) report_line(error.c_str());
         return 1;
     }
     // one line saying where the runs went
@@ -841,7 +839,7 @@ int view_command(const ViewArgs& a) {
             return 128 + g_signal;
         }
         if (!error.empty()) {
-            print_message(stderr, "gaitlab: %s\n", error.c_str());
+            report_line(error.c_str());
             return 1;
         }
         print_message(stderr, "wrote %s\n", a.video.c_str());
@@ -853,7 +851,7 @@ int view_command(const ViewArgs& a) {
         options.cancel = [] { return g_signal != 0; };
         view = std::make_unique<gaitlab::viewer::RunView>(a.dir, server, options);
     } catch (const gaitlab::viewer::ServerError& e) {
-        print_message(stderr, "gaitlab: %s\n", e.what());
+        report_line(e.what());
         return 1;
     }
     if (g_signal != 0) {
@@ -861,7 +859,7 @@ int view_command(const ViewArgs& a) {
         return 128 + g_signal;
     }
     for (const std::string& note : view->notes())
-        print_message(stderr, "gaitlab: %s\n", note.c_str());
+        report_line(note.c_str());
     print_message(stderr,
                   "viewer: %s\n  open it in a browser: the recorded run %s (Ctrl-C quits)\n",
                   view->url().c_str(), a.dir.c_str());
@@ -1155,7 +1153,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     if (const std::string error = leftover_error(app); !error.empty()) {
-        print_message(stderr, "gaitlab: %s\n", error.c_str());
+        report_line(error.c_str());
         return 2;
     }
     if (*run) {
@@ -1226,7 +1224,7 @@ int main(int argc, char** argv) {
         }
     } catch (const std::exception& e) {
         // messages may quote a run folder's content: no control characters to the terminal
-        print_message(stderr, "gaitlab: %s\n", e.what());
+        report_line(e.what());
         status = 1;
     }
     return Stdout::finish(status);

@@ -175,7 +175,7 @@ int OptimizeCommand::run(const std::string& command) {
                           o.out.c_str(), o.out.c_str());
             return 128 + sig;
         }
-        print_message(stderr, "gaitlab: %s\n", e.what());
+        report_line(e.what());
         return 1;
     }
     if (r.best.empty()) {

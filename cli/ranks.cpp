@@ -42,7 +42,7 @@ Ranks start_ranks(const std::string& spec, optimize::MpiOptions options,
         return r;
     }
     if (r.session->size() > 1) {
-        options.warn = [](const std::string& m) { write_message(stderr, "gaitlab: " + m + "\n"); };
+        options.warn = [](const std::string& m) { report_line(m); };
         r.backend = optimize::make_mpi_backend(*r.session, options);
     }
     return r;
@@ -55,7 +55,7 @@ int start_ranks_and_load(const std::string& file, const optimize::MpiOptions& op
         if (mpi.served >= 0) return mpi.served;
         spec = optimize::load_spec(file);
     } catch (const Error& e) {
-        print_message(stderr, "gaitlab: %s\n", e.what());
+        report_line(e.what());
         return 1;
     }
     return -1;

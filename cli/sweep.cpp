@@ -135,7 +135,7 @@ int SweepCommand::run(const std::string& command) {
                           o.out.c_str());
             return 128 + sig;
         }
-        print_message(stderr, "gaitlab: %s\n", e.what());
+        report_line(e.what());
         return 1;
     }
     if (r.failed > 0) {

@@ -38,7 +38,7 @@ void report(lua_State* L, const std::string& message) {
         return;
     }
     lua_pop(L, 1);
-    write_message(stderr, "gaitlab: " + message + "\n");
+    report_line(message);
 }
 
 void run_controller_source(lua_State* L, const std::string& source, const std::string& chunk,

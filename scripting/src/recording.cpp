@@ -69,7 +69,7 @@ int l_exit(lua_State* L) {
         try {
             Recordings::of(L).finish(ok ? "" : "the script called os.exit with a failure status");
         } catch (const std::exception& e) {
-            print_message(stderr, "gaitlab: %s\n", e.what());
+            report_line(e.what());
         }
         return 0;
     });

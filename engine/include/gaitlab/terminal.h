@@ -28,6 +28,10 @@ std::string terminal_line(std::string_view text);
 /// Writes terminal_text(`text`) to `stream` (stderr for messages).
 void write_message(std::FILE* stream, std::string_view text);
 
+/// Writes "gaitlab: `message`" and a line end to stderr as write_message writes: the form of
+/// gaitlab's errors, warnings and notes on the command line.
+void report_line(std::string_view message);
+
 /// std::fprintf(`stream`, `format`, ...) written as write_message writes: gaitlab's own
 /// messages on stderr (and those it prints on stdout, such as a failed point's error).
 [[gnu::format(printf, 2, 3)]] void print_message(std::FILE* stream, const char* format, ...);

@@ -90,6 +90,13 @@ void write_message(std::FILE* stream, std::string_view text) {
     std::fwrite(out.data(), 1, out.size(), stream);
 }
 
+void report_line(std::string_view message) {
+    std::string text = "gaitlab: ";
+    text += message;
+    text += '\n';
+    write_message(stderr, text);
+}
+
 void print_message(std::FILE* stream, const char* format, ...) {
     va_list args;
     va_start(args, format);
