@@ -416,7 +416,7 @@ TEST_CASE("gaitlab run records into --record DIR, or nothing with --no-record", 
     CHECK(run.meta().status == "finished");
     CHECK(run.rows() == 667);
     CHECK(slurp(tmp / "run/config/first_snake.lua") == slurp(kFirstSnake));
-    CHECK_THAT(run.log(), Catch::Contains("\nmoved 0.568 m"));
+    CHECK_THAT(run.log(), Catch::Contains("\nmoved 0.569 m"));
     bool command = false;
     for (const auto& [k, v] : run.meta().provenance)
         command = command || (k == "command" && v.find("--record") != std::string::npos);

@@ -253,7 +253,7 @@ TEST_CASE("garbage answers are explained and asked again", "[cli][wizard]") {
     CHECK(moved(r.out, "snake") >= 0);
 }
 
-TEST_CASE("a pitch-yaw chain of more than 8 modules is offered the finer settings it needs",
+TEST_CASE("a pitch-yaw chain of more than 12 modules is offered the finer settings it needs",
           "[cli][wizard]") {
     TempDir dir("wizard_long_chain");
     // name, modules, connection, then sensors .. friction as offered, 1 s simulated
@@ -283,15 +283,15 @@ TEST_CASE("a pitch-yaw chain of more than 8 modules is offered the finer setting
     // coarser answers, one after a garbage answer: written as answered, and the run warns
     // naming both settings
     const Output few =
-        run_gaitlab({"new", "few"}, dir.str(), answers("12", {"0.001", "30", "many", "20", "no"}));
+        run_gaitlab({"new", "few"}, dir.str(), answers("13", {"0.001", "30", "many", "20", "no"}));
     INFO(few.out << few.err);
     REQUIRE(few.status == 0);
     CHECK_THAT(few.out, Catch::Contains("  ! 'many': a whole number from 1 to 10000 expected\n"));
     CHECK(gaitlab::read_simulation(dir / "few/simulation.xml").options.solver_iterations == 20);
     CHECK_THAT(few.err, Catch::Contains("dt = 1 ms is above 0.5 ms and solver_iterations = 20 "
-                                        "below 40: robot 'snake' has 12 joints"));
-    // 8 modules: the usual questions and defaults
-    const Output eight = run_gaitlab({"new", "eight"}, dir.str(), answers("8", {"", "", "no"}));
+                                        "below 40: robot 'snake' has 13 joints"));
+    // 12 modules: the usual questions and defaults
+    const Output eight = run_gaitlab({"new", "eight"}, dir.str(), answers("12", {"", "", "no"}));
     INFO(eight.out << eight.err);
     REQUIRE(eight.status == 0);
     CHECK(eight.out.find("Solver iterations") == std::string::npos);

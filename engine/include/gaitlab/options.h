@@ -40,14 +40,16 @@ inline constexpr int kMaxControlEvery = 1000000;  ///< also the limit of a recor
 inline constexpr int kMaxSolverIterations = 10000;
 inline constexpr int kMaxNewtonSteps = 100;
 /// A robot with pitch and yaw joints both and more than kLongChainJoints joints (a pitch-yaw
-/// chain of 9 modules or more) needs a finer step and more iterations than the defaults: from
-/// 12 modules on its rolling gait moves 4-14 % faster or slower at dt / 4 or with 4x the
-/// iterations, and dt <= kLongChainMaxDt with solver_iterations >= kLongChainIterations
-/// (block_nncg) keep it within 3 % of a converged solver (docs/performance.md, "Long chains
-/// bent in two planes"), and so do newton_steps >= kLongChainNewtonSteps in place of the
-/// iterations (docs/performance.md, "The long pitch-yaw rows with newton_steps = 4"). A simulation
-/// warns outside them; gaitlab new offers them.
-inline constexpr int kLongChainJoints = 8;
+/// chain of 13 modules or more) needs a finer step and more iterations than the defaults: at
+/// 16 modules its rolling gait moves up to 6 % faster or slower with 4x the iterations, and at
+/// 16 and 32 modules its gaits settle into one of several motions, which the settings can
+/// change (on the default floor; at 12 modules every standard gait stays within 1 %), and
+/// dt <= kLongChainMaxDt with solver_iterations >= kLongChainIterations
+/// (block_nncg) keep each of its motions within 3 % of a converged solver, and so do
+/// newton_steps >= kLongChainNewtonSteps in place of the iterations (docs/performance.md,
+/// section 12, "A floor dt 1 ms resolves"). A simulation warns outside them; gaitlab new offers
+/// them.
+inline constexpr int kLongChainJoints = 12;
 inline constexpr double kLongChainMaxDt = 0.0005;  // s
 inline constexpr int kLongChainIterations = 40;
 inline constexpr int kLongChainNewtonSteps = 4;

@@ -42,11 +42,13 @@ inline constexpr double kMaxFloorStiffness = 1e12;
 inline constexpr double kMaxFloorDamping = 1e12;
 
 /// N/m and N·s/m: the floor's stiffness and damping per contact point when a script gives
-/// neither. Stiff enough that robots sink by micrometres (a 0.05 kg module resting on its 8
-/// corners: 0.6 µm; a 1 kg body on 4: 25 µm), damped at about 1.2x critical for that module's
-/// share per corner, and it makes each contact's forces unique where a rigid floor's are not
-/// (docs/performance.md, section 12)
-inline constexpr double kDefaultFloorStiffness = 1e5;
+/// neither. Soft enough that dt 1 ms resolves the contact of a module's lightest body (a 25 g
+/// half-module: on a floor of 1e5 N/m it bounced with a period of 1.6 ms, and gaits whose speed
+/// depends on the floor then moved 3-8 % differently at dt / 4), stiff enough that robots sink by
+/// tens of micrometres (a 0.05 kg module resting on its 8 corners: 20 µm; a 1 kg body on 4:
+/// 0.8 mm), and it makes each contact's forces unique where a rigid floor's are not
+/// (docs/performance.md, section 12, "A floor dt 1 ms resolves")
+inline constexpr double kDefaultFloorStiffness = 3e3;
 inline constexpr double kDefaultFloorDamping = 60;
 
 /// An infinite static plane at z = 0. Compliant by default: every contact point on it is a

@@ -133,12 +133,13 @@ std::vector<std::string> accuracy_warnings(const WorldSpec& world,
         }
         if (!coarse.empty()) {
             warnings.push_back(fmt::format(
-                "{}: {}, and from 12 modules on the rolling gait of such chains moves 4-14 % "
+                "{}: {}, and from 16 modules on the rolling gait of such chains moves up to 6 % "
                 "faster or slower at dt / 4 or with 4x the iterations than at dt 1 ms and 20 "
-                "iterations; dt <= {:g} ms with solver_iterations >= {} (or newton_steps >= {}) "
-                "keep it within 3 % of a converged solver; sim:check_accuracy() or gaitlab check "
-                "measures this robot's gait (docs/performance.md, \"Long chains bent in two "
-                "planes\")",
+                "iterations, and their gaits settle into one of several motions, which the "
+                "settings can change; dt <= {:g} ms with solver_iterations >= {} (or "
+                "newton_steps >= {}) keep each motion within 3 % of a converged solver; "
+                "sim:check_accuracy() or gaitlab check measures this robot's gait "
+                "(docs/performance.md, \"A floor dt 1 ms resolves\")",
                 fmt::join(coarse, " and "), chain_is, kLongChainMaxDt * 1000, kLongChainIterations,
                 kLongChainNewtonSteps));
         }

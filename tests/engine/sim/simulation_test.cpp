@@ -679,28 +679,28 @@ TEST_CASE("a robot that starts inside an object, the floor or another robot gets
 }
 
 TEST_CASE("a body heavy enough to sink into the compliant floor is warned about, once") {
-    // resting on 4 corners of 1e5 N/m, 20 cm cubes of 1000 and 2000 kg sink 24.5 and 49 mm: a
+    // resting on 4 corners of 3e3 N/m, 20 cm cubes of 30 and 60 kg sink 24.5 and 49 mm: a
     // tenth of their height and more is warned about, naming the one that sinks deepest for its
     // height
     WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
-    for (const double mass : {1000.0, 2000.0}) {
+    for (const double mass : {30.0, 60.0}) {
         BoxSpec cube;
         cube.size = {0.2, 0.2, 0.2};
         cube.mass = mass;
         cube.pose.position = {0, static_cast<double>(w.boxes.size() + 1), 0.1};
         w.boxes.push_back(cube);
     }
-    SECTION("on the default floor: the 2000 kg cube is named, with a stiffness that holds it") {
+    SECTION("on the default floor: the 60 kg cube is named, with a stiffness that holds it") {
         Simulation sim(w);
         REQUIRE(sim.warnings().size() == 1);
         CHECK(sim.warnings()[0] ==
-              "box 2 (2000 kg) sinks about 49.1 mm into the floor, 25 % of its height: the "
-              "floor's springs (100000 N/m per contact point) are soft for it (give the floor a "
-              "stiffness of 2.5e+06 N/m or more)");
+              "box 2 (60 kg) sinks about 49.1 mm into the floor, 25 % of its height: the "
+              "floor's springs (3000 N/m per contact point) are soft for it (give the floor a "
+              "stiffness of 7.4e+04 N/m or more)");
     }
     SECTION("a stiffer floor, a rigid one, or cubes ten times lighter: no warning") {
         SECTION("stiffer") {
-            w.floor.stiffness = 2.5e6;
+            w.floor.stiffness = 7.4e4;
         }
         SECTION("rigid") {
             w.floor.rigid = true;
@@ -714,12 +714,12 @@ TEST_CASE("a body heavy enough to sink into the compliant floor is warned about,
     SECTION("a robot body too, by its robot's name") {
         w.boxes.clear();
         for (BodySpec& b : w.robots[0].robot.bodies)
-            b.mass = 500;  // 12 mm on 4 corners, a quarter of a module's height
+            b.mass = 15;  // 12 mm on 4 corners, a quarter of a module's height
         Simulation sim(w);
         REQUIRE(sim.warnings().size() == 1);
-        CHECK_THAT(sim.warnings()[0], Catch::Matchers::StartsWith("body '") &&
-                                          Catch::Matchers::Contains(
-                                              "' of robot 'snake' (500 kg) sinks about 12.3 mm"));
+        CHECK_THAT(sim.warnings()[0],
+                   Catch::Matchers::StartsWith("body '") &&
+                       Catch::Matchers::Contains("' of robot 'snake' (15 kg) sinks about 12.3 mm"));
     }
 }
 
@@ -859,27 +859,27 @@ TEST_CASE(
                    StartsWith("solver_iterations = 20 is below 40 with newton_steps = 2 below 4: "
                               "robot"));
     }
-    SECTION("the finer settings are quiet, and so are planar and 8-joint chains at the defaults") {
+    SECTION("the finer settings are quiet, and so are planar and 12-joint chains at the defaults") {
         o.dt = 0.0005;
         o.solver_iterations = 40;
         CHECK(Simulation(test::chain_world(16, Connection::pitch_yaw), o).warnings().empty());
         o = default_simulation_options();
         CHECK(Simulation(test::chain_world(32, Connection::pitch_pitch), o).warnings().empty());
         CHECK(Simulation(test::chain_world(9, Connection::yaw_yaw), o).warnings().empty());
-        CHECK(Simulation(test::chain_world(8, Connection::pitch_yaw), o).warnings().empty());
-        CHECK_FALSE(Simulation(test::chain_world(9, Connection::pitch_yaw), o).warnings().empty());
+        CHECK(Simulation(test::chain_world(12, Connection::pitch_yaw), o).warnings().empty());
+        CHECK_FALSE(Simulation(test::chain_world(13, Connection::pitch_yaw), o).warnings().empty());
     }
     SECTION("one warning even beyond the general limits (7 iterations, dt 10 ms)") {
         o.solver_iterations = 5;
         o.dt = 0.02;
         o.control_every = 1;
-        Simulation sim(test::chain_world(12, Connection::pitch_yaw), o);
+        Simulation sim(test::chain_world(13, Connection::pitch_yaw), o);
         REQUIRE(sim.warnings().size() == 1);
         CHECK_THAT(sim.warnings()[0],
                    StartsWith("dt = 20 ms is above 0.5 ms and solver_iterations = 5 below 40"));
     }
     SECTION("the longest of several such robots is the one named") {
-        WorldSpec w = test::chain_world(10, Connection::pitch_yaw);
+        WorldSpec w = test::chain_world(14, Connection::pitch_yaw);
         ChainSpec longer;
         longer.name = "long";
         longer.modules = 20;
