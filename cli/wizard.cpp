@@ -116,7 +116,9 @@ class Prompter {
             if (!defaults_) {
                 say(fmt::format("{} [{}]: ", question, def.empty() ? "none" : def));
                 const std::string line = read_line(question);
-                if (!tty_) say(line + "\n");  // piped answers show as if typed
+                // piped answers show as if typed, with the bytes a terminal would act on (an
+                // escape sequence in a file of answers) written out as \xNN
+                if (!tty_) say(terminal_line(line) + "\n");
                 if (!trim(line).empty()) answer = trim(line);
             }
             try {
