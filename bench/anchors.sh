@@ -23,8 +23,9 @@
 # engine of its own in the tables, "gaitlab block_nncg", with its own reference row if the file
 # has one (else gaitlab's, the pgs reference, which the table then says); plain gaitlab rows
 # and solver=pgs run pgs, named to the script (the engine's default is block_nncg). Every
-# gaitlab row runs on the engine's default floor, compliant since 2026-11-28 (1e5 N/m and 60
-# N s/m per contact point); the tables of docs/performance.md from before that ran on a rigid one.
+# gaitlab row runs on the engine's default floor, compliant since 2026-11-28 (3e3 N/m and 60
+# N s/m per contact point since 2026-11-30, 1e5 N/m before); the tables of docs/performance.md
+# from before 2026-11-28 ran on a rigid one.
 #
 # Accuracy: each run simulates 22 s and samples the head every 2 s (a gait cycle); the per-cycle
 # speed is the mean of |head displacement| over the 10 cycles after the first. Pitch-yaw

@@ -18,7 +18,7 @@
 -- `trace` simulated seconds from the start, and at the end, separated by ';'. solver: the
 -- simulation's constraint solver (gaitlab.simulation's `solver`); left out, the engine's default
 -- (block_nncg), and the line does not name it; given, the settings field ends with ",solver=NAME".
--- The floor is the engine's default (compliant: 1e5 N/m and 60 N s/m per contact point) unless
+-- The floor is the engine's default (compliant: 3e3 N/m and 60 N s/m per contact point) unless
 -- rigid=1 (a rigid floor; the settings field then ends with ",floor=rigid") or floor_k /
 -- floor_c (its stiffness and damping) say otherwise.
 local opt = { n = 8, conn = "pp", dt = 0.001, iters = 20, ce = 10, time = 20, phase0 = 0,

@@ -10,7 +10,7 @@
 -- CONV_FRICTION (default "0.3 1.0") the grid, CONV_SOLVER the simulation's `solver` (default the
 -- engine's, "block_nncg", which solves each robot's joints as one system, docs/architecture.md; or "pgs"),
 -- CONV_NEWTON the simulation's `newton_steps` at every setting (default 0), CONV_RIGID=1 a rigid floor and CONV_STIFFNESS / CONV_DAMPING the compliant floor's values
--- (default the engine's floor: 1e5 N/m and 60 N s/m per contact point; bench/lua/floor_env.lua).
+-- (default the engine's floor: 3e3 N/m and 60 N s/m per contact point; bench/lua/floor_env.lua).
 -- Each run starts at time 0 (the same start every time), settles (CONV_SETTLE, below), then
 -- measures; the control period stays 10 ms at every dt.
 --

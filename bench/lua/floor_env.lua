@@ -1,7 +1,7 @@
 -- The floor a benchmark runs on, from its environment variables, shared by the bench scripts
 -- (docs/performance.md). PREFIX_RIGID=1 makes it rigid; PREFIX_STIFFNESS (N/m) and
 -- PREFIX_DAMPING (N s/m) set a compliant one's values, each alone or both (the other keeps the
--- engine's default); none of them: the engine's default floor (compliant, 1e5 N/m and 60 N s/m
+-- engine's default); none of them: the engine's default floor (compliant, 3e3 N/m and 60 N s/m
 -- per contact point). gaitlab.world checks the values (a rigid floor with a stiffness is its
 -- error, named); this names a variable that is not a number.
 --

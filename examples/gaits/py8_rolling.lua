@@ -28,7 +28,7 @@ return {
                        yaw = { amplitude = 90, frequency = 0.1, phase = 0, phase0 = -90 } },
             paper = { source = source, along = "0 (stops)", across = "0 (stops)",
                       outcome = "at 90 deg the robot folds into a square and stops (as issue 14 cites the paper)" } },
-  -- the same on a rigid floor (docs/lua-api.md; the default floor is a stiff spring-damper per
+  -- the same on a rigid floor (docs/lua-api.md; the default floor is a spring-damper per
   -- contact point): a face's four corners then share its weight in a way the contacts do not
   -- determine, and the solver chooses; it stops at the defaults, other settings creep along
   -- the axis (docs/gaits.md)
