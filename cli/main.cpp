@@ -315,12 +315,12 @@ int check_command(const CheckArgs& a) {
     }
     if (g_signal != 0) {
         if (g_signal != SIGPIPE) {
-            report_line(error.empty() ? "interrupted" : error.c_str());
+            report_line(error.empty() ? "interrupted" : error);
         }
         return 128 + g_signal;
     }
     if (!error.empty()) {
-        report_line(error.c_str());
+        report_line(error);
         return 1;
     }
     return warned > 0 ? 3 : 0;
@@ -505,7 +505,7 @@ int run_script(const RunArgs& a, const std::string& command) {
                               "the script has finished: play on, or quit with Ctrl-C "
                               "in the terminal");
             } else {
-                report_line(error.c_str());
+                report_line(error);
                 print_message(stderr,
                               "gaitlab: the script failed; the viewer still serves %s (Ctrl-C "
                               "quits)\n",
@@ -542,13 +542,13 @@ int run_script(const RunArgs& a, const std::string& command) {
     if (g_signal != 0 && !quit_viewer) {
         // a broken pipe ends quietly, as SIGPIPE would have
         if (g_signal != SIGPIPE) {
-            report_line(error.empty() ? "interrupted" : error.c_str());
+            report_line(error.empty() ? "interrupted" : error);
         }
         return 128 + g_signal;
     }
     if (!error.empty()) {
         // the viewer showed it already
-        if (!quit_viewer) report_line(error.c_str());
+        if (!quit_viewer) report_line(error);
         return 1;
     }
     // one line saying where the runs went
@@ -839,7 +839,7 @@ int view_command(const ViewArgs& a) {
             return 128 + g_signal;
         }
         if (!error.empty()) {
-            report_line(error.c_str());
+            report_line(error);
             return 1;
         }
         print_message(stderr, "wrote %s\n", a.video.c_str());
@@ -859,7 +859,7 @@ int view_command(const ViewArgs& a) {
         return 128 + g_signal;
     }
     for (const std::string& note : view->notes())
-        report_line(note.c_str());
+        report_line(note);
     print_message(stderr,
                   "viewer: %s\n  open it in a browser: the recorded run %s (Ctrl-C quits)\n",
                   view->url().c_str(), a.dir.c_str());
@@ -1153,7 +1153,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     if (const std::string error = leftover_error(app); !error.empty()) {
-        report_line(error.c_str());
+        report_line(error);
         return 2;
     }
     if (*run) {

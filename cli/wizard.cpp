@@ -924,7 +924,7 @@ int write_and_run(Wizard& wizard, const Project& p, PartMaker& maker, const fs::
         return 128 + g_signal;
     }
     if (!error.empty()) {
-        report_line(error.c_str());
+        report_line(error);
         return 1;
     }
     for (const std::string& f : folders) {

@@ -45,10 +45,9 @@ inline constexpr double kMaxFloorDamping = 1e12;
 /// neither. Soft enough that dt 1 ms resolves the contact of a module's lightest body (a 25 g
 /// half-module: on a floor of 1e5 N/m its contact settled in about 0.5 ms, and gaits whose speed
 /// depends on the floor then moved 3-8 % differently at dt / 4; here it relaxes in c / k =
-/// 20 ms), stiff enough that robots sink by
-/// tens of micrometres (a 0.05 kg module resting on its 8 corners: 20 µm; a 1 kg body on 4:
-/// 0.8 mm), and it makes each contact's forces unique where a rigid floor's are not
-/// (docs/performance.md, section 12, "A floor dt 1 ms resolves")
+/// 20 ms), stiff enough that robots sink by tens of micrometres (a 0.05 kg module resting on its
+/// 8 corners: 20 µm; a 1 kg body on 4: 0.8 mm), and it makes each contact's forces unique where a
+/// rigid floor's are not (docs/performance.md, section 12, "A floor dt 1 ms resolves")
 inline constexpr double kDefaultFloorStiffness = 3e3;
 inline constexpr double kDefaultFloorDamping = 60;
 

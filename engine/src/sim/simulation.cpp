@@ -111,9 +111,8 @@ std::vector<std::string> accuracy_warnings(const WorldSpec& world,
             "solver = \"pgs\": {}, and pgs does not converge on such chains (on a floor of 1e5 "
             "N/m the 32-module rolling chain moved 77.0, 70.5 and 66.9 mm per cycle at 20, 80 "
             "and 320 iterations, where block_nncg converged to 83.2); take solver = "
-            "\"block_nncg\" with "
-            "dt <= {:g} ms and solver_iterations >= {} (docs/performance.md, \"Long chains bent "
-            "in two planes\")",
+            "\"block_nncg\" with dt <= {:g} ms and solver_iterations >= {} (docs/performance.md, "
+            "\"Long chains bent in two planes\")",
             chain_is, kLongChainMaxDt * 1000, kLongChainIterations));
     }
     if (chain >= 0 && block) {
