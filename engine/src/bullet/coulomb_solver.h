@@ -95,6 +95,84 @@ class ContactConfiguration : public btDefaultCollisionConfiguration {
     ContactConfiguration() { setPlaneConvexMultipointIterations(6, 4); }
 };
 
+// One contact's friction impulse (CoulombSolver::solve_friction): for K = [k11 k12; k12 k22]
+// the 2x2 matrix that maps the impulses of its two friction rows to their velocities and w the
+// slip the contact would have without its friction, the l that minimises 1/2 l'Kl + l'w (the
+// kinetic energy of the slip) over |l| <= limit (μN): l = -K^-1 w if that is inside the disk
+// (the contact sticks), otherwise l = -(K + g I)^-1 w with g > 0 such that |l| = limit: the
+// slip after, w + Kl = -g l, is then exactly against l (Coulomb's law). g comes from Newton's
+// method on 1/|l(g)| - 1/limit, nearly linear in g (exactly for an isotropic K), kept within
+// the bracket K's eigenvalues give. The solution scales with w and the limit together, so
+// where they are so large or so small that the steps' cubes could overflow or underflow (in
+// float, Bullet's btScalar here, from 1e13 and below 1e-13), it is taken on them scaled by a
+// power of two to about 1, which is exact: the bits are those of the unscaled steps. Always finite
+// and within the disk: a slip that is not finite (a diverging world's) gets no impulse.
+namespace detail {
+inline std::pair<btScalar, btScalar> friction_disk_unscaled(btScalar k11, btScalar k12,
+                                                            btScalar k22, btScalar w1, btScalar w2,
+                                                            btScalar limit) {
+    // l = -(K + g I)^-1 w; returns the determinant of K + g I
+    auto impulse = [&](btScalar g, btScalar& l1, btScalar& l2) {
+        const btScalar a11 = k11 + g, a22 = k22 + g, d = a11 * a22 - k12 * k12;
+        l1 = -(a22 * w1 - k12 * w2) / d;
+        l2 = -(a11 * w2 - k12 * w1) / d;
+        return d;
+    };
+    btScalar l1, l2;
+    impulse(0, l1, l2);
+    // (not <=: a slip that is not a number takes the branch and its fallback)
+    if (!(l1 * l1 + l2 * l2 <= limit * limit)) {
+        if (limit <= 0) {
+            l1 = l2 = 0;
+        } else {
+            const btScalar wn = btSqrt(w1 * w1 + w2 * w2);
+            const btScalar mid = (k11 + k22) / 2;
+            const btScalar rad = btSqrt((k11 - k22) * (k11 - k22) / 4 + k12 * k12);
+            const btScalar lo = btMax(btScalar(0), wn / limit - (mid + rad));
+            const btScalar hi = btMax(lo, wn / limit - (mid - rad));
+            btScalar g = (lo + hi) / 2;
+            for (int it = 0; it < 6; ++it) {
+                const btScalar d = impulse(g, l1, l2);
+                const btScalar n2 = l1 * l1 + l2 * l2, len = btSqrt(n2);
+                // l'(K + g I)^-1 l, the slope of 1/|l| times |l|^3
+                const btScalar q =
+                    ((k22 + g) * l1 * l1 - 2 * k12 * l1 * l2 + (k11 + g) * l2 * l2) / d;
+                g = btMin(hi, btMax(lo, g - (1 / len - 1 / limit) * n2 * len / q));
+            }
+            impulse(g, l1, l2);
+            // onto the disk (the Newton steps leave |l| within rounding of it)
+            const btScalar scale = limit / btSqrt(l1 * l1 + l2 * l2);
+            l1 *= scale;
+            l2 *= scale;
+            // a limit so much smaller than the slip that the steps above overflow (a
+            // normal impulse of 1e-30 N s against a slip of 1 m/s), or a slip that is not a
+            // number: then the limit against the slip (exact for an isotropic K); 0 where
+            // the slip has no direction (0, or not finite)
+            if (!(std::isfinite(l1) && std::isfinite(l2))) {
+                const btScalar length =
+                    wn > 0 && std::isfinite(wn) ? wn : btScalar(std::hypot(w1, w2));
+                const bool direction = length > 0 && std::isfinite(length);
+                l1 = direction ? -w1 / length * limit : 0;
+                l2 = direction ? -w2 / length * limit : 0;
+            }
+        }
+    }
+    return {l1, l2};
+}
+}  // namespace detail
+
+inline std::pair<btScalar, btScalar> friction_disk(btScalar k11, btScalar k12, btScalar k22,
+                                                   btScalar w1, btScalar w2, btScalar limit) {
+    const btScalar size = std::max({std::fabs(w1), std::fabs(w2), limit});
+    if (std::isfinite(size) && (size > btScalar(1e6) || (size > 0 && size < btScalar(1e-6)))) {
+        const int e = std::ilogb(size);
+        const auto [l1, l2] = detail::friction_disk_unscaled(
+            k11, k12, k22, std::scalbn(w1, -e), std::scalbn(w2, -e), std::scalbn(limit, -e));
+        return {std::scalbn(l1, e), std::scalbn(l2, e)};
+    }
+    return detail::friction_disk_unscaled(k11, k12, k22, w1, w2, limit);
+}
+
 class CoulombSolver : public btSequentialImpulseConstraintSolver {
   public:
     /// The friction model (above); the engine's is FrictionModel::disk.
@@ -277,14 +355,9 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         c.m_appliedImpulse += impulse;
     }
 
-    // One pass over the friction disks. For a contact with rows 1 and 2, K the 2x2 matrix that
-    // maps their impulses to their velocities and w the slip the contact would have without
-    // its friction, the impulse l minimises 1/2 l'Kl + l'w (the kinetic energy of the slip)
-    // over |l| <= μN: l = -K^-1 w if that is inside the disk (the contact sticks), otherwise
-    // l = -(K + g I)^-1 w with g > 0 such that |l| = μN: the slip after, w + Kl = -g l, is then
-    // exactly against l (Coulomb's law). g comes from Newton's method on 1/|l(g)| - 1/μN,
-    // nearly linear in g (exactly for an isotropic K), kept within the bracket K's eigenvalues
-    // give. Returns the largest squared velocity change, as Bullet's rows do.
+    // One pass over the friction disks: each contact's two rows get the impulse friction_disk
+    // (above) gives them, given every other row's. Returns the largest squared velocity
+    // change, as Bullet's rows do.
     btScalar solve_friction(bool backward = false) {
         btScalar worst = 0;
         const int n = m_tmpSolverContactFrictionConstraintPool.size();
@@ -304,47 +377,7 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             const btScalar v1 = row_velocity(r1, a, b), v2 = row_velocity(r2, a, b);
             const btScalar w1 = v1 - k11 * old1 - k12 * old2;
             const btScalar w2 = v2 - k12 * old1 - k22 * old2;
-            // l = -(K + g I)^-1 w; returns the determinant of K + g I
-            auto impulse = [&](btScalar g, btScalar& l1, btScalar& l2) {
-                const btScalar a11 = k11 + g, a22 = k22 + g, d = a11 * a22 - k12 * k12;
-                l1 = -(a22 * w1 - k12 * w2) / d;
-                l2 = -(a11 * w2 - k12 * w1) / d;
-                return d;
-            };
-            btScalar l1, l2;
-            impulse(0, l1, l2);
-            if (l1 * l1 + l2 * l2 > limit * limit) {
-                if (limit <= 0) {
-                    l1 = l2 = 0;
-                } else {
-                    const btScalar wn = btSqrt(w1 * w1 + w2 * w2);
-                    const btScalar mid = (k11 + k22) / 2;
-                    const btScalar rad = btSqrt((k11 - k22) * (k11 - k22) / 4 + k12 * k12);
-                    const btScalar lo = btMax(btScalar(0), wn / limit - (mid + rad));
-                    const btScalar hi = btMax(lo, wn / limit - (mid - rad));
-                    btScalar g = (lo + hi) / 2;
-                    for (int it = 0; it < 6; ++it) {
-                        const btScalar d = impulse(g, l1, l2);
-                        const btScalar n2 = l1 * l1 + l2 * l2, len = btSqrt(n2);
-                        // l'(K + g I)^-1 l, the slope of 1/|l| times |l|^3
-                        const btScalar q =
-                            ((k22 + g) * l1 * l1 - 2 * k12 * l1 * l2 + (k11 + g) * l2 * l2) / d;
-                        g = btMin(hi, btMax(lo, g - (1 / len - 1 / limit) * n2 * len / q));
-                    }
-                    impulse(g, l1, l2);
-                    // onto the disk (the Newton steps leave |l| within rounding of it)
-                    const btScalar scale = limit / btSqrt(l1 * l1 + l2 * l2);
-                    l1 *= scale;
-                    l2 *= scale;
-                    // a limit so small that |l|^2 underflows (a normal impulse of 1e-20 N s,
-                    // as block_nncg's steps can leave one) makes the steps above 0/0: then
-                    // μN against the slip (exact for an isotropic K)
-                    if (!(std::isfinite(l1) && std::isfinite(l2))) {
-                        l1 = -w1 / wn * limit;
-                        l2 = -w2 / wn * limit;
-                    }
-                }
-            }
+            const auto [l1, l2] = friction_disk(k11, k12, k22, w1, w2, limit);
             apply(r1, a, b, l1 - old1);
             apply(r2, a, b, l2 - old2);
             worst = btMax(worst, btMax((l1 - old1) * (l1 - old1) * k11 * k11,

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <random>
 #include <string>
@@ -733,5 +734,76 @@ TEST_CASE("block_nncg keeps a chain of a thousand modules and more finite") {
         CHECK(all_finite(r));
         CHECK(r.max_separation < 1e-4);
         CHECK((r.end - r.start).norm() < 1e-4);  // it lies still
+    }
+}
+
+// friction_disk, the contact's friction impulse (coulomb_solver.h), in btScalar (float in the
+// engine's Bullet): Coulomb's law at ordinary scales, and at scales where its squares underflow
+// or overflow, or with a slip that is not a number (a diverging world's), an impulse that is
+// finite, within the disk and against the slip
+TEST_CASE("the friction disk's impulse is Coulomb's, finite and within μN at any scale") {
+    using S = btScalar;
+    const double tol = std::numeric_limits<S>::epsilon() * 64;
+    auto length = [](S a, S b) { return std::hypot(double(a), double(b)); };
+    SECTION("ordinary scales: sticking inside the disk, sliding on it against the slip after") {
+        // isotropic K = 2 I: the sticking impulse is -w / 2, the sliding one the limit against w
+        const auto [s1, s2] = friction_disk(S(2), S(0), S(2), S(3), S(4), S(10));
+        CHECK(s1 == Approx(-1.5).epsilon(tol));
+        CHECK(s2 == Approx(-2.0).epsilon(tol));
+        const auto [d1, d2] = friction_disk(S(2), S(0), S(2), S(3), S(4), S(1));
+        CHECK(d1 == Approx(-0.6).epsilon(tol));
+        CHECK(d2 == Approx(-0.8).epsilon(tol));
+        // anisotropic K: on the disk, and the slip after (w + K l) exactly against l
+        const S k11 = 3, k12 = 1, k22 = S(1.5), w1 = 2, w2 = -5, limit = S(0.7);
+        const auto [l1, l2] = friction_disk(k11, k12, k22, w1, w2, limit);
+        CHECK(length(l1, l2) == Approx(limit).epsilon(tol));
+        const double v1 = w1 + k11 * l1 + k12 * l2, v2 = w2 + k12 * l1 + k22 * l2;
+        CHECK(std::abs(v1 * l2 - v2 * l1) < tol * std::hypot(v1, v2) * limit);
+        CHECK(v1 * l1 + v2 * l2 < 0);
+    }
+    SECTION("extreme scales: finite, within the disk, against the slip where it has a direction") {
+        // at a scale whose squares overflow or underflow, the impulse of an ordinary one,
+        // scaled: sticking inside the disk (limit 10) and sliding on it (0.1)
+        for (const S scale : {S(1e30), S(1e-30)}) {
+            for (const S limit : {S(10), S(0.1)}) {
+                CAPTURE(scale, limit);
+                const auto [u1, u2] = friction_disk(S(2), S(0.5), S(1), S(1), S(-2), limit);
+                const auto [h1, h2] =
+                    friction_disk(S(2), S(0.5), S(1), scale, -2 * scale, limit * scale);
+                CHECK(h1 == Approx(double(u1) * scale).epsilon(tol));
+                CHECK(h2 == Approx(double(u2) * scale).epsilon(tol));
+            }
+        }
+        const S inf = std::numeric_limits<S>::infinity();
+        const S nan = std::numeric_limits<S>::quiet_NaN();
+        struct Case {
+            S w1, w2, limit;
+            bool against;  // the slip has a direction: the impulse is the limit against it
+        };
+        const Case cases[] = {
+            {3, 4, S(1e-30), true},  // a normal impulse whose square underflows
+            {S(3e-30), S(4e-30), S(1e-35), true},
+            {S(3e30), S(4e30), 1, true},  // a slip whose square overflows
+            {S(1e30), 0, S(1e29), true},  // both
+            {S(3e-25), S(-4e-25), S(1e-36), true},
+            {inf, 0, 1, false},  // a diverging world: no direction, no impulse
+            {nan, 1, 1, false},
+            {nan, nan, S(1e-30), false},
+            {0, 0, 1, false},  // no slip: no impulse (sticking)
+            {5, 5, 0, false},  // no normal force: no friction
+        };
+        for (const Case& c : cases) {
+            CAPTURE(c.w1, c.w2, c.limit);
+            const auto [l1, l2] = friction_disk(S(2), S(0.5), S(1), c.w1, c.w2, c.limit);
+            REQUIRE(std::isfinite(l1));
+            REQUIRE(std::isfinite(l2));
+            CHECK(length(l1, l2) <= c.limit * (1 + tol));
+            if (c.against) {
+                CHECK(length(l1, l2) == Approx(c.limit).epsilon(tol));
+                CHECK(double(l1) * c.w1 + double(l2) * c.w2 < 0);
+            } else {
+                CHECK(length(l1, l2) == 0);
+            }
+        }
     }
 }
