@@ -11,7 +11,10 @@
 --                        floor = (optional: the floor's other keys, bench/lua/floor_env.lua) }
 --   -- r.x, r.y: mm per cycle along x (the chain's axis at the start) and across it (y);
 --   -- r.speed: the per-cycle speed, the mean over the cycles of the length of each cycle's
---   -- horizontal displacement (mm), which a robot that turns slowly keeps; r.cpu: CPU seconds of the run
+--   -- horizontal displacement (mm), which a robot that turns slowly keeps; r.tilt: the bodies'
+--   -- mean tilt (deg, 0 upright, 90 on their side, 180 upside down) over the measured cycles,
+--   -- sampled every 0.1 s, which tells a long pitch-yaw chain's motions apart (upright or
+--   -- lying twisted on its side, docs/performance.md section 12); r.cpu: CPU seconds of the run
 return function(o)
   local robot = gaitlab.robot.chain{ name = "snake", modules = o.modules,
                                      connection = o.connection, module = o.module }
@@ -28,13 +31,24 @@ return function(o)
   sim:run(o.settle)
   local p0 = r:position()
   local last, length = p0, 0
+  local tilt, samples = 0, 0
+  local slices = math.max(1, math.floor(10 / o.frequency + 0.5))  -- of 0.1 s
   for _ = 1, o.cycles do
-    sim:run(1 / o.frequency)
+    for _ = 1, slices do
+      sim:run(1 / o.frequency / slices)
+      local bodies = r:bodies()
+      for _, b in ipairs(bodies) do
+        local q = b.orientation  -- the angle between the body's z and the world's
+        local z = 1 - 2 * (q.x * q.x + q.y * q.y)
+        tilt = tilt + math.deg(math.acos(math.max(-1, math.min(1, z)))) / #bodies
+      end
+      samples = samples + 1
+    end
     local p = r:position()
     length = length + math.sqrt((p.x - last.x) ^ 2 + (p.y - last.y) ^ 2)
     last = p
   end
   local d = last - p0
   return { x = 1000 * d.x / o.cycles, y = 1000 * d.y / o.cycles,
-           speed = 1000 * length / o.cycles, cpu = os.clock() - t0 }
+           speed = 1000 * length / o.cycles, tilt = tilt / samples, cpu = os.clock() - t0 }
 end

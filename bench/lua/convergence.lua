@@ -20,7 +20,9 @@
 -- added to every joint's phase; CONV_PHASES sets them), and the spread of the direction of
 -- travel between the settings. The vectors compare where the robot went, which for a gait
 -- whose heading wanders (a long pitch-yaw chain's does, from a perturbation of 1e-9 deg) is
--- the heading more than the speed.
+-- the heading more than the speed. Where the starts of a row settle in two postures (the bodies'
+-- mean tilt below or above 45 deg: a 32-module pitch-yaw wave upright, or lying twisted on its
+-- side), two more rows compare the settings per posture.
 local chain_run = require "chain_run"
 local gaits = require "standard_gaits"
 
@@ -119,6 +121,9 @@ local friction_grid = numbers(os.getenv("CONV_FRICTION") or "0.3 1.0")
 local phases_py = numbers(os.getenv("CONV_PHASES") or "0 72 144 216 288")
 
 local function pct(a, b) return 100 * math.abs(a - b) / b end
+-- the bodies' mean tilt (deg, chain_run's r.tilt) that separates an upright chain from one
+-- lying on its side
+local tilt_split = 45
 
 local function speed_row(gait, modules, friction)
   local phases = gait == "pp" and { 0 } or phases_py
@@ -129,9 +134,9 @@ local function speed_row(gait, modules, friction)
     for k, start in ipairs(phases) do
       per[i][k] = run(gait, modules, friction, s.dt, s.iterations, 1, start)
       -- each run on stderr as it ends: the start phases' motions, which the mean mixes
-      io.stderr:write(string.format("%s %d %.1f %s start %g: %.1f mm per cycle, %.1f s CPU\n", gait,
-                                    modules, friction, s.name, start, per[i][k].speed,
-                                    per[i][k].cpu))
+      io.stderr:write(string.format("%s %d %.1f %s start %g: %.1f mm per cycle, tilt %.0f°, %.1f s "
+                                    .. "CPU\n", gait, modules, friction, s.name, start,
+                                    per[i][k].speed, per[i][k].tilt, per[i][k].cpu))
       mean[i] = mean[i] + per[i][k].speed / #phases
     end
   end
@@ -145,6 +150,33 @@ local function speed_row(gait, modules, friction)
                       gait, modules, friction, mean[1], mean[2], mean[3], mean[4],
                       mark(pct(mean[2], mean[1])), mark(pct(mean[3], mean[1])),
                       mark(pct(mean[1], mean[4])), mark(worst), turn))
+  -- where the starts took motions of two postures (a long pitch-yaw chain's wave: upright, or
+  -- lying twisted on its side; docs/performance.md section 12, "Upright or on its side"), the
+  -- row again per posture: each setting's mean over the starts in that posture (and how many),
+  -- and the defaults' motion against the reference's in the same posture
+  local function posture(run) return run.tilt < tilt_split and 1 or 2 end
+  local seen = {}
+  for i = 1, #settings do
+    for k = 1, #phases do seen[posture(per[i][k])] = true end
+  end
+  if seen[1] and seen[2] then
+    for p, name in ipairs{ "upright", "on its side" } do
+      local cells, m = {}, {}
+      for i = 1, #settings do
+        local sum, count = 0, 0
+        for k = 1, #phases do
+          if posture(per[i][k]) == p then sum, count = sum + per[i][k].speed, count + 1 end
+        end
+        m[i] = count > 0 and sum / count or nil
+        cells[i] = count > 0 and string.format("%.1f (%d)", m[i], count) or "–"
+      end
+      print(string.format("| %s | %d | %.1f %s | %s | %s | %s | %s | %s | %s | %s | | |", gait,
+                          modules, friction, name, cells[1], cells[2], cells[3], cells[4],
+                          (m[1] and m[2]) and mark(pct(m[2], m[1])) or "–",
+                          (m[1] and m[3]) and mark(pct(m[3], m[1])) or "–",
+                          (m[1] and m[4]) and mark(pct(m[1], m[4])) or "–"))
+    end
+  end
   io.stdout:flush()
 end
 

@@ -28,6 +28,11 @@
 -- small net travel is the rest of). It samples the bodies every 10 ms, which leaves the
 -- trajectory as it is (the same steps, run in pieces).
 --
+-- STEADY_POSTURE=1 prints each block as speed/tilt: the bodies' mean tilt in degrees (0
+-- upright, 90 on their side, 180 upside down), sampled every 0.1 s, which tells a long
+-- pitch-yaw chain's two wave motions apart (docs/performance.md, section 12, "Upright or on its
+-- side"); the same pieces, the same trajectory.
+--
 -- STEADY_CHECK=SECONDS runs, for each start, the engine's accuracy check instead
 -- (sim:check_accuracy, docs/lua-api.md; STEADY_SETTLE its settling time, default 0): the gait
 -- for SECONDS from time 0 at the given settings, at dt/4 and at 4x the iterations, and prints
@@ -97,6 +102,11 @@ if motion ~= nil and motion ~= "0" and motion ~= "1" then
   fail("STEADY_MOTION: 1 (describe each start's motion) or 0 expected, got '" .. motion .. "'")
 end
 motion = motion == "1"
+local posture = os.getenv("STEADY_POSTURE")
+if posture ~= nil and posture ~= "0" and posture ~= "1" then
+  fail("STEADY_POSTURE: 1 (each block's tilt) or 0 expected, got '" .. posture .. "'")
+end
+posture = posture == "1"
 
 local check = os.getenv("STEADY_CHECK")
 if check ~= nil then
@@ -121,7 +131,18 @@ local function horizontal(d) return math.sqrt(d.x ^ 2 + d.y ^ 2) end
 
 -- STEADY_MOTION: the sums over the measured cycles that describe_motion turns into a line
 local function motion_sums()
-  return { cycles = 0, travel = 0, turn = 0, length = 0, height = 0, path = 0 }
+  return { cycles = 0, travel = 0, turn = 0, length = 0, height = 0, path = 0, tilt = 0,
+           samples = 0 }
+end
+
+-- the bodies' mean tilt: the angle between each body's z and the world's, degrees
+local function tilt(robot)
+  local bodies, sum = robot:bodies(), 0
+  for _, b in ipairs(bodies) do
+    local q = b.orientation
+    sum = sum + math.deg(math.acos(math.max(-1, math.min(1, 1 - 2 * (q.x * q.x + q.y * q.y)))))
+  end
+  return sum / #bodies
 end
 
 -- the robot's axis (tail to head): its heading in the plane and its length
@@ -143,6 +164,8 @@ local function sampled_cycle(sim, robot, sums)
     for _, b in ipairs(bodies) do z = z + b.position.z end
     sums.height = math.max(sums.height, z / #bodies)
     sums.path = sums.path + horizontal(now - last)
+    sums.tilt = sums.tilt + tilt(robot)
+    sums.samples = sums.samples + 1
     last = now
   end
   local heading, length = axis(robot)
@@ -157,10 +180,11 @@ end
 local function describe_motion(sums, speed, net)
   local n = sums.cycles
   return string.format("speed %.2f mm/cycle, net %.2f, travel %+.0f deg from the axis, turn %+.1f deg/cycle, "
-                       .. "head to tail %.0f mm, highest mean height %.1f mm, path %.2f mm/cycle",
+                       .. "head to tail %.0f mm, highest mean height %.1f mm, path %.2f mm/cycle, "
+                       .. "tilt %.0f deg",
                        speed, 1000 * net / n, math.deg(sums.travel / n),
                        math.deg(sums.turn / n), 1000 * sums.length / n, 1000 * sums.height,
-                       1000 * sums.path / n)
+                       1000 * sums.path / n, sums.tilt / sums.samples)
 end
 
 -- the gait from phase `start` at time 0: its simulation and robot
@@ -177,17 +201,22 @@ local function build(start)
 end
 
 -- the speed of each block, mm per cycle; with STEADY_MOTION the last blocks' motion sums and
--- net travel (m)
+-- net travel (m); with STEADY_POSTURE each block's mean tilt (deg)
 local function run(start)
   local sim, robot = build(start)
-  local speeds, before = {}, robot:position()
+  local speeds, tilts, before = {}, {}, robot:position()
   local sums, measured_from = motion_sums(), nil
   for b = 1, blocks do
-    local length = 0
+    local length, tilt_sum = 0, 0
     if b == blocks - last + 1 then measured_from = robot:position() end
     for _ = 1, per_block do
       if motion and b > blocks - last then
         sampled_cycle(sim, robot, sums)
+      elseif posture then
+        for _ = 1, 20 do
+          sim:run(0.05 / frequency)
+          tilt_sum = tilt_sum + tilt(robot)
+        end
       else
         sim:run(1 / frequency)
       end
@@ -196,8 +225,9 @@ local function run(start)
       before = now
     end
     speeds[b] = 1000 * length / per_block
+    tilts[b] = tilt_sum / (20 * per_block)
   end
-  return speeds, sim.solver, sums, motion and horizontal(robot:position() - measured_from)
+  return speeds, sim.solver, sums, motion and horizontal(robot:position() - measured_from), tilts
 end
 
 -- STEADY_CHECK: the engine's accuracy check (sim:check_accuracy) of each start instead
@@ -221,11 +251,11 @@ end
 
 local total, used = 0, nil
 for _, start in ipairs(phases) do
-  local speeds, name, sums, net = run(start)
+  local speeds, name, sums, net, tilts = run(start)
   used = name
   local sum, cells = 0, {}
   for b, v in ipairs(speeds) do
-    cells[b] = string.format("%.1f", v)
+    cells[b] = posture and string.format("%.1f/%.0f", v, tilts[b]) or string.format("%.1f", v)
     if b > blocks - last then sum = sum + v end
   end
   local mean = sum / last
