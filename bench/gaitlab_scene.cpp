@@ -65,6 +65,8 @@ gaitlab::SimulationOptions make_options(const Scenario& sc) {
     o.dt = sc.dt;
     o.control_every = sc.control_every;
     o.solver_iterations = sc.solver_iterations;
+    // none, as the raw Bullet loop it is compared with (a long pitch-yaw chain would get 4)
+    o.newton_steps = 0;
     return o;
 }
 
@@ -87,7 +89,8 @@ LuaScene::LuaScene(const Scenario& sc, const std::string& controller_file) {
             "  robot:group('yaw'):drive(make{{ amplitude = {}, frequency = {}, phase = {} }})\n"
             "end\n"
             "sim = gaitlab.simulation{{ world = world, dt = {}, control_every = {},\n"
-            "                          solver_iterations = {}, record = false }}\n"
+            "                          solver_iterations = {}, newton_steps = 0, record = false "
+            "}}\n"
             "snake = robot\n",
             sc.modules, sc.pitch_yaw ? "pitch-yaw" : "pitch-pitch", sc.floor_friction,
             sc.pitch_amplitude, sc.frequency, sc.phase, sc.pitch_yaw ? "true" : "false",

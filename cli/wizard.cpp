@@ -626,15 +626,15 @@ class Wizard {
         SimChoice& s = p_.sim;
         s.name = p_.robot.name;
         explain(in_, "\nThe simulation computes the physics in small time steps.\n");
-        // the one robot shape whose accuracy needs finer settings than the defaults: offered
-        // them
-        const bool long_chain =
-            p_.robot.connection == "pitch-yaw" && p_.robot.modules > kLongChainJoints;
-        if (long_chain) {
-            explain(in_, fmt::format("A pitch-yaw chain of more than {} modules needs a finer "
-                                     "step and more solver iterations\nfor some gaits "
-                                     "(rolling) to be accurate: the answers offered keep them.\n",
-                                     kLongChainJoints));
+        // the one robot shape whose accuracy needs more than the defaults' iterations: told
+        // what the simulation does for it (automatic_newton_steps)
+        if (p_.robot.connection == "pitch-yaw" && p_.robot.modules > kLongChainJoints) {
+            explain(in_,
+                    fmt::format("A pitch-yaw chain of more than {} modules gets {} Newton "
+                                "steps in every physics step, which keep\nits gaits "
+                                "accurate at a step of {:g} s or less (they take about "
+                                "twice the computing time).\n",
+                                kLongChainJoints, kLongChainNewtonSteps, kLongChainNewtonMaxDt));
         }
         in_.ask("Seconds to simulate", "10", [&](const std::string& a) {
             SimChoice t = s;
@@ -642,35 +642,20 @@ class Wizard {
             PartMaker::check_sim(t);
             s = t;
         });
-        in_.ask("Time step, s (smaller: more accurate, slower)",
-                number_text(long_chain ? kLongChainMaxDt : s.dt), [&](const std::string& a) {
+        in_.ask("Time step, s (smaller: more accurate, slower)", number_text(s.dt),
+                [&](const std::string& a) {
                     SimChoice t = s;
                     t.dt = number(a);
                     PartMaker::check_sim(t);
                     s = t;
                 });
-        // the default control period, 30 ms, kept at the step answered (long chains)
-        const SimChoice usual;
-        const int every =
-            long_chain
-                ? static_cast<int>(std::max(1L, std::lround(usual.control_every * usual.dt / s.dt)))
-                : usual.control_every;
-        in_.ask("Physics steps between two controller steps", std::to_string(every),
+        in_.ask("Physics steps between two controller steps", std::to_string(s.control_every),
                 [&](const std::string& a) {
                     SimChoice t = s;
                     t.control_every = whole_number(a, 1, 1000000);
                     PartMaker::check_sim(t);
                     s = t;
                 });
-        if (long_chain) {
-            in_.ask("Solver iterations per step (more: more accurate, slower)",
-                    std::to_string(kLongChainIterations), [&](const std::string& a) {
-                        SimChoice t = s;
-                        t.solver_iterations = whole_number(a, 1, kMaxSolverIterations);
-                        PartMaker::check_sim(t);
-                        s = t;
-                    });
-        }
         explain(in_,
                 "\nA recorded run keeps joint angles, positions, sensor readings... in a "
                 "folder you can plot.\n");

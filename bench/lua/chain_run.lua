@@ -6,7 +6,8 @@
 --   local r = chain_run{ modules =, connection =, friction =, dt =, iterations =,
 --                        settle =, cycles =, frequency =, drive = function(robot) ... end,
 --                        solver = (optional: the simulation's solver, default the engine's),
---                        newton_steps = (optional: the simulation's newton_steps, default 0),
+--                        newton_steps = (optional: the simulation's newton_steps, default the
+--                                        engine's: 4 for a pitch-yaw chain of 13 modules or more),
 --                        module = (optional: the chain's module type, default y1),
 --                        floor = (optional: the floor's other keys, bench/lua/floor_env.lua) }
 --   -- r.x, r.y: mm per cycle along x (the chain's axis at the start) and across it (y);

@@ -9,7 +9,7 @@
 -- CONV_CYCLES (default 5) sets the cycles measured, CONV_MAX_TORQUE the servos' torque (below), CONV_MODULES (default "2 8 32") and
 -- CONV_FRICTION (default "0.3 1.0") the grid, CONV_SOLVER the simulation's `solver` (default the
 -- engine's, "block_nncg", which solves each robot's joints as one system, docs/architecture.md; or "pgs"),
--- CONV_NEWTON the simulation's `newton_steps` at every setting (default 0), CONV_RIGID=1 a rigid floor and CONV_STIFFNESS / CONV_DAMPING the compliant floor's values
+-- CONV_NEWTON the simulation's `newton_steps` at every setting (default the engine's: 4 for a pitch-yaw chain of 13 modules or more, else 0), CONV_RIGID=1 a rigid floor and CONV_STIFFNESS / CONV_DAMPING the compliant floor's values
 -- (default the engine's floor: 3e3 N/m and 60 N s/m per contact point; bench/lua/floor_env.lua).
 -- Each run starts at time 0 (the same start every time), settles (CONV_SETTLE, below), then
 -- measures; the control period stays 10 ms at every dt.
@@ -32,8 +32,8 @@ if measure ~= "vector" and measure ~= "speed" then
 end
 local cycles = tonumber(os.getenv("CONV_CYCLES") or (measure == "speed" and "10" or "5"))
 local solver = os.getenv("CONV_SOLVER")
-local newton = math.tointeger(tonumber(os.getenv("CONV_NEWTON") or "0"))
-if not newton or newton < 0 then
+local newton = os.getenv("CONV_NEWTON") and math.tointeger(tonumber(os.getenv("CONV_NEWTON")))
+if os.getenv("CONV_NEWTON") and (not newton or newton < 0) then
   error("CONV_NEWTON: a whole number of Newton steps >= 0 expected, got '"
         .. tostring(os.getenv("CONV_NEWTON")) .. "'", 0)
 end
@@ -77,7 +77,7 @@ local function run(gait, modules, friction, dt, iterations, direction, start)
                     floor = floor,
                     friction = friction, dt = dt, iterations = iterations, settle = settle,
                     cycles = cycles, frequency = frequency, solver = solver,
-                    newton_steps = newton > 0 and newton or nil,
+                    newton_steps = newton,
                     drive = function(robot)
                       gaits.drive(robot, gait, { frequency = frequency, direction = direction,
                                                  start = start })

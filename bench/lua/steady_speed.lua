@@ -17,7 +17,8 @@
 -- cannot follow, with servos that can); STEADY_RIGID=1 a rigid floor, STEADY_STIFFNESS and
 -- STEADY_DAMPING (N/m, N s/m) the compliant floor's values instead of the engine's defaults
 -- (bench/lua/floor_env.lua; gaitlab.world's floor keys, docs/lua-api.md); STEADY_NEWTON=K the
--- simulation's newton_steps (default 0). The speed of a block
+-- simulation's newton_steps (default the engine's: 4 for a pitch-yaw chain of 13 modules or
+-- more, else 0). The speed of a block
 -- is the mean length of its cycles' displacements of the centre of mass, in mm per cycle.
 --
 -- STEADY_MOTION=1 also prints, per start, what motion the last blocks are (docs/performance.md,
@@ -66,7 +67,7 @@ if not dt_ms or dt_ms <= 0 or dt_ms > 10 then fail("DT_MS: a step in (0, 10] ms 
 local iterations = math.tointeger(tonumber(arg[5] or "20"))
 if not iterations or iterations < 1 then fail("ITERATIONS: a whole number >= 1 expected, got '" .. arg[5] .. "'") end
 local solver = arg[6]
-local newton = count("STEADY_NEWTON", 0, 0)
+local newton = count("STEADY_NEWTON", nil, 0)
 if solver and solver ~= "pgs" and solver ~= "block_nncg" then
   fail("SOLVER: pgs or block_nncg expected, got '" .. solver .. "'")
 end

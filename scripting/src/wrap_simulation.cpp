@@ -257,7 +257,9 @@ int simulation_new(lua_State* L) {
             o.control_every = checked_int("control_every", every, 1, kMaxControlEvery);
             o.solver_iterations =
                 checked_int("solver_iterations", iterations, 1, kMaxSolverIterations);
-            o.newton_steps = checked_int("newton_steps", newton, 0, kMaxNewtonSteps);
+            // not given: the simulation chooses for its world (automatic_newton_steps)
+            if (f.has("newton_steps"))
+                o.newton_steps = checked_int("newton_steps", newton, 0, kMaxNewtonSteps);
             // as a simulation file's duration: a run of round(duration / dt) ticks must fit
             if (f.has("duration")) checked_ticks("duration", file.duration, o.dt);
         } catch (const SpecError& e) {
@@ -371,8 +373,13 @@ int simulation_save(lua_State* L) {
         // controllers and sensors they have here, not what the world (from which a script may
         // build more) holds now, nor the world's robot handles, which stand for the newest
         const std::shared_ptr<WorldBinding> world = WorldBinding::of(h.sim, *h.world);
+        // newton_steps as the world would choose them is not written: the file's world
+        // chooses them again (and a file the simulation was loaded from round-trips)
+        SimulationOptions options = sim.options();
+        if (options.newton_steps == automatic_newton_steps(sim.world(), options.solver))
+            options.newton_steps = kAutomaticNewtonSteps;
         return file_written(L, path, [&] {
-            save_simulation(path.path(), *world, sim.options(), duration, h.name, h.record);
+            save_simulation(path.path(), *world, options, duration, h.name, h.record);
         });
     });
 }

@@ -253,7 +253,7 @@ TEST_CASE("garbage answers are explained and asked again", "[cli][wizard]") {
     CHECK(moved(r.out, "snake") >= 0);
 }
 
-TEST_CASE("a pitch-yaw chain of more than 12 modules is offered the finer settings it needs",
+TEST_CASE("a pitch-yaw chain of more than 12 modules is told of the Newton steps it gets",
           "[cli][wizard]") {
     TempDir dir("wizard_long_chain");
     // name, modules, connection, then sensors .. friction as offered, 1 s simulated
@@ -262,45 +262,45 @@ TEST_CASE("a pitch-yaw chain of more than 12 modules is offered the finer settin
         a.insert(a.end(), rest.begin(), rest.end());
         return lines(a);
     };
-    // 16 modules: dt 0.5 ms, 60 steps (the same 30 ms control period) and 40 iterations
-    // offered; the run is quiet
-    const Output r = run_gaitlab({"new", "long"}, dir.str(), answers("16", {"", "", "", "no"}));
+    // 16 modules: the usual questions and defaults, a line on the Newton steps; the file leaves
+    // newton_steps to the simulation, which gives the chain 4, and the run is quiet
+    const Output r = run_gaitlab({"new", "long"}, dir.str(), answers("16", {"", "", "no"}));
     INFO(r.out << r.err);
     REQUIRE(r.status == 0);
-    CHECK_THAT(r.out, Catch::Contains("needs a finer step and more solver iterations"));
-    CHECK_THAT(r.out, Catch::Contains("Time step, s (smaller: more accurate, slower) [0.0005]: "));
-    CHECK_THAT(r.out, Catch::Contains("Physics steps between two controller steps [60]: "));
-    CHECK_THAT(r.out, Catch::Contains("Solver iterations per step (more: more accurate, slower) "
-                                      "[40]: "));
-    CHECK_THAT(r.out, Catch::Contains("40 solver iterations per step"));
+    CHECK_THAT(r.out, Catch::Contains("A pitch-yaw chain of more than 12 modules gets 4 Newton "
+                                      "steps in every physics step"));
+    CHECK_THAT(r.out, Catch::Contains("Time step, s (smaller: more accurate, slower) [0.001]: "));
+    CHECK_THAT(r.out, Catch::Contains("Physics steps between two controller steps [30]: "));
+    CHECK(r.out.find("Solver iterations") == std::string::npos);
     const gaitlab::SimulationOptions o =
         gaitlab::read_simulation(dir / "long/simulation.xml").options;
-    CHECK(o.dt == 0.0005);
-    CHECK(o.control_every == 60);
-    CHECK(o.solver_iterations == 40);
+    CHECK(o.dt == 0.001);
+    CHECK(o.solver_iterations == 20);
+    CHECK(o.newton_steps == gaitlab::kAutomaticNewtonSteps);
     CHECK(r.err.find("warning") == std::string::npos);
     CHECK(moved(r.out, "snake") >= 0);
-    // coarser answers, one after a garbage answer: written as answered, and the run warns
-    // naming both settings
-    const Output few =
-        run_gaitlab({"new", "few"}, dir.str(), answers("13", {"0.001", "30", "many", "20", "no"}));
-    INFO(few.out << few.err);
-    REQUIRE(few.status == 0);
-    CHECK_THAT(few.out, Catch::Contains("  ! 'many': a whole number from 1 to 10000 expected\n"));
-    CHECK(gaitlab::read_simulation(dir / "few/simulation.xml").options.solver_iterations == 20);
-    CHECK_THAT(few.err, Catch::Contains("dt = 1 ms is above 0.5 ms and solver_iterations = 20 "
-                                        "below 40: robot 'snake' has 13 joints"));
-    // 12 modules: the usual questions and defaults
-    const Output eight = run_gaitlab({"new", "eight"}, dir.str(), answers("12", {"", "", "no"}));
-    INFO(eight.out << eight.err);
-    REQUIRE(eight.status == 0);
-    CHECK(eight.out.find("Solver iterations") == std::string::npos);
-    CHECK_THAT(eight.out,
+    // a coarser step answered, after a garbage answer: written as answered, and the run warns
+    // naming it
+    const Output coarse =
+        run_gaitlab({"new", "coarse"}, dir.str(), answers("13", {"fast", "0.002", "", "no"}));
+    INFO(coarse.out << coarse.err);
+    REQUIRE(coarse.status == 0);
+    CHECK_THAT(coarse.out, Catch::Contains("  ! 'fast': "));
+    CHECK(gaitlab::read_simulation(dir / "coarse/simulation.xml").options.dt == 0.002);
+    CHECK_THAT(coarse.err, Catch::Contains("dt = 2 ms is above 1 ms with newton_steps = 4: robot "
+                                           "'snake' has 13 joints"));
+    // 12 modules: the usual questions and defaults, no such line
+    const Output twelve = run_gaitlab({"new", "twelve"}, dir.str(), answers("12", {"", "", "no"}));
+    INFO(twelve.out << twelve.err);
+    REQUIRE(twelve.status == 0);
+    CHECK(twelve.out.find("Newton") == std::string::npos);
+    CHECK_THAT(twelve.out,
                Catch::Contains("Time step, s (smaller: more accurate, slower) [0.001]: "));
     const gaitlab::SimulationOptions d =
-        gaitlab::read_simulation(dir / "eight/simulation.xml").options;
+        gaitlab::read_simulation(dir / "twelve/simulation.xml").options;
     CHECK(d.dt == 0.001);
     CHECK(d.solver_iterations == 20);
+    CHECK(twelve.err.find("warning") == std::string::npos);
 }
 
 TEST_CASE("the end of input half-way leaves nothing behind", "[cli][wizard]") {

@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include "lua_fixture.h"
+#include "temp_dir.h"
 
 using gaitlab::test::LuaFixture;
 
@@ -63,6 +64,58 @@ TEST_CASE("simulation rejects bad options with Lua-worded messages", "[wrap_simu
     CHECK(lua.boolean("s.record_dir == nil"));
     lua.run("s = gaitlab.simulation{ world = w }");
     CHECK(lua.boolean("s.record_dir == nil"));
+}
+
+TEST_CASE(
+    "newton_steps not given are chosen for the world, read back as chosen, and saved so a "
+    "file keeps its physics",
+    "[wrap_simulation]") {
+    gaitlab::test::TempDir dir("newton_auto");
+    LuaFixture lua;
+    lua.run("DIR = '" + dir.path.string() + "'");
+    lua.run(R"(
+        function sim_of(modules, connection, o)
+          local robot = gaitlab.robot.chain{ name = "snake", modules = modules,
+                                             connection = connection }
+          robot:group("pitch"):drive(gaitlab.controllers.sine{ amplitude = 40 })
+          local world = gaitlab.world()
+          world:add(robot)
+          o = o or {}
+          o.world, o.record = world, false
+          return gaitlab.simulation(o)
+        end
+        long, short = sim_of(16, "pitch-yaw"), sim_of(12, "pitch-yaw")
+        planar, given = sim_of(32, "pitch-pitch"), sim_of(16, "pitch-yaw", { newton_steps = 0 })
+        pgs = sim_of(16, "pitch-yaw", { solver = "pgs" })
+    )");
+    CHECK(lua.integer("long.newton_steps") == 4);
+    CHECK(lua.integer("#long.warnings") == 0);
+    CHECK(lua.integer("short.newton_steps") == 0);
+    CHECK(lua.integer("planar.newton_steps") == 0);
+    CHECK(lua.integer("given.newton_steps") == 0);
+    CHECK(lua.integer("#given.warnings") == 1);  // the long-chain warning, naming the settings
+    CHECK(lua.integer("pgs.newton_steps") == 0);
+    // saved: the chosen number is left out (the file's world chooses it again), a given one
+    // that differs is written, 0 included; each file loads into the same physics
+    lua.run(R"(
+        assert(long:save(DIR .. "/long.xml"))
+        assert(given:save(DIR .. "/given.xml"))
+        function text(name)
+          local f = assert(io.open(DIR .. "/" .. name)) local t = f:read("a") f:close() return t
+        end
+        long2 = assert(gaitlab.simulation.load(DIR .. "/long.xml"))
+        given2 = assert(gaitlab.simulation.load(DIR .. "/given.xml"))
+        long:run(1) long2:run(1)
+        given:run(1) given2:run(1)
+    )");
+    CHECK_FALSE(lua.boolean("text('long.xml'):find('newton_steps') ~= nil"));
+    CHECK(lua.boolean("text('given.xml'):find('newton_steps=\"0\"') ~= nil"));
+    CHECK(lua.integer("long2.newton_steps") == 4);
+    CHECK(lua.integer("given2.newton_steps") == 0);
+    CHECK(lua.boolean("long:robot('snake'):position() == long2:robot('snake'):position()"));
+    CHECK(lua.boolean("given:robot('snake'):position() == given2:robot('snake'):position()"));
+    // and the two differ: the Newton steps are in the physics
+    CHECK_FALSE(lua.boolean("long:robot('snake'):position() == given:robot('snake'):position()"));
 }
 
 TEST_CASE("run and step advance time by whole ticks", "[wrap_simulation]") {

@@ -53,6 +53,14 @@ inline constexpr int kLongChainJoints = 12;
 inline constexpr double kLongChainMaxDt = 0.0005;  // s
 inline constexpr int kLongChainIterations = 40;
 inline constexpr int kLongChainNewtonSteps = 4;
+/// with newton_steps >= kLongChainNewtonSteps on a floor no stiffer than the default, dt up to
+/// this keeps such a chain's motions within 2 % (docs/performance.md, "Upright or on its side")
+inline constexpr double kLongChainNewtonMaxDt = 0.001;  // s
+/// SimulationOptions::newton_steps' default: the simulation chooses for its world
+/// (automatic_newton_steps): kLongChainNewtonSteps with block_nncg where a robot is a chain bent
+/// in two planes of more than kLongChainJoints joints, 0 otherwise. Simulation::options() gives
+/// the number chosen.
+inline constexpr int kAutomaticNewtonSteps = -1;
 /// ticks a simulation runs in all (2^53: time = ticks · dt stays exact, and a tick count is a
 /// Lua integer and a double alike)
 inline constexpr long kMaxTicks = 9007199254740992L;
@@ -74,12 +82,13 @@ struct SimulationOptions {
     /// how the solver iterates over the rows (ConstraintSolver above)
     ConstraintSolver solver = ConstraintSolver::block_nncg;
     /// semi-smooth Newton steps on the whole step's contact problem after block_nncg's
-    /// iterations, in [0, kMaxNewtonSteps]; block_nncg only (0 with pgs). 0: none, the step is
-    /// block_nncg's alone. 4 bring a long pitch-yaw chain's rolling speed at 20 iterations
-    /// within about 1.5 % of 80 iterations' at 2x the step's cost (docs/architecture.md,
-    /// "Physics formulation"). Worlds it does not handle (bodies of two robots, or of one robot,
-    /// touching each other) are solved by block_nncg alone.
-    int newton_steps = 0;
+    /// iterations, in [0, kMaxNewtonSteps], or kAutomaticNewtonSteps (the default: 4 for a
+    /// world with a pitch-yaw chain of 13 modules or more, else 0); block_nncg only (0 with
+    /// pgs). 0: none, the step is block_nncg's alone. 4 keep each motion of the long pitch-yaw
+    /// chains within 1 % of a converged solver at 20 iterations, at about 2x the step's cost
+    /// (docs/architecture.md, "Physics formulation"). Worlds it does not handle (bodies of two
+    /// robots, or of one robot, touching each other) are solved by block_nncg alone.
+    int newton_steps = kAutomaticNewtonSteps;
     std::uint64_t seed = 0;  ///< seeds everything random in the run
     /// In both cases the failed controller is marked failed and its joints hold the angles
     /// measured when it failed (targets frozen) until reset().

@@ -36,6 +36,13 @@ struct JointState {
 class PhysicsWorld;
 class Sensing;
 
+/// The newton_steps a simulation of `world` with `solver` takes when they are not given
+/// (kAutomaticNewtonSteps): kLongChainNewtonSteps with block_nncg where a robot has pitch and
+/// yaw joints both and more than kLongChainJoints joints (a pitch-yaw chain of 13 modules or
+/// more, whose motions 20 iterations alone do not converge: docs/performance.md, section 12,
+/// "Upright or on its side"), 0 otherwise.
+int automatic_newton_steps(const WorldSpec& world, ConstraintSolver solver);
+
 class Simulation {
   public:
     /// Validates and compiles `world`; throws SpecError. A controller of `world` that
@@ -54,6 +61,8 @@ class Simulation {
     /// more than 5 mm deep inside the floor, an object or another robot (the contact solver
     /// throws it out, often metres away).
     const std::vector<std::string>& warnings() const { return warnings_; }
+    /// The options it runs with: those given, with newton_steps chosen for the world where it
+    /// was kAutomaticNewtonSteps (automatic_newton_steps)
     const SimulationOptions& options() const { return options_; }
     long ticks() const { return scheduler_.ticks(); }
     double time() const { return scheduler_.time(); }

@@ -111,37 +111,55 @@ std::vector<std::string> accuracy_warnings(const WorldSpec& world,
             "solver = \"pgs\": {}, and pgs does not converge on such chains (on a floor of 1e5 "
             "N/m the 32-module rolling chain moved 77.0, 70.5 and 66.9 mm per cycle at 20, 80 "
             "and 320 iterations, where block_nncg converged to 83.2); take solver = "
-            "\"block_nncg\" with dt <= {:g} ms and solver_iterations >= {} (docs/performance.md, "
-            "\"Long chains bent in two planes\")",
-            chain_is, kLongChainMaxDt * 1000, kLongChainIterations));
+            "\"block_nncg\", which gives such a robot newton_steps = {} when they are not "
+            "given, or dt <= {:g} ms with solver_iterations >= {} (docs/performance.md, \"Long "
+            "chains bent in two planes\" and \"Upright or on its side\")",
+            chain_is, kLongChainNewtonSteps, kLongChainMaxDt * 1000, kLongChainIterations));
     }
     if (chain >= 0 && block) {
-        // stricter than the general limits: one warning for both settings
+        // stricter than the general limits: one warning for both settings. newton_steps >=
+        // kLongChainNewtonSteps converge the iterations' part, and on a floor as stiff as the
+        // default or softer dt <= kLongChainNewtonMaxDt (1 ms) stays within 2 % of dt / 4
+        // (docs/performance.md, "Upright or on its side"); without them, or on a stiffer floor
+        // (whose contact dt 1 ms does not resolve: "A floor dt 1 ms resolves"), dt <=
+        // kLongChainMaxDt
+        const FloorSpec& floor = world.floor;
+        const bool stiff_floor =
+            floor.enabled && (floor.rigid || floor.stiffness.value_or(kDefaultFloorStiffness) >
+                                                 kDefaultFloorStiffness * (1 + 1e-9));
+        const bool newton = options.newton_steps >= kLongChainNewtonSteps;
+        const double max_dt = newton && !stiff_floor ? kLongChainNewtonMaxDt : kLongChainMaxDt;
         std::vector<std::string> coarse;
-        if (options.dt > kLongChainMaxDt * (1 + 1e-9))
-            coarse.push_back(fmt::format("dt = {:g} ms is above {:g} ms", options.dt * 1000,
-                                         kLongChainMaxDt * 1000));
-        // newton_steps converge the iterations' part (the step's part stays: dt)
-        if (options.solver_iterations < kLongChainIterations &&
-            options.newton_steps < kLongChainNewtonSteps) {
-            coarse.push_back(fmt::format(
-                "solver_iterations = {} {}below {}{}", options.solver_iterations,
-                coarse.empty() ? "is " : "", kLongChainIterations,
-                options.newton_steps > 0 ? fmt::format(" with newton_steps = {} below {}",
-                                                       options.newton_steps, kLongChainNewtonSteps)
-                                         : ""));
+        if (options.dt > max_dt * (1 + 1e-9)) {
+            std::string why;
+            if (newton && stiff_floor) {
+                why = fmt::format(" on a floor stiffer than the default {:g} N/m",
+                                  kDefaultFloorStiffness);
+            } else if (newton) {
+                why = fmt::format(" with newton_steps = {}", options.newton_steps);
+            }
+            coarse.push_back(fmt::format("dt = {:g} ms is above {:g} ms{}", options.dt * 1000,
+                                         max_dt * 1000, why));
+        }
+        if (options.solver_iterations < kLongChainIterations && !newton) {
+            coarse.push_back(fmt::format("solver_iterations = {} {}below {}{}",
+                                         options.solver_iterations, coarse.empty() ? "is " : "",
+                                         kLongChainIterations,
+                                         fmt::format(" with newton_steps = {} below {}",
+                                                     options.newton_steps, kLongChainNewtonSteps)));
         }
         if (!coarse.empty()) {
             warnings.push_back(fmt::format(
-                "{}: {}, and from 16 modules on the rolling gait of such chains moves up to 6 % "
-                "faster or slower at dt / 4 or with 4x the iterations than at dt 1 ms and 20 "
-                "iterations, and their gaits settle into one of several motions, which the "
-                "settings can change; dt <= {:g} ms with solver_iterations >= {} (or "
-                "newton_steps >= {}) keep each motion within 3 % of a converged solver; "
+                "{}: {}, whose gaits settle into one of several motions (a wave upright or "
+                "lying twisted on its side), which these settings move up to 7 % faster or "
+                "slower than a converged solver, and they can change which one a start takes; "
+                "newton_steps >= {} (what such a robot gets when newton_steps is not given) with "
+                "dt <= {:g} ms keep each motion within 2 % on a floor as stiff as the default or "
+                "softer, and dt <= {:g} ms with solver_iterations >= {} within 3 %; "
                 "sim:check_accuracy() or gaitlab check measures this robot's gait "
-                "(docs/performance.md, \"A floor dt 1 ms resolves\")",
-                fmt::join(coarse, " and "), chain_is, kLongChainMaxDt * 1000, kLongChainIterations,
-                kLongChainNewtonSteps));
+                "(docs/performance.md, \"Upright or on its side\")",
+                fmt::join(coarse, " and "), chain_is, kLongChainNewtonSteps,
+                kLongChainNewtonMaxDt * 1000, kLongChainMaxDt * 1000, kLongChainIterations));
         }
         return warnings;
     }
@@ -155,6 +173,12 @@ std::vector<std::string> accuracy_warnings(const WorldSpec& world,
 }
 
 }  // namespace
+
+int automatic_newton_steps(const WorldSpec& world, ConstraintSolver solver) {
+    return solver == ConstraintSolver::block_nncg && longest_bent_chain(world) >= 0
+               ? kLongChainNewtonSteps
+               : 0;
+}
 
 // marks the simulation busy running `what` for the lifetime of the guard (nested guards give
 // back the outer mark)
@@ -245,16 +269,20 @@ class Simulation::Phases final : public TickPhases, public JointReader {
 
 namespace {
 
-const SimulationOptions& checked(const SimulationOptions& o) {
+// validated, newton_steps chosen for `world` where automatic
+SimulationOptions checked(const SimulationOptions& o, const WorldSpec& world) {
     validate(o);
-    return o;
+    SimulationOptions out = o;
+    if (out.newton_steps == kAutomaticNewtonSteps)
+        out.newton_steps = automatic_newton_steps(world, out.solver);
+    return out;
 }
 
 }  // namespace
 
 Simulation::Simulation(WorldSpec world, SimulationOptions options)
     : world_(std::move(world)),
-      options_(checked(options)),
+      options_(checked(options, world_)),
       scheduler_(options_.dt, options_.control_every) {
     validate(world_);
     try {

@@ -16,7 +16,8 @@ void validate(const SimulationOptions& o) {
     detail::check_range("dt", o.dt, 1e-6, 0.1, "s");
     checked_int("control_every", o.control_every, 1, kMaxControlEvery);
     checked_int("solver_iterations", o.solver_iterations, 1, kMaxSolverIterations);
-    checked_int("newton_steps", o.newton_steps, 0, kMaxNewtonSteps);
+    if (o.newton_steps != kAutomaticNewtonSteps)
+        checked_int("newton_steps", o.newton_steps, 0, kMaxNewtonSteps);
     if (o.newton_steps > 0 && o.solver != ConstraintSolver::block_nncg) {
         throw SpecError(fmt::format(
             "newton_steps = {} needs solver = 'block_nncg' (got solver = '{}'; newton_steps "

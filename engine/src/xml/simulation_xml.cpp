@@ -55,7 +55,9 @@ SimulationFile read_simulation_element(const Element& root) {
     root.check([&] {
         o.control_every = checked_int("control_every", ce, 1, kMaxControlEvery);
         o.solver_iterations = checked_int("solver_iterations", it, 1, kMaxSolverIterations);
-        o.newton_steps = checked_int("newton_steps", newton, 0, kMaxNewtonSteps);
+        // not given: the simulation chooses for its world (automatic_newton_steps)
+        if (root.has("newton_steps"))
+            o.newton_steps = checked_int("newton_steps", newton, 0, kMaxNewtonSteps);
     });
     const long long seed = root.integer("seed", 0);
     if (seed < 0) root.fail(fmt::format("seed must be >= 0 (got {})", seed));
@@ -129,8 +131,9 @@ std::string format_simulation(const SimulationFile& s) {
     w.attr_int("seed", static_cast<long long>(o.seed));
     w.attr("on_controller_error", to_string(o.on_controller_error));
     w.attr("solver", to_string(o.solver));
-    // only when used: every file written before it existed round-trips unchanged
-    if (o.newton_steps != 0) w.attr_int("newton_steps", o.newton_steps);
+    // only when given: not given, the simulation chooses for its world (and every file written
+    // before it existed round-trips unchanged)
+    if (o.newton_steps != kAutomaticNewtonSteps) w.attr_int("newton_steps", o.newton_steps);
     w.open("environment");
     w.attr("file", s.environment);
     w.close();

@@ -188,8 +188,10 @@ TEST_CASE("newton_steps is checked") {
     CHECK_NOTHROW(validate(o));
     o.newton_steps = 100;
     CHECK_NOTHROW(validate(o));
-    o.newton_steps = -1;
-    CHECK_THROWS_WITH(validate(o), "newton_steps must be in [0, 100] (got -1)");
+    o.newton_steps = kAutomaticNewtonSteps;  // chosen by the simulation for its world
+    CHECK_NOTHROW(validate(o));
+    o.newton_steps = -2;
+    CHECK_THROWS_WITH(validate(o), "newton_steps must be in [0, 100] (got -2)");
     o.newton_steps = 101;
     CHECK_THROWS_WITH(validate(o), "newton_steps must be in [0, 100] (got 101)");
     o.newton_steps = 4;

@@ -814,44 +814,96 @@ TEST_CASE("settings too coarse for a 3 % accurate gait get one warning naming th
 }
 
 TEST_CASE(
-    "a long chain bent in two planes is warned about above dt 0.5 ms or below 40 "
-    "iterations, naming the settings and the robot",
+    "a long chain bent in two planes gets 4 Newton steps when none are given, and is warned "
+    "about without them above dt 0.5 ms or below 40 iterations, naming the settings and the "
+    "robot",
     "[simulation][warning]") {
     using Catch::Matchers::Contains;
     using Catch::Matchers::StartsWith;
     SimulationOptions o = default_simulation_options();
-    SECTION("16 pitch-yaw joints at the defaults: one warning naming both settings and the robot") {
+    SECTION("newton_steps not given: 4 for a pitch-yaw chain of 13 modules or more, else 0") {
+        CHECK(o.newton_steps == kAutomaticNewtonSteps);
+        const auto steps = [&](int modules, Connection c) {
+            return Simulation(test::chain_world(modules, c), o).options().newton_steps;
+        };
+        CHECK(steps(16, Connection::pitch_yaw) == 4);
+        CHECK(steps(13, Connection::pitch_yaw) == 4);
+        CHECK(steps(12, Connection::pitch_yaw) == 0);
+        CHECK(steps(32, Connection::pitch_pitch) == 0);
+        CHECK(steps(9, Connection::yaw_yaw) == 0);
+        // what the choice is made from, for hosts that write files (sim:save)
+        CHECK(automatic_newton_steps(test::chain_world(16, Connection::pitch_yaw),
+                                     ConstraintSolver::block_nncg) == 4);
+        CHECK(automatic_newton_steps(test::chain_world(16, Connection::pitch_yaw),
+                                     ConstraintSolver::pgs) == 0);
+        // given, they are kept, 0 included
+        o.newton_steps = 0;
+        CHECK(steps(16, Connection::pitch_yaw) == 0);
+        o.newton_steps = 2;
+        CHECK(steps(8, Connection::pitch_yaw) == 2);
+        // pgs takes none
+        o = default_simulation_options();
+        o.solver = ConstraintSolver::pgs;
+        CHECK(steps(16, Connection::pitch_yaw) == 0);
+    }
+    SECTION("16 pitch-yaw joints at the defaults: quiet; without the Newton steps one warning "
+            "naming both settings and the robot") {
+        CHECK(Simulation(test::chain_world(16, Connection::pitch_yaw), o).warnings().empty());
+        o.newton_steps = 0;
         Simulation sim(test::chain_world(16, Connection::pitch_yaw), o);
         REQUIRE(sim.warnings().size() == 1);
         CHECK_THAT(sim.warnings()[0],
-                   StartsWith("dt = 1 ms is above 0.5 ms and solver_iterations = 20 below 40: "
-                              "robot 'snake' has 16 joints bending it in two planes (pitch and "
-                              "yaw)") &&
+                   StartsWith("dt = 1 ms is above 0.5 ms and solver_iterations = 20 below 40 "
+                              "with newton_steps = 0 below 4: robot 'snake' has 16 joints "
+                              "bending it in two planes (pitch and yaw)") &&
+                       Contains("newton_steps >= 4 (what such a robot gets when newton_steps "
+                                "is not given)") &&
                        Contains("sim:check_accuracy()") && Contains("docs/performance.md"));
         sim.run(0.05);
         CHECK(sim.warnings().size() == 1);
     }
     SECTION("each setting alone is named alone") {
+        o.newton_steps = 0;
         o.dt = 0.0005;
         Simulation iterations(test::chain_world(16, Connection::pitch_yaw), o);
         REQUIRE(iterations.warnings().size() == 1);
         CHECK_THAT(iterations.warnings()[0],
-                   StartsWith("solver_iterations = 20 is below 40: robot"));
+                   StartsWith("solver_iterations = 20 is below 40 with newton_steps = 0 below 4: "
+                              "robot"));
         o.dt = 0.001;
         o.solver_iterations = 40;
         Simulation dt(test::chain_world(16, Connection::pitch_yaw), o);
         REQUIRE(dt.warnings().size() == 1);
         CHECK_THAT(dt.warnings()[0], StartsWith("dt = 1 ms is above 0.5 ms: robot"));
     }
-    SECTION("newton_steps >= 4 stand for the iterations, not for dt") {
+    SECTION("newton_steps >= 4 stand for the iterations, and for dt up to 1 ms on a floor no "
+            "stiffer than the default's") {
         o.newton_steps = 4;
-        Simulation coarse_dt(test::chain_world(16, Connection::pitch_yaw), o);
-        REQUIRE(coarse_dt.warnings().size() == 1);
-        CHECK_THAT(coarse_dt.warnings()[0],
-                   StartsWith("dt = 1 ms is above 0.5 ms: robot") &&
-                       Contains("solver_iterations >= 40 (or newton_steps >= 4)"));
-        o.dt = 0.0005;
         CHECK(Simulation(test::chain_world(16, Connection::pitch_yaw), o).warnings().empty());
+        WorldSpec soft = test::chain_world(16, Connection::pitch_yaw);
+        soft.floor.stiffness = 1e3;
+        CHECK(Simulation(soft, o).warnings().empty());
+        WorldSpec stiff = test::chain_world(16, Connection::pitch_yaw);
+        stiff.floor.stiffness = 1e5;
+        Simulation on_stiff(stiff, o);
+        REQUIRE(on_stiff.warnings().size() == 1);
+        CHECK_THAT(on_stiff.warnings()[0],
+                   StartsWith("dt = 1 ms is above 0.5 ms on a floor stiffer than the default "
+                              "3000 N/m: robot"));
+        WorldSpec rigid = test::chain_world(16, Connection::pitch_yaw);
+        rigid.floor.rigid = true;
+        REQUIRE(Simulation(rigid, o).warnings().size() == 1);
+        // up to dt 1 ms, as measured
+        o.dt = 0.002;
+        o.control_every = 5;
+        Simulation coarse(test::chain_world(16, Connection::pitch_yaw), o);
+        REQUIRE(coarse.warnings().size() == 1);
+        CHECK_THAT(coarse.warnings()[0],
+                   StartsWith("dt = 2 ms is above 1 ms with newton_steps = 4: robot") &&
+                       Contains("with dt <= 1 ms keep each motion within 2 %"));
+        o.control_every = 30;
+        o.dt = 0.0005;
+        CHECK(Simulation(stiff, o).warnings().empty());
         o.newton_steps = 2;
         Simulation fewer(test::chain_world(16, Connection::pitch_yaw), o);
         REQUIRE(fewer.warnings().size() == 1);
@@ -860,6 +912,7 @@ TEST_CASE(
                               "robot"));
     }
     SECTION("the finer settings are quiet, and so are planar and 12-joint chains at the defaults") {
+        o.newton_steps = 0;
         o.dt = 0.0005;
         o.solver_iterations = 40;
         CHECK(Simulation(test::chain_world(16, Connection::pitch_yaw), o).warnings().empty());
@@ -867,9 +920,12 @@ TEST_CASE(
         CHECK(Simulation(test::chain_world(32, Connection::pitch_pitch), o).warnings().empty());
         CHECK(Simulation(test::chain_world(9, Connection::yaw_yaw), o).warnings().empty());
         CHECK(Simulation(test::chain_world(12, Connection::pitch_yaw), o).warnings().empty());
+        o.newton_steps = 0;
+        CHECK(Simulation(test::chain_world(12, Connection::pitch_yaw), o).warnings().empty());
         CHECK_FALSE(Simulation(test::chain_world(13, Connection::pitch_yaw), o).warnings().empty());
     }
     SECTION("one warning even beyond the general limits (7 iterations, dt 10 ms)") {
+        o.newton_steps = 0;
         o.solver_iterations = 5;
         o.dt = 0.02;
         o.control_every = 1;
@@ -879,6 +935,7 @@ TEST_CASE(
                    StartsWith("dt = 20 ms is above 0.5 ms and solver_iterations = 5 below 40"));
     }
     SECTION("the longest of several such robots is the one named") {
+        o.newton_steps = 0;
         WorldSpec w = test::chain_world(14, Connection::pitch_yaw);
         ChainSpec longer;
         longer.name = "long";
@@ -897,8 +954,9 @@ TEST_CASE(
         REQUIRE(sim.warnings().size() == 1);
         CHECK_THAT(sim.warnings()[0],
                    StartsWith("solver = \"pgs\": robot 'snake' has 16 joints") &&
-                       Contains("take solver = \"block_nncg\" with dt <= 0.5 ms and "
-                                "solver_iterations >= 40"));
+                       Contains("take solver = \"block_nncg\", which gives such a robot "
+                                "newton_steps = 4 when they are not given, or dt <= 0.5 ms "
+                                "with solver_iterations >= 40"));
     }
 }
 

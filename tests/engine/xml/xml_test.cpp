@@ -554,9 +554,15 @@ TEST_CASE("simulation files round-trip and name missing parts by their resolved 
     test::write_text(dir.file("plain.xml"),
                      doc("<simulation><environment file=\"env.xml\"/></simulation>"));
     CHECK(read_simulation(dir.file("plain.xml")).options.solver == ConstraintSolver::block_nncg);
-    // newton_steps is written only when not 0: every file before it round-trips unchanged
+    // newton_steps is written only when given: not given, the simulation chooses for its world,
+    // and every file before it round-trips unchanged; given, 0 included, it is written
+    CHECK(s.options.newton_steps == kAutomaticNewtonSteps);
     CHECK_THAT(test::read_text(dir.file("sim2.xml")), !Catch::Contains("newton_steps"));
-    CHECK(read_simulation(dir.file("plain.xml")).options.newton_steps == 0);
+    CHECK(read_simulation(dir.file("plain.xml")).options.newton_steps == kAutomaticNewtonSteps);
+    s.options.newton_steps = 0;
+    write_simulation(dir.file("sim0.xml"), s);
+    CHECK_THAT(test::read_text(dir.file("sim0.xml")), Catch::Contains("newton_steps=\"0\""));
+    CHECK(read_simulation(dir.file("sim0.xml")).options.newton_steps == 0);
     s.options.newton_steps = 4;
     write_simulation(dir.file("sim3.xml"), s);
     CHECK_THAT(test::read_text(dir.file("sim3.xml")), Catch::Contains("newton_steps=\"4\""));
