@@ -110,11 +110,36 @@ std::vector<std::string> missing_folders(const std::string& dir) {
     return missing;
 }
 
-bool same_options(const SimulationOptions& a, const SimulationOptions& b) {
-    return a.dt == b.dt && a.control_every == b.control_every &&
-           a.solver_iterations == b.solver_iterations && a.seed == b.seed &&
-           a.on_controller_error == b.on_controller_error && a.solver == b.solver &&
-           a.newton_steps == b.newton_steps;
+// the options in which the replayed simulation (`here`) differs from the run, each as "NAME
+// HERE here, RUN in the run"; empty when they are the same
+std::vector<std::string> option_differences(const SimulationOptions& here,
+                                            const SimulationOptions& run) {
+    std::vector<std::string> out;
+    const auto differ = [&](const char* name, const auto& a, const auto& b) {
+        out.push_back(fmt::format("{} {} here, {} in the run", name, a, b));
+    };
+    if (here.dt != run.dt) differ("dt", here.dt, run.dt);
+    if (here.control_every != run.control_every)
+        differ("control_every", here.control_every, run.control_every);
+    if (here.solver_iterations != run.solver_iterations)
+        differ("solver_iterations", here.solver_iterations, run.solver_iterations);
+    if (here.solver != run.solver) differ("solver", to_string(here.solver), to_string(run.solver));
+    if (here.newton_steps != run.newton_steps) {
+        // the one a script need not have changed: chosen for the world when not given, as
+        // runs before 2026-11-30 did not
+        differ("newton_steps", here.newton_steps, run.newton_steps);
+        if (here.newton_steps == kLongChainNewtonSteps && run.newton_steps == 0) {
+            out.back() +=
+                " (a pitch-yaw chain of 13 modules or more gets 4 when newton_steps is "
+                "not given, since 2026-11-30: give newton_steps = 0 to replay this run)";
+        }
+    }
+    if (here.seed != run.seed) differ("seed", here.seed, run.seed);
+    if (here.on_controller_error != run.on_controller_error) {
+        differ("on_controller_error", to_string(here.on_controller_error),
+               to_string(run.on_controller_error));
+    }
+    return out;
 }
 
 }  // namespace
@@ -307,10 +332,10 @@ void Recordings::begin_replay(lua_State* L, SimulationHandle& h, const std::stri
             p.started_by == "simulation" ? "when the simulation was created" : "with sim:record",
             started_by == "simulation" ? "when the simulation was created" : "with sim:record");
     }
-    if (!same_options(h.sim->options(), p.expect)) {
-        p.mismatch =
-            "the replayed simulation has other options (dt, control_every, "
-            "solver_iterations, solver, newton_steps, seed or on_controller_error) than the run";
+    const std::vector<std::string> differ = option_differences(h.sim->options(), p.expect);
+    if (!differ.empty()) {
+        p.mismatch = fmt::format("the replayed simulation has other options than the run: {}",
+                                 fmt::join(differ, "; "));
     }
     RecordOptions o = p.options;
     o.dir = p.into;

@@ -700,9 +700,41 @@ TEST_CASE("a run of the block_nncg solver replays with it, and not with pgs", "[
     const Run d = cli({"replay", tmp / "run", "--into", tmp / "other"});
     CHECK(d.status == 1);
     CHECK_THAT(d.err, Catch::StartsWith(
-                          "gaitlab: replay differs: the replayed simulation has "
-                          "other options (dt, control_every, solver_iterations, "
-                          "solver, newton_steps, seed or on_controller_error) than the run"));
+                          "gaitlab: replay differs: the replayed simulation has other options "
+                          "than the run: solver block_nncg here, pgs in the run"));
+}
+
+TEST_CASE(
+    "a run of a long pitch-yaw chain made without Newton steps does not replay with them, and "
+    "the message says what to give",
+    "[cli][replay]") {
+    TempDir tmp("cli_replay_newton");
+    write_text(tmp / "long.lua",
+               "local robot = gaitlab.robot.chain{ name = 'snake', modules = 14, connection = "
+               "'pitch-yaw' }\n"
+               "local world = gaitlab.world()\n"
+               "world:add(robot)\n"
+               "robot:group('pitch'):drive(gaitlab.controllers.sine{ amplitude = 40 })\n"
+               "local sim = gaitlab.simulation{ world = world }\n"
+               "sim:run(0.2)\n");
+    REQUIRE(cli({"run", "--record", tmp / "run", tmp / "long.lua"}, tmp.str()).status == 0);
+    CHECK(gaitlab::RunData(tmp / "run").meta().options.newton_steps == 4);
+    CHECK(cli({"replay", tmp / "run"}).status == 0);
+    // the run as one made before such a chain got the Newton steps by default: none recorded
+    const std::string meta = slurp(tmp / "run/run.json");
+    const size_t at = meta.find("\"newton_steps\"");
+    REQUIRE(at != std::string::npos);
+    const size_t end = meta.find_first_of(",}", at);
+    std::string old = meta.substr(0, at) + meta.substr(end + (meta[end] == ',' ? 1 : 0));
+    write_text(tmp / "run/run.json", old);
+    REQUIRE(gaitlab::RunData(tmp / "run").meta().options.newton_steps == 0);
+    const Run d = cli({"replay", tmp / "run", "--into", tmp / "other"});
+    CHECK(d.status == 1);
+    CHECK_THAT(d.err, Catch::StartsWith("gaitlab: replay differs: the replayed simulation has "
+                                        "other options than the run: newton_steps 4 here, 0 in "
+                                        "the run (a pitch-yaw chain of 13 modules or more gets 4 "
+                                        "when newton_steps is not given, since 2026-11-30: give "
+                                        "newton_steps = 0 to replay this run)"));
 }
 
 TEST_CASE("a run killed with SIGKILL leaves a readable folder missing at most one flush period",
