@@ -85,7 +85,7 @@ struct SimulationOptions {
     /// iterations, in [0, kMaxNewtonSteps], or kAutomaticNewtonSteps (the default: 4 for a
     /// world with a pitch-yaw chain of 13 modules or more, else 0); block_nncg only (0 with
     /// pgs). 0: none, the step is block_nncg's alone. 4 keep each motion of the long pitch-yaw
-    /// chains within 1 % of a converged solver at 20 iterations, at about 2x the step's cost
+    /// chains within 2 % of a converged solver at 20 iterations, at about 2x the step's cost
     /// (docs/architecture.md, "Physics formulation"). Worlds it does not handle (bodies of two
     /// robots, or of one robot, touching each other) are solved by block_nncg alone.
     int newton_steps = kAutomaticNewtonSteps;
