@@ -16,6 +16,8 @@
 --   -- mean tilt (deg, 0 upright, 90 on their side, 180 upside down) over the measured cycles,
 --   -- sampled every 0.1 s, which tells a long pitch-yaw chain's motions apart (upright or
 --   -- lying twisted on its side, docs/performance.md section 12); r.cpu: CPU seconds of the run
+local posture = require "posture"
+
 return function(o)
   local robot = gaitlab.robot.chain{ name = "snake", modules = o.modules,
                                      connection = o.connection, module = o.module }
@@ -37,12 +39,7 @@ return function(o)
   for _ = 1, o.cycles do
     for _ = 1, slices do
       sim:run(1 / o.frequency / slices)
-      local bodies = r:bodies()
-      for _, b in ipairs(bodies) do
-        local q = b.orientation  -- the angle between the body's z and the world's
-        local z = 1 - 2 * (q.x * q.x + q.y * q.y)
-        tilt = tilt + math.deg(math.acos(math.max(-1, math.min(1, z)))) / #bodies
-      end
+      tilt = tilt + posture(r)
       samples = samples + 1
     end
     local p = r:position()

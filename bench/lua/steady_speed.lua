@@ -136,15 +136,8 @@ local function motion_sums()
            samples = 0 }
 end
 
--- the bodies' mean tilt: the angle between each body's z and the world's, degrees
-local function tilt(robot)
-  local bodies, sum = robot:bodies(), 0
-  for _, b in ipairs(bodies) do
-    local q = b.orientation
-    sum = sum + math.deg(math.acos(math.max(-1, math.min(1, 1 - 2 * (q.x * q.x + q.y * q.y)))))
-  end
-  return sum / #bodies
-end
+-- the bodies' mean tilt, degrees
+local tilt = require "posture"
 
 -- the robot's axis (tail to head): its heading in the plane and its length
 local function axis(robot)

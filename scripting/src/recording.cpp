@@ -129,9 +129,10 @@ std::vector<std::string> option_differences(const SimulationOptions& here,
         // runs before 2026-11-30 did not
         differ("newton_steps", here.newton_steps, run.newton_steps);
         if (here.newton_steps == kLongChainNewtonSteps && run.newton_steps == 0) {
-            out.back() +=
-                " (a pitch-yaw chain of 13 modules or more gets 4 when newton_steps is "
-                "not given, since 2026-11-30: give newton_steps = 0 to replay this run)";
+            out.back() += fmt::format(
+                " (a pitch-yaw chain of {} modules or more gets {} when newton_steps is not "
+                "given, since 2026-11-30: give newton_steps = 0 to replay this run)",
+                kLongChainJoints + 1, kLongChainNewtonSteps);
         }
     }
     if (here.seed != run.seed) differ("seed", here.seed, run.seed);

@@ -373,13 +373,8 @@ int simulation_save(lua_State* L) {
         // controllers and sensors they have here, not what the world (from which a script may
         // build more) holds now, nor the world's robot handles, which stand for the newest
         const std::shared_ptr<WorldBinding> world = WorldBinding::of(h.sim, *h.world);
-        // newton_steps as the world would choose them is not written: the file's world
-        // chooses them again (and a file the simulation was loaded from round-trips)
-        SimulationOptions options = sim.options();
-        if (options.newton_steps == automatic_newton_steps(sim.world(), options.solver))
-            options.newton_steps = kAutomaticNewtonSteps;
         return file_written(L, path, [&] {
-            save_simulation(path.path(), *world, options, duration, h.name, h.record);
+            save_simulation(path.path(), *world, sim.written_options(), duration, h.name, h.record);
         });
     });
 }

@@ -64,6 +64,10 @@ class Simulation {
     /// The options it runs with: those given, with newton_steps chosen for the world where it
     /// was kAutomaticNewtonSteps (automatic_newton_steps)
     const SimulationOptions& options() const { return options_; }
+    /// The options as a simulation file should give them: options(), with newton_steps left to
+    /// the world (kAutomaticNewtonSteps) where they are the world's own choice, so that the file
+    /// chooses them again and one given otherwise (0 included) is kept
+    SimulationOptions written_options() const;
     long ticks() const { return scheduler_.ticks(); }
     double time() const { return scheduler_.time(); }
 

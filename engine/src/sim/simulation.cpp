@@ -296,6 +296,13 @@ Simulation::Simulation(WorldSpec world, SimulationOptions options)
     }
 }
 
+SimulationOptions Simulation::written_options() const {
+    SimulationOptions o = options_;
+    if (o.newton_steps == automatic_newton_steps(world_, o.solver))
+        o.newton_steps = kAutomaticNewtonSteps;
+    return o;
+}
+
 void Simulation::release_controllers() {
     // controllers may outlive the simulation (a Lua handle keeps them): stop telling it, and
     // let the next simulation bind them

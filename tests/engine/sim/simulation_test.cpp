@@ -846,8 +846,9 @@ TEST_CASE(
         o.solver = ConstraintSolver::pgs;
         CHECK(steps(16, Connection::pitch_yaw) == 0);
     }
-    SECTION("16 pitch-yaw joints at the defaults: quiet; without the Newton steps one warning "
-            "naming both settings and the robot") {
+    SECTION(
+        "16 pitch-yaw joints at the defaults: quiet; without the Newton steps one warning "
+        "naming both settings and the robot") {
         CHECK(Simulation(test::chain_world(16, Connection::pitch_yaw), o).warnings().empty());
         o.newton_steps = 0;
         Simulation sim(test::chain_world(16, Connection::pitch_yaw), o);
@@ -876,8 +877,9 @@ TEST_CASE(
         REQUIRE(dt.warnings().size() == 1);
         CHECK_THAT(dt.warnings()[0], StartsWith("dt = 1 ms is above 0.5 ms: robot"));
     }
-    SECTION("newton_steps >= 4 stand for the iterations, and for dt up to 1 ms on a floor no "
-            "stiffer than the default's") {
+    SECTION(
+        "newton_steps >= 4 stand for the iterations, and for dt up to 1 ms on a floor no "
+        "stiffer than the default's") {
         o.newton_steps = 4;
         CHECK(Simulation(test::chain_world(16, Connection::pitch_yaw), o).warnings().empty());
         WorldSpec soft = test::chain_world(16, Connection::pitch_yaw);
