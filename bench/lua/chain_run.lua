@@ -9,6 +9,7 @@
 --                        newton_steps = (optional: the simulation's newton_steps, default the
 --                                        engine's: 4 for a pitch-yaw chain of 13 modules or more),
 --                        module = (optional: the chain's module type, default y1),
+--                        self_collision = (optional: the chain's self_collision, default false),
 --                        floor = (optional: the floor's other keys, bench/lua/floor_env.lua) }
 --   -- r.x, r.y: mm per cycle along x (the chain's axis at the start) and across it (y);
 --   -- r.speed: the per-cycle speed, the mean over the cycles of the length of each cycle's
@@ -20,7 +21,8 @@ local posture = require "posture"
 
 return function(o)
   local robot = gaitlab.robot.chain{ name = "snake", modules = o.modules,
-                                     connection = o.connection, module = o.module }
+                                     connection = o.connection, module = o.module,
+                                     self_collision = o.self_collision }
   local world = gaitlab.world{ floor = require("floor_env").on(o.floor or {}, o.friction) }
   world:add(robot)
   o.drive(robot)

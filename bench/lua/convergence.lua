@@ -9,7 +9,8 @@
 -- CONV_CYCLES (default 5) sets the cycles measured, CONV_MAX_TORQUE the servos' torque (below), CONV_MODULES (default "2 8 32") and
 -- CONV_FRICTION (default "0.3 1.0") the grid, CONV_SOLVER the simulation's `solver` (default the
 -- engine's, "block_nncg", which solves each robot's joints as one system, docs/architecture.md; or "pgs"),
--- CONV_NEWTON the simulation's `newton_steps` at every setting (default the engine's: 4 for a pitch-yaw chain of 13 modules or more, else 0), CONV_RIGID=1 a rigid floor and CONV_STIFFNESS / CONV_DAMPING the compliant floor's values
+-- CONV_NEWTON the simulation's `newton_steps` at every setting (default the engine's: 4 for a pitch-yaw chain of 13 modules or more, else 0),
+-- CONV_SELF_COLLISION=1 chains whose bodies collide with each other (self_collision), CONV_RIGID=1 a rigid floor and CONV_STIFFNESS / CONV_DAMPING the compliant floor's values
 -- (default the engine's floor: 3e3 N/m and 60 N s/m per contact point; bench/lua/floor_env.lua).
 -- Each run starts at time 0 (the same start every time), settles (CONV_SETTLE, below), then
 -- measures; the control period stays 10 ms at every dt.
@@ -37,6 +38,12 @@ if os.getenv("CONV_NEWTON") and (not newton or newton < 0) then
   error("CONV_NEWTON: a whole number of Newton steps >= 0 expected, got '"
         .. tostring(os.getenv("CONV_NEWTON")) .. "'", 0)
 end
+local self_collision = os.getenv("CONV_SELF_COLLISION")
+if self_collision and self_collision ~= "0" and self_collision ~= "1" then
+  error("CONV_SELF_COLLISION: 1 (the chains' bodies collide with each other) or 0 expected, got '"
+        .. self_collision .. "'", 0)
+end
+self_collision = self_collision == "1"
 local frequency = 0.5
 -- CONV_SETTLE (s) before measuring: 2 for the vectors (the tables of section 12 were made so),
 -- 20 for issue 14's speed, the steady gait's: a 32-module pitch-yaw chain takes 10-20 s from
@@ -77,7 +84,7 @@ local function run(gait, modules, friction, dt, iterations, direction, start)
                     floor = floor,
                     friction = friction, dt = dt, iterations = iterations, settle = settle,
                     cycles = cycles, frequency = frequency, solver = solver,
-                    newton_steps = newton,
+                    newton_steps = newton, self_collision = self_collision,
                     drive = function(robot)
                       gaits.drive(robot, gait, { frequency = frequency, direction = direction,
                                                  start = start })

@@ -155,6 +155,8 @@ void push_simulation(lua_State* L, std::shared_ptr<Simulation> sim,
             if (se && !se->traceback().empty()) message += "\n" + se->traceback();
             report(main, message);
         });
+        // a warning found running (a robot passing through itself), as compiling's are
+        sim->set_warning_handler([main](const std::string& w) { report(main, "warning: " + w); });
         // between ticks: an interrupt (Ctrl-C, a signal) stops the run; controller files
         // changed on disk are reloaded, at control ticks
         Simulation* raw = sim.get();

@@ -340,6 +340,39 @@ TEST_CASE("counts and run lengths never wrap into other numbers", "[wrap_simulat
           "1099511627776))");
 }
 
+TEST_CASE("a robot passing through itself is reported while it runs, once",
+          "[wrap_simulation][warnings]") {
+    LuaFixture lua;
+    std::vector<std::string> reports;
+    lua.host.set_reporter([&](const std::string& m) { reports.push_back(m); });
+    // floating, every joint bent to 90 deg: the 6-module chain curls its tail into its head
+    lua.run(R"(
+        function folding(self_collision)
+          local robot = gaitlab.robot.chain{ name = "snake", modules = 6,
+                                             connection = "pitch-pitch",
+                                             self_collision = self_collision }
+          local world = gaitlab.world{ gravity = { 0, 0, 0 }, floor = false }
+          world:add(robot)
+          robot:group("all"):drive(gaitlab.controllers.sine{ amplitude = 0, offset = 90 })
+          return gaitlab.simulation{ world = world, record = false }
+        end
+        sim = folding(false)
+        sim:run(0.1)
+    )");
+    CHECK(reports.empty());
+    lua.run("sim:run(2)");
+    REQUIRE(reports.size() == 1);
+    CHECK(reports[0].rfind("warning: robot 'snake' passes through itself at t = 0.", 0) == 0);
+    CHECK(lua.integer("#sim.warnings") == 1);
+    CHECK(lua.boolean("('warning: ' .. sim.warnings[1]) == [[" + reports[0] + "]]"));
+    lua.run("sim:run(2)");
+    CHECK(reports.size() == 1);
+    // with self_collision its bodies collide: nothing to report
+    lua.run("colliding = folding(true) colliding:run(2)");
+    CHECK(reports.size() == 1);
+    CHECK(lua.integer("#colliding.warnings") == 0);
+}
+
 TEST_CASE("sim:check_accuracy runs the world again at finer settings and warns naming them",
           "[wrap_simulation][accuracy]") {
     LuaFixture lua;

@@ -59,8 +59,14 @@ class Simulation {
     const WorldSpec& world() const { return world_; }
     /// What compiling found suspect but not wrong, for the host to show: a robot that starts
     /// more than 5 mm deep inside the floor, an object or another robot (the contact solver
-    /// throws it out, often metres away).
+    /// throws it out, often metres away), settings that cannot keep a gait's speed. Running adds
+    /// one more, once, with the warning handler called: a robot whose bodies do not collide
+    /// with each other (self_collision off) passing through itself, one body more than 5 mm
+    /// inside another.
     const std::vector<std::string>& warnings() const { return warnings_; }
+    /// Called with each warning running adds to warnings(), from inside the tick that found it.
+    using WarningHandler = std::function<void(const std::string&)>;
+    void set_warning_handler(WarningHandler fn) { on_warning_ = std::move(fn); }
     /// The options it runs with: those given, with newton_steps chosen for the world where it
     /// was kAutomaticNewtonSteps (automatic_newton_steps)
     const SimulationOptions& options() const { return options_; }
@@ -280,7 +286,14 @@ class Simulation {
     // warns if a body is heavy enough to sink a large part of its height into the compliant
     // floor
     void check_floor_sinking();
+    // warns, once, if a robot whose bodies do not collide with each other passes through
+    // itself in the state as it stands (`time`: its time)
+    void check_self_pass(double time);
     std::vector<std::string> warnings_;
+    // ticks between checks whether a robot passes through itself; 0: none (no robot can, or
+    // one did and got its warning)
+    long self_pass_every_ = 0;
+    bool self_pass_warned_ = false;
     // throws DivergenceError naming physics body `body` (it diverged in the step to `time`)
     [[noreturn]] void diverged(int body, double time) const;
     // marks the drive's controller failed and freezes its targets at the measured angles
@@ -365,6 +378,7 @@ class Simulation {
     int next_observer_ = 1;
     std::set<std::string> labels_;
     ControllerErrorHandler on_error_;
+    WarningHandler on_warning_;
     bool pause_pending_ = false;  // a controller failed under the pause policy in this tick
     bool paused_ = false;
 };

@@ -157,6 +157,10 @@ struct PhysicsWorld::Impl {
     std::vector<std::vector<std::string>> fixed_names;
     std::vector<std::unique_ptr<btHingeConstraint>> hinges;
     std::vector<Joint> joints;
+    // the pairs of one robot's bodies that do not collide (self_collision off) though no joint
+    // joins them and they did not overlap as built: where one enters the other, the robot
+    // passes through itself (deepest_self_pass)
+    std::vector<std::pair<int, int>> self_pairs;
 
     ~Impl() {
         for (auto& h : hinges)
@@ -349,6 +353,7 @@ PhysicsWorld::PhysicsWorld(const WorldSpec& spec, double dt, int solver_iteratio
     }
 
     first_object_body_ = static_cast<int>(s.bodies.size());
+    find_self_pairs(spec);
     // the world's objects, expanded into solids only now (a heightfield reads its image here).
     // The static solids of one friction (all but heightfields) are one body of one compound
     // shape: they never enter the broadphase one by one, so building and stepping a world of
@@ -479,13 +484,22 @@ int PhysicsWorld::first_diverged(double max_distance, double max_speed) const {
 }
 
 std::optional<PhysicsWorld::Overlap> PhysicsWorld::deepest_robot_overlap(double tolerance) const {
-    // contact tests use each body's collision filter, so a robot's own bodies (which do not
-    // collide unless self_collision is on, and never across a joint) are not reported
+    // only what the body collides with: a robot's own bodies (which do not collide unless
+    // self_collision is on, and never across a joint) are not reported. Bullet's contact test
+    // filters by the callback's group and mask, not the body's: the test asks the body's own
     struct Deepest : btCollisionWorld::ContactResultCallback {
+        const btCollisionObject* body = nullptr;
         int self = -1;
         int other = 0;  // user index of the other body
         int child = 0;  // the child of the other body's compound shape, if it is one
         btScalar depth = 0;
+        bool needsCollision(btBroadphaseProxy* proxy) const override {
+            const btBroadphaseProxy& mine = *body->getBroadphaseHandle();
+            return (mine.m_collisionFilterGroup & proxy->m_collisionFilterMask) != 0 &&
+                   (proxy->m_collisionFilterGroup & mine.m_collisionFilterMask) != 0 &&
+                   body->checkCollideWith(
+                       static_cast<const btCollisionObject*>(proxy->m_clientObject));
+        }
         btScalar addSingleResult(btManifoldPoint& cp, const btCollisionObjectWrapper* a, int,
                                  int index_a, const btCollisionObjectWrapper* b, int,
                                  int index_b) override {
@@ -504,6 +518,7 @@ std::optional<PhysicsWorld::Overlap> PhysicsWorld::deepest_robot_overlap(double 
     const int robot_bodies = first_object_body_;
     for (int b = 0; b < robot_bodies; ++b) {
         Deepest cb;
+        cb.body = impl_->bodies[static_cast<size_t>(b)].get();
         cb.self = b;
         cb.depth = btScalar(tolerance);
         impl_->world.contactTest(impl_->bodies[static_cast<size_t>(b)].get(), cb);
@@ -519,6 +534,75 @@ std::optional<PhysicsWorld::Overlap> PhysicsWorld::deepest_robot_overlap(double 
                 o.other = names.size() == 1 || child >= names.size() ? names.front() : names[child];
             }
             out = o;
+        }
+    }
+    return out;
+}
+
+namespace {
+
+// the deepest penetration of a contact test, > 0, or 0
+struct PenetrationDepth : btCollisionWorld::ContactResultCallback {
+    btScalar depth = 0;
+    btScalar addSingleResult(btManifoldPoint& cp, const btCollisionObjectWrapper*, int, int,
+                             const btCollisionObjectWrapper*, int, int) override {
+        depth = std::max(depth, -cp.getDistance());
+        return 0;
+    }
+};
+
+bool aabbs_overlap(const btRigidBody& a, const btRigidBody& b) {
+    const btBroadphaseProxy& p = *a.getBroadphaseHandle();
+    const btBroadphaseProxy& q = *b.getBroadphaseHandle();
+    return TestAabbAgainstAabb2(p.m_aabbMin, p.m_aabbMax, q.m_aabbMin, q.m_aabbMax);
+}
+
+}  // namespace
+
+void PhysicsWorld::find_self_pairs(const WorldSpec& spec) {
+    Impl& s = *impl_;
+    size_t first = 0;
+    for (const PlacedRobot& placed : spec.robots) {
+        const RobotSpec& robot = placed.robot;
+        const int n = static_cast<int>(robot.bodies.size());
+        if (!robot.self_collision) {
+            std::vector<std::pair<int, int>> joined;
+            for (const JointSpec& j : robot.joints)
+                joined.emplace_back(std::min(j.child, j.parent), std::max(j.child, j.parent));
+            std::sort(joined.begin(), joined.end());
+            for (int a = 0; a < n; ++a) {
+                for (int b = a + 1; b < n; ++b) {
+                    if (std::binary_search(joined.begin(), joined.end(), std::make_pair(a, b)))
+                        continue;
+                    const int ga = static_cast<int>(first) + a, gb = static_cast<int>(first) + b;
+                    PenetrationDepth built;
+                    s.world.contactPairTest(s.bodies[static_cast<size_t>(ga)].get(),
+                                            s.bodies[static_cast<size_t>(gb)].get(), built);
+                    if (built.depth <= 0) s.self_pairs.emplace_back(ga, gb);
+                }
+            }
+        }
+        first += robot.bodies.size();
+    }
+}
+
+bool PhysicsWorld::may_pass_through_itself() const {
+    return !impl_->self_pairs.empty();
+}
+
+std::optional<PhysicsWorld::Overlap> PhysicsWorld::deepest_self_pass(double tolerance) const {
+    std::optional<Overlap> out;
+    for (const auto& [a, b] : impl_->self_pairs) {
+        btRigidBody& ba = *impl_->bodies[static_cast<size_t>(a)];
+        btRigidBody& bb = *impl_->bodies[static_cast<size_t>(b)];
+        if (!aabbs_overlap(ba, bb)) continue;
+        PenetrationDepth cb;
+        impl_->world.contactPairTest(&ba, &bb, cb);
+        if (cb.depth > btScalar(tolerance) && (!out || cb.depth > out->depth)) {
+            out = Overlap{};
+            out->body = a;
+            out->other_body = b;
+            out->depth = cb.depth;
         }
     }
     return out;

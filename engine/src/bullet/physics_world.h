@@ -78,6 +78,14 @@ class PhysicsWorld {
     /// stands (before any step), if any. Does not change the world (a contact test, not a
     /// collision pass).
     std::optional<Overlap> deepest_robot_overlap(double tolerance) const;
+    /// Whether a robot's bodies may pass through each other: one of its bodies does not
+    /// collide with another (self_collision off) though no joint joins them and they did not
+    /// overlap as built.
+    bool may_pass_through_itself() const;
+    /// The deepest penetration, deeper than `tolerance` m, of two such bodies of one robot in
+    /// the state as it stands (`body` < `other_body`); none if the robot's bodies keep apart.
+    /// Does not change the world (contact tests of the pairs whose bounding boxes overlap).
+    std::optional<Overlap> deepest_self_pass(double tolerance) const;
     int contact_count() const;
     /// The contact points closer than 1 mm after the last step, their force the impulse over
     /// `dt`, into `out` (cleared first).
@@ -97,6 +105,8 @@ class PhysicsWorld {
     btRigidBody& bullet_body(int body) const;
 
   private:
+    void find_self_pairs(const WorldSpec& spec);
+
     struct Impl;
     std::unique_ptr<Impl> impl_;
     int first_object_body_ = 0;  // robots' bodies come before it

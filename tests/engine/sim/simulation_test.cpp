@@ -670,10 +670,90 @@ TEST_CASE("a robot that starts inside an object, the floor or another robot gets
         CHECK_THAT(sim.warnings()[0],
                    Contains("of robot 'snake_2'") && Contains("of robot 'snake'"));
     }
+    SECTION("a robot's own bodies: only those that collide with each other") {
+        // a 3-body chain whose last body reaches back over the middle one (joined to it) and
+        // 10 mm into the first (not joined): they collide only with self_collision
+        RobotSpec r = test::slender_chain(3, {0.06, 0.03, 0.03}, 0.1, {0, 1, 0}, 1);
+        r.bodies[2].size.x = 0.2;
+        CHECK(Simulation(test::world_of(r)).warnings().empty());
+        r.self_collision = true;
+        const Simulation sim(test::world_of(r));
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0],
+                   Catch::Matchers::StartsWith("body 'b2' of robot 'slender' starts 10.0 mm deep "
+                                               "inside body 'b0' of robot 'slender'"));
+    }
     SECTION("a shallow overlap (under 5 mm) is left to the solver") {
         WorldSpec w = test::chain_world(2, Connection::pitch_pitch);
         w.robots[0].pose.position.z = -0.003;
         Simulation sim(w);
+        CHECK(sim.warnings().empty());
+    }
+}
+
+TEST_CASE("a robot passing through itself is warned about once, naming self_collision",
+          "[warnings]") {
+    using Catch::Matchers::Contains;
+    // 6 modules floating, every joint bent to 90 deg: the chain curls beyond a square, its
+    // tail into its head (a real robot would stop there)
+    const auto folding = [](bool self_collision) {
+        WorldSpec w = test::chain_world(6, Connection::pitch_pitch, /*gravity=*/false);
+        w.robots[0].robot.self_collision = self_collision;
+        return w;
+    };
+    const auto fold = [](Simulation& sim) {
+        test::drive(sim, "all", test::sine(0, 0.5, 0, 0, 90));
+    };
+    SECTION("without self_collision: one warning, once, as it happens") {
+        Simulation sim(folding(false));
+        fold(sim);
+        std::vector<std::string> told;
+        sim.set_warning_handler([&](const std::string& w) { told.push_back(w); });
+        CHECK(sim.warnings().empty());
+        sim.run(3);
+        REQUIRE(sim.warnings().size() == 1);
+        CHECK_THAT(sim.warnings()[0],
+                   Catch::Matchers::StartsWith("robot 'snake' passes through itself at t = 0.") &&
+                       Contains("its body 'tail' is ") && Contains(" mm inside its body 'head'") &&
+                       Contains("self_collision = true"));
+        CHECK(told == sim.warnings());
+        // still passing through itself after a reset: not told again
+        sim.reset();
+        sim.run(3);
+        CHECK(sim.warnings().size() == 1);
+        CHECK(told.size() == 1);
+    }
+    SECTION("with self_collision the bodies collide: no warning, the tail stays out of the head") {
+        Simulation sim(folding(true));
+        fold(sim);
+        sim.run(3);
+        CHECK(sim.warnings().empty());
+        const Vec3 tail = sim.body(0, 0).pose.position;
+        const Vec3 head = sim.body(0, 6).pose.position;
+        CHECK((head - tail).norm() > 0.055);  // two 60 mm wide bodies side by side
+    }
+    SECTION("a clone made before warns as its original does; one made after, not again") {
+        Simulation sim(folding(false));
+        fold(sim);
+        sim.run(0.1);
+        const std::unique_ptr<Simulation> before = sim.clone();
+        sim.run(3);
+        before->run(3);
+        REQUIRE(before->warnings().size() == 1);
+        CHECK(before->warnings() == sim.warnings());
+        const std::unique_ptr<Simulation> after = sim.clone();
+        after->run(1);
+        CHECK(after->warnings() == sim.warnings());
+    }
+    SECTION("bodies that overlap as built are left as they are") {
+        // a 3-body chain whose tail body reaches back 10 mm into the head body, undriven
+        RobotSpec r = test::slender_chain(3, {0.06, 0.03, 0.03}, 0.1, {0, 1, 0}, 1);
+        r.bodies[2].size.x = 0.2;
+        WorldSpec w = test::world_of(r);
+        w.gravity = {0, 0, 0};
+        w.floor.enabled = false;
+        Simulation sim(w);
+        sim.run(1);
         CHECK(sim.warnings().empty());
     }
 }
