@@ -157,10 +157,14 @@ struct PhysicsWorld::Impl {
     std::vector<std::vector<std::string>> fixed_names;
     std::vector<std::unique_ptr<btHingeConstraint>> hinges;
     std::vector<Joint> joints;
-    // the pairs of one robot's bodies that do not collide (self_collision off) though no joint
-    // joins them and they did not overlap as built: where one enters the other, the robot
-    // passes through itself (deepest_self_pass)
-    std::vector<std::pair<int, int>> self_pairs;
+    // the bodies of robots whose bodies do not collide with each other (self_collision off),
+    // each body's robot, and the pairs of them exempt from deepest_self_pass (sorted): those a
+    // joint joins and those that overlap as built. Where one of the other pairs enters the
+    // other, the robot passes through itself
+    std::vector<int> self_bodies;
+    std::vector<int> robot_of;
+    std::vector<std::pair<int, int>> self_exempt;
+    bool self_pass_possible = false;
 
     ~Impl() {
         for (auto& h : hinges)
@@ -557,54 +561,86 @@ bool aabbs_overlap(const btRigidBody& a, const btRigidBody& b) {
     return TestAabbAgainstAabb2(p.m_aabbMin, p.m_aabbMax, q.m_aabbMin, q.m_aabbMax);
 }
 
+// calls visit(a, b) for the pairs of `bodies` of one robot (robot_of) whose bounding boxes
+// overlap, a < b: sorted along x and swept, so a chain of 1000 modules costs its n log n and
+// the pairs that are near, not its half a million pairs
+template <class Visit>
+void near_pairs(const std::vector<std::unique_ptr<btRigidBody>>& all, std::vector<int> bodies,
+                const std::vector<int>& robot_of, Visit&& visit) {
+    const auto lo = [&](int b) {
+        return all[static_cast<size_t>(b)]->getBroadphaseHandle()->m_aabbMin.x();
+    };
+    std::sort(bodies.begin(), bodies.end(),
+              [&](int a, int b) { return lo(a) < lo(b) || (lo(a) == lo(b) && a < b); });
+    for (size_t i = 0; i < bodies.size(); ++i) {
+        const btRigidBody& bi = *all[static_cast<size_t>(bodies[i])];
+        const btScalar hi = bi.getBroadphaseHandle()->m_aabbMax.x();
+        for (size_t j = i + 1; j < bodies.size() && lo(bodies[j]) <= hi; ++j) {
+            const int a = std::min(bodies[i], bodies[j]), b = std::max(bodies[i], bodies[j]);
+            if (robot_of[static_cast<size_t>(a)] == robot_of[static_cast<size_t>(b)] &&
+                aabbs_overlap(bi, *all[static_cast<size_t>(bodies[j])])) {
+                visit(a, b);
+            }
+        }
+    }
+}
+
 }  // namespace
 
 void PhysicsWorld::find_self_pairs(const WorldSpec& spec) {
     Impl& s = *impl_;
+    s.robot_of.assign(s.bodies.size(), -1);
     size_t first = 0;
-    for (const PlacedRobot& placed : spec.robots) {
-        const RobotSpec& robot = placed.robot;
-        const int n = static_cast<int>(robot.bodies.size());
+    size_t pairs = 0;  // of bodies that do not collide with each other
+    for (size_t r = 0; r < spec.robots.size(); ++r) {
+        const RobotSpec& robot = spec.robots[r].robot;
+        const size_t n = robot.bodies.size();
         if (!robot.self_collision) {
-            std::vector<std::pair<int, int>> joined;
-            for (const JointSpec& j : robot.joints)
-                joined.emplace_back(std::min(j.child, j.parent), std::max(j.child, j.parent));
-            std::sort(joined.begin(), joined.end());
-            for (int a = 0; a < n; ++a) {
-                for (int b = a + 1; b < n; ++b) {
-                    if (std::binary_search(joined.begin(), joined.end(), std::make_pair(a, b)))
-                        continue;
-                    const int ga = static_cast<int>(first) + a, gb = static_cast<int>(first) + b;
-                    PenetrationDepth built;
-                    s.world.contactPairTest(s.bodies[static_cast<size_t>(ga)].get(),
-                                            s.bodies[static_cast<size_t>(gb)].get(), built);
-                    if (built.depth <= 0) s.self_pairs.emplace_back(ga, gb);
-                }
+            for (size_t b = 0; b < n; ++b) {
+                s.self_bodies.push_back(static_cast<int>(first + b));
+                s.robot_of[first + b] = static_cast<int>(r);
             }
+            for (const JointSpec& j : robot.joints) {
+                const int a = static_cast<int>(first) + j.child;
+                const int b = static_cast<int>(first) + j.parent;
+                if (a != b) s.self_exempt.emplace_back(std::min(a, b), std::max(a, b));
+            }
+            pairs += n * (n - 1) / 2;
         }
-        first += robot.bodies.size();
+        first += n;
     }
+    near_pairs(s.bodies, s.self_bodies, s.robot_of, [&](int a, int b) {
+        PenetrationDepth built;
+        s.world.contactPairTest(s.bodies[static_cast<size_t>(a)].get(),
+                                s.bodies[static_cast<size_t>(b)].get(), built);
+        if (built.depth > 0) s.self_exempt.emplace_back(a, b);
+    });
+    std::sort(s.self_exempt.begin(), s.self_exempt.end());
+    s.self_exempt.erase(std::unique(s.self_exempt.begin(), s.self_exempt.end()),
+                        s.self_exempt.end());
+    s.self_pass_possible = pairs > s.self_exempt.size();
 }
 
 bool PhysicsWorld::may_pass_through_itself() const {
-    return !impl_->self_pairs.empty();
+    return impl_->self_pass_possible;
 }
 
 std::optional<PhysicsWorld::Overlap> PhysicsWorld::deepest_self_pass(double tolerance) const {
+    const Impl& s = *impl_;
     std::optional<Overlap> out;
-    for (const auto& [a, b] : impl_->self_pairs) {
-        btRigidBody& ba = *impl_->bodies[static_cast<size_t>(a)];
-        btRigidBody& bb = *impl_->bodies[static_cast<size_t>(b)];
-        if (!aabbs_overlap(ba, bb)) continue;
+    near_pairs(s.bodies, s.self_bodies, s.robot_of, [&](int a, int b) {
+        if (std::binary_search(s.self_exempt.begin(), s.self_exempt.end(), std::make_pair(a, b)))
+            return;
         PenetrationDepth cb;
-        impl_->world.contactPairTest(&ba, &bb, cb);
+        impl_->world.contactPairTest(s.bodies[static_cast<size_t>(a)].get(),
+                                     s.bodies[static_cast<size_t>(b)].get(), cb);
         if (cb.depth > btScalar(tolerance) && (!out || cb.depth > out->depth)) {
             out = Overlap{};
             out->body = a;
             out->other_body = b;
             out->depth = cb.depth;
         }
-    }
+    });
     return out;
 }
 
