@@ -4,7 +4,7 @@
 -- reference), and how far a planar gait drifts sideways.
 --
 --   gaitlab run bench/lua/convergence.lua --no-record             the tables of performance.md
---   gaitlab run bench/lua/convergence.lua --no-record GAIT N MU   one row (GAIT: pp, py-roll, py-wave)
+--   gaitlab run bench/lua/convergence.lua --no-record GAIT N MU   one row (GAIT: pp, py-roll, py-wave, or py-roll-arc: bench/lua/standard_gaits.lua)
 --
 -- CONV_CYCLES (default 5) sets the cycles measured, CONV_MAX_TORQUE the servos' torque (below), CONV_MODULES (default "2 8 32") and
 -- CONV_FRICTION (default "0.3 1.0") the grid, CONV_SOLVER the simulation's `solver` (default the

@@ -4,6 +4,10 @@
 -- pitch-yaw chain (Gonzalez-Gomez et al., CLAWAR 2006: all joints of a plane in phase, the yaw
 -- joints 90 deg behind); py-wave, the benchmark's pitch-yaw gait (docs/performance.md,
 -- "Workload": a 40 deg pitch wave and a 20 deg yaw wave, 120 deg between neighbours).
+-- py-roll-arc (not in `names`, the grid's): the rolling gait with the 8-module robot's arc at
+-- any length, 40 deg x 8 / N per joint from 8 modules up: py-roll's arc turns about 20 deg per
+-- module, 640 deg at 32, which a chain cannot make without passing through itself
+-- (docs/performance.md, "The long rolling chains pass through themselves").
 --
 --   local gaits = require "standard_gaits"
 --   gaits.drive(robot, "py-roll", { frequency = 0.5, direction = 1, start = 72 })
@@ -22,15 +26,18 @@ function gaits.drive(robot, gait, o)
   if gait == "pp" then
     robot:group("pitch"):drive(sine{ amplitude = 40, frequency = f, phase = 120 * direction,
                                      phase0 = s })
-  elseif gait == "py-roll" then
-    robot:group("pitch"):drive(sine{ amplitude = 40, frequency = f, phase = 0, phase0 = s })
-    robot:group("yaw"):drive(sine{ amplitude = 40, frequency = f, phase = 0,
+  elseif gait == "py-roll" or gait == "py-roll-arc" then
+    local a = 40
+    if gait == "py-roll-arc" then a = 40 * math.min(1, 8 / #robot:joints()) end
+    robot:group("pitch"):drive(sine{ amplitude = a, frequency = f, phase = 0, phase0 = s })
+    robot:group("yaw"):drive(sine{ amplitude = a, frequency = f, phase = 0,
                                    phase0 = wrap(-90 + s) })
   elseif gait == "py-wave" then
     robot:group("pitch"):drive(sine{ amplitude = 40, frequency = f, phase = 120, phase0 = s })
     robot:group("yaw"):drive(sine{ amplitude = 20, frequency = f, phase = 120, phase0 = s })
   else
-    error("unknown gait '" .. tostring(gait) .. "' (expected pp, py-roll or py-wave)", 0)
+    error("unknown gait '" .. tostring(gait) .. "' (expected pp, py-roll, py-wave or py-roll-arc)",
+          0)
   end
 end
 

@@ -7,7 +7,7 @@
 --
 --   gaitlab run bench/lua/steady_speed.lua --no-record GAIT N MU [DT_MS ITERATIONS [SOLVER]]
 --
--- GAIT: pp, py-roll or py-wave (bench/lua/standard_gaits.lua); N modules; MU the floor's
+-- GAIT: pp, py-roll, py-wave or py-roll-arc (bench/lua/standard_gaits.lua); N modules; MU the floor's
 -- friction; DT_MS the step in ms and ITERATIONS the solver's (default 1 and 20, the engine's);
 -- SOLVER "block_nncg" or "pgs" (default the engine's). The controllers run every 10 ms at
 -- every dt. STEADY_PHASES (default "0 72 144 216 288") the start phases in degrees, added to
