@@ -565,20 +565,24 @@ bool aabbs_overlap(const btRigidBody& a, const btRigidBody& b) {
 // overlap, a < b: sorted along x and swept, so a chain of 1000 modules costs its n log n and
 // the pairs that are near, not its half a million pairs
 template <class Visit>
-void near_pairs(const std::vector<std::unique_ptr<btRigidBody>>& all, std::vector<int> bodies,
-                const std::vector<int>& robot_of, Visit&& visit) {
-    const auto lo = [&](int b) {
-        return all[static_cast<size_t>(b)]->getBroadphaseHandle()->m_aabbMin.x();
-    };
-    std::sort(bodies.begin(), bodies.end(),
-              [&](int a, int b) { return lo(a) < lo(b) || (lo(a) == lo(b) && a < b); });
-    for (size_t i = 0; i < bodies.size(); ++i) {
-        const btRigidBody& bi = *all[static_cast<size_t>(bodies[i])];
+void near_pairs(const std::vector<std::unique_ptr<btRigidBody>>& all,
+                const std::vector<int>& bodies, const std::vector<int>& robot_of, Visit&& visit) {
+    // (lower x, body), a box that is not finite last: the order stays strict whatever the state
+    std::vector<std::pair<btScalar, int>> by_x;
+    by_x.reserve(bodies.size());
+    for (int b : bodies) {
+        const btScalar lo = all[static_cast<size_t>(b)]->getBroadphaseHandle()->m_aabbMin.x();
+        by_x.emplace_back(std::isfinite(lo) ? lo : std::numeric_limits<btScalar>::infinity(), b);
+    }
+    std::sort(by_x.begin(), by_x.end());
+    for (size_t i = 0; i < by_x.size(); ++i) {
+        const btRigidBody& bi = *all[static_cast<size_t>(by_x[i].second)];
         const btScalar hi = bi.getBroadphaseHandle()->m_aabbMax.x();
-        for (size_t j = i + 1; j < bodies.size() && lo(bodies[j]) <= hi; ++j) {
-            const int a = std::min(bodies[i], bodies[j]), b = std::max(bodies[i], bodies[j]);
+        for (size_t j = i + 1; j < by_x.size() && by_x[j].first <= hi; ++j) {
+            const int a = std::min(by_x[i].second, by_x[j].second);
+            const int b = std::max(by_x[i].second, by_x[j].second);
             if (robot_of[static_cast<size_t>(a)] == robot_of[static_cast<size_t>(b)] &&
-                aabbs_overlap(bi, *all[static_cast<size_t>(bodies[j])])) {
+                aabbs_overlap(bi, *all[static_cast<size_t>(by_x[j].second)])) {
                 visit(a, b);
             }
         }
