@@ -281,6 +281,8 @@ class Simulation {
     std::string unique_label(const std::string& base);
     // "body 'tail' of robot 'snake'", "box 2": how messages name physics body `body`
     std::string body_name(int body) const;
+    // the robot (index) physics body `body` belongs to, for a robot's body
+    size_t robot_of_body(int body) const;
     // warns if a robot starts deep inside the floor, an object or another robot
     void check_start_overlaps();
     // warns if a body is heavy enough to sink a large part of its height into the compliant

@@ -468,9 +468,7 @@ void Simulation::build() {
 void Simulation::check_self_pass(double time) {
     const auto o = physics_->deepest_self_pass(kMaxSelfPass);
     if (!o) return;
-    size_t r = 0;
-    while (r + 1 < robots_.size() && robots_[r + 1].first_body <= o->other_body)
-        ++r;
+    const size_t r = robot_of_body(o->body);
     const RobotSpec& robot = world_.robots[r].robot;
     warnings_.push_back(fmt::format(
         "robot '{}' passes through itself at t = {:.2f} s: its body '{}' is {:.1f} mm inside "
@@ -635,12 +633,17 @@ const std::string& Simulation::drive_label(int drive) const {
     return drives_[static_cast<size_t>(drive)].label;
 }
 
+size_t Simulation::robot_of_body(int body) const {
+    size_t r = 0;
+    while (r + 1 < robots_.size() && robots_[r + 1].first_body <= body)
+        ++r;
+    return r;
+}
+
 std::string Simulation::body_name(int body) const {
     // robot bodies come first, then the dynamic objects (boxes, cylinders)
     if (body < first_object_) {
-        size_t r = 0;
-        while (r + 1 < robots_.size() && robots_[r + 1].first_body <= body)
-            ++r;
+        const size_t r = robot_of_body(body);
         const RobotSpec& robot = world_.robots[r].robot;
         return fmt::format("body '{}' of robot '{}'",
                            robot.bodies[static_cast<size_t>(body - robots_[r].first_body)].name,
