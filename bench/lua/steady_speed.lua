@@ -18,7 +18,8 @@
 -- STEADY_DAMPING (N/m, N s/m) the compliant floor's values instead of the engine's defaults
 -- (bench/lua/floor_env.lua; gaitlab.world's floor keys, docs/lua-api.md); STEADY_NEWTON=K the
 -- simulation's newton_steps (default the engine's: 4 for a pitch-yaw chain of 13 modules or
--- more, else 0). The speed of a block
+-- more, else 0); STEADY_SELF_COLLISION=1 a chain whose bodies collide with each other
+-- (self_collision). The speed of a block
 -- is the mean length of its cycles' displacements of the centre of mass, in mm per cycle.
 --
 -- STEADY_MOTION=1 also prints, per start, what motion the last blocks are (docs/performance.md,
@@ -68,6 +69,12 @@ local iterations = math.tointeger(tonumber(arg[5] or "20"))
 if not iterations or iterations < 1 then fail("ITERATIONS: a whole number >= 1 expected, got '" .. arg[5] .. "'") end
 local solver = arg[6]
 local newton = count("STEADY_NEWTON", nil, 0)
+local self_collision = os.getenv("STEADY_SELF_COLLISION")
+if self_collision and self_collision ~= "0" and self_collision ~= "1" then
+  fail("STEADY_SELF_COLLISION: 1 (the chain's bodies collide with each other) or 0 expected, got '"
+       .. self_collision .. "'")
+end
+self_collision = self_collision == "1"
 if solver and solver ~= "pgs" and solver ~= "block_nncg" then
   fail("SOLVER: pgs or block_nncg expected, got '" .. solver .. "'")
 end
@@ -184,7 +191,8 @@ end
 -- the gait from phase `start` at time 0: its simulation and robot
 local function build(start)
   local robot = gaitlab.robot.chain{ name = "snake", modules = modules, module = module,
-                                     connection = gaits.connection(gait) }
+                                     connection = gaits.connection(gait),
+                                     self_collision = self_collision }
   local world = gaitlab.world{ floor = floor_env.on(floor, friction) }
   world:add(robot)
   gaits.drive(robot, gait, { frequency = frequency, start = start })

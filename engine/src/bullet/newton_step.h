@@ -31,16 +31,22 @@
 //   B_A = J_A except a pressed normal with a sliding pair: J_n + s' J_t.
 // Eliminating dv: S dlambda_A = -w_A - J_A H^-1 g, S = J_A H^-1 B_A' + diag(cfm + reg)
 // (+ kNewtonRegulariser S_ii), where reg (sticking friction pairs' kNewtonFrictionDamping) is
-// in S alone, not in F (an inexact Newton step, whose fixed point is F's own zero). S is
-// block tridiagonal with the groups "body b's active contact rows + the hinge (b, next)'s rows"
-// taken along each chain: block LU, partial pivoting inside each diagonal block only, in a fixed
-// order. Then dv, the sliding and inactive rows' dlambda, the bodies' change M^-1 J' dlambda, a
-// backtracking line search on |F| (the row velocities are linear in the step), and the impulses
-// and the bodies' delta velocities written back as CoulombSolver::apply keeps them.
-// Handled: bodies that take impulses with factors 1; contacts each on one moving body (the
-// static floor); joints' rows between consecutive bodies of chains (or on one body). Anything
-// else (two robots touching, a robot touching itself, a loop, a body with locked axes): nothing
-// is done, the step is plain block_nncg's.
+// in S alone, not in F (an inexact Newton step, whose fixed point is F's own zero). Where every
+// contact is on one moving body (the floor, fixed objects) and the joints join the bodies in
+// chains, S is block tridiagonal with the groups "body b's active contact rows + the hinge
+// (b, next)'s rows" taken along each chain: block LU, partial pivoting inside each diagonal block
+// only, in a fixed order (solve_chain). Otherwise (two robots touching, a robot touching itself
+// with self_collision, a box on a robot, a branch or a loop) S is sparse and general, and a
+// sliding pair between two moving bodies is not eliminated (its E would couple the two bodies'
+// H): its two rows stay unknowns with their own linearised F, A dlambda_t + r P J_t dv - s
+// dlambda_n = -F_t, A = I - (1 - r reg) P; Eigen's SparseLU solves it (solve_general,
+// newton_step.cpp). On a chain both give the same steps (the 16-module rolling chain forced
+// through the general one: the same mm per cycle to 0.1, at 2.1x the CPU time). Then dv, the
+// sliding and inactive rows' dlambda, the bodies' change M^-1 J' dlambda, a backtracking line
+// search on |F| (the row velocities are linear in the step), and the impulses and the bodies'
+// delta velocities written back as CoulombSolver::apply keeps them. Not handled: a body that
+// takes impulses with factors other than 1 (locked axes; gaitlab makes none): nothing is done,
+// the step is plain block_nncg's.
 #pragma once
 
 #include <btBulletDynamicsCommon.h>
@@ -75,13 +81,27 @@ inline constexpr double kNewtonRegulariser = 1e-8;
 
 class NewtonStep {
   public:
-    // Runs the steps on the solver's pools; false where the structure is not handled (nothing
-    // changed then)
+    // Runs the steps on the solver's pools, one set of bodies at a time (bodies joined by a
+    // joint or touching each other): a set's steps, their line search included, depend on its own
+    // rows alone, so it gets the same bits whether Bullet hands it over alone or batched with
+    // other islands (which islands are batched together depends on the broadphase's history, so
+    // a clone's batches need not be its original's: CoulombSolver::solveGroup). False where no
+    // set was handled (nothing changed then)
     bool run(btConstraintArray& joints, btConstraintArray& normals, btConstraintArray& friction,
              btAlignedObjectArray<btSolverBody>& pool, int steps) {
-        if (!setup(joints, normals, friction, pool)) return false;
-        solve(pool, steps);
-        return true;
+        if (friction.size() != 2 * normals.size()) return false;
+        split(joints, normals, pool);
+        slot_.assign(static_cast<size_t>(pool.size()), -1);
+        bool any = false;
+        for (int k = 0; k < nsets_; ++k) {
+            if (setup(joints, normals, friction, pool, sets_[k])) {
+                solve(pool, steps);
+                any = true;
+            }
+            for (const Body& b : bodies_)
+                slot_[b.solver] = -1;
+        }
+        return any;
     }
 
   private:
@@ -106,6 +126,8 @@ class NewtonStep {
         bool plainB;  // B is J
         // a sliding pair (on its first row): E, c, s
         double e, perp[2], cvec[2], s[2];
+        double a;     // a sliding pair: rho / |x|
+        double f[2];  // a sliding pair between two moving bodies: its F
     };
     struct Body {
         int solver;
@@ -121,6 +143,14 @@ class NewtonStep {
         int deg;
         int nbr[2];
     };
+
+    // a set of bodies joined by joints or contacts: its contacts' and joints' places in the pools
+    struct Set {
+        std::vector<int> normals, joints;
+    };
+    std::vector<Set> sets_;  // the first nsets_ are this step's, in order of their first row
+    int nsets_ = 0;
+    std::vector<int> parent_, set_of_;  // per solver body: union-find, its root's set
 
     std::vector<Row> rows_;  // the contacts' rows first, then the joints'
     std::vector<Body> bodies_;
@@ -143,6 +173,10 @@ class NewtonStep {
         bool plain;
     };
     std::vector<On> on_;
+    // the general structure (general_): the system's rows and S as triplets
+    bool general_ = false;
+    std::vector<int> sys_;
+    std::vector<double> diag_;
 
     // S(i, j) into its block; false where the rows' groups are not neighbours
     bool add_entry(const On& i, const On& j, double v) {
@@ -204,6 +238,57 @@ class NewtonStep {
         return slot_[solver];
     }
 
+    static bool moving(btAlignedObjectArray<btSolverBody>& pool, int id) {
+        return id >= 0 && id < pool.size() && !pool[id].m_invMass.fuzzyZero();
+    }
+
+    int root(int x) {
+        while (parent_[x] != x) {
+            parent_[x] = parent_[parent_[x]];
+            x = parent_[x];
+        }
+        return x;
+    }
+
+    // the sets of bodies (sets_, nsets_): union-find over the rows between two moving bodies,
+    // then every row to its moving body's set, in the pools' order
+    void split(btConstraintArray& joints, btConstraintArray& normals,
+               btAlignedObjectArray<btSolverBody>& pool) {
+        const int n = pool.size();
+        parent_.resize(static_cast<size_t>(n));
+        for (int k = 0; k < n; ++k)
+            parent_[k] = k;
+        auto join = [&](const btSolverConstraint& c) {
+            const int a = c.m_solverBodyIdA, b = c.m_solverBodyIdB;
+            if (!moving(pool, a) || !moving(pool, b)) return;
+            const int ra = root(a), rb = root(b);
+            if (ra != rb) parent_[std::max(ra, rb)] = std::min(ra, rb);
+        };
+        for (int k = 0; k < normals.size(); ++k)
+            join(normals[k]);
+        for (int k = 0; k < joints.size(); ++k)
+            join(joints[k]);
+        set_of_.assign(static_cast<size_t>(n), -1);
+        nsets_ = 0;
+        auto set = [&](const btSolverConstraint& c) -> Set* {
+            const int a = c.m_solverBodyIdA, b = c.m_solverBodyIdB;
+            const int body = moving(pool, a) ? a : (moving(pool, b) ? b : -1);
+            if (body < 0) return nullptr;  // between fixed bodies
+            int& k = set_of_[root(body)];
+            if (k < 0) {
+                k = nsets_++;
+                if (static_cast<int>(sets_.size()) < nsets_) sets_.emplace_back();
+                sets_[k].normals.clear();
+                sets_[k].joints.clear();
+            }
+            return &sets_[k];
+        };
+        for (int k = 0; k < normals.size(); ++k)
+            if (Set* s = set(normals[k])) s->normals.push_back(k);
+        for (int k = 0; k < joints.size(); ++k)
+            if (Set* s = set(joints[k])) s->joints.push_back(k);
+    }
+
     // a row's data; false where not handled
     bool add_row(btSolverConstraint& c, int kind, btAlignedObjectArray<btSolverBody>& pool) {
         Row r{};
@@ -237,14 +322,14 @@ class NewtonStep {
         return true;
     }
 
+    // one set's rows and bodies (slot_ all -1 before); false where not handled
     bool setup(btConstraintArray& joints, btConstraintArray& normals, btConstraintArray& friction,
-               btAlignedObjectArray<btSolverBody>& pool) {
+               btAlignedObjectArray<btSolverBody>& pool, const Set& set) {
         rows_.clear();
         bodies_.clear();
-        slot_.assign(static_cast<size_t>(pool.size()), -1);
+        general_ = false;
         // contacts: normal, then its two friction rows
-        if (friction.size() != 2 * normals.size()) return false;
-        for (int k = 0; k < normals.size(); ++k) {
+        for (const int k : set.normals) {
             btSolverConstraint& n = normals[k];
             const int first = n.m_frictionIndex;
             if (first < 0 || first + 1 >= friction.size()) return false;
@@ -253,15 +338,18 @@ class NewtonStep {
             if (f1.m_frictionIndex != k || f2.m_frictionIndex != k) return false;
             const size_t before = rows_.size();
             if (!add_row(n, kClamp, pool)) return false;
-            if (rows_.size() == before) continue;    // between fixed bodies
-            if (rows_.back().nb != 1) return false;  // two moving bodies: not handled
+            if (rows_.size() == before) continue;  // between fixed bodies
             if (!add_row(f1, kFriction1, pool) || !add_row(f2, kFriction2, pool)) return false;
             if (rows_.size() != before + 3) return false;
             Row& rn = rows_[before];
             Row& r1 = rows_[before + 1];
             Row& r2 = rows_[before + 2];
-            if (r1.nb != 1 || r2.nb != 1 || r1.body[0] != rn.body[0] || r2.body[0] != rn.body[0])
-                return false;
+            for (const Row* f : {&r1, &r2}) {
+                if (f->nb != rn.nb) return false;
+                for (int side = 0; side < rn.nb; ++side)
+                    if (f->body[side] != rn.body[side]) return false;
+            }
+            if (rn.nb == 2) general_ = true;  // two moving bodies touch
             rn.normal = static_cast<int>(before + 1);
             r1.normal = r2.normal = static_cast<int>(before);
             const double rt = kNewtonR * 2 / (1 / f1.m_jacDiagABInv + 1 / f2.m_jacDiagABInv);
@@ -272,7 +360,7 @@ class NewtonStep {
                 kNewtonFrictionDamping * (1 / f1.m_jacDiagABInv + 1 / f2.m_jacDiagABInv) / 2;
             rn.r = kNewtonR * n.m_jacDiagABInv;
         }
-        for (int k = 0; k < joints.size(); ++k) {
+        for (const int k : set.joints) {
             const size_t before = rows_.size();
             if (!add_row(joints[k], kClamp, pool)) return false;
             if (rows_.size() == before) continue;
@@ -288,12 +376,37 @@ class NewtonStep {
                     x.nbr[x.deg++] = other;
                     return true;
                 };
-                if (!link(a, ib) || !link(b, ia)) return false;
+                if (!link(a, ib) || !link(b, ia)) general_ = true;  // branched
             }
         }
-        // the chains: from each end (in slot order), along the links
         const int nbodies = static_cast<int>(bodies_.size());
         if (nbodies == 0 || rows_.empty()) return false;
+        body_rows_.resize(static_cast<size_t>(nbodies));
+        for (std::vector<int>& rows : body_rows_)
+            rows.clear();
+        for (size_t i = 0; i < rows_.size(); ++i) {
+            const Row& r = rows_[i];
+            for (int k = 0; k < r.nb; ++k)
+                body_rows_[r.body[k]].push_back(static_cast<int>(i));
+        }
+        for (Body& b : bodies_) {
+            const btSolverBody& s = pool[b.solver];
+            const btVector3& l = s.m_deltaLinearVelocity;
+            const btVector3& a = s.m_deltaAngularVelocity;
+            for (int k = 0; k < 3; ++k) {
+                b.V[k] = l[k];
+                b.V[3 + k] = a[k];
+            }
+        }
+        if (!general_) general_ = !chains();
+        return true;
+    }
+
+    // the chains and their groups (false: the structure is not chains whose rows couple only
+    // neighbouring bodies)
+    bool chains() {
+        // from each end (in slot order), along the links
+        const int nbodies = static_cast<int>(bodies_.size());
         order_.clear();
         std::vector<char> seen(static_cast<size_t>(nbodies), 0);
         for (int start = 0; start < nbodies; ++start) {
@@ -314,11 +427,8 @@ class NewtonStep {
         }
         if (static_cast<int>(order_.size()) != nbodies) return false;  // a loop
         group_rows_.resize(static_cast<size_t>(nbodies));
-        body_rows_.resize(static_cast<size_t>(nbodies));
-        for (int g = 0; g < nbodies; ++g) {
-            group_rows_[g].clear();
-            body_rows_[g].clear();
-        }
+        for (std::vector<int>& rows : group_rows_)
+            rows.clear();
         for (size_t i = 0; i < rows_.size(); ++i) {
             Row& r = rows_[i];
             int g = bodies_[r.body[0]].pos;
@@ -334,17 +444,6 @@ class NewtonStep {
             }
             r.group = g;
             group_rows_[g].push_back(static_cast<int>(i));
-            for (int k = 0; k < r.nb; ++k)
-                body_rows_[r.body[k]].push_back(static_cast<int>(i));
-        }
-        for (Body& b : bodies_) {
-            const btSolverBody& s = pool[b.solver];
-            const btVector3& l = s.m_deltaLinearVelocity;
-            const btVector3& a = s.m_deltaAngularVelocity;
-            for (int k = 0; k < 3; ++k) {
-                b.V[k] = l[k];
-                b.V[3 + k] = a[k];
-            }
         }
         return true;
     }
@@ -488,9 +587,161 @@ class NewtonStep {
         }
     }
 
-    void solve(btAlignedObjectArray<btSolverBody>& pool, int steps) {
+    // the system along chains (block tridiagonal, the groups of setup): its active rows'
+    // dlambda; false where an entry falls outside the blocks
+    bool solve_chain() {
         const size_t nrows = rows_.size();
         const int ngroups = static_cast<int>(order_.size());
+        // the active rows by group
+        group_active_.resize(static_cast<size_t>(ngroups));
+        n_.assign(static_cast<size_t>(ngroups), 0);
+        for (int g = 0; g < ngroups; ++g) {
+            std::vector<int>& act = group_active_[g];
+            act.clear();
+            for (int i : group_rows_[g]) {
+                if (rows_[i].state == kActive) {
+                    rows_[i].local = static_cast<int>(act.size());
+                    act.push_back(i);
+                }
+            }
+            n_[g] = static_cast<int>(act.size());
+        }
+        // storage of the blocks
+        d_off_.assign(ngroups + 1, 0);
+        l_off_.assign(ngroups + 1, 0);
+        v_off_.assign(ngroups + 1, 0);
+        for (int g = 0; g < ngroups; ++g) {
+            const size_t n = n_[g], p = g > 0 ? n_[g - 1] : 0;
+            d_off_[g + 1] = d_off_[g] + n * n;
+            l_off_[g + 1] = l_off_[g] + n * p;
+            v_off_[g + 1] = v_off_[g] + n;
+        }
+        D_.assign(d_off_[ngroups], 0);
+        L_.assign(l_off_[ngroups], 0);
+        U_.assign(l_off_[ngroups], 0);  // U_g: n_{g-1} x n_g, same size as L_g
+        X_.assign(l_off_[ngroups], 0);
+        rhs_.assign(v_off_[ngroups], 0);
+        piv_.assign(v_off_[ngroups], 0);
+        u_.resize(nrows * 12);
+        // S's entries, body by body: the active rows on it, u = H^-1 B' each, J_i . u_j
+        // (symmetric where both rows' B is their J)
+        bool fail = false;
+        for (int b = 0; b < ngroups && !fail; ++b) {
+            const Body& body = bodies_[b];
+            on_.clear();
+            for (int i : body_rows_[b]) {
+                Row& r = rows_[i];
+                if (r.state != kActive) continue;
+                const int side = r.body[0] == b ? 0 : 1;
+                On o;
+                o.J = r.J[side];
+                o.plain = r.plainB;
+                const double* B = o.plain ? o.J : r.B[side];
+                for (int p = 0; p < 6; ++p)
+                    o.u[p] = dot6(&body.Hinv[6 * p], B);
+                o.row = i;
+                o.side = side;
+                o.group = r.group;
+                o.local = r.local;
+                on_.push_back(o);
+            }
+            const int m = static_cast<int>(on_.size());
+            for (int x = 0; x < m; ++x) {
+                const On& oi = on_[x];
+                for (int y = 0; y < m; ++y) {
+                    const On& oj = on_[y];
+                    if (y < x && oi.plain && oj.plain) continue;  // added with (y, x)
+                    const double v = dot6(oi.J, oj.u);
+                    if (!add_entry(oi, oj, v)) fail = true;
+                    if (y != x && oi.plain && oj.plain && !add_entry(oj, oi, v)) fail = true;
+                }
+            }
+            for (const On& o : on_) {
+                double* u = &u_[12 * static_cast<size_t>(o.row) + 6 * o.side];
+                for (int p = 0; p < 6; ++p)
+                    u[p] = o.u[p];
+            }
+        }
+        if (fail) return false;
+        // diagonal terms and right side
+        for (int g = 0; g < ngroups; ++g) {
+            for (int i : group_active_[g]) {
+                const Row& r = rows_[i];
+                double& d = D_[d_off_[g] + r.local * n_[g] + r.local];
+                d += r.cfm + r.reg;
+                // contact rows can be redundant (a box's four corners sticking)
+                d += kNewtonRegulariser * std::fabs(d);
+                double v = -r.w;
+                for (int k = 0; k < r.nb; ++k)
+                    v -= dot6(r.J[k], bodies_[r.body[k]].h);
+                rhs_[v_off_[g] + r.local] = v;
+            }
+        }
+        // block LU: D'_g = D_g - L_g D'_{g-1}^-1 U_g, forward substitution alongside
+        for (int g = 0; g < ngroups; ++g) {
+            const int n = n_[g];
+            double* D = &D_[d_off_[g]];
+            double* y = &rhs_[v_off_[g]];
+            if (g > 0 && n_[g - 1] > 0 && n > 0) {
+                const int p = n_[g - 1];
+                double* X = &X_[l_off_[g]];
+                const double* U = &U_[l_off_[g]];
+                const double* L = &L_[l_off_[g]];
+                for (size_t k = 0; k < static_cast<size_t>(p) * n; ++k)
+                    X[k] = U[k];
+                lu_solve(&D_[d_off_[g - 1]], &piv_[v_off_[g - 1]], p, X, n);
+                const double* z = &rhs_[v_off_[g - 1]];  // already D'^-1 y
+                for (int i = 0; i < n; ++i) {
+                    for (int k = 0; k < p; ++k) {
+                        const double l = L[i * p + k];
+                        if (l == 0) continue;
+                        for (int j = 0; j < n; ++j)
+                            D[i * n + j] -= l * X[k * n + j];
+                        y[i] -= l * z[k];
+                    }
+                }
+            }
+            if (n > 0) {
+                lu(D, &piv_[v_off_[g]], n);
+                lu_solve(D, &piv_[v_off_[g]], n, y, 1);
+            }
+        }
+        for (int g = ngroups - 2; g >= 0; --g) {
+            const int n = n_[g], m = n_[g + 1];
+            if (n == 0 || m == 0) continue;
+            const double* X = &X_[l_off_[g + 1]];
+            double* x = &rhs_[v_off_[g]];
+            const double* xn = &rhs_[v_off_[g + 1]];
+            for (int i = 0; i < n; ++i) {
+                double s = 0;
+                for (int j = 0; j < m; ++j)
+                    s += X[i * m + j] * xn[j];
+                x[i] -= s;
+            }
+        }
+        for (int g = 0; g < ngroups; ++g)
+            for (int i : group_active_[g])
+                rows_[i].dl = rhs_[v_off_[g] + rows_[i].local];
+        return true;
+    }
+
+    // a row whose dlambda is an unknown of the linear system: an active row, or a row of a
+    // sliding pair between two moving bodies (only the general structure has those)
+    static bool in_system(const Row& r) {
+        return r.state == kActive || (r.state == kSliding && r.nb == 2);
+    }
+
+    // the system of any structure (two moving bodies touching, branches, loops), sparse: its
+    // rows are the active rows and the rows of sliding pairs between two moving bodies, whose
+    // linearised F (A dlambda_t + r P J_t dv - s dlambda_n = -F_t, A = I - (1 - r g) P, P = a
+    // perp perp') stays an equation of its own, as H cannot take it body by body. Eigen's
+    // SparseLU (COLAMD ordering, partial pivoting): the same matrix gives the same answer
+    // (newton_step.cpp: Eigen stays out of this header's includers)
+    bool solve_general();
+
+    void solve(btAlignedObjectArray<btSolverBody>& pool, int steps) {
+        const size_t nrows = rows_.size();
+        const int nbodies = static_cast<int>(bodies_.size());
         bool changed = false;
         for (int step = 0; step < steps; ++step) {
             // velocities, states, F
@@ -543,14 +794,19 @@ class NewtonStep {
                         const double slope = rn.lambda > 0 ? mu : 0;
                         r.s[0] = slope * h1;
                         r.s[1] = slope * h2;
+                        r.a = a;
+                        r.f[0] = F1;
+                        r.f[1] = F2;
                     }
                 }
             }
             const double f = std::sqrt(merit(0));
             if (!(f > 1e-14)) break;
             // per body: H^-1 (M^-1 updated by each sliding pair's rank-one term
-            // e q q', q = J_t' perp: E = e perp perp', Sherman-Morrison), g, h = H^-1 g
-            for (int b = 0; b < ngroups; ++b) {
+            // e q q', q = J_t' perp: E = e perp perp', Sherman-Morrison), g, h = H^-1 g. A
+            // sliding pair between two moving bodies is not eliminated: its rows are unknowns of
+            // the system (solve_general)
+            for (int b = 0; b < nbodies; ++b) {
                 Body& body = bodies_[b];
                 double* Hi = body.Hinv;
                 for (int k = 0; k < 36; ++k)
@@ -564,7 +820,7 @@ class NewtonStep {
                 for (int i : body_rows_[b]) {
                     Row& r = rows_[i];
                     const int side = r.body[0] == b ? 0 : 1;
-                    if (r.kind == kFriction1 && r.state == kSliding) {
+                    if (r.kind == kFriction1 && r.state == kSliding && r.nb == 1) {
                         const Row& r2 = rows_[i + 1];
                         const Row& rn = rows_[r.normal];
                         const double* j1 = r.J[0];
@@ -603,7 +859,7 @@ class NewtonStep {
             // pressed normals with a sliding pair: B = J_n + s' J_t
             for (size_t i = 0; i < nrows; ++i) {
                 Row& r = rows_[i];
-                if (r.kind != kFriction1 || r.state != kSliding) continue;
+                if (r.kind != kFriction1 || r.state != kSliding || r.nb != 1) continue;
                 Row& rn = rows_[r.normal];
                 if (rn.state != kActive) continue;
                 const Row& r2 = rows_[i + 1];
@@ -611,144 +867,17 @@ class NewtonStep {
                 for (int p = 0; p < 6; ++p)
                     rn.B[0][p] = rn.J[0][p] + r.s[0] * r.J[0][p] + r.s[1] * r2.J[0][p];
             }
-            // the active rows by group
-            group_active_.resize(static_cast<size_t>(ngroups));
-            n_.assign(static_cast<size_t>(ngroups), 0);
-            for (int g = 0; g < ngroups; ++g) {
-                std::vector<int>& act = group_active_[g];
-                act.clear();
-                for (int i : group_rows_[g]) {
-                    if (rows_[i].state == kActive) {
-                        rows_[i].local = static_cast<int>(act.size());
-                        act.push_back(i);
-                    }
-                }
-                n_[g] = static_cast<int>(act.size());
-            }
-            // storage of the blocks
-            d_off_.assign(ngroups + 1, 0);
-            l_off_.assign(ngroups + 1, 0);
-            v_off_.assign(ngroups + 1, 0);
-            for (int g = 0; g < ngroups; ++g) {
-                const size_t n = n_[g], p = g > 0 ? n_[g - 1] : 0;
-                d_off_[g + 1] = d_off_[g] + n * n;
-                l_off_[g + 1] = l_off_[g] + n * p;
-                v_off_[g + 1] = v_off_[g] + n;
-            }
-            D_.assign(d_off_[ngroups], 0);
-            L_.assign(l_off_[ngroups], 0);
-            U_.assign(l_off_[ngroups], 0);  // U_g: n_{g-1} x n_g, same size as L_g
-            X_.assign(l_off_[ngroups], 0);
-            rhs_.assign(v_off_[ngroups], 0);
-            piv_.assign(v_off_[ngroups], 0);
-            u_.resize(nrows * 12);
-            // S's entries, body by body: the active rows on it, u = H^-1 B' each, J_i . u_j
-            // (symmetric where both rows' B is their J)
-            bool fail = false;
-            for (int b = 0; b < ngroups && !fail; ++b) {
-                const Body& body = bodies_[b];
-                on_.clear();
-                for (int i : body_rows_[b]) {
-                    Row& r = rows_[i];
-                    if (r.state != kActive) continue;
-                    const int side = r.body[0] == b ? 0 : 1;
-                    On o;
-                    o.J = r.J[side];
-                    o.plain = r.plainB;
-                    const double* B = o.plain ? o.J : r.B[side];
-                    for (int p = 0; p < 6; ++p)
-                        o.u[p] = dot6(&body.Hinv[6 * p], B);
-                    o.row = i;
-                    o.side = side;
-                    o.group = r.group;
-                    o.local = r.local;
-                    on_.push_back(o);
-                }
-                const int m = static_cast<int>(on_.size());
-                for (int x = 0; x < m; ++x) {
-                    const On& oi = on_[x];
-                    for (int y = 0; y < m; ++y) {
-                        const On& oj = on_[y];
-                        if (y < x && oi.plain && oj.plain) continue;  // added with (y, x)
-                        const double v = dot6(oi.J, oj.u);
-                        if (!add_entry(oi, oj, v)) fail = true;
-                        if (y != x && oi.plain && oj.plain && !add_entry(oj, oi, v)) fail = true;
-                    }
-                }
-                for (const On& o : on_) {
-                    double* u = &u_[12 * static_cast<size_t>(o.row) + 6 * o.side];
-                    for (int p = 0; p < 6; ++p)
-                        u[p] = o.u[p];
-                }
-            }
-            if (fail) break;
-            // diagonal terms and right side
-            for (int g = 0; g < ngroups; ++g) {
-                for (int i : group_active_[g]) {
-                    const Row& r = rows_[i];
-                    double& d = D_[d_off_[g] + r.local * n_[g] + r.local];
-                    d += r.cfm + r.reg;
-                    // contact rows can be redundant (a box's four corners sticking)
-                    d += kNewtonRegulariser * std::fabs(d);
-                    double v = -r.w;
-                    for (int k = 0; k < r.nb; ++k)
-                        v -= dot6(r.J[k], bodies_[r.body[k]].h);
-                    rhs_[v_off_[g] + r.local] = v;
-                }
-            }
-            // block LU: D'_g = D_g - L_g D'_{g-1}^-1 U_g, forward substitution alongside
-            for (int g = 0; g < ngroups; ++g) {
-                const int n = n_[g];
-                double* D = &D_[d_off_[g]];
-                double* y = &rhs_[v_off_[g]];
-                if (g > 0 && n_[g - 1] > 0 && n > 0) {
-                    const int p = n_[g - 1];
-                    double* X = &X_[l_off_[g]];
-                    const double* U = &U_[l_off_[g]];
-                    const double* L = &L_[l_off_[g]];
-                    for (size_t k = 0; k < static_cast<size_t>(p) * n; ++k)
-                        X[k] = U[k];
-                    lu_solve(&D_[d_off_[g - 1]], &piv_[v_off_[g - 1]], p, X, n);
-                    const double* z = &rhs_[v_off_[g - 1]];  // already D'^-1 y
-                    for (int i = 0; i < n; ++i) {
-                        for (int k = 0; k < p; ++k) {
-                            const double l = L[i * p + k];
-                            if (l == 0) continue;
-                            for (int j = 0; j < n; ++j)
-                                D[i * n + j] -= l * X[k * n + j];
-                            y[i] -= l * z[k];
-                        }
-                    }
-                }
-                if (n > 0) {
-                    lu(D, &piv_[v_off_[g]], n);
-                    lu_solve(D, &piv_[v_off_[g]], n, y, 1);
-                }
-            }
-            for (int g = ngroups - 2; g >= 0; --g) {
-                const int n = n_[g], m = n_[g + 1];
-                if (n == 0 || m == 0) continue;
-                const double* X = &X_[l_off_[g + 1]];
-                double* x = &rhs_[v_off_[g]];
-                const double* xn = &rhs_[v_off_[g + 1]];
-                for (int i = 0; i < n; ++i) {
-                    double s = 0;
-                    for (int j = 0; j < m; ++j)
-                        s += X[i * m + j] * xn[j];
-                    x[i] -= s;
-                }
-            }
-            // dlambda of the active rows, dv, the others' dlambda
-            for (int g = 0; g < ngroups; ++g)
-                for (int i : group_active_[g])
-                    rows_[i].dl = rhs_[v_off_[g] + rows_[i].local];
-            for (int b = 0; b < ngroups; ++b) {
+            // the system's rows' dlambda (the active rows; the rows of sliding pairs between two
+            // moving bodies), and each of them's H^-1 B' on its bodies in u_
+            if (!(general_ ? solve_general() : solve_chain())) break;
+            // dv, the others' dlambda
+            for (int b = 0; b < nbodies; ++b) {
                 Body& body = bodies_[b];
                 for (int p = 0; p < 6; ++p)
                     body.dv[p] = body.h[p];
                 for (int i : body_rows_[b]) {
                     const Row& r = rows_[i];
-                    if (r.state != kActive) continue;
+                    if (!in_system(r)) continue;
                     const int side = r.body[0] == b ? 0 : 1;
                     const double* u = &u_[12 * i + 6 * side];
                     for (int p = 0; p < 6; ++p)
@@ -759,7 +888,7 @@ class NewtonStep {
                 Row& r = rows_[i];
                 if (r.state == kBound) {
                     r.dl = r.bound - r.lambda;
-                } else if (r.kind == kFriction1 && r.state == kSliding) {
+                } else if (r.kind == kFriction1 && r.state == kSliding && r.nb == 1) {
                     Row& r2 = rows_[i + 1];
                     const Row& rn = rows_[r.normal];
                     const double* dv = bodies_[r.body[0]].dv;
@@ -770,7 +899,7 @@ class NewtonStep {
                 }
             }
             // the bodies' change M^-1 J' dlambda and the rows' dw
-            for (int b = 0; b < ngroups; ++b) {
+            for (int b = 0; b < nbodies; ++b) {
                 Body& body = bodies_[b];
                 double imp[6] = {0, 0, 0, 0, 0, 0};
                 for (int i : body_rows_[b]) {
