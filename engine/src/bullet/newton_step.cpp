@@ -28,23 +28,14 @@ bool NewtonStep::solve_general() {
     // sliding pair's rows' left is r P J_t (the pair's first row holds a and perp)
     std::vector<std::array<double, 6>> left;
     for (int b = 0; b < nbodies; ++b) {
-        const Body& body = bodies_[b];
         on_.clear();
         left.clear();
         for (int i : body_rows_[b]) {
             const Row& r = rows_[i];
             if (!in_system(r)) continue;
-            const int side = r.body[0] == b ? 0 : 1;
-            On o;
-            o.J = r.J[side];
-            o.plain = r.plainB;
-            const double* B = o.plain ? o.J : r.B[side];
-            for (int p = 0; p < 6; ++p)
-                o.u[p] = dot6(&body.Hinv[6 * p], B);
-            o.row = i;
-            o.side = side;
-            o.local = r.local;
+            const On o = on_body(i, b);
             on_.push_back(o);
+            const int side = o.side;
             std::array<double, 6> l;
             if (r.state == kSliding) {
                 const int first = r.kind == kFriction1 ? i : i - 1;
@@ -69,11 +60,7 @@ bool NewtonStep::solve_general() {
                     triplets.emplace_back(on_[x].local, on_[y].local, v);
                 }
             }
-        for (const On& o : on_) {
-            double* u = &u_[12 * static_cast<size_t>(o.row) + 6 * o.side];
-            for (int p = 0; p < 6; ++p)
-                u[p] = o.u[p];
-        }
+        keep_u();
     }
     // diagonal terms and right side
     Eigen::VectorXd rhs(n);

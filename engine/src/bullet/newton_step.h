@@ -1,6 +1,7 @@
 // The Newton step of SimulationOptions::newton_steps (block_nncg only; docs/architecture.md,
 // "Physics formulation"): after CoulombSolver's block_nncg iterations, K semi-smooth Newton steps
-// on the whole step's contact problem, solved sparse. K = 0: nothing here runs. On the 32-module
+// on the step's contact problem, solved sparse, each set of bodies joined by joints or contacts on
+// its own (run). K = 0: nothing here runs. On the 32-module
 // pitch-yaw rolling chain (friction 0.3) 4 steps at 20 iterations move 83.5 mm per cycle against
 // 84.6 at 80 iterations (block_nncg alone: 70.6 against 80.8), at 2.0x the default step's CPU
 // time where 80 iterations cost 3.0x (docs/performance.md, "A sparse Newton step after the
@@ -587,6 +588,33 @@ class NewtonStep {
         }
     }
 
+    // row i's entry on its body b for S: its J there, u = H_b^-1 B' (B = J unless a pressed
+    // normal's with a sliding pair)
+    On on_body(int i, int b) const {
+        const Row& r = rows_[i];
+        const int side = r.body[0] == b ? 0 : 1;
+        On o;
+        o.J = r.J[side];
+        o.plain = r.plainB;
+        const double* B = o.plain ? o.J : r.B[side];
+        for (int p = 0; p < 6; ++p)
+            o.u[p] = dot6(&bodies_[b].Hinv[6 * p], B);
+        o.row = i;
+        o.side = side;
+        o.group = r.group;
+        o.local = r.local;
+        return o;
+    }
+
+    // the u of on_'s entries into u_, for dv once the system is solved
+    void keep_u() {
+        for (const On& o : on_) {
+            double* u = &u_[12 * static_cast<size_t>(o.row) + 6 * o.side];
+            for (int p = 0; p < 6; ++p)
+                u[p] = o.u[p];
+        }
+    }
+
     // the system along chains (block tridiagonal, the groups of setup): its active rows'
     // dlambda; false where an entry falls outside the blocks
     bool solve_chain() {
@@ -627,23 +655,11 @@ class NewtonStep {
         // (symmetric where both rows' B is their J)
         bool fail = false;
         for (int b = 0; b < ngroups && !fail; ++b) {
-            const Body& body = bodies_[b];
             on_.clear();
             for (int i : body_rows_[b]) {
                 Row& r = rows_[i];
                 if (r.state != kActive) continue;
-                const int side = r.body[0] == b ? 0 : 1;
-                On o;
-                o.J = r.J[side];
-                o.plain = r.plainB;
-                const double* B = o.plain ? o.J : r.B[side];
-                for (int p = 0; p < 6; ++p)
-                    o.u[p] = dot6(&body.Hinv[6 * p], B);
-                o.row = i;
-                o.side = side;
-                o.group = r.group;
-                o.local = r.local;
-                on_.push_back(o);
+                on_.push_back(on_body(i, b));
             }
             const int m = static_cast<int>(on_.size());
             for (int x = 0; x < m; ++x) {
@@ -656,11 +672,7 @@ class NewtonStep {
                     if (y != x && oi.plain && oj.plain && !add_entry(oj, oi, v)) fail = true;
                 }
             }
-            for (const On& o : on_) {
-                double* u = &u_[12 * static_cast<size_t>(o.row) + 6 * o.side];
-                for (int p = 0; p < 6; ++p)
-                    u[p] = o.u[p];
-            }
+            keep_u();
         }
         if (fail) return false;
         // diagonal terms and right side
