@@ -48,14 +48,14 @@ enum class FrictionModel { per_step, disk };
 // the solver's order (CoulombSolver::solveGroup); symmetric alternates that sweep with the
 // reverse one (friction disks, normals, joints, each backwards); nncg is pgs with a nonlinear
 // conjugate-gradient step after each sweep (Silcowitz, Niebe, Erleben 2010: with d_k the change
-// of all rows' impulses in sweep k, beta = |d_k|^2 / |d_k-1|^2, restarted when beta > 1, the
+// of the rows' impulses in sweep k, beta = |d_k|^2 / |d_k-1|^2, restarted when beta > 1, the
 // impulses move by beta p and p becomes beta p + d_k; none after the last sweep, whose
-// projections then hold); block solves the joints' equality rows (those without bounds: not
-// motors or limits) as one linear system, exactly, in each iteration given the impulses of all
-// other rows (J M^-1 J' factored once per step, Cholesky on its profile, which for a chain
-// ordered along it is a band: for a chain of hinges kept as 5x5 blocks, block_band.h), then
-// the other rows as pgs does; block_nncg is block with nncg's
-// step after each sweep (the block's rows among all others).
+// projections then hold; one beta per set of bodies joined by joints or contacts, split_sets);
+// block solves the joints' equality rows (those without bounds: not motors or limits) as one linear
+// system, exactly, in each iteration given the impulses of all other rows (J M^-1 J' factored once
+// per step, Cholesky on its profile, which for a chain ordered along it is a band: for a chain of
+// hinges kept as 5x5 blocks, block_band.h), then the other rows as pgs does; block_nncg is block
+// with nncg's step after each sweep (the block's rows among all others).
 enum class SolverMethod { pgs, symmetric, nncg, block, block_nncg };
 
 // The three ways the block methods solve K dl = r (CoulombSolver::factor_block, solve_block),
@@ -201,11 +201,12 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     // share with one that was never rebuilt: a clone and its original would agree with each
     // other but not with a twin that was never cloned. Each contact's and joint's rows depend
     // only on its bodies, so with pgs solving groups together or apart gives the same bits once
-    // the order within each group is fixed. block_nncg is not so separable: a robot's bits can
-    // depend on what else its group holds (measured: a 14-module chain with a second one 3 m
-    // away does not move to the bit as it does alone; with pgs it does). Not isolated; its
-    // choices made for a whole group, such as K's entries in double wherever one pivot needs
-    // them (factor_band, factor_block), are the candidates. Bullet
+    // the order within each group is fixed. nncg's and block_nncg's conjugate-gradient step
+    // takes each set of bodies joined by joints or contacts on its own (split_sets), and so do
+    // the Newton steps, so with them too a 14-module chain with a second one 3 m away moves to
+    // the bit as alone (it did not when nncg's beta was one for the whole group). What stays
+    // group-wide: block_nncg takes K's entries in double for the whole group where one pivot
+    // needs it (factor_band, factor_block), which the standard robots never do. Bullet
     // batches islands into groups of 128 rows or more in the order of their ids; clones have
     // followed their originals in every world tried (20 rolling chains meeting each other,
     // cloned at five times), and the Newton steps take each set of bodies on its own.
@@ -504,8 +505,13 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                 body_before_[2 * b] = m_tmpSolverBodyPool[b].internalGetDeltaLinearVelocity();
                 body_before_[2 * b + 1] = m_tmpSolverBodyPool[b].internalGetDeltaAngularVelocity();
             }
+            split_sets();
         }
         const btScalar residual = sweep(iteration, constraints, constraint_count, info, false);
+        if (sets_ > 1) {
+            conjugate_sets(iteration, info);
+            return residual;
+        }
         btScalar* before = before_.data();
         btScalar* direction = direction_.data();
         btScalar d2 = 0;
@@ -565,6 +571,107 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         }
         previous_ = d2;
         return residual;
+    }
+
+    // nncg's sets of bodies (joined by joints or touching; sets_ of them, set_of_row_ in
+    // for_each_row's order and set_of_body_, -1 for a fixed body): each takes its own
+    // conjugate-gradient step, so a robot's solve does not depend on what else Bullet hands
+    // over with it (a second robot 3 m away changed a 14-module chain's bits when beta was one
+    // for the whole group)
+    void split_sets() {
+        const int bodies = m_tmpSolverBodyPool.size();
+        set_parent_.resize(static_cast<size_t>(bodies));
+        for (int b = 0; b < bodies; ++b)
+            set_parent_[b] = b;
+        const auto root = [&](int x) {
+            while (set_parent_[x] != x) {
+                set_parent_[x] = set_parent_[set_parent_[x]];
+                x = set_parent_[x];
+            }
+            return x;
+        };
+        const auto valid = [&](int b) { return b >= 0 && b < bodies && moving(b); };
+        for_each_row([&](btSolverConstraint& c) {
+            const int a = c.m_solverBodyIdA, b = c.m_solverBodyIdB;
+            if (!valid(a) || !valid(b)) return;
+            const int ra = root(a), rb = root(b);
+            if (ra != rb) set_parent_[std::max(ra, rb)] = std::min(ra, rb);
+        });
+        set_of_body_.assign(static_cast<size_t>(bodies), -1);
+        sets_ = 0;
+        set_number_.assign(static_cast<size_t>(bodies), -1);
+        for (int b = 0; b < bodies; ++b) {
+            if (!valid(b)) continue;
+            int& k = set_number_[root(b)];
+            if (k < 0) k = sets_++;
+            set_of_body_[b] = k;
+        }
+        set_of_row_.clear();
+        for_each_row([&](btSolverConstraint& c) {
+            const int a = c.m_solverBodyIdA, b = c.m_solverBodyIdB;
+            set_of_row_.push_back(valid(a) ? set_of_body_[a] : (valid(b) ? set_of_body_[b] : -1));
+        });
+        previous_sets_.assign(static_cast<size_t>(sets_), 0);
+    }
+
+    // nncg's step after a sweep with each set's own beta (own_iteration with more than one set)
+    void conjugate_sets(int iteration, const btContactSolverInfo& info) {
+        const size_t n = static_cast<size_t>(sets_);
+        d2_sets_.assign(n, 0);
+        beta_sets_.assign(n, 0);
+        step_sets_.assign(n, 0);
+        btScalar* before = before_.data();
+        btScalar* direction = direction_.data();
+        const int* set = set_of_row_.data();
+        for_each_pool([&](btSolverConstraint* rows, int count, size_t at) {
+            for (int j = 0; j < count; ++j) {
+                if (set[at + j] < 0) continue;
+                const btScalar d = rows[j].m_appliedImpulse - before[at + j];
+                d2_sets_[static_cast<size_t>(set[at + j])] += d * d;
+            }
+        });
+        const int last = btMax(m_maxOverrideNumSolverIterations, info.m_numIterations) - 1;
+        for (size_t k = 0; k < n; ++k) {
+            const btScalar previous = previous_sets_[k];
+            beta_sets_[k] = iteration == 0 || !(previous > 0) ? 0 : d2_sets_[k] / previous;
+            step_sets_[k] = beta_sets_[k] > 0 && beta_sets_[k] <= 1 && iteration < last;
+            previous_sets_[k] = d2_sets_[k];
+        }
+        for_each_pool([&](btSolverConstraint* rows, int count, size_t at) {
+            for (int j = 0; j < count; ++j) {
+                btScalar& impulse = rows[j].m_appliedImpulse;
+                const int k = set[at + j];
+                const btScalar d = impulse - before[at + j];
+                if (k >= 0 && step_sets_[static_cast<size_t>(k)]) {
+                    const btScalar extra = beta_sets_[static_cast<size_t>(k)] * direction[at + j];
+                    impulse += extra;
+                    direction[at + j] = extra + d;
+                } else {
+                    direction[at + j] = d;
+                }
+                before[at + j] = impulse;
+            }
+        });
+        const int bodies = m_tmpSolverBodyPool.size();
+        for (int b = 0; b < bodies; ++b) {
+            btSolverBody& s = m_tmpSolverBodyPool[b];
+            const int k = set_of_body_[b];
+            btVector3* v[2] = {&s.internalGetDeltaLinearVelocity(),
+                               &s.internalGetDeltaAngularVelocity()};
+            for (int i = 0; i < 2; ++i) {
+                const size_t at = 2 * static_cast<size_t>(b) + i;
+                const btVector3 d = *v[i] - body_before_[at];
+                if (k >= 0 && step_sets_[static_cast<size_t>(k)]) {
+                    const btVector3 extra =
+                        body_direction_[at] * beta_sets_[static_cast<size_t>(k)];
+                    *v[i] += extra;
+                    body_direction_[at] = extra + d;
+                } else {
+                    body_direction_[at] = d;
+                }
+                body_before_[at] = *v[i];
+            }
+        }
     }
 
     // the joint rows each sweep solves one by one: those not in the block (all of them for the
@@ -984,6 +1091,12 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     // nncg: each solver body's delta velocities (linear, angular) after the last sweep, M^-1 J' p
     std::vector<btVector3> body_before_, body_direction_;
     btScalar previous_ = 0;  // nncg: |d_k-1|^2
+    // nncg's sets (split_sets): their number, each row's and body's set, per set |d_k-1|^2, and
+    // this sweep's |d_k|^2, beta and whether it steps
+    int sets_ = 0;
+    std::vector<int> set_parent_, set_number_, set_of_body_, set_of_row_;
+    std::vector<btScalar> previous_sets_, d2_sets_, beta_sets_;
+    std::vector<char> step_sets_;
     // block: its rows (indices in the joint pool), which rows are in it, L (below the
     // diagonal, row-major n x n), D, each row's first column of the profile, the right side
     std::vector<int> block_, first_;

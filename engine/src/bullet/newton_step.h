@@ -360,6 +360,11 @@ class NewtonStep {
             r1.reg = r2.reg =
                 kNewtonFrictionDamping * (1 / f1.m_jacDiagABInv + 1 / f2.m_jacDiagABInv) / 2;
             rn.r = kNewtonR * n.m_jacDiagABInv;
+            // a rigid contact between two moving bodies (a floor contact is compliant): its normal
+            // takes the friction pairs' damping in S too, its four corners on a face as
+            // redundant as a sticking pair's rows (a box sliding on a box at 5 iterations: 0.2 %
+            // off the converged acceleration without it, 0.01 % with it; newton_test)
+            if (rn.nb == 2 && !(rn.cfm > 0)) rn.reg = kNewtonFrictionDamping / n.m_jacDiagABInv;
         }
         for (const int k : set.joints) {
             const size_t before = rows_.size();
