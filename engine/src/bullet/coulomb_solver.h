@@ -206,10 +206,10 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     // the Newton steps, so with them too a 14-module chain with a second one 3 m away moves to
     // the bit as alone (it did not when nncg's beta was one for the whole group). What stays
     // group-wide: block_nncg takes K's entries in double for the whole group where one pivot
-    // needs it (factor_band, factor_block), which the standard robots never do. Bullet
+    // needs it (factor_band, factor_block: long thin or heavy links under strong servos). Bullet
     // batches islands into groups of 128 rows or more in the order of their ids; clones have
     // followed their originals in every world tried (20 rolling chains meeting each other,
-    // cloned at five times), and the Newton steps take each set of bodies on its own.
+    // cloned at five times).
     btScalar solveGroup(btCollisionObject** bodies, int body_count,
                         btPersistentManifold** manifolds, int manifold_count,
                         btTypedConstraint** constraints, int constraint_count,
