@@ -591,12 +591,17 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             return x;
         };
         const auto valid = [&](int b) { return b >= 0 && b < bodies && moving(b); };
-        for_each_row([&](btSolverConstraint& c) {
-            const int a = c.m_solverBodyIdA, b = c.m_solverBodyIdB;
-            if (!valid(a) || !valid(b)) return;
-            const int ra = root(a), rb = root(b);
-            if (ra != rb) set_parent_[std::max(ra, rb)] = std::min(ra, rb);
-        });
+        // joints and normals: a friction row joins what its normal does
+        for (btConstraintArray* pool :
+             {&m_tmpSolverNonContactConstraintPool, &m_tmpSolverContactConstraintPool}) {
+            for (int j = 0; j < pool->size(); ++j) {
+                const btSolverConstraint& c = (*pool)[j];
+                const int a = c.m_solverBodyIdA, b = c.m_solverBodyIdB;
+                if (!valid(a) || !valid(b)) continue;
+                const int ra = root(a), rb = root(b);
+                if (ra != rb) set_parent_[std::max(ra, rb)] = std::min(ra, rb);
+            }
+        }
         set_of_body_.assign(static_cast<size_t>(bodies), -1);
         sets_ = 0;
         set_number_.assign(static_cast<size_t>(bodies), -1);
@@ -607,6 +612,7 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             set_of_body_[b] = k;
         }
         set_of_row_.clear();
+        if (sets_ < 2) return;  // one set: own_iteration's own path
         for_each_row([&](btSolverConstraint& c) {
             const int a = c.m_solverBodyIdA, b = c.m_solverBodyIdB;
             set_of_row_.push_back(valid(a) ? set_of_body_[a] : (valid(b) ? set_of_body_[b] : -1));
