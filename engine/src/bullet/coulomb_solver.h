@@ -573,8 +573,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         return residual;
     }
 
-    // nncg's sets of bodies (joined by joints or touching; sets_ of them, set_of_row_ in
-    // for_each_row's order and set_of_body_, -1 for a fixed body): each takes its own
+    // nncg's sets of bodies (joined by joints or touching; sets_ of them, set_of_body_, -1 for
+    // a fixed body, and the rows as runs of one set, runs_): each takes its own
     // conjugate-gradient step, so a robot's solve does not depend on what else Bullet hands
     // over with it (a second robot 3 m away changed a 14-module chain's bits when beta was one
     // for the whole group)
@@ -611,11 +611,21 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             if (k < 0) k = sets_++;
             set_of_body_[b] = k;
         }
-        set_of_row_.clear();
+        runs_.clear();
         if (sets_ < 2) return;  // one set: own_iteration's own path
-        for_each_row([&](btSolverConstraint& c) {
-            const int a = c.m_solverBodyIdA, b = c.m_solverBodyIdB;
-            set_of_row_.push_back(valid(a) ? set_of_body_[a] : (valid(b) ? set_of_body_[b] : -1));
+        // the rows as runs of one set within one pool (a robot's rows lie together: the
+        // solver orders them by their bodies)
+        int pool = 0;
+        for_each_pool([&](btSolverConstraint* rows, int count, size_t at) {
+            for (int j = 0; j < count; ++j) {
+                const int a = rows[j].m_solverBodyIdA, b = rows[j].m_solverBodyIdB;
+                const int k = valid(a) ? set_of_body_[a] : (valid(b) ? set_of_body_[b] : -1);
+                if (runs_.empty() || runs_.back().pool != pool || runs_.back().set != k) {
+                    runs_.push_back(Run{pool, at + j, at + j, k});
+                }
+                runs_.back().end = at + j + 1;
+            }
+            ++pool;
         });
         previous_sets_.assign(static_cast<size_t>(sets_), 0);
     }
@@ -628,12 +638,22 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         step_sets_.assign(n, 0);
         btScalar* before = before_.data();
         btScalar* direction = direction_.data();
-        const int* set = set_of_row_.data();
-        for_each_pool([&](btSolverConstraint* rows, int count, size_t at) {
-            for (int j = 0; j < count; ++j) {
-                if (set[at + j] < 0) continue;
-                const btScalar d = rows[j].m_appliedImpulse - before[at + j];
-                d2_sets_[static_cast<size_t>(set[at + j])] += d * d;
+        // each run with its pool's rows and their first's place: rows[j - at] is row j
+        const auto each_run = [&](auto f) {
+            size_t r = 0;
+            int pool = 0;
+            for_each_pool([&](btSolverConstraint* rows, int, size_t at) {
+                for (; r < runs_.size() && runs_[r].pool == pool; ++r)
+                    f(runs_[r], rows, at);
+                ++pool;
+            });
+        };
+        each_run([&](const Run& run, btSolverConstraint* rows, size_t at) {
+            if (run.set < 0) return;
+            btScalar& d2 = d2_sets_[static_cast<size_t>(run.set)];
+            for (size_t j = run.begin; j < run.end; ++j) {
+                const btScalar d = rows[j - at].m_appliedImpulse - before[j];
+                d2 += d * d;
             }
         });
         const int last = btMax(m_maxOverrideNumSolverIterations, info.m_numIterations) - 1;
@@ -643,19 +663,23 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             step_sets_[k] = beta_sets_[k] > 0 && beta_sets_[k] <= 1 && iteration < last;
             previous_sets_[k] = d2_sets_[k];
         }
-        for_each_pool([&](btSolverConstraint* rows, int count, size_t at) {
-            for (int j = 0; j < count; ++j) {
-                btScalar& impulse = rows[j].m_appliedImpulse;
-                const int k = set[at + j];
-                const btScalar d = impulse - before[at + j];
-                if (k >= 0 && step_sets_[static_cast<size_t>(k)]) {
-                    const btScalar extra = beta_sets_[static_cast<size_t>(k)] * direction[at + j];
+        each_run([&](const Run& run, btSolverConstraint* rows, size_t at) {
+            if (run.set >= 0 && step_sets_[static_cast<size_t>(run.set)]) {
+                const btScalar beta = beta_sets_[static_cast<size_t>(run.set)];
+                for (size_t j = run.begin; j < run.end; ++j) {
+                    btScalar& impulse = rows[j - at].m_appliedImpulse;
+                    const btScalar d = impulse - before[j];
+                    const btScalar extra = beta * direction[j];
                     impulse += extra;
-                    direction[at + j] = extra + d;
-                } else {
-                    direction[at + j] = d;
+                    direction[j] = extra + d;
+                    before[j] = impulse;
                 }
-                before[at + j] = impulse;
+            } else {
+                for (size_t j = run.begin; j < run.end; ++j) {
+                    const btScalar impulse = rows[j - at].m_appliedImpulse;
+                    direction[j] = impulse - before[j];
+                    before[j] = impulse;
+                }
             }
         });
         const int bodies = m_tmpSolverBodyPool.size();
@@ -1100,7 +1124,13 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     // nncg's sets (split_sets): their number, each row's and body's set, per set |d_k-1|^2, and
     // this sweep's |d_k|^2, beta and whether it steps
     int sets_ = 0;
-    std::vector<int> set_parent_, set_number_, set_of_body_, set_of_row_;
+    std::vector<int> set_parent_, set_number_, set_of_body_;
+    struct Run {  // rows [begin, end) of one set (-1: none) in pool `pool` (for_each_row's order)
+        int pool;
+        size_t begin, end;
+        int set;
+    };
+    std::vector<Run> runs_;
     std::vector<btScalar> previous_sets_, d2_sets_, beta_sets_;
     std::vector<char> step_sets_;
     // block: its rows (indices in the joint pool), which rows are in it, L (below the
