@@ -528,47 +528,11 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         // the rows' impulses move by beta p; the bodies' velocities by what those impulses do,
         // M^-1 J' beta p, kept per body (beta times last step's, plus this sweep's change)
         for_each_pool([&](btSolverConstraint* rows, int n, size_t at) {
-            btScalar* b = before + at;
-            btScalar* p = direction + at;
-            if (step) {
-#pragma GCC unroll 4
-                for (int j = 0; j < n; ++j) {
-                    btScalar& impulse = rows[j].m_appliedImpulse;
-                    const btScalar d = impulse - b[j];
-                    const btScalar extra = beta * p[j];
-                    impulse += extra;
-                    p[j] = extra + d;
-                    b[j] = impulse;
-                }
-            } else {
-#pragma GCC unroll 4
-                for (int j = 0; j < n; ++j) {
-                    const btScalar impulse = rows[j].m_appliedImpulse;
-                    p[j] = impulse - b[j];
-                    b[j] = impulse;
-                }
-            }
+            conjugate_rows(rows, before + at, direction + at, n, step, beta);
         });
         const int bodies = m_tmpSolverBodyPool.size();
-        btVector3* body_before = body_before_.data();
-        btVector3* body_direction = body_direction_.data();
-        for (int b = 0; b < bodies; ++b) {
-            btSolverBody& s = m_tmpSolverBodyPool[b];
-            btVector3* v[2] = {&s.internalGetDeltaLinearVelocity(),
-                               &s.internalGetDeltaAngularVelocity()};
-            for (int k = 0; k < 2; ++k) {
-                const size_t at = 2 * static_cast<size_t>(b) + k;
-                const btVector3 d = *v[k] - body_before[at];
-                if (step) {
-                    const btVector3 extra = body_direction[at] * beta;
-                    *v[k] += extra;
-                    body_direction[at] = extra + d;
-                } else {
-                    body_direction[at] = d;
-                }
-                body_before[at] = *v[k];
-            }
-        }
+        for (int b = 0; b < bodies; ++b)
+            conjugate_body(b, step, beta);
         previous_ = d2;
         return residual;
     }
@@ -663,44 +627,63 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             step_sets_[k] = beta_sets_[k] > 0 && beta_sets_[k] <= 1 && iteration < last;
             previous_sets_[k] = d2_sets_[k];
         }
+        const auto stepping = [&](int set) {
+            return set >= 0 && step_sets_[static_cast<size_t>(set)] != 0;
+        };
+        const auto beta_of = [&](int set) {
+            return set >= 0 ? beta_sets_[static_cast<size_t>(set)] : btScalar(0);
+        };
         each_run([&](const Run& run, btSolverConstraint* rows, size_t at) {
-            if (run.set >= 0 && step_sets_[static_cast<size_t>(run.set)]) {
-                const btScalar beta = beta_sets_[static_cast<size_t>(run.set)];
-                for (size_t j = run.begin; j < run.end; ++j) {
-                    btScalar& impulse = rows[j - at].m_appliedImpulse;
-                    const btScalar d = impulse - before[j];
-                    const btScalar extra = beta * direction[j];
-                    impulse += extra;
-                    direction[j] = extra + d;
-                    before[j] = impulse;
-                }
-            } else {
-                for (size_t j = run.begin; j < run.end; ++j) {
-                    const btScalar impulse = rows[j - at].m_appliedImpulse;
-                    direction[j] = impulse - before[j];
-                    before[j] = impulse;
-                }
-            }
+            conjugate_rows(rows + (run.begin - at), before + run.begin, direction + run.begin,
+                           static_cast<int>(run.end - run.begin), stepping(run.set),
+                           beta_of(run.set));
         });
         const int bodies = m_tmpSolverBodyPool.size();
-        for (int b = 0; b < bodies; ++b) {
-            btSolverBody& s = m_tmpSolverBodyPool[b];
-            const int k = set_of_body_[b];
-            btVector3* v[2] = {&s.internalGetDeltaLinearVelocity(),
-                               &s.internalGetDeltaAngularVelocity()};
-            for (int i = 0; i < 2; ++i) {
-                const size_t at = 2 * static_cast<size_t>(b) + i;
-                const btVector3 d = *v[i] - body_before_[at];
-                if (k >= 0 && step_sets_[static_cast<size_t>(k)]) {
-                    const btVector3 extra =
-                        body_direction_[at] * beta_sets_[static_cast<size_t>(k)];
-                    *v[i] += extra;
-                    body_direction_[at] = extra + d;
-                } else {
-                    body_direction_[at] = d;
-                }
-                body_before_[at] = *v[i];
+        for (int b = 0; b < bodies; ++b)
+            conjugate_body(b, stepping(set_of_body_[b]), beta_of(set_of_body_[b]));
+    }
+
+    // nncg's step on n rows (their impulses before the sweep b, the direction p): with `step`,
+    // the impulses move by beta p and p becomes beta p + this sweep's change; else p is that
+    // change
+    static void conjugate_rows(btSolverConstraint* rows, btScalar* b, btScalar* p, int n, bool step,
+                               btScalar beta) {
+        if (step) {
+#pragma GCC unroll 4
+            for (int j = 0; j < n; ++j) {
+                btScalar& impulse = rows[j].m_appliedImpulse;
+                const btScalar d = impulse - b[j];
+                const btScalar extra = beta * p[j];
+                impulse += extra;
+                p[j] = extra + d;
+                b[j] = impulse;
             }
+        } else {
+#pragma GCC unroll 4
+            for (int j = 0; j < n; ++j) {
+                const btScalar impulse = rows[j].m_appliedImpulse;
+                p[j] = impulse - b[j];
+                b[j] = impulse;
+            }
+        }
+    }
+
+    // the same for solver body b's delta velocities: they move by what the rows' step does
+    void conjugate_body(int b, bool step, btScalar beta) {
+        btSolverBody& s = m_tmpSolverBodyPool[b];
+        btVector3* v[2] = {&s.internalGetDeltaLinearVelocity(),
+                           &s.internalGetDeltaAngularVelocity()};
+        for (int k = 0; k < 2; ++k) {
+            const size_t at = 2 * static_cast<size_t>(b) + k;
+            const btVector3 d = *v[k] - body_before_[at];
+            if (step) {
+                const btVector3 extra = body_direction_[at] * beta;
+                *v[k] += extra;
+                body_direction_[at] = extra + d;
+            } else {
+                body_direction_[at] = d;
+            }
+            body_before_[at] = *v[k];
         }
     }
 
