@@ -271,8 +271,8 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         if (newton_steps_ > 0 && method_ == SolverMethod::block_nncg &&
             model_ == FrictionModel::disk && old_style_.empty()) {
             newton_.run(m_tmpSolverNonContactConstraintPool, m_tmpSolverContactConstraintPool,
-                        m_tmpSolverContactFrictionConstraintPool, m_tmpSolverBodyPool,
-                        newton_steps_);
+                        m_tmpSolverContactFrictionConstraintPool, m_tmpSolverBodyPool, set_of_body_,
+                        sets_, newton_steps_);
         }
         return residual;
     }

@@ -83,15 +83,19 @@ inline constexpr double kNewtonRegulariser = 1e-8;
 class NewtonStep {
   public:
     // Runs the steps on the solver's pools, one set of bodies at a time (bodies joined by a
-    // joint or touching each other): a set's steps, their line search included, depend on its own
-    // rows alone, so it gets the same bits whether Bullet hands it over alone or batched with
-    // other islands (which islands are batched together depends on the broadphase's history, so
-    // a clone's batches need not be its original's: CoulombSolver::solveGroup). False where no
-    // set was handled (nothing changed then)
+    // joint or touching each other; `set_of_body` numbers each solver body's set from 0 to
+    // `sets` - 1, -1 for a fixed body, as CoulombSolver::split_sets finds them): a set's steps,
+    // their line search included, depend on its own rows alone, so it gets the same bits
+    // whether Bullet hands it over alone or batched with other islands (which islands are
+    // batched together depends on the broadphase's history, so a clone's batches need not be
+    // its original's: CoulombSolver::solveGroup). False where no set was handled (nothing
+    // changed then)
     bool run(btConstraintArray& joints, btConstraintArray& normals, btConstraintArray& friction,
-             btAlignedObjectArray<btSolverBody>& pool, int steps) {
+             btAlignedObjectArray<btSolverBody>& pool, const std::vector<int>& set_of_body,
+             int sets, int steps) {
         if (friction.size() != 2 * normals.size()) return false;
-        split(joints, normals, pool);
+        if (static_cast<int>(set_of_body.size()) != pool.size()) return false;
+        split(joints, normals, set_of_body, sets);
         slot_.assign(static_cast<size_t>(pool.size()), -1);
         bool any = false;
         for (int k = 0; k < nsets_; ++k) {
@@ -149,9 +153,8 @@ class NewtonStep {
     struct Set {
         std::vector<int> normals, joints;
     };
-    std::vector<Set> sets_;  // the first nsets_ are this step's, in order of their first row
+    std::vector<Set> sets_;  // the first nsets_ are this step's
     int nsets_ = 0;
-    std::vector<int> parent_, set_of_;  // per solver body: union-find, its root's set
 
     std::vector<Row> rows_;  // the contacts' rows first, then the joints'
     std::vector<Body> bodies_;
@@ -239,50 +242,22 @@ class NewtonStep {
         return slot_[solver];
     }
 
-    static bool moving(btAlignedObjectArray<btSolverBody>& pool, int id) {
-        return id >= 0 && id < pool.size() && !pool[id].m_invMass.fuzzyZero();
-    }
-
-    int root(int x) {
-        while (parent_[x] != x) {
-            parent_[x] = parent_[parent_[x]];
-            x = parent_[x];
-        }
-        return x;
-    }
-
-    // the sets of bodies (sets_, nsets_): union-find over the rows between two moving bodies,
-    // then every row to its moving body's set, in the pools' order
+    // each row to its set (sets_, nsets_), in the pools' order
     void split(btConstraintArray& joints, btConstraintArray& normals,
-               btAlignedObjectArray<btSolverBody>& pool) {
-        const int n = pool.size();
-        parent_.resize(static_cast<size_t>(n));
-        for (int k = 0; k < n; ++k)
-            parent_[k] = k;
-        auto join = [&](const btSolverConstraint& c) {
-            const int a = c.m_solverBodyIdA, b = c.m_solverBodyIdB;
-            if (!moving(pool, a) || !moving(pool, b)) return;
-            const int ra = root(a), rb = root(b);
-            if (ra != rb) parent_[std::max(ra, rb)] = std::min(ra, rb);
-        };
-        for (int k = 0; k < normals.size(); ++k)
-            join(normals[k]);
-        for (int k = 0; k < joints.size(); ++k)
-            join(joints[k]);
-        set_of_.assign(static_cast<size_t>(n), -1);
-        nsets_ = 0;
+               const std::vector<int>& set_of_body, int sets) {
+        nsets_ = sets;
+        if (static_cast<int>(sets_.size()) < sets) sets_.resize(static_cast<size_t>(sets));
+        for (int k = 0; k < sets; ++k) {
+            sets_[k].normals.clear();
+            sets_[k].joints.clear();
+        }
+        const int n = static_cast<int>(set_of_body.size());
         auto set = [&](const btSolverConstraint& c) -> Set* {
-            const int a = c.m_solverBodyIdA, b = c.m_solverBodyIdB;
-            const int body = moving(pool, a) ? a : (moving(pool, b) ? b : -1);
-            if (body < 0) return nullptr;  // between fixed bodies
-            int& k = set_of_[root(body)];
-            if (k < 0) {
-                k = nsets_++;
-                if (static_cast<int>(sets_.size()) < nsets_) sets_.emplace_back();
-                sets_[k].normals.clear();
-                sets_[k].joints.clear();
+            for (const int body : {c.m_solverBodyIdA, c.m_solverBodyIdB}) {
+                const int k = body >= 0 && body < n ? set_of_body[body] : -1;
+                if (k >= 0 && k < sets) return &sets_[k];
             }
-            return &sets_[k];
+            return nullptr;  // between fixed bodies
         };
         for (int k = 0; k < normals.size(); ++k)
             if (Set* s = set(normals[k])) s->normals.push_back(k);
