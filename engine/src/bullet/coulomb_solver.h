@@ -204,12 +204,12 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     // the order within each group is fixed. nncg's and block_nncg's conjugate-gradient step
     // takes each set of bodies joined by joints or contacts on its own (split_sets), and so do
     // the Newton steps, so with them too a 14-module chain with a second one 3 m away moves to
-    // the bit as alone (it did not when nncg's beta was one for the whole group). What stays
-    // group-wide: block_nncg takes K's entries in double for the whole group where one pivot
-    // needs it (factor_band, factor_block: long thin or heavy links under strong servos). Bullet
-    // batches islands into groups of 128 rows or more in the order of their ids; clones have
-    // followed their originals in every world tried (20 rolling chains meeting each other,
-    // cloned at five times).
+    // the bit as alone (it did not when nncg's beta was one for the whole group). block_nncg
+    // takes K's entries in double for each robot on its own (factor_band's chains,
+    // factor_block's parts), not for the whole group where one robot needs it. Bullet batches
+    // islands into a group until it holds more than 128 joints and manifolds, in the order of
+    // their ids; clones have followed their originals in every world tried (20 rolling chains
+    // meeting each other, cloned at five times).
     btScalar solveGroup(btCollisionObject** bodies, int body_count,
                         btPersistentManifold** manifolds, int manifold_count,
                         btTypedConstraint** constraints, int constraint_count,
@@ -874,16 +874,20 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
         first_.assign(n, 0);
         diag_.assign(n, 0);
         profile_start_.assign(static_cast<size_t>(n) + 1, 0);
-        bool ordinary = true;  // every moving body's factors 1: the rows can be taken precisely
+        // the block's parts (rows joined through shared moving bodies: a robot), each row's
+        // part by its first row, and whether every moving body of a part has factors 1 (its
+        // rows can be taken precisely)
+        part_.resize(static_cast<size_t>(n));
+        part_ordinary_.assign(static_cast<size_t>(n), 1);
         for (int i = 0; i < n; ++i) {
             const btSolverConstraint& x = pool[block_[i]];
             const int bodies[2] = {x.m_solverBodyIdA, x.m_solverBodyIdB};
             int first = i;
+            part_[i] = i;
             for (int body : bodies) {
-                if (!moving(body)) continue;
-                ordinary = ordinary && plain(body);
-                if (!rows_of_body_[body].empty())
-                    first = std::min(first, rows_of_body_[body].front());
+                if (!moving(body) || rows_of_body_[body].empty()) continue;
+                first = std::min(first, rows_of_body_[body].front());
+                join_parts(i, rows_of_body_[body].front());
             }
             first_[i] = first;
             profile_start_[i + 1] = profile_start_[i] + static_cast<size_t>(i - first + 1);
@@ -893,35 +897,85 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             }
         }
         chol_.resize(profile_start_[n]);
-        // K's entries in float unless the block is large or they fail, as band_matrix
-        const bool large = n >= kPreciseBand * (kBandRows - 1);
-        profile_matrix(ordinary && large);
+        // each part on its own, as band_matrix takes each chain: K's entries in float unless the
+        // part is large or they fail. A part's rows couple to no other part's, so its entries,
+        // pivots and factor do not depend on the other parts (their columns in its profile hold
+        // zeros), whichever way they are taken.
+        part_rows_.assign(static_cast<size_t>(n), 0);
+        for (int i = 0; i < n; ++i) {
+            const int p = find_part(i);
+            part_[i] = p;
+            ++part_rows_[p];
+            const btSolverConstraint& x = pool[block_[i]];
+            for (int body : {x.m_solverBodyIdA, x.m_solverBodyIdB}) {
+                if (moving(body) && !plain(body)) part_ordinary_[p] = 0;
+            }
+        }
+        const int large = kPreciseBand * (kBandRows - 1);
+        precise_.assign(static_cast<size_t>(n), 0);
+        for (int i = 0; i < n; ++i) {
+            const int p = part_[i];
+            precise_[i] = part_ordinary_[p] && part_rows_[p] >= large;
+        }
+        profile_matrix();
         const auto own = [&](int i) { return 1 / pool[block_[i]].m_jacDiagABInv; };
         // L D L' on the profile: L(i,j) is zero left of first_[i], and so is its fill; a
         // redundant row keeps its own diagonal, as pgs would solve it
-        const double least = profile_factor(chol_.data(), profile_start_.data(), diag_.data(),
-                                            first_.data(), n, own);
-        if (!(least >= kFloatPivot) && ordinary && !large) {
-            profile_matrix(true);
+        ratio_.resize(static_cast<size_t>(n));
+        profile_factor(chol_.data(), profile_start_.data(), diag_.data(), first_.data(), n, own,
+                       ratio_.data());
+        // a part whose float factor failed: each of its rows precise, and the whole factored
+        // again (the other parts' bits unchanged)
+        std::vector<char>& failed = part_failed_;
+        failed.assign(static_cast<size_t>(n), 0);
+        for (int i = 0; i < n; ++i) {
+            const int p = part_[i];
+            if (!(ratio_[i] >= kFloatPivot) && part_ordinary_[p] && !precise_[i]) failed[p] = 1;
+        }
+        bool again = false;
+        for (int i = 0; i < n; ++i) {
+            if (!failed[part_[i]]) continue;
+            precise_[i] = 1;
+            again = true;
+        }
+        if (again) {
+            profile_matrix();
             profile_factor(chol_.data(), profile_start_.data(), diag_.data(), first_.data(), n,
                            own);
         }
     }
 
+    // the block's parts (factor_block): union by the smaller first row, so a part's root is its
+    // first row
+    int find_part(int i) {
+        while (part_[i] != i) {
+            part_[i] = part_[part_[i]];
+            i = part_[i];
+        }
+        return i;
+    }
+    void join_parts(int i, int j) {
+        i = find_part(i);
+        j = find_part(j);
+        if (i < j) std::swap(i, j);
+        part_[i] = j;
+    }
+
     // K on the profile (first_, profile_start_ and rows_of_body_ made), as band_matrix takes
-    // the band's: `precise`, each entry J W J' in double
-    void profile_matrix(bool precise) {
+    // the band's: the rows marked in precise_ (whole parts), each entry J W J' in double
+    void profile_matrix() {
         const btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
         const int n = static_cast<int>(block_.size());
-        if (precise) {
-            profile_precise_.resize(static_cast<size_t>(n));
-            for (int i = 0; i < n; ++i) {
-                const btSolverConstraint& x = pool[block_[i]];
+        profile_precise_.resize(static_cast<size_t>(n));
+        for (int i = 0; i < n; ++i) {
+            const btSolverConstraint& x = pool[block_[i]];
+            if (precise_[i]) {
                 precise_row(profile_precise_[i], &x, m_tmpSolverBodyPool[x.m_solverBodyIdA],
                             m_tmpSolverBodyPool[x.m_solverBodyIdB]);
             }
         }
         for (int i = 0; i < n; ++i) {
+            const bool precise = precise_[i];
             const btSolverConstraint& x = pool[block_[i]];
             const int bodies[2] = {x.m_solverBodyIdA, x.m_solverBodyIdB};
             double* row = &chol_[profile_start_[i]];  // row[j - first_[i]]: column j
@@ -1019,32 +1073,43 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
             band_rows(data, rows, m_tmpSolverBodyPool);
             band_[b].coupled = coupled;
         }
-        // K's entries in float unless the chain is long or they fail (band_matrix)
-        const bool long_chain = count >= kPreciseBand;
-        band_matrix(band_fast_ && long_chain);
-        if (!(band_factor(band_.data(), count) >= kFloatPivot) && band_fast_ && !long_chain) {
-            band_matrix(true);
-            band_factor(band_.data(), count);
+        // each chain of the band (a run of groups each coupled to the one before: a robot) on
+        // its own: K's entries in float unless the chain is long or they fail (band_matrix), so
+        // that a chain's bits do not depend on the other chains solved in the same group
+        for (int begin = 0; begin < count;) {
+            int end = begin + 1;
+            while (end < count && band_[end].coupled)
+                ++end;
+            bool plain_chain = true;
+            for (int b = begin; b < end; ++b)
+                plain_chain = plain_chain && plain(band_rows_[b].a) && plain(band_rows_[b].b);
+            const bool long_chain = end - begin >= kPreciseBand;
+            band_matrix(begin, end, plain_chain && long_chain);
+            if (!(band_factor(&band_[begin], end - begin) >= kFloatPivot) && plain_chain &&
+                !long_chain) {
+                band_matrix(begin, end, true);
+                band_factor(&band_[begin], end - begin);
+            }
+            begin = end;
         }
         return true;
     }
 
-    // K of the band's groups, for band_factor. Its entries as coupling() takes them (in float,
-    // the diagonal Bullet's 1 / jacDiagABInv), or, `precise`, as J W J' in double
-    // (block_band.h, BandPrecise): on a chain of about a thousand hinges K's float entries make
-    // it indefinite (its smallest eigenvalue falls below their rounding), the factor breaks
+    // K of the band's groups [begin, end) (one chain), for band_factor. Its entries as coupling()
+    // takes them (in float, the diagonal Bullet's 1 / jacDiagABInv), or, `precise`, as J W J' in
+    // double (block_band.h, BandPrecise): on a chain of about a thousand hinges K's float entries
+    // make it indefinite (its smallest eigenvalue falls below their rounding), the factor breaks
     // down and the solve sends the chain to NaN (a 1200-link URDF chain lying still, within
     // 60 ms). Precise where the chain has kPreciseBand hinges or more, or where the float
     // factor broke down or kept too few digits (a pivot below kFloatPivot of its row's: long
     // thin rods, long heavy links under strong servos); every other chain keeps the float
-    // entries, and its bits. Only for chains of ordinary bodies (band_fast_: the arms' inertia
-    // is the body's own).
-    void band_matrix(bool precise) {
+    // entries, and its bits. Only for chains of ordinary bodies (plain(): the arms' inertia is
+    // the body's own).
+    void band_matrix(int begin, int end, bool precise) {
         const btConstraintArray& pool = m_tmpSolverNonContactConstraintPool;
-        const int count = static_cast<int>(band_.size());
         if (precise) {
             band_precise_.resize(band_.size());
-            for (int b = 0; b < count; ++b) {
+            for (int b = begin; b < end; ++b) {
                 const BandRows& data = band_rows_[b];
                 const btSolverConstraint* rows[kBandRows];
                 for (int r = 0; r < kBandRows; ++r)
@@ -1055,7 +1120,7 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
                 }
             }
         }
-        for (int b = 0; b < count; ++b) {
+        for (int b = begin; b < end; ++b) {
             BandGroup& g = band_[b];
             const BandRows& data = band_rows_[b];
             // an empty slot: no couplings, a diagonal of 1 (its solution is 0)
@@ -1130,6 +1195,12 @@ class CoulombSolver : public btSequentialImpulseConstraintSolver {
     std::vector<double> chol_, diag_, rhs_;    // block: L on the profile, D, the right side
     std::vector<size_t> profile_start_;        // block: where each row of chol_ starts
     std::vector<PreciseRow> profile_precise_;  // block: its rows in double (profile_matrix)
+    // block, the profile: each row's part (a root's: the part's first row), per part its rows
+    // and whether it is ordinary or failed in float, per row whether it is taken in double and
+    // its pivot over its own diagonal
+    std::vector<int> part_, part_rows_;
+    std::vector<char> part_ordinary_, part_failed_, precise_;
+    std::vector<double> ratio_;
     // block, a chain of hinges: K's factors in blocks (empty: the profile above), and the first
     // group on each solver body
     std::vector<BandGroup> band_;

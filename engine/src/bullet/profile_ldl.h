@@ -21,10 +21,11 @@ namespace gaitlab {
 /// diagonal is not stored) and writes D to `diag`. A row whose pivot vanishes (a redundant row:
 /// a closed loop of joints makes K singular) keeps `own(i)` as its pivot, as a row solved alone
 /// would. Returns the smallest pivot over its row's own(i) (infinity for n = 0): below 1e-9
-/// where a pivot fell to it; a small one says how much of the row cancelled.
+/// where a pivot fell to it; a small one says how much of the row cancelled. Each row's pivot
+/// over own(i) also goes to ratios[i] where `ratios` is given.
 template <class Own>
 double profile_factor(double* l, const std::size_t* start, double* diag, const int* first, int n,
-                      Own own) {
+                      Own own, double* ratios = nullptr) {
     double least = std::numeric_limits<double>::infinity();
     for (int i = 0; i < n; ++i) {
         // column j of row i at l[row + j] (unsigned: the offsets wrap back into the row)
@@ -40,6 +41,7 @@ double profile_factor(double* l, const std::size_t* start, double* diag, const i
                 const double pivot = own(i);
                 const double ratio = sum / pivot;
                 if (!(ratio >= least)) least = ratio;  // and a NaN stays
+                if (ratios) ratios[i] = ratio;
                 diag[i] = sum > 1e-9 * pivot ? sum : pivot;
             }
         }
