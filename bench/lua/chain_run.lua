@@ -10,7 +10,11 @@
 --                                        engine's: 4 for a pitch-yaw chain of 13 modules or more),
 --                        module = (optional: the chain's module type, default y1),
 --                        self_collision = (optional: the chain's self_collision, default false),
---                        floor = (optional: the floor's other keys, bench/lua/floor_env.lua) }
+--                        floor = (optional: the floor's other keys, bench/lua/floor_env.lua),
+--                        settle_at = (optional: { dt =, iterations = }, the settings the run
+--                                     settles at; it then goes on at dt and iterations from
+--                                     the settled state, sim:clone{...}: the motion settled
+--                                     into, continued at other settings) }
 --   -- r.x, r.y: mm per cycle along x (the chain's axis at the start) and across it (y);
 --   -- r.speed: the per-cycle speed, the mean over the cycles of the length of each cycle's
 --   -- horizontal displacement (mm), which a robot that turns slowly keeps; r.tilt: the bodies'
@@ -26,14 +30,19 @@ return function(o)
   local world = gaitlab.world{ floor = require("floor_env").on(o.floor or {}, o.friction) }
   world:add(robot)
   o.drive(robot)
-  local sim = gaitlab.simulation{ world = world, dt = o.dt,
-                                  control_every = math.floor(0.01 / o.dt + 0.5),
-                                  solver_iterations = o.iterations, solver = o.solver,
+  local first = o.settle_at or { dt = o.dt, iterations = o.iterations }
+  local sim = gaitlab.simulation{ world = world, dt = first.dt,
+                                  control_every = math.floor(0.01 / first.dt + 0.5),
+                                  solver_iterations = first.iterations, solver = o.solver,
                                   newton_steps = o.newton_steps,
                                   record = false }
-  local r = sim:robot("snake")
   local t0 = os.clock()
   sim:run(o.settle)
+  if o.settle_at then
+    sim = sim:clone{ dt = o.dt, control_every = math.floor(0.01 / o.dt + 0.5),
+                     solver_iterations = o.iterations }
+  end
+  local r = sim:robot("snake")
   local p0 = r:position()
   local last, length = p0, 0
   local tilt, samples = 0, 0

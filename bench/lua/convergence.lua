@@ -23,7 +23,11 @@
 -- whose heading wanders (a long pitch-yaw chain's does, from a perturbation of 1e-9 deg) is
 -- the heading more than the speed. Where the starts of a row settle in two postures (the bodies'
 -- mean tilt below or above 45 deg: a 32-module pitch-yaw wave upright, or lying twisted on its
--- side), two more rows compare the settings per posture.
+-- side), two more rows compare the settings per posture. CONV_CONTINUE=1: every setting's run
+-- settles at the defaults and goes on from there at its own settings (sim:clone{ dt =, ... }),
+-- so all four measure the motion the defaults settled into; the start's choice between two
+-- motions (a long pitch-yaw wave upright or on its side) is then the defaults' at every setting
+-- (docs/performance.md section 12, "A motion continued at finer settings").
 local chain_run = require "chain_run"
 local gaits = require "standard_gaits"
 
@@ -38,6 +42,12 @@ if os.getenv("CONV_NEWTON") and (not newton or newton < 0) then
   error("CONV_NEWTON: a whole number of Newton steps >= 0 expected, got '"
         .. tostring(os.getenv("CONV_NEWTON")) .. "'", 0)
 end
+local continue = os.getenv("CONV_CONTINUE")
+if continue and continue ~= "0" and continue ~= "1" then
+  error("CONV_CONTINUE: 1 (each setting goes on from the state settled at the defaults) or 0 "
+        .. "expected, got '" .. continue .. "'", 0)
+end
+continue = continue == "1"
 local self_collision = os.getenv("CONV_SELF_COLLISION")
 if self_collision and self_collision ~= "0" and self_collision ~= "1" then
   error("CONV_SELF_COLLISION: 1 (the chains' bodies collide with each other) or 0 expected, got '"
@@ -85,6 +95,7 @@ local function run(gait, modules, friction, dt, iterations, direction, start)
                     friction = friction, dt = dt, iterations = iterations, settle = settle,
                     cycles = cycles, frequency = frequency, solver = solver,
                     newton_steps = newton, self_collision = self_collision,
+                    settle_at = continue and { dt = 0.001, iterations = 20 } or nil,
                     drive = function(robot)
                       gaits.drive(robot, gait, { frequency = frequency, direction = direction,
                                                  start = start })
@@ -188,8 +199,9 @@ local function speed_row(gait, modules, friction)
 end
 
 if measure == "speed" then
-  print(string.format("per-cycle speed (mm), %d cycles of %g s after %g s, %s; pitch-yaw: the "
+  print(string.format("per-cycle speed (mm), %d cycles of %g s after %g s%s, %s; pitch-yaw: the "
                       .. "mean of start phases %s deg", cycles, 1 / frequency, settle,
+                      continue and " settled at the defaults" or "",
                       floor_env.describe(floor), table.concat(phases_py, ", ")))
   print("| gait | N | μ | default (1 ms, 20 it) | dt/4 | 4× it | ref (dt/4, 4× it) | Δ dt/4 % "
         .. "| Δ 4× it % | default vs ref % | worst start phase % | heading, default vs ref |")

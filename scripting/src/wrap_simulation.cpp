@@ -225,6 +225,28 @@ void run_interruptible(lua_State* L, const SimulationHandle& h, long ticks) {
     }
 }
 
+// the keys of the settings a simulation steps with, read from `f` (table argument `arg`) into
+// `o`; keys not given keep o's values (newton_steps: the world's choice where o's is automatic)
+void read_settings(Fields& f, int arg, SimulationOptions& o) {
+    o.dt = f.number("dt", o.dt);
+    // counts are checked before they become ints: 2^32 + 30 must not become 30
+    const long long every = f.integer("control_every", o.control_every);
+    const long long iterations = f.integer("solver_iterations", o.solver_iterations);
+    const long long newton = f.integer("newton_steps", o.newton_steps);
+    try {
+        o.control_every = checked_int("control_every", every, 1, kMaxControlEvery);
+        o.solver_iterations = checked_int("solver_iterations", iterations, 1, kMaxSolverIterations);
+        if (f.has("newton_steps"))
+            o.newton_steps = checked_int("newton_steps", newton, 0, kMaxNewtonSteps);
+    } catch (const SpecError& e) {
+        throw ArgError(arg, e.what());
+    }
+    const std::string solver = f.string("solver", to_string(o.solver));
+    if (!parse_solver(solver, o.solver)) {
+        f.fail("solver", solver_names() + " expected, got '" + solver + "'");
+    }
+}
+
 int simulation_new(lua_State* L) {
     // called as gaitlab.simulation{...}: argument 1 is the gaitlab.simulation table itself
     return protect(L, [&] {
@@ -250,18 +272,9 @@ int simulation_new(lua_State* L) {
         }
         lua_pop(L, 1);
         SimulationOptions o;
-        o.dt = f.number("dt", o.dt);
-        // counts are checked before they become ints: 2^32 + 30 must not become 30
-        const long long every = f.integer("control_every", o.control_every);
-        const long long iterations = f.integer("solver_iterations", o.solver_iterations);
-        const long long newton = f.integer("newton_steps", o.newton_steps);
+        // newton_steps not given: the simulation chooses for its world (automatic_newton_steps)
+        read_settings(f, 1, o);
         try {
-            o.control_every = checked_int("control_every", every, 1, kMaxControlEvery);
-            o.solver_iterations =
-                checked_int("solver_iterations", iterations, 1, kMaxSolverIterations);
-            // not given: the simulation chooses for its world (automatic_newton_steps)
-            if (f.has("newton_steps"))
-                o.newton_steps = checked_int("newton_steps", newton, 0, kMaxNewtonSteps);
             // as a simulation file's duration: a run of round(duration / dt) ticks must fit
             if (f.has("duration")) checked_ticks("duration", file.duration, o.dt);
         } catch (const SpecError& e) {
@@ -278,10 +291,6 @@ int simulation_new(lua_State* L) {
         } else if (policy != "stop") {
             f.fail("on_controller_error",
                    "'stop', 'continue' or 'pause' expected, got '" + policy + "'");
-        }
-        const std::string solver = f.string("solver", to_string(o.solver));
-        if (!parse_solver(solver, o.solver)) {
-            f.fail("solver", solver_names() + " expected, got '" + solver + "'");
         }
         f.push("record");
         const RecordRequest request = to_request(L, -1, 1, "field 'record': ");
@@ -661,21 +670,37 @@ int simulation_newindex(lua_State* L) {
     });
 }
 
-// sim:clone([{ record = }]): an independent copy of the simulation as it stands, whose future
-// is bit-identical to the original's (Simulation::clone); not recorded unless `record` says
+// sim:clone([{ record =, dt =, control_every =, solver_iterations =, solver =, newton_steps =
+// }]): an independent copy of the simulation as it stands, whose future is bit-identical to
+// the original's (Simulation::clone), or which steps on with the settings given
+// (Simulation::clone(settings)); not recorded unless `record` says
 int simulation_clone(lua_State* L) {
     return protect(L, [&] {
         SimulationHandle& h = check_handle(L, 1);
         RecordRequest request;
         request.mode = RecordRequest::Mode::off;
+        SimulationOptions settings = h.sim->options();
+        bool other = false;
         if (!lua_isnoneornil(L, 2)) {
-            Fields f(L, 2, 2, {"record"});
+            Fields f(
+                L, 2, 2,
+                {"record", "dt", "control_every", "solver_iterations", "solver", "newton_steps"});
             if (f.push("record") != LUA_TNIL) request = to_request(L, -1, 2, "field 'record': ");
             lua_pop(L, 1);
+            for (const char* key :
+                 {"dt", "control_every", "solver_iterations", "solver", "newton_steps"})
+                other = other || f.has(key);
+            read_settings(f, 2, settings);
         }
         const std::shared_ptr<Simulation> kept = h.sim;
         const std::shared_ptr<WorldBinding> world = h.world;
-        std::shared_ptr<Simulation> copy(kept->clone());
+        std::shared_ptr<Simulation> copy(other ? kept->clone(settings) : kept->clone());
+        // what the copy's own settings are warned of, as a new simulation's are
+        const std::vector<std::string>& had = kept->warnings();
+        for (const std::string& w : copy->warnings()) {
+            if (std::find(had.begin(), had.end(), w) == had.end())
+                report(main_thread(L), "warning: " + w);
+        }
         const std::string name = h.name;
         const std::optional<double> duration = h.duration;
         const RecordSpec record = h.record;

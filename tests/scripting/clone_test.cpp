@@ -86,6 +86,57 @@ TEST_CASE("sim:clone() mid-gait follows the original bit for bit", "[clone]") {
     CHECK(lua.boolean("c[2]:values().angle[3] ~= 0"));
 }
 
+TEST_CASE("sim:clone{ dt =, ... } goes on from the same state at other settings", "[clone]") {
+    LuaFixture lua;
+    lua.run(kSetUp);
+    lua.run(R"(
+        sim = gaitlab.simulation{ world = world, control_every = 10 }
+        sim:run(1.3)
+        fine = sim:clone{ dt = sim.dt / 4, control_every = 40, solver_iterations = 80 }
+        same = sim:clone{ solver_iterations = sim.solver_iterations }
+        twin = sim:clone()
+        same_at_start = state(fine):gsub("^%S+ %d+", "") == state(sim):gsub("^%S+ %d+", "")
+        for _, s in ipairs({ sim, fine, same, twin }) do s:run(1) end
+    )");
+    CHECK(lua.boolean("same_at_start"));
+    CHECK(lua.number("fine.dt") == 0.00025);
+    CHECK(lua.integer("fine.control_every") == 40);
+    CHECK(lua.integer("fine.solver_iterations") == 80);
+    CHECK(lua.number("fine.time") == Approx(2.3));
+    CHECK(lua.integer("fine.ticks") == 4 * lua.integer("sim.ticks"));
+    // the settings act: another trajectory, close to the original's
+    CHECK_FALSE(lua.boolean("state(fine) == state(sim)"));
+    CHECK(lua.number("(fine:robot('snake'):position() - sim:robot('snake'):position()):norm()") <
+          0.01);
+    // the settings given are the original's: clone()'s copy, bit for bit
+    CHECK(lua.boolean("state(same) == state(twin)"));
+    CHECK(lua.boolean("state(same) == state(sim)"));
+    // settings that cannot reach the accuracy are warned of, as a new simulation's
+    lua.run("low = sim:clone{ solver_iterations = 3 }");
+    CHECK(
+        lua.boolean("low.warnings[#low.warnings]:find('solver_iterations = 3 is below 7', 1, "
+                    "true) ~= nil"));
+    // and give way to the copy's own: a copy of that one at 20 iterations has none of them
+    lua.run("back = low:clone{ solver_iterations = 20 }");
+    CHECK(lua.integer("#back.warnings") == lua.integer("#sim.warnings"));
+    SECTION("bad settings") {
+        CHECK(lua.error_of("sim:clone{ dt = sim.dt / 2 }") ==
+              "test:1: cannot copy the simulation at dt = 0.0005 s, control_every = 10: the "
+              "controllers step every 0.01 s and a copy keeps that (dt x control_every = 0.005 "
+              "s; at dt = 0.0005 s, control_every = 20)");
+        CHECK(lua.error_of("sim:clone{ solver = 'gs' }") ==
+              "test:1: bad argument #1 to 'clone' (field 'solver': 'pgs' or 'block_nncg' "
+              "expected, got 'gs')");
+        CHECK(lua.error_of("sim:clone{ solver_iterations = 2^32 + 20 }") ==
+              "test:1: bad argument #1 to 'clone' (solver_iterations must be in [1, 10000] "
+              "(got 4294967316))");
+        CHECK(lua.error_of("sim:clone{ dt = 'fine' }").find("'dt'") != std::string::npos);
+        // the original runs on
+        lua.run("sim:run(0.1)");
+        CHECK(lua.number("sim.time") == Approx(2.4));
+    }
+}
+
 TEST_CASE("a clone on a compliant floor follows the original bit for bit", "[clone]") {
     LuaFixture lua;
     lua.run(kSetUp);

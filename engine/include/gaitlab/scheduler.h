@@ -48,6 +48,8 @@ class Scheduler {
     double dt() const { return dt_; }
     int control_every() const { return control_every_; }
     void reset() { ticks_ = 0; }
+    /// Goes on from `ticks` ticks (a copy of a simulation at another dt: the same time).
+    void set_ticks(long ticks) { ticks_ = ticks; }
 
   private:
     double dt_;

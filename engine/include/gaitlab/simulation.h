@@ -116,6 +116,18 @@ class Simulation {
     /// heightfield image that can no longer be read); the original is then unchanged.
     std::unique_ptr<Simulation> clone();
 
+    /// A copy as clone() makes that steps from now on with `settings`' dt, control_every,
+    /// solver_iterations, solver and newton_steps (kAutomaticNewtonSteps: chosen for the world
+    /// as a new simulation does); its other options are this simulation's. What it is for: a
+    /// motion the robot has settled into, continued at finer settings, to see whether the
+    /// motion itself converges (docs/performance.md, "A motion continued at finer settings").
+    /// The control period (dt x control_every) must stay as it is, and the time must be a
+    /// whole number of the new dt; the warm-start impulses are scaled to the new dt (the same
+    /// forces). With the same settings the copy is clone()'s, bit for bit. Throws SpecError
+    /// naming the setting that cannot be taken (the original unchanged), and what clone()
+    /// throws.
+    std::unique_ptr<Simulation> clone(const SimulationOptions& settings);
+
     /// Adds a drive to robot r while the simulation exists; throws SpecError. After time 0 it
     /// posts a drive event.
     void add_drive(int robot, Drive drive, Origin origin = Origin::script);
@@ -239,8 +251,9 @@ class Simulation {
 
   private:
     struct Copying {};
-    // the copy clone() makes (its physics copies `from`'s current world)
-    Simulation(const Simulation& from, Copying);
+    // the copy clone() makes (its physics copies `from`'s current world), stepping with
+    // `options` (clone(settings): checked, the same control period and time)
+    Simulation(const Simulation& from, Copying, const SimulationOptions& options);
     // reports parameter changes of drive `index`'s controller as events of this simulation
     void listen(int index);
     class Phases;

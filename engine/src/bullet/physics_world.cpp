@@ -668,7 +668,7 @@ int PhysicsWorld::contact_count() const {
     return n;
 }
 
-void PhysicsWorld::copy_state_from(const PhysicsWorld& from) {
+void PhysicsWorld::copy_state_from(const PhysicsWorld& from, double impulse_scale) {
     Impl& s = *impl_;
     const Impl& o = *from.impl_;
     if (s.bodies.size() != o.bodies.size() || s.fixed.size() != o.fixed.size() ||
@@ -703,7 +703,9 @@ void PhysicsWorld::copy_state_from(const PhysicsWorld& from) {
         btHingeConstraint& from_hinge = *o.joints[j].hinge;
         s.joints[j].hinge->setMotorTargetVelocity(from_hinge.getMotorTargetVelocity());
         s.joints[j].feedback = o.joints[j].feedback;
-        s.joints[j].hinge->internalSetAppliedImpulse(from_hinge.getAppliedImpulse());
+        btScalar impulse = from_hinge.getAppliedImpulse();
+        if (impulse_scale != 1) impulse *= static_cast<btScalar>(impulse_scale);
+        s.joints[j].hinge->internalSetAppliedImpulse(impulse);
     }
     s.solver.setRandSeed(o.solver.getRandSeed());
 
@@ -747,8 +749,15 @@ void PhysicsWorld::copy_state_from(const PhysicsWorld& from) {
             m.clearManifold();
             m.setNumContacts(from_m.getNumContacts());
             for (int p = 0; p < from_m.getNumContacts(); ++p) {
-                m.getContactPoint(p) = from_m.getContactPoint(p);
-                m.getContactPoint(p).m_userPersistentData = nullptr;
+                btManifoldPoint& point = m.getContactPoint(p);
+                point = from_m.getContactPoint(p);
+                point.m_userPersistentData = nullptr;
+                if (impulse_scale != 1) {
+                    const auto scale = static_cast<btScalar>(impulse_scale);
+                    point.m_appliedImpulse *= scale;
+                    point.m_appliedImpulseLateral1 *= scale;
+                    point.m_appliedImpulseLateral2 *= scale;
+                }
             }
             order.push_back(&m);
             break;

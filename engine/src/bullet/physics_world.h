@@ -97,8 +97,10 @@ class PhysicsWorld {
     /// contact manifolds (points, their warm-start impulses and lifetimes) in `from`'s order.
     /// Two worlds built from one spec and given the same `from` are identical in every part of
     /// their state, so their futures are bit-identical (Simulation::clone). Throws Error if
-    /// the worlds do not have the same bodies and joints.
-    void copy_state_from(const PhysicsWorld& from);
+    /// the worlds do not have the same bodies and joints. `impulse_scale` multiplies the
+    /// impulses the next solve starts from (contacts' and joints'): this world's dt over
+    /// `from`'s, for a world stepping at another dt (the same forces); 1 leaves their bits.
+    void copy_state_from(const PhysicsWorld& from, double impulse_scale = 1);
 
     /// The Bullet world and bodies, for the other Bullet code of this folder (sensor_probes).
     btDiscreteDynamicsWorld& bullet_world() const;

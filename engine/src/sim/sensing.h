@@ -59,6 +59,9 @@ class Sensing {
     /// A physics world that continues the state of the one before (a copy's, or the original
     /// rebuilt by a copy): readings and IMU history are kept.
     void adopt(PhysicsWorld& physics);
+    /// The physics steps at `dt` from now on (a copy at another dt): the IMU's next reading
+    /// takes the change of velocity over it.
+    void set_dt(double dt) { dt_ = dt; }
     /// Reads every sensor that is on; called once per tick, after the physics step.
     void update(const PhysicsWorld& physics);
 

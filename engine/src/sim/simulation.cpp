@@ -549,10 +549,27 @@ void Simulation::listen(int index) {
     });
 }
 
-Simulation::Simulation(const Simulation& from, Copying)
-    : world_(from.world_), options_(from.options_), scheduler_(from.scheduler_) {
+Simulation::Simulation(const Simulation& from, Copying, const SimulationOptions& options)
+    : world_(from.world_), options_(options), scheduler_(from.scheduler_) {
     warnings_ = from.warnings_;
-    self_pass_every_ = from.self_pass_every_;
+    const double dt_ratio = options_.dt / from.options_.dt;
+    if (options_.dt != from.options_.dt || options_.control_every != from.options_.control_every) {
+        // the same time in ticks of the new dt (clone(settings) checked it is whole)
+        scheduler_ = Scheduler(options_.dt, options_.control_every);
+        scheduler_.set_ticks(std::lround(static_cast<double>(from.ticks()) / dt_ratio));
+    }
+    if (options_.dt != from.options_.dt ||
+        options_.solver_iterations != from.options_.solver_iterations ||
+        options_.solver != from.options_.solver ||
+        options_.newton_steps != from.options_.newton_steps) {
+        // the warnings of the original's settings give way to those of the copy's
+        for (const std::string& w : accuracy_warnings(world_, from.options_))
+            warnings_.erase(std::remove(warnings_.begin(), warnings_.end(), w), warnings_.end());
+        for (std::string& w : accuracy_warnings(world_, options_))
+            warnings_.push_back(std::move(w));
+    }
+    self_pass_every_ =
+        from.self_pass_every_ > 0 ? std::max(1L, std::lround(kSelfPassPeriod / options_.dt)) : 0;
     self_pass_warned_ = from.self_pass_warned_;
     labels_ = from.labels_;
     robots_ = from.robots_;
@@ -577,19 +594,50 @@ Simulation::Simulation(const Simulation& from, Copying)
         listen(drive_count() - 1);
     }
     sensing_ = from.sensing_->copy();
+    sensing_->set_dt(options_.dt);
     physics_ = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations,
                                               options_.solver, options_.newton_steps);
-    physics_->copy_state_from(*from.physics_);
+    physics_->copy_state_from(*from.physics_, dt_ratio);
     sensing_->adopt(*physics_);
     paused_ = from.paused_;
 }
 
 std::unique_ptr<Simulation> Simulation::clone() {
+    return clone(options_);
+}
+
+std::unique_ptr<Simulation> Simulation::clone(const SimulationOptions& settings) {
     check_idle("clone");
+    SimulationOptions o = options_;
+    o.dt = settings.dt;
+    o.control_every = settings.control_every;
+    o.solver_iterations = settings.solver_iterations;
+    o.solver = settings.solver;
+    o.newton_steps = settings.newton_steps;
+    o = checked(o, world_);
+    // the controllers step every control period, as they did: their state is per step
+    const double period = options_.dt * options_.control_every;
+    const double period_now = o.dt * o.control_every;
+    if (std::abs(period_now - period) > 1e-9 * period) {
+        throw SpecError(fmt::format(
+            "cannot copy the simulation at dt = {:g} s, control_every = {}: the controllers "
+            "step every {:g} s and a copy keeps that (dt x control_every = {:g} s; at dt = {:g} "
+            "s, control_every = {:g})",
+            o.dt, o.control_every, period, period_now, o.dt, period / o.dt));
+    }
+    // the time, a whole number of the new steps (as the copy counts them: ticks / ratio)
+    const double steps = static_cast<double>(ticks()) / (o.dt / options_.dt);
+    if (o.dt != options_.dt && (std::abs(steps - std::round(steps)) > 1e-6 + 1e-12 * steps ||
+                                std::round(steps) > static_cast<double>(kMaxTicks))) {
+        throw SpecError(fmt::format(
+            "cannot copy the simulation at dt = {:g} s: its time, {:g} s ({} steps of {:g} s), "
+            "is not a whole number of steps of {:g} s",
+            o.dt, time(), ticks(), options_.dt, o.dt));
+    }
     std::unique_ptr<Simulation> copy;
     std::unique_ptr<PhysicsWorld> rebuilt;
     try {
-        copy.reset(new Simulation(*this, Copying{}));
+        copy.reset(new Simulation(*this, Copying{}, o));
         // the original goes on in a world rebuilt as the copy's was: Bullet's internal state
         // (broadphase trees, pair and manifold order) then matches the copy's exactly
         rebuilt = std::make_unique<PhysicsWorld>(world_, options_.dt, options_.solver_iterations,

@@ -2,6 +2,7 @@
 // it, able to run on another thread; one spec built into several simulations.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -332,6 +333,111 @@ TEST_CASE("a clone is independent of its original") {
     original.reset();
     untouched->run(0.5);
     CHECK(untouched->time() == Approx(3.8));
+}
+
+// the fastest body's speed, m/s
+static double fastest(const Simulation& sim) {
+    double v = 0;
+    for (int b = 0; b < static_cast<int>(sim.world().robots[0].robot.bodies.size()); ++b)
+        v = std::max(v, sim.body(0, b).linear_velocity.norm());
+    return v;
+}
+
+TEST_CASE("a copy at other settings continues the motion") {
+    // the 8-module pitch-yaw rolling gait settled for 4 s, then continued 4 s by itself, by a
+    // copy at dt / 4 (the same control period) and by one at 4x the iterations: each copy
+    // starts where the original is and rolls on about as far as it does (2.2 and 2.8 % apart
+    // over these 2 cycles, Release, 2026-11-30; the mean of 10 cycles and 5 starts is within
+    // 0.5 % of the converged one's at these settings, docs/performance.md section 12)
+    const auto make = [] {
+        auto sim = std::make_unique<Simulation>(test::chain_world(8, Connection::pitch_yaw),
+                                                test::options_at(0.001, 20));
+        test::drive(*sim, "pitch", test::sine(40, 0.5, 0));
+        test::drive(*sim, "yaw", test::sine(40, 0.5, 0, -90));
+        return sim;
+    };
+    auto original = make();
+    original->run(4.0);
+    const Vec3 start = original->robot_position(0);
+    SimulationOptions finer_dt = original->options();
+    finer_dt.dt /= 4;
+    finer_dt.control_every *= 4;
+    SimulationOptions more = original->options();
+    more.solver_iterations *= 4;
+    const std::unique_ptr<Simulation> dt4 = original->clone(finer_dt);
+    const std::unique_ptr<Simulation> it4 = original->clone(more);
+    const std::unique_ptr<Simulation> same = original->clone(original->options());
+    CHECK(dt4->time() == original->time());
+    CHECK(dt4->ticks() == 4 * original->ticks());
+    CHECK(dt4->options().dt == 0.00025);
+    CHECK(dt4->options().control_every == original->options().control_every * 4);
+    CHECK(it4->options().solver_iterations == 80);
+    // it starts where the original is: every state but the tick count
+    std::vector<double> here = state(*dt4), there = state(*original);
+    here.erase(here.begin() + 1);
+    there.erase(there.begin() + 1);
+    CHECK(same_bits(here, there));
+    // the same settings: clone()'s copy, bit for bit
+    const std::unique_ptr<Simulation> twin = original->clone();
+    CHECK(first_difference(run_states(*same, 0.5), run_states(*twin, 0.5)) == -1);
+    for (Simulation* s : {original.get(), dt4.get(), it4.get()})
+        s->run(4.0);
+    const Vec3 moved = original->robot_position(0) - start;
+    CHECK(moved.norm() > 0.3);  // it rolled
+    for (Simulation* s : {dt4.get(), it4.get()}) {
+        const Vec3 d = s->robot_position(0) - start;
+        CAPTURE(s->options().dt, s->options().solver_iterations, moved.norm(), d.norm());
+        // the heading wanders more: 4 cm apart after 4 s
+        CHECK(std::abs(d.norm() - moved.norm()) < 0.05 * moved.norm());
+        CHECK(d.x != moved.x);  // its own settings: not the original's steps
+    }
+}
+
+TEST_CASE("a copy at a finer dt starts from the same contact forces") {
+    // an undriven chain at rest: its contacts' warm-start impulses are scaled to the copy's
+    // dt, so its first step holds it nearly still (Release, 2026-11-30: its fastest body at
+    // 0.18 mm/s after it; with the impulses as they were, 4x too large for the step, 1.1 mm/s)
+    Simulation sim(test::chain_world(8, Connection::pitch_yaw), test::options_at(0.004, 20));
+    sim.run(2.0);
+    SimulationOptions finer = sim.options();
+    finer.dt = 0.001;
+    finer.control_every *= 4;
+    finer.solver_iterations = 2;  // the warm start's part in the step, large
+    const std::unique_ptr<Simulation> copy = sim.clone(finer);
+    const double before = fastest(sim);
+    copy->step(1);
+    CAPTURE(before, fastest(*copy));
+    CHECK(fastest(*copy) < std::max(2 * before, 5e-4));
+}
+
+TEST_CASE("a copy at other settings: bad settings") {
+    auto sim = crawling_snake();
+    sim->run(0.2005);  // 201 ticks of 1 ms
+    const std::vector<double> before = state(*sim);
+    SimulationOptions o = sim->options();
+    SECTION("another control period") {
+        o.dt = 0.0005;
+        CHECK_THROWS_WITH(sim->clone(o),
+                          "cannot copy the simulation at dt = 0.0005 s, control_every = 30: the "
+                          "controllers step every 0.03 s and a copy keeps that (dt x "
+                          "control_every = 0.015 s; at dt = 0.0005 s, control_every = 60)");
+    }
+    SECTION("a time that is not a whole number of the new steps") {
+        o.dt = 0.002;
+        o.control_every = 15;
+        CHECK_THROWS_WITH(sim->clone(o),
+                          "cannot copy the simulation at dt = 0.002 s: its time, 0.201 s (201 "
+                          "steps of 0.001 s), is not a whole number of steps of 0.002 s");
+    }
+    SECTION("a setting out of its range") {
+        o.solver_iterations = 0;
+        CHECK_THROWS_AS(sim->clone(o), SpecError);
+    }
+    // the original is untouched and runs on as a twin that was never asked
+    CHECK(same_bits(state(*sim), before));
+    auto twin = crawling_snake();
+    twin->run(0.2005);
+    CHECK(first_difference(run_states(*sim, 0.3), run_states(*twin, 0.3)) == -1);
 }
 
 TEST_CASE("clones run on other threads") {
