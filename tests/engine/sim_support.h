@@ -151,4 +151,24 @@ inline RobotSpec slender_chain(int n, const Vec3& size, double mass, const Vec3&
     return r;
 }
 
+/// A branch: a body of `size` hung beside body `at` of `robot` (its centre `offset` m along +y
+/// from that body's) on a hinge about x whose pivot is `pivot` m along +y from the body's
+/// centre, modelled on the robot's first joint (its servo). Body `at` then has three hinges.
+inline void add_branch(RobotSpec& robot, int at, const Vec3& size, double offset, double pivot) {
+    BodySpec side = robot.bodies[static_cast<size_t>(at)];
+    side.name = "side";
+    side.size = size;
+    side.pose.position.y += offset;
+    robot.bodies.push_back(side);
+    JointSpec j = robot.joints[0];
+    j.name = "js";
+    j.role = JointRole::pitch;
+    j.parent = at;
+    j.child = static_cast<int>(robot.bodies.size()) - 1;
+    j.pivot = robot.bodies[static_cast<size_t>(at)].pose.position;
+    j.pivot.y += pivot;
+    j.axis = {1, 0, 0};
+    robot.joints.push_back(j);
+}
+
 }  // namespace gaitlab::test

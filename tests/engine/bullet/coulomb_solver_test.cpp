@@ -716,18 +716,7 @@ TEST_CASE("block_nncg keeps a chain of a thousand modules and more finite") {
         world.robots[0].robot = parse_urdf(urdf, "chain.urdf");
         if (branch) {  // a side link on link 1990 (a body of three hinges: the profile)
             RobotSpec& robot = world.robots[0].robot;
-            BodySpec side = robot.bodies[1990];
-            side.name = "side";
-            side.pose.position.y += 0.06;
-            robot.bodies.push_back(side);
-            JointSpec j = robot.joints[0];
-            j.name = "js";
-            j.parent = 1990;
-            j.child = static_cast<int>(robot.bodies.size()) - 1;
-            j.pivot = robot.bodies[1990].pose.position;
-            j.pivot.y += 0.03;
-            j.axis = {1, 0, 0};
-            robot.joints.push_back(j);
+            test::add_branch(robot, 1990, robot.bodies[1990].size, 0.06, 0.03);
             validate(robot);
         }
         const Run r = run(world, {}, 100, ConstraintSolver::block_nncg);

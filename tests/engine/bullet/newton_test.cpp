@@ -241,23 +241,8 @@ TEST_CASE("a robot moves to the bit as alone beside one whose joints need K in d
     WorldSpec two = alone;
     PlacedRobot rods;
     rods.robot = test::slender_chain(32, {1, 0.01, 0.01}, 1e-3, {0, 0, 1}, 0.4);
-    if (branch) {  // a side rod on rod 20, hinged about x
-        RobotSpec& robot = rods.robot;
-        BodySpec side = robot.bodies[20];
-        side.name = "side";
-        side.size = {0.01, 1, 0.01};
-        side.pose.position.y += 0.505;
-        robot.bodies.push_back(side);
-        JointSpec j = robot.joints[0];
-        j.name = "js";
-        j.role = JointRole::pitch;
-        j.parent = 20;
-        j.child = static_cast<int>(robot.bodies.size()) - 1;
-        j.pivot = robot.bodies[20].pose.position;
-        j.pivot.y += 0.005;
-        j.axis = {1, 0, 0};
-        robot.joints.push_back(j);
-    }
+    if (branch)  // a side rod on rod 20, hinged about x
+        test::add_branch(rods.robot, 20, {0.01, 1, 0.01}, 0.505, 0.005);
     validate(rods.robot);
     rods.pose.position = {0, 50, 0};  // out of reach of its 32 m as it curls
     two.robots.push_back(rods);
