@@ -47,6 +47,11 @@ constexpr double kMaxStartOverlap = 0.005;  // m
 constexpr double kMaxSelfPass = 0.005;    // m
 constexpr double kSelfPassPeriod = 0.01;  // s
 
+// kSelfPassPeriod in steps of dt
+long self_pass_ticks(double dt) {
+    return std::max(1L, std::lround(kSelfPassPeriod / dt));
+}
+
 // a body whose weight would sink it by more than this part of its height into the compliant
 // floor, resting on its lowest corners, gets a warning: the floor's springs (per contact point)
 // suit robots of grams to kilograms, and a heavier body sinks and swings on them
@@ -461,7 +466,7 @@ void Simulation::build() {
     physics_->read_angles(angles_.data());
     sensing_->attach(*physics_);
     self_pass_every_ = !self_pass_warned_ && physics_->may_pass_through_itself()
-                           ? std::max(1L, std::lround(kSelfPassPeriod / options_.dt))
+                           ? self_pass_ticks(options_.dt)
                            : 0;
 }
 
@@ -568,8 +573,7 @@ Simulation::Simulation(const Simulation& from, Copying, const SimulationOptions&
         for (std::string& w : accuracy_warnings(world_, options_))
             warnings_.push_back(std::move(w));
     }
-    self_pass_every_ =
-        from.self_pass_every_ > 0 ? std::max(1L, std::lround(kSelfPassPeriod / options_.dt)) : 0;
+    self_pass_every_ = from.self_pass_every_ > 0 ? self_pass_ticks(options_.dt) : 0;
     self_pass_warned_ = from.self_pass_warned_;
     labels_ = from.labels_;
     robots_ = from.robots_;
