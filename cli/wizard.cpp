@@ -633,7 +633,7 @@ class Wizard {
                     fmt::format("A pitch-yaw chain of more than {} modules gets {} Newton "
                                 "steps in every physics step, which keep\nits gaits "
                                 "accurate at a step of {:g} s or less (they take about "
-                                "twice the computing time).\n",
+                                "three times the computing time).\n",
                                 kLongChainJoints, kLongChainNewtonSteps, kLongChainNewtonMaxDt));
         }
         in_.ask("Seconds to simulate", "10", [&](const std::string& a) {

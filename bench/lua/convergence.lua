@@ -9,7 +9,7 @@
 -- CONV_CYCLES (default 5) sets the cycles measured, CONV_MAX_TORQUE the servos' torque (below), CONV_MODULES (default "2 8 32") and
 -- CONV_FRICTION (default "0.3 1.0") the grid, CONV_SOLVER the simulation's `solver` (default the
 -- engine's, "block_nncg", which solves each robot's joints as one system, docs/architecture.md; or "pgs"),
--- CONV_NEWTON the simulation's `newton_steps` at every setting (default the engine's: 4 for a pitch-yaw chain of 13 modules or more, else 0),
+-- CONV_NEWTON the simulation's `newton_steps` at every setting (default the engine's: 8 for a pitch-yaw chain of 13 modules or more, else 0),
 -- CONV_SELF_COLLISION=1 chains whose bodies collide with each other (self_collision), CONV_RIGID=1 a rigid floor and CONV_STIFFNESS / CONV_DAMPING the compliant floor's values
 -- (default the engine's floor: 3e3 N/m and 60 N s/m per contact point; bench/lua/floor_env.lua).
 -- Each run starts at time 0 (the same start every time), settles (CONV_SETTLE, below), then

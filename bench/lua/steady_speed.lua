@@ -17,7 +17,7 @@
 -- cannot follow, with servos that can); STEADY_RIGID=1 a rigid floor, STEADY_STIFFNESS and
 -- STEADY_DAMPING (N/m, N s/m) the compliant floor's values instead of the engine's defaults
 -- (bench/lua/floor_env.lua; gaitlab.world's floor keys, docs/lua-api.md); STEADY_NEWTON=K the
--- simulation's newton_steps (default the engine's: 4 for a pitch-yaw chain of 13 modules or
+-- simulation's newton_steps (default the engine's: 8 for a pitch-yaw chain of 13 modules or
 -- more, else 0); STEADY_SELF_COLLISION=1 a chain whose bodies collide with each other
 -- (self_collision). The speed of a block
 -- is the mean length of its cycles' displacements of the centre of mass, in mm per cycle.

@@ -126,13 +126,15 @@ std::vector<std::string> option_differences(const SimulationOptions& here,
     if (here.solver != run.solver) differ("solver", to_string(here.solver), to_string(run.solver));
     if (here.newton_steps != run.newton_steps) {
         // the one a script need not have changed: chosen for the world when not given, as
-        // runs before 2026-11-30 did not
+        // runs before 2026-11-30 did not, and 4 until kLongChainNewtonSteps became 8
         differ("newton_steps", here.newton_steps, run.newton_steps);
-        if (here.newton_steps == kLongChainNewtonSteps && run.newton_steps == 0) {
+        if (here.newton_steps == kLongChainNewtonSteps &&
+            (run.newton_steps == 0 || run.newton_steps == 4)) {
             out.back() += fmt::format(
                 " (a pitch-yaw chain of {} modules or more gets {} when newton_steps is not "
-                "given, since 2026-11-30: give newton_steps = 0 to replay this run)",
-                kLongChainJoints + 1, kLongChainNewtonSteps);
+                "given, since 2026-11-30; runs recorded before got 0, then 4: give newton_steps "
+                "= {} to replay this run)",
+                kLongChainJoints + 1, kLongChainNewtonSteps, run.newton_steps);
         }
     }
     if (here.seed != run.seed) differ("seed", here.seed, run.seed);

@@ -718,7 +718,8 @@ TEST_CASE(
                "local sim = gaitlab.simulation{ world = world }\n"
                "sim:run(0.2)\n");
     REQUIRE(cli({"run", "--record", tmp / "run", tmp / "long.lua"}, tmp.str()).status == 0);
-    CHECK(gaitlab::RunData(tmp / "run").meta().options.newton_steps == 4);
+    CHECK(gaitlab::RunData(tmp / "run").meta().options.newton_steps ==
+          gaitlab::kLongChainNewtonSteps);
     CHECK(cli({"replay", tmp / "run"}).status == 0);
     // the run as one made before such a chain got the Newton steps by default: none recorded
     const std::string meta = slurp(tmp / "run/run.json");
@@ -731,10 +732,20 @@ TEST_CASE(
     const Run d = cli({"replay", tmp / "run", "--into", tmp / "other"});
     CHECK(d.status == 1);
     CHECK_THAT(d.err, Catch::StartsWith("gaitlab: replay differs: the replayed simulation has "
-                                        "other options than the run: newton_steps 4 here, 0 in "
-                                        "the run (a pitch-yaw chain of 13 modules or more gets 4 "
-                                        "when newton_steps is not given, since 2026-11-30: give "
-                                        "newton_steps = 0 to replay this run)"));
+                                        "other options than the run: newton_steps 8 here, 0 in "
+                                        "the run (a pitch-yaw chain of 13 modules or more gets 8 "
+                                        "when newton_steps is not given, since 2026-11-30; runs "
+                                        "recorded before got 0, then 4: give newton_steps = 0 to "
+                                        "replay this run)"));
+    // and as one made while such a chain got 4 by default
+    std::string four = meta;
+    four.replace(at, end - at, "\"newton_steps\": 4");
+    write_text(tmp / "run/run.json", four);
+    REQUIRE(gaitlab::RunData(tmp / "run").meta().options.newton_steps == 4);
+    const Run e = cli({"replay", tmp / "run", "--into", tmp / "another"});
+    CHECK(e.status == 1);
+    CHECK_THAT(e.err, Catch::Contains("newton_steps 8 here, 4 in the run (") &&
+                          Catch::Contains("give newton_steps = 4 to replay this run)"));
 }
 
 TEST_CASE("a run killed with SIGKILL leaves a readable folder missing at most one flush period",

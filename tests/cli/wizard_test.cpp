@@ -263,12 +263,14 @@ TEST_CASE("a pitch-yaw chain of more than 12 modules is told of the Newton steps
         return lines(a);
     };
     // 16 modules: the usual questions and defaults, a line on the Newton steps; the file leaves
-    // newton_steps to the simulation, which gives the chain 4, and the run is quiet
+    // newton_steps to the simulation, which gives the chain kLongChainNewtonSteps, and the run is
+    // quiet
     const Output r = run_gaitlab({"new", "long"}, dir.str(), answers("16", {"", "", "no"}));
     INFO(r.out << r.err);
     REQUIRE(r.status == 0);
-    CHECK_THAT(r.out, Catch::Contains("A pitch-yaw chain of more than 12 modules gets 4 Newton "
-                                      "steps in every physics step"));
+    CHECK_THAT(r.out, Catch::Contains("A pitch-yaw chain of more than 12 modules gets " +
+                                      std::to_string(gaitlab::kLongChainNewtonSteps) +
+                                      " Newton steps in every physics step"));
     CHECK_THAT(r.out, Catch::Contains("Time step, s (smaller: more accurate, slower) [0.001]: "));
     CHECK_THAT(r.out, Catch::Contains("Physics steps between two controller steps [30]: "));
     CHECK(r.out.find("Solver iterations") == std::string::npos);
@@ -287,7 +289,9 @@ TEST_CASE("a pitch-yaw chain of more than 12 modules is told of the Newton steps
     REQUIRE(coarse.status == 0);
     CHECK_THAT(coarse.out, Catch::Contains("  ! 'fast': "));
     CHECK(gaitlab::read_simulation(dir / "coarse/simulation.xml").options.dt == 0.002);
-    CHECK_THAT(coarse.err, Catch::Contains("dt = 2 ms is above 1 ms with newton_steps = 4: robot "
+    CHECK_THAT(coarse.err, Catch::Contains("dt = 2 ms is above 1 ms with newton_steps = " +
+                                           std::to_string(gaitlab::kLongChainNewtonSteps) +
+                                           ": robot "
                                            "'snake' has 13 joints"));
     // 12 modules: the usual questions and defaults, no such line
     const Output twelve = run_gaitlab({"new", "twelve"}, dir.str(), answers("12", {"", "", "no"}));

@@ -88,7 +88,7 @@ TEST_CASE(
         planar, given = sim_of(32, "pitch-pitch"), sim_of(16, "pitch-yaw", { newton_steps = 0 })
         pgs = sim_of(16, "pitch-yaw", { solver = "pgs" })
     )");
-    CHECK(lua.integer("long.newton_steps") == 4);
+    CHECK(lua.integer("long.newton_steps") == 8);
     CHECK(lua.integer("#long.warnings") == 0);
     CHECK(lua.integer("short.newton_steps") == 0);
     CHECK(lua.integer("planar.newton_steps") == 0);
@@ -110,7 +110,7 @@ TEST_CASE(
     )");
     CHECK_FALSE(lua.boolean("text('long.xml'):find('newton_steps') ~= nil"));
     CHECK(lua.boolean("text('given.xml'):find('newton_steps=\"0\"') ~= nil"));
-    CHECK(lua.integer("long2.newton_steps") == 4);
+    CHECK(lua.integer("long2.newton_steps") == 8);
     CHECK(lua.integer("given2.newton_steps") == 0);
     CHECK(lua.boolean("long:robot('snake'):position() == long2:robot('snake'):position()"));
     CHECK(lua.boolean("given:robot('snake'):position() == given2:robot('snake'):position()"));

@@ -52,7 +52,9 @@ inline constexpr int kMaxNewtonSteps = 100;
 inline constexpr int kLongChainJoints = 12;
 inline constexpr double kLongChainMaxDt = 0.0005;  // s
 inline constexpr int kLongChainIterations = 40;
-inline constexpr int kLongChainNewtonSteps = 4;
+/// (8 since 2026-11-30: 4 left the 32-module wave's upright motion at 60-80 iterations,
+/// docs/performance.md, "8 Newton steps")
+inline constexpr int kLongChainNewtonSteps = 8;
 /// with newton_steps >= kLongChainNewtonSteps on a floor no stiffer than the default, dt up to
 /// this keeps such a chain's motions within 2 % (docs/performance.md, "Upright or on its side")
 inline constexpr double kLongChainNewtonMaxDt = 0.001;  // s
@@ -82,12 +84,12 @@ struct SimulationOptions {
     /// how the solver iterates over the rows (ConstraintSolver above)
     ConstraintSolver solver = ConstraintSolver::block_nncg;
     /// semi-smooth Newton steps on the whole step's contact problem after block_nncg's
-    /// iterations, in [0, kMaxNewtonSteps], or kAutomaticNewtonSteps (the default: 4 for a
-    /// world with a pitch-yaw chain of 13 modules or more, else 0); block_nncg only (0 with
-    /// pgs). 0: none, the step is block_nncg's alone. 4 keep each motion of the long pitch-yaw
-    /// chains within 2 % of a converged solver at 20 iterations, at about 2x the step's cost
-    /// (docs/architecture.md, "Physics formulation"). Worlds it does not handle (bodies of two
-    /// robots, or of one robot, touching each other) are solved by block_nncg alone.
+    /// iterations, in [0, kMaxNewtonSteps], or kAutomaticNewtonSteps (the default:
+    /// kLongChainNewtonSteps, 8, for a world with a pitch-yaw chain of 13 modules or more, else
+    /// 0); block_nncg only (0 with pgs). 0: none, the step is block_nncg's alone. 8 keep each
+    /// motion of the long pitch-yaw chains within 2 % of a converged solver at 20 to 320
+    /// iterations (4 did at 20 but not at 60-80), at about 3x the step's cost
+    /// (docs/architecture.md, "Physics formulation"; docs/performance.md, "8 Newton steps").
     int newton_steps = kAutomaticNewtonSteps;
     std::uint64_t seed = 0;  ///< seeds everything random in the run
     /// In both cases the failed controller is marked failed and its joints hold the angles

@@ -894,26 +894,26 @@ TEST_CASE("settings too coarse for a 3 % accurate gait get one warning naming th
 }
 
 TEST_CASE(
-    "a long chain bent in two planes gets 4 Newton steps when none are given, and is warned "
+    "a long chain bent in two planes gets 8 Newton steps when none are given, and is warned "
     "about without them above dt 0.5 ms or below 40 iterations, naming the settings and the "
     "robot",
     "[simulation][warning]") {
     using Catch::Matchers::Contains;
     using Catch::Matchers::StartsWith;
     SimulationOptions o = default_simulation_options();
-    SECTION("newton_steps not given: 4 for a pitch-yaw chain of 13 modules or more, else 0") {
+    SECTION("newton_steps not given: 8 for a pitch-yaw chain of 13 modules or more, else 0") {
         CHECK(o.newton_steps == kAutomaticNewtonSteps);
         const auto steps = [&](int modules, Connection c) {
             return Simulation(test::chain_world(modules, c), o).options().newton_steps;
         };
-        CHECK(steps(16, Connection::pitch_yaw) == 4);
-        CHECK(steps(13, Connection::pitch_yaw) == 4);
+        CHECK(steps(16, Connection::pitch_yaw) == 8);
+        CHECK(steps(13, Connection::pitch_yaw) == 8);
         CHECK(steps(12, Connection::pitch_yaw) == 0);
         CHECK(steps(32, Connection::pitch_pitch) == 0);
         CHECK(steps(9, Connection::yaw_yaw) == 0);
         // what the choice is made from, for hosts that write files (sim:save)
         CHECK(automatic_newton_steps(test::chain_world(16, Connection::pitch_yaw),
-                                     ConstraintSolver::block_nncg) == 4);
+                                     ConstraintSolver::block_nncg) == 8);
         CHECK(automatic_newton_steps(test::chain_world(16, Connection::pitch_yaw),
                                      ConstraintSolver::pgs) == 0);
         // given, they are kept, 0 included
@@ -935,9 +935,9 @@ TEST_CASE(
         REQUIRE(sim.warnings().size() == 1);
         CHECK_THAT(sim.warnings()[0],
                    StartsWith("dt = 1 ms is above 0.5 ms and solver_iterations = 20 below 40 "
-                              "with newton_steps = 0 below 4: robot 'snake' has 16 joints "
+                              "with newton_steps = 0 below 8: robot 'snake' has 16 joints "
                               "bending it in two planes (pitch and yaw)") &&
-                       Contains("newton_steps >= 4 (what such a robot gets when newton_steps "
+                       Contains("newton_steps >= 8 (what such a robot gets when newton_steps "
                                 "is not given)") &&
                        Contains("sim:check_accuracy()") && Contains("docs/performance.md"));
         sim.run(0.05);
@@ -949,7 +949,7 @@ TEST_CASE(
         Simulation iterations(test::chain_world(16, Connection::pitch_yaw), o);
         REQUIRE(iterations.warnings().size() == 1);
         CHECK_THAT(iterations.warnings()[0],
-                   StartsWith("solver_iterations = 20 is below 40 with newton_steps = 0 below 4: "
+                   StartsWith("solver_iterations = 20 is below 40 with newton_steps = 0 below 8: "
                               "robot"));
         o.dt = 0.001;
         o.solver_iterations = 40;
@@ -958,9 +958,9 @@ TEST_CASE(
         CHECK_THAT(dt.warnings()[0], StartsWith("dt = 1 ms is above 0.5 ms: robot"));
     }
     SECTION(
-        "newton_steps >= 4 stand for the iterations, and for dt up to 1 ms on a floor no "
-        "stiffer than the default's") {
-        o.newton_steps = 4;
+        "newton_steps >= kLongChainNewtonSteps stand for the iterations, and for dt up to 1 ms on "
+        "a floor no stiffer than the default's") {
+        o.newton_steps = kLongChainNewtonSteps;
         CHECK(Simulation(test::chain_world(16, Connection::pitch_yaw), o).warnings().empty());
         WorldSpec soft = test::chain_world(16, Connection::pitch_yaw);
         soft.floor.stiffness = 1e3;
@@ -981,7 +981,8 @@ TEST_CASE(
         Simulation coarse(test::chain_world(16, Connection::pitch_yaw), o);
         REQUIRE(coarse.warnings().size() == 1);
         CHECK_THAT(coarse.warnings()[0],
-                   StartsWith("dt = 2 ms is above 1 ms with newton_steps = 4: robot") &&
+                   StartsWith("dt = 2 ms is above 1 ms with newton_steps = " +
+                              std::to_string(kLongChainNewtonSteps) + ": robot") &&
                        Contains("with dt <= 1 ms keep each motion within 2 %"));
         o.control_every = 30;
         o.dt = 0.0005;
@@ -990,8 +991,8 @@ TEST_CASE(
         Simulation fewer(test::chain_world(16, Connection::pitch_yaw), o);
         REQUIRE(fewer.warnings().size() == 1);
         CHECK_THAT(fewer.warnings()[0],
-                   StartsWith("solver_iterations = 20 is below 40 with newton_steps = 2 below 4: "
-                              "robot"));
+                   StartsWith("solver_iterations = 20 is below 40 with newton_steps = 2 below " +
+                              std::to_string(kLongChainNewtonSteps) + ": robot"));
     }
     SECTION("the finer settings are quiet, and so are planar and 12-joint chains at the defaults") {
         o.newton_steps = 0;
@@ -1037,7 +1038,9 @@ TEST_CASE(
         CHECK_THAT(sim.warnings()[0],
                    StartsWith("solver = \"pgs\": robot 'snake' has 16 joints") &&
                        Contains("take solver = \"block_nncg\", which gives such a robot "
-                                "newton_steps = 4 when they are not given, or dt <= 0.5 ms "
+                                "newton_steps = " +
+                                std::to_string(kLongChainNewtonSteps) +
+                                " when they are not given, or dt <= 0.5 ms "
                                 "with solver_iterations >= 40"));
     }
 }
