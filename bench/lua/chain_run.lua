@@ -7,7 +7,7 @@
 --                        settle =, cycles =, frequency =, drive = function(robot) ... end,
 --                        solver = (optional: the simulation's solver, default the engine's),
 --                        newton_steps = (optional: the simulation's newton_steps, default the
---                                        engine's: 4 for a pitch-yaw chain of 13 modules or more),
+--                                        engine's: 8 for a pitch-yaw chain of 13 modules or more),
 --                        module = (optional: the chain's module type, default y1),
 --                        self_collision = (optional: the chain's self_collision, default false),
 --                        floor = (optional: the floor's other keys, bench/lua/floor_env.lua),

@@ -4,6 +4,7 @@
 -- reference), and how far a planar gait drifts sideways.
 --
 --   gaitlab run bench/lua/convergence.lua --no-record             the tables of performance.md
+--     (the grid: pp, py-roll-arc and py-wave, bench/lua/standard_gaits.lua's `names`)
 --   gaitlab run bench/lua/convergence.lua --no-record GAIT N MU   one row (GAIT: pp, py-roll, py-wave, or py-roll-arc: bench/lua/standard_gaits.lua)
 --
 -- CONV_CYCLES (default 5) sets the cycles measured, CONV_MAX_TORQUE the servos' torque (below), CONV_MODULES (default "2 8 32") and

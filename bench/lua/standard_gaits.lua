@@ -4,16 +4,26 @@
 -- pitch-yaw chain (Gonzalez-Gomez et al., CLAWAR 2006: all joints of a plane in phase, the yaw
 -- joints 90 deg behind); py-wave, the benchmark's pitch-yaw gait (docs/performance.md,
 -- "Workload": a 40 deg pitch wave and a 20 deg yaw wave, 120 deg between neighbours).
--- py-roll-arc (not in `names`, the grid's): the rolling gait with the 8-module robot's arc at
--- any length, 40 deg x 8 / N per joint from 8 modules up: py-roll's arc turns about 20 deg per
--- module, 640 deg at 32, which a chain cannot make without passing through itself
--- (docs/performance.md, "The long rolling chains pass through themselves").
+-- py-roll-arc: the rolling gait with the 8-module robot's arc at any length, 40 deg x 8 / N per
+-- joint from 8 modules up (py-roll itself up to 8). It is the grid's rolling gait (`names`,
+-- since 2026-12-01): py-roll's arc turns about 20 deg per module, 640 deg at 32, which a chain
+-- cannot make without passing through itself (docs/performance.md, "The long rolling chains
+-- pass through themselves"). py-roll stays in `known`, for the tables measured with it.
 --
 --   local gaits = require "standard_gaits"
---   gaits.drive(robot, "py-roll", { frequency = 0.5, direction = 1, start = 72 })
---   gaits.connection("py-roll")  --> "pitch-yaw"
+--   gaits.drive(robot, "py-roll-arc", { frequency = 0.5, direction = 1, start = 72 })
+--   gaits.connection("py-roll-arc")  --> "pitch-yaw"
 -- `start` (deg) is added to every joint's phase.
-local gaits = { names = { "pp", "py-roll", "py-wave" } }
+local gaits = { names = { "pp", "py-roll-arc", "py-wave" },
+                known = { "pp", "py-roll", "py-wave", "py-roll-arc" } }
+
+-- true if `gait` is one of the gaits above
+function gaits.is_known(gait)
+  for _, g in ipairs(gaits.known) do
+    if g == gait then return true end
+  end
+  return false
+end
 
 function gaits.connection(gait)
   return gait == "pp" and "pitch-pitch" or "pitch-yaw"

@@ -58,9 +58,9 @@ local gait, modules, friction = arg[1], math.tointeger(tonumber(arg[2] or "")), 
 if not gait or not arg[3] then
   fail("usage: gaitlab run bench/lua/steady_speed.lua --no-record GAIT N MU [DT_MS ITERATIONS [SOLVER]]")
 end
-local known = false
-for _, g in ipairs(gaits.names) do known = known or g == gait end
-if not known then fail("GAIT: pp, py-roll or py-wave expected, got '" .. gait .. "'") end
+if not gaits.is_known(gait) then
+  fail("GAIT: pp, py-roll, py-wave or py-roll-arc expected, got '" .. gait .. "'")
+end
 if not modules or modules < 2 then fail("N: a whole number of modules >= 2 expected, got '" .. arg[2] .. "'") end
 if not friction or friction < 0 then fail("MU: a friction >= 0 expected, got '" .. arg[3] .. "'") end
 local dt_ms = tonumber(arg[4] or "1")
