@@ -25,6 +25,12 @@ function gaits.is_known(gait)
   return false
 end
 
+-- the known gaits for a message: "pp, py-roll, py-wave or py-roll-arc"
+function gaits.listed()
+  local k = gaits.known
+  return table.concat(k, ", ", 1, #k - 1) .. " or " .. k[#k]
+end
+
 function gaits.connection(gait)
   return gait == "pp" and "pitch-pitch" or "pitch-yaw"
 end
@@ -46,8 +52,7 @@ function gaits.drive(robot, gait, o)
     robot:group("pitch"):drive(sine{ amplitude = 40, frequency = f, phase = 120, phase0 = s })
     robot:group("yaw"):drive(sine{ amplitude = 20, frequency = f, phase = 120, phase0 = s })
   else
-    error("unknown gait '" .. tostring(gait) .. "' (expected pp, py-roll, py-wave or py-roll-arc)",
-          0)
+    error("unknown gait '" .. tostring(gait) .. "' (expected " .. gaits.listed() .. ")", 0)
   end
 end
 

@@ -59,7 +59,7 @@ if not gait or not arg[3] then
   fail("usage: gaitlab run bench/lua/steady_speed.lua --no-record GAIT N MU [DT_MS ITERATIONS [SOLVER]]")
 end
 if not gaits.is_known(gait) then
-  fail("GAIT: pp, py-roll, py-wave or py-roll-arc expected, got '" .. gait .. "'")
+  fail("GAIT: " .. gaits.listed() .. " expected, got '" .. gait .. "'")
 end
 if not modules or modules < 2 then fail("N: a whole number of modules >= 2 expected, got '" .. arg[2] .. "'") end
 if not friction or friction < 0 then fail("MU: a friction >= 0 expected, got '" .. arg[3] .. "'") end
