@@ -24,7 +24,9 @@
 -- whose heading wanders (a long pitch-yaw chain's does, from a perturbation of 1e-9 deg) is
 -- the heading more than the speed. Where the starts of a row settle in two postures (the bodies'
 -- mean tilt below or above 45 deg: a 32-module pitch-yaw wave upright, or lying twisted on its
--- side), two more rows compare the settings per posture. CONV_CONTINUE=1: every setting's run
+-- side), two more rows compare the settings per posture; each setting's mean over the starts,
+-- with its standard error and how many starts lay on their side, goes to stderr (such a row's
+-- mean is a sample of the two motions' shares). CONV_CONTINUE=1: every setting's run
 -- settles at the defaults and goes on from there at its own settings (sim:clone{ dt =, ... }),
 -- so all four measure the motion the defaults settled into; the start's choice between two
 -- motions (a long pitch-yaw wave upright or on its side) is then the defaults' at every setting
@@ -157,6 +159,21 @@ local function speed_row(gait, modules, friction)
                                     .. "CPU\n", gait, modules, friction, s.name, start,
                                     per[i][k].speed, per[i][k].tilt, per[i][k].cpu))
       mean[i] = mean[i] + per[i][k].speed / #phases
+    end
+  end
+  -- each setting's mean with its standard error over the starts (a row whose starts take two
+  -- motions is a sample of their shares: section 12, "The 32-module wave from 40 start phases")
+  if #phases > 1 then
+    for i, s in ipairs(settings) do
+      local sq, side = 0, 0
+      for k = 1, #phases do
+        sq = sq + (per[i][k].speed - mean[i]) ^ 2
+        if per[i][k].tilt >= tilt_split then side = side + 1 end
+      end
+      io.stderr:write(string.format("%s %d %.1f %s: %.2f ± %.2f mm per cycle (the mean over %d "
+                                    .. "starts ± its standard error), %d of them on their side\n",
+                                    gait, modules, friction, s.name, mean[i],
+                                    math.sqrt(sq / (#phases - 1) / #phases), #phases, side))
     end
   end
   for k = 1, #phases do
