@@ -161,6 +161,9 @@ local function speed_row(gait, modules, friction)
       mean[i] = mean[i] + per[i][k].speed / #phases
     end
   end
+  -- a run's posture: 1 upright, 2 lying on its side (docs/performance.md section 12, "Upright
+  -- or on its side")
+  local function posture(run) return run.tilt < tilt_split and 1 or 2 end
   -- each setting's mean with its standard error over the starts (a row whose starts take two
   -- motions is a sample of their shares: section 12, "The 32-module wave from 40 start phases")
   if #phases > 1 then
@@ -168,7 +171,7 @@ local function speed_row(gait, modules, friction)
       local sq, side = 0, 0
       for k = 1, #phases do
         sq = sq + (per[i][k].speed - mean[i]) ^ 2
-        if per[i][k].tilt >= tilt_split then side = side + 1 end
+        if posture(per[i][k]) == 2 then side = side + 1 end
       end
       io.stderr:write(string.format("%s %d %.1f %s: %.2f ± %.2f mm per cycle (the mean over %d "
                                     .. "starts ± its standard error), %d of them on their side\n",
@@ -190,7 +193,6 @@ local function speed_row(gait, modules, friction)
   -- lying twisted on its side; docs/performance.md section 12, "Upright or on its side"), the
   -- row again per posture: each setting's mean over the starts in that posture (and how many),
   -- and the defaults' motion against the reference's in the same posture
-  local function posture(run) return run.tilt < tilt_split and 1 or 2 end
   local seen = {}
   for i = 1, #settings do
     for k = 1, #phases do seen[posture(per[i][k])] = true end
