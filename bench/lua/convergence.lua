@@ -85,9 +85,18 @@ end
 local floor_env = require "floor_env"
 local floor = floor_env("CONV", "convergence.lua")
 
-local function numbers(text)
-  local out = {}
-  for w in text:gmatch("%S+") do out[#out + 1] = tonumber(w) end
+-- the numbers of an environment variable's list ("0 72 144"): one or more finite numbers, or
+-- an error naming the variable and the word
+local function numbers(name, default)
+  local text, out = os.getenv(name) or default, {}
+  for w in text:gmatch("%S+") do
+    local v = tonumber(w)
+    if not v or v ~= v or math.abs(v) == math.huge then
+      error(name .. ": a list of numbers expected, got '" .. w .. "' in '" .. text .. "'", 0)
+    end
+    out[#out + 1] = v
+  end
+  if #out == 0 then error(name .. ": a list of numbers expected, got '" .. text .. "'", 0) end
   return out
 end
 
@@ -135,11 +144,11 @@ local function convergence_row(gait, modules, friction)
   return r
 end
 
-local modules_grid = numbers(os.getenv("CONV_MODULES") or "2 8 32")
-local friction_grid = numbers(os.getenv("CONV_FRICTION") or "0.3 1.0")
+local modules_grid = numbers("CONV_MODULES", "2 8 32")
+local friction_grid = numbers("CONV_FRICTION", "0.3 1.0")
 
 -- issue 14's measure: per-cycle speed at each setting, averaged over the start phases
-local phases_py = numbers(os.getenv("CONV_PHASES") or "0 72 144 216 288")
+local phases_py = numbers("CONV_PHASES", "0 72 144 216 288")
 
 local function pct(a, b) return 100 * math.abs(a - b) / b end
 -- the bodies' mean tilt (deg, chain_run's r.tilt) that separates an upright chain from one
